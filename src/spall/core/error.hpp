@@ -1,0 +1,38 @@
+#pragma once
+// Errors with context. Bad input is an InputError: one line `file:line: *KEYWORD: what is wrong`,
+// exit code 2. A run that goes numerically unstable is an InstabilityError, exit code 3.
+#include <stdexcept>
+#include <string>
+
+namespace spall {
+
+enum ExitCode : int { exit_success = 0, exit_bad_input = 2, exit_unstable = 3 };
+
+// Where something was read: a file and a 1-based line number (0 when not from a file).
+struct SourceLocation {
+  std::string file;
+  int line = 0;
+};
+
+class InputError : public std::runtime_error {
+ public:
+  InputError(SourceLocation where, std::string keyword, std::string message);
+  // A model-level error with no single line (e.g. a missing *CONTROL_TERMINATION).
+  explicit InputError(std::string message);
+
+  const SourceLocation& where() const { return where_; }
+  const std::string& keyword() const { return keyword_; }
+  const std::string& message() const { return message_; }
+
+ private:
+  SourceLocation where_;
+  std::string keyword_;
+  std::string message_;
+};
+
+class InstabilityError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+}  // namespace spall

@@ -1,0 +1,22 @@
+#pragma once
+// run.json: what a run was (version, threads, ranks, deck) and how it went (steps, wall time).
+#include <filesystem>
+#include <string>
+
+namespace spall::io::output {
+
+struct RunInfo {
+  std::string version;
+  std::string deck;
+  int threads = 1;
+  int ranks = 1;
+  long long steps = 0;
+  double end_time = 0;
+  double wall_seconds = 0;
+  long long particles = 0;
+  std::string status;  // "completed", "unstable", ...
+};
+
+void write_run_json(const std::filesystem::path& path, const RunInfo& info);
+
+}  // namespace spall::io::output

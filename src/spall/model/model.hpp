@@ -1,0 +1,246 @@
+#pragma once
+// The problem as read from a deck: nodes, elements, parts, sections, materials, sets, curves,
+// boundary and initial conditions, controls and output requests. Plain data in the deck's own
+// IDs and units; the solver builds its dense stores from it. Every item remembers where it was
+// read, so that a later check can still say `file:line: *KEYWORD: ...`.
+#include <array>
+#include <map>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "spall/core/error.hpp"
+#include "spall/core/types.hpp"
+#include "spall/model/curve.hpp"
+
+namespace spall::model {
+
+struct Node {
+  Id id = 0;
+  Vec3 x = Vec3::Zero();
+  int tc = 0;  // translational constraint code (*NODE TC)
+  int rc = 0;  // rotational constraint code (*NODE RC)
+  SourceLocation where;
+};
+
+struct Part {
+  Id id = 0;
+  std::string heading;
+  Id secid = 0;
+  Id mid = 0;
+  Id eosid = 0;
+  Id hgid = 0;
+  SourceLocation where;
+};
+
+// *SECTION_SOLID: ELFORM 1 (constant stress hex) by default.
+struct SectionSolid {
+  Id id = 0;
+  int elform = 1;
+  int aet = 0;
+  SourceLocation where;
+};
+
+// *SECTION_SPH. LS-DYNA's smoothing length is h = CSLH * (initial particle spacing); the kernel's
+// support radius is 2h. SPHINI > 0 sets the initial h directly.
+struct SectionSph {
+  Id id = 0;
+  Real cslh = 1.2;
+  Real hmin = 0.2;
+  Real hmax = 2.0;
+  Real sphini = 0.0;
+  Real death = 1.0e20;
+  Real start = 0.0;
+  int sphkern = 0;  // 0 cubic spline, 1 quintic, 2 quadratic, 3 quartic
+  SourceLocation where;
+};
+
+using Section = std::variant<SectionSolid, SectionSph>;
+
+// *MAT_ELASTIC (001)
+struct MatElastic {
+  Real ro = 0, e = 0, pr = 0, da = 0, db = 0;
+};
+// *MAT_RIGID (020)
+struct MatRigid {
+  Real ro = 0, e = 0, pr = 0;
+  Real n = 0, couple = 0, m = 0, alias = 0;
+  Real cmo = 0;
+  int con1 = 0, con2 = 0;
+};
+struct Material {
+  Id id = 0;
+  std::string keyword;  // e.g. "*MAT_ELASTIC", for messages
+  std::variant<MatElastic, MatRigid> params;
+  SourceLocation where;
+  Real density() const {
+    return std::visit([](const auto& p) { return p.ro; }, params);
+  }
+};
+
+// *ELEMENT_SPH: one particle at node `nid`. mass > 0 is a mass; mass < 0 is a volume, whose
+// mass is |mass| times the density of the part's material.
+struct ElementSph {
+  Id nid = 0;
+  Id pid = 0;
+  Real mass = 0;
+  SourceLocation where;
+};
+
+// *ELEMENT_SOLID: hexahedron (degenerate shapes repeat nodes).
+struct ElementSolid {
+  Id eid = 0;
+  Id pid = 0;
+  std::array<Id, 8> n{};
+  SourceLocation where;
+};
+
+struct NodeSet {
+  Id id = 0;
+  std::vector<Id> nodes;
+  SourceLocation where;
+};
+struct PartSet {
+  Id id = 0;
+  std::vector<Id> parts;
+  SourceLocation where;
+};
+
+// Which nodes a boundary condition or initial condition applies to.
+enum class Target { node, node_set, part, part_set, all_nodes };
+
+// *BOUNDARY_SPC_NODE / _SET: dof[0..5] = x y z rx ry rz fixed.
+struct Spc {
+  Target target = Target::node;
+  Id id = 0;
+  Id cid = 0;
+  std::array<bool, 6> dof{};
+  SourceLocation where;
+};
+
+// *BOUNDARY_PRESCRIBED_MOTION_NODE / _SET (/ _RIGID read but rejected by the solver for now).
+struct PrescribedMotion {
+  Target target = Target::node;
+  Id id = 0;
+  int dof = 0;  // 1 x, 2 y, 3 z, 4 vector VID, 5-7 rotations, ...
+  int vad = 0;  // 0 velocity, 1 acceleration, 2 displacement
+  Id lcid = 0;
+  Real sf = 1.0;
+  Id vid = 0;
+  Real death = 1.0e28;
+  Real birth = 0.0;
+  SourceLocation where;
+};
+
+// *INITIAL_VELOCITY (nsid 0 = all nodes; nodes of set nsidex get v_exempt instead).
+struct InitialVelocity {
+  Id nsid = 0;
+  Id nsidex = 0;
+  Id boxid = 0;
+  Vec3 v = Vec3::Zero();
+  Vec3 vr = Vec3::Zero();
+  Vec3 v_exempt = Vec3::Zero();
+  Vec3 vr_exempt = Vec3::Zero();
+  SourceLocation where;
+};
+// *INITIAL_VELOCITY_NODE
+struct InitialVelocityNode {
+  Id nid = 0;
+  Vec3 v = Vec3::Zero();
+  Vec3 vr = Vec3::Zero();
+  Id icid = 0;
+  SourceLocation where;
+};
+// *INITIAL_VELOCITY_GENERATION: translation plus rotation OMEGA about the axis through xc along n.
+struct InitialVelocityGeneration {
+  Id id = 0;
+  int styp = 2;  // 1 part set, 2 part, 3 node set
+  Real omega = 0;
+  Vec3 v = Vec3::Zero();
+  Id ivatn = 0;
+  Id icid = 0;
+  Vec3 xc = Vec3::Zero();
+  Vec3 axis = Vec3::Zero();
+  int phase = 0;
+  int irigid = 0;
+  SourceLocation where;
+};
+
+// *LOAD_BODY_X/Y/Z: base acceleration a(t) = SF * curve(t) along `direction` (0 x, 1 y, 2 z).
+// As in LS-DYNA, the body force on a node is -m a(t): gravity along -z is a positive LOAD_BODY_Z.
+struct BodyLoad {
+  int direction = 0;
+  Id lcid = 0;
+  Real sf = 1.0;
+  Id lciddr = 0;
+  Vec3 xc = Vec3::Zero();
+  Id cid = 0;
+  SourceLocation where;
+};
+
+struct ControlTermination {
+  Real endtim = 0;
+  int endcyc = 0;  // 0 = no limit
+  Real dtmin = 0;
+  Real endeng = 0;
+  Real endmas = 1.0e8;
+  SourceLocation where;
+};
+
+struct ControlTimestep {
+  Real dtinit = 0;
+  Real tssfac = 0.9;
+  int isdo = 0;
+  Real tslimt = 0;
+  Real dt2ms = 0;
+  Id lctm = 0;
+  SourceLocation where;
+};
+
+// An output request: *DATABASE_BINARY_D3PLOT (field output) or *DATABASE_GLSTAT (energies).
+struct OutputInterval {
+  Real dt = 0;
+  Id lcdt = 0;
+  int npltc = 0;  // D3PLOT: DT = ENDTIM / NPLTC when DT is 0
+  SourceLocation where;
+};
+
+// A keyword the reader recognised but Spall does not support: reported once as a warning.
+struct UnsupportedKeyword {
+  std::string keyword;
+  SourceLocation where;
+};
+
+struct Model {
+  std::string title;
+  std::vector<std::string> files;  // every file read, the top deck first
+
+  std::vector<Node> nodes;
+  std::vector<Part> parts;
+  std::map<Id, Section> sections;
+  std::map<Id, Material> materials;
+  std::vector<ElementSph> sph_elements;
+  std::vector<ElementSolid> solid_elements;
+  std::map<Id, NodeSet> node_sets;
+  std::map<Id, PartSet> part_sets;
+  std::map<Id, Curve> curves;
+
+  std::vector<Spc> spcs;
+  std::vector<PrescribedMotion> prescribed_motions;
+  std::vector<InitialVelocity> initial_velocities;
+  std::vector<InitialVelocityNode> initial_velocity_nodes;
+  std::vector<InitialVelocityGeneration> initial_velocity_generations;
+  std::vector<BodyLoad> body_loads;
+
+  std::optional<ControlTermination> termination;
+  ControlTimestep timestep;
+  std::optional<OutputInterval> d3plot;
+  std::optional<OutputInterval> glstat;
+
+  std::vector<UnsupportedKeyword> unsupported;
+
+  const Part* find_part(Id id) const;
+};
+
+}  // namespace spall::model
