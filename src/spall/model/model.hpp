@@ -206,9 +206,20 @@ struct OutputInterval {
   SourceLocation where;
 };
 
-// A keyword the reader recognised but Spall does not support: reported once as a warning.
+// *CONTROL_BULK_VISCOSITY: quadratic (Q1) and linear (Q2) artificial-viscosity coefficients.
+// Spall's SPH uses them as Monaghan's beta = Q1 and alpha = Q2, as LS-DYNA's SPH does.
+struct ControlBulkViscosity {
+  Real q1 = 1.5;
+  Real q2 = 0.06;
+  int type = 1;
+  SourceLocation where;
+};
+
+// A keyword Spall does not support: reported once as a warning. For sections, materials and EOS
+// `id` is the ID on its first card, so that a part that uses it can be refused by name.
 struct UnsupportedKeyword {
   std::string keyword;
+  Id id = 0;
   SourceLocation where;
 };
 
@@ -235,6 +246,7 @@ struct Model {
 
   std::optional<ControlTermination> termination;
   ControlTimestep timestep;
+  ControlBulkViscosity bulk_viscosity;
   std::optional<OutputInterval> d3plot;
   std::optional<OutputInterval> glstat;
 
