@@ -1,0 +1,153 @@
+#include "run_command.hpp"
+
+#include <filesystem>
+#include <fmt/format.h>
+#include <map>
+#include <omp.h>
+
+#include "progress.hpp"
+#include "spall/core/error.hpp"
+#include "spall/core/log.hpp"
+#include "spall/core/version.hpp"
+#include "spall/io/keyword/reader.hpp"
+#include "spall/io/output/history.hpp"
+#include "spall/io/output/run_info.hpp"
+#include "spall/io/output/vtu.hpp"
+#include "spall/solver/field_output.hpp"
+#include "spall/solver/simulation.hpp"
+
+namespace spall::cli {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// Each unsupported keyword once: where it first appears and how often it does.
+void warn_unsupported(const model::Model& model) {
+  std::map<std::string, std::pair<SourceLocation, int>> seen;
+  for (const auto& u : model.unsupported) {
+    auto [it, inserted] = seen.try_emplace(u.keyword, u.where, 0);
+    ++it->second.second;
+  }
+  for (const auto& [keyword, first] : seen) {
+    const auto& [where, count] = first;
+    log::warning(fmt::format("{}:{}: {}: not supported by Spall, skipped{}", where.file, where.line,
+                             keyword,
+                             count > 1 ? fmt::format(" ({} occurrences)", count) : std::string()));
+  }
+}
+
+model::Model read_and_check(const std::string& deck) {
+  if (!fs::is_regular_file(deck)) throw InputError(fmt::format("{}: no such deck file", deck));
+  model::Model model = io::keyword::read_deck(deck);
+  warn_unsupported(model);
+  io::keyword::validate(model);
+  return model;
+}
+
+long long particle_count(const solver::Problem& problem) {
+  long long n = 0;
+  for (Real m : problem.nodes.mass) n += m > 0;
+  return n;
+}
+
+// A copy of every file the deck read, so that the output folder describes the run on its own.
+void copy_deck(const model::Model& model, const fs::path& deck, const fs::path& out) {
+  const fs::path base = fs::absolute(deck).parent_path();
+  for (const auto& file : model.files) {
+    fs::path relative = fs::absolute(file).lexically_relative(base);
+    if (relative.empty() || *relative.begin() == "..") relative = fs::path(file).filename();
+    const fs::path target = out / "deck" / relative;
+    fs::create_directories(target.parent_path());
+    fs::copy_file(file, target, fs::copy_options::overwrite_existing);
+  }
+}
+
+}  // namespace
+
+int check_deck(const std::string& deck) {
+  const model::Model model = read_and_check(deck);
+  const solver::Problem problem = solver::build_problem(model);
+  fmt::print("{}: {} nodes, {} parts, {} SPH particles, {} solid elements; end time {:g}; OK\n", deck,
+             model.nodes.size(), model.parts.size(), model.sph_elements.size(),
+             model.solid_elements.size(), problem.controls.end_time);
+  return exit_success;
+}
+
+int run_deck(const RunOptions& options) {
+  const model::Model model = read_and_check(options.deck);
+  solver::Problem problem = solver::build_problem(model);
+
+  const fs::path out = options.output_dir.empty()
+                           ? fs::current_path() / (fs::path(options.deck).stem().string() + ".out")
+                           : fs::path(options.output_dir);
+  fs::create_directories(out);
+  copy_deck(model, options.deck, out);
+
+  const long long particles = particle_count(problem);
+  log::info(fmt::format("spall {}: {} with {} particles on {} threads, to {}", version, options.deck,
+                        particles, omp_get_max_threads(), out.string()));
+
+  io::output::PvdSeries series(out / "d3plot.pvd");
+  io::output::CsvHistory glstat(
+      out / "glstat.csv",
+      {{"time", "time"}, {"dt", "time"}, {"kinetic_energy", "energy"}, {"internal_energy", "energy"},
+       {"artificial_viscosity_energy", "energy"}, {"external_work", "energy"},
+       {"total_energy", "energy"}, {"energy_ratio", ""}});
+  int field_count = 0;
+  auto write_fields = [&](const solver::StepInfo& step, const solver::Problem& p) {
+    const auto snap = solver::snapshot_fields(p);
+    const std::string name = fmt::format("d3plot_{:05d}.vtu", field_count++);
+    io::output::write_vtu(out / name, snap.points, snap.fields);
+    series.add(step.time, name);
+  };
+
+  Progress progress(problem.controls.end_time, particles);
+  solver::StepInfo last_step;
+  solver::Observer observer;
+  observer.on_field_output = write_fields;
+  observer.on_history = [&](const solver::StepInfo& step, const solver::Energies& e) {
+    const double row[] = {step.time, step.dt, e.kinetic, e.internal, e.artificial_viscosity,
+                          e.external_work, e.total(), e.ratio()};
+    glstat.append(row);
+  };
+  observer.on_step = [&](const solver::StepInfo& step) {
+    last_step = step;
+    progress.update(step);
+  };
+
+  io::output::RunInfo info;
+  info.version = version;
+  info.deck = fs::absolute(options.deck).string();
+  info.threads = omp_get_max_threads();
+  info.particles = particles;
+  int code = exit_success;
+  try {
+    const auto summary = solver::run(problem, observer);
+    progress.finish(last_step);
+    info.steps = summary.steps;
+    info.end_time = summary.end_time;
+    info.status = "completed";
+    log::info(fmt::format("done: {} steps to t = {:g} in {:.2f} s, {:.3e} particle-steps/s, energy ratio {:.6f}",
+                          summary.steps, summary.end_time, progress.elapsed_seconds(),
+                          progress.elapsed_seconds() > 0
+                              ? particles * double(summary.steps) / progress.elapsed_seconds()
+                              : 0.0,
+                          summary.energies.ratio()));
+  } catch (const InstabilityError& e) {
+    write_fields(last_step, problem);  // the last state, for the post-mortem
+    log::error(e.what());
+    log::error(fmt::format("the last state is in {}", (out / fmt::format("d3plot_{:05d}.vtu", field_count - 1)).string()));
+    info.steps = last_step.step;
+    info.end_time = last_step.time;
+    info.status = "unstable";
+    code = exit_unstable;
+  }
+  info.wall_seconds = progress.elapsed_seconds();
+  io::output::write_run_json(out / "run.json", info);
+  if (code == exit_success)
+    log::info(fmt::format("results: {} (open d3plot.pvd in ParaView; energies in glstat.csv)", out.string()));
+  return code;
+}
+
+}  // namespace spall::cli

@@ -1,0 +1,333 @@
+#include "spall/solver/problem.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+#include <set>
+#include <unordered_map>
+
+#include "spall/core/log.hpp"
+#include "spall/neighbors/verlet_list.hpp"
+#include "spall/sph/solid.hpp"
+
+namespace spall::solver {
+
+namespace {
+
+[[noreturn]] void fail(const SourceLocation& where, const std::string& keyword,
+                       const std::string& message) {
+  throw InputError(where, keyword, message);
+}
+
+// *NODE TC and *MAT_RIGID CON1 coding: 1 x, 2 y, 3 z, 4 xy, 5 yz, 6 zx, 7 xyz.
+std::uint8_t translation_mask(int code) {
+  static constexpr std::uint8_t masks[8] = {0, 1, 2, 4, 3, 6, 5, 7};
+  return (code >= 0 && code <= 7) ? masks[code] : 0;
+}
+
+class Builder {
+ public:
+  explicit Builder(const model::Model& model) : model_(model) {}
+
+  Problem build() {
+    problem_.model = &model_;
+    build_nodes();
+    build_sph();
+    reject_unsupported_elements();
+    apply_spcs();
+    build_motions();
+    apply_initial_velocities();
+    build_loads();
+    build_controls();
+    return std::move(problem_);
+  }
+
+ private:
+  Index node_index(Id id, const SourceLocation& where, const char* keyword) const {
+    auto it = index_of_node_.find(id);
+    if (it == index_of_node_.end()) fail(where, keyword, fmt::format("node {} does not exist", id));
+    return it->second;
+  }
+
+  const model::Curve* curve(Id id, const SourceLocation& where, const char* keyword,
+                            const char* field) const {
+    if (id == 0) return nullptr;
+    auto it = model_.curves.find(id);
+    if (it == model_.curves.end())
+      fail(where, keyword, fmt::format("{}: curve {} does not exist", field, id));
+    return &it->second;
+  }
+
+  std::vector<Index> node_set(Id id, const SourceLocation& where, const char* keyword) const {
+    auto it = model_.node_sets.find(id);
+    if (it == model_.node_sets.end())
+      fail(where, keyword, fmt::format("node set {} does not exist", id));
+    std::vector<Index> nodes;
+    for (Id n : it->second.nodes) nodes.push_back(node_index(n, it->second.where, "*SET_NODE"));
+    return nodes;
+  }
+
+  std::vector<Index> part_nodes(Id part_id, const SourceLocation& where, const char* keyword) const {
+    if (!model_.find_part(part_id)) fail(where, keyword, fmt::format("part {} does not exist", part_id));
+    std::vector<Index> nodes;
+    for (Index i = 0; i < problem_.nodes.size(); ++i)
+      if (problem_.part_of_node[i] == part_id) nodes.push_back(i);
+    return nodes;
+  }
+
+  // The nodes are stored in cell order, so that neighbouring particles are close in memory.
+  void build_nodes() {
+    const Index n = static_cast<Index>(model_.nodes.size());
+    std::vector<Vec3> x(n);
+    for (Index i = 0; i < n; ++i) x[i] = model_.nodes[i].x;
+    Real cell = 0;
+    if (n > 0) {
+      Vec3 lo = x[0], hi = x[0];
+      for (const auto& p : x) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+      // About 16 nodes per cell for a uniform cloud: the order matters, the exact size does not.
+      const Real volume = std::max((hi - lo).prod(), Real(0));
+      cell = volume > 0 ? std::cbrt(16 * volume / n) : std::max((hi - lo).maxCoeff(), Real(1));
+    }
+    const auto order = n > 0 ? neighbors::spatial_order(x, cell) : std::vector<Index>{};
+    auto& nodes = problem_.nodes;
+    nodes.resize(n);
+    problem_.part_of_node.assign(n, 0);
+    for (Index k = 0; k < n; ++k) {
+      const auto& node = model_.nodes[order[k]];
+      nodes.id[k] = node.id;
+      nodes.x0[k] = node.x;
+      nodes.x[k] = node.x;
+      nodes.fixed[k] = translation_mask(node.tc);
+      if (!index_of_node_.emplace(node.id, k).second)
+        fail(node.where, "*NODE", fmt::format("node {} is defined twice", node.id));
+    }
+  }
+
+  void build_sph() {
+    if (model_.sph_elements.empty()) return;
+    std::vector<materials::ElasticConstants> table;
+    std::unordered_map<Id, Index> material_index;
+    std::vector<sph::ParticleSetup> particles;
+    // Per part: the initial particle spacing, from the particle volumes m / rho.
+    std::unordered_map<Id, Real> spacing;
+    std::set<Id> seen;
+    for (const auto& e : model_.sph_elements) {
+      const model::Part* part = model_.find_part(e.pid);
+      if (!part) fail(e.where, "*ELEMENT_SPH", fmt::format("PID: part {} does not exist", e.pid));
+      auto sec = model_.sections.find(part->secid);
+      if (sec == model_.sections.end() || !std::holds_alternative<model::SectionSph>(sec->second))
+        fail(part->where, "*PART",
+             fmt::format("part {} has SPH particles but section {} is not a *SECTION_SPH", part->id,
+                         part->secid));
+      auto mat = model_.materials.find(part->mid);
+      if (mat == model_.materials.end())
+        fail(part->where, "*PART", fmt::format("MID: material {} does not exist", part->mid));
+      const auto* elastic = std::get_if<model::MatElastic>(&mat->second.params);
+      if (!elastic)
+        fail(mat->second.where, mat->second.keyword,
+             fmt::format("material {} is used by SPH part {}, but the SPH solver supports only "
+                         "*MAT_ELASTIC so far",
+                         mat->first, part->id));
+      if (elastic->ro <= 0 || elastic->e <= 0 || elastic->pr < 0 || elastic->pr >= 0.5)
+        fail(mat->second.where, mat->second.keyword,
+             fmt::format("material {}: needs RO > 0, E > 0 and 0 <= PR < 0.5 (found RO {}, E {}, PR {})",
+                         mat->first, elastic->ro, elastic->e, elastic->pr));
+      if (part->eosid != 0)
+        fail(part->where, "*PART",
+             fmt::format("part {}: EOSID {} with *MAT_ELASTIC is not supported", part->id, part->eosid));
+      auto [it, inserted] = material_index.emplace(mat->first, static_cast<Index>(table.size()));
+      if (inserted)
+        table.push_back(materials::ElasticConstants::from_young_poisson(elastic->ro, elastic->e, elastic->pr));
+      const Index node = node_index(e.nid, e.where, "*ELEMENT_SPH");
+      if (!seen.insert(e.nid).second)
+        fail(e.where, "*ELEMENT_SPH", fmt::format("node {} carries two SPH particles", e.nid));
+      const Real mass = e.mass > 0 ? e.mass : -e.mass * elastic->ro;
+      if (!(mass > 0)) fail(e.where, "*ELEMENT_SPH", fmt::format("MASS: particle {} has no mass", e.nid));
+      problem_.nodes.mass[node] = mass;
+      problem_.part_of_node[node] = part->id;
+      Real& dx = spacing[part->id];
+      dx = std::max(dx, std::cbrt(mass / elastic->ro));
+      particles.push_back({node, it->second, 0});
+    }
+    for (auto& p : particles) {
+      const Id pid = problem_.part_of_node[p.node];
+      const auto& section = std::get<model::SectionSph>(model_.sections.at(model_.find_part(pid)->secid));
+      if (section.cslh < 1.0)
+        fail(section.where, "*SECTION_SPH",
+             fmt::format("CSLH: {} is inadmissible (less than 1; 1.05 to 1.3 are recommended)", section.cslh));
+      // LS-DYNA: h = CSLH * initial spacing, unless SPHINI gives h directly.
+      p.smoothing_length = section.sphini > 0 ? section.sphini : section.cslh * spacing[pid];
+      if (section.sphkern != 0)
+        fail(section.where, "*SECTION_SPH",
+             fmt::format("SPHKERN {}: only the cubic spline (0) is implemented so far", section.sphkern));
+      if (section.hmin != 1.0 || section.hmax != 1.0) warn_constant_h_once(section);
+      if (section.death < 1e20 || section.start > 0)
+        fail(section.where, "*SECTION_SPH", "DEATH/START: particle birth and death are not implemented yet");
+    }
+    // Keep the particles in node (cell) order for memory locality.
+    std::sort(particles.begin(), particles.end(),
+              [](const auto& a, const auto& b) { return a.node < b.node; });
+    sph::ArtificialViscosity viscosity;
+    viscosity.beta = model_.bulk_viscosity.q1;
+    viscosity.alpha = model_.bulk_viscosity.q2;
+    problem_.formulations.push_back(
+        std::make_unique<sph::SolidFormulation>(std::move(table), particles, viscosity, problem_.nodes));
+  }
+
+  // LS-DYNA lets h vary within [HMIN h0, HMAX h0]; Spall keeps h constant for now, which is
+  // LS-DYNA's behaviour for HMIN = HMAX = 1. Said once, not silently.
+  void warn_constant_h_once(const model::SectionSph& section) {
+    if (variable_h_reported_) return;
+    variable_h_reported_ = true;
+    log::warning(fmt::format("{}:{}: *SECTION_SPH: HMIN {} HMAX {}: the smoothing length is kept "
+                             "constant (variable h is not implemented yet); set HMIN = HMAX = 1.0 "
+                             "to say so in the deck",
+                             section.where.file, section.where.line, section.hmin, section.hmax));
+  }
+
+  void reject_unsupported_elements() {
+    if (!model_.solid_elements.empty()) {
+      const auto& e = model_.solid_elements.front();
+      fail(e.where, "*ELEMENT_SOLID",
+           "solid elements are read and checked, but the solver does not run them yet (FEM and "
+           "SPG parts come with later releases)");
+    }
+  }
+
+  void apply_spcs() {
+    for (const auto& spc : model_.spcs) {
+      const char* keyword = spc.target == model::Target::node ? "*BOUNDARY_SPC_NODE" : "*BOUNDARY_SPC_SET";
+      if (spc.cid != 0) fail(spc.where, keyword, "CID: local coordinate systems are not supported yet");
+      std::uint8_t mask = 0;
+      for (int d = 0; d < 3; ++d)
+        if (spc.dof[d]) mask |= std::uint8_t(1u << d);
+      const auto nodes = spc.target == model::Target::node
+                             ? std::vector<Index>{node_index(spc.id, spc.where, keyword)}
+                             : node_set(spc.id, spc.where, keyword);
+      for (Index i : nodes) problem_.nodes.fixed[i] |= mask;
+    }
+  }
+
+  void build_motions() {
+    for (const auto& pm : model_.prescribed_motions) {
+      const char* keyword = pm.target == model::Target::node ? "*BOUNDARY_PRESCRIBED_MOTION_NODE"
+                            : pm.target == model::Target::node_set ? "*BOUNDARY_PRESCRIBED_MOTION_SET"
+                                                                   : "*BOUNDARY_PRESCRIBED_MOTION_RIGID";
+      if (pm.target != model::Target::node && pm.target != model::Target::node_set)
+        fail(pm.where, keyword, "rigid bodies are not supported yet");
+      if (pm.dof < 1 || pm.dof > 3)
+        fail(pm.where, keyword,
+             fmt::format("DOF {}: only translations along x, y, z (1, 2, 3) are supported", pm.dof));
+      if (pm.vad < 0 || pm.vad > 2)
+        fail(pm.where, keyword,
+             fmt::format("VAD {}: only velocity (0), acceleration (1) and displacement (2) are supported", pm.vad));
+      const model::Curve* c = curve(pm.lcid, pm.where, keyword, "LCID");
+      if (!c) fail(pm.where, keyword, "LCID: a load curve is required");
+      const auto nodes = pm.target == model::Target::node
+                             ? std::vector<Index>{node_index(pm.id, pm.where, keyword)}
+                             : node_set(pm.id, pm.where, keyword);
+      for (Index i : nodes)
+        problem_.motions.push_back({i, pm.dof - 1, pm.vad, c, pm.sf, pm.birth, pm.death});
+    }
+  }
+
+  void apply_initial_velocities() {
+    auto& v = problem_.nodes.v;
+    for (const auto& iv : model_.initial_velocities) {
+      if (iv.boxid != 0) fail(iv.where, "*INITIAL_VELOCITY", "BOXID: boxes are not supported yet");
+      std::vector<char> exempt(problem_.nodes.size(), 0);
+      if (iv.nsidex != 0)
+        for (Index i : node_set(iv.nsidex, iv.where, "*INITIAL_VELOCITY")) exempt[i] = 1;
+      std::vector<Index> nodes;
+      if (iv.nsid == 0) {
+        for (Index i = 0; i < problem_.nodes.size(); ++i) nodes.push_back(i);
+      } else {
+        nodes = node_set(iv.nsid, iv.where, "*INITIAL_VELOCITY");
+      }
+      for (Index i : nodes) v[i] = exempt[i] ? iv.v_exempt : iv.v;
+    }
+    for (const auto& iv : model_.initial_velocity_nodes) {
+      if (iv.icid != 0) fail(iv.where, "*INITIAL_VELOCITY_NODE", "ICID: local coordinate systems are not supported yet");
+      v[node_index(iv.nid, iv.where, "*INITIAL_VELOCITY_NODE")] = iv.v;
+    }
+    for (const auto& g : model_.initial_velocity_generations) {
+      const char* keyword = "*INITIAL_VELOCITY_GENERATION";
+      if (g.icid != 0) fail(g.where, keyword, "ICID: local coordinate systems are not supported yet");
+      std::vector<Index> nodes;
+      if (g.styp == 2) {
+        nodes = part_nodes(g.id, g.where, keyword);
+      } else if (g.styp == 1) {
+        auto ps = model_.part_sets.find(g.id);
+        if (ps == model_.part_sets.end()) fail(g.where, keyword, fmt::format("part set {} does not exist", g.id));
+        for (Id pid : ps->second.parts) {
+          const auto more = part_nodes(pid, ps->second.where, "*SET_PART");
+          nodes.insert(nodes.end(), more.begin(), more.end());
+        }
+      } else if (g.styp == 3) {
+        nodes = node_set(g.id, g.where, keyword);
+      } else {
+        fail(g.where, keyword, fmt::format("STYP {}: must be 1 (part set), 2 (part) or 3 (node set)", g.styp));
+      }
+      Vec3 axis = g.axis;
+      if (g.omega != 0) {
+        if (axis.norm() == 0) fail(g.where, keyword, "NX NY NZ: the rotation axis is zero");
+        axis.normalize();
+      }
+      // v = v0 + omega n x (x - xc): rigid translation plus rotation about the axis.
+      for (Index i : nodes)
+        v[i] = g.v + g.omega * axis.cross(problem_.nodes.x[i] - g.xc);
+    }
+  }
+
+  void build_loads() {
+    static const char* keywords[3] = {"*LOAD_BODY_X", "*LOAD_BODY_Y", "*LOAD_BODY_Z"};
+    for (const auto& load : model_.body_loads) {
+      const char* keyword = keywords[load.direction];
+      if (load.cid != 0) fail(load.where, keyword, "CID: local coordinate systems are not supported yet");
+      const model::Curve* c = curve(load.lcid, load.where, keyword, "LCID");
+      if (!c) fail(load.where, keyword, "LCID: a load curve is required");
+      problem_.base_accelerations.push_back({load.direction, c, load.sf});
+    }
+  }
+
+  void build_controls() {
+    if (!model_.termination)
+      throw InputError("the deck has no *CONTROL_TERMINATION: ENDTIM is required");
+    const auto& term = *model_.termination;
+    auto& c = problem_.controls;
+    if (!(term.endtim > 0)) fail(term.where, "*CONTROL_TERMINATION", fmt::format("ENDTIM: must be > 0 (found {})", term.endtim));
+    c.end_time = term.endtim;
+    c.end_cycle = term.endcyc;
+    c.dt_min_factor = term.dtmin;
+    c.end_energy = term.endeng;
+    const auto& ts = model_.timestep;
+    c.tssfac = ts.tssfac;
+    if (!(c.tssfac > 0)) fail(ts.where, "*CONTROL_TIMESTEP", "TSSFAC: a curve (negative TSSFAC) is not supported yet");
+    c.dt_initial = ts.dtinit;
+    c.max_dt_curve = curve(ts.lctm, ts.where, "*CONTROL_TIMESTEP", "LCTM");
+    if (ts.dt2ms != 0) fail(ts.where, "*CONTROL_TIMESTEP", "DT2MS: mass scaling is not supported yet");
+    if (model_.d3plot) {
+      const auto& d = *model_.d3plot;
+      c.d3plot_dt = d.dt > 0 ? d.dt : (d.npltc > 0 ? c.end_time / d.npltc : 0);
+      c.d3plot_dt_curve = curve(d.lcdt, d.where, "*DATABASE_BINARY_D3PLOT", "LCDT");
+      if (c.d3plot_dt <= 0 && !c.d3plot_dt_curve)
+        fail(d.where, "*DATABASE_BINARY_D3PLOT", "DT: must be > 0 (or give NPLTC or LCDT)");
+    }
+    // Without *DATABASE_GLSTAT the energies are still written, 1000 rows over the run.
+    c.glstat_dt = (model_.glstat && model_.glstat->dt > 0) ? model_.glstat->dt : c.end_time / 1000;
+    if (model_.bulk_viscosity.type != 1 && model_.bulk_viscosity.type != -1 && !model_.sph_elements.empty())
+      fail(model_.bulk_viscosity.where, "*CONTROL_BULK_VISCOSITY",
+           fmt::format("TYPE {}: only the standard type 1 is supported", model_.bulk_viscosity.type));
+  }
+
+  const model::Model& model_;
+  Problem problem_;
+  std::unordered_map<Id, Index> index_of_node_;
+  bool variable_h_reported_ = false;
+};
+
+}  // namespace
+
+Problem build_problem(const model::Model& model) { return Builder(model).build(); }
+
+}  // namespace spall::solver

@@ -1,0 +1,57 @@
+#pragma once
+// The problem as the solver runs it, built from a Model: the node store, the formulations, the
+// boundary conditions and loads resolved to dense node indices, and the run controls. Building it
+// checks everything the solver needs; what it cannot run is an InputError at the card's line.
+#include <memory>
+#include <vector>
+
+#include "spall/model/model.hpp"
+#include "spall/solver/formulation.hpp"
+#include "spall/solver/node_store.hpp"
+
+namespace spall::solver {
+
+// A prescribed translation of one node in one direction (*BOUNDARY_PRESCRIBED_MOTION_NODE/_SET).
+struct NodalMotion {
+  Index node = 0;
+  int direction = 0;  // 0 x, 1 y, 2 z
+  int vad = 0;        // 0 velocity, 1 acceleration, 2 displacement
+  const model::Curve* curve = nullptr;
+  Real sf = 1;
+  Real birth = 0, death = 1e28;
+};
+
+// A base acceleration a(t) = sf * curve(t) along `direction`; nodes feel -m a (*LOAD_BODY_X/Y/Z).
+struct BaseAcceleration {
+  int direction = 0;
+  const model::Curve* curve = nullptr;
+  Real sf = 1;
+};
+
+struct RunControls {
+  Real end_time = 0;
+  long long end_cycle = 0;     // 0: no limit
+  Real dt_min_factor = 0;      // stop when dt < DTMIN * dt_initial
+  Real end_energy = 0;         // stop when the energy ratio changes by ENDENG percent (0: off)
+  Real tssfac = 0.9;
+  Real dt_initial = 0;         // DTINIT (0: from the stable step)
+  const model::Curve* max_dt_curve = nullptr;  // LCTM
+  Real d3plot_dt = 0;
+  const model::Curve* d3plot_dt_curve = nullptr;  // LCDT
+  Real glstat_dt = 0;
+};
+
+struct Problem {
+  NodeStore nodes;
+  std::vector<std::unique_ptr<Formulation>> formulations;
+  std::vector<NodalMotion> motions;
+  std::vector<BaseAcceleration> base_accelerations;
+  std::vector<Id> part_of_node;   // the deck's part ID of the node's particle, 0 if none
+  RunControls controls;
+  const model::Model* model = nullptr;  // curves are owned by the model, which must outlive this
+};
+
+// Builds the problem; throws InputError for anything the solver cannot run.
+Problem build_problem(const model::Model& model);
+
+}  // namespace spall::solver

@@ -1,0 +1,192 @@
+#include "spall/solver/simulation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+#include <limits>
+
+namespace spall::solver {
+
+namespace {
+
+Real stable_time_step(const Problem& problem, Real time) {
+  Real dt = std::numeric_limits<Real>::infinity();
+  for (const auto& f : problem.formulations) dt = std::min(dt, f->stable_time_step(problem.nodes));
+  dt *= problem.controls.tssfac;
+  if (problem.controls.max_dt_curve) dt = std::min(dt, problem.controls.max_dt_curve->value(time));
+  return dt;
+}
+
+// Base accelerations a(t): every node with mass feels the inertial force -m a (LS-DYNA
+// *LOAD_BODY convention). Returns the summed load vector per unit mass.
+Vec3 base_acceleration(const Problem& problem, Real time) {
+  Vec3 a = Vec3::Zero();
+  for (const auto& load : problem.base_accelerations)
+    a[load.direction] += load.sf * load.curve->value(time);
+  return a;
+}
+
+// A particle is running away when it moves much faster than any signal in the material.
+struct RunawayCheck {
+  Real speed_limit = std::numeric_limits<Real>::infinity();
+
+  void check(const NodeStore& nodes, const StepInfo& step) const {
+    const Index n = nodes.size();
+    Index worst = -1;
+#pragma omp parallel for schedule(static)
+    for (Index i = 0; i < n; ++i) {
+      const Real s = nodes.v[i].norm();
+      if (!std::isfinite(s) || !nodes.x[i].allFinite() || s > speed_limit) {
+#pragma omp critical
+        if (worst < 0 || i < worst) worst = i;  // the lowest index: the same for any thread count
+      }
+    }
+    if (worst >= 0) {
+      const Real s = nodes.v[worst].norm();
+      throw InstabilityError(fmt::format(
+          "numerical instability at step {}, time {:.6g}: node {} has velocity {:.6g} "
+          "({}); last dt {:.6g}",
+          step.step, step.time, nodes.id[worst], s,
+          std::isfinite(s) ? fmt::format("above the runaway bound {:.6g}", speed_limit)
+                           : std::string("not finite"),
+          step.dt));
+    }
+  }
+};
+
+}  // namespace
+
+RunSummary run(Problem& problem, const Observer& observer) {
+  auto& nodes = problem.nodes;
+  const auto& controls = problem.controls;
+  const Index n = nodes.size();
+
+  Energies energies;
+  StepInfo step;
+  Real dt_previous = 0;
+  Real dt_first = 0;
+  Real next_field_output = 0;
+  Real next_history = 0;
+  std::vector<Vec3> v_old(n);
+
+  RunawayCheck runaway;
+  {
+    Real c = 0, v0 = 0;
+    for (const auto& f : problem.formulations) c = std::max(c, f->max_wave_speed());
+    for (Index i = 0; i < n; ++i) v0 = std::max(v0, nodes.v[i].norm());
+    // No material point outruns ten times the fastest wave plus the fastest initial motion.
+    if (c > 0) runaway.speed_limit = 10 * (c + v0);
+  }
+
+  auto field_interval = [&](Real t) {
+    return controls.d3plot_dt_curve ? controls.d3plot_dt_curve->value(t) : controls.d3plot_dt;
+  };
+  const bool field_output = controls.d3plot_dt > 0 || controls.d3plot_dt_curve;
+
+  for (;;) {
+    // 1. internal forces at x^n
+    for (Index i = 0; i < n; ++i) nodes.f[i] = Vec3::Zero();
+    for (auto& f : problem.formulations) f->compute_forces(nodes, dt_previous);
+
+    // 5. the next step, from the state at t^n
+    Real dt = stable_time_step(problem, step.time);
+    if (step.step == 0) {
+      if (controls.dt_initial > 0) dt = std::min(dt, controls.dt_initial);
+      dt_first = dt;
+    }
+    if (!std::isfinite(dt)) dt = controls.end_time;  // nothing limits the step (no formulation)
+    dt = std::min(dt, controls.end_time - step.time);
+    if (controls.dt_min_factor > 0 && dt < controls.dt_min_factor * dt_first &&
+        step.time < controls.end_time)
+      throw InstabilityError(fmt::format(
+          "time step {:.6g} at step {}, time {:.6g} fell below DTMIN x initial step ({:.6g})", dt,
+          step.step, step.time, controls.dt_min_factor * dt_first));
+    step.dt = dt;
+
+    // 2.-3. loads, then the central-difference velocity update over the mid-interval
+    const Real dt_mid = step.step == 0 ? Real(0.5) * dt : Real(0.5) * (dt_previous + dt);
+    const Vec3 g = base_acceleration(problem, step.time);
+    Real external_power = 0;
+#pragma omp parallel for reduction(+ : external_power) schedule(static)
+    for (Index i = 0; i < n; ++i) {
+      v_old[i] = nodes.v[i];
+      if (nodes.mass[i] <= 0) continue;
+      const Vec3 f_load = -nodes.mass[i] * g;
+      nodes.f[i] += f_load;
+      Vec3 v_new = nodes.v[i] + (dt_mid / nodes.mass[i]) * nodes.f[i];
+      for (int d = 0; d < 3; ++d)
+        if (nodes.fixed[i] & (1u << d)) v_new[d] = 0;
+      nodes.v[i] = v_new;
+      external_power += f_load.dot(Real(0.5) * (v_old[i] + v_new));
+    }
+    const Real t_mid = step.time + Real(0.5) * dt;
+    for (const auto& m : problem.motions) {
+      if (t_mid < m.birth || t_mid > m.death) continue;
+      Real& v = nodes.v[m.node][m.direction];
+      switch (m.vad) {
+        case 0: v = m.sf * m.curve->value(t_mid); break;
+        case 1: v = v_old[m.node][m.direction] + dt_mid * m.sf * m.curve->value(step.time); break;
+        case 2: {
+          const Real u_next = m.sf * m.curve->value(step.time + dt);
+          const Real u_now = nodes.x[m.node][m.direction] - nodes.x0[m.node][m.direction];
+          v = dt > 0 ? (u_next - u_now) / dt : 0;
+          break;
+        }
+      }
+    }
+    // Constraint reactions do work too: r = m dv/dt - f on every held or driven component.
+    Real reaction_power = 0;
+#pragma omp parallel for reduction(+ : reaction_power) schedule(static)
+    for (Index i = 0; i < n; ++i) {
+      if (nodes.mass[i] <= 0 || dt_mid <= 0) continue;
+      const Vec3 reaction = nodes.mass[i] * (nodes.v[i] - v_old[i]) / dt_mid - nodes.f[i];
+      reaction_power += reaction.dot(Real(0.5) * (v_old[i] + nodes.v[i]));
+    }
+
+    // 4. energies at t^n from the mid-step velocities v^n = (v^{n-1/2} + v^{n+1/2}) / 2
+    std::vector<Vec3>& v_mid = v_old;
+    Real kinetic = 0;
+#pragma omp parallel for reduction(+ : kinetic) schedule(static)
+    for (Index i = 0; i < n; ++i) {
+      v_mid[i] = Real(0.5) * (v_mid[i] + nodes.v[i]);
+      kinetic += Real(0.5) * nodes.mass[i] * v_mid[i].squaredNorm();
+    }
+    for (const auto& f : problem.formulations) {
+      const auto p = f->internal_power(v_mid);
+      energies.internal += dt_mid * p.stored;
+      energies.artificial_viscosity += dt_mid * p.dissipated;
+    }
+    energies.external_work += dt_mid * (external_power + reaction_power);
+    energies.kinetic = kinetic;
+    if (step.step == 0) energies.initial_total = energies.total();
+
+    runaway.check(nodes, step);
+
+    const bool last = step.time >= controls.end_time ||
+                      (controls.end_cycle > 0 && step.step >= controls.end_cycle);
+    const Real tolerance = 1e-9 * controls.end_time;
+    if (field_output && (step.time + tolerance >= next_field_output || last)) {
+      if (observer.on_field_output) observer.on_field_output(step, problem);
+      while (next_field_output <= step.time + tolerance) next_field_output += field_interval(step.time);
+    }
+    if (step.time + tolerance >= next_history || last) {
+      if (observer.on_history) observer.on_history(step, energies);
+      while (next_history <= step.time + tolerance) next_history += controls.glstat_dt;
+    }
+    if (observer.on_step) observer.on_step(step);
+    if (last) break;
+    // ENDENG is a percentage change of the energy ratio.
+    if (controls.end_energy > 0 && 100 * std::abs(energies.ratio() - 1) > controls.end_energy) break;
+
+    // x^{n+1} = x^n + dt v^{n+1/2}
+#pragma omp parallel for schedule(static)
+    for (Index i = 0; i < n; ++i) nodes.x[i] += dt * nodes.v[i];
+    step.time += dt;
+    if (controls.end_time - step.time < tolerance) step.time = controls.end_time;
+    dt_previous = dt;
+    ++step.step;
+  }
+  return {step.step, step.time, energies};
+}
+
+}  // namespace spall::solver

@@ -1,0 +1,210 @@
+#include "spall/sph/solid.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "spall/kernels/cubic_spline.hpp"
+
+namespace spall::sph {
+
+using Kernel = kernels::CubicSpline<3>;
+
+namespace {
+// Support radius of the pair: the mean of both particles' supports 2h keeps W_ab symmetric.
+inline Real pair_support(Real ha, Real hb) { return ha + hb; }
+
+// Verlet skin as a fraction of the largest support: a rebuild every few tens of steps at most.
+constexpr Real skin_fraction = 0.1;
+}  // namespace
+
+SolidFormulation::SolidFormulation(std::vector<materials::ElasticConstants> materials,
+                                   const std::vector<ParticleSetup>& particles,
+                                   ArtificialViscosity viscosity, const solver::NodeStore& nodes)
+    : materials_(std::move(materials)), viscosity_(viscosity) {
+  const std::size_t n = particles.size();
+  node_.resize(n);
+  material_.resize(n);
+  mass_.resize(n);
+  smoothing_length_.resize(n);
+  density_.resize(n);
+  pressure_.assign(n, 0);
+  sound_speed_.resize(n);
+  deviatoric_stress_.assign(n, Mat3::Zero());
+  x_.resize(n);
+  v_.resize(n);
+  density_rate_.assign(n, 0);
+  velocity_gradient_.assign(n, Mat3::Zero());
+  force_.assign(n, Vec3::Zero());
+  viscous_force_.assign(n, Vec3::Zero());
+  for (std::size_t a = 0; a < n; ++a) {
+    node_[a] = particles[a].node;
+    material_[a] = particles[a].material;
+    mass_[a] = nodes.mass[particles[a].node];
+    smoothing_length_[a] = particles[a].smoothing_length;
+    const auto& m = materials_[material_[a]];
+    density_[a] = m.density;
+    sound_speed_[a] = m.longitudinal_wave_speed(m.density);
+    max_support_ = std::max(max_support_, 2 * smoothing_length_[a]);
+  }
+}
+
+void SolidFormulation::gather_kinematics(const solver::NodeStore& nodes) {
+  const Index n = particle_count();
+#pragma omp parallel for schedule(static)
+  for (Index a = 0; a < n; ++a) {
+    x_[a] = nodes.x[node_[a]];
+    v_[a] = nodes.v[node_[a]];
+  }
+}
+
+// Continuity and velocity gradient, gathered per particle over its full neighbour row.
+void SolidFormulation::compute_rates() {
+  const auto& list = verlet_.list();
+  const Index n = particle_count();
+#pragma omp parallel for schedule(static)
+  for (Index a = 0; a < n; ++a) {
+    Real drho = 0;
+    Mat3 L = Mat3::Zero();
+    for (Index k = list.offsets[a]; k < list.offsets[a + 1]; ++k) {
+      const Index b = list.neighbors[k];
+      const Vec3 xab = x_[a] - x_[b];
+      const Real r = xab.norm();
+      const Real H = pair_support(smoothing_length_[a], smoothing_length_[b]);
+      if (r >= H) continue;
+      const Vec3 grad = Kernel::gradient(xab, r, H);
+      const Vec3 vba = v_[b] - v_[a];
+      drho -= mass_[b] * vba.dot(grad);
+      L.noalias() += (mass_[b] / density_[b]) * vba * grad.transpose();
+    }
+    density_rate_[a] = drho;
+    velocity_gradient_[a] = L;
+  }
+}
+
+void SolidFormulation::update_state(Real dt) {
+  const Index n = particle_count();
+#pragma omp parallel for schedule(static)
+  for (Index a = 0; a < n; ++a) {
+    const auto& m = materials_[material_[a]];
+    if (dt > 0) {
+      density_[a] += dt * density_rate_[a];
+      deviatoric_stress_[a] += dt * materials::jaumann_deviatoric_stress_rate(
+                                        m.shear_modulus, deviatoric_stress_[a],
+                                        velocity_gradient_[a]);
+    }
+    pressure_[a] = materials::elastic_pressure(m, density_[a]);
+    sound_speed_[a] = m.longitudinal_wave_speed(density_[a]);
+  }
+}
+
+void SolidFormulation::compute_pair_forces() {
+  const auto& list = verlet_.list();
+  const Index n = particle_count();
+  const Real alpha = viscosity_.alpha, beta = viscosity_.beta, eta2 = viscosity_.eta * viscosity_.eta;
+#pragma omp parallel for schedule(static)
+  for (Index a = 0; a < n; ++a) {
+    const Real rho_a = density_[a];
+    const Mat3 A_a = (deviatoric_stress_[a] - pressure_[a] * Mat3::Identity()) / (rho_a * rho_a);
+    Vec3 f = Vec3::Zero();
+    Vec3 f_visc = Vec3::Zero();
+    for (Index k = list.offsets[a]; k < list.offsets[a + 1]; ++k) {
+      const Index b = list.neighbors[k];
+      const Vec3 xab = x_[a] - x_[b];
+      const Real r = xab.norm();
+      const Real H = pair_support(smoothing_length_[a], smoothing_length_[b]);
+      if (r >= H) continue;
+      const Vec3 grad = Kernel::gradient(xab, r, H);
+      const Real rho_b = density_[b];
+      const Mat3 A_b =
+          (deviatoric_stress_[b] - pressure_[b] * Mat3::Identity()) / (rho_b * rho_b);
+      const Real mm = mass_[a] * mass_[b];
+      // (A_a + A_b) and grad are exactly opposite for the pair (b, a): momentum is conserved
+      // to round-off although each particle gathers its own sum.
+      f.noalias() += mm * ((A_a + A_b) * grad);
+      const Real vr = (v_[a] - v_[b]).dot(xab);
+      if (vr < 0) {
+        const Real h = Real(0.5) * H;  // mean smoothing length
+        const Real mu = h * vr / (r * r + eta2 * h * h);
+        const Real c = Real(0.5) * (sound_speed_[a] + sound_speed_[b]);
+        const Real rho = Real(0.5) * (rho_a + rho_b);
+        const Real Pi = (-alpha * c * mu + beta * mu * mu) / rho;
+        f_visc.noalias() -= (mm * Pi) * grad;
+      }
+    }
+    viscous_force_[a] = f_visc;
+    force_[a] = f + f_visc;
+  }
+}
+
+void SolidFormulation::compute_forces(solver::NodeStore& nodes, Real dt) {
+  gather_kinematics(nodes);
+  if (!list_built_ || verlet_.needs_rebuild(x_)) {
+    verlet_.build(x_, max_support_, skin_fraction * max_support_);
+    list_built_ = true;
+  }
+  compute_rates();
+  update_state(dt);
+  compute_pair_forces();
+  const Index n = particle_count();
+#pragma omp parallel for schedule(static)
+  for (Index a = 0; a < n; ++a) nodes.f[node_[a]] += force_[a];
+}
+
+// CFL condition dt <= h / (c + |v|) per particle (LS-DYNA's SPH time step, h = smoothing length).
+Real SolidFormulation::stable_time_step(const solver::NodeStore& nodes) const {
+  const Index n = particle_count();
+  Real dt = std::numeric_limits<Real>::infinity();
+#pragma omp parallel for reduction(min : dt) schedule(static)
+  for (Index a = 0; a < n; ++a)
+    dt = std::min(dt, smoothing_length_[a] / (sound_speed_[a] + nodes.v[node_[a]].norm()));
+  return dt;
+}
+
+solver::Formulation::Power SolidFormulation::internal_power(std::span<const Vec3> v) const {
+  // Work of the internal forces on the nodes: strain energy grows by -f_stress . v, and the
+  // artificial viscosity dissipates -f_visc . v >= 0. Reduced in index order (deterministic).
+  Power p;
+  const Index n = particle_count();
+  for (Index a = 0; a < n; ++a) {
+    const Vec3& va = v[node_[a]];
+    p.stored -= (force_[a] - viscous_force_[a]).dot(va);
+    p.dissipated -= viscous_force_[a].dot(va);
+  }
+  return p;
+}
+
+void SolidFormulation::add_fields(std::vector<io::output::PointField>& fields,
+                                  const solver::NodeStore& nodes) const {
+  const std::size_t n_nodes = nodes.id.size();
+  std::vector<double> pressure(n_nodes, 0), von_mises(n_nodes, 0), density(n_nodes, 0),
+      smoothing(n_nodes, 0), stress(6 * n_nodes, 0);
+  std::vector<std::int64_t> neighbour_count(n_nodes, 0);
+  const auto& list = verlet_.list();
+  for (Index a = 0; a < particle_count(); ++a) {
+    const Index i = node_[a];
+    const Mat3& S = deviatoric_stress_[a];
+    pressure[i] = pressure_[a];
+    von_mises[i] = materials::von_mises(S);
+    density[i] = density_[a];
+    smoothing[i] = smoothing_length_[a];
+    const Mat3 sigma = S - pressure_[a] * Mat3::Identity();
+    const double components[6] = {sigma(0, 0), sigma(1, 1), sigma(2, 2),
+                                  sigma(0, 1), sigma(1, 2), sigma(2, 0)};
+    std::copy(components, components + 6, stress.begin() + 6 * i);
+    if (list_built_) neighbour_count[i] = list.count(a);
+  }
+  fields.push_back({"pressure", 1, std::move(pressure)});
+  fields.push_back({"von_mises", 1, std::move(von_mises)});
+  fields.push_back({"density", 1, std::move(density)});
+  fields.push_back({"stress", 6, std::move(stress)});
+  fields.push_back({"smoothing_length", 1, std::move(smoothing)});
+  fields.push_back({"neighbour_count", 1, std::move(neighbour_count)});
+}
+
+Real SolidFormulation::max_wave_speed() const {
+  Real c = 0;
+  for (Real s : sound_speed_) c = std::max(c, s);
+  return c;
+}
+
+}  // namespace spall::sph

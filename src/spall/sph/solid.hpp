@@ -1,0 +1,81 @@
+#pragma once
+// Updated-Lagrangian SPH for elastic solids (Libersky & Petschek 1990; Gray, Monaghan & Swift
+// 2001), the base of seed 000 §3-4:
+//   continuity       d rho_a/dt = sum_b m_b (v_a - v_b) . grad_a W_ab
+//   velocity grad.   L_a = sum_b (m_b / rho_b) (v_b - v_a) (x) grad_a W_ab
+//   Hooke, Jaumann   dS/dt = 2G dev(D) + W S - S W
+//   pressure         p = K (rho / rho_0 - 1)
+//   momentum         m_a dv_a/dt = sum_b m_a m_b (sigma_a/rho_a^2 + sigma_b/rho_b^2 - Pi_ab I) . grad_a W_ab
+//                    (seed 000 eqs. 7-8 in the symmetric form that conserves linear momentum)
+//   viscosity        Pi_ab = (-alpha c_ab mu_ab + beta mu_ab^2) / rho_ab when v_ab . x_ab < 0 (Monaghan)
+// One SPH formulation owns every SPH part; particles of different parts interact through the
+// kernel, with each particle's own material.
+#include <vector>
+
+#include "spall/materials/elastic.hpp"
+#include "spall/neighbors/verlet_list.hpp"
+#include "spall/solver/formulation.hpp"
+
+namespace spall::sph {
+
+struct ArtificialViscosity {
+  Real alpha = 0.06;  // linear term (LS-DYNA *CONTROL_BULK_VISCOSITY Q2)
+  Real beta = 1.5;    // quadratic term (Q1)
+  Real eta = 0.1;     // keeps mu_ab finite as r -> 0: r^2 + (eta h)^2
+};
+
+// One SPH particle as the solver sets it up.
+struct ParticleSetup {
+  Index node = 0;
+  Index material = 0;  // index into the material table
+  Real smoothing_length = 0;  // LS-DYNA's h; the kernel support is 2h
+};
+
+class SolidFormulation final : public solver::Formulation {
+ public:
+  SolidFormulation(std::vector<materials::ElasticConstants> materials,
+                   const std::vector<ParticleSetup>& particles, ArtificialViscosity viscosity,
+                   const solver::NodeStore& nodes);
+
+  const char* name() const override { return "SPH"; }
+  void compute_forces(solver::NodeStore& nodes, Real dt) override;
+  Real stable_time_step(const solver::NodeStore& nodes) const override;
+  Power internal_power(std::span<const Vec3> v) const override;
+  void add_fields(std::vector<io::output::PointField>& fields,
+                  const solver::NodeStore& nodes) const override;
+  Real max_wave_speed() const override;
+
+  Index particle_count() const { return static_cast<Index>(node_.size()); }
+  const neighbors::NeighborList& neighbor_list() const { return verlet_.list(); }
+
+ private:
+  void gather_kinematics(const solver::NodeStore& nodes);
+  void compute_rates();
+  void update_state(Real dt);
+  void compute_pair_forces();
+
+  std::vector<materials::ElasticConstants> materials_;
+  ArtificialViscosity viscosity_;
+
+  // Per particle (structure of arrays).
+  std::vector<Index> node_;
+  std::vector<Index> material_;
+  std::vector<Real> mass_;
+  std::vector<Real> smoothing_length_;
+  std::vector<Real> density_;
+  std::vector<Real> pressure_;
+  std::vector<Real> sound_speed_;
+  std::vector<Mat3> deviatoric_stress_;
+  // Scratch of the current step.
+  std::vector<Vec3> x_, v_;
+  std::vector<Real> density_rate_;
+  std::vector<Mat3> velocity_gradient_;
+  std::vector<Vec3> force_;            // total internal force
+  std::vector<Vec3> viscous_force_;    // its artificial-viscosity part
+
+  neighbors::VerletList verlet_;
+  Real max_support_ = 0;
+  bool list_built_ = false;
+};
+
+}  // namespace spall::sph
