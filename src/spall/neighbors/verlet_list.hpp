@@ -1,6 +1,7 @@
 #pragma once
-// Neighbour search: a cell-linked list builds Verlet lists with a skin; particles can be put in
-// cell order for memory locality. OpenMP inside; the result never depends on the thread count.
+// Neighbour search: a cell-linked list (cell_list.hpp) builds Verlet lists with a skin; particles
+// can be put in cell order for memory locality. OpenMP inside; the result never depends on the
+// thread count.
 #include <span>
 #include <vector>
 
@@ -18,11 +19,16 @@ struct NeighborList {
 
 class VerletList {
  public:
-  // Lists every pair closer than cutoff + skin. The list stays valid (contains every pair closer
-  // than cutoff) until a particle has moved more than skin / 2 from where it was at the build.
+  // Lists every pair closer than cutoff + skin (cutoff > 0, skin >= 0). The list stays valid
+  // (contains every pair closer than cutoff) until a particle has moved more than skin / 2 from
+  // where it was at the build. Throws InstabilityError when a position is not finite.
   void build(std::span<const Vec3> x, Real cutoff, Real skin);
+  // True when some particle moved more than skin / 2 since the build (or has a non-finite
+  // position, or the particle count changed, or there was no build).
   bool needs_rebuild(std::span<const Vec3> x) const;
   const NeighborList& list() const { return list_; }
+  Real cutoff() const { return cutoff_; }
+  Real skin() const { return skin_; }
 
  private:
   NeighborList list_;
@@ -31,8 +37,9 @@ class VerletList {
   Real skin_ = 0;
 };
 
-// A permutation that puts particles in cell order (cells of `cell_size`): new index k holds the
-// particle formerly at order[k].
+// A permutation that puts particles in cell order (cells of `cell_size`, row-major over the cell
+// grid of the bounding box, ties in input order): new index k holds the particle formerly at
+// order[k].
 std::vector<Index> spatial_order(std::span<const Vec3> x, Real cell_size);
 
 }  // namespace spall::neighbors

@@ -16,10 +16,16 @@ struct Column {
 
 class CsvHistory {
  public:
+  // Creates (or truncates) the file and writes the header. Throws std::runtime_error naming the
+  // path when it cannot be written, std::invalid_argument for no columns.
   CsvHistory(const std::filesystem::path& path, std::vector<Column> columns);
+  // One value per column (std::invalid_argument otherwise), with 10 significant digits.
   void append(std::span<const double> row);
 
  private:
+  void flush_or_throw();
+
+  std::filesystem::path path_;
   std::ofstream out_;
   std::size_t columns_ = 0;
 };

@@ -1,0 +1,157 @@
+#include "spall/neighbors/cell_list.hpp"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include "spall/core/error.hpp"
+
+namespace spall::neighbors {
+
+namespace {
+
+struct BoundingBox {
+  Vec3 lower;
+  Vec3 upper;
+};
+
+BoundingBox bounding_box(std::span<const Vec3> x) {
+  const auto n = static_cast<std::int64_t>(x.size());
+  Real lx = x[0].x(), ly = x[0].y(), lz = x[0].z();
+  Real ux = lx, uy = ly, uz = lz;
+  std::int64_t not_finite = 0;
+  // min and max are exact, so the box does not depend on how the reduction is split.
+#pragma omp parallel for reduction(min : lx, ly, lz) reduction(max : ux, uy, uz) \
+    reduction(+ : not_finite)
+  for (std::int64_t i = 0; i < n; ++i) {
+    const Vec3& p = x[i];
+    not_finite += !p.allFinite();
+    lx = std::min(lx, p.x());
+    ly = std::min(ly, p.y());
+    lz = std::min(lz, p.z());
+    ux = std::max(ux, p.x());
+    uy = std::max(uy, p.y());
+    uz = std::max(uz, p.z());
+  }
+  if (not_finite > 0) {
+    const auto bad = std::find_if(x.begin(), x.end(), [](const Vec3& p) { return !p.allFinite(); });
+    throw InstabilityError("neighbour search: particle " + std::to_string(bad - x.begin()) +
+                           " has a non-finite position");
+  }
+  return {Vec3(lx, ly, lz), Vec3(ux, uy, uz)};
+}
+
+// LSD radix sort of (key, particle) by key, 11 bits a pass. Stable, so particles of one cell keep
+// their input order, and the result is unique whatever the thread count. Serial: a few passes over
+// N integers cost little next to the neighbour loops.
+// Only the digits the largest key uses are sorted: two passes for a million-particle block.
+void sort_by_key(std::vector<CellKey>& key, std::vector<Index>& particle) {
+  constexpr int digit_bits = 11;
+  constexpr std::size_t buckets = std::size_t{1} << digit_bits;
+  const CellKey max_key = key.empty() ? 0 : *std::max_element(key.begin(), key.end());
+  const auto high = static_cast<std::uint64_t>(max_key >> 64);
+  const int key_bits = high != 0 ? 64 + std::bit_width(high)
+                                 : std::bit_width(static_cast<std::uint64_t>(max_key));
+  std::vector<CellKey> key_out(key.size());
+  std::vector<Index> particle_out(particle.size());
+  std::vector<std::size_t> start(buckets);
+  for (int shift = 0; shift < key_bits; shift += digit_bits) {
+    std::fill(start.begin(), start.end(), 0);
+    for (const CellKey k : key) ++start[(k >> shift) & (buckets - 1)];
+    std::size_t sum = 0;
+    for (std::size_t& s : start) sum += std::exchange(s, sum);
+    for (std::size_t i = 0; i < key.size(); ++i) {
+      const std::size_t to = start[(key[i] >> shift) & (buckets - 1)]++;
+      key_out[to] = key[i];
+      particle_out[to] = particle[i];
+    }
+    key.swap(key_out);
+    particle.swap(particle_out);
+  }
+}
+
+}  // namespace
+
+void CellList::build(std::span<const Vec3> x, Real cell_size) {
+  if (!(cell_size > 0) || !std::isfinite(cell_size)) {
+    throw std::invalid_argument("neighbour search: cell size must be positive and finite, got " +
+                                std::to_string(cell_size));
+  }
+  const auto n = static_cast<std::int64_t>(x.size());
+  order_.clear();
+  cell_key_.clear();
+  cell_start_.assign(1, 0);
+  cell_size_ = cell_size;
+  cells_ = {1, 1, 1};
+  if (n == 0) return;
+
+  const BoundingBox box = bounding_box(x);
+  const Vec3 extent = box.upper - box.lower;
+  if (!extent.allFinite()) {
+    throw InstabilityError("neighbour search: particles span more than the largest double");
+  }
+  // Cells along an axis: floor(extent / h) + 1 covers [lower, upper] with cells of edge h, and
+  // gives one cell to an axis of zero extent (particles in a plane or a line). Past 2^42 cells on
+  // an axis (so that the key fits 126 bits) the cells grow; a double then resolves a position in
+  // the box to a thousandth of a cell or worse, so no run that means anything gets there.
+  constexpr Real max_cells_along_axis = 0x1p42 - 1;
+  cell_size_ = std::max(cell_size_, extent.maxCoeff() / max_cells_along_axis);
+  const Vec3 cells = (extent.array() / cell_size_).floor() + 1;
+  cells_ = {static_cast<std::int64_t>(cells.x()), static_cast<std::int64_t>(cells.y()),
+            static_cast<std::int64_t>(cells.z())};
+
+  std::vector<CellKey> particle_key(n);
+  order_.resize(n);
+  const Real inverse_size = 1 / cell_size_;
+#pragma omp parallel for
+  for (std::int64_t i = 0; i < n; ++i) {
+    // Relative to the box corner, so positions far from the origin bin as well as near it; the
+    // clamp guards the particles on the upper faces against rounding.
+    std::array<std::int64_t, 3> ic;
+    for (int d = 0; d < 3; ++d) {
+      const auto c = static_cast<std::int64_t>((x[i][d] - box.lower[d]) * inverse_size);
+      ic[d] = std::clamp<std::int64_t>(c, 0, cells_[d] - 1);
+    }
+    particle_key[i] = key(ic[0], ic[1], ic[2]);
+    order_[i] = static_cast<Index>(i);
+  }
+  sort_by_key(particle_key, order_);
+
+  for (std::int64_t k = 0; k < n; ++k) {
+    if (k == 0 || particle_key[k] != particle_key[k - 1]) {
+      cell_key_.push_back(particle_key[k]);
+      if (k > 0) cell_start_.push_back(static_cast<Index>(k));
+    }
+  }
+  cell_start_.push_back(static_cast<Index>(n));
+}
+
+Index CellList::first_cell_from(CellKey k) const {
+  return static_cast<Index>(std::lower_bound(cell_key_.begin(), cell_key_.end(), k) -
+                            cell_key_.begin());
+}
+
+int CellList::neighborhood(Index c, std::array<ParticleRange, 9>& ranges) const {
+  const CellKey k = cell_key_[c];
+  const auto ix = static_cast<std::int64_t>(k % CellKey(cells_[0]));
+  const auto iy = static_cast<std::int64_t>((k / CellKey(cells_[0])) % CellKey(cells_[1]));
+  const auto iz = static_cast<std::int64_t>(k / (CellKey(cells_[0]) * CellKey(cells_[1])));
+  const std::int64_t x_first = std::max<std::int64_t>(ix - 1, 0);
+  const std::int64_t x_last = std::min(ix + 1, cells_[0] - 1);
+  int count = 0;
+  for (std::int64_t z = std::max<std::int64_t>(iz - 1, 0); z <= std::min(iz + 1, cells_[2] - 1);
+       ++z) {
+    for (std::int64_t y = std::max<std::int64_t>(iy - 1, 0); y <= std::min(iy + 1, cells_[1] - 1);
+         ++y) {
+      const Index first = first_cell_from(key(x_first, y, z));
+      const Index past_last = first_cell_from(key(x_last, y, z) + 1);
+      if (first < past_last) ranges[count++] = {cell_start_[first], cell_start_[past_last]};
+    }
+  }
+  return count;
+}
+
+}  // namespace spall::neighbors

@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# VTK's own reader (Debian's python3-vtk9, as ParaView would) reads back a VTU that write_vtu wrote
+# and must see exactly the points, the vector field, the Int64 field and the tensor's component
+# names that tests/unit/test_output.cpp (VtuSample) put in it. Also checks that tools/read_vtu.py
+# fails on a missing field, since other tests rely on that.
+# Arguments, as CTest passes them: CLI SOURCE_DIR SHARED_DIR. The unit test binaries sit beside the CLI.
+set -euo pipefail
+cli=$1
+source_dir=$2
+test_output="$(dirname "$cli")/test_output"
+read_vtu=("/usr/bin/python3" "$source_dir/tools/read_vtu.py")
+
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+
+SPALL_VTU_SAMPLE_DIR=$work "$test_output" --gtest_filter='VtuSample.*' >"$work/gtest.log" ||
+  { cat "$work/gtest.log"; exit 1; }
+
+"${read_vtu[@]}" "$work/sample.vtu" --field velocity --field category --values >"$work/summary"
+"${read_vtu[@]}" "$work/sample.vtu" --field stress | grep component_names >>"$work/summary"
+
+cat >"$work/expected" <<'END'
+points 4
+cells 4
+velocity components 3 type Float64
+velocity min -3.25 -2.0 0.0
+velocity max 7.0 8.0 9.0
+velocity magnitude_min 0.0
+velocity magnitude_max 13.92838827718412
+velocity value 0 1.5 -2.0 0.1
+velocity value 1 0.0 0.0 0.0
+velocity value 2 -3.25 4.0 0.001
+velocity value 3 7.0 8.0 9.0
+category components 1 type Int64
+category min -1
+category max 9007199254740993
+category value 0 0
+category value 1 2
+category value 2 -1
+category value 3 9007199254740993
+stress component_names xx yy zz xy yz zx
+END
+diff -u "$work/expected" "$work/summary"
+
+if "${read_vtu[@]}" "$work/sample.vtu" --field no_such_field >/dev/null 2>&1; then
+  echo "read_vtu.py accepted a missing field" >&2
+  exit 1
+fi
+echo "VTK read the sample back exactly"

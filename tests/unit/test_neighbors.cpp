@@ -1,0 +1,268 @@
+// Neighbour search against brute force, against exact lattice counts, on degenerate sets, and for
+// independence from the thread count. The suite is `neighbors`, lower case, so that
+// `ctest -R neighbor` selects it.
+#include <gtest/gtest.h>
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <random>
+#include <stdexcept>
+#include <vector>
+
+#include "spall/core/error.hpp"
+#include "spall/neighbors/cell_list.hpp"
+#include "spall/neighbors/verlet_list.hpp"
+
+namespace spall::neighbors {
+namespace {
+
+// Every pair closer than radius, by the same arithmetic as the search, in O(N^2).
+NeighborList brute_force(const std::vector<Vec3>& x, Real radius) {
+  const auto n = static_cast<Index>(x.size());
+  NeighborList list;
+  list.offsets.push_back(0);
+  for (Index i = 0; i < n; ++i) {
+    for (Index j = 0; j < n; ++j) {
+      const Real dx = x[i].x() - x[j].x();
+      const Real dy = x[i].y() - x[j].y();
+      const Real dz = x[i].z() - x[j].z();
+      if (i != j && dx * dx + dy * dy + dz * dz < radius * radius) list.neighbors.push_back(j);
+    }
+    list.offsets.push_back(static_cast<Index>(list.neighbors.size()));
+  }
+  return list;
+}
+
+std::vector<Index> row(const NeighborList& list, Index i) {
+  return {list.neighbors.begin() + list.offsets[i], list.neighbors.begin() + list.offsets[i + 1]};
+}
+
+// Rows strictly ascending, no self, and j in i's row exactly when i is in j's row.
+void expect_sorted_and_symmetric(const NeighborList& list, Index n) {
+  ASSERT_EQ(list.offsets.size(), static_cast<std::size_t>(n) + 1);
+  EXPECT_EQ(list.offsets.front(), 0);
+  EXPECT_EQ(static_cast<std::size_t>(list.offsets.back()), list.neighbors.size());
+  for (Index i = 0; i < n; ++i) {
+    const std::vector<Index> r = row(list, i);
+    EXPECT_TRUE(std::adjacent_find(r.begin(), r.end(), std::greater_equal<>()) == r.end())
+        << "row " << i << " is not strictly ascending";
+    for (const Index j : r) {
+      ASSERT_GE(j, 0);
+      ASSERT_LT(j, n);
+      EXPECT_NE(j, i);
+      const std::vector<Index> back = row(list, j);
+      EXPECT_TRUE(std::binary_search(back.begin(), back.end(), i)) << i << " lists " << j;
+    }
+  }
+}
+
+void expect_matches_brute_force(const std::vector<Vec3>& x, Real cutoff, Real skin) {
+  VerletList verlet;
+  verlet.build(x, cutoff, skin);
+  const NeighborList expected = brute_force(x, cutoff + skin);
+  expect_sorted_and_symmetric(verlet.list(), static_cast<Index>(x.size()));
+  EXPECT_EQ(verlet.list().offsets, expected.offsets);
+  EXPECT_EQ(verlet.list().neighbors, expected.neighbors);
+}
+
+std::vector<Vec3> random_set(std::size_t n, const Vec3& lower, const Vec3& upper,
+                             unsigned seed) {
+  std::mt19937_64 random(seed);
+  std::uniform_real_distribution<Real> unit(0, 1);
+  std::vector<Vec3> x(n);
+  for (Vec3& p : x) {
+    for (int d = 0; d < 3; ++d) p[d] = lower[d] + unit(random) * (upper[d] - lower[d]);
+  }
+  return x;
+}
+
+// side^3 points of spacing dx from origin, x fastest.
+std::vector<Vec3> cubic_lattice(int side, Real dx, const Vec3& origin = Vec3::Zero()) {
+  std::vector<Vec3> x;
+  for (int k = 0; k < side; ++k)
+    for (int j = 0; j < side; ++j)
+      for (int i = 0; i < side; ++i) x.push_back(origin + dx * Vec3(i, j, k));
+  return x;
+}
+
+TEST(neighbors, RandomSetsMatchBruteForce) {
+  const Vec3 lower(-1, 0, 2);
+  expect_matches_brute_force(random_set(2000, lower, Vec3(3, 4, 6), 1), 0.3, 0.05);
+  expect_matches_brute_force(random_set(1500, lower, Vec3(9, 1, 3), 2), 0.2, 0.0);
+  // A radius larger than the box: one cell per axis.
+  expect_matches_brute_force(random_set(300, lower, Vec3(0, 1, 3), 3), 2.0, 0.5);
+  // Sparse: most particles have no neighbour.
+  expect_matches_brute_force(random_set(400, lower, Vec3(99, 100, 102), 4), 1.0, 0.1);
+}
+
+TEST(neighbors, CubicLatticeInteriorCountsAreExact) {
+  // Shells of a cubic lattice of spacing 1: 6 at 1, 12 at sqrt 2, 8 at sqrt 3, 6 at 2. A radius
+  // between shells gives 6, 6+12 = 18, 18+8 = 26 neighbours to every particle at least 2 spacings
+  // from the faces.
+  const int side = 9;
+  const std::vector<Vec3> x = cubic_lattice(side, 1.0);
+  const struct {
+    Real cutoff, skin;
+    Index expected;
+  } cases[] = {{1.1, 0.1, 6}, {1.5, 0.1, 18}, {1.8, 0.1, 26}, {1.9, 0.0, 26}};
+  for (const auto& c : cases) {
+    VerletList verlet;
+    verlet.build(x, c.cutoff, c.skin);
+    const NeighborList& list = verlet.list();
+    expect_sorted_and_symmetric(list, static_cast<Index>(x.size()));
+    for (int k = 2; k < side - 2; ++k)
+      for (int j = 2; j < side - 2; ++j)
+        for (int i = 2; i < side - 2; ++i) {
+          EXPECT_EQ(list.count((k * side + j) * side + i), c.expected)
+              << "radius " << c.cutoff + c.skin << " at " << i << "," << j << "," << k;
+        }
+    // A corner sees the 1/8 of its shells inside the lattice: 3, 3+3 = 6, 6+1 = 7.
+    EXPECT_EQ(list.count(0), c.expected == 6 ? 3 : c.expected == 18 ? 6 : 7);
+    EXPECT_EQ(list.neighbors, brute_force(x, c.cutoff + c.skin).neighbors);
+  }
+}
+
+TEST(neighbors, AllParticlesInOneCell) {
+  const std::vector<Vec3> x = random_set(60, Vec3(5, 5, 5), Vec3(5.1, 5.2, 5.05), 5);
+  VerletList verlet;
+  verlet.build(x, 1.0, 0.1);
+  for (Index i = 0; i < 60; ++i) EXPECT_EQ(verlet.list().count(i), 59);
+  expect_matches_brute_force(x, 1.0, 0.1);
+}
+
+TEST(neighbors, ParticlesInAPlaneAndOnALine) {
+  std::vector<Vec3> plane = random_set(1000, Vec3(0, 0, 3), Vec3(5, 5, 3), 6);
+  expect_matches_brute_force(plane, 0.25, 0.05);
+  std::vector<Vec3> line = random_set(500, Vec3(0, -2, 1), Vec3(0, 20, 1), 7);
+  expect_matches_brute_force(line, 0.1, 0.02);
+}
+
+TEST(neighbors, SingleParticleAndNoParticles) {
+  VerletList verlet;
+  verlet.build(std::vector<Vec3>{Vec3(1, 2, 3)}, 1.0, 0.1);
+  EXPECT_EQ(verlet.list().offsets, (std::vector<Index>{0, 0}));
+  EXPECT_TRUE(verlet.list().neighbors.empty());
+
+  verlet.build(std::vector<Vec3>{}, 1.0, 0.1);
+  EXPECT_EQ(verlet.list().offsets, (std::vector<Index>{0}));
+  EXPECT_TRUE(verlet.list().neighbors.empty());
+  EXPECT_FALSE(verlet.needs_rebuild(std::vector<Vec3>{}));
+  EXPECT_TRUE(spatial_order(std::vector<Vec3>{}, 1.0).empty());
+}
+
+TEST(neighbors, FarFromTheOrigin) {
+  // Lattice coordinates 1e6 + i are exact, so the list must equal the one at the origin.
+  const std::vector<Vec3> near = cubic_lattice(6, 1.0);
+  const std::vector<Vec3> far = cubic_lattice(6, 1.0, Vec3(1e6, -1e6, 1e6));
+  VerletList at_origin, offset;
+  at_origin.build(near, 1.6, 0.1);
+  offset.build(far, 1.6, 0.1);
+  EXPECT_EQ(offset.list().offsets, at_origin.list().offsets);
+  EXPECT_EQ(offset.list().neighbors, at_origin.list().neighbors);
+  expect_matches_brute_force(random_set(500, Vec3(1e6, 1e6, 1e6), Vec3(1e6 + 3, 1e6 + 3, 1e6 + 3), 8),
+                             0.3, 0.05);
+}
+
+TEST(neighbors, HugeBoxWithFewParticles) {
+  // Two small clusters 1e9 cutoffs apart: a dense grid over the box would need 1e27 cells.
+  std::vector<Vec3> x = random_set(200, Vec3(0, 0, 0), Vec3(2, 2, 2), 9);
+  const std::vector<Vec3> far = random_set(200, Vec3(1e9, 1e9, 1e9), Vec3(1e9 + 2, 1e9 + 2, 1e9 + 2), 10);
+  x.insert(x.end(), far.begin(), far.end());
+  expect_matches_brute_force(x, 0.4, 0.1);
+
+  // A box so wide that even the 63-bit cell key overflows: the cells grow and stay correct.
+  const std::vector<Vec3> extreme = {Vec3(0, 0, 0), Vec3(0.5, 0, 0), Vec3(-1e300, 1e300, -1e300),
+                                     Vec3(1e300, -1e300, 1e300)};
+  expect_matches_brute_force(extreme, 1.0, 0.0);
+}
+
+TEST(neighbors, SameListForOneAndTwoThreads) {
+  const std::vector<Vec3> x = random_set(6000, Vec3(0, 0, 0), Vec3(4, 3, 2), 11);
+  const int threads_before = omp_get_max_threads();
+  omp_set_num_threads(1);
+  VerletList one;
+  one.build(x, 0.2, 0.03);
+  const std::vector<Index> order_one = spatial_order(x, 0.23);
+  omp_set_num_threads(2);
+  VerletList two;
+  two.build(x, 0.2, 0.03);
+  const std::vector<Index> order_two = spatial_order(x, 0.23);
+  omp_set_num_threads(threads_before);
+  EXPECT_EQ(one.list().offsets, two.list().offsets);
+  EXPECT_EQ(one.list().neighbors, two.list().neighbors);
+  EXPECT_EQ(order_one, order_two);
+}
+
+TEST(neighbors, RebuildOnlyAfterAMoveBeyondHalfTheSkin) {
+  const Real cutoff = 0.3, skin = 0.06;
+  std::vector<Vec3> x = random_set(1500, Vec3(0, 0, 0), Vec3(2, 2, 2), 12);
+  VerletList verlet;
+  EXPECT_TRUE(verlet.needs_rebuild(x)) << "never built";
+  verlet.build(x, cutoff, skin);
+  EXPECT_FALSE(verlet.needs_rebuild(x));
+
+  // Every particle moves just under skin / 2 in a random direction: no rebuild, and the old list
+  // still holds every pair now closer than the cutoff.
+  std::mt19937_64 random(13);
+  std::normal_distribution<Real> normal;
+  for (Vec3& p : x) p += 0.49 * skin * Vec3(normal(random), normal(random), normal(random)).normalized();
+  EXPECT_FALSE(verlet.needs_rebuild(x));
+  const NeighborList now = brute_force(x, cutoff);
+  for (Index i = 0; i < static_cast<Index>(x.size()); ++i) {
+    const std::vector<Index> listed = row(verlet.list(), i);
+    for (const Index j : row(now, i)) {
+      EXPECT_TRUE(std::binary_search(listed.begin(), listed.end(), j)) << i << " lost " << j;
+    }
+  }
+
+  std::vector<Vec3> one_moved = x;
+  one_moved[700] += Vec3(0, 0.51 * skin, 0);
+  verlet.build(x, cutoff, skin);
+  EXPECT_TRUE(verlet.needs_rebuild(one_moved));
+  one_moved[700] = Vec3(std::numeric_limits<Real>::quiet_NaN(), 0, 0);
+  EXPECT_TRUE(verlet.needs_rebuild(one_moved));
+  EXPECT_THROW(verlet.build(one_moved, cutoff, skin), InstabilityError);
+  one_moved.pop_back();
+  verlet.build(x, cutoff, skin);
+  EXPECT_TRUE(verlet.needs_rebuild(one_moved)) << "particle count changed";
+}
+
+TEST(neighbors, SpatialOrderIsAStableSortByRowMajorCell) {
+  // A lattice given in reverse, cells of 2 spacings: the order must be a permutation, cells
+  // ascending row-major (z slowest), and particles within a cell in input order.
+  std::vector<Vec3> x = cubic_lattice(7, 1.0);
+  std::reverse(x.begin(), x.end());
+  const Real cell_size = 2.0;
+  const std::vector<Index> order = spatial_order(x, cell_size);
+  std::vector<Index> sorted = order;
+  std::sort(sorted.begin(), sorted.end());
+  std::vector<Index> identity(x.size());
+  std::iota(identity.begin(), identity.end(), 0);
+  ASSERT_EQ(sorted, identity);
+
+  auto cell_key = [&](Index i) {
+    const Vec3 c = (x[i] / cell_size).array().floor();  // the box starts at the origin
+    return (c.z() * 4 + c.y()) * 4 + c.x();              // 7 spacings -> 4 cells an axis
+  };
+  for (std::size_t k = 1; k < order.size(); ++k) {
+    const Real before = cell_key(order[k - 1]), here = cell_key(order[k]);
+    EXPECT_LE(before, here);
+    if (before == here) {
+      EXPECT_LT(order[k - 1], order[k]);
+    }
+  }
+}
+
+TEST(neighbors, RejectsBadArguments) {
+  const std::vector<Vec3> x = cubic_lattice(2, 1.0);
+  VerletList verlet;
+  EXPECT_THROW(verlet.build(x, 0.0, 0.1), std::invalid_argument);
+  EXPECT_THROW(verlet.build(x, 1.0, -0.1), std::invalid_argument);
+  EXPECT_THROW(spatial_order(x, 0.0), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace spall::neighbors
