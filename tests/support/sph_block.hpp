@@ -3,7 +3,7 @@
 // part with *SECTION_SPH and *MAT_ELASTIC, and the controls a deck would give.
 #include "spall/model/model.hpp"
 
-namespace spall::testing {
+namespace spall::test_support {
 
 struct ElasticBlock {
   Vec3 size = Vec3(1, 0.1, 0.1);
@@ -43,4 +43,4 @@ inline model::Model elastic_block_model(const ElasticBlock& b) {
   return m;
 }
 
-}  // namespace spall::testing
+}  // namespace spall::test_support

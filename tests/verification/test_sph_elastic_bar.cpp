@@ -24,8 +24,8 @@ struct BarRun {
   solver::RunSummary summary;
 };
 
-testing::ElasticBlock bar_geometry() {
-  testing::ElasticBlock b;
+test_support::ElasticBlock bar_geometry() {
+  test_support::ElasticBlock b;
   b.size = Vec3(1.0, 0.1, 0.1);
   b.spacing = 0.0125;  // 80 x 8 x 8 particles
   b.density = 7850;
@@ -37,7 +37,7 @@ testing::ElasticBlock bar_geometry() {
 BarRun run_bar(Real end_time) {
   auto b = bar_geometry();
   b.end_time = end_time;
-  model::Model model = testing::elastic_block_model(b);
+  model::Model model = test_support::elastic_block_model(b);
   const Real amplitude = 1.0;  // m/s, small against c: linear elasticity holds
   for (const auto& node : model.nodes) {
     model::InitialVelocityNode iv;

@@ -20,11 +20,11 @@ Vec3 total_momentum(const solver::NodeStore& nodes) {
 }
 
 model::Model block(Real end_time) {
-  testing::ElasticBlock b;
+  test_support::ElasticBlock b;
   b.size = Vec3(0.2, 0.1, 0.1);
   b.spacing = 0.01;
   b.end_time = end_time;
-  return testing::elastic_block_model(b);
+  return test_support::elastic_block_model(b);
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <cstdint>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 namespace spall {
 
