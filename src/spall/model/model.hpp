@@ -219,7 +219,8 @@ struct ControlBulkViscosity {
 };
 
 // A keyword Spall does not support: reported once as a warning. For sections, materials and EOS
-// `id` is the ID on its first card, so that a part that uses it can be refused by name.
+// `id` is the ID on its first card (for *PART_ variants such as *PART_INERTIA, the PID), so that
+// a reference to it can be refused by name.
 struct UnsupportedKeyword {
   std::string keyword;
   Id id = 0;

@@ -230,18 +230,20 @@ class DeckReader {
   }
 
   // Records the keyword for the warning list. For sections, materials and EOS it also keeps the
-  // ID in the first field of the first data card, so that validate() can name the keyword a part
-  // refers to. Never throws: an unreadable ID is 0.
+  // ID in the first field of the first data card (for *PART_ variants, the PID on the card after
+  // the heading), so that validate() can name the keyword a reference points to. Never throws:
+  // an unreadable ID is 0.
   void record_unsupported(const KeywordBlock& block, bool long_format) {
     model::UnsupportedKeyword unsupported;
     unsupported.keyword = "*" + block.name;
     unsupported.where = {*block.file, block.line};
     const std::string_view name = block.name;
-    if (name.starts_with("SECTION_") || name.starts_with("MAT_") || name.starts_with("EOS_")) {
-      const std::size_t first = ends_with(name, "_TITLE") ? 1 : 0;
-      if (block.data.size() > first)
-        unsupported.id = first_field_id(block.data[first].text, long_format);
-    }
+    std::size_t card = block.data.size();  // the card with the ID; none by default
+    if (name.starts_with("SECTION_") || name.starts_with("MAT_") || name.starts_with("EOS_"))
+      card = ends_with(name, "_TITLE") ? 1 : 0;
+    else if (name.starts_with("PART_"))  // *PART_INERTIA etc.: a heading, then PID first
+      card = 1;
+    if (card < block.data.size()) unsupported.id = first_field_id(block.data[card].text, long_format);
     model_.unsupported.push_back(std::move(unsupported));
   }
 
