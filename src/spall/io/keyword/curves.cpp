@@ -1,6 +1,8 @@
 // *DEFINE_CURVE (+ _TITLE).
 #include <array>
 
+#include <fmt/format.h>
+
 #include "spall/io/keyword/keyword_readers.hpp"
 
 namespace spall::io::keyword {
@@ -36,9 +38,8 @@ void read_define_curve(CardCursor& cursor, const KeywordCall& call, model::Model
     const Real a = point.required_real(0, "A1");
     const Real o = point.real(1, "O1", 0.0);
     if (!curve.points.empty() && a <= curve.points.back().first)
-      point.fail("A1", "abscissa " + std::string(point.text(0)) +
-                           " does not increase (the previous point is at " +
-                           std::to_string(curve.points.back().first) + ")");
+      point.fail("A1", fmt::format("abscissa '{}' does not increase (the previous point is at {:g})",
+                                   point.text(0), curve.points.back().first));
     curve.points.emplace_back(a, o);
   }
   if (curve.points.empty())
