@@ -142,6 +142,8 @@ struct InitialVelocity {
   Vec3 vr = Vec3::Zero();
   Vec3 v_exempt = Vec3::Zero();
   Vec3 vr_exempt = Vec3::Zero();
+  int irigid = 0;  // IRIGID: how rigid parts take the velocity (0 as their nodes)
+  Id icid = 0;     // ICID: velocities given in this local coordinate system (0 global)
   SourceLocation where;
 };
 // *INITIAL_VELOCITY_NODE
@@ -201,7 +203,8 @@ struct ControlTimestep {
 // An output request: *DATABASE_BINARY_D3PLOT (field output) or *DATABASE_GLSTAT (energies).
 struct OutputInterval {
   Real dt = 0;
-  Id lcdt = 0;
+  Id lcdt = 0;    // D3PLOT LCDT / GLSTAT LCUR: curve of the output interval versus time
+  int beam = 0;   // D3PLOT BEAM (discrete-element output flag; kept for completeness)
   int npltc = 0;  // D3PLOT: DT = ENDTIM / NPLTC when DT is 0
   SourceLocation where;
 };
@@ -216,7 +219,8 @@ struct ControlBulkViscosity {
 };
 
 // A keyword Spall does not support: reported once as a warning. For sections, materials and EOS
-// `id` is the ID on its first card, so that a part that uses it can be refused by name.
+// `id` is the ID on its first card (for *PART_ variants such as *PART_INERTIA, the PID), so that
+// a reference to it can be refused by name.
 struct UnsupportedKeyword {
   std::string keyword;
   Id id = 0;

@@ -1,0 +1,134 @@
+// *NODE, *ELEMENT_SOLID, *ELEMENT_SPH, *PART.
+#include <array>
+#include <cmath>
+
+#include "spall/io/keyword/keyword_readers.hpp"
+
+namespace spall::io::keyword {
+
+namespace {
+// *NODE: NID i8, X Y Z e16, TC RC i8.
+constexpr std::array<int, 6> node_fields = {8, 16, 16, 16, 8, 8};
+// *ELEMENT_SOLID: EID PID N1..N8 (legacy one-line), or EID PID then N1..N10 (ten-node format).
+constexpr std::array<int, 10> solid_legacy_fields = {8, 8, 8, 8, 8, 8, 8, 8, 8, 8};
+constexpr std::array<int, 2> solid_header_fields = {8, 8};
+constexpr std::array<int, 10> solid_nodes_fields = {8, 8, 8, 8, 8, 8, 8, 8, 8, 8};
+// *ELEMENT_SPH: NID PID i8, MASS e16, NEND i8.
+constexpr std::array<int, 4> sph_fields = {8, 8, 16, 8};
+constexpr const char* node_names[10] = {"N1", "N2", "N3", "N4", "N5",
+                                        "N6", "N7", "N8", "N9", "N10"};
+
+// The one-line legacy layout has node numbers after EID and PID; the ten-node layout's first
+// line has only EID and PID. As pydyna does, tell them apart by the first line's length.
+bool is_legacy_solid_layout(const DataLine& first, bool long_format) {
+  const std::string_view text = first.text;
+  if (text.find(',') != std::string_view::npos) {
+    std::size_t commas = 0;
+    for (char c : text) commas += c == ',';
+    return commas >= 2;
+  }
+  std::string_view significant = text;
+  while (!significant.empty() && (significant.back() == ' ' || significant.back() == '\t'))
+    significant.remove_suffix(1);
+  return significant.size() > (long_format ? 40u : 16u);
+}
+}  // namespace
+
+void read_node(CardCursor& cursor, const KeywordCall&, model::Model& model) {
+  model.nodes.reserve(model.nodes.size() + cursor.context().block.data.size());
+  while (true) {
+    cursor.skip_blank_lines();
+    if (cursor.done()) break;
+    const Card card = cursor.next(node_fields, "node card");
+    model::Node node;
+    node.id = card.required_integer(0, "NID");
+    node.x = Vec3(card.real(1, "X", 0.0), card.real(2, "Y", 0.0), card.real(3, "Z", 0.0));
+    node.tc = static_cast<int>(card.integer(4, "TC", 0));
+    node.rc = static_cast<int>(card.integer(5, "RC", 0));
+    node.where = card.where();
+    model.nodes.push_back(std::move(node));
+  }
+}
+
+void read_element_solid(CardCursor& cursor, const KeywordCall&, model::Model& model) {
+  cursor.skip_blank_lines();
+  if (cursor.done()) return;
+  const bool legacy = is_legacy_solid_layout(cursor.peek(), cursor.context().long_format);
+  while (true) {
+    cursor.skip_blank_lines();
+    if (cursor.done()) break;
+    model::ElementSolid element;
+    std::array<Id, 10> nodes{};
+    if (legacy) {
+      const Card card = cursor.next(solid_legacy_fields, "element card");
+      element.eid = card.required_integer(0, "EID");
+      element.pid = card.required_integer(1, "PID");
+      for (int k = 0; k < 8; ++k) nodes[k] = card.integer(2 + k, node_names[k], 0);
+      element.where = card.where();
+    } else {
+      const Card header = cursor.next(solid_header_fields, "element card 1 (EID PID)");
+      element.eid = header.required_integer(0, "EID");
+      element.pid = header.required_integer(1, "PID");
+      element.where = header.where();
+      const Card card = cursor.next(solid_nodes_fields, "element card 2 (N1..N10)");
+      for (int k = 0; k < 10; ++k) nodes[k] = card.integer(k, node_names[k], 0);
+      if (nodes[8] != 0 || nodes[9] != 0)
+        card.fail("N9", "element " + std::to_string(element.eid) +
+                            " has nodes N9/N10: ten-node tetrahedra are not supported");
+    }
+    for (int k = 0; k < 8; ++k) {
+      if (nodes[k] <= 0)
+        cursor.context().fail(element.where.line,
+                              "element " + std::to_string(element.eid) + ": " + node_names[k] +
+                                  " is blank or 0; a solid element needs 8 nodes (repeat nodes "
+                                  "for degenerate shapes)");
+      element.n[k] = nodes[k];
+    }
+    model.solid_elements.push_back(std::move(element));
+  }
+}
+
+void read_element_sph(CardCursor& cursor, const KeywordCall& call, model::Model& model) {
+  const bool volume_option = call.base == "ELEMENT_SPH_VOLUME";
+  while (true) {
+    cursor.skip_blank_lines();
+    if (cursor.done()) break;
+    const Card card = cursor.next(sph_fields, "particle card");
+    model::ElementSph particle;
+    particle.nid = card.required_integer(0, "NID");
+    particle.pid = card.required_integer(1, "PID");
+    const Real mass = card.real(2, "MASS", 0.0);
+    if (mass == 0.0)
+      card.fail("MASS", "particle " + std::to_string(particle.nid) +
+                            " has no mass: give a mass (> 0) or a volume (< 0)");
+    // The model keeps LS-DYNA's convention: a negative MASS is a volume.
+    particle.mass = volume_option ? -std::abs(mass) : mass;
+    particle.where = card.where();
+    const Id nend = card.integer(3, "NEND", 0);
+    if (nend > 0 && nend < particle.nid)
+      card.fail("NEND", "NEND " + std::to_string(nend) + " is below NID " +
+                            std::to_string(particle.nid));
+    const Id last = nend > 0 ? nend : particle.nid;
+    for (Id nid = particle.nid; nid <= last; ++nid) {
+      particle.nid = nid;
+      model.sph_elements.push_back(particle);
+    }
+  }
+}
+
+void read_part(CardCursor& cursor, const KeywordCall&, model::Model& model) {
+  while (!cursor.done()) {
+    model::Part part;
+    part.heading = cursor.next_text("heading card");
+    const Card card = cursor.next(standard_fields, "card 2 (PID SECID MID ...)");
+    part.id = card.required_integer(0, "PID");
+    part.secid = card.required_integer(1, "SECID");
+    part.mid = card.required_integer(2, "MID");
+    part.eosid = card.integer(3, "EOSID", 0);
+    part.hgid = card.integer(4, "HGID", 0);
+    part.where = card.where();
+    model.parts.push_back(std::move(part));
+  }
+}
+
+}  // namespace spall::io::keyword

@@ -1,0 +1,77 @@
+#pragma once
+// One reader per keyword group; reader.cpp dispatches each keyword block to one of them.
+// Internal to io/keyword.
+#include <map>
+#include <string>
+#include <string_view>
+#include <variant>
+
+#include "spall/io/keyword/card.hpp"
+#include "spall/model/model.hpp"
+
+namespace spall::io::keyword {
+
+// The keyword as dispatched: its name without the `_TITLE` / `_ID` option, and which option
+// was given.
+struct KeywordCall {
+  std::string_view base;
+  bool title = false;  // `_TITLE`: a title line before card 1
+  bool id = false;     // `_ID`: an ID + HEADING card before card 1
+};
+
+using KeywordReader = void (*)(CardCursor&, const KeywordCall&, model::Model&);
+
+template <class T>
+const SourceLocation& location_of(const T& item) {
+  return item.where;
+}
+template <class... T>
+const SourceLocation& location_of(const std::variant<T...>& item) {
+  return std::visit([](const auto& alternative) -> const SourceLocation& { return alternative.where; },
+                    item);
+}
+
+// Adds `item` under `id`, or fails naming the earlier definition.
+template <class Map, class Item>
+void insert_unique(Map& map, std::int64_t id, Item&& item, const Card& card, std::string_view what) {
+  auto [it, inserted] = map.try_emplace(id, std::forward<Item>(item));
+  if (!inserted) {
+    const SourceLocation& first = location_of(it->second);
+    card.context().fail(card.line(), std::string(what) + " " + std::to_string(id) +
+                                         " is defined twice (first at " + first.file + ":" +
+                                         std::to_string(first.line) + ")");
+  }
+}
+
+// geometry.cpp
+void read_node(CardCursor&, const KeywordCall&, model::Model&);
+void read_element_solid(CardCursor&, const KeywordCall&, model::Model&);
+void read_element_sph(CardCursor&, const KeywordCall&, model::Model&);
+void read_part(CardCursor&, const KeywordCall&, model::Model&);
+// sections_materials.cpp
+void read_section_solid(CardCursor&, const KeywordCall&, model::Model&);
+void read_section_sph(CardCursor&, const KeywordCall&, model::Model&);
+void read_mat_elastic(CardCursor&, const KeywordCall&, model::Model&);
+void read_mat_rigid(CardCursor&, const KeywordCall&, model::Model&);
+// sets.cpp
+void read_set_node_list(CardCursor&, const KeywordCall&, model::Model&);
+void read_set_node_list_generate(CardCursor&, const KeywordCall&, model::Model&);
+void read_set_part_list(CardCursor&, const KeywordCall&, model::Model&);
+// curves.cpp
+void read_define_curve(CardCursor&, const KeywordCall&, model::Model&);
+// boundary_initial.cpp
+void read_boundary_spc(CardCursor&, const KeywordCall&, model::Model&);
+void read_boundary_prescribed_motion(CardCursor&, const KeywordCall&, model::Model&);
+void read_initial_velocity(CardCursor&, const KeywordCall&, model::Model&);
+void read_initial_velocity_node(CardCursor&, const KeywordCall&, model::Model&);
+void read_initial_velocity_generation(CardCursor&, const KeywordCall&, model::Model&);
+// loads.cpp
+void read_load_body(CardCursor&, const KeywordCall&, model::Model&);
+// controls.cpp
+void read_control_termination(CardCursor&, const KeywordCall&, model::Model&);
+void read_control_timestep(CardCursor&, const KeywordCall&, model::Model&);
+void read_control_bulk_viscosity(CardCursor&, const KeywordCall&, model::Model&);
+void read_database_binary_d3plot(CardCursor&, const KeywordCall&, model::Model&);
+void read_database_glstat(CardCursor&, const KeywordCall&, model::Model&);
+
+}  // namespace spall::io::keyword

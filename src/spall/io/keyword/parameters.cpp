@@ -1,0 +1,196 @@
+#include "spall/io/keyword/parameters.hpp"
+
+#include <cctype>
+#include <charconv>
+#include <cmath>
+
+namespace spall::io::keyword {
+
+std::string Parameters::key(std::string_view name) {
+  std::string lowered(name);
+  for (char& c : lowered) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return lowered;
+}
+
+void Parameters::define(std::string_view name, ParameterValue value, bool local) {
+  Scope& scope = local ? local_.back() : global_;
+  scope[key(name)] = std::move(value);
+}
+
+const ParameterValue* Parameters::find(std::string_view name) const {
+  const std::string k = key(name);
+  for (auto scope = local_.rbegin(); scope != local_.rend(); ++scope)
+    if (auto it = scope->find(k); it != scope->end()) return &it->second;
+  if (auto it = global_.find(k); it != global_.end()) return &it->second;
+  return nullptr;
+}
+
+namespace {
+
+// Recursive descent over the grammar
+//   sum     = product { ("+" | "-") product }
+//   product = unary { ("*" | "/") unary }
+//   unary   = ("-" | "+") unary | power
+//   power   = primary [ ("**" | "^") unary ]      (right-associative, binds tighter than unary -)
+//   primary = number | name [ "(" sum { "," sum } ")" ] | "(" sum ")"
+class ExpressionParser {
+ public:
+  ExpressionParser(std::string_view text, const Parameters& parameters, std::string& error)
+      : text_(text), parameters_(parameters), error_(error) {}
+
+  std::optional<double> parse() {
+    const double value = sum();
+    skip_blanks();
+    if (error_.empty() && position_ != text_.size())
+      fail("unexpected '" + std::string(text_.substr(position_)) + "'");
+    if (!error_.empty()) return std::nullopt;
+    return value;
+  }
+
+ private:
+  void fail(std::string message) {
+    if (error_.empty()) error_ = std::move(message);
+  }
+  void skip_blanks() {
+    while (position_ < text_.size() && (text_[position_] == ' ' || text_[position_] == '\t'))
+      ++position_;
+  }
+  bool accept(std::string_view token) {
+    skip_blanks();
+    if (text_.substr(position_, token.size()) != token) return false;
+    position_ += token.size();
+    return true;
+  }
+
+  double sum() {
+    double value = product();
+    while (error_.empty()) {
+      if (accept("+")) value += product();
+      else if (accept("-")) value -= product();
+      else break;
+    }
+    return value;
+  }
+  double product() {
+    double value = unary();
+    while (error_.empty()) {
+      if (accept("*")) value *= unary();
+      else if (accept("/")) value /= unary();
+      else break;
+    }
+    return value;
+  }
+  double unary() {
+    if (accept("-")) return -unary();
+    if (accept("+")) return unary();
+    return power();
+  }
+  double power() {
+    const double base = primary();
+    if (accept("**") || accept("^")) return std::pow(base, unary());
+    return base;
+  }
+  double primary() {
+    skip_blanks();
+    if (position_ >= text_.size()) {
+      fail("expression ends too early");
+      return 0;
+    }
+    if (accept("(")) {
+      const double value = sum();
+      if (!accept(")")) fail("missing ')'");
+      return value;
+    }
+    const char c = text_[position_];
+    if (std::isdigit(static_cast<unsigned char>(c)) || c == '.') return number();
+    if (c == '&') ++position_;
+    if (position_ < text_.size() && (std::isalpha(static_cast<unsigned char>(text_[position_])) ||
+                                     text_[position_] == '_'))
+      return name_or_call();
+    fail("unexpected '" + std::string(text_.substr(position_)) + "'");
+    return 0;
+  }
+  double number() {
+    double value = 0;
+    auto [end, error] = std::from_chars(text_.data() + position_, text_.data() + text_.size(), value);
+    if (error != std::errc{}) {
+      fail("bad number at '" + std::string(text_.substr(position_)) + "'");
+      return 0;
+    }
+    position_ = static_cast<std::size_t>(end - text_.data());
+    return value;
+  }
+  double name_or_call() {
+    const std::size_t start = position_;
+    while (position_ < text_.size() && (std::isalnum(static_cast<unsigned char>(text_[position_])) ||
+                                        text_[position_] == '_'))
+      ++position_;
+    const std::string_view name = text_.substr(start, position_ - start);
+    if (!accept("(")) {
+      const ParameterValue* value = parameters_.find(name);
+      if (!value) fail("parameter '" + std::string(name) + "' is not defined");
+      else if (value->type == 'C') fail("parameter '" + std::string(name) + "' is not a number");
+      return value ? value->number : 0;
+    }
+    double arguments[2] = {0, 0};
+    int count = 0;
+    do {
+      const double argument = sum();
+      if (count < 2) arguments[count] = argument;
+      ++count;
+    } while (error_.empty() && accept(","));
+    if (!accept(")")) fail("missing ')' after the arguments of " + std::string(name));
+    if (!error_.empty()) return 0;
+    return call(name, arguments, count);
+  }
+  double call(std::string_view name, const double* a, int count) {
+    std::string function(name);
+    for (char& ch : function) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    const auto one = [&](double (*f)(double)) {
+      if (count != 1) fail(function + " takes one argument");
+      return f(a[0]);
+    };
+    const auto two = [&](double (*f)(double, double)) {
+      if (count != 2) fail(function + " takes two arguments");
+      return f(a[0], a[1]);
+    };
+    if (function == "sqrt") return one([](double x) { return std::sqrt(x); });
+    if (function == "exp") return one([](double x) { return std::exp(x); });
+    if (function == "log") return one([](double x) { return std::log(x); });
+    if (function == "log10") return one([](double x) { return std::log10(x); });
+    if (function == "abs") return one([](double x) { return std::abs(x); });
+    if (function == "sin") return one([](double x) { return std::sin(x); });
+    if (function == "cos") return one([](double x) { return std::cos(x); });
+    if (function == "tan") return one([](double x) { return std::tan(x); });
+    if (function == "asin") return one([](double x) { return std::asin(x); });
+    if (function == "acos") return one([](double x) { return std::acos(x); });
+    if (function == "atan") return one([](double x) { return std::atan(x); });
+    if (function == "sinh") return one([](double x) { return std::sinh(x); });
+    if (function == "cosh") return one([](double x) { return std::cosh(x); });
+    if (function == "tanh") return one([](double x) { return std::tanh(x); });
+    if (function == "int") return one([](double x) { return std::trunc(x); });
+    if (function == "nint") return one([](double x) { return std::round(x); });
+    if (function == "atan2") return two([](double y, double x) { return std::atan2(y, x); });
+    if (function == "min") return two([](double x, double y) { return std::fmin(x, y); });
+    if (function == "max") return two([](double x, double y) { return std::fmax(x, y); });
+    if (function == "mod") return two([](double x, double y) { return std::fmod(x, y); });
+    // Fortran SIGN(a, b): |a| with the sign of b.
+    if (function == "sign") return two([](double x, double y) { return std::copysign(x, y); });
+    fail("unknown function '" + std::string(name) + "'");
+    return 0;
+  }
+
+  std::string_view text_;
+  const Parameters& parameters_;
+  std::string& error_;
+  std::size_t position_ = 0;
+};
+
+}  // namespace
+
+std::optional<double> Parameters::evaluate(std::string_view expression, std::string& error) const {
+  error.clear();
+  return ExpressionParser(expression, *this, error).parse();
+}
+
+}  // namespace spall::io::keyword

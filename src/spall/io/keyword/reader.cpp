@@ -1,0 +1,271 @@
+// read_deck: files -> keyword blocks -> one reader per keyword. Also the deck-structure keywords
+// themselves: *KEYWORD, *TITLE, *INCLUDE, *PARAMETER(_LOCAL), *PARAMETER_EXPRESSION(_LOCAL).
+#include "spall/io/keyword/reader.hpp"
+
+#include <array>
+#include <string>
+
+#include "spall/io/keyword/deck_lines.hpp"
+#include "spall/io/keyword/keyword_readers.hpp"
+#include "spall/io/keyword/numbers.hpp"
+
+namespace spall::io::keyword {
+
+namespace {
+
+struct SupportedKeyword {
+  std::string_view name;
+  KeywordReader reader;
+  bool title_option = false;
+  bool id_option = false;
+};
+
+// Every keyword Spall reads. Any other keyword goes to Model::unsupported.
+constexpr SupportedKeyword supported_keywords[] = {
+    {"NODE", read_node},
+    {"PART", read_part},
+    {"ELEMENT_SOLID", read_element_solid},
+    {"ELEMENT_SPH", read_element_sph},
+    {"ELEMENT_SPH_VOLUME", read_element_sph},
+    {"SECTION_SOLID", read_section_solid, true},
+    {"SECTION_SPH", read_section_sph, true},
+    {"MAT_ELASTIC", read_mat_elastic, true},
+    {"MAT_001", read_mat_elastic, true},
+    {"MAT_RIGID", read_mat_rigid, true},
+    {"MAT_020", read_mat_rigid, true},
+    {"SET_NODE", read_set_node_list, true},
+    {"SET_NODE_LIST", read_set_node_list, true},
+    {"SET_NODE_LIST_GENERATE", read_set_node_list_generate, true},
+    {"SET_PART", read_set_part_list, true},
+    {"SET_PART_LIST", read_set_part_list, true},
+    {"DEFINE_CURVE", read_define_curve, true},
+    {"BOUNDARY_SPC_NODE", read_boundary_spc, false, true},
+    {"BOUNDARY_SPC_SET", read_boundary_spc, false, true},
+    {"BOUNDARY_PRESCRIBED_MOTION_NODE", read_boundary_prescribed_motion, false, true},
+    {"BOUNDARY_PRESCRIBED_MOTION_SET", read_boundary_prescribed_motion, false, true},
+    {"BOUNDARY_PRESCRIBED_MOTION_RIGID", read_boundary_prescribed_motion, false, true},
+    {"INITIAL_VELOCITY", read_initial_velocity},
+    {"INITIAL_VELOCITY_NODE", read_initial_velocity_node},
+    {"INITIAL_VELOCITY_GENERATION", read_initial_velocity_generation},
+    {"LOAD_BODY_X", read_load_body},
+    {"LOAD_BODY_Y", read_load_body},
+    {"LOAD_BODY_Z", read_load_body},
+    {"CONTROL_TERMINATION", read_control_termination},
+    {"CONTROL_TIMESTEP", read_control_timestep},
+    {"CONTROL_BULK_VISCOSITY", read_control_bulk_viscosity},
+    {"DATABASE_BINARY_D3PLOT", read_database_binary_d3plot},
+    {"DATABASE_GLSTAT", read_database_glstat},
+};
+
+bool ends_with(std::string_view text, std::string_view suffix) {
+  return text.size() > suffix.size() && text.substr(text.size() - suffix.size()) == suffix;
+}
+
+// The reader for `name`, with the `_TITLE` / `_ID` option split off where the keyword has it.
+const SupportedKeyword* find_supported(std::string_view name, KeywordCall& call) {
+  for (const auto& keyword : supported_keywords)
+    if (keyword.name == name) {
+      call.base = keyword.name;
+      return &keyword;
+    }
+  for (const auto& [suffix, is_title] : {std::pair{std::string_view("_TITLE"), true},
+                                         std::pair{std::string_view("_ID"), false}}) {
+    if (!ends_with(name, suffix)) continue;
+    const std::string_view base = name.substr(0, name.size() - suffix.size());
+    for (const auto& keyword : supported_keywords)
+      if (keyword.name == base && (is_title ? keyword.title_option : keyword.id_option)) {
+        call.base = keyword.name;
+        call.title = is_title;
+        call.id = !is_title;
+        return &keyword;
+      }
+  }
+  return nullptr;
+}
+
+constexpr int deepest_include = 32;
+
+class DeckReader {
+ public:
+  model::Model read(const std::filesystem::path& path) {
+    DeckFile file;
+    if (!file.load(path))
+      throw InputError(path.string() + ": cannot open the deck file");
+    read_file(file, 0);
+    return std::move(model_);
+  }
+
+ private:
+  void read_file(const DeckFile& file, int depth) {
+    model_.files.push_back(file.name());
+    parameters_.enter_file();
+    file.for_each_block([&](const KeywordBlock& block) { read_block(file, block, depth); });
+    parameters_.leave_file();
+  }
+
+  void read_block(const DeckFile& file, const KeywordBlock& block, int depth) {
+    const bool long_format =
+        block.width == WidthOverride::long_fields ||
+        (block.width == WidthOverride::none && long_format_);
+    const CardContext context{block, "*" + block.name, parameters_, long_format};
+    CardCursor cursor(context);
+    const std::string_view name = block.name;
+
+    if (name == "KEYWORD") return read_keyword_options(block);
+    if (name == "TITLE") {
+      if (!cursor.done()) model_.title = cursor.next_text("title");
+      return;
+    }
+    if (name == "INCLUDE") return read_include(file, cursor, depth);
+    if (name == "PARAMETER" || name == "PARAMETER_LOCAL" || name == "PARAMETER_NOECHO")
+      return read_parameter(cursor, name == "PARAMETER_LOCAL");
+    if (name == "PARAMETER_EXPRESSION" || name == "PARAMETER_EXPRESSION_LOCAL" ||
+        name == "PARAMETER_EXPRESSION_NOECHO")
+      return read_parameter_expression(cursor, name == "PARAMETER_EXPRESSION_LOCAL");
+
+    KeywordCall call;
+    if (const SupportedKeyword* keyword = find_supported(name, call))
+      return keyword->reader(cursor, call, model_);
+    record_unsupported(block, long_format);
+  }
+
+  // `*KEYWORD [memory] [LONG=Y|S]`: LONG=Y makes every following card 20-character fields.
+  void read_keyword_options(const KeywordBlock& block) {
+    std::string options(block.trailing);
+    for (char& c : options) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    const std::size_t at = options.find("LONG=");
+    if (at != std::string::npos && at + 5 < options.size())
+      long_format_ = options[at + 5] == 'Y';
+  }
+
+  // Each data line names one file; a name ending in ` +` continues on the next line.
+  void read_include(const DeckFile& file, CardCursor& cursor, int depth) {
+    std::string name;
+    int line = cursor.line_of_block();
+    while (!cursor.done()) {
+      const DataLine& data = cursor.peek();
+      std::string part = cursor.next_text("file name");
+      if (name.empty()) line = data.line;
+      const bool continued = part.size() >= 2 && part.ends_with(" +");
+      if (continued) part.resize(part.size() - 2);
+      name += trim(part);
+      if (continued || name.empty()) continue;
+      include(file, name, line, depth);
+      name.clear();
+    }
+  }
+
+  void include(const DeckFile& file, const std::string& name, int line, int depth) {
+    const SourceLocation where{file.name(), line};
+    if (depth + 1 > deepest_include)
+      throw InputError(where, "*INCLUDE",
+                       "includes nest deeper than " + std::to_string(deepest_include) +
+                           " levels (does a file include itself?)");
+    std::filesystem::path path(name);
+    if (path.is_relative()) path = file.path().parent_path() / path;
+    DeckFile included;
+    if (!included.load(path))
+      throw InputError(where, "*INCLUDE", "cannot open '" + name + "' (looked for " +
+                                              path.lexically_normal().string() + ")");
+    read_file(included, depth + 1);
+  }
+
+  // Pairs PRMR VAL, four per line: PRMR is the type letter (R, I, C) and the name.
+  void read_parameter(CardCursor& cursor, bool local) {
+    constexpr const char* prmr_names[4] = {"PRMR1", "PRMR2", "PRMR3", "PRMR4"};
+    constexpr const char* val_names[4] = {"VAL1", "VAL2", "VAL3", "VAL4"};
+    while (true) {
+      cursor.skip_blank_lines();
+      if (cursor.done()) break;
+      const Card card = cursor.next(standard_fields, "parameter card");
+      for (int pair = 0; pair < 4; ++pair) {
+        const std::string_view prmr = card.text(2 * pair);
+        if (prmr.empty()) continue;
+        ParameterValue value;
+        const std::string_view name = parameter_name(card, prmr, prmr_names[pair], value.type);
+        const int field = 2 * pair + 1;
+        if (value.type == 'C') value.text = std::string(card.text(field));
+        else if (value.type == 'I') value.number = static_cast<double>(card.required_integer(field, val_names[pair]));
+        else value.number = card.required_real(field, val_names[pair]);
+        parameters_.define(name, std::move(value), local);
+      }
+    }
+  }
+
+  // PRMR(10) then the expression over the rest of the line.
+  void read_parameter_expression(CardCursor& cursor, bool local) {
+    while (true) {
+      cursor.skip_blank_lines();
+      if (cursor.done()) break;
+      const DataLine& line = cursor.peek();
+      // Not cut as a normal card: the expression may contain commas (`max(a,b)`). A comma
+      // within the first 10 characters is free format's separator after PRMR.
+      const std::size_t comma = line.text.substr(0, 10).find(',');
+      const std::size_t split = comma == std::string_view::npos ? 10 : comma;
+      const std::string_view prmr = trim(line.text.substr(0, std::min(split, line.text.size())));
+      const std::string_view expression =
+          split < line.text.size() ? trim(line.text.substr(split + (comma == std::string_view::npos ? 0 : 1)))
+                                   : std::string_view{};
+      const Card card = cursor.next(standard_fields, "expression card");
+      ParameterValue value;
+      const std::string_view name = parameter_name(card, prmr, "PRMR", value.type);
+      if (value.type == 'C') card.fail("PRMR", "a character parameter cannot take an expression");
+      if (expression.empty()) card.fail("EXPRESSION", "is blank");
+      std::string error;
+      const auto result = parameters_.evaluate(expression, error);
+      if (!result) card.fail("EXPRESSION", quoted(expression) + ": " + error);
+      // An integer parameter keeps the whole part, as a Fortran assignment to an integer does.
+      value.number = value.type == 'I' ? std::trunc(*result) : *result;
+      parameters_.define(name, std::move(value), local);
+    }
+  }
+
+  static std::string_view parameter_name(const Card& card, std::string_view prmr,
+                                         const char* field_name, char& type) {
+    type = static_cast<char>(std::toupper(static_cast<unsigned char>(prmr.front())));
+    const std::string_view name = trim(prmr.substr(1));
+    if ((type != 'R' && type != 'I' && type != 'C') || name.empty())
+      card.fail(field_name, quoted(prmr) + " is not a type letter (R, I or C) followed by a name");
+    return name;
+  }
+
+  // Records the keyword for the warning list. For sections, materials and EOS it also keeps the
+  // ID in the first field of the first data card (for *PART_ variants, the PID on the card after
+  // the heading), so that validate() can name the keyword a reference points to. Never throws:
+  // an unreadable ID is 0.
+  void record_unsupported(const KeywordBlock& block, bool long_format) {
+    model::UnsupportedKeyword unsupported;
+    unsupported.keyword = "*" + block.name;
+    unsupported.where = {*block.file, block.line};
+    const std::string_view name = block.name;
+    std::size_t card = block.data.size();  // the card with the ID; none by default
+    if (name.starts_with("SECTION_") || name.starts_with("MAT_") || name.starts_with("EOS_"))
+      card = ends_with(name, "_TITLE") ? 1 : 0;
+    else if (name.starts_with("PART_"))  // *PART_INERTIA etc.: a heading, then PID first
+      card = 1;
+    if (card < block.data.size()) unsupported.id = first_field_id(block.data[card].text, long_format);
+    model_.unsupported.push_back(std::move(unsupported));
+  }
+
+  Id first_field_id(std::string_view text, bool long_format) const {
+    const std::size_t comma = text.find(',');
+    const std::size_t width = comma != std::string_view::npos ? comma : (long_format ? 20 : 10);
+    std::string_view field = trim(text.substr(0, std::min(width, text.size())));
+    if (!field.empty() && field.front() == '&') {
+      const ParameterValue* value = parameters_.find(trim(field.substr(1)));
+      return value && value->type != 'C' ? static_cast<Id>(value->number) : 0;
+    }
+    std::int64_t id = 0;
+    return parse_integer(field, id) == IntegerParse::ok ? id : 0;
+  }
+
+  model::Model model_;
+  Parameters parameters_;
+  bool long_format_ = false;
+};
+
+}  // namespace
+
+model::Model read_deck(const std::filesystem::path& path) { return DeckReader().read(path); }
+
+}  // namespace spall::io::keyword

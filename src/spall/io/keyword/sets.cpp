@@ -1,0 +1,69 @@
+// *SET_NODE_LIST (+ _GENERATE), *SET_PART_LIST, each with an optional _TITLE line.
+#include "spall/io/keyword/keyword_readers.hpp"
+
+namespace spall::io::keyword {
+
+namespace {
+// Card 1 of every set: SID DA1..DA4 SOLVER. The attributes DA1..DA4 have no use in Spall.
+Card read_set_header(CardCursor& cursor, const KeywordCall& call) {
+  if (call.title) cursor.next_text("title");
+  return cursor.next(standard_fields, "card 1 (SID DA1 DA2 DA3 DA4 SOLVER)");
+}
+
+constexpr const char* member_names[8] = {"ID1", "ID2", "ID3", "ID4", "ID5", "ID6", "ID7", "ID8"};
+
+// The member cards: 8 IDs per line; blank or 0 entries are padding.
+std::vector<Id> read_members(CardCursor& cursor) {
+  std::vector<Id> members;
+  while (!cursor.done()) {
+    const Card card = cursor.next(standard_fields, "member card");
+    for (int k = 0; k < 8; ++k)
+      if (const Id id = card.integer(k, member_names[k], 0); id != 0) members.push_back(id);
+  }
+  return members;
+}
+}  // namespace
+
+void read_set_node_list(CardCursor& cursor, const KeywordCall& call, model::Model& model) {
+  const Card header = read_set_header(cursor, call);
+  model::NodeSet set;
+  set.id = header.required_integer(0, "SID");
+  set.where = header.where();
+  set.nodes = read_members(cursor);
+  insert_unique(model.node_sets, set.id, std::move(set), header, "node set");
+}
+
+void read_set_node_list_generate(CardCursor& cursor, const KeywordCall& call, model::Model& model) {
+  constexpr const char* names[8] = {"B1BEG", "B1END", "B2BEG", "B2END",
+                                    "B3BEG", "B3END", "B4BEG", "B4END"};
+  // A range is stored node by node; a typo such as 1..1e12 must not exhaust memory.
+  constexpr Id largest_range = 100'000'000;
+  const Card header = read_set_header(cursor, call);
+  model::NodeSet set;
+  set.id = header.required_integer(0, "SID");
+  set.where = header.where();
+  while (!cursor.done()) {
+    const Card card = cursor.next(standard_fields, "range card");
+    for (int pair = 0; pair < 4; ++pair) {
+      const Id first = card.integer(2 * pair, names[2 * pair], 0);
+      const Id last = card.integer(2 * pair + 1, names[2 * pair + 1], 0);
+      if (first == 0 && last == 0) continue;
+      if (first <= 0 || last < first || last - first >= largest_range)
+        card.fail(names[2 * pair], "range " + std::to_string(first) + ".." + std::to_string(last) +
+                                       " is not a range of node IDs");
+      for (Id nid = first; nid <= last; ++nid) set.nodes.push_back(nid);
+    }
+  }
+  insert_unique(model.node_sets, set.id, std::move(set), header, "node set");
+}
+
+void read_set_part_list(CardCursor& cursor, const KeywordCall& call, model::Model& model) {
+  const Card header = read_set_header(cursor, call);
+  model::PartSet set;
+  set.id = header.required_integer(0, "SID");
+  set.where = header.where();
+  set.parts = read_members(cursor);
+  insert_unique(model.part_sets, set.id, std::move(set), header, "part set");
+}
+
+}  // namespace spall::io::keyword

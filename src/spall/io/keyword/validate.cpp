@@ -1,0 +1,278 @@
+// validate(): cross-references between the cards of a model as read. Each failure names the card
+// that holds the broken reference, with its file and line.
+#include <algorithm>
+#include <string>
+#include <unordered_map>
+#include <unordered_set>
+#include <vector>
+
+#include "spall/io/keyword/reader.hpp"
+
+namespace spall::io::keyword {
+
+namespace {
+
+using model::Model;
+
+std::string location_text(const SourceLocation& where) {
+  return where.file + ":" + std::to_string(where.line);
+}
+
+// The first item whose ID repeats an earlier one, reported at the repeat.
+template <class Items, class IdOf>
+void require_unique(const Items& items, IdOf id_of, const char* keyword, const char* what) {
+  std::unordered_map<Id, const SourceLocation*> seen;
+  seen.reserve(items.size());
+  for (const auto& item : items) {
+    auto [it, inserted] = seen.try_emplace(id_of(item), &item.where);
+    if (!inserted)
+      throw InputError(item.where, keyword,
+                       std::string(what) + " " + std::to_string(id_of(item)) +
+                           " is defined twice (first at " + location_text(*it->second) + ")");
+  }
+}
+
+const model::UnsupportedKeyword* find_unsupported(const Model& model, std::string_view prefix,
+                                                  Id id) {
+  for (const auto& keyword : model.unsupported)
+    if (keyword.id == id && std::string_view(keyword.keyword).starts_with(prefix)) return &keyword;
+  return nullptr;
+}
+
+class Validator {
+ public:
+  explicit Validator(const Model& model) : model_(model) {
+    node_ids_.reserve(model.nodes.size());
+    for (const auto& node : model.nodes) node_ids_.insert(node.id);
+    for (const auto& part : model.parts) part_ids_.insert(part.id);
+  }
+
+  void run() {
+    require_termination();
+    require_unique(model_.nodes, [](const auto& n) { return n.id; }, "*NODE", "node");
+    require_unique(model_.parts, [](const auto& p) { return p.id; }, "*PART", "part");
+    require_unique(model_.solid_elements, [](const auto& e) { return e.eid; }, "*ELEMENT_SOLID",
+                   "element");
+    require_unique(model_.sph_elements, [](const auto& e) { return e.nid; }, "*ELEMENT_SPH",
+                   "particle");
+    check_ids_against_unsupported();
+    check_elements();
+    check_parts();
+    check_sets();
+    check_conditions();
+    check_controls();
+  }
+
+ private:
+  void require_termination() const {
+    if (model_.termination) return;
+    const std::string deck = model_.files.empty() ? std::string("deck") : model_.files.front();
+    throw InputError(deck + ": *CONTROL_TERMINATION is missing; its ENDTIM says when the run ends");
+  }
+
+  void check_ids_against_unsupported() const {
+    for (const auto& [id, section] : model_.sections) {
+      const auto* other = find_unsupported(model_, "*SECTION_", id);
+      if (other)
+        throw InputError(other->where, other->keyword,
+                         "section " + std::to_string(id) + " is defined twice (first at " +
+                             location_text(std::visit([](const auto& s) { return s.where; }, section)) +
+                             ")");
+    }
+    for (const auto& [id, material] : model_.materials) {
+      const auto* other = find_unsupported(model_, "*MAT_", id);
+      if (other)
+        throw InputError(other->where, other->keyword,
+                         "material " + std::to_string(id) + " is defined twice (first at " +
+                             location_text(material.where) + ")");
+    }
+  }
+
+  void check_elements() {
+    for (const auto& element : model_.solid_elements) {
+      require_part(element.pid, element.where, "*ELEMENT_SOLID",
+                   "element " + std::to_string(element.eid));
+      for (int k = 0; k < 8; ++k)
+        if (!node_ids_.contains(element.n[k]))
+          throw InputError(element.where, "*ELEMENT_SOLID",
+                           "element " + std::to_string(element.eid) + ": node N" +
+                               std::to_string(k + 1) + " = " + std::to_string(element.n[k]) +
+                               " is not defined");
+      first_solid_.try_emplace(element.pid, &element.where);
+    }
+    for (const auto& particle : model_.sph_elements) {
+      require_part(particle.pid, particle.where, "*ELEMENT_SPH",
+                   "particle " + std::to_string(particle.nid));
+      if (!node_ids_.contains(particle.nid))
+        throw InputError(particle.where, "*ELEMENT_SPH",
+                         "particle " + std::to_string(particle.nid) + ": node " +
+                             std::to_string(particle.nid) + " is not defined");
+      first_sph_.try_emplace(particle.pid, &particle.where);
+    }
+  }
+
+  void require_part(Id pid, const SourceLocation& where, const char* keyword,
+                    const std::string& who) const {
+    if (part_ids_.contains(pid)) return;
+    if (const auto* unsupported = find_unsupported(model_, "*PART_", pid))
+      throw InputError(where, keyword,
+                       who + ": part " + std::to_string(pid) + " is a " + unsupported->keyword +
+                           " (" + location_text(unsupported->where) +
+                           "), which Spall does not support");
+    throw InputError(where, keyword, who + ": part " + std::to_string(pid) + " is not defined");
+  }
+
+  // Sections, materials and EOS of parts that have elements must be ones Spall reads; an unused
+  // part may name an unsupported one (it was reported as unsupported already) but not a missing one.
+  void check_parts() const {
+    for (const auto& part : model_.parts) {
+      const bool used = first_solid_.contains(part.id) || first_sph_.contains(part.id);
+      const auto section = model_.sections.find(part.secid);
+      if (section == model_.sections.end())
+        refuse_reference(part, used, "*SECTION_", "section", part.secid);
+      if (!model_.materials.contains(part.mid))
+        refuse_reference(part, used, "*MAT_", "material", part.mid);
+      // Spall reads no *EOS_ keyword yet, so any EOS a used part names is unsupported.
+      if (part.eosid != 0) refuse_reference(part, used, "*EOS_", "equation of state", part.eosid);
+      if (section == model_.sections.end()) continue;
+      if (auto it = first_sph_.find(part.id);
+          it != first_sph_.end() && !std::holds_alternative<model::SectionSph>(section->second))
+        throw InputError(part.where, "*PART",
+                         "part " + std::to_string(part.id) + " has *ELEMENT_SPH particles (" +
+                             location_text(*it->second) + ") but its section " +
+                             std::to_string(part.secid) + " is not a *SECTION_SPH");
+      if (auto it = first_solid_.find(part.id);
+          it != first_solid_.end() && !std::holds_alternative<model::SectionSolid>(section->second))
+        throw InputError(part.where, "*PART",
+                         "part " + std::to_string(part.id) + " has *ELEMENT_SOLID elements (" +
+                             location_text(*it->second) + ") but its section " +
+                             std::to_string(part.secid) + " is not a *SECTION_SOLID");
+    }
+  }
+
+  void refuse_reference(const model::Part& part, bool used, std::string_view prefix,
+                        const char* what, Id id) const {
+    const auto* unsupported = find_unsupported(model_, prefix, id);
+    if (!unsupported)
+      throw InputError(part.where, "*PART",
+                       "part " + std::to_string(part.id) + ": " + what + " " + std::to_string(id) +
+                           " is not defined");
+    if (used)
+      throw InputError(part.where, "*PART",
+                       "part " + std::to_string(part.id) + " uses " + unsupported->keyword + " (" +
+                           location_text(unsupported->where) + "), which Spall does not support");
+  }
+
+  void check_sets() const {
+    for (const auto& [id, set] : model_.node_sets)
+      for (Id nid : set.nodes)
+        if (!node_ids_.contains(nid))
+          throw InputError(set.where, "*SET_NODE_LIST",
+                           "node set " + std::to_string(id) + ": node " + std::to_string(nid) +
+                               " is not defined");
+    for (const auto& [id, set] : model_.part_sets)
+      for (Id pid : set.parts)
+        // A member defined by an unsupported *PART_ keyword was reported as unsupported already.
+        if (!part_ids_.contains(pid) && !find_unsupported(model_, "*PART_", pid))
+          throw InputError(set.where, "*SET_PART_LIST",
+                           "part set " + std::to_string(id) + ": part " + std::to_string(pid) +
+                               " is not defined");
+  }
+
+  void require(bool exists, const SourceLocation& where, const char* keyword, const char* what,
+               Id id) const {
+    if (!exists)
+      throw InputError(where, keyword, std::string(what) + " " + std::to_string(id) + " is not defined");
+  }
+  void require_curve(Id lcid, const SourceLocation& where, const char* keyword,
+                     const char* field) const {
+    if (!model_.curves.contains(lcid))
+      throw InputError(where, keyword, std::string(field) + ": curve " + std::to_string(lcid) +
+                                           " is not defined");
+  }
+  bool target_exists(model::Target target, Id id) const {
+    switch (target) {
+      case model::Target::node: return node_ids_.contains(id);
+      case model::Target::node_set: return model_.node_sets.contains(id);
+      case model::Target::part: return part_ids_.contains(id);
+      case model::Target::part_set: return model_.part_sets.contains(id);
+      case model::Target::all_nodes: return true;
+    }
+    return false;
+  }
+  static const char* target_name(model::Target target) {
+    switch (target) {
+      case model::Target::node: return "node";
+      case model::Target::node_set: return "node set";
+      case model::Target::part: return "part";
+      case model::Target::part_set: return "part set";
+      case model::Target::all_nodes: return "all nodes";
+    }
+    return "";
+  }
+
+  void check_conditions() const {
+    for (const auto& spc : model_.spcs)
+      require(target_exists(spc.target, spc.id), spc.where,
+              spc.target == model::Target::node ? "*BOUNDARY_SPC_NODE" : "*BOUNDARY_SPC_SET",
+              target_name(spc.target), spc.id);
+    for (const auto& motion : model_.prescribed_motions) {
+      const char* keyword = motion.target == model::Target::node ? "*BOUNDARY_PRESCRIBED_MOTION_NODE"
+                            : motion.target == model::Target::node_set
+                                ? "*BOUNDARY_PRESCRIBED_MOTION_SET"
+                                : "*BOUNDARY_PRESCRIBED_MOTION_RIGID";
+      require(target_exists(motion.target, motion.id), motion.where, keyword,
+              target_name(motion.target), motion.id);
+      require_curve(motion.lcid, motion.where, keyword, "LCID");
+    }
+    for (const auto& velocity : model_.initial_velocities) {
+      if (velocity.nsid != 0)
+        require(model_.node_sets.contains(velocity.nsid), velocity.where, "*INITIAL_VELOCITY",
+                "node set", velocity.nsid);
+      if (velocity.nsidex != 0)
+        require(model_.node_sets.contains(velocity.nsidex), velocity.where, "*INITIAL_VELOCITY",
+                "node set", velocity.nsidex);
+    }
+    for (const auto& velocity : model_.initial_velocity_nodes)
+      require(node_ids_.contains(velocity.nid), velocity.where, "*INITIAL_VELOCITY_NODE", "node",
+              velocity.nid);
+    for (const auto& generation : model_.initial_velocity_generations) {
+      const model::Target target = generation.styp == 1   ? model::Target::part_set
+                                   : generation.styp == 2 ? model::Target::part
+                                                          : model::Target::node_set;
+      require(target_exists(target, generation.id), generation.where,
+              "*INITIAL_VELOCITY_GENERATION", target_name(target), generation.id);
+    }
+    for (const auto& load : model_.body_loads) {
+      const char* keyword = load.direction == 0   ? "*LOAD_BODY_X"
+                            : load.direction == 1 ? "*LOAD_BODY_Y"
+                                                  : "*LOAD_BODY_Z";
+      require_curve(load.lcid, load.where, keyword, "LCID");
+      if (load.lciddr != 0) require_curve(load.lciddr, load.where, keyword, "LCIDDR");
+    }
+  }
+
+  void check_controls() const {
+    const auto& timestep = model_.timestep;
+    if (timestep.lctm != 0) require_curve(timestep.lctm, timestep.where, "*CONTROL_TIMESTEP", "LCTM");
+    if (timestep.tssfac < 0)
+      require_curve(static_cast<Id>(-timestep.tssfac), timestep.where, "*CONTROL_TIMESTEP",
+                    "TSSFAC");
+    if (model_.d3plot && model_.d3plot->lcdt != 0)
+      require_curve(model_.d3plot->lcdt, model_.d3plot->where, "*DATABASE_BINARY_D3PLOT", "LCDT");
+    if (model_.glstat && model_.glstat->lcdt != 0)
+      require_curve(model_.glstat->lcdt, model_.glstat->where, "*DATABASE_GLSTAT", "LCUR");
+  }
+
+  const Model& model_;
+  std::unordered_set<Id> node_ids_;
+  std::unordered_set<Id> part_ids_;
+  std::unordered_map<Id, const SourceLocation*> first_solid_;  // part -> its first solid element
+  std::unordered_map<Id, const SourceLocation*> first_sph_;    // part -> its first particle
+};
+
+}  // namespace
+
+void validate(const model::Model& model) { Validator(model).run(); }
+
+}  // namespace spall::io::keyword

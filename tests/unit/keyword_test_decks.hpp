@@ -1,0 +1,62 @@
+#pragma once
+// Small decks written to a fresh temporary folder per test, for the keyword reader's tests.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <initializer_list>
+#include <string>
+
+#include "spall/core/error.hpp"
+
+namespace spall::test {
+
+class DeckFolder {
+ public:
+  DeckFolder() {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    folder_ = std::filesystem::path(::testing::TempDir()) /
+              ("spall_keyword_" + std::string(info->test_suite_name()) + "_" + info->name() + "_" +
+               std::to_string(::getpid()));
+    std::filesystem::remove_all(folder_);
+    std::filesystem::create_directories(folder_);
+  }
+  ~DeckFolder() { std::filesystem::remove_all(folder_); }
+
+  std::filesystem::path write(const std::string& name, const std::string& text) const {
+    const auto path = folder_ / name;
+    std::filesystem::create_directories(path.parent_path());
+    std::ofstream(path, std::ios::binary) << text;
+    return path;
+  }
+  const std::filesystem::path& path() const { return folder_; }
+
+ private:
+  std::filesystem::path folder_;
+};
+
+// One fixed-format card: each value right-justified in its field (10 characters unless given).
+inline std::string row(std::initializer_list<std::string> values,
+                       std::initializer_list<int> widths = {}) {
+  std::string line;
+  auto width = widths.begin();
+  for (const auto& value : values) {
+    const std::size_t w = width != widths.end() ? static_cast<std::size_t>(*width++) : 10;
+    line += std::string(w > value.size() ? w - value.size() : 0, ' ') + value;
+  }
+  return line + "\n";
+}
+
+// The message of the InputError that `action` throws ("" if it throws none).
+template <class Action>
+std::string input_error_of(Action&& action) {
+  try {
+    action();
+  } catch (const InputError& error) {
+    return error.what();
+  }
+  return "";
+}
+
+}  // namespace spall::test

@@ -1,0 +1,180 @@
+// Bad input: every failure is an InputError `file:line: *KEYWORD: message` that names the field
+// and the text found; validate() reports broken cross-references at the card that holds them.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "keyword_test_decks.hpp"
+#include "spall/io/keyword/reader.hpp"
+
+namespace spall::io::keyword {
+namespace {
+
+using test::DeckFolder;
+using test::input_error_of;
+using test::row;
+
+const std::initializer_list<int> node_widths = {8, 16, 16, 16, 8, 8};
+
+std::string read_error(const DeckFolder& folder, const std::string& text) {
+  const auto path = folder.write("bad.k", text);
+  return input_error_of([&] { read_deck(path); });
+}
+std::string validate_error(const DeckFolder& folder, const std::string& text) {
+  const auto path = folder.write("bad.k", text);
+  const auto model = read_deck(path);
+  return input_error_of([&] { validate(model); });
+}
+std::string prefix(const DeckFolder& folder, int line, const std::string& keyword) {
+  return (folder.path() / "bad.k").lexically_normal().string() + ":" + std::to_string(line) +
+         ": " + keyword + ": ";
+}
+
+const std::string termination = "*CONTROL_TERMINATION\n" + row({"1.0"});
+
+TEST(keyword_errors, BadNumberNamesFieldAndText) {
+  DeckFolder folder;
+  const std::string message = read_error(
+      folder, "*KEYWORD\n*NODE\n" + row({"1", "0.0", "0.0", "0.0"}, node_widths) +
+                  row({"2", "1.2.3", "0.0", "0.0"}, node_widths));
+  EXPECT_EQ(message, prefix(folder, 4, "*NODE") + "field X: cannot read '1.2.3' as a number");
+}
+
+TEST(keyword_errors, IntegerFieldRejectsFraction) {
+  DeckFolder folder;
+  EXPECT_EQ(read_error(folder, "*SECTION_SOLID\n" + row({"1", "1.5"})),
+            prefix(folder, 2, "*SECTION_SOLID") + "field ELFORM: '1.5' is not an integer");
+}
+
+TEST(keyword_errors, MissingMandatoryEndtim) {
+  DeckFolder folder;
+  EXPECT_EQ(read_error(folder, "*KEYWORD\n*CONTROL_TERMINATION\n" + row({"", "100"})),
+            prefix(folder, 3, "*CONTROL_TERMINATION") +
+                "field ENDTIM: is blank but has no default; a value is required");
+  EXPECT_EQ(read_error(folder, "*KEYWORD\n*CONTROL_TERMINATION\n*END\n"),
+            prefix(folder, 2, "*CONTROL_TERMINATION") +
+                "missing card 1 (ENDTIM ENDCYC DTMIN ENDENG ENDMAS)");
+}
+
+TEST(keyword_errors, DuplicateIds) {
+  DeckFolder folder;
+  const std::string message =
+      read_error(folder, "*MAT_ELASTIC\n" + row({"1", "1.0", "1.0"}) + "*MAT_ELASTIC\n" +
+                             row({"1", "2.0", "2.0"}));
+  EXPECT_EQ(message, prefix(folder, 4, "*MAT_ELASTIC") + "material 1 is defined twice (first at " +
+                         (folder.path() / "bad.k").string() + ":2)");
+  const std::string nodes = validate_error(
+      folder, termination + "*NODE\n" + row({"5", "0", "0", "0"}, node_widths) +
+                  row({"5", "1", "0", "0"}, node_widths));
+  EXPECT_EQ(nodes.rfind(prefix(folder, 5, "*NODE") + "node 5 is defined twice", 0), 0u) << nodes;
+}
+
+TEST(keyword_errors, CurveAbscissaMustIncrease) {
+  DeckFolder folder;
+  const std::string message =
+      read_error(folder, "*DEFINE_CURVE\n" + row({"1"}) + row({"0.0", "0.0"}, {20, 20}) +
+                             row({"0.0", "1.0"}, {20, 20}));
+  EXPECT_EQ(message.rfind(prefix(folder, 4, "*DEFINE_CURVE") + "field A1: abscissa '0.0' does not increase", 0),
+            0u)
+      << message;
+}
+
+TEST(keyword_errors, SphParticleNeedsMassOrVolume) {
+  DeckFolder folder;
+  EXPECT_EQ(read_error(folder, "*ELEMENT_SPH\n" + row({"1", "1"}, {8, 8})),
+            prefix(folder, 2, "*ELEMENT_SPH") +
+                "field MASS: particle 1 has no mass: give a mass (> 0) or a volume (< 0)");
+}
+
+TEST(keyword_errors, MissingIncludeAndUndefinedParameter) {
+  DeckFolder folder;
+  EXPECT_EQ(read_error(folder, "*KEYWORD\n*INCLUDE\nnowhere.k\n").rfind(prefix(folder, 3, "*INCLUDE") + "cannot open 'nowhere.k'", 0),
+            0u);
+  EXPECT_EQ(read_error(folder, "*SECTION_SOLID\n" + row({"&secid"})),
+            prefix(folder, 2, "*SECTION_SOLID") +
+                "field SECID: parameter 'secid' is not defined (or not visible here)");
+  EXPECT_EQ(read_error(folder, "*PARAMETER_EXPRESSION\nR x       2*(3+\n")
+                .rfind(prefix(folder, 2, "*PARAMETER_EXPRESSION") + "field EXPRESSION:", 0),
+            0u);
+}
+
+TEST(keyword_errors, SelfIncludeStopsAtADepthLimit) {
+  DeckFolder folder;
+  const std::string message = read_error(folder, "*INCLUDE\nbad.k\n");
+  EXPECT_NE(message.find("includes nest deeper than"), std::string::npos) << message;
+}
+
+TEST(keyword_errors, ValidateNeedsTermination) {
+  DeckFolder folder;
+  EXPECT_EQ(validate_error(folder, "*KEYWORD\n*END\n"),
+            (folder.path() / "bad.k").lexically_normal().string() +
+                ": *CONTROL_TERMINATION is missing; its ENDTIM says when the run ends");
+}
+
+TEST(keyword_errors, ValidateRefusesAPartWithAnUnsupportedSection) {
+  DeckFolder folder;
+  const std::string message = validate_error(
+      folder, termination + "*NODE\n" + row({"1", "0", "0", "0"}, node_widths) +
+                  "*SECTION_SHELL\n" + row({"3", "2"}) + "*MAT_ELASTIC\n" + row({"1", "1.0", "1.0"}) +
+                  "*PART\nskin\n" + row({"3", "3", "1"}) + "*ELEMENT_SPH\n" +
+                  row({"1", "3", "1.0"}, {8, 8, 16}));
+  EXPECT_EQ(message, prefix(folder, 11, "*PART") + "part 3 uses *SECTION_SHELL (" +
+                         (folder.path() / "bad.k").lexically_normal().string() +
+                         ":5), which Spall does not support");
+}
+
+TEST(keyword_errors, ValidateCrossReferences) {
+  DeckFolder folder;
+  const std::string base = termination + "*NODE\n" + row({"1", "0", "0", "0"}, node_widths) +
+                           "*SECTION_SOLID\n" + row({"1"}) + "*SECTION_SPH\n" + row({"2"}) +
+                           "*MAT_ELASTIC\n" + row({"1", "1.0", "1.0"}) + "*PART\nblock\n" +
+                           row({"1", "1", "1"});
+  // Lines 1-13 are `base` (the part card on 13); the card under test is on line 15.
+  EXPECT_EQ(validate_error(folder, base + "*ELEMENT_SPH\n" + row({"1", "1", "1.0"}, {8, 8, 16})),
+            prefix(folder, 13, "*PART") + "part 1 has *ELEMENT_SPH particles (" +
+                (folder.path() / "bad.k").lexically_normal().string() +
+                ":15) but its section 1 is not a *SECTION_SPH");
+  EXPECT_EQ(validate_error(folder, base + "*ELEMENT_SOLID\n" +
+                                       row({"1", "1", "1", "1", "1", "1", "9", "1", "1", "1"},
+                                           {8, 8, 8, 8, 8, 8, 8, 8, 8, 8})),
+            prefix(folder, 15, "*ELEMENT_SOLID") + "element 1: node N5 = 9 is not defined");
+  EXPECT_EQ(validate_error(folder, base + "*SET_NODE_LIST\n" + row({"1"}) + row({"1", "2"})),
+            prefix(folder, 15, "*SET_NODE_LIST") + "node set 1: node 2 is not defined");
+  EXPECT_EQ(validate_error(folder, base + "*LOAD_BODY_Z\n" + row({"4"})),
+            prefix(folder, 15, "*LOAD_BODY_Z") + "LCID: curve 4 is not defined");
+  EXPECT_EQ(validate_error(folder, base + "*BOUNDARY_SPC_SET\n" + row({"7", "0", "1"})),
+            prefix(folder, 15, "*BOUNDARY_SPC_SET") + "node set 7 is not defined");
+  EXPECT_EQ(validate_error(folder, base + "*PART\nother\n" + row({"2", "1", "8"})),
+            prefix(folder, 16, "*PART") + "part 2: material 8 is not defined");
+}
+
+// Whatever the bytes, reading ends in a model or an InputError, never another exception or a crash.
+TEST(keyword_errors, MangledDecksFailOnlyWithInputError) {
+  DeckFolder folder;
+  const std::string original =
+      "*KEYWORD\n*PARAMETER\nR a       2.0\n" + termination + "*NODE\n" +
+      row({"1", "0", "0", "0"}, node_widths) + row({"2", "1", "0", "0"}, node_widths) +
+      "*SECTION_SPH\n" + row({"1", "&a"}) + "*PART\np\n" + row({"1", "1", "1"}) +
+      "*ELEMENT_SPH\n" + row({"1", "1", "-1.0", "2"}, {8, 8, 16, 8}) + "*SET_NODE_LIST_GENERATE\n" +
+      row({"1"}) + row({"1", "2"}) + "*DEFINE_CURVE\n" + row({"1"}) + row({"0", "0"}, {20, 20}) +
+      "*INCLUDE\nbad.k\n*END\n";
+  std::mt19937 random(12345);
+  const std::string alphabet = "*$&,.-+ 0123456789EeDd\nABZ_()";
+  for (int trial = 0; trial < 300; ++trial) {
+    std::string text = original;
+    const int edits = 1 + static_cast<int>(random() % 6);
+    for (int e = 0; e < edits; ++e)
+      text[random() % text.size()] = alphabet[random() % alphabet.size()];
+    const auto path = folder.write("mangled.k", text);
+    try {
+      const auto model = read_deck(path);
+      validate(model);
+    } catch (const InputError&) {
+    } catch (const std::exception& other) {
+      ADD_FAILURE() << "trial " << trial << ": " << other.what() << "\n" << text;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace spall::io::keyword

@@ -1,0 +1,118 @@
+// Every public deck in shared/decks/public (recursively, *.k) reads and validates without any
+// exception other than InputError; what each gives is checked where known.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <filesystem>
+#include <iostream>
+
+#include "spall/io/keyword/reader.hpp"
+
+namespace spall::io::keyword {
+namespace {
+
+const std::filesystem::path public_decks =
+    std::filesystem::path(SPALL_SHARED_DIR) / "decks" / "public";
+
+TEST(keyword_public_decks, EveryDeckReadsOrFailsWithInputError) {
+  int decks = 0;
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(public_decks)) {
+    if (entry.path().extension() != ".k") continue;
+    ++decks;
+    // Recorded in the test log: what each deck gives, or the one line that refuses it.
+    std::string outcome;
+    try {
+      const model::Model model = read_deck(entry.path());
+      outcome = std::to_string(model.nodes.size()) + " nodes, " +
+                std::to_string(model.solid_elements.size()) + " solids, " +
+                std::to_string(model.sph_elements.size()) + " particles, " +
+                std::to_string(model.unsupported.size()) + " unsupported keywords; ";
+      try {
+        validate(model);
+        outcome += "valid";
+      } catch (const InputError& error) {
+        outcome += std::string("validate: ") + error.what();
+      }
+    } catch (const InputError& error) {
+      outcome = std::string("read: ") + error.what();
+    } catch (const std::exception& other) {
+      ADD_FAILURE() << entry.path() << " threw something other than InputError: " << other.what();
+    }
+    std::cout << entry.path().lexically_relative(public_decks).string() << ": " << outcome << "\n";
+  }
+  EXPECT_GE(decks, 23);
+}
+
+TEST(keyword_public_decks, TaylorBarMesh) {
+  const auto model = read_deck(public_decks / "ansys-example-data_taylor_bar_mesh.k");
+  EXPECT_EQ(model.solid_elements.size(), 768u);
+  EXPECT_EQ(model.nodes.size(), 1122u);
+  EXPECT_TRUE(model.unsupported.empty());
+  // Ten-node format with N9 = N10 = 0: every element is a hexahedron of existing nodes.
+  EXPECT_EQ(model.solid_elements.front().eid, 1);
+  EXPECT_EQ(model.nodes.front().x, Vec3(1.723924, 39.0625, -2.303499));
+  // The mesh alone has no part or termination: validate says so with an InputError.
+  EXPECT_THROW(validate(model), InputError);
+}
+
+TEST(keyword_public_decks, BirdStrikeReadsItsParticlesFast) {
+  const auto start = std::chrono::steady_clock::now();
+  const auto model = read_deck(public_decks / "ansys-example-data_bird_strike.k");
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_LT(seconds, 0.5);  // 1.2 MB: "well under a second"
+  ASSERT_EQ(model.sph_elements.size(), 701u);
+  EXPECT_EQ(model.sph_elements.front().mass, -15625.0);  // a volume
+  EXPECT_EQ(model.sph_elements.front().pid, 6);
+  const auto& section = std::get<model::SectionSph>(model.sections.at(6));
+  EXPECT_EQ(section.cslh, 1.2);  // all fields 0 -> defaults
+  EXPECT_EQ(section.hmax, 2.0);
+  ASSERT_TRUE(model.termination);
+  EXPECT_EQ(model.termination->endtim, 0.01);
+  EXPECT_EQ(model.termination->endmas, 100000.0);
+  EXPECT_EQ(model.initial_velocity_generations.at(0).v, Vec3(125000, 0, 0));
+  EXPECT_EQ(model.node_sets.size(), 4u);
+  EXPECT_EQ(model.part_sets.size(), 5u);
+  // The shells and their sections/materials are unsupported; the SPH part's *MAT_NULL too.
+  bool mat_null = false;
+  for (const auto& keyword : model.unsupported)
+    if (keyword.keyword == "*MAT_NULL" && keyword.id == 6) mat_null = true;
+  EXPECT_TRUE(mat_null);
+  try {
+    validate(model);
+    FAIL() << "validate accepted a part with *MAT_NULL";
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what()).find("part 6 uses *MAT_NULL"), std::string::npos)
+        << error.what();
+  }
+}
+
+TEST(keyword_public_decks, PydynaMechRunTogetherFields) {
+  const auto model = read_deck(public_decks / "pydyna_mech.k");
+  ASSERT_TRUE(model.termination);
+  EXPECT_EQ(model.termination->endtim, 0.03);
+  EXPECT_EQ(model.termination->endeng, 0.0);
+  EXPECT_EQ(model.termination->endmas, 1.0e8);
+  EXPECT_EQ(model.bulk_viscosity.type, -2);
+  EXPECT_EQ(model.nodes.size(), 4u);
+  EXPECT_EQ(model.parts.at(0).heading, "");  // blank heading line
+  EXPECT_EQ(model.d3plot->dt, 5.0e-4);
+}
+
+TEST(keyword_public_decks, PydynaIsphRigidMaterialsAndMotion) {
+  const auto model = read_deck(public_decks / "pydyna_isph.k");
+  const auto& rigid = std::get<model::MatRigid>(model.materials.at(2).params);
+  EXPECT_EQ(rigid.ro, 1.0e-9);  // `         21.00000E-9`: MID 2 and RO run together
+  EXPECT_EQ(rigid.e, 10.0);
+  EXPECT_EQ(std::get<model::SectionSph>(model.sections.at(4)).sphini, 12.0);
+  ASSERT_FALSE(model.prescribed_motions.empty());
+  EXPECT_EQ(model.prescribed_motions[0].target, model::Target::part);
+  EXPECT_EQ(model.prescribed_motions[0].death, 1.0e28);  // 0 -> default
+  ASSERT_EQ(model.body_loads.size(), 1u);
+  EXPECT_EQ(model.body_loads[0].lcid, 4);
+  EXPECT_EQ(model.timestep.tssfac, 1.0);
+  EXPECT_EQ(model.timestep.lctm, 1);
+}
+
+}  // namespace
+}  // namespace spall::io::keyword
