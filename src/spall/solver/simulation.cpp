@@ -54,6 +54,14 @@ struct RunawayCheck {
   }
 };
 
+// The first output time after `now` on the grid start + k * interval (intervals smaller than a
+// step give one output per step).
+Real next_output_time(Real start, Real interval, Real now) {
+  if (!(interval > 0)) return std::numeric_limits<Real>::infinity();
+  const Real k = std::floor((now - start) / interval) + 1;
+  return start + std::max(k, Real(1)) * interval;
+}
+
 }  // namespace
 
 RunSummary run(Problem& problem, const Observer& observer) {
@@ -167,11 +175,11 @@ RunSummary run(Problem& problem, const Observer& observer) {
     const Real tolerance = 1e-9 * controls.end_time;
     if (field_output && (step.time + tolerance >= next_field_output || last)) {
       if (observer.on_field_output) observer.on_field_output(step, problem);
-      while (next_field_output <= step.time + tolerance) next_field_output += field_interval(step.time);
+      next_field_output = next_output_time(next_field_output, field_interval(step.time), step.time + tolerance);
     }
     if (step.time + tolerance >= next_history || last) {
       if (observer.on_history) observer.on_history(step, energies);
-      while (next_history <= step.time + tolerance) next_history += controls.glstat_dt;
+      next_history = next_output_time(next_history, controls.glstat_dt, step.time + tolerance);
     }
     if (observer.on_step) observer.on_step(step);
     if (last) break;

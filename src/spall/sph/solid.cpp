@@ -15,6 +15,10 @@ inline Real pair_support(Real ha, Real hb) { return ha + hb; }
 
 // Verlet skin as a fraction of the largest support: a rebuild every few tens of steps at most.
 constexpr Real skin_fraction = 0.1;
+
+// Below this the moment matrix is too ill-conditioned to invert (an isolated particle, or one
+// whose neighbours lie in a plane): the particle keeps the uncorrected gradient.
+constexpr Real min_moment_determinant = 1e-3;
 }  // namespace
 
 SolidFormulation::SolidFormulation(std::vector<materials::ElasticConstants> materials,
@@ -30,6 +34,8 @@ SolidFormulation::SolidFormulation(std::vector<materials::ElasticConstants> mate
   pressure_.assign(n, 0);
   sound_speed_.resize(n);
   deviatoric_stress_.assign(n, Mat3::Zero());
+  gradient_correction_matrix_.assign(n, Mat3::Identity());
+  corrected_stress_.assign(n, Mat3::Zero());
   x_.resize(n);
   v_.resize(n);
   density_rate_.assign(n, 0);
@@ -65,6 +71,7 @@ void SolidFormulation::compute_rates() {
   for (Index a = 0; a < n; ++a) {
     Real drho = 0;
     Mat3 L = Mat3::Zero();
+    Mat3 moment = Mat3::Zero();  // sum_b V_b (x_b - x_a) (x) grad_a W_ab, = I for a full support
     for (Index k = list.offsets[a]; k < list.offsets[a + 1]; ++k) {
       const Index b = list.neighbors[k];
       const Vec3 xab = x_[a] - x_[b];
@@ -73,9 +80,23 @@ void SolidFormulation::compute_rates() {
       if (r >= H) continue;
       const Vec3 grad = Kernel::gradient(xab, r, H);
       const Vec3 vba = v_[b] - v_[a];
+      const Real volume = mass_[b] / density_[b];
       drho -= mass_[b] * vba.dot(grad);
-      L.noalias() += (mass_[b] / density_[b]) * vba * grad.transpose();
+      L.noalias() += volume * vba * grad.transpose();
+      moment.noalias() -= volume * xab * grad.transpose();
     }
+    Mat3 correction = Mat3::Identity();
+    if (gradient_correction_) {
+      // Randles & Libersky 1996: L B with B = moment^{-1} is exact for linear velocity fields,
+      // also where the support is cut by a free surface; the density follows from tr(L).
+      const Real det = moment.determinant();
+      if (det > min_moment_determinant) {
+        correction = moment.inverse();
+        L = L * correction;
+        drho = -density_[a] * L.trace();
+      }
+    }
+    gradient_correction_matrix_[a] = correction;
     density_rate_[a] = drho;
     velocity_gradient_[a] = L;
   }
@@ -94,9 +115,17 @@ void SolidFormulation::update_state(Real dt) {
     }
     pressure_[a] = materials::elastic_pressure(m, density_[a]);
     sound_speed_[a] = m.longitudinal_wave_speed(density_[a]);
+    // The stress as the pair force uses it: sigma B^T (seed 000 eq. 8 for sigma).
+    const Mat3 sigma = deviatoric_stress_[a] - pressure_[a] * Mat3::Identity();
+    corrected_stress_[a] = sigma * gradient_correction_matrix_[a].transpose();
   }
 }
 
+// Momentum, dual to the (corrected) velocity gradient: with P = sigma B^T,
+//   f_a = sum_b V_a V_b (P_a + P_b) grad_a W_ab  -  sum_b m_a m_b Pi_ab grad_a W_ab.
+// Stress power sum_a V_a sigma_a : L_a equals -sum_a f_a . v_a exactly, and the pair term is
+// antisymmetric, so linear momentum is conserved to round-off. Without correction (B = I) this is
+// the symmetric SPH form of seed 000 eq. 7 with V_a V_b in place of m_a m_b / (rho_a rho_b).
 void SolidFormulation::compute_pair_forces() {
   const auto& list = verlet_.list();
   const Index n = particle_count();
@@ -104,7 +133,8 @@ void SolidFormulation::compute_pair_forces() {
 #pragma omp parallel for schedule(static)
   for (Index a = 0; a < n; ++a) {
     const Real rho_a = density_[a];
-    const Mat3 A_a = (deviatoric_stress_[a] - pressure_[a] * Mat3::Identity()) / (rho_a * rho_a);
+    const Real volume_a = mass_[a] / rho_a;
+    const Mat3& P_a = corrected_stress_[a];
     Vec3 f = Vec3::Zero();
     Vec3 f_visc = Vec3::Zero();
     for (Index k = list.offsets[a]; k < list.offsets[a + 1]; ++k) {
@@ -115,12 +145,9 @@ void SolidFormulation::compute_pair_forces() {
       if (r >= H) continue;
       const Vec3 grad = Kernel::gradient(xab, r, H);
       const Real rho_b = density_[b];
-      const Mat3 A_b =
-          (deviatoric_stress_[b] - pressure_[b] * Mat3::Identity()) / (rho_b * rho_b);
-      const Real mm = mass_[a] * mass_[b];
-      // (A_a + A_b) and grad are exactly opposite for the pair (b, a): momentum is conserved
+      // (P_a + P_b) and grad are exactly opposite for the pair (b, a): momentum is conserved
       // to round-off although each particle gathers its own sum.
-      f.noalias() += mm * ((A_a + A_b) * grad);
+      f.noalias() += (volume_a * (mass_[b] / rho_b)) * ((P_a + corrected_stress_[b]) * grad);
       const Real vr = (v_[a] - v_[b]).dot(xab);
       if (vr < 0) {
         const Real h = Real(0.5) * H;  // mean smoothing length
@@ -128,7 +155,7 @@ void SolidFormulation::compute_pair_forces() {
         const Real c = Real(0.5) * (sound_speed_[a] + sound_speed_[b]);
         const Real rho = Real(0.5) * (rho_a + rho_b);
         const Real Pi = (-alpha * c * mu + beta * mu * mu) / rho;
-        f_visc.noalias() -= (mm * Pi) * grad;
+        f_visc.noalias() -= (mass_[a] * mass_[b] * Pi) * grad;
       }
     }
     viscous_force_[a] = f_visc;

@@ -5,8 +5,11 @@
 //   velocity grad.   L_a = sum_b (m_b / rho_b) (v_b - v_a) (x) grad_a W_ab
 //   Hooke, Jaumann   dS/dt = 2G dev(D) + W S - S W
 //   pressure         p = K (rho / rho_0 - 1)
-//   momentum         m_a dv_a/dt = sum_b m_a m_b (sigma_a/rho_a^2 + sigma_b/rho_b^2 - Pi_ab I) . grad_a W_ab
-//                    (seed 000 eqs. 7-8 in the symmetric form that conserves linear momentum)
+//   momentum         m_a dv_a/dt = sum_b V_a V_b (sigma_a B_a^T + sigma_b B_b^T) grad_a W_ab
+//                                  - sum_b m_a m_b Pi_ab grad_a W_ab
+//                    (seed 000 eqs. 7-8 in a symmetric form that conserves linear momentum)
+//   correction       B_a = (sum_b V_b (x_b - x_a) (x) grad_a W_ab)^-1 (Randles & Libersky 1996),
+//                    applied to L and, by duality, to the force; B = I when switched off
 //   viscosity        Pi_ab = (-alpha c_ab mu_ab + beta mu_ab^2) / rho_ab when v_ab . x_ab < 0 (Monaghan)
 // One SPH formulation owns every SPH part; particles of different parts interact through the
 // kernel, with each particle's own material.
@@ -66,6 +69,8 @@ class SolidFormulation final : public solver::Formulation {
   std::vector<Real> pressure_;
   std::vector<Real> sound_speed_;
   std::vector<Mat3> deviatoric_stress_;
+  std::vector<Mat3> gradient_correction_matrix_;  // B_a (identity without correction)
+  std::vector<Mat3> corrected_stress_;            // sigma_a B_a^T, as the pair force uses it
   // Scratch of the current step.
   std::vector<Vec3> x_, v_;
   std::vector<Real> density_rate_;
@@ -73,6 +78,7 @@ class SolidFormulation final : public solver::Formulation {
   std::vector<Vec3> force_;            // total internal force
   std::vector<Vec3> viscous_force_;    // its artificial-viscosity part
 
+  bool gradient_correction_ = true;
   neighbors::VerletList verlet_;
   Real max_support_ = 0;
   bool list_built_ = false;
