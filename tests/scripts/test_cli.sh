@@ -1,0 +1,77 @@
+#!/usr/bin/env bash
+# The command line as a user meets it: a run writes a ParaView series that VTK's own reader opens
+# (Debian's python3-vtk9), glstat.csv, run.json and a copy of the deck; bad input is one
+# `file:line: *KEYWORD:` line and exit 2; an unsupported keyword is a warning with name and line;
+# an unstable run exits 3 and leaves its last state; every public deck goes through `spall check`
+# with exit 0 or 2, never a crash.
+# Arguments, as CTest passes them: CLI SOURCE_DIR SHARED_DIR.
+set -euo pipefail
+cli=$1
+source_dir=$2
+shared_dir=$3
+read_vtu=("/usr/bin/python3" "$source_dir/tools/read_vtu.py")
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+fail() { echo "FAIL: $*"; exit 1; }
+
+"$cli" --version | grep -q '^spall ' || fail "--version"
+
+# A coarse bar, a quarter period.
+python3 "$source_dir/tools/make_bar_deck.py" --spacing 0.025 --periods 0.25 >"$work/bar.k"
+"$cli" run "$work/bar.k" -o "$work/out" 2>"$work/run.log" || { cat "$work/run.log"; fail "run"; }
+grep -q 'particle-steps/s' "$work/run.log" || fail "no progress line"
+last=$(ls "$work/out"/d3plot_*.vtu | tail -n 1)
+"${read_vtu[@]}" "$last" --field velocity --field displacement --field pressure --field von_mises \
+  --field density --field part_id --field node_id --field stress >"$work/fields" || fail "VTK could not read $last"
+grep -qx 'points 640' "$work/fields" || fail "point count: $(grep points "$work/fields")"
+grep -qx 'part_id min 1' "$work/fields" || fail "part_id"
+grep -qx 'node_id max 640' "$work/fields" || fail "node_id"
+# After a quarter period the bar is strained: a displacement and a pressure, not zeros.
+awk '/^displacement magnitude_max/ { exit !($2 > 1e-6) }' "$work/fields" || fail "displacement is zero"
+awk '/^pressure max/ { exit !($2 > 1e5) }' "$work/fields" || fail "pressure is zero"
+grep -c '<DataSet' "$work/out/d3plot.pvd" | awk '{ exit !($1 >= 5) }' || fail "pvd series"
+head -n 1 "$work/out/glstat.csv" | grep -q '^time \[time\],dt \[time\],kinetic_energy' || fail "glstat header"
+grep -q '"status": "completed"' "$work/out/run.json" || fail "run.json"
+cmp -s "$work/bar.k" "$work/out/deck/bar.k" || fail "deck copy"
+
+# A bad number: one line with file, line, keyword and field; exit 2; no output folder.
+sed '0,/^\*NODE/{/^\*NODE/{n;s/^\(.\{8\}\).\{16\}/\1     1.2.3e-02 /}}' "$work/bar.k" >"$work/bad.k"
+set +e
+"$cli" run "$work/bad.k" -o "$work/bad_out" 2>"$work/bad.log"
+code=$?
+set -e
+[ "$code" -eq 2 ] || fail "bad number: exit $code"
+grep -Eq "bad\.k:[0-9]+: \*NODE: field X: .*1\.2\.3e-02" "$work/bad.log" || { cat "$work/bad.log"; fail "bad number message"; }
+[ ! -e "$work/bad_out" ] || fail "output written for a bad deck"
+
+# An unsupported keyword: a warning with its name and line; the run goes on.
+sed 's/^\*END$/*CONTROL_ENERGY\n         2\n*END/' "$work/bar.k" >"$work/unsupported.k"
+"$cli" check "$work/unsupported.k" 2>"$work/unsupported.log" >/dev/null || fail "check with unsupported keyword"
+grep -Eq "warning: .*unsupported\.k:[0-9]+: \*CONTROL_ENERGY: not supported" "$work/unsupported.log" ||
+  { cat "$work/unsupported.log"; fail "unsupported warning"; }
+
+# A step far above the stable one: exit 3, which node and step, and the last state on disk.
+sed 's/^       0.0       0.9$/       0.0       4.0/' "$work/bar.k" >"$work/unstable.k"
+set +e
+"$cli" run "$work/unstable.k" -o "$work/unstable_out" 2>"$work/unstable.log"
+code=$?
+set -e
+[ "$code" -eq 3 ] || { cat "$work/unstable.log"; fail "unstable run: exit $code"; }
+grep -Eq "numerical instability at step [0-9]+, time .*: node [0-9]+" "$work/unstable.log" || fail "instability message"
+grep -q '"status": "unstable"' "$work/unstable_out/run.json" || fail "unstable run.json"
+"${read_vtu[@]}" "$(ls "$work/unstable_out"/d3plot_*.vtu | tail -n 1)" --field velocity >/dev/null || fail "last state"
+
+# Every public deck: `spall check` answers 0 or 2 with a clear line, never a crash.
+while IFS= read -r deck; do
+  set +e
+  "$cli" check "$deck" >"$work/check.out" 2>"$work/check.err"
+  code=$?
+  set -e
+  case $code in
+    0) ;;
+    2) grep -Eq '^error: ' "$work/check.err" || fail "$deck: exit 2 without an error line" ;;
+    *) cat "$work/check.err"; fail "$deck: exit $code" ;;
+  esac
+  echo "check $(basename "$deck"): exit $code: $(grep '^error' "$work/check.err" | head -n 1)"
+done < <(find "$shared_dir/decks/public" -name '*.k' | sort)
+echo "CLI tests passed"
