@@ -44,6 +44,12 @@ void BM_VerletBuildLattice(benchmark::State& state) {
   state.counters["particles"] = static_cast<double>(x.size());
   state.counters["neighbors_per_particle"] =
       static_cast<double>(verlet.list().neighbors.size()) / static_cast<double>(x.size());
+  // What the list keeps: the rows, their offsets and the positions at the build.
+  state.counters["bytes_per_particle"] =
+      static_cast<double>(sizeof(spall::Index) *
+                              (verlet.list().neighbors.size() + verlet.list().offsets.size()) +
+                          sizeof(Vec3) * x.size()) /
+      static_cast<double>(x.size());
 }
 BENCHMARK(BM_VerletBuildLattice)
     ->ArgNames({"particles", "in_cell_order"})

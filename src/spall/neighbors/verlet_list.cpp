@@ -49,8 +49,10 @@ void VerletList::build(std::span<const Vec3> x, Real cutoff, Real skin) {
   x_at_build_.assign(x.begin(), x.end());
   const auto n = static_cast<Index>(x.size());
   list_.offsets.assign(n + 1, 0);
-  list_.neighbors.clear();
-  if (n == 0) return;
+  if (n == 0) {
+    list_.neighbors.clear();
+    return;
+  }
 
   const Real radius = cutoff + skin;
   const Real radius_squared = radius * radius;
@@ -79,7 +81,11 @@ void VerletList::build(std::span<const Vec3> x, Real cutoff, Real skin) {
     }
   }
   for (Index i = 0; i < n; ++i) list_.offsets[i + 1] += list_.offsets[i];
-  list_.neighbors.resize(list_.offsets[n]);
+  // The storage is kept from one rebuild to the next, where the count barely changes (resize
+  // then writes nothing), unless it is more than twice what this build needs.
+  const auto total = static_cast<std::size_t>(list_.offsets[n]);
+  if (list_.neighbors.capacity() > 2 * total) std::vector<Index>().swap(list_.neighbors);
+  list_.neighbors.resize(total);
 
 #pragma omp parallel
   {
