@@ -23,7 +23,8 @@ test-fast: build
 	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS) -LE slow
 
 bench: build
-	@$(BUILD)/bin/spall_bench
+	@$(BUILD)/bin/spall_bench --benchmark_out=$(BUILD)/bench.json --benchmark_out_format=json
+	@echo "JSON: $(BUILD)/bench.json"
 
 clean:
 	rm -rf build

@@ -29,6 +29,8 @@ class VerletList {
   const NeighborList& list() const { return list_; }
   Real cutoff() const { return cutoff_; }
   Real skin() const { return skin_; }
+  // Bytes held besides the list itself: the positions saved at the build.
+  std::size_t reference_positions_bytes() const { return x_at_build_.capacity() * sizeof(Vec3); }
 
  private:
   NeighborList list_;

@@ -228,6 +228,22 @@ void SolidFormulation::add_fields(std::vector<io::output::PointField>& fields,
   fields.push_back({"neighbour_count", 1, std::move(neighbour_count)});
 }
 
+namespace {
+template <typename T>
+std::size_t bytes(const std::vector<T>& v) {
+  return v.capacity() * sizeof(T);
+}
+}  // namespace
+
+std::size_t SolidFormulation::memory_bytes() const {
+  const auto& list = verlet_.list();
+  return bytes(node_) + bytes(material_) + bytes(mass_) + bytes(smoothing_length_) +
+         bytes(density_) + bytes(pressure_) + bytes(sound_speed_) + bytes(deviatoric_stress_) +
+         bytes(gradient_correction_matrix_) + bytes(corrected_stress_) + bytes(x_) + bytes(v_) +
+         bytes(density_rate_) + bytes(velocity_gradient_) + bytes(force_) + bytes(viscous_force_) +
+         bytes(list.offsets) + bytes(list.neighbors) + verlet_.reference_positions_bytes();
+}
+
 Real SolidFormulation::max_wave_speed() const {
   Real c = 0;
   for (Real s : sound_speed_) c = std::max(c, s);

@@ -49,6 +49,8 @@ class SolidFormulation final : public solver::Formulation {
   Real max_wave_speed() const override;
 
   Index particle_count() const { return static_cast<Index>(node_.size()); }
+  // Bytes held by the formulation's arrays and its neighbour list.
+  std::size_t memory_bytes() const;
   const neighbors::NeighborList& neighbor_list() const { return verlet_.list(); }
 
  private:
