@@ -4,7 +4,7 @@
 set -euo pipefail
 packages=(
   build-essential cmake ninja-build
-  libeigen3-dev libomp-dev libfmt-dev libcli11-dev
+  libeigen3-dev libfmt-dev libcli11-dev
   libgtest-dev libbenchmark-dev
   python3-vtk9 python3-numpy
 )

@@ -25,7 +25,10 @@ void Progress::update(const spall::solver::StepInfo& step) {
   }
 }
 
-void Progress::finish(const spall::solver::StepInfo& step) { print(step, true); }
+void Progress::finish(const spall::solver::StepInfo& step) {
+  // Off a terminal the 100 % line has already been printed by update().
+  if (terminal_) print(step, true);
+}
 
 void Progress::print(const spall::solver::StepInfo& step, bool final) {
   const double seconds = elapsed_seconds();

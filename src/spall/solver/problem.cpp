@@ -132,6 +132,9 @@ class Builder {
         fail(mat->second.where, mat->second.keyword,
              fmt::format("material {}: needs RO > 0, E > 0 and 0 <= PR < 0.5 (found RO {}, E {}, PR {})",
                          mat->first, elastic->ro, elastic->e, elastic->pr));
+      if (part->hgid != 0)
+        fail(part->where, "*PART",
+             fmt::format("part {}: HGID {}: *HOURGLASS controls are not supported yet", part->id, part->hgid));
       if (part->eosid != 0)
         fail(part->where, "*PART",
              fmt::format("part {}: EOSID {} with *MAT_ELASTIC is not supported", part->id, part->eosid));
