@@ -114,6 +114,8 @@ RunSummary run(Problem& problem, const Observer& observer) {
     // 2.-3. loads, then the central-difference velocity update over the mid-interval
     const Real dt_mid = step.step == 0 ? Real(0.5) * dt : Real(0.5) * (dt_previous + dt);
     const Vec3 g = base_acceleration(problem, step.time);
+    // Where v^n lies between v^{n-1/2} and v^{n+1/2} (see 4. below).
+    const Real velocity_weight = (dt_previous + dt) > 0 ? dt_previous / (dt_previous + dt) : Real(0.5);
     Real external_power = 0;
 #pragma omp parallel for reduction(+ : external_power) schedule(static)
     for (Index i = 0; i < n; ++i) {
@@ -125,7 +127,7 @@ RunSummary run(Problem& problem, const Observer& observer) {
       for (int d = 0; d < 3; ++d)
         if (nodes.fixed[i] & (1u << d)) v_new[d] = 0;
       nodes.v[i] = v_new;
-      external_power += f_load.dot(Real(0.5) * (v_old[i] + v_new));
+      external_power += f_load.dot(v_old[i] + velocity_weight * (v_new - v_old[i]));
     }
     const Real t_mid = step.time + Real(0.5) * dt;
     for (const auto& m : problem.motions) {
@@ -148,15 +150,18 @@ RunSummary run(Problem& problem, const Observer& observer) {
     for (Index i = 0; i < n; ++i) {
       if (nodes.mass[i] <= 0 || dt_mid <= 0) continue;
       const Vec3 reaction = nodes.mass[i] * (nodes.v[i] - v_old[i]) / dt_mid - nodes.f[i];
-      reaction_power += reaction.dot(Real(0.5) * (v_old[i] + nodes.v[i]));
+      reaction_power += reaction.dot(v_old[i] + velocity_weight * (nodes.v[i] - v_old[i]));
     }
 
-    // 4. energies at t^n from the mid-step velocities v^n = (v^{n-1/2} + v^{n+1/2}) / 2
+    // 4. energies at t^n from the velocities at t^n: v^n = v^{n-1/2} + a^n dt^{n-1/2} / 2, i.e.
+    // the point dt^{n-1/2} / (dt^{n-1/2} + dt^{n+1/2}) of the way from v^{n-1/2} to v^{n+1/2}
+    // (the mean of the two only when the steps are equal; v^0 at the start, v^{n+1/2} at the
+    // shortened last step).
     std::vector<Vec3>& v_mid = v_old;
     Real kinetic = 0;
 #pragma omp parallel for reduction(+ : kinetic) schedule(static)
     for (Index i = 0; i < n; ++i) {
-      v_mid[i] = Real(0.5) * (v_mid[i] + nodes.v[i]);
+      v_mid[i] += velocity_weight * (nodes.v[i] - v_mid[i]);
       kinetic += Real(0.5) * nodes.mass[i] * v_mid[i].squaredNorm();
     }
     for (const auto& f : problem.formulations) {
