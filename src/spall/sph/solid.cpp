@@ -21,6 +21,22 @@ constexpr Real skin_fraction = 0.1;
 constexpr Real min_moment_determinant = 1e-3;
 }  // namespace
 
+// Calls visit(b, x_a - x_b, r, H_ab, grad_a W_ab) for every neighbour b of a inside the pair's
+// support, in the fixed order of a's Verlet row.
+template <typename Visit>
+inline void for_each_neighbour_in_support(const neighbors::NeighborList& list, Index a,
+                                          std::span<const Vec3> x, std::span<const Real> h,
+                                          Visit&& visit) {
+  for (Index k = list.offsets[a]; k < list.offsets[a + 1]; ++k) {
+    const Index b = list.neighbors[k];
+    const Vec3 xab = x[a] - x[b];
+    const Real r = xab.norm();
+    const Real H = pair_support(h[a], h[b]);
+    if (r >= H) continue;
+    visit(b, xab, r, H, Kernel::gradient(xab, r, H));
+  }
+}
+
 SolidFormulation::SolidFormulation(std::vector<materials::ElasticConstants> materials,
                                    const std::vector<ParticleSetup>& particles,
                                    ArtificialViscosity viscosity, const solver::NodeStore& nodes)
@@ -72,19 +88,14 @@ void SolidFormulation::compute_rates() {
     Real drho = 0;
     Mat3 L = Mat3::Zero();
     Mat3 moment = Mat3::Zero();  // sum_b V_b (x_b - x_a) (x) grad_a W_ab, = I for a full support
-    for (Index k = list.offsets[a]; k < list.offsets[a + 1]; ++k) {
-      const Index b = list.neighbors[k];
-      const Vec3 xab = x_[a] - x_[b];
-      const Real r = xab.norm();
-      const Real H = pair_support(smoothing_length_[a], smoothing_length_[b]);
-      if (r >= H) continue;
-      const Vec3 grad = Kernel::gradient(xab, r, H);
+    for_each_neighbour_in_support(list, a, x_, smoothing_length_,
+                                  [&](Index b, const Vec3& xab, Real, Real, const Vec3& grad) {
       const Vec3 vba = v_[b] - v_[a];
       const Real volume = mass_[b] / density_[b];
       drho -= mass_[b] * vba.dot(grad);
       L.noalias() += volume * vba * grad.transpose();
       moment.noalias() -= volume * xab * grad.transpose();
-    }
+    });
     Mat3 correction = Mat3::Identity();
     if (gradient_correction_) {
       // Randles & Libersky 1996: L B with B = moment^{-1} is exact for linear velocity fields,
@@ -137,13 +148,8 @@ void SolidFormulation::compute_pair_forces() {
     const Mat3& P_a = corrected_stress_[a];
     Vec3 f = Vec3::Zero();
     Vec3 f_visc = Vec3::Zero();
-    for (Index k = list.offsets[a]; k < list.offsets[a + 1]; ++k) {
-      const Index b = list.neighbors[k];
-      const Vec3 xab = x_[a] - x_[b];
-      const Real r = xab.norm();
-      const Real H = pair_support(smoothing_length_[a], smoothing_length_[b]);
-      if (r >= H) continue;
-      const Vec3 grad = Kernel::gradient(xab, r, H);
+    for_each_neighbour_in_support(list, a, x_, smoothing_length_,
+                                  [&](Index b, const Vec3& xab, Real r, Real H, const Vec3& grad) {
       const Real rho_b = density_[b];
       // (P_a + P_b) and grad are exactly opposite for the pair (b, a): momentum is conserved
       // to round-off although each particle gathers its own sum.
@@ -157,7 +163,7 @@ void SolidFormulation::compute_pair_forces() {
         const Real Pi = (-alpha * c * mu + beta * mu * mu) / rho;
         f_visc.noalias() -= (mass_[a] * mass_[b] * Pi) * grad;
       }
-    }
+    });
     viscous_force_[a] = f_visc;
     force_[a] = f + f_visc;
   }
