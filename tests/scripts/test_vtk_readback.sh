@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # VTK's own reader (Debian's python3-vtk9, as ParaView would) reads back a VTU that write_vtu wrote
-# and must see exactly the points, the vector field, the Int64 field and the tensor's component
-# names that tests/unit/test_output.cpp (VtuSample) put in it. Also checks that tools/read_vtu.py
-# fails on a missing field, since other tests rely on that.
+# and must see exactly the point count, the vector field, the Int64 field and the tensor's component
+# names that tests/unit/test_output.cpp (VtuSample) put in it; the .pvd beside it must parse as XML
+# and list it. Also checks that tools/read_vtu.py fails on a missing field: other tests rely on it.
 # Arguments, as CTest passes them: CLI SOURCE_DIR SHARED_DIR. The unit test binaries sit beside the CLI.
 set -euo pipefail
 cli=$1
@@ -41,6 +41,15 @@ category value 3 9007199254740993
 stress component_names xx yy zz xy yz zx
 END
 diff -u "$work/expected" "$work/summary"
+
+# The series is XML that a standard parser accepts, and it points at the sample.
+/usr/bin/python3 - "$work/sample.pvd" <<'END'
+import sys
+import xml.etree.ElementTree as ElementTree
+root = ElementTree.parse(sys.argv[1]).getroot()
+datasets = [(d.get("timestep"), d.get("file")) for d in root.iter("DataSet")]
+assert root.get("type") == "Collection" and datasets == [("0.10000000000000001", "sample.vtu")], datasets
+END
 
 if "${read_vtu[@]}" "$work/sample.vtu" --field no_such_field >/dev/null 2>&1; then
   echo "read_vtu.py accepted a missing field" >&2

@@ -295,7 +295,7 @@ TEST_F(OutputTest, RunJsonEscapesStrings) {
             "}\n");
 }
 
-// The file tests/scripts/test_vtk_readback.sh reads with VTK's own reader: written to
+// The files tests/scripts/test_vtk_readback.sh reads with VTK's own reader: written to
 // $SPALL_VTU_SAMPLE_DIR when set. The script knows these values; change both together.
 TEST(VtuSample, WritesTheSampleForTheVtkReadbackScript) {
   const char* sample_directory = std::getenv("SPALL_VTU_SAMPLE_DIR");
@@ -307,8 +307,13 @@ TEST(VtuSample, WritesTheSampleForTheVtkReadbackScript) {
       {"stress", 6, std::vector<double>(24, -1e6), symmetric_tensor_components}};
   const fs::path path = directory / "sample.vtu";
   write_vtu(path, points, fields);
+  PvdSeries series(directory / "sample.pvd");
+  series.add(0.1, "sample.vtu");
   EXPECT_TRUE(fs::exists(path));
-  if (!sample_directory) fs::remove(path);  // nobody is going to read it
+  if (!sample_directory) {  // nobody is going to read them
+    fs::remove(path);
+    fs::remove(directory / "sample.pvd");
+  }
 }
 
 }  // namespace
