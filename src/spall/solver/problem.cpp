@@ -103,69 +103,85 @@ class Builder {
     }
   }
 
+  // An SPH part as the solver needs it, checked once however many particles it has.
+  struct SphPart {
+    const model::SectionSph* section = nullptr;
+    Index material = 0;  // index into the material table
+    Real density = 0;
+    Real spacing = 0;  // the largest particle spacing (m / rho)^(1/3) of the part
+  };
+
+  SphPart resolve_sph_part(Id pid, const SourceLocation& where,
+                           std::vector<materials::ElasticConstants>& table,
+                           std::unordered_map<Id, Index>& material_index) {
+    const model::Part* part = model_.find_part(pid);
+    if (!part) fail(where, "*ELEMENT_SPH", fmt::format("PID: part {} does not exist", pid));
+    auto sec = model_.sections.find(part->secid);
+    if (sec == model_.sections.end() || !std::holds_alternative<model::SectionSph>(sec->second))
+      fail(part->where, "*PART",
+           fmt::format("part {} has SPH particles but section {} is not a *SECTION_SPH", part->id,
+                       part->secid));
+    const auto& section = std::get<model::SectionSph>(sec->second);
+    if (section.cslh < 1.0)
+      fail(section.where, "*SECTION_SPH",
+           fmt::format("CSLH: {} is inadmissible (less than 1; 1.05 to 1.3 are recommended)", section.cslh));
+    if (section.sphkern != 0)
+      fail(section.where, "*SECTION_SPH",
+           fmt::format("SPHKERN {}: only the cubic spline (0) is implemented so far", section.sphkern));
+    if (section.hmin != 1.0 || section.hmax != 1.0) warn_constant_h_once(section);
+    if (section.death < 1e20 || section.start > 0)
+      fail(section.where, "*SECTION_SPH", "DEATH/START: particle birth and death are not implemented yet");
+    auto mat = model_.materials.find(part->mid);
+    if (mat == model_.materials.end())
+      fail(part->where, "*PART", fmt::format("MID: material {} does not exist", part->mid));
+    const auto* elastic = std::get_if<model::MatElastic>(&mat->second.params);
+    if (!elastic)
+      fail(mat->second.where, mat->second.keyword,
+           fmt::format("material {} is used by SPH part {}, but the SPH solver supports only "
+                       "*MAT_ELASTIC so far",
+                       mat->first, part->id));
+    if (elastic->ro <= 0 || elastic->e <= 0 || elastic->pr < 0 || elastic->pr >= 0.5)
+      fail(mat->second.where, mat->second.keyword,
+           fmt::format("material {}: needs RO > 0, E > 0 and 0 <= PR < 0.5 (found RO {}, E {}, PR {})",
+                       mat->first, elastic->ro, elastic->e, elastic->pr));
+    if (part->hgid != 0)
+      fail(part->where, "*PART",
+           fmt::format("part {}: HGID {}: *HOURGLASS controls are not supported yet", part->id, part->hgid));
+    if (part->eosid != 0)
+      fail(part->where, "*PART",
+           fmt::format("part {}: EOSID {} with *MAT_ELASTIC is not supported", part->id, part->eosid));
+    auto [it, inserted] = material_index.emplace(mat->first, static_cast<Index>(table.size()));
+    if (inserted)
+      table.push_back(materials::ElasticConstants::from_young_poisson(elastic->ro, elastic->e, elastic->pr));
+    return {&section, it->second, elastic->ro, 0};
+  }
+
   void build_sph() {
     if (model_.sph_elements.empty()) return;
     std::vector<materials::ElasticConstants> table;
     std::unordered_map<Id, Index> material_index;
+    std::unordered_map<Id, SphPart> parts;
     std::vector<sph::ParticleSetup> particles;
-    // Per part: the initial particle spacing, from the particle volumes m / rho.
-    std::unordered_map<Id, Real> spacing;
     std::set<Id> seen;
     for (const auto& e : model_.sph_elements) {
-      const model::Part* part = model_.find_part(e.pid);
-      if (!part) fail(e.where, "*ELEMENT_SPH", fmt::format("PID: part {} does not exist", e.pid));
-      auto sec = model_.sections.find(part->secid);
-      if (sec == model_.sections.end() || !std::holds_alternative<model::SectionSph>(sec->second))
-        fail(part->where, "*PART",
-             fmt::format("part {} has SPH particles but section {} is not a *SECTION_SPH", part->id,
-                         part->secid));
-      auto mat = model_.materials.find(part->mid);
-      if (mat == model_.materials.end())
-        fail(part->where, "*PART", fmt::format("MID: material {} does not exist", part->mid));
-      const auto* elastic = std::get_if<model::MatElastic>(&mat->second.params);
-      if (!elastic)
-        fail(mat->second.where, mat->second.keyword,
-             fmt::format("material {} is used by SPH part {}, but the SPH solver supports only "
-                         "*MAT_ELASTIC so far",
-                         mat->first, part->id));
-      if (elastic->ro <= 0 || elastic->e <= 0 || elastic->pr < 0 || elastic->pr >= 0.5)
-        fail(mat->second.where, mat->second.keyword,
-             fmt::format("material {}: needs RO > 0, E > 0 and 0 <= PR < 0.5 (found RO {}, E {}, PR {})",
-                         mat->first, elastic->ro, elastic->e, elastic->pr));
-      if (part->hgid != 0)
-        fail(part->where, "*PART",
-             fmt::format("part {}: HGID {}: *HOURGLASS controls are not supported yet", part->id, part->hgid));
-      if (part->eosid != 0)
-        fail(part->where, "*PART",
-             fmt::format("part {}: EOSID {} with *MAT_ELASTIC is not supported", part->id, part->eosid));
-      auto [it, inserted] = material_index.emplace(mat->first, static_cast<Index>(table.size()));
-      if (inserted)
-        table.push_back(materials::ElasticConstants::from_young_poisson(elastic->ro, elastic->e, elastic->pr));
+      auto found = parts.find(e.pid);
+      if (found == parts.end())
+        found = parts.emplace(e.pid, resolve_sph_part(e.pid, e.where, table, material_index)).first;
+      SphPart& part = found->second;
       const Index node = node_index(e.nid, e.where, "*ELEMENT_SPH");
       if (!seen.insert(e.nid).second)
         fail(e.where, "*ELEMENT_SPH", fmt::format("node {} carries two SPH particles", e.nid));
-      const Real mass = e.mass > 0 ? e.mass : -e.mass * elastic->ro;
+      const Real mass = e.mass > 0 ? e.mass : -e.mass * part.density;
       if (!(mass > 0)) fail(e.where, "*ELEMENT_SPH", fmt::format("MASS: particle {} has no mass", e.nid));
       problem_.nodes.mass[node] = mass;
-      problem_.part_of_node[node] = part->id;
-      Real& dx = spacing[part->id];
-      dx = std::max(dx, std::cbrt(mass / elastic->ro));
-      particles.push_back({node, it->second, 0});
+      problem_.part_of_node[node] = e.pid;
+      part.spacing = std::max(part.spacing, std::cbrt(mass / part.density));
+      particles.push_back({node, part.material, 0});
     }
+    // LS-DYNA: h = CSLH * initial spacing, unless SPHINI gives h directly.
     for (auto& p : particles) {
-      const Id pid = problem_.part_of_node[p.node];
-      const auto& section = std::get<model::SectionSph>(model_.sections.at(model_.find_part(pid)->secid));
-      if (section.cslh < 1.0)
-        fail(section.where, "*SECTION_SPH",
-             fmt::format("CSLH: {} is inadmissible (less than 1; 1.05 to 1.3 are recommended)", section.cslh));
-      // LS-DYNA: h = CSLH * initial spacing, unless SPHINI gives h directly.
-      p.smoothing_length = section.sphini > 0 ? section.sphini : section.cslh * spacing[pid];
-      if (section.sphkern != 0)
-        fail(section.where, "*SECTION_SPH",
-             fmt::format("SPHKERN {}: only the cubic spline (0) is implemented so far", section.sphkern));
-      if (section.hmin != 1.0 || section.hmax != 1.0) warn_constant_h_once(section);
-      if (section.death < 1e20 || section.start > 0)
-        fail(section.where, "*SECTION_SPH", "DEATH/START: particle birth and death are not implemented yet");
+      const SphPart& part = parts.at(problem_.part_of_node[p.node]);
+      p.smoothing_length = part.section->sphini > 0 ? part.section->sphini : part.section->cslh * part.spacing;
     }
     // Keep the particles in node (cell) order for memory locality.
     std::sort(particles.begin(), particles.end(),
