@@ -11,36 +11,21 @@
 #include "spall/core/log.hpp"
 #include "spall/solver/simulation.hpp"
 #include "spall/sph/solid.hpp"
+#include "support/sph_block.hpp"
 
 using namespace spall;
 
 namespace {
 
+// The bar of examples/elastic_bar, 1 m x 0.2 m x 0.2 m, in its first longitudinal mode.
 model::Model bar_model(Real spacing) {
-  model::Model m;
-  m.parts.push_back({1, "bar", 1, 1, 0, 0, {}});
-  model::SectionSph section;
-  section.id = 1;
-  section.hmin = section.hmax = 1.0;
-  m.sections[1] = section;
-  model::Material mat;
-  mat.id = 1;
-  mat.keyword = "*MAT_ELASTIC";
-  mat.params = model::MatElastic{7850, 200e9, 0.3, 0, 0};
-  m.materials[1] = mat;
-  const int nx = std::lround(1.0 / spacing), ny = std::lround(0.2 / spacing);
-  Id id = 1;
-  for (int k = 0; k < ny; ++k)
-    for (int j = 0; j < ny; ++j)
-      for (int i = 0; i < nx; ++i, ++id) {
-        const Vec3 x = spacing * Vec3(i + 0.5, j + 0.5, k + 0.5);
-        m.nodes.push_back({id, x, 0, 0, {}});
-        m.sph_elements.push_back({id, 1, -spacing * spacing * spacing, {}});
-        m.initial_velocity_nodes.push_back({id, Vec3(std::cos(M_PI * x.x()), 0, 0), Vec3::Zero(), 0, {}});
-      }
-  model::ControlTermination term;
-  term.endtim = 1.0;  // the cycle limit ends each run
-  m.termination = term;
+  test_support::ElasticBlock bar;
+  bar.size = Vec3(1.0, 0.2, 0.2);
+  bar.spacing = spacing;
+  bar.end_time = 1.0;  // the cycle limit ends each run
+  model::Model m = test_support::elastic_block_model(bar);
+  for (const auto& node : m.nodes)
+    m.initial_velocity_nodes.push_back({node.id, Vec3(std::cos(M_PI * node.x.x()), 0, 0), Vec3::Zero(), 0, {}});
   return m;
 }
 
