@@ -8,6 +8,7 @@
 
 #include "spall/core/log.hpp"
 #include "spall/neighbors/verlet_list.hpp"
+#include "spall/spg/setup.hpp"
 #include "spall/sph/solid.hpp"
 
 namespace spall::solver {
@@ -34,6 +35,8 @@ class Builder {
     build_nodes();
     build_sph();
     reject_unsupported_elements();
+    if (auto spg = spg::build_spg(model_, index_of_node_, problem_.nodes, problem_.part_of_node))
+      problem_.formulations.push_back(std::move(spg));
     apply_spcs();
     build_motions();
     apply_initial_velocities();
@@ -204,13 +207,14 @@ class Builder {
                              section.where.file, section.where.line, section.hmin, section.hmax));
   }
 
+  // Solid elements run as SPG particles (*SECTION_SOLID_SPG); finite elements do not run yet.
   void reject_unsupported_elements() {
-    if (!model_.solid_elements.empty()) {
-      const auto& e = model_.solid_elements.front();
-      fail(e.where, "*ELEMENT_SOLID",
-           "solid elements are read and checked, but the solver does not run them yet (FEM and "
-           "SPG parts come with later releases)");
-    }
+    for (const auto& e : model_.solid_elements)
+      if (!spg::is_spg_part(model_, e.pid))
+        fail(e.where, "*ELEMENT_SOLID",
+             fmt::format("element {}: part {} has a *SECTION_SOLID; solid finite elements are read and "
+                         "checked, but the solver does not run them yet (SPG parts, *SECTION_SOLID_SPG, "
+                         "do run)", e.eid, e.pid));
   }
 
   void apply_spcs() {

@@ -28,6 +28,7 @@ constexpr SupportedKeyword supported_keywords[] = {
     {"ELEMENT_SPH", read_element_sph},
     {"ELEMENT_SPH_VOLUME", read_element_sph},
     {"SECTION_SOLID", read_section_solid, true},
+    {"SECTION_SOLID_SPG", read_section_solid_spg, true},
     {"SECTION_SPH", read_section_sph, true},
     {"MAT_ELASTIC", read_mat_elastic, true},
     {"MAT_001", read_mat_elastic, true},
