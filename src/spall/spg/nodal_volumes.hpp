@@ -2,9 +2,10 @@
 // Nodal volumes of SPG particles from the solid mesh they are built on (spg.md §6: lumped mass
 // M_I = rho_0 V_I). Each corner a of a trilinear hexahedron gets V_a = integral of N_a dV, the
 // row sum of the consistent mass matrix divided by rho: V / 8 for a parallelepiped, and the right
-// share for a distorted or degenerate (wedge, tetrahedron: repeated nodes) element, whose
-// repeated corners simply add up. 2 x 2 x 2 Gauss points integrate N_a det J exactly (degree at
-// most 3 in each local coordinate).
+// share for a distorted or degenerate (wedge, pyramid: repeated nodes) element, whose repeated
+// corners simply add up. 2 x 2 x 2 Gauss points integrate N_a det J exactly (degree at most 3 in
+// each local coordinate). LS-DYNA's tetrahedron N1 N2 N3 N4 N4 N4 N4 N4 is the linear tetrahedron
+// of its four corners (a quarter each), not the trilinear image of that node list.
 #include <array>
 
 #include "spall/core/types.hpp"

@@ -11,16 +11,12 @@ namespace spall::spg {
 
 namespace {
 
-// Stiffness of the stabilization spring, kappa_J = eta (K + 4G/3) V_J / h_J^2 (THEORY §5.4): the
-// odd-even mode of a row of particles, which the nodal strain does not see, then vibrates near
-// the highest resolved frequency c / h instead of not at all, without lowering the stable step.
-constexpr Real stabilization_factor = 1.0;
-
 // Stable step dt = alpha h / (c + |v|), h the nodal spacing (support size over DX) scaled with the
-// particle's volume change: the largest frequency of the discrete system measured on irregular
-// blocks (tests/unit/test_spg_stiffness.cpp) gives a critical step of 0.94 to 1.25 h / c for
-// ISPLINE 0-2 and DX 1.2-2.4, so alpha = 0.6 keeps a margin of 1.5 even at TSSFAC 1 (THEORY §5.5).
-constexpr Real courant_factor = 0.6;
+// particle's volume change. The largest frequency of the assembled system on irregular blocks
+// (tests/unit/test_spg_stiffness.cpp) puts the critical step at 0.94 to 1.25 h / c for ISPLINE 0-2,
+// DX 1.2-2.4 and Poisson's ratios up to 0.49; alpha = 0.5 keeps the step at TSSFAC 1 below 0.75
+// of it everywhere (THEORY §5.5).
+constexpr Real courant_factor = 0.5;
 
 template <typename T>
 std::size_t bytes(const std::vector<T>& v) {
@@ -52,6 +48,7 @@ Part::Part(PartSettings settings, const std::vector<ParticleSetup>& particles,
   spacing_.resize(n);
   stiffness_.resize(n);
   x_.resize(n);
+  on_surface_.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     const auto& p = particles[i];
     node_[i] = p.node;
@@ -66,8 +63,9 @@ Part::Part(PartSettings settings, const std::vector<ParticleSetup>& particles,
     support_[i] = settings_.dilation.cwiseProduct(h);
     spacing_[i] = h.minCoeff();
     const Real mean_spacing = std::cbrt(h.prod());
-    stiffness_[i] = stabilization_factor * p_wave_modulus * p.volume / (mean_spacing * mean_spacing);
+    stiffness_[i] = settings_.stabilization_factor * p_wave_modulus * p.volume / (mean_spacing * mean_spacing);
     x_[i] = nodes.x[p.node];
+    on_surface_[i] = p.on_surface ? 1 : 0;
   }
   volume_ref_ = volume0_;
   F_.assign(n, Mat3::Identity());
@@ -91,6 +89,7 @@ Part::Part(PartSettings settings, const std::vector<ParticleSetup>& particles,
   initial_bond_count_.resize(n);
   for (std::size_t i = 0; i < n; ++i) initial_bond_count_[i] = bonds_.count(static_cast<Index>(i));
   build_shape_functions(true);
+  correct_integration_constraint();
 }
 
 // Bonds: the pairs in which one particle lies inside the other's support, in the current positions.
@@ -181,6 +180,51 @@ void Part::build_shape_functions(bool at_setup) {
   }
 }
 
+// The defect e_K = sum_J V_J D_JK of the nodal gradient operator (D = G A with ITB 1, G with ITB 2)
+// at the particles whose support lies inside the body, then the correction that removes it.
+void Part::correct_integration_constraint() {
+  const Index n = particle_count();
+  // Surface particles: on the mesh's boundary, next to a broken bond, or without a strain of their
+  // own. A particle is interior when no particle within the reach of its column of D (two rings of
+  // bonds for G A, one for G) is on the surface.
+  std::vector<std::uint8_t> near(n);
+  for (Index j = 0; j < n; ++j) near[j] = on_surface_[j] || degraded_[j] || bonds_.broken_count(j) > 0;
+  const int rings = settings_.stabilization == Stabilization::fluid_particle ? 2 : 1;
+  for (int ring = 0; ring < rings; ++ring) {
+    std::vector<std::uint8_t> grown = near;
+    for (Index j = 0; j < n; ++j)
+      for (Index k = bonds_.offsets[j]; k < bonds_.offsets[j + 1]; ++k)
+        if (!bonds_.broken[k] && near[bonds_.neighbour[k]]) grown[j] = 1;
+    near.swap(grown);
+  }
+  std::vector<std::uint8_t> interior(n), active(n);
+  for (Index j = 0; j < n; ++j) {
+    interior[j] = near[j] ? 0 : 1;
+    active[j] = degraded_[j] ? 0 : 1;
+  }
+  // g_I = sum_J V_J grad Psi_I(X_J); with smoothing e_K = sum_I Psi_K(X_I) g_I.
+  std::vector<Vec3> g(n), defect(n);
+#pragma omp parallel for schedule(static)
+  for (Index i = 0; i < n; ++i) {
+    Vec3 sum = volume_ref_[i] * grad_self_[i];
+    for (Index k = bonds_.offsets[i]; k < bonds_.offsets[i + 1]; ++k)
+      sum.noalias() += volume_ref_[bonds_.neighbour[k]] * grad_[bonds_.mirror[k]];
+    g[i] = sum;
+  }
+  if (settings_.stabilization == Stabilization::fluid_particle) {
+#pragma omp parallel for schedule(static)
+    for (Index K = 0; K < n; ++K) {
+      Vec3 sum = psi_self_[K] * g[K];
+      for (Index k = bonds_.offsets[K]; k < bonds_.offsets[K + 1]; ++k)
+        sum.noalias() += psi_[bonds_.mirror[k]] * g[bonds_.neighbour[k]];
+      defect[K] = sum;
+    }
+  } else {
+    defect = g;
+  }
+  correct_integration(bonds_, x_, volume_ref_, interior, active, defect, correction_);
+}
+
 void Part::smooth(std::span<const Vec3> field, std::vector<Vec3>& smoothed) const {
   const Index n = particle_count();
 #pragma omp parallel for schedule(static)
@@ -203,12 +247,14 @@ void Part::deformation(std::span<const Vec3> x, std::span<const Vec3> v, Real dt
       spin_[j] = Mat3::Zero();
       continue;
     }
-    Mat3 F = x[j] * grad_self_[j].transpose();
-    Mat3 dF = v[j] * grad_self_[j].transpose();
+    // D' = D + C: the gradient of the (smoothed) field plus the correction acting on the nodal
+    // values themselves.
+    Mat3 F = x[j] * grad_self_[j].transpose() + x_[j] * correction_.self[j].transpose();
+    Mat3 dF = v[j] * grad_self_[j].transpose() + v_[j] * correction_.self[j].transpose();
     for (Index k = bonds_.offsets[j]; k < bonds_.offsets[j + 1]; ++k) {
       const Index i = bonds_.neighbour[k];
-      F.noalias() += x[i] * grad_[k].transpose();
-      dF.noalias() += v[i] * grad_[k].transpose();
+      F.noalias() += x[i] * grad_[k].transpose() + x_[i] * correction_.bond[k].transpose();
+      dF.noalias() += v[i] * grad_[k].transpose() + v_[i] * correction_.bond[k].transpose();
     }
     const Real det = F.determinant();
     if (!(det > 0)) {
@@ -260,6 +306,7 @@ void Part::update_kernel() {
     search_bonds(&previous);
   }
   build_shape_functions(false);
+  correct_integration_constraint();
   steps_since_update_ = 0;
   ++kernel_updates_;
 }
@@ -294,7 +341,11 @@ void Part::internal_forces() {
       const Index I = bonds_.neighbour[k];
       gathered.noalias() += psi_[bonds_.mirror[k]] * (smoothed ? Vec3(h_[I] - s[I]) : Vec3(-s[I]));
     }
-    force_[K] = smoothed ? Vec3(-gathered - s[K]) : Vec3(-h_[K] - gathered - s[K]);
+    // The correction's share: -sum_J V_J P_J C_JK.
+    Vec3 corrected = weighted_stress_[K] * correction_.self[K];
+    for (Index k = bonds_.offsets[K]; k < bonds_.offsets[K + 1]; ++k)
+      corrected.noalias() += weighted_stress_[bonds_.neighbour[k]] * correction_.bond[bonds_.mirror[k]];
+    force_[K] = (smoothed ? Vec3(-gathered - s[K]) : Vec3(-h_[K] - gathered - s[K])) - corrected;
   }
 }
 
@@ -369,7 +420,8 @@ std::size_t Part::memory_bytes() const {
          bytes(support_) + bytes(spacing_) + bytes(stiffness_) + bytes(F_) + bytes(F_total_) +
          bytes(deviatoric_stress_) + bytes(pressure_) + bytes(density_) + bytes(sound_speed_) +
          bytes(effective_plastic_strain_) + bytes(stabilization_force_) + bytes(initial_bond_count_) +
-         bytes(degraded_) + bytes(psi_self_) + bytes(grad_self_) + bytes(psi_) + bytes(grad_) +
+         bytes(degraded_) + bytes(on_surface_) + bytes(correction_.self) +
+         bytes(correction_.bond) + bytes(correction_.lambda) + bytes(correction_.mu) + bytes(psi_self_) + bytes(grad_self_) + bytes(psi_) + bytes(grad_) +
          bytes(bonds_.offsets) + bytes(bonds_.neighbour) + bytes(bonds_.mirror) +
          bytes(bonds_.broken) + bytes(bonds_.rest_length) + bytes(broken_pairs_) + bytes(x_) +
          bytes(v_) + bytes(xs_) + bytes(vs_) + bytes(h_) + bytes(force_) + bytes(weighted_stress_) +

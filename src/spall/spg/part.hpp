@@ -7,6 +7,7 @@
 //   smoothing      xs_I = sum_K Psi_K(X_I) x_K,  vs_I = sum_K Psi_K(X_I) v_K      (eq. 9-11 at the particles)
 //   deformation    F_J = sum_I xs_I (x) grad Psi_I(X_J),  dF_J = sum_I vs_I (x) grad Psi_I(X_J)   (eq. 12)
 //                  (ITB 2: x and v in place of xs and vs)
+//                  plus the integration-constraint correction C on x and v (THEORY §5.3)
 //   stress         L = dF F^-1, Jaumann-rate Hooke for the deviator, p = K (rho / rho_0 - 1)
 //   force          f_K = -sum_I Psi_K(X_I) h_I - s_K + sum_I Psi_K(X_I) s_I,
 //                  h_I = sum_J V_J P_J grad Psi_I(X_J), P = J sigma F^-T          (eq. 6 with eq. 13)
@@ -20,6 +21,7 @@
 #include "spall/materials/elastic.hpp"
 #include "spall/solver/node_store.hpp"
 #include "spall/spg/bonds.hpp"
+#include "spall/spg/integration_constraint.hpp"
 #include "spall/spg/kernel_function.hpp"
 
 namespace spall::spg {
@@ -39,6 +41,9 @@ struct PartSettings {
   Real failure_strain = 1.0e10;  // FS (IDAM 1: effective plastic strain)
   Real failure_stretch = 1.0;    // STRETCH
   materials::ElasticConstants material;
+  // eta in the stabilization stiffness kappa = eta (K + 4G/3) V / h^2; not a deck field (SPG has no
+  // stabilization control parameter, seed 001 §1), 0 only in tests that show what it removes.
+  Real stabilization_factor = 1.0;
   SourceLocation where;  // *SECTION_SOLID_SPG card 2 (DX ...), for messages about the supports
 };
 
@@ -47,6 +52,7 @@ struct ParticleSetup {
   Index node = 0;
   Real volume = 0;              // nodal volume from the mesh
   Vec3 spacing = Vec3::Zero();  // nodal spacing per direction (largest extent of the elements around)
+  bool on_surface = false;      // a node of a face that only one element of the part has
 };
 
 class Part {
@@ -70,6 +76,7 @@ class Part {
   const PartSettings& settings() const { return settings_; }
   Index particle_count() const { return static_cast<Index>(node_.size()); }
   const BondList& bonds() const { return bonds_; }
+  const IntegrationCorrection& integration_correction() const { return correction_; }
   long long kernel_updates() const { return kernel_updates_; }
   std::size_t memory_bytes() const;
 
@@ -81,6 +88,7 @@ class Part {
   void deformation(std::span<const Vec3> x, std::span<const Vec3> v, Real dt);
   void update_stabilization(Real dt);
   void internal_forces();
+  void correct_integration_constraint();
 
   PartSettings settings_;
   // Per particle.
@@ -107,6 +115,8 @@ class Part {
   std::vector<Vec3> grad_;  // grad Psi_{neighbour}(X_J)
   BondList bonds_;
   std::vector<BondPair> broken_pairs_;
+  std::vector<std::uint8_t> on_surface_;  // on the mesh's boundary faces
+  IntegrationCorrection correction_;
   // Scratch of the current step.
   std::vector<Vec3> x_, v_, xs_, vs_, h_, force_;
   std::vector<Mat3> weighted_stress_;  // V_J P_J

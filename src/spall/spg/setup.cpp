@@ -88,10 +88,47 @@ materials::ElasticConstants resolve_material(const model::Model& model, const mo
   return materials::ElasticConstants::from_young_poisson(elastic->ro, elastic->e, elastic->pr);
 }
 
-// One SPG part's particles: nodal volumes and spacings gathered over its elements.
-struct PartParticles {
-  std::map<Index, ParticleSetup> by_node;  // ascending node index: particles in node (cell) order
+// One SPG part's particles: nodal volumes and spacings gathered over its elements. The nodal
+// spacing per direction is the mean extent (bounding box) of the elements around the node.
+struct NodeAccumulator {
+  ParticleSetup particle;
+  Vec3 extent_sum = Vec3::Zero();
+  int elements = 0;
 };
+struct PartParticles {
+  std::map<Index, NodeAccumulator> by_node;  // ascending node index: particles in node (cell) order
+};
+
+// A face of a hexahedron as its distinct corner nodes, sorted (a degenerate element has triangular
+// faces; a face that collapsed to an edge or a point is no face).
+using FaceKey = std::array<Index, 4>;
+constexpr int hex_faces[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
+
+// The nodes of faces that only one element of the part has are on the part's surface.
+void mark_surface_nodes(const model::Model& model, const std::unordered_map<Id, Index>& index_of_node,
+                        std::map<Id, PartParticles>& parts) {
+  std::map<Id, std::map<FaceKey, int>> face_count;
+  for (const auto& e : model.solid_elements) {
+    auto part = parts.find(e.pid);
+    if (part == parts.end()) continue;
+    for (const auto& face : hex_faces) {
+      FaceKey key;
+      for (int c = 0; c < 4; ++c) key[c] = index_of_node.at(e.n[face[c]]);
+      std::sort(key.begin(), key.end());
+      // Repeated corners (degenerate faces) become -1: the key holds the distinct nodes.
+      for (int c = 3; c > 0; --c)
+        if (key[c] == key[c - 1]) key[c] = -1;
+      std::sort(key.begin(), key.end());
+      if (key[1] < 0) continue;  // fewer than three distinct corners: an edge or a point
+      ++face_count[e.pid][key];
+    }
+  }
+  for (const auto& [pid, faces] : face_count)
+    for (const auto& [key, count] : faces)
+      if (count == 1)
+        for (Index node : key)
+          if (node >= 0) parts.at(pid).by_node.at(node).particle.on_surface = true;
+}
 
 }  // namespace
 
@@ -100,9 +137,8 @@ bool is_spg_part(const model::Model& model, Id part_id) {
   return part && spg_section(model, *part);
 }
 
-std::unique_ptr<solver::Formulation> build_spg(const model::Model& model,
-                                               const std::unordered_map<Id, Index>& index_of_node,
-                                               solver::NodeStore& nodes, std::vector<Id>& part_of_node) {
+std::vector<PartSetup> spg_parts(const model::Model& model, const std::unordered_map<Id, Index>& index_of_node,
+                                 const solver::NodeStore& nodes) {
   std::map<Id, PartParticles> parts;  // by part ID: deterministic order
   for (const auto& e : model.solid_elements) {
     if (!is_spg_part(model, e.pid)) continue;
@@ -121,33 +157,52 @@ std::unique_ptr<solver::Formulation> build_spg(const model::Model& model,
       fail(e.where, "*ELEMENT_SOLID",
            fmt::format("element {}: inverted or flat (Jacobian {:.3g} at a Gauss point); check the node "
                        "order (N1-N4 one face, N5-N8 the opposite face)", e.eid, v.min_jacobian));
+    Vec3 lo = x[0], hi = x[0];
+    for (const Vec3& p : x) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
     for (int a = 0; a < 8; ++a) {
-      ParticleSetup& p = part.by_node[index[a]];
-      p.node = index[a];
-      p.volume += v.corner[a];
-      // Nodal spacing: the largest extent, per direction, of the elements around the node.
-      for (int b = 0; b < 8; ++b) p.spacing = p.spacing.cwiseMax((x[b] - x[a]).cwiseAbs());
+      auto& acc = part.by_node[index[a]];
+      acc.particle.node = index[a];
+      acc.particle.volume += v.corner[a];  // repeated corners of a degenerate element add up
+      if (std::find(index.begin(), index.begin() + a, index[a]) != index.begin() + a) continue;
+      acc.extent_sum += hi - lo;
+      ++acc.elements;
     }
   }
-  if (parts.empty()) return nullptr;
-  std::vector<Part> built;
+  mark_surface_nodes(model, index_of_node, parts);
+  std::vector<PartSetup> setups;
   for (const auto& [pid, particles] : parts) {
     const model::Part& part = *model.find_part(pid);
-    const auto& section = *spg_section(model, part);
-    PartSettings settings = check_section(section, pid);
-    settings.material = resolve_material(model, part);
-    std::vector<ParticleSetup> list;
-    list.reserve(particles.by_node.size());
-    for (const auto& [node, p] : particles.by_node) {
-      if (part_of_node[node] != 0 && !is_spg_part(model, part_of_node[node]))
-        fail(part.where, "*PART",
-             fmt::format("part {}: node {} is also an SPH particle of part {}; SPG and SPH parts cannot "
-                         "share nodes", pid, nodes.id[node], part_of_node[node]));
-      if (part_of_node[node] == 0) part_of_node[node] = pid;
-      nodes.mass[node] += settings.material.density * p.volume;
-      list.push_back(p);
+    PartSetup setup;
+    setup.settings = check_section(*spg_section(model, part), pid);
+    setup.settings.material = resolve_material(model, part);
+    setup.particles.reserve(particles.by_node.size());
+    for (const auto& [node, acc] : particles.by_node) {
+      ParticleSetup p = acc.particle;
+      p.spacing = acc.extent_sum / acc.elements;
+      setup.particles.push_back(p);
     }
-    built.emplace_back(std::move(settings), list, nodes);
+    setups.push_back(std::move(setup));
+  }
+  return setups;
+}
+
+std::unique_ptr<solver::Formulation> build_spg(const model::Model& model,
+                                               const std::unordered_map<Id, Index>& index_of_node,
+                                               solver::NodeStore& nodes, std::vector<Id>& part_of_node) {
+  std::vector<PartSetup> setups = spg_parts(model, index_of_node, nodes);
+  if (setups.empty()) return nullptr;
+  std::vector<Part> built;
+  for (auto& setup : setups) {
+    const Id pid = setup.settings.part_id;
+    for (const auto& p : setup.particles) {
+      if (part_of_node[p.node] != 0 && !is_spg_part(model, part_of_node[p.node]))
+        fail(model.find_part(pid)->where, "*PART",
+             fmt::format("part {}: node {} is also an SPH particle of part {}; SPG and SPH parts cannot "
+                         "share nodes", pid, nodes.id[p.node], part_of_node[p.node]));
+      if (part_of_node[p.node] == 0) part_of_node[p.node] = pid;
+      nodes.mass[p.node] += setup.settings.material.density * p.volume;
+    }
+    built.emplace_back(std::move(setup.settings), setup.particles, nodes);
   }
   return std::make_unique<SpgFormulation>(std::move(built));
 }
