@@ -25,18 +25,18 @@ std::string validate_error(const DeckFolder& folder, const std::string& text) {
   return input_error_of([&] { validate(model); });
 }
 std::string prefix(const DeckFolder& folder, int line, const std::string& keyword) {
-  return (folder.path() / "bad.k").lexically_normal().string() + ":" + std::to_string(line) +
-         ": " + keyword + ": ";
+  return (folder.path() / "bad.k").lexically_normal().string() + ":" + std::to_string(line) + ": " +
+         keyword + ": ";
 }
 
 // Taylor-bar steel in t-mm-s (keywords.md §10: ansys/pydyna examples/Taylor_Bar).
 TEST(keyword_materials, PlasticKinematicFields) {
   DeckFolder folder;
-  const auto model = read_text(
-      folder, "*MAT_PLASTIC_KINEMATIC\n" +
-                  row({"3", "7.85e-9", "150000", "0.34", "390", "90", "0.5"}) +
-                  row({"40.0", "5.0", "0.8", "0"}) + "*MAT_003_TITLE\nno card 2\n" +
-                  row({"4", "7.85e-9", "150000", "", "390"}));
+  const auto model =
+      read_text(folder, "*MAT_PLASTIC_KINEMATIC\n" +
+                            row({"3", "7.85e-9", "150000", "0.34", "390", "90", "0.5"}) +
+                            row({"40.0", "5.0", "0.8", "0"}) + "*MAT_003_TITLE\nno card 2\n" +
+                            row({"4", "7.85e-9", "150000", "", "390"}));
   const auto& given = std::get<model::MatPlasticKinematic>(model.materials.at(3).params);
   EXPECT_EQ(model.materials.at(3).keyword, "*MAT_PLASTIC_KINEMATIC");
   EXPECT_EQ(model.materials.at(3).where.line, 2);
@@ -69,19 +69,20 @@ TEST(keyword_materials, PlasticKinematicRefusesTheViscoplasticOption) {
             prefix(folder, 3, "*MAT_003") +
                 "field VP: 1 (viscoplastic rate formulation) is not implemented; use 0 (scale the "
                 "yield stress)");
-  EXPECT_EQ(read_error(folder, "*MAT_003\n" + row({"3", "7.85e-9", "150000", "0.34", "390", "150000"})),
-            prefix(folder, 2, "*MAT_003") + "field ETAN: 150000 must be at least 0 and below E = 150000");
+  EXPECT_EQ(
+      read_error(folder, "*MAT_003\n" + row({"3", "7.85e-9", "150000", "0.34", "390", "150000"})),
+      prefix(folder, 2, "*MAT_003") + "field ETAN: 150000 must be at least 0 and below E = 150000");
 }
 
 TEST(keyword_materials, PiecewiseLinearPlasticityFields) {
   DeckFolder folder;
-  const auto model = read_text(
-      folder, "*MAT_PIECEWISE_LINEAR_PLASTICITY\n" +
-                  row({"5", "2.7e-9", "70000", "0.33", "200", "700", "0.4"}) +
-                  row({"6500", "4", "0", "0", "-1"}) +
-                  row({"0.0", "0.1", "0.5"}) + row({"200", "260", "300"}) +
-                  "*MAT_024\n" + row({"6", "2.7e-9", "70000", "0.33", "200", "700"}) +
-                  row({"", "", "9"}) + row({}) + row({}));
+  const auto model =
+      read_text(folder, "*MAT_PIECEWISE_LINEAR_PLASTICITY\n" +
+                            row({"5", "2.7e-9", "70000", "0.33", "200", "700", "0.4"}) +
+                            row({"6500", "4", "0", "0", "-1"}) + row({"0.0", "0.1", "0.5"}) +
+                            row({"200", "260", "300"}) + "*MAT_024\n" +
+                            row({"6", "2.7e-9", "70000", "0.33", "200", "700"}) +
+                            row({"", "", "9"}) + row({}) + row({}));
   const auto& given = std::get<model::MatPiecewiseLinearPlasticity>(model.materials.at(5).params);
   EXPECT_EQ(given.ro, 2.7e-9);
   EXPECT_EQ(given.e, 70000.0);
@@ -97,7 +98,8 @@ TEST(keyword_materials, PiecewiseLinearPlasticityFields) {
   EXPECT_EQ(given.vp, -1);
   EXPECT_EQ(given.points, (std::vector<std::pair<Real, Real>>{{0.0, 200}, {0.1, 260}, {0.5, 300}}));
   // FAIL blank: 1e21 (no failure); C, P, VP 0; blank EPS/ES cards: no points.
-  const auto& defaults = std::get<model::MatPiecewiseLinearPlasticity>(model.materials.at(6).params);
+  const auto& defaults =
+      std::get<model::MatPiecewiseLinearPlasticity>(model.materials.at(6).params);
   EXPECT_EQ(model.materials.at(6).keyword, "*MAT_PIECEWISE_LINEAR_PLASTICITY");
   EXPECT_EQ(defaults.fail, 1.0e21);
   EXPECT_EQ(defaults.c, 0.0);
@@ -128,9 +130,9 @@ TEST(keyword_materials, JohnsonCookFields) {
       folder, "*MAT_JOHNSON_COOK\n" + row({"7", "8960", "46.3e9", "124e9", "0.34", "0", "0", "0"}) +
                   row({"90e6", "292e6", "0.31", "0.025", "1.09", "1356", "298", "1.0"}) +
                   row({"383", "-1.2e9", "3", "1", "0.54", "4.89", "-3.03", "0.014"}) +
-                  row({"1.12", "0", "1", "0.01", "0"}) +
-                  "*MAT_015\n" + row({"8", "8960", "46.3e9"}) +
-                  row({"90e6", "", "", "", "1.09", "1356", "298"}) + row({"383", "-1.2e9"}));
+                  row({"1.12", "0", "1", "0.01", "0"}) + "*MAT_015\n" +
+                  row({"8", "8960", "46.3e9"}) + row({"90e6", "", "", "", "1.09", "1356", "298"}) +
+                  row({"383", "-1.2e9"}));
   const auto& given = std::get<model::MatJohnsonCook>(model.materials.at(7).params);
   EXPECT_EQ(given.ro, 8960.0);
   EXPECT_EQ(given.g, 46.3e9);
@@ -174,24 +176,26 @@ TEST(keyword_materials, JohnsonCookFields) {
 TEST(keyword_materials, JohnsonCookRefusesOtherRateFormsAndAZeroSpallStrength) {
   DeckFolder folder;
   const std::string cards23 =
-      row({"90e6", "292e6", "0.31", "0.025", "1.09", "1356", "298", "1.0"}) + row({"383", "-1.2e9"});
+      row({"90e6", "292e6", "0.31", "0.025", "1.09", "1356", "298", "1.0"}) +
+      row({"383", "-1.2e9"});
   EXPECT_EQ(read_error(folder, "*MAT_JOHNSON_COOK\n" +
                                    row({"7", "8960", "46.3e9", "", "", "", "", "3"}) + cards23),
             prefix(folder, 2, "*MAT_JOHNSON_COOK") +
                 "field RATEOP: 3: only 0 (log-linear Johnson-Cook rate term) is implemented");
-  EXPECT_EQ(read_error(folder, "*MAT_JOHNSON_COOK\n" + row({"7", "8960", "46.3e9"}) +
-                                   row({"90e6", "292e6", "0.31", "0.025", "1.09", "1356", "298", "1.0"}) +
-                                   row({"383"})),
-            prefix(folder, 4, "*MAT_JOHNSON_COOK") +
-                "field PC: 0 with SPALL 2 would spall at any tension; give PC < 0 (the spall "
-                "strength)");
+  EXPECT_EQ(
+      read_error(folder, "*MAT_JOHNSON_COOK\n" + row({"7", "8960", "46.3e9"}) +
+                             row({"90e6", "292e6", "0.31", "0.025", "1.09", "1356", "298", "1.0"}) +
+                             row({"383"})),
+      prefix(folder, 4, "*MAT_JOHNSON_COOK") +
+          "field PC: 0 with SPALL 2 would spall at any tension; give PC < 0 (the spall "
+          "strength)");
 }
 
 TEST(keyword_materials, NullFields) {
   DeckFolder folder;
-  const auto model = read_text(folder, "*MAT_NULL\n" +
-                                           row({"6", "1.0e-9", "-0.1", "8.9e-10", "", "", "2000", "0.3"}) +
-                                           "*MAT_009_TITLE\nwater\n" + row({"9", "1.0e-9"}));
+  const auto model = read_text(
+      folder, "*MAT_NULL\n" + row({"6", "1.0e-9", "-0.1", "8.9e-10", "", "", "2000", "0.3"}) +
+                  "*MAT_009_TITLE\nwater\n" + row({"9", "1.0e-9"}));
   const auto& given = std::get<model::MatNull>(model.materials.at(6).params);
   EXPECT_EQ(given.ro, 1.0e-9);
   EXPECT_EQ(given.pc, -0.1);
@@ -209,9 +213,10 @@ TEST(keyword_materials, NullFields) {
 
 TEST(keyword_materials, NullRefusesErosion) {
   DeckFolder folder;
-  EXPECT_EQ(read_error(folder, "*MAT_NULL\n" + row({"6", "1.0e-9", "0", "0", "1.5"})),
-            prefix(folder, 2, "*MAT_NULL") +
-                "field TEROD: erosion by relative volume is not implemented; leave TEROD and CEROD 0");
+  EXPECT_EQ(
+      read_error(folder, "*MAT_NULL\n" + row({"6", "1.0e-9", "0", "0", "1.5"})),
+      prefix(folder, 2, "*MAT_NULL") +
+          "field TEROD: erosion by relative volume is not implemented; leave TEROD and CEROD 0");
 }
 
 TEST(keyword_materials, EquationOfStateFields) {
@@ -257,17 +262,20 @@ TEST(keyword_materials, EquationOfStateFields) {
 
 TEST(keyword_materials, EquationOfStateErrors) {
   DeckFolder folder;
-  EXPECT_EQ(read_error(folder, "*EOS_LINEAR_POLYNOMIAL\n" + row({"1", "0", "1.7e5"}) + row({"0", "0.9"})),
-            prefix(folder, 3, "*EOS_LINEAR_POLYNOMIAL") +
-                "field V0: 0.9: an initial relative volume other than 1 is not implemented");
-  EXPECT_EQ(read_error(folder, "*EOS_GRUNEISEN\n" + row({"4", "1483000", "1.75"}) + row({"0", "", "3"})),
-            prefix(folder, 3, "*EOS_GRUNEISEN") +
-                "field LCID: an energy deposition curve is not implemented; leave LCID 0");
+  EXPECT_EQ(
+      read_error(folder, "*EOS_LINEAR_POLYNOMIAL\n" + row({"1", "0", "1.7e5"}) + row({"0", "0.9"})),
+      prefix(folder, 3, "*EOS_LINEAR_POLYNOMIAL") +
+          "field V0: 0.9: an initial relative volume other than 1 is not implemented");
+  EXPECT_EQ(
+      read_error(folder, "*EOS_GRUNEISEN\n" + row({"4", "1483000", "1.75"}) + row({"0", "", "3"})),
+      prefix(folder, 3, "*EOS_GRUNEISEN") +
+          "field LCID: an energy deposition curve is not implemented; leave LCID 0");
   EXPECT_EQ(read_error(folder, "*EOS_MURNAGHAN\n" + row({"5", "7.0", "-3.2e8"})),
             prefix(folder, 2, "*EOS_MURNAGHAN") + "field K0: -3.2e+08 must be positive");
   EXPECT_EQ(read_error(folder, "*EOS_MURNAGHAN\n" + row({"5", "7.0", "3.2e8"}) +
                                    "*EOS_GRUNEISEN\n" + row({"5", "1483000"})),
-            prefix(folder, 4, "*EOS_GRUNEISEN") + "equation of state 5 is defined twice (first at " +
+            prefix(folder, 4, "*EOS_GRUNEISEN") +
+                "equation of state 5 is defined twice (first at " +
                 (folder.path() / "bad.k").lexically_normal().string() + ":2)");
 }
 
@@ -284,22 +292,25 @@ TEST(keyword_materials, ValidateEquationOfStateAndCurveReferences) {
   const std::string file = (folder.path() / "bad.k").lexically_normal().string();
   EXPECT_EQ(validate_error(folder, base + "*PART\nwater\n" + row({"1", "1", "1", "4"})),
             prefix(folder, 15, "*PART") + "part 1: equation of state 4 is not defined");
-  EXPECT_EQ(validate_error(folder, base + "*PART\nwater\n" + row({"1", "1", "1"})),
-            prefix(folder, 15, "*PART") + "part 1: material 1 (" + file +
-                ":6) needs an equation of state, but EOSID is 0: *MAT_NULL has no pressure of its own");
+  EXPECT_EQ(
+      validate_error(folder, base + "*PART\nwater\n" + row({"1", "1", "1"})),
+      prefix(folder, 15, "*PART") + "part 1: material 1 (" + file +
+          ":6) needs an equation of state, but EOSID is 0: *MAT_NULL has no pressure of its own");
   EXPECT_EQ(validate_error(folder, base + "*PART\ncopper\n" + row({"1", "1", "2"})),
             prefix(folder, 15, "*PART") + "part 1: material 2 (" + file +
                 ":8) needs an equation of state, but EOSID is 0: *MAT_JOHNSON_COOK with E = 0 has "
                 "no bulk modulus");
   EXPECT_EQ(validate_error(folder, base + "*PART\nwater\n" + row({"1", "1", "1", "3"})), "");
-  const std::string piecewise =
-      "*MAT_PIECEWISE_LINEAR_PLASTICITY\n" + row({"4", "2.7e-9", "70000", "0.33"}) + row({"", "", "7"});
-  EXPECT_EQ(validate_error(folder, base + piecewise),
-            prefix(folder, 14, "*MAT_PIECEWISE_LINEAR_PLASTICITY") + "LCSS: curve 7 is not defined");
+  const std::string piecewise = "*MAT_PIECEWISE_LINEAR_PLASTICITY\n" +
+                                row({"4", "2.7e-9", "70000", "0.33"}) + row({"", "", "7"});
+  EXPECT_EQ(
+      validate_error(folder, base + piecewise),
+      prefix(folder, 14, "*MAT_PIECEWISE_LINEAR_PLASTICITY") + "LCSS: curve 7 is not defined");
   EXPECT_EQ(validate_error(folder, base + piecewise + "*DEFINE_TABLE\n" + row({"7"}) +
                                        row({"100.0", "8"}, {20, 20})),
-            prefix(folder, 14, "*MAT_PIECEWISE_LINEAR_PLASTICITY") + "LCSS: 7 is a *DEFINE_TABLE (" +
-                file + ":16); tables of curves by strain rate are not read, give a *DEFINE_CURVE "
+            prefix(folder, 14, "*MAT_PIECEWISE_LINEAR_PLASTICITY") +
+                "LCSS: 7 is a *DEFINE_TABLE (" + file +
+                ":16); tables of curves by strain rate are not read, give a *DEFINE_CURVE "
                 "of yield stress versus plastic strain");
 }
 

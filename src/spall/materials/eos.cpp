@@ -1,8 +1,8 @@
 #include "spall/materials/eos.hpp"
 
-#include <cmath>
-
 #include <fmt/format.h>
+
+#include <cmath>
 
 #include "spall/core/error.hpp"
 
@@ -21,7 +21,8 @@ EosValue linear_polynomial(const LinearPolynomial& eos, Real rho0, Real density,
   // LS-DYNA drops the mu^2 terms in tension.
   const Real c2 = mu < 0 ? 0 : c[2];
   const Real c6 = mu < 0 ? 0 : c[6];
-  const Real p = c[0] + mu * (c[1] + mu * (c2 + mu * c[3])) + (c[4] + mu * (c[5] + mu * c6)) * energy;
+  const Real p =
+      c[0] + mu * (c[1] + mu * (c2 + mu * c[3])) + (c[4] + mu * (c[5] + mu * c6)) * energy;
   const Real dp_dmu = c[1] + mu * (2 * c2 + 3 * mu * c[3]) + (c[5] + 2 * mu * c6) * energy;
   return {p, dp_dmu / rho0, (c[4] + mu * (c[5] + mu * c6)) * rho0};
 }
@@ -50,8 +51,7 @@ EosValue gruneisen(const Gruneisen& eos, Real rho0, Real density, Real e) {
     dcold_dmu = dnumerator / (denominator * denominator) -
                 2 * numerator * ddenominator / (denominator * denominator * denominator);
   }
-  return {cold + energy_factor * energy, (dcold_dmu + eos.a * energy) / rho0,
-          energy_factor * rho0};
+  return {cold + energy_factor * energy, (dcold_dmu + eos.a * energy) / rho0, energy_factor * rho0};
 }
 
 EosValue murnaghan(const Murnaghan& eos, Real rho0, Real density) {
@@ -67,7 +67,9 @@ EosValue evaluate_eos(const EquationOfState& eos, Real reference_density, Real d
   struct Visitor {
     Real rho0, rho, e;
     EosValue operator()(const LinearBulk& m) const { return linear_bulk(m, rho0, rho); }
-    EosValue operator()(const LinearPolynomial& m) const { return linear_polynomial(m, rho0, rho, e); }
+    EosValue operator()(const LinearPolynomial& m) const {
+      return linear_polynomial(m, rho0, rho, e);
+    }
     EosValue operator()(const Gruneisen& m) const { return gruneisen(m, rho0, rho, e); }
     EosValue operator()(const Murnaghan& m) const { return murnaghan(m, rho0, rho); }
   };

@@ -25,8 +25,8 @@ Real thermal_factor(const JohnsonCook& model, Real temperature) {
 }  // namespace
 
 Real homologous_temperature(const JohnsonCook& model, Real temperature) {
-  const Real t = (temperature - model.room_temperature) /
-                 (model.melt_temperature - model.room_temperature);
+  const Real t =
+      (temperature - model.room_temperature) / (model.melt_temperature - model.room_temperature);
   return std::clamp(t, Real(0), Real(1));
 }
 

@@ -25,7 +25,8 @@ class MaterialMaker {
   }
 
   Material make() {
-    Material material = std::visit([this](const auto& params) { return make(params); }, card_->params);
+    Material material =
+        std::visit([this](const auto& params) { return make(params); }, card_->params);
     if (eos_) set_eos(material);
     return material;
   }
@@ -33,10 +34,12 @@ class MaterialMaker {
  private:
   Material make(const model::MatElastic& card) {
     if (!(card.ro > 0) || !(card.e > 0) || card.pr < 0 || card.pr >= 0.5)
-      fail_material(fmt::format("needs RO > 0, E > 0 and 0 <= PR < 0.5 (found RO {:g}, E {:g}, PR {:g})",
-                                card.ro, card.e, card.pr));
+      fail_material(
+          fmt::format("needs RO > 0, E > 0 and 0 <= PR < 0.5 (found RO {:g}, E {:g}, PR {:g})",
+                      card.ro, card.e, card.pr));
     refuse_eos();
-    return {card.ro, shear_modulus(card.e, card.pr), Elastic{}, LinearBulk{bulk_modulus(card.e, card.pr)}};
+    return {card.ro, shear_modulus(card.e, card.pr), Elastic{},
+            LinearBulk{bulk_modulus(card.e, card.pr)}};
   }
 
   Material make(const model::MatRigid&) {
@@ -52,7 +55,8 @@ class MaterialMaker {
     strength.beta = card.beta;
     strength.rate = {card.src, card.srp};
     strength.failure_strain = card.fs;
-    return {card.ro, shear_modulus(card.e, card.pr), strength, LinearBulk{bulk_modulus(card.e, card.pr)}};
+    return {card.ro, shear_modulus(card.e, card.pr), strength,
+            LinearBulk{bulk_modulus(card.e, card.pr)}};
   }
 
   Material make(const model::MatPiecewiseLinearPlasticity& card) {
@@ -60,8 +64,9 @@ class MaterialMaker {
     PiecewiseLinear strength;
     strength.curve = HardeningCurve(hardening_points(card));
     if (!(strength.curve.at(0).stress > 0))
-      fail_material(fmt::format("the yield stress at zero plastic strain is {:g}; it must be positive",
-                                strength.curve.at(0).stress));
+      fail_material(
+          fmt::format("the yield stress at zero plastic strain is {:g}; it must be positive",
+                      strength.curve.at(0).stress));
     strength.rate = {card.c, card.p};
     strength.deviatoric_rate = card.vp == -1;
     // FAIL 0 means no failure, as does the default 1e21.
@@ -90,10 +95,12 @@ class MaterialMaker {
     // LS-DYNA reads E and PR for shells; for solids the bulk response comes from the EOS.
     // Without one, Spall takes the linear K = E / (3 (1 - 2 PR)).
     if (!eos_ && card.e == 0)
-      fail_part(fmt::format("material {} (*MAT_JOHNSON_COOK) has E = 0 and the part has no EOSID: "
-                            "no bulk modulus",
-                            card_->id));
-    Material material{card.ro, card.g, strength, LinearBulk{eos_ ? 0 : bulk_modulus(card.e, card.pr)}};
+      fail_part(
+          fmt::format("material {} (*MAT_JOHNSON_COOK) has E = 0 and the part has no EOSID: "
+                      "no bulk modulus",
+                      card_->id));
+    Material material{card.ro, card.g, strength,
+                      LinearBulk{eos_ ? 0 : bulk_modulus(card.e, card.pr)}};
     material.tensile_limit = card.spall == 1   ? TensileLimit::pressure_cutoff
                              : card.spall == 2 ? TensileLimit::principal_stress
                                                : TensileLimit::hydrostatic_tension;
@@ -113,17 +120,20 @@ class MaterialMaker {
     return material;
   }
 
-  std::vector<std::pair<Real, Real>> hardening_points(const model::MatPiecewiseLinearPlasticity& card) {
+  std::vector<std::pair<Real, Real>> hardening_points(
+      const model::MatPiecewiseLinearPlasticity& card) {
     if (card.lcss != 0) {
       const auto curve = model_.curves.find(card.lcss);
       if (curve == model_.curves.end())
         fail_material(fmt::format("LCSS: curve {} is not defined", card.lcss));
       const model::Curve& c = curve->second;
       if (!(c.sfa > 0))
-        fail_material(fmt::format("LCSS: curve {} has SFA {:g}; the plastic strains must increase", c.id, c.sfa));
+        fail_material(fmt::format("LCSS: curve {} has SFA {:g}; the plastic strains must increase",
+                                  c.id, c.sfa));
       // *DEFINE_CURVE's scaling: eps_p = SFA a + OFFA, sigma_y = SFO o + OFFO.
       std::vector<std::pair<Real, Real>> points;
-      for (const auto& [a, o] : c.points) points.emplace_back(c.sfa * a + c.offa, c.sfo * o + c.offo);
+      for (const auto& [a, o] : c.points)
+        points.emplace_back(c.sfa * a + c.offa, c.sfo * o + c.offo);
       return points;
     }
     if (!card.points.empty()) return card.points;
@@ -154,9 +164,10 @@ class MaterialMaker {
   // MAT_001, 003 and 024 compute their pressure from E and PR; LS-DYNA gives them no EOS.
   void refuse_eos() const {
     if (eos_)
-      fail_part(fmt::format("EOSID {}: {} computes its own pressure (K = E / (3 (1 - 2 PR))) and "
-                            "takes no equation of state",
-                            part_.eosid, card_->keyword));
+      fail_part(
+          fmt::format("EOSID {}: {} computes its own pressure (K = E / (3 (1 - 2 PR))) and "
+                      "takes no equation of state",
+                      part_.eosid, card_->keyword));
   }
 
   [[noreturn]] void fail_part(const std::string& message) const {

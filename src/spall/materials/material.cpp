@@ -46,8 +46,7 @@ Real update_deviatoric_stress(const Material& material, PointState& state, const
         return 0;
       }
     };
-    work = std::visit(Visitor{state, strain_rate, dt, density, pressure, g},
-                      material.strength);
+    work = std::visit(Visitor{state, strain_rate, dt, density, pressure, g}, material.strength);
   }
   if (state.failed) {
     state.deviatoric_stress.setZero();
@@ -58,7 +57,8 @@ Real update_deviatoric_stress(const Material& material, PointState& state, const
 
 Real apply_tensile_limit(const Material& material, PointState& state, Real pressure) {
   switch (material.tensile_limit) {
-    case TensileLimit::none: break;
+    case TensileLimit::none:
+      break;
     case TensileLimit::pressure_cutoff:
       pressure = std::max(pressure, material.pressure_cutoff);
       break;

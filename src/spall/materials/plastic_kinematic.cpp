@@ -14,8 +14,9 @@ Real update_plastic_kinematic(const PlasticKinematic& model, Real shear_modulus,
   const Real isotropic_modulus = model.beta * model.hardening_modulus;
   const Real kinematic_modulus = (1 - model.beta) * model.hardening_modulus;
   const auto yield = [&](Real dp) {
-    return YieldValue{rate_factor * (model.yield_stress + isotropic_modulus * (state.plastic_strain + dp)),
-                      rate_factor * isotropic_modulus};
+    return YieldValue{
+        rate_factor * (model.yield_stress + isotropic_modulus * (state.plastic_strain + dp)),
+        rate_factor * isotropic_modulus};
   };
   if (q <= yield(0).stress) {
     state.deviatoric_stress = trial;

@@ -10,7 +10,7 @@ struct PointState {
   Real plastic_strain = 0;                // effective plastic strain
   Real temperature = 0;                   // MAT_015: starts at TR, rises by adiabatic heating
   Real damage = 0;                        // MAT_015 Johnson-Cook damage D; fails at 1
-  bool failed = false;  // no deviatoric stress and no tension from now on
+  bool failed = false;                    // no deviatoric stress and no tension from now on
 };
 
 }  // namespace spall::materials

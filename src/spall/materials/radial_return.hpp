@@ -41,8 +41,10 @@ Real plastic_strain_increment(Real q_trial, Real stiffness, const Yield& yield) 
   for (int iteration = 0; iteration < 200; ++iteration) {
     const YieldValue y = yield(dp);
     const Real g = q_trial - stiffness * dp - y.stress;
-    if (g > 0) low = dp;
-    else high = dp;
+    if (g > 0)
+      low = dp;
+    else
+      high = dp;
     if (std::abs(g) <= 4 * epsilon * q_trial || high - low <= 2 * epsilon * high) break;
     Real next = dp + g / (stiffness + y.slope);
     if (!(next > low && next < high)) next = Real(0.5) * (low + high);

@@ -14,7 +14,8 @@ Real read_v0(const Card& card, int field) {
   Real v0 = card.real(field, "V0", 0.0);
   if (v0 == 0) v0 = 1;
   if (v0 != 1)
-    card.fail("V0", fmt::format("{:g}: an initial relative volume other than 1 is not implemented", v0));
+    card.fail("V0",
+              fmt::format("{:g}: an initial relative volume other than 1 is not implemented", v0));
   return v0;
 }
 
@@ -65,7 +66,8 @@ void read_eos_gruneisen(CardCursor& cursor, const KeywordCall& call, model::Mode
   gruneisen.gamma0 = card1.real(5, "GAMMA0", 0.0);
   gruneisen.a = card1.real(6, "A", 0.0);
   gruneisen.e0 = card1.real(7, "E0", 0.0);
-  if (!(gruneisen.c > 0)) card1.fail("C", fmt::format("{:g}: the sound speed must be positive", gruneisen.c));
+  if (!(gruneisen.c > 0))
+    card1.fail("C", fmt::format("{:g}: the sound speed must be positive", gruneisen.c));
   if (const auto card2 = cursor.next_if_any(standard_fields)) {
     gruneisen.v0 = read_v0(*card2, 0);
     gruneisen.lcid = card2->integer(2, "LCID", 0);
@@ -85,7 +87,8 @@ void read_eos_murnaghan(CardCursor& cursor, const KeywordCall& call, model::Mode
   murnaghan.gamma = card.required_real(1, "GAMMA");
   murnaghan.k0 = card.required_real(2, "K0");
   murnaghan.v0 = read_v0(card, 3);
-  if (!(murnaghan.gamma > 0)) card.fail("GAMMA", fmt::format("{:g} must be positive", murnaghan.gamma));
+  if (!(murnaghan.gamma > 0))
+    card.fail("GAMMA", fmt::format("{:g} must be positive", murnaghan.gamma));
   if (!(murnaghan.k0 > 0)) card.fail("K0", fmt::format("{:g} must be positive", murnaghan.k0));
   require_end(cursor, "*EOS_MURNAGHAN", "card 1");
   eos.params = murnaghan;

@@ -54,9 +54,11 @@ void read_mat_plastic_kinematic(CardCursor& cursor, const KeywordCall& call, mod
   require_positive(card1, "SIGY", plastic.sigy);
   // The plastic hardening modulus E ETAN / (E - ETAN) needs 0 <= ETAN < E.
   if (plastic.etan < 0 || plastic.etan >= plastic.e)
-    card1.fail("ETAN", fmt::format("{:g} must be at least 0 and below E = {:g}", plastic.etan, plastic.e));
+    card1.fail("ETAN",
+               fmt::format("{:g} must be at least 0 and below E = {:g}", plastic.etan, plastic.e));
   if (plastic.beta < 0 || plastic.beta > 1)
-    card1.fail("BETA", fmt::format("{:g} is outside [0, 1] (0 kinematic, 1 isotropic)", plastic.beta));
+    card1.fail("BETA",
+               fmt::format("{:g} is outside [0, 1] (0 kinematic, 1 isotropic)", plastic.beta));
 
   if (const auto card2 = cursor.next_if_any(standard_fields)) {
     plastic.src = card2->real(0, "SRC", 0.0);
@@ -65,13 +67,16 @@ void read_mat_plastic_kinematic(CardCursor& cursor, const KeywordCall& call, mod
     plastic.vp = static_cast<int>(card2->integer(3, "VP", 0));
     if (plastic.src < 0) card2->fail("SRC", fmt::format("{:g} is negative", plastic.src));
     if (plastic.src > 0 && !(plastic.srp > 0))
-      card2->fail("SRP", fmt::format("{:g}: the Cowper-Symonds exponent must be positive when SRC > 0",
-                                     plastic.srp));
+      card2->fail("SRP",
+                  fmt::format("{:g}: the Cowper-Symonds exponent must be positive when SRC > 0",
+                              plastic.srp));
     if (plastic.fs < 0)
       card2->fail("FS", fmt::format("{:g}: a negative FS (shell thinning failure) is not supported",
                                     plastic.fs));
     if (plastic.vp == 1)
-      card2->fail("VP", "1 (viscoplastic rate formulation) is not implemented; use 0 (scale the yield stress)");
+      card2->fail(
+          "VP",
+          "1 (viscoplastic rate formulation) is not implemented; use 0 (scale the yield stress)");
     if (plastic.vp != 0) card2->fail("VP", fmt::format("{} is not 0 or 1", plastic.vp));
   }
   require_end(cursor, "*MAT_PLASTIC_KINEMATIC", "card 2");
@@ -96,7 +101,8 @@ void read_mat_piecewise_linear_plasticity(CardCursor& cursor, const KeywordCall&
   require_positive(card1, "E", plastic.e);
   require_poisson_ratio(card1, plastic.pr);
   if (plastic.fail < 0)
-    card1.fail("FAIL", fmt::format("{:g}: a user failure subroutine (FAIL < 0) is not supported", plastic.fail));
+    card1.fail("FAIL", fmt::format("{:g}: a user failure subroutine (FAIL < 0) is not supported",
+                                   plastic.fail));
   if (plastic.tdel != 0)
     card1.fail("TDEL", "deleting elements by their time step is not implemented; leave TDEL 0");
 
@@ -108,10 +114,12 @@ void read_mat_piecewise_linear_plasticity(CardCursor& cursor, const KeywordCall&
   plastic.vp = static_cast<int>(card2.integer(4, "VP", 0));
   if (plastic.c < 0) card2.fail("C", fmt::format("{:g} is negative", plastic.c));
   if (plastic.c > 0 && !(plastic.p > 0))
-    card2.fail("P", fmt::format("{:g}: the Cowper-Symonds exponent must be positive when C > 0", plastic.p));
+    card2.fail("P", fmt::format("{:g}: the Cowper-Symonds exponent must be positive when C > 0",
+                                plastic.p));
   if (plastic.lcss < 0) card2.fail("LCSS", fmt::format("{} is not a curve ID", plastic.lcss));
   if (plastic.lcsr != 0)
-    card2.fail("LCSR", "a strain-rate scaling curve is not implemented; use C and P (Cowper-Symonds)");
+    card2.fail("LCSR",
+               "a strain-rate scaling curve is not implemented; use C and P (Cowper-Symonds)");
   if (plastic.vp == 1 || plastic.vp == 3)
     card2.fail("VP", fmt::format("{} ({}) is not implemented; use 0 or -1", plastic.vp,
                                  plastic.vp == 1 ? "viscoplastic" : "filtered rate, shells"));
@@ -132,13 +140,13 @@ void read_mat_piecewise_linear_plasticity(CardCursor& cursor, const KeywordCall&
         ended = true;
         continue;
       }
-      if (ended)
-        card3->fail(eps_names[i], "follows a blank point; the points must be consecutive");
+      if (ended) card3->fail(eps_names[i], "follows a blank point; the points must be consecutive");
       const Real eps = card3->real(i, eps_names[i], 0.0);
       const Real es = card4->required_real(i, es_names[i]);
       if (!plastic.points.empty() && eps <= plastic.points.back().first)
-        card3->fail(eps_names[i], fmt::format("{:g} does not increase (the previous point is at {:g})",
-                                              eps, plastic.points.back().first));
+        card3->fail(eps_names[i],
+                    fmt::format("{:g} does not increase (the previous point is at {:g})", eps,
+                                plastic.points.back().first));
       if (eps < 0) card3->fail(eps_names[i], fmt::format("{:g} is negative", eps));
       plastic.points.emplace_back(eps, es);
     }
@@ -151,7 +159,8 @@ void read_mat_piecewise_linear_plasticity(CardCursor& cursor, const KeywordCall&
   if (plastic.lcss == 0 && plastic.points.empty()) {
     require_positive(card1, "SIGY", plastic.sigy);
     if (plastic.etan < 0 || plastic.etan >= plastic.e)
-      card1.fail("ETAN", fmt::format("{:g} must be at least 0 and below E = {:g}", plastic.etan, plastic.e));
+      card1.fail("ETAN", fmt::format("{:g} must be at least 0 and below E = {:g}", plastic.etan,
+                                     plastic.e));
   }
   require_end(cursor, "*MAT_PIECEWISE_LINEAR_PLASTICITY", "card 4");
   material.params = std::move(plastic);
@@ -179,8 +188,9 @@ void read_mat_johnson_cook(CardCursor& cursor, const KeywordCall& call, model::M
   if (jc.vp != 0)
     card1.fail("VP", fmt::format("{}: only 0 (scale the yield stress) is implemented", jc.vp));
   if (jc.rateop != 0)
-    card1.fail("RATEOP", fmt::format("{}: only 0 (log-linear Johnson-Cook rate term) is implemented",
-                                     jc.rateop));
+    card1.fail(
+        "RATEOP",
+        fmt::format("{}: only 0 (log-linear Johnson-Cook rate term) is implemented", jc.rateop));
 
   const Card card2 = cursor.next(standard_fields, "card 2 (A B N C M TM TR EPSO)");
   jc.a = card2.required_real(0, "A");
@@ -192,14 +202,16 @@ void read_mat_johnson_cook(CardCursor& cursor, const KeywordCall& call, model::M
   jc.tr = card2.real(6, "TR", 0.0);
   jc.epso = card2.real(7, "EPSO", 0.0);
   if (jc.a < 0)
-    card2.fail("A", fmt::format("{:g}: a curve for the strain term (A < 0) is not implemented", jc.a));
+    card2.fail("A",
+               fmt::format("{:g}: a curve for the strain term (A < 0) is not implemented", jc.a));
   if (jc.b < 0) card2.fail("B", fmt::format("{:g} is negative", jc.b));
   if (jc.n < 0) card2.fail("N", fmt::format("{:g} is negative", jc.n));
   if (jc.c < 0) card2.fail("C", fmt::format("{:g} is negative", jc.c));
   // (1 - T*^M) with M = 0 would be 0 at every temperature: no strength at all.
   require_positive(card2, "M", jc.m);
   if (!(jc.tm > jc.tr))
-    card2.fail("TM", fmt::format("{:g} must be above the room temperature TR = {:g}", jc.tm, jc.tr));
+    card2.fail("TM",
+               fmt::format("{:g} must be above the room temperature TR = {:g}", jc.tm, jc.tr));
 
   const Card card3 = cursor.next(standard_fields, "card 3 (CP PC SPALL IT D1 D2 D3 D4)");
   jc.cp = card3.required_real(0, "CP");
@@ -212,12 +224,15 @@ void read_mat_johnson_cook(CardCursor& cursor, const KeywordCall& call, model::M
   jc.d3 = card3.real(6, "D3", 0.0);
   jc.d4 = card3.real(7, "D4", 0.0);
   require_positive(card3, "CP", jc.cp);
-  if (jc.pc > 0) card3.fail("PC", fmt::format("{:g}: the tensile cutoff must be 0 or negative", jc.pc));
-  if (jc.spall < 1 || jc.spall > 3) card3.fail("SPALL", fmt::format("{} is not 1, 2 or 3", jc.spall));
+  if (jc.pc > 0)
+    card3.fail("PC", fmt::format("{:g}: the tensile cutoff must be 0 or negative", jc.pc));
+  if (jc.spall < 1 || jc.spall > 3)
+    card3.fail("SPALL", fmt::format("{} is not 1, 2 or 3", jc.spall));
   // SPALL 2 and 3 spall a point whose tension reaches -PC: with PC = 0, at the first tension.
   if (jc.spall != 1 && jc.pc == 0)
     card3.fail("PC", fmt::format("0 with SPALL {} would spall at any tension; give PC < 0 "
-                                 "(the spall strength)", jc.spall));
+                                 "(the spall strength)",
+                                 jc.spall));
   if (jc.it != 0 && jc.it != 1) card3.fail("IT", fmt::format("{} is not 0 or 1", jc.it));
 
   if (const auto card4 = cursor.next_if_any(standard_fields)) {
@@ -257,7 +272,8 @@ void read_mat_null(CardCursor& cursor, const KeywordCall& call, model::Model& mo
     null.ym = card.real(6, "YM", 0.0);
     null.pr = card.real(7, "PR", 0.0);
     require_positive(card, "RO", null.ro);
-    if (null.pc > 0) card.fail("PC", fmt::format("{:g}: the pressure cutoff must be 0 or negative", null.pc));
+    if (null.pc > 0)
+      card.fail("PC", fmt::format("{:g}: the pressure cutoff must be 0 or negative", null.pc));
     if (null.mu < 0) card.fail("MU", fmt::format("{:g} is negative", null.mu));
     if (null.terod != 0 || null.cerod != 0)
       card.fail(null.terod != 0 ? "TEROD" : "CEROD",
