@@ -1,7 +1,8 @@
 // *MAT_PLASTIC_KINEMATIC (003), *MAT_PIECEWISE_LINEAR_PLASTICITY (024), *MAT_JOHNSON_COOK (015)
-// and *MAT_NULL (009): the materials whose stress src/spall/materials updates. Each keyword
-// defines one material. A trailing card may be left out; its fields then take their defaults.
-// Field values the constitutive library cannot run are refused here, at their line.
+// and *MAT_NULL (009): the materials whose stress src/spall/materials updates. Each of the
+// multi-card keywords defines one material (*MAT_NULL's one-line cards may repeat). A trailing
+// card marked optional may be left out; its fields then take their defaults. Field values the
+// constitutive library cannot run are refused here, at their line.
 #include <fmt/format.h>
 
 #include "spall/io/keyword/keyword_readers.hpp"
