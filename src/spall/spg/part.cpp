@@ -39,7 +39,9 @@ Part::Part(PartSettings settings, const std::vector<ParticleSetup>& particles,
     : settings_(std::move(settings)) {
   const std::size_t n = particles.size();
   const auto& mat = settings_.material;
-  const Real p_wave_modulus = mat.bulk_modulus + Real(4) / 3 * mat.shear_modulus;
+  // K + 4G/3 of the reference state, from its longitudinal wave speed.
+  const Real c0 = materials::sound_speed(mat, mat.density, mat.initial_specific_energy);
+  const Real p_wave_modulus = mat.density * c0 * c0;
   node_.resize(n);
   node_id_.resize(n);
   mass_.resize(n);
@@ -70,11 +72,11 @@ Part::Part(PartSettings settings, const std::vector<ParticleSetup>& particles,
   volume_ref_ = volume0_;
   F_.assign(n, Mat3::Identity());
   F_total_.assign(n, Mat3::Identity());
-  deviatoric_stress_.assign(n, Mat3::Zero());
-  pressure_.assign(n, 0);
+  state_.assign(n, materials::initial_state(mat));
+  specific_energy_.assign(n, mat.initial_specific_energy);
+  pressure_.assign(n, materials::eos_pressure(mat, mat.density, mat.initial_specific_energy));
   density_.assign(n, mat.density);
-  sound_speed_.assign(n, mat.longitudinal_wave_speed(mat.density));
-  effective_plastic_strain_.assign(n, 0);
+  sound_speed_.assign(n, c0);
   stabilization_force_.assign(n, Vec3::Zero());
   v_.assign(n, Vec3::Zero());
   xs_.assign(n, Vec3::Zero());
@@ -263,12 +265,24 @@ void Part::deformation(std::span<const Vec3> x, std::span<const Vec3> v, Real dt
     }
     F_[j] = F;
     const Mat3 L = dF * F.inverse();
-    spin_[j] = Real(0.5) * (L - L.transpose());
-    deviatoric_stress_[j] += dt * materials::jaumann_deviatoric_stress_rate(mat.shear_modulus,
-                                                                            deviatoric_stress_[j], L);
-    density_[j] = mass_[j] / (volume_ref_[j] * det);
-    pressure_[j] = materials::elastic_pressure(mat, density_[j]);
-    sound_speed_[j] = mat.longitudinal_wave_speed(density_[j]);
+    const Mat3 W = Real(0.5) * (L - L.transpose());
+    const Mat3 D = Real(0.5) * (L + L.transpose());
+    spin_[j] = W;
+    // The point update of materials/material.hpp: Jaumann rotation of the deviator and back
+    // stress, the stress update at the new density, then the energy equation de/dt = sigma : D / rho
+    // (trapezoidal in the stress, with the old stress predicting the energy the EOS sees).
+    auto& state = state_[j];
+    const Mat3 sigma_old = state.deviatoric_stress - pressure_[j] * Mat3::Identity();
+    state.deviatoric_stress += dt * (W * state.deviatoric_stress - state.deviatoric_stress * W);
+    state.back_stress += dt * (W * state.back_stress - state.back_stress * W);
+    const Real rho = mass_[j] / (volume_ref_[j] * det);
+    const Real e_predicted = specific_energy_[j] + dt * sigma_old.cwiseProduct(D).sum() / rho;
+    const auto update = materials::update_stress(mat, state, D, dt, rho, e_predicted);
+    const Mat3 sigma = state.deviatoric_stress - update.pressure * Mat3::Identity();
+    specific_energy_[j] += Real(0.5) * dt * (sigma_old + sigma).cwiseProduct(D).sum() / rho;
+    density_[j] = rho;
+    pressure_[j] = update.pressure;
+    sound_speed_[j] = materials::sound_speed(mat, rho, specific_energy_[j]);
   }
   if (inverted.index >= 0)
     throw InstabilityError(fmt::format("SPG part {}: the deformation gradient at node {} is no longer "
@@ -291,6 +305,11 @@ void Part::update_stabilization(Real dt) {
   }
 }
 
+void Part::effective_plastic_strain(std::vector<Real>& out) const {
+  out.resize(state_.size());
+  for (std::size_t i = 0; i < state_.size(); ++i) out[i] = state_[i].plastic_strain;
+}
+
 void Part::update_kernel() {
   const Index n = particle_count();
 #pragma omp parallel for schedule(static)
@@ -299,7 +318,9 @@ void Part::update_kernel() {
     F_total_[j] = F_[j] * F_total_[j];
     F_[j] = Mat3::Identity();
   }
-  break_bonds(bonds_, effective_plastic_strain_, x_, settings_.failure_strain, settings_.failure_stretch);
+  std::vector<Real> plastic_strain;
+  effective_plastic_strain(plastic_strain);
+  break_bonds(bonds_, plastic_strain, x_, settings_.failure_strain, settings_.failure_stretch);
   record_broken_pairs(bonds_, broken_pairs_);
   if (settings_.kernel_update == KernelUpdate::eulerian) {
     const BondList previous = std::move(bonds_);
@@ -321,7 +342,7 @@ void Part::internal_forces() {
       continue;
     }
     const Real volume = volume_ref_[j] * F_[j].determinant();
-    const Mat3 sigma = deviatoric_stress_[j] - pressure_[j] * Mat3::Identity();
+    const Mat3 sigma = state_[j].deviatoric_stress - pressure_[j] * Mat3::Identity();
     weighted_stress_[j] = volume * sigma * F_[j].inverse().transpose();
   }
 #pragma omp parallel for schedule(static)
@@ -400,11 +421,11 @@ Real Part::max_wave_speed() const {
 void Part::write_fields(NodeFields& f) const {
   for (Index a = 0; a < particle_count(); ++a) {
     const Index i = node_[a];
-    const Mat3& S = deviatoric_stress_[a];
+    const Mat3& S = state_[a].deviatoric_stress;
     f.pressure[i] = pressure_[a];
-    f.von_mises[i] = materials::von_mises(S);
+    f.von_mises[i] = std::sqrt(Real(1.5) * S.cwiseProduct(S).sum());
     f.density[i] = density_[a];
-    f.effective_plastic_strain[i] = effective_plastic_strain_[a];
+    f.effective_plastic_strain[i] = state_[a].plastic_strain;
     const Index broken = bonds_.broken_count(a);
     f.broken_bonds[i] = broken;
     f.bond_count[i] = bonds_.count(a) - broken;
@@ -418,8 +439,8 @@ void Part::write_fields(NodeFields& f) const {
 std::size_t Part::memory_bytes() const {
   return bytes(node_) + bytes(node_id_) + bytes(mass_) + bytes(volume0_) + bytes(volume_ref_) +
          bytes(support_) + bytes(spacing_) + bytes(stiffness_) + bytes(F_) + bytes(F_total_) +
-         bytes(deviatoric_stress_) + bytes(pressure_) + bytes(density_) + bytes(sound_speed_) +
-         bytes(effective_plastic_strain_) + bytes(stabilization_force_) + bytes(initial_bond_count_) +
+         bytes(state_) + bytes(pressure_) + bytes(density_) + bytes(sound_speed_) +
+         bytes(specific_energy_) + bytes(stabilization_force_) + bytes(initial_bond_count_) +
          bytes(degraded_) + bytes(on_surface_) + bytes(correction_.self) +
          bytes(correction_.bond) + bytes(correction_.lambda) + bytes(correction_.mu) + bytes(psi_self_) + bytes(grad_self_) + bytes(psi_) + bytes(grad_) +
          bytes(bonds_.offsets) + bytes(bonds_.neighbour) + bytes(bonds_.mirror) +

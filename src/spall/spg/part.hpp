@@ -8,7 +8,8 @@
 //   deformation    F_J = sum_I xs_I (x) grad Psi_I(X_J),  dF_J = sum_I vs_I (x) grad Psi_I(X_J)   (eq. 12)
 //                  (ITB 2: x and v in place of xs and vs)
 //                  plus the integration-constraint correction C on x and v (THEORY §5.3)
-//   stress         L = dF F^-1, Jaumann-rate Hooke for the deviator, p = K (rho / rho_0 - 1)
+//   stress         L = dF F^-1; the material library's point update (materials/material.hpp) with
+//                  the Jaumann rotation of the deviator, D = sym L, rho = m / V and the energy equation
 //   force          f_K = -sum_I Psi_K(X_I) h_I - s_K + sum_I Psi_K(X_I) s_I,
 //                  h_I = sum_J V_J P_J grad Psi_I(X_J), P = J sigma F^-T          (eq. 6 with eq. 13)
 //   stabilization  ds_J/dt = kappa_J (v_J - vs_J) + W_J s_J: the spring on the displacement that the
@@ -18,7 +19,7 @@
 
 #include "spall/core/error.hpp"
 #include "spall/io/output/vtu.hpp"
-#include "spall/materials/elastic.hpp"
+#include "spall/materials/material.hpp"
 #include "spall/solver/node_store.hpp"
 #include "spall/spg/bonds.hpp"
 #include "spall/spg/integration_constraint.hpp"
@@ -38,9 +39,9 @@ struct PartSettings {
   KernelUpdate kernel_update = KernelUpdate::updated_lagrangian;
   int update_interval = 15;  // SMSTEP
   Stabilization stabilization = Stabilization::fluid_particle;
-  Real failure_strain = 1.0e10;  // FS (IDAM 1: effective plastic strain)
+  Real failure_strain = 1.0e10;  // FS (IDAM 1: effective plastic strain), or the material's FS / FAIL
   Real failure_stretch = 1.0;    // STRETCH
-  materials::ElasticConstants material;
+  materials::Material material;
   // eta in the stabilization stiffness kappa = eta (K + 4G/3) V / h^2; not a deck field (SPG has no
   // stabilization control parameter, seed 001 §1), 0 only in tests that show what it removes.
   Real stabilization_factor = 1.0;
@@ -87,6 +88,7 @@ class Part {
   void smooth(std::span<const Vec3> field, std::vector<Vec3>& smoothed) const;
   void deformation(std::span<const Vec3> x, std::span<const Vec3> v, Real dt);
   void update_stabilization(Real dt);
+  void effective_plastic_strain(std::vector<Real>& out) const;
   void internal_forces();
   void correct_integration_constraint();
 
@@ -102,8 +104,8 @@ class Part {
   std::vector<Real> stiffness_;      // kappa_I of the stabilization spring
   std::vector<Mat3> F_;              // deformation gradient since the last kernel update
   std::vector<Mat3> F_total_;        // from the initial configuration to the last kernel update
-  std::vector<Mat3> deviatoric_stress_;
-  std::vector<Real> pressure_, density_, sound_speed_, effective_plastic_strain_;
+  std::vector<materials::PointState> state_;
+  std::vector<Real> pressure_, density_, sound_speed_, specific_energy_;
   std::vector<Vec3> stabilization_force_;  // s_J
   std::vector<Index> initial_bond_count_;
   // 1 where the bonds left no longer hold a linear field: Shepard smoothing, no strain of its own.

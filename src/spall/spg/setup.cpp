@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 #include <map>
 
+#include "spall/materials/make_material.hpp"
 #include "spall/spg/formulation.hpp"
 #include "spall/spg/nodal_volumes.hpp"
 
@@ -69,23 +70,19 @@ PartSettings check_section(const model::SectionSolidSpg& s, Id part_id) {
   return p;
 }
 
-materials::ElasticConstants resolve_material(const model::Model& model, const model::Part& part) {
+materials::Material resolve_material(const model::Model& model, const model::Part& part) {
   if (part.hgid != 0)
     fail(part.where, "*PART", fmt::format("part {}: HGID {}: SPG parts have no hourglass modes to control", part.id, part.hgid));
-  auto mat = model.materials.find(part.mid);
-  if (mat == model.materials.end()) fail(part.where, "*PART", fmt::format("MID: material {} does not exist", part.mid));
-  const auto* elastic = std::get_if<model::MatElastic>(&mat->second.params);
-  if (!elastic)
-    fail(mat->second.where, mat->second.keyword,
-         fmt::format("material {} is used by SPG part {}, but the SPG solver supports only *MAT_ELASTIC so far",
-                     mat->first, part.id));
-  if (elastic->ro <= 0 || elastic->e <= 0 || elastic->pr < 0 || elastic->pr >= 0.5)
-    fail(mat->second.where, mat->second.keyword,
-         fmt::format("material {}: needs RO > 0, E > 0 and 0 <= PR < 0.5 (found RO {}, E {}, PR {})",
-                     mat->first, elastic->ro, elastic->e, elastic->pr));
-  if (part.eosid != 0)
-    fail(part.where, "*PART", fmt::format("part {}: EOSID {} with *MAT_ELASTIC is not supported", part.id, part.eosid));
-  return materials::ElasticConstants::from_young_poisson(elastic->ro, elastic->e, elastic->pr);
+  return materials::make_material(model, part);
+}
+
+// LS-DYNA: FS on *MAT_003 and *MAT_024 (FAIL) overwrites the section's FS for bond failure (and the
+// material then also sets the stress to zero at that strain); spg.md §3.
+Real bond_failure_strain(const materials::Material& material, Real section_fs) {
+  Real fs = 0;
+  if (const auto* m = std::get_if<materials::PlasticKinematic>(&material.strength)) fs = m->failure_strain;
+  if (const auto* m = std::get_if<materials::PiecewiseLinear>(&material.strength)) fs = m->failure_strain;
+  return fs > 0 && fs < 1.0e20 ? fs : section_fs;
 }
 
 // One SPG part's particles: nodal volumes and spacings gathered over its elements. The nodal
@@ -175,6 +172,7 @@ std::vector<PartSetup> spg_parts(const model::Model& model, const std::unordered
     PartSetup setup;
     setup.settings = check_section(*spg_section(model, part), pid);
     setup.settings.material = resolve_material(model, part);
+    setup.settings.failure_strain = bond_failure_strain(setup.settings.material, setup.settings.failure_strain);
     setup.particles.reserve(particles.by_node.size());
     for (const auto& [node, acc] : particles.by_node) {
       ParticleSetup p = acc.particle;
