@@ -116,7 +116,9 @@ void Part::build_shape_functions(bool at_setup) {
   grad_self_.resize(n);
   psi_.assign(bonds_.neighbour.size(), 0);
   grad_.assign(bonds_.neighbour.size(), Vec3::Zero());
-  const bool material_windows = settings_.kernel_update == KernelUpdate::pseudo_lagrangian;
+  // KERNEL 0: the windows deform with the material (mapped through each particle's accumulated
+  // deformation), so a stretched bond keeps its weight until it fails (THEORY §5.6).
+  const bool material_windows = settings_.kernel_update == KernelUpdate::updated_lagrangian;
   std::vector<Mat3> window_map;
   if (material_windows) {
     window_map.resize(n);
@@ -434,6 +436,12 @@ void Part::write_fields(NodeFields& f) const {
     const double components[6] = {sigma(0, 0), sigma(1, 1), sigma(2, 2), sigma(0, 1), sigma(1, 2), sigma(2, 0)};
     std::copy(components, components + 6, f.stress.begin() + 6 * i);
   }
+}
+
+Index Part::degraded_count() const {
+  Index n = 0;
+  for (auto d : degraded_) n += d;
+  return n;
 }
 
 std::size_t Part::memory_bytes() const {

@@ -14,7 +14,11 @@
 //                  h_I = sum_J V_J P_J grad Psi_I(X_J), P = J sigma F^-T          (eq. 6 with eq. 13)
 //   stabilization  ds_J/dt = kappa_J (v_J - vs_J) + W_J s_J: the spring on the displacement that the
 //                  smoothing removes (reconstructed; THEORY §5.4)
-// with X the reference configuration of the last kernel update (every SMSTEP steps, KERNEL).
+// with X the reference configuration of the last kernel update (every SMSTEP steps). KERNEL chooses
+// what an update rebuilds (THEORY §5.6): 0 updated Lagrangian, the bonds of the first
+// configuration with windows that deform with the material; 1 Eulerian, bonds searched anew in the
+// current configuration; 2 pseudo-Lagrangian, the bonds of the first configuration with windows of
+// fixed size in the current configuration.
 #include <vector>
 
 #include "spall/core/error.hpp"
@@ -77,8 +81,12 @@ class Part {
   const PartSettings& settings() const { return settings_; }
   Index particle_count() const { return static_cast<Index>(node_.size()); }
   const BondList& bonds() const { return bonds_; }
+  // Every bond broken so far, also those an Eulerian update has dropped from the rows since.
+  const std::vector<BondPair>& broken_pairs() const { return broken_pairs_; }
   const IntegrationCorrection& integration_correction() const { return correction_; }
   long long kernel_updates() const { return kernel_updates_; }
+  // Particles whose bonds no longer hold a linear field (Shepard smoothing, no strain of their own).
+  Index degraded_count() const;
   std::size_t memory_bytes() const;
 
  private:
