@@ -292,6 +292,16 @@ struct OutputInterval {
   SourceLocation where;
 };
 
+// *DAMPING_GLOBAL: mass-weighted nodal damping f = -D m v, D = VALDMP or the curve LCID of time;
+// STX STY STZ scale it per direction (all six scale factors 0: all 1).
+struct DampingGlobal {
+  Id lcid = 0;
+  Real valdmp = 0;
+  Vec3 translation_scale = Vec3::Ones();  // STX STY STZ
+  Vec3 rotation_scale = Vec3::Zero();     // SRX SRY SRZ (no rotational degrees of freedom in Spall)
+  SourceLocation where;
+};
+
 // *CONTROL_BULK_VISCOSITY: quadratic (Q1) and linear (Q2) artificial-viscosity coefficients.
 // Spall's SPH uses them as Monaghan's beta = Q1 and alpha = Q2, as LS-DYNA's SPH does.
 struct ControlBulkViscosity {
@@ -367,6 +377,7 @@ struct Model {
   std::optional<SphArtificialStress> sph_artificial_stress;
   std::optional<OutputInterval> d3plot;
   std::optional<OutputInterval> glstat;
+  std::optional<DampingGlobal> damping_global;
 
   std::vector<UnsupportedKeyword> unsupported;
 

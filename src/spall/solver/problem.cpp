@@ -385,6 +385,14 @@ class Builder {
     }
     // Without *DATABASE_GLSTAT the energies are still written, 1000 rows over the run.
     c.glstat_dt = (model_.glstat && model_.glstat->dt > 0) ? model_.glstat->dt : c.end_time / 1000;
+    if (model_.damping_global) {
+      const auto& d = *model_.damping_global;
+      if (d.rotation_scale != Vec3::Zero() && d.rotation_scale != Vec3::Ones())
+        fail(d.where, "*DAMPING_GLOBAL", "SRX SRY SRZ: nodes carry no rotations to damp; leave them 0");
+      c.damping = d.valdmp;
+      c.damping_curve = curve(d.lcid, d.where, "*DAMPING_GLOBAL", "LCID");
+      c.damping_scale = d.translation_scale;
+    }
     if (model_.bulk_viscosity.type != 1 && model_.bulk_viscosity.type != -1 && !model_.sph_elements.empty())
       fail(model_.bulk_viscosity.where, "*CONTROL_BULK_VISCOSITY",
            fmt::format("TYPE {}: only the standard type 1 is supported", model_.bulk_viscosity.type));

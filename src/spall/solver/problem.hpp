@@ -39,6 +39,10 @@ struct RunControls {
   Real d3plot_dt = 0;
   const model::Curve* d3plot_dt_curve = nullptr;  // LCDT
   Real glstat_dt = 0;
+  // *DAMPING_GLOBAL: f = -D(t) m (scale . v), D = damping or damping_curve(t).
+  Real damping = 0;
+  const model::Curve* damping_curve = nullptr;
+  Vec3 damping_scale = Vec3::Zero();
 };
 
 struct Problem {

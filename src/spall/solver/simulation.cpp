@@ -114,6 +114,9 @@ RunSummary run(Problem& problem, const Observer& observer) {
     // 2.-3. loads, then the central-difference velocity update over the mid-interval
     const Real dt_mid = step.step == 0 ? Real(0.5) * dt : Real(0.5) * (dt_previous + dt);
     const Vec3 g = base_acceleration(problem, step.time);
+    // *DAMPING_GLOBAL: -D m v on the velocity of the last half step, counted as external work.
+    const Vec3 damping = (controls.damping_curve ? controls.damping_curve->value(step.time) : controls.damping) *
+                         controls.damping_scale;
     // Where v^n lies between v^{n-1/2} and v^{n+1/2} (see 4. below).
     const Real velocity_weight = (dt_previous + dt) > 0 ? dt_previous / (dt_previous + dt) : Real(0.5);
     Real external_power = 0;
@@ -121,7 +124,7 @@ RunSummary run(Problem& problem, const Observer& observer) {
     for (Index i = 0; i < n; ++i) {
       v_old[i] = nodes.v[i];
       if (nodes.mass[i] <= 0) continue;
-      const Vec3 f_load = -nodes.mass[i] * g;
+      const Vec3 f_load = -nodes.mass[i] * (g + damping.cwiseProduct(nodes.v[i]));
       nodes.f[i] += f_load;
       Vec3 v_new = nodes.v[i] + (dt_mid / nodes.mass[i]) * nodes.f[i];
       for (int d = 0; d < 3; ++d)

@@ -81,6 +81,7 @@ void read_load_body(CardCursor&, const KeywordCall&, model::Model&);
 void read_control_termination(CardCursor&, const KeywordCall&, model::Model&);
 void read_control_timestep(CardCursor&, const KeywordCall&, model::Model&);
 void read_control_bulk_viscosity(CardCursor&, const KeywordCall&, model::Model&);
+void read_damping_global(CardCursor&, const KeywordCall&, model::Model&);
 void read_control_sph(CardCursor&, const KeywordCall&, model::Model&);
 void read_spall_sph_artificial_stress(CardCursor&, const KeywordCall&, model::Model&);
 void read_database_binary_d3plot(CardCursor&, const KeywordCall&, model::Model&);

@@ -65,6 +65,7 @@ constexpr SupportedKeyword supported_keywords[] = {
     {"CONTROL_TERMINATION", read_control_termination},
     {"CONTROL_TIMESTEP", read_control_timestep},
     {"CONTROL_BULK_VISCOSITY", read_control_bulk_viscosity},
+    {"DAMPING_GLOBAL", read_damping_global},
     {"CONTROL_SPH", read_control_sph},
     {"SPALL_SPH_ARTIFICIAL_STRESS", read_spall_sph_artificial_stress},
     {"DATABASE_BINARY_D3PLOT", read_database_binary_d3plot},
