@@ -16,10 +16,12 @@ Real SpgFormulation::stable_time_step(const solver::NodeStore& nodes) const {
 }
 
 solver::Formulation::Power SpgFormulation::internal_power(std::span<const Vec3> v) const {
-  // No artificial viscosity: all the work of the internal forces is stored (strain energy and the
-  // stabilization springs).
   Power p;
-  for (const auto& part : parts_) p.stored += part.internal_power(v);
+  for (const auto& part : parts_) {
+    const auto q = part.internal_power(v);
+    p.stored += q.stored;
+    p.dissipated += q.dissipated;
+  }
   return p;
 }
 

@@ -15,7 +15,7 @@ namespace {
 // particle's volume change. The largest frequency of the assembled system on irregular blocks
 // (tests/unit/test_spg_stiffness.cpp) puts the critical step at 0.94 to 1.25 h / c for ISPLINE 0-2,
 // DX 1.2-2.4 and Poisson's ratios up to 0.49; alpha = 0.5 keeps the step at TSSFAC 1 below 0.75
-// of it everywhere (THEORY §5.5).
+// of it everywhere (THEORY §6.6).
 constexpr Real courant_factor = 0.5;
 
 template <typename T>
@@ -48,6 +48,7 @@ Part::Part(PartSettings settings, const std::vector<ParticleSetup>& particles,
   volume0_.resize(n);
   support_.resize(n);
   spacing_.resize(n);
+  mean_spacing_.resize(n);
   stiffness_.resize(n);
   x_.resize(n);
   on_surface_.resize(n);
@@ -64,8 +65,8 @@ Part::Part(PartSettings settings, const std::vector<ParticleSetup>& particles,
       if (!(h[d] > 0)) h[d] = p.spacing.maxCoeff();
     support_[i] = settings_.dilation.cwiseProduct(h);
     spacing_[i] = h.minCoeff();
-    const Real mean_spacing = std::cbrt(h.prod());
-    stiffness_[i] = settings_.stabilization_factor * p_wave_modulus * p.volume / (mean_spacing * mean_spacing);
+    mean_spacing_[i] = std::cbrt(h.prod());
+    stiffness_[i] = settings_.stabilization_factor * p_wave_modulus * p.volume / (mean_spacing_[i] * mean_spacing_[i]);
     x_[i] = nodes.x[p.node];
     on_surface_[i] = p.on_surface ? 1 : 0;
   }
@@ -76,6 +77,8 @@ Part::Part(PartSettings settings, const std::vector<ParticleSetup>& particles,
   specific_energy_.assign(n, mat.initial_specific_energy);
   pressure_.assign(n, materials::eos_pressure(mat, mat.density, mat.initial_specific_energy));
   density_.assign(n, mat.density);
+  viscous_pressure_.assign(n, 0);
+  viscous_power_.assign(n, 0);
   sound_speed_.assign(n, c0);
   stabilization_force_.assign(n, Vec3::Zero());
   v_.assign(n, Vec3::Zero());
@@ -117,7 +120,7 @@ void Part::build_shape_functions(bool at_setup) {
   psi_.assign(bonds_.neighbour.size(), 0);
   grad_.assign(bonds_.neighbour.size(), Vec3::Zero());
   // KERNEL 0: the windows deform with the material (mapped through each particle's accumulated
-  // deformation), so a stretched bond keeps its weight until it fails (THEORY §5.6).
+  // deformation), so a stretched bond keeps its weight until it fails (THEORY §6.7).
   const bool material_windows = settings_.kernel_update == KernelUpdate::updated_lagrangian;
   std::vector<Mat3> window_map;
   if (material_windows) {
@@ -159,7 +162,7 @@ void Part::build_shape_functions(bool at_setup) {
         }
         // Too few bonds left for a linear field (bond failure, or particles drifting apart under
         // an Eulerian kernel): the particle keeps a Shepard partition of unity for the smoothing
-        // and no strain of its own (THEORY §5.6).
+        // and no strain of its own (THEORY §6.8).
         if (!shepard_shape_functions(settings_.shape, samples, psi, grad)) {
           std::fill(psi.begin(), psi.end(), 0);
           psi[0] = 1;
@@ -249,6 +252,8 @@ void Part::deformation(std::span<const Vec3> x, std::span<const Vec3> v, Real dt
   for (Index j = 0; j < n; ++j) {
     if (degraded_[j]) {
       spin_[j] = Mat3::Zero();
+      viscous_pressure_[j] = 0;
+      viscous_power_[j] = 0;
       continue;
     }
     // D' = D + C: the gradient of the (smoothed) field plus the correction acting on the nodal
@@ -285,6 +290,17 @@ void Part::deformation(std::span<const Vec3> x, std::span<const Vec3> v, Real dt
     density_[j] = rho;
     pressure_[j] = update.pressure;
     sound_speed_[j] = materials::sound_speed(mat, rho, specific_energy_[j]);
+    // Bulk viscosity of LS-DYNA's solid elements, q = rho l (Q1 l tr(D)^2 - Q2 c tr(D)) while the
+    // volume shrinks, with l the particle spacing followed through the volume change.
+    const Real volume_rate = D.trace();
+    const Real volume = volume_ref_[j] * det;
+    const Real length = mean_spacing_[j] * std::cbrt(volume / volume0_[j]);
+    const Real q = volume_rate < 0 ? rho * length *
+                                         (settings_.bulk_viscosity_quadratic * length * volume_rate * volume_rate -
+                                          settings_.bulk_viscosity_linear * sound_speed_[j] * volume_rate)
+                                   : 0;
+    viscous_pressure_[j] = q;
+    viscous_power_[j] = -volume * q * volume_rate;
   }
   if (inverted.index >= 0)
     throw InstabilityError(fmt::format("SPG part {}: the deformation gradient at node {} is no longer "
@@ -293,7 +309,7 @@ void Part::deformation(std::span<const Vec3> x, std::span<const Vec3> v, Real dt
 }
 
 // The spring on the part of the motion that the smoothing removes, in rate form so that it keeps
-// its memory across kernel updates, rotated with the particle's spin (THEORY §5.4).
+// its memory across kernel updates, rotated with the particle's spin (THEORY §6.5).
 void Part::update_stabilization(Real dt) {
   const Index n = particle_count();
 #pragma omp parallel for schedule(static)
@@ -344,7 +360,7 @@ void Part::internal_forces() {
       continue;
     }
     const Real volume = volume_ref_[j] * F_[j].determinant();
-    const Mat3 sigma = state_[j].deviatoric_stress - pressure_[j] * Mat3::Identity();
+    const Mat3 sigma = state_[j].deviatoric_stress - (pressure_[j] + viscous_pressure_[j]) * Mat3::Identity();
     weighted_stress_[j] = volume * sigma * F_[j].inverse().transpose();
   }
 #pragma omp parallel for schedule(static)
@@ -408,9 +424,16 @@ Real Part::stable_time_step(const solver::NodeStore& nodes) const {
   return dt;
 }
 
-Real Part::internal_power(std::span<const Vec3> v) const {
-  Real p = 0;
-  for (Index i = 0; i < particle_count(); ++i) p -= force_[i].dot(v[node_[i]]);
+Part::Power Part::internal_power(std::span<const Vec3> v) const {
+  // Reduced in index order (deterministic). The viscous share is the stress power of q; the rest
+  // of the work of the internal forces is stored.
+  Power p;
+  Real work = 0;
+  for (Index i = 0; i < particle_count(); ++i) {
+    work -= force_[i].dot(v[node_[i]]);
+    p.dissipated += viscous_power_[i];
+  }
+  p.stored = work - p.dissipated;
   return p;
 }
 
@@ -446,7 +469,8 @@ Index Part::degraded_count() const {
 
 std::size_t Part::memory_bytes() const {
   return bytes(node_) + bytes(node_id_) + bytes(mass_) + bytes(volume0_) + bytes(volume_ref_) +
-         bytes(support_) + bytes(spacing_) + bytes(stiffness_) + bytes(F_) + bytes(F_total_) +
+         bytes(support_) + bytes(spacing_) + bytes(mean_spacing_) + bytes(stiffness_) +
+         bytes(viscous_pressure_) + bytes(viscous_power_) + bytes(F_) + bytes(F_total_) +
          bytes(state_) + bytes(pressure_) + bytes(density_) + bytes(sound_speed_) +
          bytes(specific_energy_) + bytes(stabilization_force_) + bytes(initial_bond_count_) +
          bytes(degraded_) + bytes(on_surface_) + bytes(correction_.self) +

@@ -3,19 +3,20 @@
 // smoothing operator, and the material state at each particle. Particles of different parts do not
 // see each other through the kernel; parts couple through shared nodes only.
 //
-// Per step (docs/THEORY.md §5, seed 001 eqs. 6-13):
+// Per step (docs/THEORY.md §6, seed 001 eqs. 6-13):
 //   smoothing      xs_I = sum_K Psi_K(X_I) x_K,  vs_I = sum_K Psi_K(X_I) v_K      (eq. 9-11 at the particles)
 //   deformation    F_J = sum_I xs_I (x) grad Psi_I(X_J),  dF_J = sum_I vs_I (x) grad Psi_I(X_J)   (eq. 12)
 //                  (ITB 2: x and v in place of xs and vs)
-//                  plus the integration-constraint correction C on x and v (THEORY §5.3)
+//                  plus the integration-constraint correction C on x and v (THEORY §6.4)
 //   stress         L = dF F^-1; the material library's point update (materials/material.hpp) with
-//                  the Jaumann rotation of the deviator, D = sym L, rho = m / V and the energy equation
+//                  the Jaumann rotation of the deviator, D = sym L, rho = m / V and the energy equation;
+//                  bulk viscosity q = rho l (Q1 l tr(D)^2 - Q2 c tr(D)) in compression
 //   force          f_K = -sum_I Psi_K(X_I) h_I - s_K + sum_I Psi_K(X_I) s_I,
 //                  h_I = sum_J V_J P_J grad Psi_I(X_J), P = J sigma F^-T          (eq. 6 with eq. 13)
 //   stabilization  ds_J/dt = kappa_J (v_J - vs_J) + W_J s_J: the spring on the displacement that the
-//                  smoothing removes (reconstructed; THEORY §5.4)
+//                  smoothing removes (reconstructed; THEORY §6.5)
 // with X the reference configuration of the last kernel update (every SMSTEP steps). KERNEL chooses
-// what an update rebuilds (THEORY §5.6): 0 updated Lagrangian, the bonds of the first
+// what an update rebuilds (THEORY §6.7): 0 updated Lagrangian, the bonds of the first
 // configuration with windows that deform with the material; 1 Eulerian, bonds searched anew in the
 // current configuration; 2 pseudo-Lagrangian, the bonds of the first configuration with windows of
 // fixed size in the current configuration.
@@ -49,6 +50,9 @@ struct PartSettings {
   // eta in the stabilization stiffness kappa = eta (K + 4G/3) V / h^2; not a deck field (SPG has no
   // stabilization control parameter, seed 001 §1), 0 only in tests that show what it removes.
   Real stabilization_factor = 1.0;
+  // *CONTROL_BULK_VISCOSITY Q1 (quadratic) and Q2 (linear), LS-DYNA's bulk viscosity of solids.
+  Real bulk_viscosity_quadratic = 1.5;
+  Real bulk_viscosity_linear = 0.06;
   SourceLocation where;  // *SECTION_SOLID_SPG card 2 (DX ...), for messages about the supports
 };
 
@@ -68,7 +72,13 @@ class Part {
   // adds the internal forces at x^n to nodes.f.
   void compute_forces(solver::NodeStore& nodes, Real dt);
   Real stable_time_step(const solver::NodeStore& nodes) const;
-  Real internal_power(std::span<const Vec3> v) const;
+  // The power of the internal forces at the velocities v: stored (strain energy, stabilization
+  // springs) and dissipated by the bulk viscosity.
+  struct Power {
+    Real stored = 0;
+    Real dissipated = 0;
+  };
+  Power internal_power(std::span<const Vec3> v) const;
   Real max_wave_speed() const;
 
   // Writes this part's values into node-aligned arrays (zeros elsewhere are the caller's).
@@ -109,11 +119,14 @@ class Part {
   std::vector<Real> volume_ref_;     // volume in the reference configuration of the kernel
   std::vector<Vec3> support_;        // a_I = (DX, DY, DZ) x nodal spacing
   std::vector<Real> spacing_;        // smallest nodal spacing, for the stable step
+  std::vector<Real> mean_spacing_;   // (h_x h_y h_z)^(1/3)
   std::vector<Real> stiffness_;      // kappa_I of the stabilization spring
   std::vector<Mat3> F_;              // deformation gradient since the last kernel update
   std::vector<Mat3> F_total_;        // from the initial configuration to the last kernel update
   std::vector<materials::PointState> state_;
   std::vector<Real> pressure_, density_, sound_speed_, specific_energy_;
+  std::vector<Real> viscous_pressure_;  // bulk viscosity q, added to the pressure
+  std::vector<Real> viscous_power_;     // V q (-tr D): the rate of energy it dissipates
   std::vector<Vec3> stabilization_force_;  // s_J
   std::vector<Index> initial_bond_count_;
   // 1 where the bonds left no longer hold a linear field: Shepard smoothing, no strain of its own.

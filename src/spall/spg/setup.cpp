@@ -173,6 +173,12 @@ std::vector<PartSetup> spg_parts(const model::Model& model, const std::unordered
     setup.settings = check_section(*spg_section(model, part), pid);
     setup.settings.material = resolve_material(model, part);
     setup.settings.failure_strain = bond_failure_strain(setup.settings.material, setup.settings.failure_strain);
+    const auto& viscosity = model.bulk_viscosity;
+    if (viscosity.type != 1 && viscosity.type != -1)
+      fail(viscosity.where, "*CONTROL_BULK_VISCOSITY",
+           fmt::format("TYPE {}: only the standard type 1 is supported (SPG part {})", viscosity.type, pid));
+    setup.settings.bulk_viscosity_quadratic = viscosity.q1;
+    setup.settings.bulk_viscosity_linear = viscosity.q2;
     setup.particles.reserve(particles.by_node.size());
     for (const auto& [node, acc] : particles.by_node) {
       ParticleSetup p = acc.particle;
