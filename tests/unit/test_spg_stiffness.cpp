@@ -54,9 +54,11 @@ Spectrum spectrum(const Block& block) {
   for (Index i = 0; i < base.nodes.size(); ++i) index_of_node[base.nodes.id[i]] = i;
   auto setups = spg::spg_parts(m, index_of_node, base.nodes);
   setups[0].settings.stabilization_factor = block.stabilization;
-  // The elastic operator alone: no bulk viscosity (it would add a rate term to the first step).
+  // The elastic operator alone: no bulk viscosity and no dashpot (they would add rate terms to the
+  // first step).
   setups[0].settings.bulk_viscosity_quadratic = 0;
   setups[0].settings.bulk_viscosity_linear = 0;
+  setups[0].settings.stabilization_damping = 0;
   const Index n = base.nodes.size();
   const Real dt = 1e-3, delta = 1e-7;
   Eigen::MatrixXd K(3 * n, 3 * n);

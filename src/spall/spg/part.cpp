@@ -81,6 +81,11 @@ Part::Part(PartSettings settings, const std::vector<ParticleSetup>& particles,
   viscous_power_.assign(n, 0);
   sound_speed_.assign(n, c0);
   stabilization_force_.assign(n, Vec3::Zero());
+  stabilization_total_.assign(n, Vec3::Zero());
+  stabilization_power_.assign(n, 0);
+  dashpot_.resize(n);
+  for (std::size_t i = 0; i < n; ++i)
+    dashpot_[i] = 2 * settings_.stabilization_damping * std::sqrt(stiffness_[i] * mass_[i]);
   v_.assign(n, Vec3::Zero());
   xs_.assign(n, Vec3::Zero());
   vs_.assign(n, Vec3::Zero());
@@ -316,16 +321,44 @@ void Part::update_stabilization(Real dt) {
   for (Index j = 0; j < n; ++j) {
     if (degraded_[j]) {
       stabilization_force_[j] = Vec3::Zero();
+      stabilization_total_[j] = Vec3::Zero();
+      stabilization_power_[j] = 0;
       continue;
     }
     const Vec3& s = stabilization_force_[j];
-    stabilization_force_[j] = s + dt * (stiffness_[j] * (v_[j] - vs_[j]) + spin_[j] * s);
+    const Vec3 removed = v_[j] - vs_[j];  // the velocity the smoothing removes
+    stabilization_force_[j] = s + dt * (stiffness_[j] * removed + spin_[j] * s);
+    stabilization_total_[j] = stabilization_force_[j] + dashpot_[j] * removed;
+    stabilization_power_[j] = dashpot_[j] * removed.squaredNorm();
   }
 }
 
 void Part::effective_plastic_strain(std::vector<Real>& out) const {
   out.resize(state_.size());
   for (std::size_t i = 0; i < state_.size(); ++i) out[i] = state_[i].plastic_strain;
+}
+
+// A particle that bond failure left without a linear approximation can neither carry nor pass on
+// a stress consistently; the bonds it still has would only let its stressed neighbours fling it
+// off the crack. It is detached: its remaining bonds break too, and its neighbours' rows are
+// rebuilt without it (which may detach them in turn). Particles degraded without any broken bond
+// (an Eulerian kernel losing neighbours to distance, fixed windows in a stretch) keep their bonds.
+void Part::detach_degraded_particles() {
+  const Index n = particle_count();
+  for (int pass = 0; pass < 16; ++pass) {
+    bool detached = false;
+    for (Index j = 0; j < n; ++j) {
+      if (!degraded_[j] || bonds_.broken_count(j) == 0 || bonds_.broken_count(j) == bonds_.count(j)) continue;
+      for (Index k = bonds_.offsets[j]; k < bonds_.offsets[j + 1]; ++k) {
+        bonds_.broken[k] = 1;
+        bonds_.broken[bonds_.mirror[k]] = 1;
+      }
+      detached = true;
+    }
+    if (!detached) return;
+    record_broken_pairs(bonds_, broken_pairs_);
+    build_shape_functions(false);
+  }
 }
 
 void Part::update_kernel() {
@@ -338,6 +371,13 @@ void Part::update_kernel() {
   }
   std::vector<Real> plastic_strain;
   effective_plastic_strain(plastic_strain);
+  // Broken bonds per particle, over every bond ever broken (also those an Eulerian update drops).
+  auto broken_per_particle = [&] {
+    std::vector<Index> count(n, 0);
+    for (const auto& [i, j] : broken_pairs_) ++count[i], ++count[j];
+    return count;
+  };
+  const std::vector<Index> broken_before = broken_per_particle();
   break_bonds(bonds_, plastic_strain, x_, settings_.failure_strain, settings_.failure_stretch);
   record_broken_pairs(bonds_, broken_pairs_);
   if (settings_.kernel_update == KernelUpdate::eulerian) {
@@ -345,6 +385,12 @@ void Part::update_kernel() {
     search_bonds(&previous);
   }
   build_shape_functions(false);
+  detach_degraded_particles();
+  // A particle that lost bonds has lost the neighbourhood its spring measured the non-affine
+  // motion against: the spring starts again from rest (else it kicks the new crack surface).
+  const std::vector<Index> broken_after = broken_per_particle();
+  for (Index j = 0; j < n; ++j)
+    if (broken_after[j] != broken_before[j]) stabilization_force_[j] = Vec3::Zero();
   correct_integration_constraint();
   steps_since_update_ = 0;
   ++kernel_updates_;
@@ -371,7 +417,7 @@ void Part::internal_forces() {
     h_[i] = h;
   }
   const bool smoothed = settings_.stabilization == Stabilization::fluid_particle;
-  const auto& s = stabilization_force_;
+  const auto& s = stabilization_total_;
 #pragma omp parallel for schedule(static)
   for (Index K = 0; K < n; ++K) {
     // f_K = -sum_I Psi_K(X_I) (h_I - s_I) - s_K, or with ITB 2 -h_K - s_K + sum_I Psi_K(X_I) s_I.
@@ -431,7 +477,7 @@ Part::Power Part::internal_power(std::span<const Vec3> v) const {
   Real work = 0;
   for (Index i = 0; i < particle_count(); ++i) {
     work -= force_[i].dot(v[node_[i]]);
-    p.dissipated += viscous_power_[i];
+    p.dissipated += viscous_power_[i] + stabilization_power_[i];
   }
   p.stored = work - p.dissipated;
   return p;
@@ -472,7 +518,8 @@ std::size_t Part::memory_bytes() const {
          bytes(support_) + bytes(spacing_) + bytes(mean_spacing_) + bytes(stiffness_) +
          bytes(viscous_pressure_) + bytes(viscous_power_) + bytes(F_) + bytes(F_total_) +
          bytes(state_) + bytes(pressure_) + bytes(density_) + bytes(sound_speed_) +
-         bytes(specific_energy_) + bytes(stabilization_force_) + bytes(initial_bond_count_) +
+         bytes(specific_energy_) + bytes(stabilization_force_) + bytes(stabilization_total_) +
+         bytes(stabilization_power_) + bytes(dashpot_) + bytes(initial_bond_count_) +
          bytes(degraded_) + bytes(on_surface_) + bytes(correction_.self) +
          bytes(correction_.bond) + bytes(correction_.lambda) + bytes(correction_.mu) + bytes(psi_self_) + bytes(grad_self_) + bytes(psi_) + bytes(grad_) +
          bytes(bonds_.offsets) + bytes(bonds_.neighbour) + bytes(bonds_.mirror) +

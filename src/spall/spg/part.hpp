@@ -50,6 +50,8 @@ struct PartSettings {
   // eta in the stabilization stiffness kappa = eta (K + 4G/3) V / h^2; not a deck field (SPG has no
   // stabilization control parameter, seed 001 §1), 0 only in tests that show what it removes.
   Real stabilization_factor = 1.0;
+  // xi: the dashpot beside the spring, c = 2 xi sqrt(kappa m) (THEORY §6.5); not a deck field.
+  Real stabilization_damping = 0.3;
   // *CONTROL_BULK_VISCOSITY Q1 (quadratic) and Q2 (linear), LS-DYNA's bulk viscosity of solids.
   Real bulk_viscosity_quadratic = 1.5;
   Real bulk_viscosity_linear = 0.06;
@@ -103,6 +105,7 @@ class Part {
   void search_bonds(const BondList* previous);
   void build_shape_functions(bool at_setup);
   void update_kernel();
+  void detach_degraded_particles();
   void smooth(std::span<const Vec3> field, std::vector<Vec3>& smoothed) const;
   void deformation(std::span<const Vec3> x, std::span<const Vec3> v, Real dt);
   void update_stabilization(Real dt);
@@ -127,7 +130,10 @@ class Part {
   std::vector<Real> pressure_, density_, sound_speed_, specific_energy_;
   std::vector<Real> viscous_pressure_;  // bulk viscosity q, added to the pressure
   std::vector<Real> viscous_power_;     // V q (-tr D): the rate of energy it dissipates
-  std::vector<Vec3> stabilization_force_;  // s_J
+  std::vector<Vec3> stabilization_force_;  // s_J, the spring
+  std::vector<Real> dashpot_;              // c_J
+  std::vector<Vec3> stabilization_total_;  // s_J + c_J (v_J - vs_J), what the force gathers
+  std::vector<Real> stabilization_power_;  // c_J |v_J - vs_J|^2, dissipated
   std::vector<Index> initial_bond_count_;
   // 1 where the bonds left no longer hold a linear field: Shepard smoothing, no strain of its own.
   std::vector<std::uint8_t> degraded_;
