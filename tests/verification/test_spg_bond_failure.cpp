@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <limits>
+#include <omp.h>
 
 #include "spall/core/log.hpp"
 #include "spall/solver/simulation.hpp"
@@ -105,6 +106,47 @@ FailureRun fling_bar(int kernel) {
 }
 
 }  // namespace
+
+TEST(SpgBondFailure, ResultsDoNotDependOnTheThreadCount) {
+  log::set_quiet(true);
+  auto final_state = [](int threads) {
+    omp_set_num_threads(threads);
+    // 60 x 5 x 5 elements: 2 196 particles, above spg::parallel_threshold.
+    test_support::SpgBlock b;
+    b.size = Vec3(0.1, 0.01, 0.01);
+    b.elements = {60, 5, 5};
+    b.jitter = 0.1;
+    b.section.kernel = 1;
+    b.section.smstep = 5;
+    b.section.fs = 0.05;
+    b.section.stretch = 1.02;
+    b.end_time = 4.5e-5;
+    model::Model m = test_support::spg_block_model(b);
+    m.materials[1].keyword = "*MAT_PLASTIC_KINEMATIC";
+    model::MatPlasticKinematic steel;
+    steel.ro = 7850;
+    steel.e = 2.0e11;
+    steel.pr = 0.3;
+    steel.sigy = 3.0e8;
+    steel.etan = 1.0e9;
+    steel.beta = 1;
+    m.materials[1].params = steel;
+    for (const auto& node : m.nodes)
+      m.initial_velocity_nodes.push_back({node.id, Vec3(100 * (2 * node.x.x() / b.size.x() - 1), 0, 0), Vec3::Zero(), 0, {}});
+    solver::Problem p = solver::build_problem(m);
+    solver::run(p, {});
+    const auto& part = dynamic_cast<const spg::SpgFormulation&>(*p.formulations[0]).parts()[0];
+    return std::make_pair(p.nodes, part.broken_pairs());
+  };
+  const auto [one, broken_one] = final_state(1);
+  const auto [two, broken_two] = final_state(2);
+  EXPECT_GT(broken_one.size(), 0u);
+  EXPECT_EQ(broken_one, broken_two);
+  for (std::size_t i = 0; i < one.x.size(); ++i) {
+    EXPECT_EQ(one.x[i], two.x[i]) << "node " << one.id[i];
+    EXPECT_EQ(one.v[i], two.v[i]) << "node " << one.id[i];
+  }
+}
 
 TEST(SpgBondFailure, BarSeparatesConservingMassAndMomentum) {
   log::set_quiet(true);

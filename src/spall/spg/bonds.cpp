@@ -36,7 +36,7 @@ void record_broken_pairs(const BondList& bonds, std::vector<BondPair>& broken_pa
 void link_mirrors(BondList& bonds) {
   const Index n = bonds.size();
   bonds.mirror.resize(bonds.neighbour.size());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > parallel_threshold)
   for (Index i = 0; i < n; ++i) {
     for (Index k = bonds.offsets[i]; k < bonds.offsets[i + 1]; ++k) {
       const Index j = bonds.neighbour[k];
@@ -53,7 +53,7 @@ Index break_bonds(BondList& bonds, std::span<const Real> effective_plastic_strai
   const Index n = bonds.size();
   Index newly_broken = 0;
   // Each side decides from the same symmetric expression, so the two flags of a bond agree.
-#pragma omp parallel for schedule(static) reduction(+ : newly_broken)
+#pragma omp parallel for schedule(static) reduction(+ : newly_broken) if (n > parallel_threshold)
   for (Index i = 0; i < n; ++i) {
     for (Index k = bonds.offsets[i]; k < bonds.offsets[i + 1]; ++k) {
       if (bonds.broken[k]) continue;

@@ -11,6 +11,7 @@
 
 #include "spall/core/types.hpp"
 #include "spall/neighbors/verlet_list.hpp"
+#include "spall/spg/parallel.hpp"
 
 namespace spall::spg {
 
@@ -73,7 +74,7 @@ BondList make_bonds(const neighbors::NeighborList& list, std::span<const Vec3> x
   bonds.neighbour.resize(m);
   bonds.broken.assign(m, 0);
   bonds.rest_length.resize(m);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > parallel_threshold)
   for (Index i = 0; i < n; ++i) {
     Index out = bonds.offsets[i];
     for (Index k = list.offsets[i]; k < list.offsets[i + 1]; ++k) {

@@ -1,5 +1,7 @@
 #include "spall/spg/integration_constraint.hpp"
 
+#include "spall/spg/parallel.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -10,6 +12,7 @@ namespace spall::spg {
 namespace {
 
 using Vec4 = Eigen::Matrix<Real, 4, 1>;
+
 using Mat4 = Eigen::Matrix<Real, 4, 4>;
 
 // The unknowns (or a residual) of the normal equations, per particle.
@@ -29,7 +32,7 @@ Vec3 dot(const Multipliers& a, const Multipliers& b) {
   constexpr Index chunk = 1024;
   const Index chunks = (n + chunk - 1) / chunk;
   std::vector<Vec3> partial(chunks, Vec3::Zero());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > parallel_threshold)
   for (Index c = 0; c < chunks; ++c) {
     Vec3 s = Vec3::Zero();
     for (Index j = c * chunk; j < std::min(n, (c + 1) * chunk); ++j)
@@ -51,7 +54,7 @@ class NormalEquations {
     // without the divergence row where the particle is not interior), the same for every
     // gradient component.
     preconditioner_.assign(n, Mat4::Zero());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > parallel_threshold)
     for (Index j = 0; j < n; ++j) {
       if (!active_[j]) continue;
       Mat4 P = Mat4::Zero();
@@ -89,7 +92,7 @@ class NormalEquations {
   // y = R R^T z: per particle the divergence (interior only) and first moment of the fluxes.
   void apply(const Multipliers& z, Multipliers& y) const {
     const Index n = bonds_.size();
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > parallel_threshold)
     for (Index j = 0; j < n; ++j) {
       Vec3 div = Vec3::Zero();
       Mat3 moment = Mat3::Zero();
@@ -107,7 +110,7 @@ class NormalEquations {
 
   void precondition(const Multipliers& r, Multipliers& z) const {
     const Index n = bonds_.size();
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > parallel_threshold)
     for (Index j = 0; j < n; ++j) {
       for (int i = 0; i < 3; ++i) {
         Vec4 b;
@@ -130,7 +133,7 @@ class NormalEquations {
 // z += a r per gradient component (a_i scales component i).
 void axpy(const Vec3& a, const Multipliers& r, Multipliers& z) {
   const Index n = static_cast<Index>(z.lambda.size());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > parallel_threshold)
   for (Index j = 0; j < n; ++j) {
     z.lambda[j] += a.cwiseProduct(r.lambda[j]);
     z.mu[j] += a.asDiagonal() * r.mu[j];
@@ -230,7 +233,7 @@ void correct_integration(const BondList& bonds, std::span<const Vec3> X, std::sp
     Vec3 beta = Vec3::Zero();
     for (int i = 0; i < 3; ++i) beta[i] = rs[i] > 0 ? rs_next[i] / rs[i] : 0;
     rs = rs_next;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > parallel_threshold)
     for (Index j = 0; j < n; ++j) {
       p.lambda[j] = s.lambda[j] + beta.cwiseProduct(p.lambda[j]);
       p.mu[j] = s.mu[j] + beta.asDiagonal() * p.mu[j];
@@ -248,7 +251,7 @@ void correct_integration(const BondList& bonds, std::span<const Vec3> X, std::sp
 
   correction.self.assign(n, Vec3::Zero());
   correction.bond.assign(bonds.neighbour.size(), Vec3::Zero());
-#pragma omp parallel
+#pragma omp parallel if (n > parallel_threshold)
   {
     std::vector<Vec3> row;
     std::vector<std::uint8_t> usable;

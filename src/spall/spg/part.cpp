@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 #include <limits>
 
+#include "spall/spg/parallel.hpp"
 #include "spall/spg/rk_shape.hpp"
 
 namespace spall::spg {
@@ -137,7 +138,7 @@ void Part::build_shape_functions(bool at_setup) {
     for (Index i = 0; i < n; ++i) window_map[i] = F_total_[i].inverse();
   }
   FirstFailure singular;
-#pragma omp parallel
+#pragma omp parallel if (n > parallel_threshold)
   {
     std::vector<KernelSample> samples;
     std::vector<Index> entry;  // bond position of each sample after the first (self)
@@ -220,7 +221,7 @@ void Part::correct_integration_constraint(bool at_setup) {
   }
   // g_I = sum_J V_J grad Psi_I(X_J); with smoothing e_K = sum_I Psi_K(X_I) g_I.
   std::vector<Vec3> g(n), defect(n);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > parallel_threshold)
   for (Index i = 0; i < n; ++i) {
     Vec3 sum = volume_ref_[i] * grad_self_[i];
     for (Index k = bonds_.offsets[i]; k < bonds_.offsets[i + 1]; ++k)
@@ -228,7 +229,7 @@ void Part::correct_integration_constraint(bool at_setup) {
     g[i] = sum;
   }
   if (settings_.stabilization == Stabilization::fluid_particle) {
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > parallel_threshold)
     for (Index K = 0; K < n; ++K) {
       Vec3 sum = psi_self_[K] * g[K];
       for (Index k = bonds_.offsets[K]; k < bonds_.offsets[K + 1]; ++k)
@@ -246,7 +247,7 @@ void Part::correct_integration_constraint(bool at_setup) {
 
 void Part::smooth(std::span<const Vec3> field, std::vector<Vec3>& smoothed) const {
   const Index n = particle_count();
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > parallel_threshold)
   for (Index i = 0; i < n; ++i) {
     Vec3 s = psi_self_[i] * field[i];
     for (Index k = bonds_.offsets[i]; k < bonds_.offsets[i + 1]; ++k)
@@ -260,7 +261,7 @@ void Part::deformation(std::span<const Vec3> x, std::span<const Vec3> v, Real dt
   const Index n = particle_count();
   const auto& mat = settings_.material;
   FirstFailure inverted;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > parallel_threshold)
   for (Index j = 0; j < n; ++j) {
     if (degraded_[j]) {
       spin_[j] = Mat3::Zero();
@@ -324,7 +325,7 @@ void Part::deformation(std::span<const Vec3> x, std::span<const Vec3> v, Real dt
 // its memory across kernel updates, rotated with the particle's spin (THEORY §6.5).
 void Part::update_stabilization(Real dt) {
   const Index n = particle_count();
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > parallel_threshold)
   for (Index j = 0; j < n; ++j) {
     if (degraded_[j]) {
       stabilization_force_[j] = Vec3::Zero();
@@ -370,7 +371,7 @@ void Part::detach_degraded_particles() {
 
 void Part::update_kernel() {
   const Index n = particle_count();
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > parallel_threshold)
   for (Index j = 0; j < n; ++j) {
     volume_ref_[j] *= F_[j].determinant();
     F_total_[j] = F_[j] * F_total_[j];
@@ -406,7 +407,7 @@ void Part::update_kernel() {
 // h_I = sum_J V_J P_J grad Psi_I(X_J), then the force on K gathers h and s through Psi_K(X_I).
 void Part::internal_forces() {
   const Index n = particle_count();
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > parallel_threshold)
   for (Index j = 0; j < n; ++j) {
     if (degraded_[j]) {
       weighted_stress_[j] = Mat3::Zero();
@@ -416,7 +417,7 @@ void Part::internal_forces() {
     const Mat3 sigma = state_[j].deviatoric_stress - (pressure_[j] + viscous_pressure_[j]) * Mat3::Identity();
     weighted_stress_[j] = volume * sigma * F_[j].inverse().transpose();
   }
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > parallel_threshold)
   for (Index i = 0; i < n; ++i) {
     Vec3 h = weighted_stress_[i] * grad_self_[i];
     for (Index k = bonds_.offsets[i]; k < bonds_.offsets[i + 1]; ++k)
@@ -425,7 +426,7 @@ void Part::internal_forces() {
   }
   const bool smoothed = settings_.stabilization == Stabilization::fluid_particle;
   const auto& s = stabilization_total_;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > parallel_threshold)
   for (Index K = 0; K < n; ++K) {
     // f_K = -sum_I Psi_K(X_I) (h_I - s_I) - s_K, or with ITB 2 -h_K - s_K + sum_I Psi_K(X_I) s_I.
     Vec3 gathered = psi_self_[K] * (smoothed ? Vec3(h_[K] - s[K]) : Vec3(-s[K]));
@@ -443,7 +444,7 @@ void Part::internal_forces() {
 
 void Part::compute_forces(solver::NodeStore& nodes, Real dt) {
   const Index n = particle_count();
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > parallel_threshold)
   for (Index i = 0; i < n; ++i) {
     x_[i] = nodes.x[node_[i]];
     v_[i] = nodes.v[node_[i]];
@@ -458,7 +459,7 @@ void Part::compute_forces(solver::NodeStore& nodes, Real dt) {
     if (++steps_since_update_ >= settings_.update_interval) update_kernel();
   }
   internal_forces();
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n > parallel_threshold)
   for (Index i = 0; i < n; ++i) nodes.f[node_[i]] += force_[i];
 }
 
@@ -468,7 +469,7 @@ void Part::compute_forces(solver::NodeStore& nodes, Real dt) {
 Real Part::stable_time_step(const solver::NodeStore& nodes) const {
   const Index n = particle_count();
   Real dt = std::numeric_limits<Real>::infinity();
-#pragma omp parallel for reduction(min : dt) schedule(static)
+#pragma omp parallel for reduction(min : dt) schedule(static) if (n > parallel_threshold)
   for (Index i = 0; i < n; ++i) {
     const Real volume_ratio = volume_ref_[i] * F_[i].determinant() / volume0_[i];
     const Real length = spacing_[i] * std::cbrt(volume_ratio);

@@ -11,10 +11,11 @@
 //   stress         L = dF F^-1; the material library's point update (materials/material.hpp) with
 //                  the Jaumann rotation of the deviator, D = sym L, rho = m / V and the energy equation;
 //                  bulk viscosity q = rho l (Q1 l tr(D)^2 - Q2 c tr(D)) in compression
-//   force          f_K = -sum_I Psi_K(X_I) h_I - s_K + sum_I Psi_K(X_I) s_I,
+//   force          f_K = -sum_I Psi_K(X_I) h_I - t_K + sum_I Psi_K(X_I) t_I - sum_J V_J P_J C_JK,
 //                  h_I = sum_J V_J P_J grad Psi_I(X_J), P = J sigma F^-T          (eq. 6 with eq. 13)
-//   stabilization  ds_J/dt = kappa_J (v_J - vs_J) + W_J s_J: the spring on the displacement that the
-//                  smoothing removes (reconstructed; THEORY §6.5)
+//                  (ITB 2: -h_K in place of the first sum)
+//   stabilization  t_J = s_J + c_J (v_J - vs_J), ds_J/dt = kappa_J (v_J - vs_J) + W_J s_J: a spring
+//                  and a dashpot on the motion that the smoothing removes (reconstructed; THEORY §6.5)
 // with X the reference configuration of the last kernel update (every SMSTEP steps). KERNEL chooses
 // what an update rebuilds (THEORY §6.7): 0 updated Lagrangian, the bonds of the first
 // configuration with windows that deform with the material; 1 Eulerian, bonds searched anew in the
