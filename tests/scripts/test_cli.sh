@@ -2,8 +2,9 @@
 # The command line as a user meets it: a run writes a ParaView series that VTK's own reader opens
 # (Debian's python3-vtk9), glstat.csv, run.json and a copy of the deck; bad input is one
 # `file:line: *KEYWORD:` line and exit 2; an unsupported keyword is a warning with name and line;
-# an unstable run exits 3 and leaves its last state; every public deck goes through `spall check`
-# with exit 0 or 2, never a crash.
+# an unstable run exits 3 and leaves its last state; an SPG run writes its bond fields and an SPG
+# option without an implementation is exit 2 naming the field; every public deck goes through
+# `spall check` with exit 0 or 2, never a crash.
 # Arguments, as CTest passes them: CLI SOURCE_DIR SHARED_DIR.
 set -euo pipefail
 cli=$1
@@ -60,6 +61,21 @@ set -e
 grep -Eq "numerical instability at step [0-9]+, time .*: node [0-9]+" "$work/unstable.log" || fail "instability message"
 grep -q '"status": "unstable"' "$work/unstable_out/run.json" || fail "unstable run.json"
 "${read_vtu[@]}" "$(ls "$work/unstable_out"/d3plot_*.vtu | tail -n 1)" --field velocity >/dev/null || fail "last state"
+
+# An SPG deck (examples/spg_tension, coarse and short): the SPG fields come out; an SPG option
+# that is not implemented is exit 2 naming the field at its card's line.
+python3 "$source_dir/tools/make_spg_tension_deck.py" --elements 10 --end-time 4e-6 >"$work/spg.k"
+"$cli" run "$work/spg.k" -o "$work/spg_out" 2>"$work/spg.log" || { cat "$work/spg.log"; fail "SPG run"; }
+"${read_vtu[@]}" "$(ls "$work/spg_out"/d3plot_*.vtu | tail -n 1)" --field effective_plastic_strain \
+  --field broken_bonds --field bond_damage --field bond_count >"$work/spg_fields" || fail "SPG fields"
+grep -qx 'points 99' "$work/spg_fields" || fail "SPG point count: $(grep points "$work/spg_fields")"
+sed 's/^         1       0.6       1.2         1$/         2       0.6       1.2         1/' "$work/spg.k" >"$work/spg_idam.k"
+set +e
+"$cli" check "$work/spg_idam.k" 2>"$work/spg_idam.log"
+code=$?
+set -e
+[ "$code" -eq 2 ] || { cat "$work/spg_idam.log"; fail "SPG IDAM 2: exit $code"; }
+grep -Eq "spg_idam\.k:[0-9]+: \*SECTION_SOLID_SPG: IDAM 2: " "$work/spg_idam.log" || { cat "$work/spg_idam.log"; fail "SPG IDAM message"; }
 
 # Every public deck: `spall check` answers 0 or 2 with a clear line, never a crash.
 while IFS= read -r deck; do
