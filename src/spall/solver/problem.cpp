@@ -8,6 +8,7 @@
 #include <unordered_map>
 
 #include "spall/core/log.hpp"
+#include "spall/materials/make_material.hpp"
 #include "spall/neighbors/verlet_list.hpp"
 #include "spall/sph/solid.hpp"
 
@@ -113,7 +114,7 @@ class Builder {
   };
 
   SphPart resolve_sph_part(Id pid, const SourceLocation& where,
-                           std::vector<materials::ElasticConstants>& table,
+                           std::vector<materials::Material>& table,
                            std::unordered_map<Id, Index>& material_index) {
     const model::Part* part = model_.find_part(pid);
     if (!part) fail(where, "*ELEMENT_SPH", fmt::format("PID: part {} does not exist", pid));
@@ -136,34 +137,17 @@ class Builder {
                        section.hmin, section.hmax));
     if (section.death < 1e20 || section.start > 0)
       fail(section.where, "*SECTION_SPH", "DEATH/START: particle birth and death are not implemented yet");
-    auto mat = model_.materials.find(part->mid);
-    if (mat == model_.materials.end())
-      fail(part->where, "*PART", fmt::format("MID: material {} does not exist", part->mid));
-    const auto* elastic = std::get_if<model::MatElastic>(&mat->second.params);
-    if (!elastic)
-      fail(mat->second.where, mat->second.keyword,
-           fmt::format("material {} is used by SPH part {}, but the SPH solver supports only "
-                       "*MAT_ELASTIC so far",
-                       mat->first, part->id));
-    if (elastic->ro <= 0 || elastic->e <= 0 || elastic->pr < 0 || elastic->pr >= 0.5)
-      fail(mat->second.where, mat->second.keyword,
-           fmt::format("material {}: needs RO > 0, E > 0 and 0 <= PR < 0.5 (found RO {}, E {}, PR {})",
-                       mat->first, elastic->ro, elastic->e, elastic->pr));
     if (part->hgid != 0)
       fail(part->where, "*PART",
            fmt::format("part {}: HGID {}: *HOURGLASS controls are not supported yet", part->id, part->hgid));
-    if (part->eosid != 0)
-      fail(part->where, "*PART",
-           fmt::format("part {}: EOSID {} with *MAT_ELASTIC is not supported", part->id, part->eosid));
-    auto [it, inserted] = material_index.emplace(mat->first, static_cast<Index>(table.size()));
-    if (inserted)
-      table.push_back(materials::ElasticConstants::from_young_poisson(elastic->ro, elastic->e, elastic->pr));
-    return {&section, it->second, elastic->ro, 0};
+    auto [it, inserted] = material_index.emplace(part->id, static_cast<Index>(table.size()));
+    if (inserted) table.push_back(materials::make_material(model_, *part));
+    return {&section, it->second, table[it->second].density, 0};
   }
 
   void build_sph() {
     if (model_.sph_elements.empty()) return;
-    std::vector<materials::ElasticConstants> table;
+    std::vector<materials::Material> table;
     std::unordered_map<Id, Index> material_index;
     std::unordered_map<Id, SphPart> parts;
     std::vector<sph::ParticleSetup> particles;

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "spall/materials/elastic.hpp"
+
 namespace spall::sph {
 
 namespace {
@@ -37,7 +39,7 @@ inline void for_each_neighbour_in_support(const neighbors::NeighborList& list, I
   }
 }
 
-SolidFormulation::SolidFormulation(std::vector<materials::ElasticConstants> materials,
+SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
                                    const std::vector<ParticleSetup>& particles,
                                    SolidOptions options, const solver::NodeStore& nodes)
     : materials_(std::move(materials)), options_(options) {
@@ -54,7 +56,7 @@ SolidFormulation::SolidFormulation(std::vector<materials::ElasticConstants> mate
   pressure_.assign(n, 0);
   sound_speed_.resize(n);
   internal_energy_.assign(n, 0);
-  deviatoric_stress_.assign(n, Mat3::Zero());
+  state_.resize(n);
   gradient_correction_matrix_.assign(n, Mat3::Identity());
   corrected_stress_.assign(n, Mat3::Zero());
   if (options_.artificial_stress.enabled) artificial_stress_.assign(n, Mat3::Zero());
@@ -76,8 +78,13 @@ SolidFormulation::SolidFormulation(std::vector<materials::ElasticConstants> mate
     spacing_[a] = p.spacing;
     const auto& m = materials_[material_[a]];
     density_[a] = m.density;
-    sound_speed_[a] = m.longitudinal_wave_speed(m.density);
+    state_[a] = materials::initial_state(m);
+    internal_energy_[a] = m.initial_specific_energy;
+    pressure_[a] = materials::eos_pressure(m, m.density, internal_energy_[a]);
+    sound_speed_[a] = materials::sound_speed(m, m.density, internal_energy_[a]);
   }
+  for (const auto& m : materials_)
+    if (std::holds_alternative<materials::JohnsonCook>(m.strength)) has_temperature_ = true;
 }
 
 bool SolidFormulation::active(Real time) const {
@@ -150,22 +157,25 @@ void SolidFormulation::update_state(Real dt) {
 #pragma omp parallel for schedule(static)
   for (Index a = 0; a < n; ++a) {
     const auto& m = materials_[material_[a]];
+    materials::PointState& state = state_[a];
     if (dt > 0) {
-      const Mat3 sigma_old = deviatoric_stress_[a] - pressure_[a] * Mat3::Identity();
-      internal_energy_[a] += dt * (sigma_old.cwiseProduct(velocity_gradient_[a]).sum() / density_[a] +
-                                   viscous_heating_[a]);
+      const Mat3& L = velocity_gradient_[a];
+      const Mat3 sigma_old = state.deviatoric_stress - pressure_[a] * Mat3::Identity();
+      internal_energy_[a] += dt * (sigma_old.cwiseProduct(L).sum() / density_[a] + viscous_heating_[a]);
       density_[a] += dt * density_rate_[a];
-      deviatoric_stress_[a] += dt * materials::jaumann_deviatoric_stress_rate(
-                                        m.shear_modulus, deviatoric_stress_[a],
-                                        velocity_gradient_[a]);
+      // Objective (Jaumann) rotation of the stress deviator and back stress, then the material.
+      const Mat3 W = Real(0.5) * (L - L.transpose());
+      state.deviatoric_stress += dt * (W * state.deviatoric_stress - state.deviatoric_stress * W);
+      state.back_stress += dt * (W * state.back_stress - state.back_stress * W);
+      const Mat3 D = Real(0.5) * (L + L.transpose());
+      pressure_[a] = materials::update_stress(m, state, D, dt, density_[a], internal_energy_[a]).pressure;
       smoothing_length_[a] =
           std::clamp(initial_smoothing_length_[a] * std::pow(m.density / density_[a], inverse_dimension),
                      h_min_[a], h_max_[a]);
     }
-    pressure_[a] = materials::elastic_pressure(m, density_[a]);
-    sound_speed_[a] = m.longitudinal_wave_speed(density_[a]);
+    sound_speed_[a] = materials::sound_speed(m, density_[a], internal_energy_[a]);
     // The stress as the pair force uses it: sigma B^T (seed 000 eq. 8 for sigma).
-    const Mat3 sigma = deviatoric_stress_[a] - pressure_[a] * Mat3::Identity();
+    const Mat3 sigma = state.deviatoric_stress - pressure_[a] * Mat3::Identity();
     corrected_stress_[a] = sigma * gradient_correction_matrix_[a].transpose();
     if (stress_options.enabled) {
       // Monaghan 2000: a repulsive stress -eps sigma_i / rho^2 along each tensile principal axis.
@@ -277,12 +287,15 @@ void SolidFormulation::add_fields(std::vector<io::output::PointField>& fields,
                                   const solver::NodeStore& nodes) const {
   const std::size_t n_nodes = nodes.id.size();
   std::vector<double> pressure(n_nodes, 0), von_mises(n_nodes, 0), density(n_nodes, 0),
-      smoothing(n_nodes, 0), energy(n_nodes, 0), stress(6 * n_nodes, 0);
+      smoothing(n_nodes, 0), energy(n_nodes, 0), plastic_strain(n_nodes, 0), temperature(n_nodes, 0),
+      stress(6 * n_nodes, 0);
   std::vector<std::int64_t> neighbour_count(n_nodes, 0);
   const auto& list = verlet_.list();
   for (Index a = 0; a < particle_count(); ++a) {
     const Index i = node_[a];
-    const Mat3& S = deviatoric_stress_[a];
+    const Mat3& S = state_[a].deviatoric_stress;
+    plastic_strain[i] = state_[a].plastic_strain;
+    temperature[i] = state_[a].temperature;
     pressure[i] = pressure_[a];
     von_mises[i] = materials::von_mises(S);
     density[i] = density_[a];
@@ -300,6 +313,8 @@ void SolidFormulation::add_fields(std::vector<io::output::PointField>& fields,
   fields.push_back({"stress", 6, std::move(stress)});
   fields.push_back({"smoothing_length", 1, std::move(smoothing)});
   fields.push_back({"internal_energy", 1, std::move(energy)});
+  fields.push_back({"effective_plastic_strain", 1, std::move(plastic_strain)});
+  if (has_temperature_) fields.push_back({"temperature", 1, std::move(temperature)});
   fields.push_back({"neighbour_count", 1, std::move(neighbour_count)});
 }
 
@@ -315,7 +330,7 @@ std::size_t SolidFormulation::memory_bytes() const {
   return bytes(node_) + bytes(material_) + bytes(mass_) + bytes(smoothing_length_) +
          bytes(initial_smoothing_length_) + bytes(h_min_) + bytes(h_max_) + bytes(spacing_) +
          bytes(density_) + bytes(pressure_) + bytes(sound_speed_) + bytes(internal_energy_) +
-         bytes(deviatoric_stress_) + bytes(gradient_correction_matrix_) + bytes(corrected_stress_) +
+         bytes(state_) + bytes(gradient_correction_matrix_) + bytes(corrected_stress_) +
          bytes(artificial_stress_) + bytes(x_) + bytes(v_) + bytes(density_rate_) +
          bytes(viscous_heating_) + bytes(velocity_gradient_) + bytes(force_) +
          bytes(viscous_force_) + bytes(list.offsets) + bytes(list.neighbors) +

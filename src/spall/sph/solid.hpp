@@ -3,8 +3,9 @@
 // base of seed 000 §3-4:
 //   continuity       d rho_a/dt = sum_b m_b (v_a - v_b) . grad_a W_ab
 //   velocity grad.   L_a = sum_b (m_b / rho_b) (v_b - v_a) (x) grad_a W_ab
-//   Hooke, Jaumann   dS/dt = 2G dev(D) + W S - S W
-//   pressure         p = K (rho / rho_0 - 1)
+//   stress           S rotated by the Jaumann rate (W S - S W) dt, then the material's update
+//                    (Hooke, radial return, hardening, heating, damage; src/spall/materials) and
+//                    its EOS pressure p(rho, e)
 //   momentum         m_a dv_a/dt = sum_b V_a V_b (sigma_a B_a^T + sigma_b B_b^T) grad_a W_ab
 //                                  - sum_b m_a m_b (Pi_ab I - R_ab f_ab^n) grad_a W_ab
 //                    (seed 000 eqs. 7-8 in a symmetric form that conserves linear momentum)
@@ -21,7 +22,7 @@
 #include <vector>
 
 #include "spall/kernels/kernel.hpp"
-#include "spall/materials/elastic.hpp"
+#include "spall/materials/material.hpp"
 #include "spall/neighbors/verlet_list.hpp"
 #include "spall/solver/formulation.hpp"
 
@@ -61,7 +62,7 @@ struct ParticleSetup {
 
 class SolidFormulation final : public solver::Formulation {
  public:
-  SolidFormulation(std::vector<materials::ElasticConstants> materials,
+  SolidFormulation(std::vector<materials::Material> materials,
                    const std::vector<ParticleSetup>& particles, SolidOptions options,
                    const solver::NodeStore& nodes);
 
@@ -88,7 +89,7 @@ class SolidFormulation final : public solver::Formulation {
   void compute_pair_forces();
   bool active(Real time) const;
 
-  std::vector<materials::ElasticConstants> materials_;
+  std::vector<materials::Material> materials_;
   SolidOptions options_;
 
   // Per particle (structure of arrays).
@@ -103,7 +104,7 @@ class SolidFormulation final : public solver::Formulation {
   std::vector<Real> pressure_;
   std::vector<Real> sound_speed_;
   std::vector<Real> internal_energy_;  // specific (per unit mass)
-  std::vector<Mat3> deviatoric_stress_;
+  std::vector<materials::PointState> state_;  // deviatoric stress, plastic strain, temperature, ...
   std::vector<Mat3> gradient_correction_matrix_;  // B_a (identity without correction)
   std::vector<Mat3> corrected_stress_;            // sigma_a B_a^T, as the pair force uses it
   std::vector<Mat3> artificial_stress_;           // R_a (empty when switched off)
@@ -118,6 +119,7 @@ class SolidFormulation final : public solver::Formulation {
   neighbors::VerletList verlet_;
   Real time_ = 0;
   bool list_built_ = false;
+  bool has_temperature_ = false;  // some material heats (Johnson-Cook): output the temperature
 };
 
 }  // namespace spall::sph
