@@ -90,6 +90,10 @@ RunSummary run(Problem& problem, const Observer& observer) {
     return controls.d3plot_dt_curve ? controls.d3plot_dt_curve->value(t) : controls.d3plot_dt;
   };
   const bool field_output = controls.d3plot_dt > 0 || controls.d3plot_dt_curve;
+  Real next_rwforc = 0;
+  auto rwforc_interval = [&](Real t) {
+    return controls.rwforc_dt_curve ? controls.rwforc_dt_curve->value(t) : controls.rwforc_dt;
+  };
 
   for (;;) {
     // 1. internal forces at x^n
@@ -144,7 +148,10 @@ RunSummary run(Problem& problem, const Observer& observer) {
         }
       }
     }
-    // Constraint reactions do work too: r = m dv/dt - f on every held or driven component.
+    // Rigid walls last, so that no constraint above carries a node through a wall.
+    for (auto& wall : problem.rigid_walls) wall.enforce(nodes, t_mid, dt, dt_mid);
+    // Constraint reactions do work too: r = m dv/dt - f on every held or driven component and on
+    // every node a wall pushed.
     Real reaction_power = 0;
 #pragma omp parallel for reduction(+ : reaction_power) schedule(static)
     for (Index i = 0; i < n; ++i) {
@@ -186,6 +193,10 @@ RunSummary run(Problem& problem, const Observer& observer) {
       if (observer.on_history) observer.on_history(step, energies);
       next_history = next_output_time(next_history, controls.glstat_dt, step.time + tolerance);
     }
+    if (!problem.rigid_walls.empty() && (step.time + tolerance >= next_rwforc || last)) {
+      if (observer.on_rigid_wall_forces) observer.on_rigid_wall_forces(step, problem.rigid_walls);
+      next_rwforc = next_output_time(next_rwforc, rwforc_interval(step.time), step.time + tolerance);
+    }
     if (observer.on_step) observer.on_step(step);
     if (last) break;
     // ENDENG is a percentage change of the energy ratio.
@@ -194,6 +205,7 @@ RunSummary run(Problem& problem, const Observer& observer) {
     // x^{n+1} = x^n + dt v^{n+1/2}
 #pragma omp parallel for schedule(static)
     for (Index i = 0; i < n; ++i) nodes.x[i] += dt * nodes.v[i];
+    for (auto& wall : problem.rigid_walls) wall.advance(dt);
     step.time += dt;
     if (controls.end_time - step.time < tolerance) step.time = controls.end_time;
     dt_previous = dt;
