@@ -412,3 +412,121 @@ TEST(RigidWall, OneAndTwoThreadsGiveTheSameBits) {
   EXPECT_GT(h1.normal_force.back(), 0.0);
   EXPECT_GT(h1.force.back().y(), 0.0);  // the nodes slide along +y and drag the wall with them
 }
+
+namespace {
+// Particle k (deck node k + 1) sits 10 cm along x from the one before, `height` above z = 0.
+Vec3 particle_at(int k, Real height) { return Vec3(0.1 * k, 0, height); }
+
+model::NodeSet node_set(Id id, std::vector<Id> nodes) {
+  model::NodeSet set;
+  set.id = id;
+  set.nodes = std::move(nodes);
+  return set;
+}
+
+// A wall z = 0 (normal +z) for the nodes of set `nsid`.
+model::RigidWallPlanar floor_for(Id nsid, Real fric) {
+  model::RigidWallPlanar wall;
+  wall.nsid = nsid;
+  wall.head = Vec3(0, 0, 1);
+  wall.fric = fric;
+  return wall;
+}
+}  // namespace
+
+// Single particles falling at 20 m/s onto walls z = 0. The kinematic law: the normal velocity is
+// removed (the particle lands on the wall and stays), and friction takes at most mu times the
+// normal impulse from the tangential velocity (Coulomb's law for an impact): 50 - 0.5 * 20 = 40.
+TEST(RigidWall, SingleParticlesFollowTheContactLaw) {
+  log::set_quiet(true);
+  const Real vn = 20, vt = 50;
+  std::vector<Vec3> x, v;
+  for (int k = 0; k < 12; ++k) {
+    x.push_back(particle_at(k, k == 9 || k == 11 ? 0.02 : 0.01));  // 9, 11 arrive at 1e-3 s
+    v.push_back(Vec3(k < 3 ? vt : 0, 0, -vn));
+  }
+  auto model = particles(x, v, 1.5e-3);
+  for (Id s = 1; s <= 12; ++s) model->node_sets[s] = node_set(s, {s});
+  model->node_sets[20] = node_set(20, {4, 5});
+  model->node_sets[21] = node_set(21, {5});
+  model->node_sets[22] = node_set(22, {6, 7});
+  model->node_sets[23] = node_set(23, {9, 10});
+  model->node_sets[24] = node_set(24, {11, 12});
+  auto& walls = model->rigid_walls;
+  walls.push_back(floor_for(1, 0.0));   // 1: frictionless
+  walls.push_back(floor_for(2, 0.5));   // 2: Coulomb
+  walls.push_back(floor_for(3, 1.0));   // 3: no sliding
+  walls.push_back(floor_for(20, 0.0));  // 4 tracked, 5 exempted (NSIDEX)
+  walls.back().nsidex = 21;
+  walls.push_back(floor_for(22, 0.0));  // finite: 0.05 x 0.05 around node 6, node 7 beside it
+  walls.back().finite = true;
+  walls.back().tail = particle_at(5, 0) - Vec3(0.025, 0.025, 0);
+  walls.back().head = walls.back().tail + Vec3(0, 0, 1);
+  walls.back().edge_head = walls.back().tail + Vec3(1, 0, 0);
+  walls.back().lenl = walls.back().lenm = 0.05;
+  walls.push_back(floor_for(8, 0.0));  // OFFSET 5 mm: node 8, 10 mm away, is not tracked
+  walls.back().offset = 0.005;
+  walls.push_back(floor_for(23, 0.0));  // born at 7.5e-4 s: node 9 (there at 5e-4) passes, 10 not
+  walls.back().birth = 7.5e-4;
+  walls.push_back(floor_for(24, 0.0));  // dead at 7.5e-4 s: node 11 stopped, 12 (1e-3) passes
+  walls.back().death = 7.5e-4;
+  Scene scene = build(std::move(model));
+  const History h = run_recorded(scene.problem);
+  const auto& nodes = scene.problem.nodes;
+  auto node = [&](Id id) { return index_of(nodes, id); };
+  const Real m = nodes.mass[node(1)];
+
+  auto stopped_on_wall = [&](Id id) {
+    const Index i = node(id);
+    EXPECT_NEAR(nodes.x[i].z(), 0.0, 1e-15) << "node " << id;
+    EXPECT_NEAR(nodes.v[i].z(), 0.0, 1e-12) << "node " << id;  // round-off of the landing
+  };
+  auto passed_through = [&](Id id) {
+    EXPECT_LT(nodes.x[node(id)].z(), -0.005) << "node " << id;
+    EXPECT_EQ(nodes.v[node(id)].z(), -vn) << "node " << id;
+  };
+  for (Id id : {1, 2, 3, 4, 6, 10, 11}) stopped_on_wall(id);
+  for (Id id : {5, 7, 8, 9, 12}) passed_through(id);
+  EXPECT_NEAR(nodes.v[node(1)].x(), vt, 1e-12);
+  EXPECT_NEAR(nodes.v[node(2)].x(), vt - 0.5 * vn, 1e-12);
+  EXPECT_EQ(nodes.v[node(3)].x(), 0.0);
+  // The first wall took the particle's momentum m vn, all along its normal.
+  const Vec3 impulse = impulse_on_wall(h);
+  EXPECT_NEAR(impulse.z(), -m * vn, 1e-12 * m * vn);
+  EXPECT_EQ(impulse.x(), 0.0);
+  // Frictionless: the tangential velocity is kept, the particle slides on along the wall.
+  EXPECT_NEAR(nodes.x[node(1)].x() - nodes.x0[node(1)].x(), vt * 1.5e-3, 1e-12);
+}
+
+// FRIC 2 and 3 with WVEL = 10 m/s: a particle that hits faster is welded and stays on the wall
+// when a body load later pulls it away (FRIC 3 also stops its sliding); a slower one is not.
+TEST(RigidWall, FastImpactsWeld) {
+  log::set_quiet(true);
+  auto model = particles({particle_at(0, 0.01), particle_at(1, 0.0025), particle_at(2, 0.01)},
+                         {Vec3(0, 0, -20), Vec3(0, 0, -5), Vec3(30, 0, -20)}, 1.5e-3);
+  model->node_sets[1] = node_set(1, {1, 2});
+  model->node_sets[2] = node_set(2, {3});
+  model->rigid_walls.push_back(floor_for(1, 2.0));
+  model->rigid_walls.push_back(floor_for(2, 3.0));
+  for (auto& wall : model->rigid_walls) wall.wvel = 10;
+  // From 1e-3 s on, every particle is pulled away from the wall at 1000 m/s^2.
+  model::Curve pull;
+  pull.id = 1;
+  pull.points = {{0.0, 0.0}, {1e-3, 0.0}, {1.001e-3, -1000.0}, {1.0, -1000.0}};
+  model->curves[1] = pull;
+  model::BodyLoad load;
+  load.direction = 2;
+  load.lcid = 1;
+  model->body_loads.push_back(load);
+  Scene scene = build(std::move(model));
+  solver::run(scene.problem, {});
+  const auto& nodes = scene.problem.nodes;
+  const Index welded = index_of(nodes, 1), bounced = index_of(nodes, 2), stuck = index_of(nodes, 3);
+  EXPECT_NEAR(nodes.x[welded].z(), 0.0, 1e-15);
+  EXPECT_NEAR(nodes.v[welded].z(), 0.0, 1e-12);
+  EXPECT_GT(nodes.x[bounced].z(), 1e-5);  // 1000 m/s^2 over 0.5 ms: 0.125 mm
+  EXPECT_NEAR(nodes.x[stuck].z(), 0.0, 1e-15);
+  EXPECT_EQ(nodes.v[stuck].x(), 0.0);
+  // The rest of the run, the welded walls held the particles against the pull: a tension.
+  EXPECT_LT(scene.problem.rigid_walls[0].normal_force(), 0.0);
+}

@@ -36,11 +36,19 @@ void RigidWall::enforce(solver::NodeStore& nodes, Real t_mid, Real dt, Real dt_m
   normal_force_ = 0;
   active_.clear();
   active_now_ = t_mid >= definition_.birth && t_mid <= definition_.death;
-  if (!active_now_) return;
-
   const Vec3& n = definition_.normal;
   const Vec3 origin = definition_.origin + displacement_ * n;
   const Index count = static_cast<Index>(nodes_.size());
+  if (!active_now_) {
+    // Not there yet (or any more): a node may pass the plane, and is then behind it at birth.
+#pragma omp parallel for schedule(static)
+    for (Index k = 0; k < count; ++k) {
+      const Index i = nodes_[k];
+      state_[k] = n.dot(nodes.x[i] + dt * nodes.v[i] - origin) >= 0 ? std::uint8_t(in_front)
+                                                                    : std::uint8_t(0);
+    }
+    return;
+  }
 #pragma omp parallel for schedule(static)
   for (Index k = 0; k < count; ++k) {
     const Index i = nodes_[k];
