@@ -97,7 +97,7 @@ void RigidWall::enforce(solver::NodeStore& nodes, Real t_mid, Real dt, Real dt_m
   Vec3 total = Vec3::Zero();
   for (const Vec3& j : impulse_) total += j;
   if (dt_mid > 0) {
-    force_ = -total / dt_mid;
+    force_ = (Vec3::Zero() - total) / dt_mid;  // 0 - 0 = +0: no "-0" in rwforc.csv
     normal_force_ = n.dot(total) / dt_mid;
   }
   if (definition_.mass > 0) velocity_ = v_wall;
