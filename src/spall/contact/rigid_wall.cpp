@@ -6,6 +6,11 @@
 
 namespace spall::contact {
 
+namespace {
+// A few flops per node: below this many nodes a parallel loop costs more than it saves.
+constexpr Index parallel_from = 1024;
+}  // namespace
+
 RigidWall::RigidWall(const Definition& definition, std::vector<Index> tracked,
                      const std::vector<Vec3>& x)
     : definition_(definition),
@@ -41,7 +46,7 @@ void RigidWall::enforce(solver::NodeStore& nodes, Real t_mid, Real dt, Real dt_m
   const Index count = static_cast<Index>(nodes_.size());
   if (!active_now_) {
     // Not there yet (or any more): a node may pass the plane, and is then behind it at birth.
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (count >= parallel_from)
     for (Index k = 0; k < count; ++k) {
       const Index i = nodes_[k];
       state_[k] = n.dot(nodes.x[i] + dt * nodes.v[i] - origin) >= 0 ? std::uint8_t(in_front)
@@ -49,7 +54,7 @@ void RigidWall::enforce(solver::NodeStore& nodes, Real t_mid, Real dt, Real dt_m
     }
     return;
   }
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (count >= parallel_from)
   for (Index k = 0; k < count; ++k) {
     const Index i = nodes_[k];
     const Vec3 r = nodes.x[i] - origin;
@@ -67,7 +72,7 @@ void RigidWall::enforce(solver::NodeStore& nodes, Real t_mid, Real dt, Real dt_m
   const Real v_before_impact = velocity_;
   impulse_.resize(active_.size());
   const Index pushed = static_cast<Index>(active_.size());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (pushed >= parallel_from)
   for (Index a = 0; a < pushed; ++a) {
     const Index k = active_[a];
     const Index i = nodes_[k];
@@ -105,7 +110,7 @@ void RigidWall::enforce(solver::NodeStore& nodes, Real t_mid, Real dt, Real dt_m
   // Which side each node will be on at t^{n+1}: a pushed node is on the wall; a node that passes
   // the plane beside a finite wall, or was behind it, is behind until it comes back in front.
   if (dt > 0) {
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (count >= parallel_from)
     for (Index k = 0; k < count; ++k)
       if (candidate_[k] != pushed_now)
         state_[k] = closing_[k] >= v_wall ? std::uint8_t(in_front) : std::uint8_t(0);
