@@ -380,7 +380,7 @@ TEST(keyword_cards, UnsupportedKeywordsAreRecordedWithNameLineAndId) {
                            "*SECTION_SHELL_TITLE\nskin\n" + row({"3", "2"}) +
                            "*EOS_GRUNEISEN\n" + row({"6", "1483000"}) +
                            "*CONTACT_AUTOMATIC_NODES_TO_SURFACE_ID\n" + row({"1"}) + row({"1", "2"}) +
-                           "*CONTROL_SPH\n" + row({"1"}) + "*END\n";
+                           "*CONTROL_CONTACT\n" + row({"1"}) + "*END\n";
   const auto model = read_deck(folder.write("unsupported.k", deck));
   ASSERT_EQ(model.unsupported.size(), 5u);
   EXPECT_EQ(model.unsupported[0].keyword, "*MAT_NULL");
@@ -394,7 +394,7 @@ TEST(keyword_cards, UnsupportedKeywordsAreRecordedWithNameLineAndId) {
   EXPECT_EQ(model.unsupported[3].keyword, "*CONTACT_AUTOMATIC_NODES_TO_SURFACE_ID");
   EXPECT_EQ(model.unsupported[3].id, 0);
   EXPECT_EQ(model.unsupported[3].where.line, 9);
-  EXPECT_EQ(model.unsupported[4].keyword, "*CONTROL_SPH");
+  EXPECT_EQ(model.unsupported[4].keyword, "*CONTROL_CONTACT");
   EXPECT_EQ(model.unsupported[4].where.line, 12);
 }
 

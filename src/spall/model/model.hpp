@@ -246,6 +246,33 @@ struct ControlBulkViscosity {
   SourceLocation where;
 };
 
+// *CONTROL_SPH, cards 1-3 (LS-DYNA defaults, except that a blank FORM reads as 1, not 0:
+// Spall's default is the corrected formulation (FORM 1); see docs/KEYWORDS.md.
+struct ControlSph {
+  int ncbs = 1;        // steps between neighbour searches (Spall's Verlet list is adaptive)
+  Id boxid = 0;
+  Real dt = 1.0e20;    // SPH death time
+  int idim = 3;        // 3: 3D, 2: plane strain, -2: axisymmetric
+  int nmneigh = 150;   // LS-DYNA's neighbour memory per particle (Spall sizes lists itself)
+  int form = 1;
+  Real start = 0;      // SPH start time
+  Real maxv = 1.0e15;  // particles faster than this are deactivated in LS-DYNA
+  int cont = 0, deriv = 0, ini = 0, ishow = 0, ierod = 0, icont = 0, iavis = 0, isymp = 100;
+  int ithk = 0, istab = 0;
+  Real ql = 0.01;
+  int sphsort = 0, ishift = 0;
+  SourceLocation where;
+  std::array<SourceLocation, 3> card_where;  // cards 1-3, for messages about their fields
+};
+
+// *SPALL_SPH_ARTIFICIAL_STRESS (a Spall keyword): Monaghan's (2000) artificial stress against the
+// tensile instability, with Gray, Monaghan & Swift's (2001) defaults. Present = switched on.
+struct SphArtificialStress {
+  Real epsilon = 0.3;  // fraction of the tensile principal stress
+  Real exponent = 4;   // n in f_ab^n, f_ab = W(r_ab) / W(initial spacing)
+  SourceLocation where;
+};
+
 // A keyword Spall does not support: reported once as a warning. For sections, materials and EOS
 // `id` is the ID on its first card (for *PART_ variants such as *PART_INERTIA, the PID), so that
 // a reference to it can be refused by name.
@@ -280,6 +307,8 @@ struct Model {
   std::optional<ControlTermination> termination;
   ControlTimestep timestep;
   ControlBulkViscosity bulk_viscosity;
+  std::optional<ControlSph> control_sph;
+  std::optional<SphArtificialStress> sph_artificial_stress;
   std::optional<OutputInterval> d3plot;
   std::optional<OutputInterval> glstat;
   std::optional<OutputInterval> rwforc;
