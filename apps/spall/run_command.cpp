@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <fmt/format.h>
 #include <map>
+#include <optional>
 #include <omp.h>
 
 #include "progress.hpp"
@@ -94,6 +95,12 @@ int run_deck(const RunOptions& options) {
       {{"time", "time"}, {"dt", "time"}, {"kinetic_energy", "energy"}, {"internal_energy", "energy"},
        {"artificial_viscosity_energy", "energy"}, {"external_work", "energy"},
        {"total_energy", "energy"}, {"energy_ratio", ""}});
+  // Forces on the rigid walls, one row per wall and output time; only when the deck has walls.
+  std::optional<io::output::CsvHistory> rwforc;
+  if (!problem.rigid_walls.empty())
+    rwforc.emplace(out / "rwforc.csv",
+                   std::vector<io::output::Column>{{"time", "time"}, {"wall", ""}, {"normal_force", "force"},
+                                                   {"fx", "force"}, {"fy", "force"}, {"fz", "force"}});
   int field_count = 0;
   auto write_fields = [&](const solver::StepInfo& step, const solver::Problem& p) {
     const auto snap = solver::snapshot_fields(p);
@@ -110,6 +117,15 @@ int run_deck(const RunOptions& options) {
     const double row[] = {step.time, step.dt, e.kinetic, e.internal, e.artificial_viscosity,
                           e.external_work, e.total(), e.ratio()};
     glstat.append(row);
+  };
+  observer.on_rigid_wall_forces = [&](const solver::StepInfo& step,
+                                      const std::vector<contact::RigidWall>& walls) {
+    for (const auto& wall : walls) {
+      const Vec3& f = wall.force();
+      const double row[] = {step.time, static_cast<double>(wall.definition().id), wall.normal_force(),
+                            f.x(), f.y(), f.z()};
+      rwforc->append(row);
+    }
   };
   observer.on_step = [&](const solver::StepInfo& step) {
     last_step = step;

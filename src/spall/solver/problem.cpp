@@ -40,6 +40,7 @@ class Builder {
     build_motions();
     apply_initial_velocities();
     build_loads();
+    build_rigid_walls();
     build_controls();
     return std::move(problem_);
   }
@@ -340,6 +341,71 @@ class Builder {
     }
   }
 
+  // *RIGIDWALL_PLANAR...: the plane, friction, and the tracked nodes (those with mass).
+  void build_rigid_walls() {
+    const auto& x = problem_.nodes.x;
+    for (std::size_t w = 0; w < model_.rigid_walls.size(); ++w) {
+      const auto& wall = model_.rigid_walls[w];
+      const std::string& keyword = wall.keyword;
+      if (wall.boxid != 0)
+        fail(wall.where, keyword, fmt::format("BOXID {}: *DEFINE_BOX is not supported yet", wall.boxid));
+      // LS-DYNA scales with RWKSF the penalty stiffness of a wall against rigid-body nodes; the
+      // kinematic wall of deformable nodes has no stiffness, and Spall has no rigid bodies yet.
+      if (wall.rwksf != 1.0)
+        warn(wall, fmt::format("RWKSF {}: scales a penalty stiffness that the kinematic wall does not "
+                               "have; no effect", wall.rwksf));
+      if (wall.wvel != 0 && wall.fric < 2)
+        warn(wall, fmt::format("WVEL {}: the welding speed applies only with FRIC 2 or 3; no effect "
+                               "with FRIC {}", wall.wvel, wall.fric));
+
+      contact::RigidWall::Definition d;
+      d.id = wall.id != 0 ? wall.id : static_cast<Id>(w + 1);  // LS-DYNA numbers walls in order
+      d.origin = wall.tail;
+      d.normal = (wall.head - wall.tail).normalized();
+      if (wall.finite) {
+        const Vec3 l = wall.edge_head - wall.tail;
+        d.edge_l = (l - l.dot(d.normal) * d.normal).normalized();
+        d.edge_m = d.normal.cross(d.edge_l);
+        d.length_l = wall.lenl;
+        d.length_m = wall.lenm;
+      }
+      auto& friction = d.friction;
+      friction.coefficient = wall.fric < 1 ? wall.fric : 0;
+      friction.stick = wall.fric == 1 || wall.fric == 3;
+      friction.weld = wall.fric == 2 || wall.fric == 3;
+      friction.weld_speed = wall.wvel;
+      d.birth = wall.birth;
+      d.death = wall.death;
+      if (wall.moving) {
+        d.mass = wall.mass;
+        d.initial_velocity = wall.v0;
+      }
+
+      std::vector<char> exempt(problem_.nodes.size(), 0);
+      if (wall.nsidex != 0)
+        for (Index i : node_set(wall.nsidex, wall.where, keyword.c_str())) exempt[i] = 1;
+      std::vector<Index> candidates;
+      if (wall.nsid == 0) {
+        for (Index i = 0; i < problem_.nodes.size(); ++i) candidates.push_back(i);
+      } else {
+        candidates = node_set(wall.nsid, wall.where, keyword.c_str());
+        std::sort(candidates.begin(), candidates.end());
+        candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+      }
+      std::vector<Index> tracked;
+      for (Index i : candidates) {
+        if (exempt[i] || problem_.nodes.mass[i] <= 0) continue;  // a node without mass never moves
+        if (wall.offset > 0 && std::abs(d.normal.dot(x[i] - d.origin)) > wall.offset) continue;
+        tracked.push_back(i);
+      }
+      problem_.rigid_walls.emplace_back(d, std::move(tracked), x);
+    }
+  }
+
+  static void warn(const model::RigidWallPlanar& wall, const std::string& message) {
+    log::warning(fmt::format("{}:{}: {}: {}", wall.where.file, wall.where.line, wall.keyword, message));
+  }
+
   void build_controls() {
     if (!model_.termination)
       throw InputError("the deck has no *CONTROL_TERMINATION: ENDTIM is required");
@@ -365,6 +431,17 @@ class Builder {
     }
     // Without *DATABASE_GLSTAT the energies are still written, 1000 rows over the run.
     c.glstat_dt = (model_.glstat && model_.glstat->dt > 0) ? model_.glstat->dt : c.end_time / 1000;
+    c.rwforc_dt = c.glstat_dt;
+    if (model_.rwforc) {
+      const auto& r = *model_.rwforc;
+      c.rwforc_dt = r.dt;
+      c.rwforc_dt_curve = curve(r.lcdt, r.where, "*DATABASE_RWFORC", "LCUR");
+      if (c.rwforc_dt_curve && r.ioopt != 1)
+        fail(r.where, "*DATABASE_RWFORC",
+             fmt::format("IOOPT {}: only 1 (next output at LCUR of the current time) is supported", r.ioopt));
+      if (c.rwforc_dt <= 0 && !c.rwforc_dt_curve)
+        fail(r.where, "*DATABASE_RWFORC", "DT: must be > 0 (or give LCUR)");
+    }
     if (model_.bulk_viscosity.type != 1 && model_.bulk_viscosity.type != -1 && !model_.sph_elements.empty())
       fail(model_.bulk_viscosity.where, "*CONTROL_BULK_VISCOSITY",
            fmt::format("TYPE {}: only the standard type 1 is supported", model_.bulk_viscosity.type));

@@ -1,5 +1,6 @@
 // *CONTROL_TERMINATION, *CONTROL_TIMESTEP, *CONTROL_BULK_VISCOSITY, *CONTROL_SPH,
-// *SPALL_SPH_ARTIFICIAL_STRESS, *DATABASE_BINARY_D3PLOT, *DATABASE_GLSTAT. Each reads its first card; the later optional cards of *CONTROL_TIMESTEP
+// *SPALL_SPH_ARTIFICIAL_STRESS, *DATABASE_BINARY_D3PLOT, *DATABASE_GLSTAT, *DATABASE_RWFORC. Each
+// reads its first card; the later optional cards of *CONTROL_TIMESTEP
 // (mass-scaling details) and *DATABASE_BINARY_D3PLOT (IOOPT, RATE, ...) are not used by Spall.
 #include "spall/io/keyword/keyword_readers.hpp"
 
@@ -138,6 +139,21 @@ void read_database_glstat(CardCursor& cursor, const KeywordCall&, model::Model& 
   if (output.dt < 0.0) card.fail("DT", quoted(card.text(0)) + " is negative");
   output.where = card.where();
   model.glstat = output;
+}
+
+void read_database_rwforc(CardCursor& cursor, const KeywordCall&, model::Model& model) {
+  const Card card = cursor.next(standard_fields, "card 1 (DT BINARY LCUR IOOPT)");
+  model::OutputInterval output;
+  output.dt = card.real(0, "DT", 0.0);
+  output.lcdt = card.integer(2, "LCUR", 0);
+  // Blank and 0 read alike: IOOPT 1, the next output LCUR(now) after this one.
+  output.ioopt = static_cast<int>(card.integer(3, "IOOPT", 0));
+  if (output.ioopt == 0) output.ioopt = 1;
+  if (output.dt < 0.0) card.fail("DT", quoted(card.text(0)) + " is negative");
+  if (output.ioopt < 1 || output.ioopt > 3)
+    card.fail("IOOPT", quoted(card.text(3)) + " is not 1, 2 or 3");
+  output.where = card.where();
+  model.rwforc = output;
 }
 
 }  // namespace spall::io::keyword
