@@ -18,15 +18,16 @@ struct Shape {
   Real length = 0, foot_radius = 0;
 };
 
-// Length from the wall to the far end, and the largest radius within one spacing of the wall;
-// each particle stands for a cell of one spacing, so half a spacing is added beyond the centres.
+// Length from the wall to the far end, and the largest radius (the foot's: the mushroom is widest
+// there); each particle stands for a cell of one spacing, so half a spacing is added beyond the
+// centres.
 // The ratios divide by the same measure of the rod before impact (the lattice's own length and
 // radius; the radius of a square lattice cut to a circle overshoots D0/2 by up to half a cell).
 Shape measure(const solver::NodeStore& nodes, Real dx) {
   Shape s;
   for (Index i = 0; i < nodes.size(); ++i) s.length = std::max(s.length, nodes.x[i].z() + dx / 2);
   for (Index i = 0; i < nodes.size(); ++i)
-    if (nodes.x[i].z() < dx) s.foot_radius = std::max(s.foot_radius, nodes.x[i].head<2>().norm() + dx / 2);
+    s.foot_radius = std::max(s.foot_radius, nodes.x[i].head<2>().norm() + dx / 2);
   return s;
 }
 

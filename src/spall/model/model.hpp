@@ -322,6 +322,20 @@ struct ControlSph {
 
 // *SPALL_SPH_ARTIFICIAL_STRESS (a Spall keyword): Monaghan's (2000) artificial stress against the
 // tensile instability, with Gray, Monaghan & Swift's (2001) defaults. Present = switched on.
+// *SPALL_SPH_COLOUR_FIELD (a Spall keyword; seed 000 §4): colour-field categorization of SPH
+// particles into surface, inner layers and interior, and optionally the treatment that lets
+// surface and inner-layer particles pass only their hydrostatic stress to others. One card per
+// part (PID 0: every SPH part).
+struct SphColourField {
+  Id pid = 0;
+  int treat = 0;                  // 0 categorize only, 1 categorize and treat
+  Real neighbour_fraction = 0.8;  // surface: fewer neighbours than this fraction of a full support
+  Real normal_threshold = 0.3;    // ... and |n| h above this
+  int layers = 1;                 // inner layers behind the surface
+  int interval = 1;               // steps between categorizations
+  SourceLocation where;
+};
+
 struct SphArtificialStress {
   Real epsilon = 0.3;  // fraction of the tensile principal stress
   Real exponent = 4;   // n in f_ab^n, f_ab = W(r_ab) / W(initial spacing)
@@ -366,6 +380,7 @@ struct Model {
   ControlBulkViscosity bulk_viscosity;
   std::optional<ControlSph> control_sph;
   std::optional<SphArtificialStress> sph_artificial_stress;
+  std::vector<SphColourField> sph_colour_fields;
   std::optional<OutputInterval> d3plot;
   std::optional<OutputInterval> glstat;
   std::optional<OutputInterval> rwforc;

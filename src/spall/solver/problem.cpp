@@ -190,11 +190,37 @@ class Builder {
       kernel = kind;
     }
     options.kernel = *kernel;
+    options.colour_field = colour_fields(parts, table.size());
     // Keep the particles in node (cell) order for memory locality.
     std::sort(particles.begin(), particles.end(),
               [](const auto& a, const auto& b) { return a.node < b.node; });
     problem_.formulations.push_back(
         std::make_unique<sph::SolidFormulation>(std::move(table), particles, options, problem_.nodes));
+  }
+
+  // *SPALL_SPH_COLOUR_FIELD per SPH part (indexed like the material table: one entry per part);
+  // a card for a part that has no SPH particles is an error at the card.
+  std::vector<sph::ColourField> colour_fields(const std::unordered_map<Id, SphPart>& parts,
+                                              std::size_t part_count) const {
+    std::vector<sph::ColourField> result(part_count);
+    for (const auto& card : model_.sph_colour_fields)
+      if (card.pid != 0 && !parts.count(card.pid))
+        fail(card.where, "*SPALL_SPH_COLOUR_FIELD",
+             fmt::format("PID: part {} has no SPH particles", card.pid));
+    for (const auto& [pid, part] : parts) {
+      const model::SphColourField* chosen = nullptr;
+      for (const auto& card : model_.sph_colour_fields)
+        if (card.pid == pid || (card.pid == 0 && !chosen)) chosen = &card;
+      if (!chosen) continue;
+      sph::ColourField& c = result[part.material];
+      c.enabled = true;
+      c.treat = chosen->treat == 1;
+      c.neighbour_fraction = chosen->neighbour_fraction;
+      c.normal_threshold = chosen->normal_threshold;
+      c.layers = chosen->layers;
+      c.interval = chosen->interval;
+    }
+    return result;
   }
 
   // *CONTROL_SPH, *CONTROL_BULK_VISCOSITY and *SPALL_SPH_ARTIFICIAL_STRESS as the SPH solver uses

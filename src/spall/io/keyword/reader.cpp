@@ -70,6 +70,7 @@ constexpr SupportedKeyword supported_keywords[] = {
     {"CONTROL_BULK_VISCOSITY", read_control_bulk_viscosity},
     {"CONTROL_SPH", read_control_sph},
     {"SPALL_SPH_ARTIFICIAL_STRESS", read_spall_sph_artificial_stress},
+    {"SPALL_SPH_COLOUR_FIELD", read_spall_sph_colour_field},
     {"DATABASE_BINARY_D3PLOT", read_database_binary_d3plot},
     {"DATABASE_GLSTAT", read_database_glstat},
     {"DATABASE_RWFORC", read_database_rwforc},
