@@ -336,6 +336,15 @@ struct SphColourField {
   SourceLocation where;
 };
 
+// *SPALL_RESIDUAL_STRESS (a Spall keyword; seed 000): how residual stress is detected in SPH
+// solids. Without it the report is still written at the end of the run, with these defaults.
+struct SphResidualStress {
+  Real yield_fraction = 0.5;  // FRAC: von Mises above this fraction of the static yield stress ...
+  Real strain_rate = 0;       // RATE: ... while the effective strain rate is below this (0: 1 % of the largest)
+  int at_output = 0;          // OUTPUT: 1 also at every field output
+  SourceLocation where;
+};
+
 struct SphArtificialStress {
   Real epsilon = 0.3;  // fraction of the tensile principal stress
   Real exponent = 4;   // n in f_ab^n, f_ab = W(r_ab) / W(initial spacing)
@@ -381,6 +390,7 @@ struct Model {
   std::optional<ControlSph> control_sph;
   std::optional<SphArtificialStress> sph_artificial_stress;
   std::vector<SphColourField> sph_colour_fields;
+  std::optional<SphResidualStress> sph_residual_stress;
   std::optional<OutputInterval> d3plot;
   std::optional<OutputInterval> glstat;
   std::optional<OutputInterval> rwforc;

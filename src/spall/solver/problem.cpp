@@ -191,6 +191,8 @@ class Builder {
     }
     options.kernel = *kernel;
     options.colour_field = colour_fields(parts, table.size());
+    options.part_ids.resize(table.size());
+    for (const auto& [pid, part] : parts) options.part_ids[part.material] = pid;
     // Keep the particles in node (cell) order for memory locality.
     std::sort(particles.begin(), particles.end(),
               [](const auto& a, const auto& b) { return a.node < b.node; });

@@ -71,6 +71,7 @@ constexpr SupportedKeyword supported_keywords[] = {
     {"CONTROL_SPH", read_control_sph},
     {"SPALL_SPH_ARTIFICIAL_STRESS", read_spall_sph_artificial_stress},
     {"SPALL_SPH_COLOUR_FIELD", read_spall_sph_colour_field},
+    {"SPALL_RESIDUAL_STRESS", read_spall_residual_stress},
     {"DATABASE_BINARY_D3PLOT", read_database_binary_d3plot},
     {"DATABASE_GLSTAT", read_database_glstat},
     {"DATABASE_RWFORC", read_database_rwforc},
