@@ -1,8 +1,12 @@
 #include "spall/sph/fluid.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <stdexcept>
+#if defined(__AVX2__) && defined(__BMI2__)
+#include <immintrin.h>
+#endif
 
 #include "spall/kernels/cubic_spline.hpp"
 
@@ -12,9 +16,6 @@ namespace {
 
 // All three translations held: a dynamic boundary (wall) particle.
 constexpr std::uint8_t all_translations = 7;
-
-// Morris et al. 1997 and Monaghan 1992 both regularise 1 / r^2 with 0.01 h^2.
-constexpr Real eta_squared_morris = 0.01;
 
 // Time-step factors. Courant: the predictor-corrector density update is stable for w dt < 0.72
 // and the fastest SPH acoustic mode has w ~ 1.04 c / h (cubic spline), so h / (c + |v|) is
@@ -68,7 +69,7 @@ FluidFormulation::FluidFormulation(const FluidParameters& parameters,
   density_.assign(n, m.density);
   rate_.assign(n, 0);
   previous_rate_.assign(n, 0);
-  for (auto* v : {&x_, &y_, &z_, &vx_, &vy_, &vz_, &predicted_density_, &pressure_term_})
+  for (auto* v : {&x_, &y_, &z_, &vx_, &vy_, &vz_, &inverse_density_, &pressure_term_})
     v->assign(n, 0);
   pressure_force_.assign(3 * n, 0);
   viscous_force_.assign(3 * n, 0);
@@ -136,7 +137,7 @@ void FluidFormulation::gather(const solver::NodeStore& nodes, Real dt) {
     // rho~^n = rho^{n-1} + dt (2 rho'^{n-1} - rho'^{n-2})
     Real rho = density_[a] + dt * (2 * Real(rate_[a]) - Real(previous_rate_[a]));
     if (nodes.fixed[i] == all_translations) rho = std::max(rho, m.density);
-    predicted_density_[a] = static_cast<float>(rho);
+    inverse_density_[a] = static_cast<float>(1 / rho);
     pressure_term_[a] = static_cast<float>(m.pressure(rho) / (rho * rho));
     max_density = std::max(max_density, rho);
   }
@@ -155,23 +156,206 @@ void FluidFormulation::for_each_cell_neighbourhood(bool skip_inactive, Visit&& v
   }
 }
 
+namespace {
+
+// What the pair loop reads, in cell order.
+struct PairInputs {
+  const float* x;
+  const float* y;
+  const float* z;
+  const float* vx;
+  const float* vy;
+  const float* vz;
+  const float* mass;
+  const float* inverse_density;
+  const float* pressure_term;
+};
+
+// Constants of the pair terms, in single precision.
+struct PairConstants {
+  float support_squared;  // H^2
+  float inverse_support;  // 1 / H
+  float kernel;           // k = sigma / H^(d+2): F = k (18 q - 12) or -6 k (1 - q)^2 / q
+  float h;                // smoothing length
+  float eta2;             // (eta h)^2: regularises 1 / r^2 in Monaghan's and Morris's terms
+  float alpha_c;          // alpha c0
+  float beta;
+  float two_mu;           // mu_a + mu_b
+};
+
+struct PairSums {
+  Real rate = 0;
+  Real fpx = 0, fpy = 0, fpz = 0;  // pressure force
+  Real fvx = 0, fvy = 0, fvz = 0;  // viscous force
+};
+
+// Appends to `found` the particles of [begin, end) closer to (xa, ya, za) than H, except `self`;
+// returns the new count. The vector path writes 8 entries at a time (found needs 8 spare slots)
+// and tests exactly as the scalar path does (same fused operations), so the pair (a, b) is found
+// from both sides or from neither.
+Index screen(const PairInputs& in, float xa, float ya, float za, float H2, Index begin, Index end,
+             Index self, Index* found, Index count) {
+  Index b = begin;
+#if defined(__AVX2__) && defined(__BMI2__)
+  const __m256 vxa = _mm256_set1_ps(xa), vya = _mm256_set1_ps(ya), vza = _mm256_set1_ps(za);
+  const __m256 vH2 = _mm256_set1_ps(H2);
+  for (; b + 8 <= end; b += 8) {
+    const __m256 dx = _mm256_sub_ps(vxa, _mm256_loadu_ps(in.x + b));
+    const __m256 dy = _mm256_sub_ps(vya, _mm256_loadu_ps(in.y + b));
+    const __m256 dz = _mm256_sub_ps(vza, _mm256_loadu_ps(in.z + b));
+    const __m256 r2 = _mm256_fmadd_ps(dz, dz, _mm256_fmadd_ps(dy, dy, _mm256_mul_ps(dx, dx)));
+    unsigned mask = static_cast<unsigned>(_mm256_movemask_ps(_mm256_cmp_ps(r2, vH2, _CMP_LT_OQ)));
+    if (self >= b && self < b + 8) mask &= ~(1u << (self - b));
+    // Left-pack the lanes whose bit is set: the byte indices of the set bits, by pext.
+    const std::uint64_t bytes_of_mask = _pdep_u64(mask, 0x0101010101010101ull) * 0xFF;
+    const std::uint64_t lanes = _pext_u64(0x0706050403020100ull, bytes_of_mask);
+    const __m256i index = _mm256_add_epi32(_mm256_set1_epi32(b),
+                                           _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(static_cast<long long>(lanes))));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(found + count), index);
+    count += std::popcount(mask);
+  }
+#endif
+  for (; b < end; ++b) {
+    const float dx = xa - in.x[b], dy = ya - in.y[b], dz = za - in.z[b];
+    found[count] = b;
+    count += (std::fma(dz, dz, std::fma(dy, dy, dx * dx)) < H2) & (b != self);
+  }
+  return count;
+}
+
+// The pair sums of particle a over its neighbours found[0, count). The terms are evaluated in
+// single precision by one sequence of operations for every pair (x_ba = -x_ab and v_ba = -v_ab
+// bitwise), so the term of (a, b) is exactly minus the term of (b, a); they are summed in double.
+// `count` is a multiple of 8, padded with a itself, whose terms are exactly zero (x_aa = 0,
+// v_aa = 0). The AVX2 path and the scalar path do the same operations, lane by lane.
+template <bool with_force>
+PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const Index* found,
+                  Index count) {
+  const float xa = in.x[a], ya = in.y[a], za = in.z[a];
+  const float vxa = in.vx[a], vya = in.vy[a], vza = in.vz[a];
+  const float m_a = in.mass[a], inverse_rho_a = in.inverse_density[a], P_a = in.pressure_term[a];
+  // F = k (18 q - 12) for q <= 1/2, -6 k (1 - q)^2 / q beyond, with 1 / q = H / r.
+  const float k18 = 18 * c.kernel, k12 = 12 * c.kernel, k6H = 6 * c.kernel / c.inverse_support;
+  PairSums sums;
+  Index s = 0;
+#if defined(__AVX2__)
+  const auto splat = [](float v) { return _mm256_set1_ps(v); };
+  const __m256 one = splat(1), half = splat(0.5f), tiny = splat(1e-30f), zero = _mm256_setzero_ps();
+  __m256d rate[2] = {}, fp[3][2] = {}, fv[3][2] = {};
+  const auto accumulate = [](__m256d (&sum)[2], __m256 v) {
+    sum[0] = _mm256_add_pd(sum[0], _mm256_cvtps_pd(_mm256_castps256_ps128(v)));
+    sum[1] = _mm256_add_pd(sum[1], _mm256_cvtps_pd(_mm256_extractf128_ps(v, 1)));
+  };
+  for (; s < count; s += 8) {
+    const __m256i b = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(found + s));
+    const auto gather = [&](const float* array) { return _mm256_i32gather_ps(array, b, 4); };
+    const __m256 dx = _mm256_sub_ps(splat(xa), gather(in.x));
+    const __m256 dy = _mm256_sub_ps(splat(ya), gather(in.y));
+    const __m256 dz = _mm256_sub_ps(splat(za), gather(in.z));
+    const __m256 r2 = _mm256_max_ps(
+        _mm256_fmadd_ps(dz, dz, _mm256_fmadd_ps(dy, dy, _mm256_mul_ps(dx, dx))), tiny);
+    const __m256 inverse_r = _mm256_div_ps(one, _mm256_sqrt_ps(r2));
+    const __m256 q = _mm256_min_ps(_mm256_mul_ps(_mm256_mul_ps(r2, inverse_r), splat(c.inverse_support)), one);
+    const __m256 near = _mm256_sub_ps(_mm256_mul_ps(splat(k18), q), splat(k12));
+    const __m256 one_minus_q = _mm256_sub_ps(one, q);
+    const __m256 far = _mm256_mul_ps(_mm256_mul_ps(splat(-k6H), _mm256_mul_ps(one_minus_q, one_minus_q)), inverse_r);
+    const __m256 F = _mm256_blendv_ps(far, near, _mm256_cmp_ps(q, half, _CMP_LE_OQ));
+    const __m256 dvx = _mm256_sub_ps(splat(vxa), gather(in.vx));
+    const __m256 dvy = _mm256_sub_ps(splat(vya), gather(in.vy));
+    const __m256 dvz = _mm256_sub_ps(splat(vza), gather(in.vz));
+    const __m256 vr = _mm256_fmadd_ps(dvz, dz, _mm256_fmadd_ps(dvy, dy, _mm256_mul_ps(dvx, dx)));
+    const __m256 m_b = gather(in.mass);
+    accumulate(rate, _mm256_mul_ps(_mm256_mul_ps(m_b, F), vr));
+    if constexpr (with_force) {
+      const __m256 mm = _mm256_mul_ps(splat(m_a), m_b);
+      const __m256 inverse_rho_b = gather(in.inverse_density);
+      const __m256 radial = _mm256_mul_ps(
+          _mm256_mul_ps(_mm256_sub_ps(zero, mm), _mm256_add_ps(splat(P_a), gather(in.pressure_term))), F);
+      const __m256 inverse_r2e = _mm256_div_ps(one, _mm256_add_ps(r2, splat(c.eta2)));
+      const __m256 mu = _mm256_mul_ps(_mm256_mul_ps(splat(c.h), vr), inverse_r2e);
+      const __m256 Pi_full = _mm256_mul_ps(
+          _mm256_fmadd_ps(splat(c.beta), _mm256_mul_ps(mu, mu), _mm256_mul_ps(splat(-c.alpha_c), mu)),
+          _mm256_mul_ps(half, _mm256_add_ps(splat(inverse_rho_a), inverse_rho_b)));
+      const __m256 Pi = _mm256_blendv_ps(zero, Pi_full, _mm256_cmp_ps(vr, zero, _CMP_LT_OQ));
+      const __m256 viscous_radial = _mm256_mul_ps(_mm256_mul_ps(_mm256_sub_ps(zero, mm), Pi), F);
+      const __m256 laminar = _mm256_mul_ps(
+          _mm256_mul_ps(_mm256_mul_ps(mm, splat(c.two_mu)),
+                        _mm256_mul_ps(splat(inverse_rho_a), inverse_rho_b)),
+          _mm256_mul_ps(_mm256_mul_ps(F, r2), inverse_r2e));
+      const __m256 d[3] = {dx, dy, dz}, dv[3] = {dvx, dvy, dvz};
+      for (int i = 0; i < 3; ++i) {
+        accumulate(fp[i], _mm256_mul_ps(radial, d[i]));
+        accumulate(fv[i], _mm256_fmadd_ps(viscous_radial, d[i], _mm256_mul_ps(laminar, dv[i])));
+      }
+    }
+  }
+  const auto total = [](const __m256d (&sum)[2]) {
+    alignas(32) double lanes[4];
+    _mm256_store_pd(lanes, _mm256_add_pd(sum[0], sum[1]));
+    return (lanes[0] + lanes[1]) + (lanes[2] + lanes[3]);
+  };
+  sums.rate = total(rate);
+  if constexpr (with_force) {
+    sums.fpx = total(fp[0]), sums.fpy = total(fp[1]), sums.fpz = total(fp[2]);
+    sums.fvx = total(fv[0]), sums.fvy = total(fv[1]), sums.fvz = total(fv[2]);
+  }
+#endif
+  for (; s < count; ++s) {
+    const Index b = found[s];
+    const float dx = xa - in.x[b], dy = ya - in.y[b], dz = za - in.z[b];
+    const float r2 = std::max(std::fma(dz, dz, std::fma(dy, dy, dx * dx)), 1e-30f);
+    const float inverse_r = 1.0f / std::sqrt(r2);
+    const float q = std::min(r2 * inverse_r * c.inverse_support, 1.0f);
+    const float F = q <= 0.5f ? k18 * q - k12 : -k6H * ((1 - q) * (1 - q)) * inverse_r;
+    const float dvx = vxa - in.vx[b], dvy = vya - in.vy[b], dvz = vza - in.vz[b];
+    const float vr = std::fma(dvz, dz, std::fma(dvy, dy, dvx * dx));
+    const float m_b = in.mass[b];
+    sums.rate += Real(m_b * F * vr);
+    if constexpr (with_force) {
+      const float mm = m_a * m_b;
+      const float inverse_rho_b = in.inverse_density[b];
+      const float radial = (-mm * (P_a + in.pressure_term[b])) * F;
+      const float inverse_r2e = 1.0f / (r2 + c.eta2);
+      const float mu = (c.h * vr) * inverse_r2e;
+      const float Pi = vr < 0 ? std::fma(c.beta, mu * mu, -c.alpha_c * mu) * (0.5f * (inverse_rho_a + inverse_rho_b)) : 0.0f;
+      const float viscous_radial = (-mm * Pi) * F;
+      const float laminar = ((mm * c.two_mu) * (inverse_rho_a * inverse_rho_b)) * ((F * r2) * inverse_r2e);
+      sums.fpx += Real(radial * dx);
+      sums.fpy += Real(radial * dy);
+      sums.fpz += Real(radial * dz);
+      sums.fvx += Real(std::fma(viscous_radial, dx, laminar * dvx));
+      sums.fvy += Real(std::fma(viscous_radial, dy, laminar * dvy));
+      sums.fvz += Real(std::fma(viscous_radial, dz, laminar * dvz));
+    }
+  }
+  return sums;
+}
+
+constexpr Index simd_width = 8;
+
+}  // namespace
+
 void FluidFormulation::pair_pass(solver::NodeStore& nodes, Real dt) {
   const auto& m = parameters_.material;
   const auto& av = parameters_.viscosity;
   const Real H = support_;
   const Real h = parameters_.smoothing_length;
-  const float H2 = static_cast<float>(H * H);
-  const Real inverse_H = 1 / H;
   // grad_a W_ab = F(r) x_ab with F = (dW/dr) / r = k (18 q - 12) for q <= 1/2 and
   // -6 k (1 - q)^2 / q beyond, k = sigma / H^(d+2) (seed 000 eq. 3 differentiated).
   const Real k = parameters_.dimension == 2
                      ? kernels::CubicSpline<2>::normalisation() / (H * H * H * H)
                      : kernels::CubicSpline<3>::normalisation() / (H * H * H * H * H);
-  const Real eps2 = eta_squared_morris * h * h;
-  const Real eta2 = av.eta * av.eta * h * h;
-  const Real alpha_c = av.alpha * m.sound_speed;
-  const Real beta = av.beta;
-  const Real two_mu = 2 * m.dynamic_viscosity;
+  const PairConstants constants{static_cast<float>(H * H),
+                                static_cast<float>(1 / H),
+                                static_cast<float>(k),
+                                static_cast<float>(h),
+                                static_cast<float>(av.eta * av.eta * h * h),
+                                static_cast<float>(av.alpha * m.sound_speed),
+                                static_cast<float>(av.beta),
+                                static_cast<float>(2 * m.dynamic_viscosity)};
+  const PairInputs in{x_.data(),    y_.data(),    z_.data(),
+                      vx_.data(),   vy_.data(),   vz_.data(),
+                      mass_.data(), inverse_density_.data(), pressure_term_.data()};
   Real max_acceleration = 0;
 
 #pragma omp parallel reduction(max : max_acceleration)
@@ -182,68 +366,31 @@ void FluidFormulation::pair_pass(solver::NodeStore& nodes, Real dt) {
                                           int range_count) {
       Index candidates = 0;
       for (int r = 0; r < range_count; ++r) candidates += ranges[r].end - ranges[r].begin;
-      if (found.size() < static_cast<std::size_t>(candidates)) found.resize(candidates);
+      if (found.size() < static_cast<std::size_t>(candidates + 2 * simd_width))
+        found.resize(candidates + 2 * simd_width);
       for (Index a = own.begin; a < own.end; ++a) {
-        // Screening in single precision, branch-free: about one candidate in six is inside.
-        const float xa = x_[a], ya = y_[a], za = z_[a];
         Index count = 0;
-        for (int r = 0; r < range_count; ++r) {
-          for (Index b = ranges[r].begin; b < ranges[r].end; ++b) {
-            const float dx = xa - x_[b], dy = ya - y_[b], dz = za - z_[b];
-            found[count] = b;
-            count += (dx * dx + dy * dy + dz * dz < H2) & (b != a);
-          }
-        }
+        for (int r = 0; r < range_count; ++r)
+          count = screen(in, x_[a], y_[a], z_[a], constants.support_squared, ranges[r].begin,
+                         ranges[r].end, a, found.data(), count);
+        while (count % simd_width != 0) found[count++] = a;
         const Index node = node_[a];
         const bool wall = nodes.fixed[node] == all_translations;
-        const Real rho_a = predicted_density_[a], P_a = pressure_term_[a], m_a = mass_[a];
-        const Real vxa = vx_[a], vya = vy_[a], vza = vz_[a];
-        Real rate = 0;
-        Real fpx = 0, fpy = 0, fpz = 0, fvx = 0, fvy = 0, fvz = 0;
-        for (Index s = 0; s < count; ++s) {
-          const Index b = found[s];
-          // Differences of single-precision values are exact in double: x_ab = -x_ba bitwise.
-          const Real dx = Real(xa) - Real(x_[b]), dy = Real(ya) - Real(y_[b]),
-                     dz = Real(za) - Real(z_[b]);
-          const Real r2 = dx * dx + dy * dy + dz * dz;
-          const Real r = std::sqrt(r2);
-          const Real q = r * inverse_H;
-          const Real F = q <= Real(0.5) ? k * (18 * q - 12) : -6 * k * (1 - q) * (1 - q) / q;
-          const Real dvx = vxa - Real(vx_[b]), dvy = vya - Real(vy_[b]), dvz = vza - Real(vz_[b]);
-          const Real vr = dvx * dx + dvy * dy + dvz * dz;
-          const Real m_b = mass_[b];
-          rate += m_b * F * vr;
-          if (wall) continue;
-          const Real rho_b = predicted_density_[b];
-          const Real mm = m_a * m_b;
-          const Real radial = -mm * (P_a + Real(pressure_term_[b])) * F;
-          fpx += radial * dx;
-          fpy += radial * dy;
-          fpz += radial * dz;
-          Real viscous_radial = 0;
-          if (vr < 0) {
-            const Real mu = h * vr / (r2 + eta2);
-            const Real Pi = (-alpha_c * mu + beta * mu * mu) / (Real(0.5) * (rho_a + rho_b));
-            viscous_radial = -mm * Pi * F;
-          }
-          const Real laminar = mm * two_mu / (rho_a * rho_b) * F * r2 / (r2 + eps2);
-          fvx += viscous_radial * dx + laminar * dvx;
-          fvy += viscous_radial * dy + laminar * dvy;
-          fvz += viscous_radial * dz + laminar * dvz;
-        }
-        const Vec3 fp(fpx, fpy, fpz), fv(fvx, fvy, fvz);
+        const PairSums sums = wall ? interact<false>(in, constants, a, found.data(), count)
+                                   : interact<true>(in, constants, a, found.data(), count);
+        const Vec3 fp(sums.fpx, sums.fpy, sums.fpz), fv(sums.fvx, sums.fvy, sums.fvz);
         nodes.f[node] += fp + fv;
         for (int d = 0; d < 3; ++d) {
           pressure_force_[3 * a + d] = static_cast<float>(fp[d]);
           viscous_force_[3 * a + d] = static_cast<float>(fv[d]);
         }
-        if (!wall) max_acceleration = std::max(max_acceleration, (fp + fv).norm() / m_a);
+        if (!wall) max_acceleration = std::max(max_acceleration, (fp + fv).norm() / Real(mass_[a]));
         // rho^n = rho^{n-1} + dt rho'^n; walls never go below rho0.
-        Real rho = density_[a] + dt * rate;
+        Real rho = density_[a] + dt * sums.rate;
         if (wall) rho = std::max(rho, m.density);
         density_[a] = rho;
-        previous_rate_[a] = first_pass_ ? static_cast<float>(rate) : rate_[a];
-        rate_[a] = static_cast<float>(rate);
+        previous_rate_[a] = first_pass_ ? static_cast<float>(sums.rate) : rate_[a];
+        rate_[a] = static_cast<float>(sums.rate);
       }
     });
   }
@@ -331,7 +478,7 @@ void FluidFormulation::add_fields(std::vector<io::output::PointField>& fields,
 
 std::size_t FluidFormulation::memory_bytes() const {
   std::size_t total = bytes(node_) + bytes(mass_) + bytes(density_) + bytes(rate_) +
-                      bytes(previous_rate_) + bytes(predicted_density_) + bytes(pressure_term_) +
+                      bytes(previous_rate_) + bytes(inverse_density_) + bytes(pressure_term_) +
                       bytes(pressure_force_) + bytes(viscous_force_) + bytes(active_cell_);
   for (const auto* v : {&x_, &y_, &z_, &vx_, &vy_, &vz_}) total += bytes(*v);
   return total + cells_.memory_bytes();
