@@ -376,26 +376,31 @@ TEST(keyword_cards, ParameterExpressions) {
 
 TEST(keyword_cards, UnsupportedKeywordsAreRecordedWithNameLineAndId) {
   DeckFolder folder;
-  const std::string deck = "*KEYWORD\n*MAT_NULL\n" + row({"6", "1.0e-9"}) +
+  const std::string deck = "*KEYWORD\n*MAT_SOIL_AND_FOAM\n" + row({"6", "1.0e-9"}) +
                            "*SECTION_SHELL_TITLE\nskin\n" + row({"3", "2"}) +
-                           "*EOS_GRUNEISEN\n" + row({"6", "1483000"}) +
+                           "*EOS_JWL\n" + row({"6", "371.2"}) +
                            "*CONTACT_AUTOMATIC_NODES_TO_SURFACE_ID\n" + row({"1"}) + row({"1", "2"}) +
-                           "*CONTROL_SPH\n" + row({"1"}) + "*END\n";
+                           "*CONTROL_CONTACT\n" + row({"1"}) +
+                           "*DEFINE_TABLE_TITLE\nrates\n" + row({"7"}) + row({"1.0", "8"}, {20, 20}) +
+                           "*END\n";
   const auto model = read_deck(folder.write("unsupported.k", deck));
-  ASSERT_EQ(model.unsupported.size(), 5u);
-  EXPECT_EQ(model.unsupported[0].keyword, "*MAT_NULL");
+  ASSERT_EQ(model.unsupported.size(), 6u);
+  EXPECT_EQ(model.unsupported[0].keyword, "*MAT_SOIL_AND_FOAM");
   EXPECT_EQ(model.unsupported[0].id, 6);
   EXPECT_EQ(model.unsupported[0].where.line, 2);
   EXPECT_EQ(model.unsupported[1].keyword, "*SECTION_SHELL_TITLE");
   EXPECT_EQ(model.unsupported[1].id, 3);
   EXPECT_EQ(model.unsupported[1].where.line, 4);
-  EXPECT_EQ(model.unsupported[2].keyword, "*EOS_GRUNEISEN");
+  EXPECT_EQ(model.unsupported[2].keyword, "*EOS_JWL");
   EXPECT_EQ(model.unsupported[2].id, 6);
   EXPECT_EQ(model.unsupported[3].keyword, "*CONTACT_AUTOMATIC_NODES_TO_SURFACE_ID");
   EXPECT_EQ(model.unsupported[3].id, 0);
   EXPECT_EQ(model.unsupported[3].where.line, 9);
-  EXPECT_EQ(model.unsupported[4].keyword, "*CONTROL_SPH");
+  EXPECT_EQ(model.unsupported[4].keyword, "*CONTROL_CONTACT");
   EXPECT_EQ(model.unsupported[4].where.line, 12);
+  // A table keeps its ID too, for *MAT_PIECEWISE_LINEAR_PLASTICITY's LCSS to name it.
+  EXPECT_EQ(model.unsupported[5].keyword, "*DEFINE_TABLE_TITLE");
+  EXPECT_EQ(model.unsupported[5].id, 7);
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <iostream>
 
 #include "spall/io/keyword/reader.hpp"
+#include "spall/materials/make_material.hpp"
 
 namespace spall::io::keyword {
 namespace {
@@ -73,18 +74,33 @@ TEST(keyword_public_decks, BirdStrikeReadsItsParticlesFast) {
   EXPECT_EQ(model.initial_velocity_generations.at(0).v, Vec3(125000, 0, 0));
   EXPECT_EQ(model.node_sets.size(), 4u);
   EXPECT_EQ(model.part_sets.size(), 5u);
-  // The shells and their sections/materials are unsupported; the SPH part's *MAT_NULL too.
-  bool mat_null = false;
-  for (const auto& keyword : model.unsupported)
-    if (keyword.keyword == "*MAT_NULL" && keyword.id == 6) mat_null = true;
-  EXPECT_TRUE(mat_null);
-  try {
-    validate(model);
-    FAIL() << "validate accepted a part with *MAT_NULL";
-  } catch (const InputError& error) {
-    EXPECT_NE(std::string(error.what()).find("part 6 uses *MAT_NULL"), std::string::npos)
-        << error.what();
-  }
+  // The water bird: *MAT_NULL 6 (RO 1e-9, PC 0) with *EOS_GRUNEISEN 6 (C 1483000, S1 1.75,
+  // GAMMA0 0.28, card 2 all zero).
+  const auto& water = std::get<model::MatNull>(model.materials.at(6).params);
+  EXPECT_EQ(water.ro, 1.0e-9);
+  EXPECT_EQ(water.pc, 0.0);
+  EXPECT_EQ(water.mu, 0.0);
+  const auto& eos = model.eos.at(6);
+  EXPECT_EQ(eos.keyword, "*EOS_GRUNEISEN");
+  EXPECT_EQ(eos.where.line, 220);
+  const auto& gruneisen = std::get<model::EosGruneisen>(eos.params);
+  EXPECT_EQ(gruneisen.c, 1483000.0);
+  EXPECT_EQ(gruneisen.s1, 1.75);
+  EXPECT_EQ(gruneisen.s2, 0.0);
+  EXPECT_EQ(gruneisen.gamma0, 0.28);
+  EXPECT_EQ(gruneisen.e0, 0.0);
+  EXPECT_EQ(gruneisen.v0, 1.0);  // 0 -> 1
+  EXPECT_EQ(gruneisen.lcid, 0);
+  // The shells, their sections and materials stay unsupported, but no part with particles
+  // uses them: the deck validates.
+  EXPECT_NO_THROW(validate(model));
+  const auto material = materials::make_material(model, *model.find_part(6));
+  EXPECT_EQ(material.shear_modulus, 0.0);
+  EXPECT_TRUE(std::holds_alternative<materials::Null>(material.strength));
+  EXPECT_TRUE(std::holds_alternative<materials::Gruneisen>(material.eos));
+  // Water at rest: p = 0 and c = C = 1483000 mm/s (*EOS_GRUNEISEN at mu = 0, E = 0).
+  EXPECT_EQ(materials::eos_pressure(material, 1.0e-9, 0.0), 0.0);
+  EXPECT_NEAR(materials::sound_speed(material, 1.0e-9, 0.0), 1483000.0, 1e-6);
 }
 
 TEST(keyword_public_decks, PydynaMechRunTogetherFields) {

@@ -13,6 +13,7 @@ namespace spall::kernels {
 template <int Dim>
 struct CubicSpline {
   static_assert(Dim >= 1 && Dim <= 3);
+  static constexpr int dimension = Dim;
 
   static constexpr Real normalisation() {
     if constexpr (Dim == 1) return Real(4) / 3;

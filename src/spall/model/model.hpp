@@ -69,14 +69,69 @@ struct MatRigid {
   Real cmo = 0;
   int con1 = 0, con2 = 0;
 };
+// *MAT_PLASTIC_KINEMATIC (003): bilinear hardening, BETA 0 kinematic .. 1 isotropic, optional
+// Cowper-Symonds rate scaling (SRC, SRP) and failure strain FS.
+struct MatPlasticKinematic {
+  Real ro = 0, e = 0, pr = 0, sigy = 0, etan = 0, beta = 0;
+  Real src = 0, srp = 0, fs = 0;
+  int vp = 0;
+};
+// *MAT_PIECEWISE_LINEAR_PLASTICITY (024): yield stress versus effective plastic strain from the
+// curve LCSS, or from the EPS/ES points, or from SIGY and ETAN.
+struct MatPiecewiseLinearPlasticity {
+  Real ro = 0, e = 0, pr = 0, sigy = 0, etan = 0;
+  Real fail = 1.0e21, tdel = 0;
+  Real c = 0, p = 0;
+  Id lcss = 0, lcsr = 0;
+  int vp = 0;
+  std::vector<std::pair<Real, Real>> points;  // (EPSi, ESi) given on cards 3-4, in order
+};
+// *MAT_JOHNSON_COOK (015)
+struct MatJohnsonCook {
+  Real ro = 0, g = 0, e = 0, pr = 0, dtf = 0;
+  int vp = 0, rateop = 0;
+  Real a = 0, b = 0, n = 0, c = 0, m = 0, tm = 0, tr = 0, epso = 0;
+  Real cp = 0, pc = 0;
+  int spall = 2, it = 0;
+  Real d1 = 0, d2 = 0, d3 = 0, d4 = 0, d5 = 0;
+  Real c2 = 0, erod = 0, efmin = 1.0e-6, numint = 0, k = 0, eps1 = 0;
+};
+// *MAT_NULL (009): no strength; pressure from the part's EOS.
+struct MatNull {
+  Real ro = 0, pc = 0, mu = 0, terod = 0, cerod = 0, ym = 0, pr = 0;
+};
 struct Material {
   Id id = 0;
   std::string keyword;  // e.g. "*MAT_ELASTIC", for messages
-  std::variant<MatElastic, MatRigid> params;
+  std::variant<MatElastic, MatRigid, MatPlasticKinematic, MatPiecewiseLinearPlasticity,
+               MatJohnsonCook, MatNull>
+      params;
   SourceLocation where;
   Real density() const {
     return std::visit([](const auto& p) { return p.ro; }, params);
   }
+};
+
+// *EOS_LINEAR_POLYNOMIAL: p = C0 + C1 mu + C2 mu^2 + C3 mu^3 + (C4 + C5 mu + C6 mu^2) E.
+struct EosLinearPolynomial {
+  std::array<Real, 7> c{};
+  Real e0 = 0, v0 = 1;
+};
+// *EOS_GRUNEISEN: Mie-Grueneisen with a cubic shock-velocity fit.
+struct EosGruneisen {
+  Real c = 0, s1 = 0, s2 = 0, s3 = 0, gamma0 = 0, a = 0, e0 = 0;
+  Real v0 = 1;
+  Id lcid = 0;
+};
+// *EOS_MURNAGHAN: p = K0 ((rho / rho0)^GAMMA - 1).
+struct EosMurnaghan {
+  Real gamma = 0, k0 = 0, v0 = 1;
+};
+struct Eos {
+  Id id = 0;
+  std::string keyword;  // e.g. "*EOS_GRUNEISEN", for messages
+  std::variant<EosLinearPolynomial, EosGruneisen, EosMurnaghan> params;
+  SourceLocation where;
 };
 
 // *ELEMENT_SPH: one particle at node `nid`. mass > 0 is a mass; mass < 0 is a volume, whose
@@ -218,8 +273,36 @@ struct ControlBulkViscosity {
   SourceLocation where;
 };
 
-// A keyword Spall does not support: reported once as a warning. For sections, materials and EOS
-// `id` is the ID on its first card (for *PART_ variants such as *PART_INERTIA, the PID), so that
+// *CONTROL_SPH, cards 1-3 (LS-DYNA defaults, except that a blank FORM reads as 1, not 0:
+// Spall's default is the corrected formulation (FORM 1); see docs/KEYWORDS.md.
+struct ControlSph {
+  int ncbs = 1;        // steps between neighbour searches (Spall's Verlet list is adaptive)
+  Id boxid = 0;
+  Real dt = 1.0e20;    // SPH death time
+  int idim = 3;        // 3: 3D, 2: plane strain, -2: axisymmetric
+  int nmneigh = 150;   // LS-DYNA's neighbour memory per particle (Spall sizes lists itself)
+  int form = 1;
+  Real start = 0;      // SPH start time
+  Real maxv = 1.0e15;  // particles faster than this are deactivated in LS-DYNA
+  int cont = 0, deriv = 0, ini = 0, ishow = 0, ierod = 0, icont = 0, iavis = 0, isymp = 100;
+  int ithk = 0, istab = 0;
+  Real ql = 0.01;
+  int sphsort = 0, ishift = 0;
+  SourceLocation where;
+  std::array<SourceLocation, 3> card_where;  // cards 1-3, for messages about their fields
+};
+
+// *SPALL_SPH_ARTIFICIAL_STRESS (a Spall keyword): Monaghan's (2000) artificial stress against the
+// tensile instability, with Gray, Monaghan & Swift's (2001) defaults. Present = switched on.
+struct SphArtificialStress {
+  Real epsilon = 0.3;  // fraction of the tensile principal stress
+  Real exponent = 4;   // n in f_ab^n, f_ab = W(r_ab) / W(initial spacing)
+  SourceLocation where;
+};
+
+// A keyword Spall does not support: reported once as a warning. For sections, materials, EOS and
+// *DEFINE_TABLE `id` is the ID on its first card (for *PART_ variants such as *PART_INERTIA, the
+// PID), so that
 // a reference to it can be refused by name.
 struct UnsupportedKeyword {
   std::string keyword;
@@ -235,6 +318,7 @@ struct Model {
   std::vector<Part> parts;
   std::map<Id, Section> sections;
   std::map<Id, Material> materials;
+  std::map<Id, Eos> eos;
   std::vector<ElementSph> sph_elements;
   std::vector<ElementSolid> solid_elements;
   std::map<Id, NodeSet> node_sets;
@@ -251,6 +335,8 @@ struct Model {
   std::optional<ControlTermination> termination;
   ControlTimestep timestep;
   ControlBulkViscosity bulk_viscosity;
+  std::optional<ControlSph> control_sph;
+  std::optional<SphArtificialStress> sph_artificial_stress;
   std::optional<OutputInterval> d3plot;
   std::optional<OutputInterval> glstat;
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
+#include <optional>
 #include <set>
 #include <unordered_map>
 
@@ -125,10 +126,14 @@ class Builder {
     if (section.cslh < 1.0)
       fail(section.where, "*SECTION_SPH",
            fmt::format("CSLH: {} is inadmissible (less than 1; 1.05 to 1.3 are recommended)", section.cslh));
-    if (section.sphkern != 0)
+    if (section.sphkern != 0 && section.sphkern != 1 && section.sphkern != 4)
       fail(section.where, "*SECTION_SPH",
-           fmt::format("SPHKERN {}: only the cubic spline (0) is implemented so far", section.sphkern));
-    if (section.hmin != 1.0 || section.hmax != 1.0) warn_constant_h_once(section);
+           fmt::format("SPHKERN {}: not implemented (0 cubic spline, 1 quintic spline, 4 Wendland C2)",
+                       section.sphkern));
+    if (!(section.hmin > 0 && section.hmin <= 1 && section.hmax >= 1))
+      fail(section.where, "*SECTION_SPH",
+           fmt::format("HMIN {} HMAX {}: need 0 < HMIN <= 1 <= HMAX (factors on the initial h)",
+                       section.hmin, section.hmax));
     if (section.death < 1e20 || section.start > 0)
       fail(section.where, "*SECTION_SPH", "DEATH/START: particle birth and death are not implemented yet");
     auto mat = model_.materials.find(part->mid);
@@ -163,6 +168,7 @@ class Builder {
     std::unordered_map<Id, SphPart> parts;
     std::vector<sph::ParticleSetup> particles;
     std::set<Id> seen;
+    sph::SolidOptions options = sph_options();
     for (const auto& e : model_.sph_elements) {
       auto found = parts.find(e.pid);
       if (found == parts.end())
@@ -175,33 +181,74 @@ class Builder {
       if (!(mass > 0)) fail(e.where, "*ELEMENT_SPH", fmt::format("MASS: particle {} has no mass", e.nid));
       problem_.nodes.mass[node] = mass;
       problem_.part_of_node[node] = e.pid;
-      part.spacing = std::max(part.spacing, std::cbrt(mass / part.density));
-      particles.push_back({node, part.material, 0});
+      // In plane strain (IDIM 2) masses are per unit thickness and particles stay in their plane.
+      const Real spacing = options.dimension == 2 ? std::sqrt(mass / part.density) : std::cbrt(mass / part.density);
+      part.spacing = std::max(part.spacing, spacing);
+      if (options.dimension == 2) problem_.nodes.fixed[node] |= 1u << 2;
+      particles.push_back({node, part.material, 0, spacing, 0, 0});
     }
-    // LS-DYNA: h = CSLH * initial spacing, unless SPHINI gives h directly.
+    // LS-DYNA: h = CSLH * initial spacing, unless SPHINI gives h directly; it then varies
+    // within [HMIN h0, HMAX h0].
+    std::optional<kernels::KernelKind> kernel;
     for (auto& p : particles) {
       const SphPart& part = parts.at(problem_.part_of_node[p.node]);
-      p.smoothing_length = part.section->sphini > 0 ? part.section->sphini : part.section->cslh * part.spacing;
+      const model::SectionSph& section = *part.section;
+      p.smoothing_length = section.sphini > 0 ? section.sphini : section.cslh * part.spacing;
+      p.h_min = section.hmin * p.smoothing_length;
+      p.h_max = section.hmax * p.smoothing_length;
+      const auto kind = static_cast<kernels::KernelKind>(section.sphkern);
+      if (kernel && *kernel != kind)
+        fail(section.where, "*SECTION_SPH",
+             fmt::format("SPHKERN {}: every SPH part must use the same kernel (particles of "
+                         "different parts interact through it)",
+                         section.sphkern));
+      kernel = kind;
     }
+    options.kernel = *kernel;
     // Keep the particles in node (cell) order for memory locality.
     std::sort(particles.begin(), particles.end(),
               [](const auto& a, const auto& b) { return a.node < b.node; });
-    sph::ArtificialViscosity viscosity;
-    viscosity.beta = model_.bulk_viscosity.q1;
-    viscosity.alpha = model_.bulk_viscosity.q2;
     problem_.formulations.push_back(
-        std::make_unique<sph::SolidFormulation>(std::move(table), particles, viscosity, problem_.nodes));
+        std::make_unique<sph::SolidFormulation>(std::move(table), particles, options, problem_.nodes));
   }
 
-  // LS-DYNA lets h vary within [HMIN h0, HMAX h0]; Spall keeps h constant for now, which is
-  // LS-DYNA's behaviour for HMIN = HMAX = 1. Said once, not silently.
-  void warn_constant_h_once(const model::SectionSph& section) {
-    if (variable_h_reported_) return;
-    variable_h_reported_ = true;
-    log::warning(fmt::format("{}:{}: *SECTION_SPH: HMIN {} HMAX {}: the smoothing length is kept "
-                             "constant (variable h is not implemented yet); set HMIN = HMAX = 1.0 "
-                             "to say so in the deck",
-                             section.where.file, section.where.line, section.hmin, section.hmax));
+  // *CONTROL_SPH, *CONTROL_BULK_VISCOSITY and *SPALL_SPH_ARTIFICIAL_STRESS as the SPH solver uses
+  // them; a field whose option Spall does not implement stops the run at its card.
+  sph::SolidOptions sph_options() const {
+    sph::SolidOptions options;
+    options.viscosity.beta = model_.bulk_viscosity.q1;
+    options.viscosity.alpha = model_.bulk_viscosity.q2;
+    if (const auto& stress = model_.sph_artificial_stress) {
+      options.artificial_stress.enabled = true;
+      options.artificial_stress.epsilon = stress->epsilon;
+      options.artificial_stress.exponent = stress->exponent;
+    }
+    if (!model_.control_sph) return options;
+    const model::ControlSph& c = *model_.control_sph;
+    const auto refuse = [&](int card, std::string_view field, auto value, std::string_view why) {
+      fail(c.card_where[card], "*CONTROL_SPH", fmt::format("{} {}: {}", field, value, why));
+    };
+    if (c.boxid != 0) refuse(0, "BOXID", c.boxid, "SPH activation boxes are not implemented");
+    if (c.idim == -2) refuse(0, "IDIM", c.idim, "axisymmetric SPH is not implemented (3 and 2 are)");
+    if (c.form != 0 && c.form != 1)
+      refuse(0, "FORM", c.form, "only 0 (plain SPH) and 1 (renormalized, Spall's default) are implemented");
+    if (c.maxv > 0 && c.maxv < 1.0e15)
+      refuse(0, "MAXV", c.maxv, "deactivating fast particles is not implemented (leave MAXV blank)");
+    if (c.cont != 0) refuse(1, "CONT", c.cont, "switching off the interaction between SPH parts is not implemented");
+    if (c.deriv != 0) refuse(1, "DERIV", c.deriv, "only 0 (dh/dt = h div(v) / d) is implemented");
+    if (c.ini != 0) refuse(1, "INI", c.ini, "only 0 (initial h from the particle spacing) is implemented");
+    if (c.ierod != 0) refuse(1, "IEROD", c.ierod, "SPH particle erosion is not implemented");
+    if (c.icont != 0) refuse(1, "ICONT", c.icont, "contact of eroded SPH particles is not implemented");
+    if (c.iavis != 0) refuse(1, "IAVIS", c.iavis, "only 0 (Monaghan's artificial viscosity) is implemented");
+    if (c.ithk != 0) refuse(2, "ITHK", c.ithk, "contact thickness of SPH particles is not implemented");
+    if (c.istab != 0) refuse(2, "ISTAB", c.istab, "only 0 (standard stabilization) is implemented");
+    if (c.sphsort != 0) refuse(2, "SPHSORT", c.sphsort, "is not implemented (Spall keeps particles in cell order)");
+    if (c.ishift != 0) refuse(2, "ISHIFT", c.ishift, "particle shifting is not implemented");
+    options.dimension = c.idim == 2 ? 2 : 3;
+    options.gradient_correction = c.form == 1;
+    options.start_time = c.start;
+    options.death_time = c.dt;
+    return options;
   }
 
   void reject_unsupported_elements() {
@@ -342,7 +389,6 @@ class Builder {
   const model::Model& model_;
   Problem problem_;
   std::unordered_map<Id, Index> index_of_node_;
-  bool variable_h_reported_ = false;
 };
 
 }  // namespace

@@ -1,20 +1,20 @@
 #include "spall/sph/solid.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 
-#include "spall/kernels/cubic_spline.hpp"
-
 namespace spall::sph {
-
-using Kernel = kernels::CubicSpline<3>;
 
 namespace {
 // Support radius of the pair: the mean of both particles' supports 2h keeps W_ab symmetric.
 inline Real pair_support(Real ha, Real hb) { return ha + hb; }
 
-// Verlet skin as a fraction of the largest support: a rebuild every few tens of steps at most.
+// Verlet skin as a fraction of the list's cutoff: a rebuild every few tens of steps at most.
 constexpr Real skin_fraction = 0.1;
+// The list's cutoff exceeds the largest support by this factor, so that a growing smoothing length
+// does not force a rebuild at every step.
+constexpr Real cutoff_margin = 1.05;
 
 // Below this the moment matrix is too ill-conditioned to invert (an isolated particle, or one
 // whose neighbours lie in a plane): the particle keeps the uncorrected gradient.
@@ -23,7 +23,7 @@ constexpr Real min_moment_determinant = 1e-3;
 
 // Calls visit(b, x_a - x_b, r, H_ab, grad_a W_ab) for every neighbour b of a inside the pair's
 // support, in the fixed order of a's Verlet row.
-template <typename Visit>
+template <typename Kernel, typename Visit>
 inline void for_each_neighbour_in_support(const neighbors::NeighborList& list, Index a,
                                           std::span<const Vec3> x, std::span<const Real> h,
                                           Visit&& visit) {
@@ -39,35 +39,49 @@ inline void for_each_neighbour_in_support(const neighbors::NeighborList& list, I
 
 SolidFormulation::SolidFormulation(std::vector<materials::ElasticConstants> materials,
                                    const std::vector<ParticleSetup>& particles,
-                                   ArtificialViscosity viscosity, const solver::NodeStore& nodes)
-    : materials_(std::move(materials)), viscosity_(viscosity) {
+                                   SolidOptions options, const solver::NodeStore& nodes)
+    : materials_(std::move(materials)), options_(options) {
   const std::size_t n = particles.size();
   node_.resize(n);
   material_.resize(n);
   mass_.resize(n);
   smoothing_length_.resize(n);
+  initial_smoothing_length_.resize(n);
+  h_min_.resize(n);
+  h_max_.resize(n);
+  spacing_.resize(n);
   density_.resize(n);
   pressure_.assign(n, 0);
   sound_speed_.resize(n);
+  internal_energy_.assign(n, 0);
   deviatoric_stress_.assign(n, Mat3::Zero());
   gradient_correction_matrix_.assign(n, Mat3::Identity());
   corrected_stress_.assign(n, Mat3::Zero());
+  if (options_.artificial_stress.enabled) artificial_stress_.assign(n, Mat3::Zero());
   x_.resize(n);
   v_.resize(n);
   density_rate_.assign(n, 0);
+  viscous_heating_.assign(n, 0);
   velocity_gradient_.assign(n, Mat3::Zero());
   force_.assign(n, Vec3::Zero());
   viscous_force_.assign(n, Vec3::Zero());
   for (std::size_t a = 0; a < n; ++a) {
-    node_[a] = particles[a].node;
-    material_[a] = particles[a].material;
-    mass_[a] = nodes.mass[particles[a].node];
-    smoothing_length_[a] = particles[a].smoothing_length;
+    const auto& p = particles[a];
+    node_[a] = p.node;
+    material_[a] = p.material;
+    mass_[a] = nodes.mass[p.node];
+    smoothing_length_[a] = initial_smoothing_length_[a] = p.smoothing_length;
+    h_min_[a] = p.h_min;
+    h_max_[a] = p.h_max;
+    spacing_[a] = p.spacing;
     const auto& m = materials_[material_[a]];
     density_[a] = m.density;
     sound_speed_[a] = m.longitudinal_wave_speed(m.density);
-    max_support_ = std::max(max_support_, 2 * smoothing_length_[a]);
   }
+}
+
+bool SolidFormulation::active(Real time) const {
+  return time >= options_.start_time && time <= options_.death_time;
 }
 
 void SolidFormulation::gather_kinematics(const solver::NodeStore& nodes) {
@@ -79,25 +93,41 @@ void SolidFormulation::gather_kinematics(const solver::NodeStore& nodes) {
   }
 }
 
+// The list holds every pair within cutoff + skin at the build; it stays complete while no particle
+// has moved skin / 2 and no pair support h_a + h_b has outgrown the cutoff.
+void SolidFormulation::update_neighbour_list() {
+  Real h_largest = 0;
+  for (Real h : smoothing_length_) h_largest = std::max(h_largest, h);
+  const Real support = 2 * h_largest;
+  if (list_built_ && support <= verlet_.cutoff() && !verlet_.needs_rebuild(x_)) return;
+  const Real cutoff = cutoff_margin * support;
+  verlet_.build(x_, cutoff, skin_fraction * cutoff);
+  list_built_ = true;
+}
+
 // Continuity and velocity gradient, gathered per particle over its full neighbour row.
+template <typename Kernel>
 void SolidFormulation::compute_rates() {
   const auto& list = verlet_.list();
   const Index n = particle_count();
+  const bool plane = Kernel::dimension == 2;
 #pragma omp parallel for schedule(static)
   for (Index a = 0; a < n; ++a) {
     Real drho = 0;
     Mat3 L = Mat3::Zero();
     Mat3 moment = Mat3::Zero();  // sum_b V_b (x_b - x_a) (x) grad_a W_ab, = I for a full support
-    for_each_neighbour_in_support(list, a, x_, smoothing_length_,
-                                  [&](Index b, const Vec3& xab, Real, Real, const Vec3& grad) {
+    for_each_neighbour_in_support<Kernel>(list, a, x_, smoothing_length_,
+                                          [&](Index b, const Vec3& xab, Real, Real, const Vec3& grad) {
       const Vec3 vba = v_[b] - v_[a];
       const Real volume = mass_[b] / density_[b];
       drho -= mass_[b] * vba.dot(grad);
       L.noalias() += volume * vba * grad.transpose();
       moment.noalias() -= volume * xab * grad.transpose();
     });
+    // In plane strain nothing varies along z: the moment is the identity there.
+    if (plane) moment(2, 2) = 1;
     Mat3 correction = Mat3::Identity();
-    if (gradient_correction_) {
+    if (options_.gradient_correction) {
       // Randles & Libersky 1996: L B with B = moment^{-1} is exact for linear velocity fields,
       // also where the support is cut by a free surface; the density follows from tr(L).
       const Real det = moment.determinant();
@@ -115,32 +145,54 @@ void SolidFormulation::compute_rates() {
 
 void SolidFormulation::update_state(Real dt) {
   const Index n = particle_count();
+  const Real inverse_dimension = Real(1) / options_.dimension;
+  const auto& stress_options = options_.artificial_stress;
 #pragma omp parallel for schedule(static)
   for (Index a = 0; a < n; ++a) {
     const auto& m = materials_[material_[a]];
     if (dt > 0) {
+      const Mat3 sigma_old = deviatoric_stress_[a] - pressure_[a] * Mat3::Identity();
+      internal_energy_[a] += dt * (sigma_old.cwiseProduct(velocity_gradient_[a]).sum() / density_[a] +
+                                   viscous_heating_[a]);
       density_[a] += dt * density_rate_[a];
       deviatoric_stress_[a] += dt * materials::jaumann_deviatoric_stress_rate(
                                         m.shear_modulus, deviatoric_stress_[a],
                                         velocity_gradient_[a]);
+      smoothing_length_[a] =
+          std::clamp(initial_smoothing_length_[a] * std::pow(m.density / density_[a], inverse_dimension),
+                     h_min_[a], h_max_[a]);
     }
     pressure_[a] = materials::elastic_pressure(m, density_[a]);
     sound_speed_[a] = m.longitudinal_wave_speed(density_[a]);
     // The stress as the pair force uses it: sigma B^T (seed 000 eq. 8 for sigma).
     const Mat3 sigma = deviatoric_stress_[a] - pressure_[a] * Mat3::Identity();
     corrected_stress_[a] = sigma * gradient_correction_matrix_[a].transpose();
+    if (stress_options.enabled) {
+      // Monaghan 2000: a repulsive stress -eps sigma_i / rho^2 along each tensile principal axis.
+      const Eigen::SelfAdjointEigenSolver<Mat3> principal(sigma);
+      Vec3 r = Vec3::Zero();
+      for (int i = 0; i < 3; ++i)
+        if (principal.eigenvalues()[i] > 0)
+          r[i] = -stress_options.epsilon * principal.eigenvalues()[i] / (density_[a] * density_[a]);
+      artificial_stress_[a] = principal.eigenvectors() * r.asDiagonal() * principal.eigenvectors().transpose();
+    }
   }
 }
 
 // Momentum, dual to the (corrected) velocity gradient: with P = sigma B^T,
-//   f_a = sum_b V_a V_b (P_a + P_b) grad_a W_ab  -  sum_b m_a m_b Pi_ab grad_a W_ab.
+//   f_a = sum_b V_a V_b (P_a + P_b) grad_a W_ab  -  sum_b m_a m_b Pi_ab grad_a W_ab
+//         + sum_b m_a m_b f_ab^n (R_a + R_b) grad_a W_ab.
 // Stress power sum_a V_a sigma_a : L_a equals -sum_a f_a . v_a exactly, and the pair term is
 // antisymmetric, so linear momentum is conserved to round-off. Without correction (B = I) this is
 // the symmetric SPH form of seed 000 eq. 7 with V_a V_b in place of m_a m_b / (rho_a rho_b).
+template <typename Kernel>
 void SolidFormulation::compute_pair_forces() {
   const auto& list = verlet_.list();
   const Index n = particle_count();
-  const Real alpha = viscosity_.alpha, beta = viscosity_.beta, eta2 = viscosity_.eta * viscosity_.eta;
+  const Real alpha = options_.viscosity.alpha, beta = options_.viscosity.beta;
+  const Real eta2 = options_.viscosity.eta * options_.viscosity.eta;
+  const bool stress_on = options_.artificial_stress.enabled;
+  const Real exponent = options_.artificial_stress.exponent;
 #pragma omp parallel for schedule(static)
   for (Index a = 0; a < n; ++a) {
     const Real rho_a = density_[a];
@@ -148,13 +200,21 @@ void SolidFormulation::compute_pair_forces() {
     const Mat3& P_a = corrected_stress_[a];
     Vec3 f = Vec3::Zero();
     Vec3 f_visc = Vec3::Zero();
-    for_each_neighbour_in_support(list, a, x_, smoothing_length_,
-                                  [&](Index b, const Vec3& xab, Real r, Real H, const Vec3& grad) {
+    Real heating = 0;
+    for_each_neighbour_in_support<Kernel>(list, a, x_, smoothing_length_,
+                                          [&](Index b, const Vec3& xab, Real r, Real H, const Vec3& grad) {
       const Real rho_b = density_[b];
       // (P_a + P_b) and grad are exactly opposite for the pair (b, a): momentum is conserved
       // to round-off although each particle gathers its own sum.
       f.noalias() += (volume_a * (mass_[b] / rho_b)) * ((P_a + corrected_stress_[b]) * grad);
-      const Real vr = (v_[a] - v_[b]).dot(xab);
+      if (stress_on) {
+        const Real dp = Real(0.5) * (spacing_[a] + spacing_[b]);
+        const Real ratio = Kernel::value(r, H) / Kernel::value(dp, H);
+        f.noalias() += (mass_[a] * mass_[b] * std::pow(ratio, exponent)) *
+                       ((artificial_stress_[a] + artificial_stress_[b]) * grad);
+      }
+      const Vec3 vab = v_[a] - v_[b];
+      const Real vr = vab.dot(xab);
       if (vr < 0) {
         const Real h = Real(0.5) * H;  // mean smoothing length
         const Real mu = h * vr / (r * r + eta2 * h * h);
@@ -162,23 +222,30 @@ void SolidFormulation::compute_pair_forces() {
         const Real rho = Real(0.5) * (rho_a + rho_b);
         const Real Pi = (-alpha * c * mu + beta * mu * mu) / rho;
         f_visc.noalias() -= (mass_[a] * mass_[b] * Pi) * grad;
+        heating += Real(0.5) * mass_[b] * Pi * vab.dot(grad);
       }
     });
     viscous_force_[a] = f_visc;
+    viscous_heating_[a] = heating;
     force_[a] = f + f_visc;
   }
 }
 
 void SolidFormulation::compute_forces(solver::NodeStore& nodes, Real dt) {
-  gather_kinematics(nodes);
-  if (!list_built_ || verlet_.needs_rebuild(x_)) {
-    verlet_.build(x_, max_support_, skin_fraction * max_support_);
-    list_built_ = true;
-  }
-  compute_rates();
-  update_state(dt);
-  compute_pair_forces();
+  time_ += dt;
   const Index n = particle_count();
+  if (!active(time_)) {
+    std::fill(force_.begin(), force_.end(), Vec3::Zero());
+    std::fill(viscous_force_.begin(), viscous_force_.end(), Vec3::Zero());
+    return;
+  }
+  gather_kinematics(nodes);
+  update_neighbour_list();
+  kernels::with_kernel(options_.kernel, options_.dimension,
+                       [&](auto kernel) { compute_rates<decltype(kernel)>(); });
+  update_state(dt);
+  kernels::with_kernel(options_.kernel, options_.dimension,
+                       [&](auto kernel) { compute_pair_forces<decltype(kernel)>(); });
 #pragma omp parallel for schedule(static)
   for (Index a = 0; a < n; ++a) nodes.f[node_[a]] += force_[a];
 }
@@ -210,7 +277,7 @@ void SolidFormulation::add_fields(std::vector<io::output::PointField>& fields,
                                   const solver::NodeStore& nodes) const {
   const std::size_t n_nodes = nodes.id.size();
   std::vector<double> pressure(n_nodes, 0), von_mises(n_nodes, 0), density(n_nodes, 0),
-      smoothing(n_nodes, 0), stress(6 * n_nodes, 0);
+      smoothing(n_nodes, 0), energy(n_nodes, 0), stress(6 * n_nodes, 0);
   std::vector<std::int64_t> neighbour_count(n_nodes, 0);
   const auto& list = verlet_.list();
   for (Index a = 0; a < particle_count(); ++a) {
@@ -220,6 +287,7 @@ void SolidFormulation::add_fields(std::vector<io::output::PointField>& fields,
     von_mises[i] = materials::von_mises(S);
     density[i] = density_[a];
     smoothing[i] = smoothing_length_[a];
+    energy[i] = internal_energy_[a];
     const Mat3 sigma = S - pressure_[a] * Mat3::Identity();
     const double components[6] = {sigma(0, 0), sigma(1, 1), sigma(2, 2),
                                   sigma(0, 1), sigma(1, 2), sigma(2, 0)};
@@ -231,6 +299,7 @@ void SolidFormulation::add_fields(std::vector<io::output::PointField>& fields,
   fields.push_back({"density", 1, std::move(density)});
   fields.push_back({"stress", 6, std::move(stress)});
   fields.push_back({"smoothing_length", 1, std::move(smoothing)});
+  fields.push_back({"internal_energy", 1, std::move(energy)});
   fields.push_back({"neighbour_count", 1, std::move(neighbour_count)});
 }
 
@@ -244,10 +313,13 @@ std::size_t bytes(const std::vector<T>& v) {
 std::size_t SolidFormulation::memory_bytes() const {
   const auto& list = verlet_.list();
   return bytes(node_) + bytes(material_) + bytes(mass_) + bytes(smoothing_length_) +
-         bytes(density_) + bytes(pressure_) + bytes(sound_speed_) + bytes(deviatoric_stress_) +
-         bytes(gradient_correction_matrix_) + bytes(corrected_stress_) + bytes(x_) + bytes(v_) +
-         bytes(density_rate_) + bytes(velocity_gradient_) + bytes(force_) + bytes(viscous_force_) +
-         bytes(list.offsets) + bytes(list.neighbors) + verlet_.reference_positions_bytes();
+         bytes(initial_smoothing_length_) + bytes(h_min_) + bytes(h_max_) + bytes(spacing_) +
+         bytes(density_) + bytes(pressure_) + bytes(sound_speed_) + bytes(internal_energy_) +
+         bytes(deviatoric_stress_) + bytes(gradient_correction_matrix_) + bytes(corrected_stress_) +
+         bytes(artificial_stress_) + bytes(x_) + bytes(v_) + bytes(density_rate_) +
+         bytes(viscous_heating_) + bytes(velocity_gradient_) + bytes(force_) +
+         bytes(viscous_force_) + bytes(list.offsets) + bytes(list.neighbors) +
+         verlet_.reference_positions_bytes();
 }
 
 Real SolidFormulation::max_wave_speed() const {

@@ -1,20 +1,26 @@
 #pragma once
-// Updated-Lagrangian SPH for elastic solids (Libersky & Petschek 1990; Gray, Monaghan & Swift
-// 2001), the base of seed 000 §3-4:
+// Updated-Lagrangian SPH for solids (Libersky & Petschek 1990; Gray, Monaghan & Swift 2001), the
+// base of seed 000 §3-4:
 //   continuity       d rho_a/dt = sum_b m_b (v_a - v_b) . grad_a W_ab
 //   velocity grad.   L_a = sum_b (m_b / rho_b) (v_b - v_a) (x) grad_a W_ab
 //   Hooke, Jaumann   dS/dt = 2G dev(D) + W S - S W
 //   pressure         p = K (rho / rho_0 - 1)
 //   momentum         m_a dv_a/dt = sum_b V_a V_b (sigma_a B_a^T + sigma_b B_b^T) grad_a W_ab
-//                                  - sum_b m_a m_b Pi_ab grad_a W_ab
+//                                  - sum_b m_a m_b (Pi_ab I - R_ab f_ab^n) grad_a W_ab
 //                    (seed 000 eqs. 7-8 in a symmetric form that conserves linear momentum)
+//   energy           de_a/dt = sigma_a : L_a / rho_a + 1/2 sum_b m_b Pi_ab v_ab . grad_a W_ab
 //   correction       B_a = (sum_b V_b (x_b - x_a) (x) grad_a W_ab)^-1 (Randles & Libersky 1996),
 //                    applied to L and, by duality, to the force; B = I when switched off
 //   viscosity        Pi_ab = (-alpha c_ab mu_ab + beta mu_ab^2) / rho_ab when v_ab . x_ab < 0 (Monaghan)
+//   artif. stress    R_ab = R_a + R_b, R_a = -eps sigma_tension / rho_a^2 in the principal frame,
+//                    f_ab = W(r_ab) / W(dp) (Monaghan 2000; Gray, Monaghan & Swift 2001)
+//   smoothing length h_a = h0_a (rho_0 / rho_a)^(1/d) within [HMIN h0, HMAX h0] (LS-DYNA's
+//                    dh/dt = h div(v) / d, integrated)
 // One SPH formulation owns every SPH part; particles of different parts interact through the
 // kernel, with each particle's own material.
 #include <vector>
 
+#include "spall/kernels/kernel.hpp"
 #include "spall/materials/elastic.hpp"
 #include "spall/neighbors/verlet_list.hpp"
 #include "spall/solver/formulation.hpp"
@@ -22,17 +28,36 @@
 
 namespace spall::sph {
 
+struct ArtificialStress {
+  bool enabled = false;
+  Real epsilon = 0.3;
+  Real exponent = 4;
+};
+
+// How the SPH equations are discretized (*CONTROL_SPH, *SECTION_SPH, Spall's keywords).
+struct SolidOptions {
+  kernels::KernelKind kernel = kernels::KernelKind::cubic_spline;
+  int dimension = 3;               // 2: plane strain in x-y (all particles at one z)
+  bool gradient_correction = true;  // *CONTROL_SPH FORM 1 (0: plain SPH)
+  ArtificialViscosity viscosity;
+  ArtificialStress artificial_stress;
+  Real start_time = 0;             // *CONTROL_SPH START: no SPH forces before
+  Real death_time = 1e20;          // *CONTROL_SPH DT: no SPH forces after
+};
+
 // One SPH particle as the solver sets it up.
 struct ParticleSetup {
   Index node = 0;
-  Index material = 0;  // index into the material table
-  Real smoothing_length = 0;  // LS-DYNA's h; the kernel support is 2h
+  Index material = 0;         // index into the material table
+  Real smoothing_length = 0;  // initial h (LS-DYNA's); the kernel support is 2h
+  Real spacing = 0;           // initial particle spacing (m / rho)^(1/d)
+  Real h_min = 0, h_max = 0;  // bounds of h (HMIN h0, HMAX h0)
 };
 
 class SolidFormulation final : public solver::Formulation {
  public:
   SolidFormulation(std::vector<materials::ElasticConstants> materials,
-                   const std::vector<ParticleSetup>& particles, ArtificialViscosity viscosity,
+                   const std::vector<ParticleSetup>& particles, SolidOptions options,
                    const solver::NodeStore& nodes);
 
   const char* name() const override { return "SPH"; }
@@ -50,34 +75,43 @@ class SolidFormulation final : public solver::Formulation {
 
  private:
   void gather_kinematics(const solver::NodeStore& nodes);
+  void update_neighbour_list();
+  template <typename Kernel>
   void compute_rates();
   void update_state(Real dt);
+  template <typename Kernel>
   void compute_pair_forces();
+  bool active(Real time) const;
 
   std::vector<materials::ElasticConstants> materials_;
-  ArtificialViscosity viscosity_;
+  SolidOptions options_;
 
   // Per particle (structure of arrays).
   std::vector<Index> node_;
   std::vector<Index> material_;
   std::vector<Real> mass_;
   std::vector<Real> smoothing_length_;
+  std::vector<Real> initial_smoothing_length_;
+  std::vector<Real> h_min_, h_max_;
+  std::vector<Real> spacing_;
   std::vector<Real> density_;
   std::vector<Real> pressure_;
   std::vector<Real> sound_speed_;
+  std::vector<Real> internal_energy_;  // specific (per unit mass)
   std::vector<Mat3> deviatoric_stress_;
   std::vector<Mat3> gradient_correction_matrix_;  // B_a (identity without correction)
   std::vector<Mat3> corrected_stress_;            // sigma_a B_a^T, as the pair force uses it
+  std::vector<Mat3> artificial_stress_;           // R_a (empty when switched off)
   // Scratch of the current step.
   std::vector<Vec3> x_, v_;
   std::vector<Real> density_rate_;
+  std::vector<Real> viscous_heating_;  // 1/2 sum_b m_b Pi_ab v_ab . grad_a W_ab
   std::vector<Mat3> velocity_gradient_;
   std::vector<Vec3> force_;            // total internal force
   std::vector<Vec3> viscous_force_;    // its artificial-viscosity part
 
-  bool gradient_correction_ = true;
   neighbors::VerletList verlet_;
-  Real max_support_ = 0;
+  Real time_ = 0;
   bool list_built_ = false;
 };
 

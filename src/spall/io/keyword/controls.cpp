@@ -1,5 +1,5 @@
-// *CONTROL_TERMINATION, *CONTROL_TIMESTEP, *CONTROL_BULK_VISCOSITY, *DATABASE_BINARY_D3PLOT,
-// *DATABASE_GLSTAT. Each reads its first card; the later optional cards of *CONTROL_TIMESTEP
+// *CONTROL_TERMINATION, *CONTROL_TIMESTEP, *CONTROL_BULK_VISCOSITY, *CONTROL_SPH,
+// *SPALL_SPH_ARTIFICIAL_STRESS, *DATABASE_BINARY_D3PLOT, *DATABASE_GLSTAT. Each reads its first card; the later optional cards of *CONTROL_TIMESTEP
 // (mass-scaling details) and *DATABASE_BINARY_D3PLOT (IOOPT, RATE, ...) are not used by Spall.
 #include "spall/io/keyword/keyword_readers.hpp"
 
@@ -57,6 +57,65 @@ void read_control_bulk_viscosity(CardCursor& cursor, const KeywordCall&, model::
     card.fail("TYPE", quoted(card.text(2)) + " is not -2, -1, 1 or 2");
   viscosity.where = card.where();
   model.bulk_viscosity = viscosity;
+}
+
+void read_control_sph(CardCursor& cursor, const KeywordCall&, model::Model& model) {
+  refuse_second(cursor, model.control_sph.has_value(),
+                model.control_sph ? model.control_sph->where : SourceLocation{});
+  model::ControlSph sph;
+  const Card card1 = cursor.next(standard_fields, "card 1 (NCBS BOXID DT IDIM NMNEIGH FORM START MAXV)");
+  sph.ncbs = static_cast<int>(card1.integer(0, "NCBS", 1));
+  if (sph.ncbs == 0) sph.ncbs = 1;
+  sph.boxid = card1.integer(1, "BOXID", 0);
+  sph.dt = zero_means_default(card1.real(2, "DT", 0.0), 1.0e20);
+  sph.idim = static_cast<int>(card1.integer(3, "IDIM", 3));
+  if (sph.idim == 0) sph.idim = 3;
+  sph.nmneigh = static_cast<int>(card1.integer(4, "NMNEIGH", 150));
+  sph.form = static_cast<int>(card1.integer(5, "FORM", 1));
+  sph.start = card1.real(6, "START", 0.0);
+  sph.maxv = zero_means_default(card1.real(7, "MAXV", 0.0), 1.0e15);
+  if (sph.ncbs < 0) card1.fail("NCBS", quoted(card1.text(0)) + " is negative");
+  if (sph.idim != 3 && sph.idim != 2 && sph.idim != -2)
+    card1.fail("IDIM", quoted(card1.text(3)) + " is not 3, 2 or -2");
+  sph.where = card1.where();
+  sph.card_where[0] = card1.where();
+  if (auto card2 = cursor.next_if_any(standard_fields)) {
+    sph.cont = static_cast<int>(card2->integer(0, "CONT", 0));
+    sph.deriv = static_cast<int>(card2->integer(1, "DERIV", 0));
+    sph.ini = static_cast<int>(card2->integer(2, "INI", 0));
+    sph.ishow = static_cast<int>(card2->integer(3, "ISHOW", 0));
+    sph.ierod = static_cast<int>(card2->integer(4, "IEROD", 0));
+    sph.icont = static_cast<int>(card2->integer(5, "ICONT", 0));
+    sph.iavis = static_cast<int>(card2->integer(6, "IAVIS", 0));
+    sph.isymp = static_cast<int>(card2->integer(7, "ISYMP", 100));
+    sph.card_where[1] = card2->where();
+    if (auto card3 = cursor.next_if_any(standard_fields)) {
+      sph.ithk = static_cast<int>(card3->integer(0, "ITHK", 0));
+      sph.istab = static_cast<int>(card3->integer(1, "ISTAB", 0));
+      sph.ql = zero_means_default(card3->real(2, "QL", 0.0), 0.01);
+      sph.sphsort = static_cast<int>(card3->integer(4, "SPHSORT", 0));
+      sph.ishift = static_cast<int>(card3->integer(5, "ISHIFT", 0));
+      sph.card_where[2] = card3->where();
+    }
+  }
+  model.control_sph = sph;
+}
+
+void read_spall_sph_artificial_stress(CardCursor& cursor, const KeywordCall&, model::Model& model) {
+  refuse_second(cursor, model.sph_artificial_stress.has_value(),
+                model.sph_artificial_stress ? model.sph_artificial_stress->where : SourceLocation{});
+  model::SphArtificialStress stress;
+  // The card is optional: the keyword alone switches the artificial stress on with the defaults.
+  if (auto card = cursor.next_if_any(standard_fields)) {
+    stress.epsilon = zero_means_default(card->real(0, "EPS", 0.0), 0.3);
+    stress.exponent = zero_means_default(card->real(1, "N", 0.0), 4.0);
+    if (stress.epsilon < 0) card->fail("EPS", quoted(card->text(0)) + " is negative");
+    if (stress.exponent < 1) card->fail("N", quoted(card->text(1)) + " is below 1");
+    stress.where = card->where();
+  } else {
+    stress.where = cursor.context().where(cursor.line_of_block());
+  }
+  model.sph_artificial_stress = stress;
 }
 
 void read_database_binary_d3plot(CardCursor& cursor, const KeywordCall&, model::Model& model) {

@@ -53,6 +53,15 @@ void read_section_solid(CardCursor&, const KeywordCall&, model::Model&);
 void read_section_sph(CardCursor&, const KeywordCall&, model::Model&);
 void read_mat_elastic(CardCursor&, const KeywordCall&, model::Model&);
 void read_mat_rigid(CardCursor&, const KeywordCall&, model::Model&);
+// materials_plastic.cpp
+void read_mat_plastic_kinematic(CardCursor&, const KeywordCall&, model::Model&);
+void read_mat_piecewise_linear_plasticity(CardCursor&, const KeywordCall&, model::Model&);
+void read_mat_johnson_cook(CardCursor&, const KeywordCall&, model::Model&);
+void read_mat_null(CardCursor&, const KeywordCall&, model::Model&);
+// eos.cpp
+void read_eos_linear_polynomial(CardCursor&, const KeywordCall&, model::Model&);
+void read_eos_gruneisen(CardCursor&, const KeywordCall&, model::Model&);
+void read_eos_murnaghan(CardCursor&, const KeywordCall&, model::Model&);
 // sets.cpp
 void read_set_node_list(CardCursor&, const KeywordCall&, model::Model&);
 void read_set_node_list_generate(CardCursor&, const KeywordCall&, model::Model&);
@@ -71,6 +80,8 @@ void read_load_body(CardCursor&, const KeywordCall&, model::Model&);
 void read_control_termination(CardCursor&, const KeywordCall&, model::Model&);
 void read_control_timestep(CardCursor&, const KeywordCall&, model::Model&);
 void read_control_bulk_viscosity(CardCursor&, const KeywordCall&, model::Model&);
+void read_control_sph(CardCursor&, const KeywordCall&, model::Model&);
+void read_spall_sph_artificial_stress(CardCursor&, const KeywordCall&, model::Model&);
 void read_database_binary_d3plot(CardCursor&, const KeywordCall&, model::Model&);
 void read_database_glstat(CardCursor&, const KeywordCall&, model::Model&);
 

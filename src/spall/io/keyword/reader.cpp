@@ -33,6 +33,17 @@ constexpr SupportedKeyword supported_keywords[] = {
     {"MAT_001", read_mat_elastic, true},
     {"MAT_RIGID", read_mat_rigid, true},
     {"MAT_020", read_mat_rigid, true},
+    {"MAT_PLASTIC_KINEMATIC", read_mat_plastic_kinematic, true},
+    {"MAT_003", read_mat_plastic_kinematic, true},
+    {"MAT_PIECEWISE_LINEAR_PLASTICITY", read_mat_piecewise_linear_plasticity, true},
+    {"MAT_024", read_mat_piecewise_linear_plasticity, true},
+    {"MAT_JOHNSON_COOK", read_mat_johnson_cook, true},
+    {"MAT_015", read_mat_johnson_cook, true},
+    {"MAT_NULL", read_mat_null, true},
+    {"MAT_009", read_mat_null, true},
+    {"EOS_LINEAR_POLYNOMIAL", read_eos_linear_polynomial, true},
+    {"EOS_GRUNEISEN", read_eos_gruneisen, true},
+    {"EOS_MURNAGHAN", read_eos_murnaghan, true},
     {"SET_NODE", read_set_node_list, true},
     {"SET_NODE_LIST", read_set_node_list, true},
     {"SET_NODE_LIST_GENERATE", read_set_node_list_generate, true},
@@ -53,6 +64,8 @@ constexpr SupportedKeyword supported_keywords[] = {
     {"CONTROL_TERMINATION", read_control_termination},
     {"CONTROL_TIMESTEP", read_control_timestep},
     {"CONTROL_BULK_VISCOSITY", read_control_bulk_viscosity},
+    {"CONTROL_SPH", read_control_sph},
+    {"SPALL_SPH_ARTIFICIAL_STRESS", read_spall_sph_artificial_stress},
     {"DATABASE_BINARY_D3PLOT", read_database_binary_d3plot},
     {"DATABASE_GLSTAT", read_database_glstat},
 };
@@ -229,7 +242,8 @@ class DeckReader {
     return name;
   }
 
-  // Records the keyword for the warning list. For sections, materials and EOS it also keeps the
+  // Records the keyword for the warning list. For sections, materials, EOS and tables (which
+  // *MAT_PIECEWISE_LINEAR_PLASTICITY's LCSS may name) it also keeps the
   // ID in the first field of the first data card (for *PART_ variants, the PID on the card after
   // the heading), so that validate() can name the keyword a reference points to. Never throws:
   // an unreadable ID is 0.
@@ -239,7 +253,8 @@ class DeckReader {
     unsupported.where = {*block.file, block.line};
     const std::string_view name = block.name;
     std::size_t card = block.data.size();  // the card with the ID; none by default
-    if (name.starts_with("SECTION_") || name.starts_with("MAT_") || name.starts_with("EOS_"))
+    if (name.starts_with("SECTION_") || name.starts_with("MAT_") || name.starts_with("EOS_") ||
+        name.starts_with("DEFINE_TABLE"))
       card = ends_with(name, "_TITLE") ? 1 : 0;
     else if (name.starts_with("PART_"))  // *PART_INERTIA etc.: a heading, then PID first
       card = 1;

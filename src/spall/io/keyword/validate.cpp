@@ -58,6 +58,7 @@ class Validator {
     check_ids_against_unsupported();
     check_elements();
     check_parts();
+    check_materials();
     check_sets();
     check_conditions();
     check_controls();
@@ -85,6 +86,13 @@ class Validator {
         throw InputError(other->where, other->keyword,
                          "material " + std::to_string(id) + " is defined twice (first at " +
                              location_text(material.where) + ")");
+    }
+    for (const auto& [id, eos] : model_.eos) {
+      const auto* other = find_unsupported(model_, "*EOS_", id);
+      if (other)
+        throw InputError(other->where, other->keyword,
+                         "equation of state " + std::to_string(id) + " is defined twice (first at " +
+                             location_text(eos.where) + ")");
     }
   }
 
@@ -132,8 +140,9 @@ class Validator {
         refuse_reference(part, used, "*SECTION_", "section", part.secid);
       if (!model_.materials.contains(part.mid))
         refuse_reference(part, used, "*MAT_", "material", part.mid);
-      // Spall reads no *EOS_ keyword yet, so any EOS a used part names is unsupported.
-      if (part.eosid != 0) refuse_reference(part, used, "*EOS_", "equation of state", part.eosid);
+      if (part.eosid != 0 && !model_.eos.contains(part.eosid))
+        refuse_reference(part, used, "*EOS_", "equation of state", part.eosid);
+      require_eos_where_needed(part);
       if (section == model_.sections.end()) continue;
       if (auto it = first_sph_.find(part.id);
           it != first_sph_.end() && !std::holds_alternative<model::SectionSph>(section->second))
@@ -147,6 +156,44 @@ class Validator {
                          "part " + std::to_string(part.id) + " has *ELEMENT_SOLID elements (" +
                              location_text(*it->second) + ") but its section " +
                              std::to_string(part.secid) + " is not a *SECTION_SOLID");
+    }
+  }
+
+  // *MAT_NULL has no pressure of its own, nor has *MAT_JOHNSON_COOK without E (which LS-DYNA
+  // reads for shells only); Spall gives the latter K = E / (3 (1 - 2 PR)) when E is set.
+  void require_eos_where_needed(const model::Part& part) const {
+    if (part.eosid != 0) return;
+    const auto material = model_.materials.find(part.mid);
+    if (material == model_.materials.end()) return;
+    const auto& params = material->second.params;
+    const auto* johnson_cook = std::get_if<model::MatJohnsonCook>(&params);
+    std::string why;
+    if (std::holds_alternative<model::MatNull>(params))
+      why = "*MAT_NULL has no pressure of its own";
+    else if (johnson_cook && johnson_cook->e == 0)
+      why = "*MAT_JOHNSON_COOK with E = 0 has no bulk modulus";
+    else
+      return;
+    throw InputError(part.where, "*PART",
+                     "part " + std::to_string(part.id) + ": material " + std::to_string(part.mid) +
+                         " (" + location_text(material->second.where) + ") needs an equation of "
+                         "state, but EOSID is 0: " + why);
+  }
+
+  // A *MAT_PIECEWISE_LINEAR_PLASTICITY's LCSS must be a *DEFINE_CURVE (yield stress versus
+  // effective plastic strain).
+  void check_materials() const {
+    for (const auto& [id, material] : model_.materials) {
+      const auto* piecewise = std::get_if<model::MatPiecewiseLinearPlasticity>(&material.params);
+      if (!piecewise || piecewise->lcss == 0 || model_.curves.contains(piecewise->lcss)) continue;
+      const std::string lcss = std::to_string(piecewise->lcss);
+      if (const auto* table = find_unsupported(model_, "*DEFINE_TABLE", piecewise->lcss))
+        throw InputError(material.where, material.keyword,
+                         "LCSS: " + lcss + " is a " + table->keyword + " (" + location_text(table->where) +
+                             "); tables of curves by strain rate are not read, give a "
+                             "*DEFINE_CURVE of yield stress versus plastic strain");
+      throw InputError(material.where, material.keyword,
+                       "LCSS: curve " + lcss + " is not defined");
     }
   }
 

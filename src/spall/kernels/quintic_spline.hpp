@@ -1,0 +1,52 @@
+#pragma once
+// Quintic spline (Morris, Fox & Zhu 1997), rescaled to the support radius H used by every Spall
+// kernel, so that *SECTION_SPH CSLH gives the same neighbours whatever SPHKERN says. In Morris'
+// variable t = 3 r / H (support t <= 3):
+//   W = sigma / (H/3)^d * [ (3 - t)^5 - 6 (2 - t)^5 + 15 (1 - t)^5 ],  each bracket only while > 0,
+// sigma = 1/120 (1D), 7/(478 pi) (2D), 1/(120 pi) (3D) (the lattice-integral test checks each).
+#include <numbers>
+
+#include "spall/core/types.hpp"
+
+namespace spall::kernels {
+
+template <int Dim>
+struct QuinticSpline {
+  static_assert(Dim >= 1 && Dim <= 3);
+  static constexpr int dimension = Dim;
+
+  static constexpr Real normalisation() {
+    constexpr Real pi = std::numbers::pi_v<Real>;
+    if constexpr (Dim == 1) return Real(3) / 120;                      // 3^1 / 120
+    if constexpr (Dim == 2) return Real(9) * 7 / (478 * pi);           // 3^2 * 7 / (478 pi)
+    return Real(27) / (120 * pi);                                      // 3^3 / (120 pi)
+  }
+
+  static Real power(Real support) {
+    Real p = support;
+    for (int d = 1; d < Dim; ++d) p *= support;
+    return p;
+  }
+
+  static Real value(Real r, Real support) {
+    const Real t = 3 * r / support;
+    if (t >= 3) return 0;
+    auto p5 = [](Real u) { return u > 0 ? u * u * u * u * u : Real(0); };
+    return normalisation() / power(support) * (p5(3 - t) - 6 * p5(2 - t) + 15 * p5(1 - t));
+  }
+
+  static Real derivative(Real r, Real support) {
+    const Real t = 3 * r / support;
+    if (t >= 3) return 0;
+    auto p4 = [](Real u) { return u > 0 ? u * u * u * u : Real(0); };
+    return normalisation() / (power(support) * support) * 3 *
+           (-5 * p4(3 - t) + 30 * p4(2 - t) - 75 * p4(1 - t));
+  }
+
+  static Vec3 gradient(const Vec3& xab, Real r, Real support) {
+    if (r <= 0) return Vec3::Zero();
+    return (derivative(r, support) / r) * xab;
+  }
+};
+
+}  // namespace spall::kernels

@@ -1,0 +1,53 @@
+#pragma once
+// Wendland C2 kernel (Wendland 1995; normalisations from Dehnen & Aly 2012), support radius H,
+// s = r / H:
+//   2D, 3D: W = sigma / H^d (1 - s)^4 (1 + 4 s),  sigma = 7/pi (2D), 21/(2 pi) (3D)
+//   1D:     W = sigma / H   (1 - s)^3 (1 + 3 s),  sigma = 5/4
+// It has no negative Fourier modes, so it does not pair particles (Dehnen & Aly 2012).
+#include <numbers>
+
+#include "spall/core/types.hpp"
+
+namespace spall::kernels {
+
+template <int Dim>
+struct WendlandC2 {
+  static_assert(Dim >= 1 && Dim <= 3);
+  static constexpr int dimension = Dim;
+
+  static constexpr Real normalisation() {
+    constexpr Real pi = std::numbers::pi_v<Real>;
+    if constexpr (Dim == 1) return Real(5) / 4;
+    if constexpr (Dim == 2) return Real(7) / pi;
+    return Real(21) / (2 * pi);
+  }
+
+  static Real power(Real support) {
+    Real p = support;
+    for (int d = 1; d < Dim; ++d) p *= support;
+    return p;
+  }
+
+  static Real value(Real r, Real support) {
+    const Real s = r / support;
+    if (s >= 1) return 0;
+    const Real u = 1 - s;
+    if constexpr (Dim == 1) return normalisation() / support * u * u * u * (1 + 3 * s);
+    return normalisation() / power(support) * u * u * u * u * (1 + 4 * s);
+  }
+
+  static Real derivative(Real r, Real support) {
+    const Real s = r / support;
+    if (s >= 1) return 0;
+    const Real u = 1 - s;
+    if constexpr (Dim == 1) return normalisation() / (support * support) * (-12 * s * u * u);
+    return normalisation() / (power(support) * support) * (-20 * s * u * u * u);
+  }
+
+  static Vec3 gradient(const Vec3& xab, Real r, Real support) {
+    if (r <= 0) return Vec3::Zero();
+    return (derivative(r, support) / r) * xab;
+  }
+};
+
+}  // namespace spall::kernels

@@ -1,0 +1,95 @@
+#include "spall/materials/johnson_cook.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "spall/materials/elastic.hpp"
+#include "spall/materials/radial_return.hpp"
+
+namespace spall::materials {
+
+namespace {
+
+// ln(rate*) with rate* = max(rate / EPSO, 1).
+Real log_rate_ratio(const JohnsonCook& model, Real plastic_strain_rate) {
+  const Real ratio = plastic_strain_rate / model.reference_rate;
+  return ratio > 1 ? std::log(ratio) : 0;
+}
+
+// 1 - T*^M: the thermal softening factor.
+Real thermal_factor(const JohnsonCook& model, Real temperature) {
+  return 1 - std::pow(homologous_temperature(model, temperature), model.m);
+}
+
+}  // namespace
+
+Real homologous_temperature(const JohnsonCook& model, Real temperature) {
+  const Real t =
+      (temperature - model.room_temperature) / (model.melt_temperature - model.room_temperature);
+  return std::clamp(t, Real(0), Real(1));
+}
+
+Real johnson_cook_flow_stress(const JohnsonCook& model, Real plastic_strain,
+                              Real plastic_strain_rate, Real temperature) {
+  const Real rate_factor =
+      model.c != 0 ? 1 + model.c * log_rate_ratio(model, plastic_strain_rate) : Real(1);
+  return (model.a + model.b * std::pow(plastic_strain, model.n)) * rate_factor *
+         thermal_factor(model, temperature);
+}
+
+Real johnson_cook_failure_strain(const JohnsonCook& model, Real triaxiality,
+                                 Real plastic_strain_rate, Real temperature) {
+  const Real rate_factor =
+      model.d4 != 0 ? 1 + model.d4 * log_rate_ratio(model, plastic_strain_rate) : Real(1);
+  const Real strain = (model.d1 + model.d2 * std::exp(model.d3 * triaxiality)) * rate_factor *
+                      (1 + model.d5 * homologous_temperature(model, temperature));
+  return std::max(strain, model.min_failure_strain);
+}
+
+Real update_johnson_cook(const JohnsonCook& model, Real shear_modulus, PointState& state,
+                         const Mat3& strain_rate, Real dt, Real density, Real pressure) {
+  const Mat3 trial = state.deviatoric_stress + 2 * shear_modulus * dt * deviator(strain_rate);
+  const Real q = von_mises(trial);
+  const Real eps = state.plastic_strain;
+  const Real thermal = thermal_factor(model, state.temperature);
+  // sigma_y(eps + dp, dp / dt, T) and its derivative in dp.
+  const auto yield = [&](Real dp) {
+    const Real strain = eps + dp;
+    const Real hardening = model.a + model.b * std::pow(strain, model.n);
+    Real hardening_slope = 0;
+    if (model.b != 0 && model.n != 0)
+      hardening_slope = strain > 0 || model.n >= 1
+                            ? model.b * model.n * std::pow(strain, model.n - 1)
+                            : std::numeric_limits<Real>::infinity();  // N < 1 at eps_p = 0
+    Real rate_factor = 1;
+    Real rate_slope = 0;
+    if (model.c != 0 && dt > 0) {
+      const Real log_ratio = log_rate_ratio(model, dp / dt);
+      rate_factor = 1 + model.c * log_ratio;
+      if (log_ratio > 0) rate_slope = model.c / dp;
+    }
+    return YieldValue{hardening * rate_factor * thermal,
+                      (hardening_slope * rate_factor + hardening * rate_slope) * thermal};
+  };
+  if (q <= yield(0).stress) {
+    state.deviatoric_stress = trial;
+    return 0;
+  }
+  const Real dp = plastic_strain_increment(q, 3 * shear_modulus, yield);
+  state.deviatoric_stress = trial * (1 - 3 * shear_modulus * dp / q);
+  const Real sigma_eq = von_mises(state.deviatoric_stress);
+  const Real work = sigma_eq * dp;
+  if (model.damage() && sigma_eq > 0) {
+    const Real rate = dt > 0 ? dp / dt : 0;
+    const Real failure_strain =
+        johnson_cook_failure_strain(model, -pressure / sigma_eq, rate, state.temperature);
+    state.damage += failure_strain > 0 ? dp / failure_strain : Real(1);
+    if (state.damage >= 1) state.failed = true;
+  }
+  state.plastic_strain += dp;
+  state.temperature += work / (density * model.heat_capacity);
+  return work;
+}
+
+}  // namespace spall::materials

@@ -1,0 +1,98 @@
+#include "spall/materials/material.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Eigenvalues>
+
+#include "spall/materials/radial_return.hpp"
+
+namespace spall::materials {
+
+PointState initial_state(const Material& material) {
+  PointState state;
+  state.temperature = material.initial_temperature;
+  return state;
+}
+
+Real eos_pressure(const Material& material, Real density, Real specific_energy) {
+  return evaluate_eos(material.eos, material.density, density, specific_energy).pressure;
+}
+
+Real update_deviatoric_stress(const Material& material, PointState& state, const Mat3& strain_rate,
+                              Real dt, Real density, Real pressure) {
+  Real work = 0;
+  if (!state.failed) {
+    const Real g = material.shear_modulus;
+    struct Visitor {
+      PointState& state;
+      const Mat3& d;
+      Real dt, density, pressure, g;
+      Real operator()(const Elastic&) const {
+        state.deviatoric_stress += 2 * g * dt * deviator(d);
+        return 0;
+      }
+      Real operator()(const PlasticKinematic& m) const {
+        return update_plastic_kinematic(m, g, state, d, dt);
+      }
+      Real operator()(const PiecewiseLinear& m) const {
+        return update_piecewise_linear(m, g, state, d, dt);
+      }
+      Real operator()(const JohnsonCook& m) const {
+        return update_johnson_cook(m, g, state, d, dt, density, pressure);
+      }
+      Real operator()(const Null& m) const {
+        state.deviatoric_stress = 2 * m.viscosity * deviator(d);
+        return 0;
+      }
+    };
+    work = std::visit(Visitor{state, strain_rate, dt, density, pressure, g}, material.strength);
+  }
+  if (state.failed) {
+    state.deviatoric_stress.setZero();
+    state.back_stress.setZero();
+  }
+  return work;
+}
+
+Real apply_tensile_limit(const Material& material, PointState& state, Real pressure) {
+  switch (material.tensile_limit) {
+    case TensileLimit::none:
+      break;
+    case TensileLimit::pressure_cutoff:
+      pressure = std::max(pressure, material.pressure_cutoff);
+      break;
+    case TensileLimit::principal_stress: {
+      if (state.failed) break;
+      const Mat3 sigma = state.deviatoric_stress - pressure * Mat3::Identity();
+      Eigen::SelfAdjointEigenSolver<Mat3> solver;
+      solver.computeDirect(sigma, Eigen::EigenvaluesOnly);
+      if (solver.eigenvalues().maxCoeff() >= -material.pressure_cutoff) state.failed = true;
+      break;
+    }
+    case TensileLimit::hydrostatic_tension:
+      if (pressure <= material.pressure_cutoff) state.failed = true;
+      break;
+  }
+  if (state.failed) {
+    state.deviatoric_stress.setZero();
+    state.back_stress.setZero();
+    pressure = std::max(pressure, Real(0));
+  }
+  return pressure;
+}
+
+StressUpdate update_stress(const Material& material, PointState& state, const Mat3& strain_rate,
+                           Real dt, Real density, Real specific_energy) {
+  const Real pressure = eos_pressure(material, density, specific_energy);
+  const Real work = update_deviatoric_stress(material, state, strain_rate, dt, density, pressure);
+  return {apply_tensile_limit(material, state, pressure), work};
+}
+
+Real sound_speed(const Material& material, Real density, Real specific_energy) {
+  const EosValue value = evaluate_eos(material.eos, material.density, density, specific_energy);
+  const Real bulk = std::max(isentropic_bulk_modulus(value, density), Real(0));
+  return std::sqrt((bulk + Real(4) / 3 * material.shear_modulus) / density);
+}
+
+}  // namespace spall::materials

@@ -1,0 +1,36 @@
+#include "spall/materials/plastic_kinematic.hpp"
+
+#include "spall/materials/elastic.hpp"
+#include "spall/materials/radial_return.hpp"
+
+namespace spall::materials {
+
+Real update_plastic_kinematic(const PlasticKinematic& model, Real shear_modulus, PointState& state,
+                              const Mat3& strain_rate, Real dt) {
+  const Mat3 trial = state.deviatoric_stress + 2 * shear_modulus * dt * deviator(strain_rate);
+  const Mat3 relative = trial - state.back_stress;
+  const Real q = von_mises(relative);
+  const Real rate_factor = model.rate.factor(effective_strain_rate(strain_rate));
+  const Real isotropic_modulus = model.beta * model.hardening_modulus;
+  const Real kinematic_modulus = (1 - model.beta) * model.hardening_modulus;
+  const auto yield = [&](Real dp) {
+    return YieldValue{
+        rate_factor * (model.yield_stress + isotropic_modulus * (state.plastic_strain + dp)),
+        rate_factor * isotropic_modulus};
+  };
+  if (q <= yield(0).stress) {
+    state.deviatoric_stress = trial;
+    return 0;
+  }
+  const Real dp = plastic_strain_increment(q, 3 * shear_modulus + kinematic_modulus, yield);
+  const Mat3 direction = relative / q;  // von_mises(direction) = 1
+  state.deviatoric_stress = trial - 3 * shear_modulus * dp * direction;
+  state.back_stress += kinematic_modulus * dp * direction;
+  state.plastic_strain += dp;
+  // d(eps^p) = 3/2 dp xi / q
+  const Real work = Real(1.5) * dp * state.deviatoric_stress.cwiseProduct(direction).sum();
+  if (model.failure_strain > 0 && state.plastic_strain >= model.failure_strain) state.failed = true;
+  return work;
+}
+
+}  // namespace spall::materials

@@ -1,0 +1,16 @@
+#pragma once
+// What a material point carries from one step to the next.
+#include "spall/core/types.hpp"
+
+namespace spall::materials {
+
+struct PointState {
+  Mat3 deviatoric_stress = Mat3::Zero();  // S, the deviator of the Cauchy stress
+  Mat3 back_stress = Mat3::Zero();        // alpha: kinematic hardening (MAT_003 BETA < 1)
+  Real plastic_strain = 0;                // effective plastic strain
+  Real temperature = 0;                   // MAT_015: starts at TR, rises by adiabatic heating
+  Real damage = 0;                        // MAT_015 Johnson-Cook damage D; fails at 1
+  bool failed = false;                    // no deviatoric stress and no tension from now on
+};
+
+}  // namespace spall::materials

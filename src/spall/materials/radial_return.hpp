@@ -1,0 +1,56 @@
+#pragma once
+// J2 (von Mises) return mapping shared by the plastic materials (Wilkins 1964; Simo & Hughes,
+// Computational Inelasticity, 1998, §3.3). For a trial deviator xi (relative to the back stress)
+// with equivalent stress q = sqrt(3/2 xi:xi), a plastic increment dp of effective plastic strain
+// moves the stress back along xi / q by 3G dp (and the back stress forward by H_kin dp), so that
+//   g(dp) = q - stiffness dp - yield(dp) = 0,   stiffness = 3G + H_kin,
+// where yield(dp) is the radius of the yield surface after the increment. g decreases in dp,
+// g(0) > 0 when the trial is outside, and g(q / stiffness) = -yield <= 0: the root is bracketed.
+#include <cmath>
+#include <limits>
+
+#include "spall/core/types.hpp"
+
+namespace spall::materials {
+
+// The yield-surface radius after a plastic increment dp, and its derivative d(radius)/d(dp).
+struct YieldValue {
+  Real stress = 0;
+  Real slope = 0;
+};
+
+// Deviatoric part of a symmetric tensor.
+inline Mat3 deviator(const Mat3& a) { return a - (a.trace() / 3) * Mat3::Identity(); }
+
+// Effective strain rate sqrt(2/3 D:D) of a rate of deformation D.
+inline Real effective_strain_rate(const Mat3& d) {
+  return std::sqrt(Real(2) / 3 * d.cwiseProduct(d).sum());
+}
+
+// The root dp of g above, by Newton's method kept inside the bracket (bisection when a Newton
+// step leaves it). It lands on the yield surface to round-off: |g| <= a few ulp of q, or the
+// bracket has shrunk to one ulp. `yield(dp)` returns a YieldValue.
+template <class Yield>
+Real plastic_strain_increment(Real q_trial, Real stiffness, const Yield& yield) {
+  constexpr Real epsilon = std::numeric_limits<Real>::epsilon();
+  Real low = 0;
+  Real high = q_trial / stiffness;
+  // First guess: the increment if the yield stress did not change (perfect plasticity).
+  Real dp = (q_trial - yield(Real(0)).stress) / stiffness;
+  if (!(dp > low && dp < high)) dp = Real(0.5) * high;
+  for (int iteration = 0; iteration < 200; ++iteration) {
+    const YieldValue y = yield(dp);
+    const Real g = q_trial - stiffness * dp - y.stress;
+    if (g > 0)
+      low = dp;
+    else
+      high = dp;
+    if (std::abs(g) <= 4 * epsilon * q_trial || high - low <= 2 * epsilon * high) break;
+    Real next = dp + g / (stiffness + y.slope);
+    if (!(next > low && next < high)) next = Real(0.5) * (low + high);
+    dp = next;
+  }
+  return dp;
+}
+
+}  // namespace spall::materials

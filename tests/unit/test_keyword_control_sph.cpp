@@ -1,0 +1,96 @@
+// *CONTROL_SPH and *SPALL_SPH_ARTIFICIAL_STRESS: every field lands where it should, blank fields
+// take LS-DYNA's defaults (FORM: Spall's renormalized default), and options Spall does not run
+// stop at their card with the field named.
+#include <gtest/gtest.h>
+
+#include "keyword_test_decks.hpp"
+#include "spall/io/keyword/reader.hpp"
+#include "spall/solver/problem.hpp"
+#include "support/sph_block.hpp"
+
+namespace spall::io::keyword {
+namespace {
+
+using test::DeckFolder;
+using test::input_error_of;
+using test::row;
+
+TEST(control_sph, ReadsEveryFieldOfTheThreeCards) {
+  DeckFolder folder;
+  const auto model = read_deck(folder.write(
+      "sph.k", "*KEYWORD\n*CONTROL_SPH\n" +
+                   row({"5", "0", "2.5e-3", "2", "90", "0", "1e-4", "1e18"}) +
+                   row({"0", "0", "0", "1", "0", "0", "0", "80"}) +
+                   row({"0", "0", "0.02", "", "0", "0"}) + "*END\n"));
+  ASSERT_TRUE(model.control_sph);
+  const auto& c = *model.control_sph;
+  EXPECT_EQ(c.ncbs, 5);
+  EXPECT_EQ(c.dt, 2.5e-3);
+  EXPECT_EQ(c.idim, 2);
+  EXPECT_EQ(c.nmneigh, 90);
+  EXPECT_EQ(c.form, 0);  // written explicitly: plain SPH
+  EXPECT_EQ(c.start, 1e-4);
+  EXPECT_EQ(c.maxv, 1e18);
+  EXPECT_EQ(c.ishow, 1);
+  EXPECT_EQ(c.isymp, 80);
+  EXPECT_EQ(c.ql, 0.02);
+  EXPECT_EQ(c.card_where[2].line, 5);
+}
+
+TEST(control_sph, BlankFieldsTakeTheDefaults) {
+  DeckFolder folder;
+  const auto model = read_deck(folder.write("sph.k", "*KEYWORD\n*CONTROL_SPH\n\n*END\n"));
+  ASSERT_TRUE(model.control_sph);
+  const auto& c = *model.control_sph;
+  EXPECT_EQ(c.ncbs, 1);
+  EXPECT_EQ(c.dt, 1e20);
+  EXPECT_EQ(c.idim, 3);
+  EXPECT_EQ(c.form, 1);  // Spall's default: renormalized (docs/KEYWORDS.md says why)
+  EXPECT_EQ(c.maxv, 1e15);
+  EXPECT_EQ(c.isymp, 100);
+}
+
+TEST(control_sph, BadIdimNamesTheField) {
+  DeckFolder folder;
+  const auto path = folder.write("sph.k", "*KEYWORD\n*CONTROL_SPH\n" + row({"1", "0", "0", "5"}) + "*END\n");
+  const std::string message = input_error_of([&] { read_deck(path); });
+  EXPECT_NE(message.find("sph.k:3: *CONTROL_SPH: field IDIM"), std::string::npos) << "got: " << message;
+}
+
+TEST(control_sph, ArtificialStressKeywordAloneSwitchesItOnWithGrayMonaghanSwiftDefaults) {
+  DeckFolder folder;
+  const auto model = read_deck(folder.write("s.k", "*KEYWORD\n*SPALL_SPH_ARTIFICIAL_STRESS\n*END\n"));
+  ASSERT_TRUE(model.sph_artificial_stress);
+  EXPECT_EQ(model.sph_artificial_stress->epsilon, 0.3);  // Gray, Monaghan & Swift 2001
+  EXPECT_EQ(model.sph_artificial_stress->exponent, 4.0);
+  const auto model2 = read_deck(folder.write(
+      "s2.k", "*KEYWORD\n*SPALL_SPH_ARTIFICIAL_STRESS\n" + row({"0.2", "3"}) + "*END\n"));
+  EXPECT_EQ(model2.sph_artificial_stress->epsilon, 0.2);
+  EXPECT_EQ(model2.sph_artificial_stress->exponent, 3.0);
+}
+
+// An option the solver does not implement stops the run at its card, naming the field.
+TEST(control_sph, UnimplementedOptionsStopAtTheirCard) {
+  struct Case {
+    std::string cards;
+    std::string expected;
+  };
+  const Case cases[] = {
+      {row({"1", "0", "0", "3", "150", "13"}), ":3: *CONTROL_SPH: FORM 13"},
+      {row({"1", "0", "0", "-2"}), ":3: *CONTROL_SPH: IDIM -2"},
+      {row({"1", "7"}), ":3: *CONTROL_SPH: BOXID 7"},
+      {row({"1"}) + row({"0", "0", "0", "0", "1"}), ":4: *CONTROL_SPH: IEROD 1"},
+      {row({"1"}) + row({}) + row({"0", "0", "0", "", "0", "1"}), ":5: *CONTROL_SPH: ISHIFT 1"},
+  };
+  for (const auto& c : cases) {
+    DeckFolder folder;
+    const auto model = read_deck(folder.write("sph.k", "*KEYWORD\n*CONTROL_SPH\n" + c.cards + "*END\n"));
+    model::Model block = test_support::elastic_block_model({Vec3(0.1, 0.1, 0.1), 0.025});
+    block.control_sph = model.control_sph;
+    const std::string message = input_error_of([&] { solver::build_problem(block); });
+    EXPECT_NE(message.find(c.expected), std::string::npos) << message;
+  }
+}
+
+}  // namespace
+}  // namespace spall::io::keyword
