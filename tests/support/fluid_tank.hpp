@@ -1,8 +1,9 @@
 #pragma once
 // Builds weakly compressible SPH problems in code: a box of fluid particles on a cell-centred
 // lattice, in a rectangular tank whose floor and walls are layers of fixed (SPC'd) boundary
-// particles on the same lattice, under gravity g along -z. With fluid.dimension == 2 everything
-// lies in the plane y = 0 (one lattice row in y, masses per unit depth).
+// particles on the same lattice, under gravity g along -z. With fluid.dimension == 2 the problem
+// is the x-z section of the 3D one laid in the x-y plane (plane strain, as LS-DYNA's IDIM = 2):
+// the vertical is y, every particle at z = 0, masses per unit thickness.
 #include <cmath>
 #include <memory>
 
@@ -20,7 +21,7 @@ struct FluidTank {
   bool side_walls = true;  // walls at y = 0 and y = tank_size.y() (else the y faces are free)
   bool right_wall = true;  // the wall at x = tank_size.x()
   Real gravity = 9.81;
-  sph::FluidParameters fluid;
+  sph::FluidParameters fluid;  // its material's density is the particles' density
   Real end_time = 0.1;
 };
 
@@ -30,6 +31,7 @@ struct FluidTankProblem {
   solver::Problem problem;
   std::vector<Index> fluid_nodes;  // node indices of the fluid particles
   std::vector<Index> wall_nodes;
+  int vertical = 2;                 // the axis gravity acts along (1 in 2D)
   sph::FluidFormulation& formulation() {
     return dynamic_cast<sph::FluidFormulation&>(*problem.formulations.front());
   }
@@ -47,7 +49,7 @@ inline FluidTankProblem fluid_tank_problem(const FluidTank& t) {
   const int fx = cells(t.fluid_size.x()), fy = plane ? 1 : cells(t.fluid_size.y()),
             fz = cells(t.fluid_size.z());
   const auto at = [&](int i, int j, int k) -> Vec3 {
-    return plane ? dp * Vec3(i + 0.5, 0, k + 0.5) : dp * Vec3(i + 0.5, j + 0.5, k + 0.5);
+    return plane ? dp * Vec3(i + 0.5, k + 0.5, 0) : dp * Vec3(i + 0.5, j + 0.5, k + 0.5);
   };
   for (int k = 0; k < fz; ++k)
     for (int j = 0; j < fy; ++j)
@@ -77,6 +79,7 @@ inline FluidTankProblem fluid_tank_problem(const FluidTank& t) {
     nodes.id[i] = i + 1;
     nodes.x0[i] = nodes.x[i] = x[i];
     nodes.mass[i] = t.fluid.material.density * volume;
+    if (plane) nodes.fixed[i] = 4;  // plane strain: the particles stay in their plane
     if (wall[i]) {
       nodes.fixed[i] = 7;
       out.problem.part_of_node[i] = 2;
@@ -91,7 +94,8 @@ inline FluidTankProblem fluid_tank_problem(const FluidTank& t) {
       std::make_unique<sph::FluidFormulation>(t.fluid, particles, nodes));
   out.gravity_curve = std::make_unique<model::Curve>();
   out.gravity_curve->points = {{0.0, t.gravity}, {1.0, t.gravity}};
-  out.problem.base_accelerations.push_back({2, out.gravity_curve.get(), 1.0});
+  out.vertical = plane ? 1 : 2;
+  out.problem.base_accelerations.push_back({out.vertical, out.gravity_curve.get(), 1.0});
   out.problem.controls.end_time = t.end_time;
   out.problem.controls.tssfac = 1.0;
   out.problem.controls.glstat_dt = t.end_time / 100;

@@ -30,10 +30,8 @@ Vec3 total_momentum(const solver::NodeStore& nodes) {
 
 sph::FluidParameters water(Real spacing, Real depth) {
   sph::FluidParameters f;
-  f.material.density = 1000;
-  f.material.sound_speed = 10 * std::sqrt(2 * g * depth);  // Mach <= 0.1 (Monaghan 1994)
-  f.material.gamma = 7;
-  f.material.dynamic_viscosity = 1e-3;
+  // c0 = 10 x the free-fall speed from `depth`: Mach <= 0.1 (Monaghan 1994)
+  f.material = sph::FluidMaterial::tait(1000, 10 * std::sqrt(2 * g * depth), 7, 1e-3);
   f.smoothing_length = 1.3 * spacing;
   f.viscosity.alpha = 0.1;
   f.viscosity.beta = 0;
@@ -155,10 +153,11 @@ TEST(SphFluidHydrostatics, PressureAtDepthIsRhoGD) {
     Real sum = 0, d_sum = 0;
     int count = 0;
     for (Index i : tank.fluid_nodes) {
-      const Real d0 = D - tank.problem.nodes.x0[i].z();
+      const int up = tank.vertical;
+      const Real d0 = D - tank.problem.nodes.x0[i][up];
       if (d0 < depth - dp || d0 >= depth + dp) continue;
       sum += pressure[i];
-      d_sum += D - tank.problem.nodes.x[i].z();  // its depth now, below the initial surface
+      d_sum += D - tank.problem.nodes.x[i][up];  // its depth now, below the initial surface
       ++count;
     }
     ASSERT_GT(count, 0);

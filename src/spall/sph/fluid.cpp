@@ -39,12 +39,22 @@ std::size_t bytes(const std::vector<T>& v) {
 
 }  // namespace
 
+FluidMaterial FluidMaterial::tait(Real rho0, Real c0, Real gamma, Real mu) {
+  FluidMaterial m;
+  m.density = rho0;
+  m.eos = materials::Murnaghan{gamma, rho0 * c0 * c0 / gamma};
+  m.dynamic_viscosity = mu;
+  return m;
+}
+
 Real FluidMaterial::pressure(Real rho) const {
-  return std::max(bulk_modulus() * (std::pow(rho / density, gamma) - 1), pressure_cutoff);
+  return std::max(materials::evaluate_eos(eos, density, rho, specific_energy).pressure,
+                  pressure_cutoff);
 }
 
 Real FluidMaterial::sound_speed_at(Real rho) const {
-  return sound_speed * std::pow(rho / density, (gamma - 1) / 2);
+  const auto value = materials::evaluate_eos(eos, density, rho, specific_energy);
+  return std::sqrt(std::max(materials::isentropic_bulk_modulus(value, rho), Real(0)) / rho);
 }
 
 FluidFormulation::FluidFormulation(const FluidParameters& parameters,
@@ -52,16 +62,16 @@ FluidFormulation::FluidFormulation(const FluidParameters& parameters,
                                    const solver::NodeStore& nodes)
     : parameters_(parameters), support_(2 * parameters.smoothing_length) {
   const auto& m = parameters_.material;
-  if (!(m.density > 0) || !(m.sound_speed > 0) || !(m.gamma > 0) || !(m.dynamic_viscosity >= 0))
-    throw std::invalid_argument("SPH fluid: needs rho0 > 0, c0 > 0, gamma > 0 and mu >= 0");
+  if (!(m.density > 0) || !(m.reference_sound_speed() > 0) || !(m.dynamic_viscosity >= 0))
+    throw std::invalid_argument("SPH fluid: needs rho0 > 0, a sound speed > 0 at rho0 and mu >= 0");
   if (!(parameters_.smoothing_length > 0))
     throw std::invalid_argument("SPH fluid: the smoothing length must be > 0");
   if (parameters_.dimension != 2 && parameters_.dimension != 3)
     throw std::invalid_argument("SPH fluid: the dimension must be 2 or 3");
   if (parameters_.dimension == 2)
     for (Index i : particle_nodes)
-      if (nodes.x[i].y() != nodes.x[particle_nodes.front()].y())
-        throw std::invalid_argument("SPH fluid: in 2D every particle must lie in one plane y = const");
+      if (nodes.x[i].z() != nodes.x[particle_nodes.front()].z())
+        throw std::invalid_argument("SPH fluid: in 2D every particle must lie in one plane z = const");
   const std::size_t n = particle_nodes.size();
   node_ = particle_nodes;
   mass_.resize(n);
@@ -73,7 +83,7 @@ FluidFormulation::FluidFormulation(const FluidParameters& parameters,
     v->assign(n, 0);
   pressure_force_.assign(3 * n, 0);
   viscous_force_.assign(3 * n, 0);
-  max_sound_speed_ = m.sound_speed;
+  max_sound_speed_ = m.reference_sound_speed();
 }
 
 void FluidFormulation::set_density_at_node(Index node, Real rho) {
@@ -350,7 +360,7 @@ void FluidFormulation::pair_pass(solver::NodeStore& nodes, Real dt) {
                                 static_cast<float>(k),
                                 static_cast<float>(h),
                                 static_cast<float>(av.eta * av.eta * h * h),
-                                static_cast<float>(av.alpha * m.sound_speed),
+                                static_cast<float>(av.alpha * m.reference_sound_speed()),
                                 static_cast<float>(av.beta),
                                 static_cast<float>(2 * m.dynamic_viscosity)};
   const PairInputs in{x_.data(),    y_.data(),    z_.data(),

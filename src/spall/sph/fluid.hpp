@@ -2,7 +2,7 @@
 // Weakly compressible SPH for liquids (Monaghan 1994, J. Comput. Phys. 110:399), seed 000 eqs. 4-6
 // (m dv/dt = pressure force + viscous force + external force):
 //   continuity      d rho_a/dt = sum_b m_b (v_a - v_b) . grad_a W_ab
-//   Tait/Murnaghan  p = K0 [(rho / rho0)^gamma - 1],  K0 = rho0 c0^2 / gamma
+//   Tait/Murnaghan  p = K0 [(rho / rho0)^gamma - 1],  K0 = rho0 c0^2 / gamma (or another EOS)
 //   pressure        f_a = - sum_b m_a m_b (p_a / rho_a^2 + p_b / rho_b^2) grad_a W_ab
 //   art. viscosity  f_a = - sum_b m_a m_b Pi_ab grad_a W_ab  (Monaghan 1992, with c_ab = c0)
 //   laminar visc.   f_a = sum_b m_a m_b (mu_a + mu_b) / (rho_a rho_b)
@@ -33,24 +33,30 @@
 #include <limits>
 #include <vector>
 
+#include "spall/materials/eos.hpp"
 #include "spall/neighbors/cell_list.hpp"
 #include "spall/solver/formulation.hpp"
 #include "spall/sph/artificial_viscosity.hpp"
 
 namespace spall::sph {
 
-// A weakly compressible liquid: Tait / Murnaghan equation of state and a dynamic viscosity.
+// A liquid: its rest density, a barotropic equation of state from the material library (Tait /
+// Murnaghan for weakly compressible water; Grueneisen and the linear polynomial are evaluated at
+// the fixed specific energy e0), a dynamic viscosity and a pressure cutoff.
 struct FluidMaterial {
-  Real density = 0;            // rho0
-  Real sound_speed = 0;        // c0, at rho0
-  Real gamma = 7;              // Tait exponent
+  Real density = 0;  // rho0
+  materials::EquationOfState eos = materials::Murnaghan{};
+  Real specific_energy = 0;    // e0 (per unit mass) at which the EOS is evaluated
   Real dynamic_viscosity = 0;  // mu (Morris laminar viscosity); 0 for none
-  Real pressure_cutoff = -std::numeric_limits<Real>::infinity();  // p >= cutoff
+  Real pressure_cutoff = -std::numeric_limits<Real>::infinity();  // p >= cutoff (MAT_NULL PC)
 
-  Real bulk_modulus() const { return density * sound_speed * sound_speed / gamma; }  // K0
+  // Tait / Murnaghan water, p = K0 [(rho / rho0)^gamma - 1] with K0 = rho0 c0^2 / gamma.
+  static FluidMaterial tait(Real rho0, Real c0, Real gamma, Real mu);
   Real pressure(Real rho) const;
-  // c = sqrt(dp/drho) = c0 (rho / rho0)^((gamma - 1) / 2)
+  // c = sqrt(K_s / rho), K_s the isentropic bulk modulus of the EOS (c^2 = dp/drho when the EOS
+  // does not depend on e).
   Real sound_speed_at(Real rho) const;
+  Real reference_sound_speed() const { return sound_speed_at(density); }  // c0
 };
 
 struct FluidParameters {
@@ -58,7 +64,7 @@ struct FluidParameters {
   Real smoothing_length = 0;  // LS-DYNA's h, one for every particle; the kernel support is 2h
   ArtificialViscosity viscosity;
   Real skin = 0.1;  // cell edge = (1 + skin) * support
-  // 3, or 2 for plane strain: every particle in one plane y = const, masses per unit depth, the
+  // 3, or 2 for plane strain in x-y: every particle at one z, masses per unit thickness, the
   // two-dimensional kernel (LS-DYNA *CONTROL_SPH IDIM = 2).
   int dimension = 3;
 };
