@@ -8,6 +8,9 @@
 #include <immintrin.h>
 #endif
 
+#include <fmt/format.h>
+
+#include "spall/core/error.hpp"
 #include "spall/kernels/cubic_spline.hpp"
 
 namespace spall::sph {
@@ -18,8 +21,8 @@ namespace {
 constexpr std::uint8_t all_translations = 7;
 
 // Time-step factors. Courant: the predictor-corrector density update is stable for w dt < 0.72
-// and the fastest SPH acoustic mode has w ~ 1.04 c / h (cubic spline), so h / (c + |v|) is
-// scaled by 0.4 (w dt ~ 0.42). Force: Monaghan 1992, dt <= 0.25 sqrt(h / |a|). Viscous: Morris
+// and the fastest SPH acoustic mode has w ~ 1.04 c / h (cubic spline), so h / (c + |v| + the
+// viscous signal speed) is scaled by 0.4 (w dt ~ 0.42). Force: Monaghan 1992, dt <= 0.25 sqrt(h / |a|). Viscous: Morris
 // et al. 1997, dt <= 0.125 h^2 / nu.
 constexpr Real courant_factor = 0.4;
 constexpr Real force_factor = 0.25;
@@ -132,7 +135,9 @@ void FluidFormulation::gather(const solver::NodeStore& nodes, Real dt) {
   const Index n = particle_count();
   const auto& m = parameters_.material;
   Real max_speed = 0, max_density = m.density;
-#pragma omp parallel for schedule(static) reduction(max : max_speed, max_density)
+  Index first_empty = n;  // the first particle whose density is no longer positive
+#pragma omp parallel for schedule(static) reduction(max : max_speed, max_density) \
+    reduction(min : first_empty)
   for (Index a = 0; a < n; ++a) {
     const Index i = node_[a];
     const Vec3 p = nodes.x[i] - origin_;
@@ -147,10 +152,19 @@ void FluidFormulation::gather(const solver::NodeStore& nodes, Real dt) {
     // rho~^n = rho^{n-1} + dt (2 rho'^{n-1} - rho'^{n-2})
     Real rho = density_[a] + dt * (2 * Real(rate_[a]) - Real(previous_rate_[a]));
     if (nodes.fixed[i] == all_translations) rho = std::max(rho, m.density);
+    if (!(rho > 0)) first_empty = std::min(first_empty, a);
     inverse_density_[a] = static_cast<float>(1 / rho);
     pressure_term_[a] = static_cast<float>(m.pressure(rho) / (rho * rho));
     max_density = std::max(max_density, rho);
   }
+  // Continuity can empty a particle that a splash tears from its neighbours under tension; its
+  // pressure and volume then mean nothing, so the run stops rather than carry on.
+  if (first_empty < n)
+    throw InstabilityError(fmt::format(
+        "SPH fluid: the particle on node {} has density {:.6g}: it was torn from its neighbours "
+        "(a pressure cutoff PC on the *MAT_NULL, e.g. 0, keeps a liquid from taking tension)",
+        nodes.id[node_[first_empty]],
+        density_[first_empty] + dt * (2 * Real(rate_[first_empty]) - Real(previous_rate_[first_empty]))));
   max_speed_ = max_speed;
   max_sound_speed_ = m.sound_speed_at(max_density);
 }
@@ -197,6 +211,7 @@ struct PairSums {
   Real rate = 0;
   Real fpx = 0, fpy = 0, fpz = 0;  // pressure force
   Real fvx = 0, fvy = 0, fvz = 0;  // viscous force
+  float max_mu = 0;                // largest -mu_ab of an approaching pair (Monaghan's time step)
 };
 
 // Appends to `found` the particles of [begin, end) closer to (xa, ya, za) than H, except `self`;
@@ -252,6 +267,7 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
   const auto splat = [](float v) { return _mm256_set1_ps(v); };
   const __m256 one = splat(1), half = splat(0.5f), tiny = splat(1e-30f), zero = _mm256_setzero_ps();
   __m256d rate[2] = {}, fp[3][2] = {}, fv[3][2] = {};
+  __m256 max_mu = zero;
   const auto accumulate = [](__m256d (&sum)[2], __m256 v) {
     sum[0] = _mm256_add_pd(sum[0], _mm256_cvtps_pd(_mm256_castps256_ps128(v)));
     sum[1] = _mm256_add_pd(sum[1], _mm256_cvtps_pd(_mm256_extractf128_ps(v, 1)));
@@ -286,7 +302,9 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
       const __m256 Pi_full = _mm256_mul_ps(
           _mm256_fmadd_ps(splat(c.beta), _mm256_mul_ps(mu, mu), _mm256_mul_ps(splat(-c.alpha_c), mu)),
           _mm256_mul_ps(half, _mm256_add_ps(splat(inverse_rho_a), inverse_rho_b)));
-      const __m256 Pi = _mm256_blendv_ps(zero, Pi_full, _mm256_cmp_ps(vr, zero, _CMP_LT_OQ));
+      const __m256 approaching = _mm256_cmp_ps(vr, zero, _CMP_LT_OQ);
+      const __m256 Pi = _mm256_blendv_ps(zero, Pi_full, approaching);
+      max_mu = _mm256_max_ps(max_mu, _mm256_blendv_ps(zero, _mm256_sub_ps(zero, mu), approaching));
       const __m256 viscous_radial = _mm256_mul_ps(_mm256_mul_ps(_mm256_sub_ps(zero, mm), Pi), F);
       const __m256 laminar = _mm256_mul_ps(
           _mm256_mul_ps(_mm256_mul_ps(mm, splat(c.two_mu)),
@@ -308,6 +326,9 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
   if constexpr (with_force) {
     sums.fpx = total(fp[0]), sums.fpy = total(fp[1]), sums.fpz = total(fp[2]);
     sums.fvx = total(fv[0]), sums.fvy = total(fv[1]), sums.fvz = total(fv[2]);
+    alignas(32) float lanes[8];
+    _mm256_store_ps(lanes, max_mu);
+    sums.max_mu = *std::max_element(lanes, lanes + 8);
   }
 #endif
   for (; s < count; ++s) {
@@ -328,6 +349,7 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
       const float inverse_r2e = 1.0f / (r2 + c.eta2);
       const float mu = (c.h * vr) * inverse_r2e;
       const float Pi = vr < 0 ? std::fma(c.beta, mu * mu, -c.alpha_c * mu) * (0.5f * (inverse_rho_a + inverse_rho_b)) : 0.0f;
+      if (vr < 0) sums.max_mu = std::max(sums.max_mu, -mu);
       const float viscous_radial = (-mm * Pi) * F;
       const float laminar = ((mm * c.two_mu) * (inverse_rho_a * inverse_rho_b)) * ((F * r2) * inverse_r2e);
       sums.fpx += Real(radial * dx);
@@ -366,9 +388,9 @@ void FluidFormulation::pair_pass(solver::NodeStore& nodes, Real dt) {
   const PairInputs in{x_.data(),    y_.data(),    z_.data(),
                       vx_.data(),   vy_.data(),   vz_.data(),
                       mass_.data(), inverse_density_.data(), pressure_term_.data()};
-  Real max_acceleration = 0;
+  Real max_acceleration = 0, max_mu = 0;
 
-#pragma omp parallel reduction(max : max_acceleration)
+#pragma omp parallel reduction(max : max_acceleration, max_mu)
   {
     std::vector<Index> found;
     for_each_cell_neighbourhood(true, [&](neighbors::ParticleRange own,
@@ -394,7 +416,10 @@ void FluidFormulation::pair_pass(solver::NodeStore& nodes, Real dt) {
           pressure_force_[3 * a + d] = static_cast<float>(fp[d]);
           viscous_force_[3 * a + d] = static_cast<float>(fv[d]);
         }
-        if (!wall) max_acceleration = std::max(max_acceleration, (fp + fv).norm() / Real(mass_[a]));
+        if (!wall) {
+          max_acceleration = std::max(max_acceleration, (fp + fv).norm() / Real(mass_[a]));
+          max_mu = std::max(max_mu, Real(sums.max_mu));
+        }
         // rho^n = rho^{n-1} + dt rho'^n; walls never go below rho0.
         Real rho = density_[a] + dt * sums.rate;
         if (wall) rho = std::max(rho, m.density);
@@ -405,6 +430,7 @@ void FluidFormulation::pair_pass(solver::NodeStore& nodes, Real dt) {
     });
   }
   max_acceleration_ = max_acceleration;
+  max_mu_ = max_mu;
   first_pass_ = false;
 }
 
@@ -423,7 +449,10 @@ void FluidFormulation::compute_forces(solver::NodeStore& nodes, Real dt) {
 
 Real FluidFormulation::stable_time_step(const solver::NodeStore&) const {
   const Real h = parameters_.smoothing_length;
-  Real dt = courant_factor * h / (max_sound_speed_ + max_speed_);
+  // Monaghan 1992: the artificial viscosity adds the signal speed 1.2 (alpha c + beta max mu_ab).
+  const auto& av = parameters_.viscosity;
+  const Real viscous_signal = 1.2 * (av.alpha * max_sound_speed_ + av.beta * max_mu_);
+  Real dt = courant_factor * h / (max_sound_speed_ + max_speed_ + viscous_signal);
   if (max_acceleration_ > 0) dt = std::min(dt, force_factor * std::sqrt(h / max_acceleration_));
   const auto& m = parameters_.material;
   if (m.dynamic_viscosity > 0)

@@ -135,6 +135,7 @@ class FluidFormulation final : public solver::Formulation {
   Real max_speed_ = 0;
   Real max_sound_speed_ = 0;
   Real max_acceleration_ = 0;
+  Real max_mu_ = 0;  // largest |mu_ab| of an approaching pair (Monaghan's viscosity)
 };
 
 }  // namespace spall::sph
