@@ -266,7 +266,8 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
 #if defined(__AVX2__)
   const auto splat = [](float v) { return _mm256_set1_ps(v); };
   const __m256 one = splat(1), half = splat(0.5f), tiny = splat(1e-30f), zero = _mm256_setzero_ps();
-  __m256d rate[2] = {}, fp[3][2] = {}, fv[3][2] = {};
+  __m256d fp[3][2] = {}, fv[3][2] = {};
+  __m256 rate = zero;  // the density rate needs no double sum (momentum does not depend on it)
   __m256 max_mu = zero;
   const auto accumulate = [](__m256d (&sum)[2], __m256 v) {
     sum[0] = _mm256_add_pd(sum[0], _mm256_cvtps_pd(_mm256_castps256_ps128(v)));
@@ -280,7 +281,11 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
     const __m256 dz = _mm256_sub_ps(splat(za), gather(in.z));
     const __m256 r2 = _mm256_max_ps(
         _mm256_fmadd_ps(dz, dz, _mm256_fmadd_ps(dy, dy, _mm256_mul_ps(dx, dx))), tiny);
-    const __m256 inverse_r = _mm256_div_ps(one, _mm256_sqrt_ps(r2));
+    // One division for both 1 / r and 1 / (r^2 + (eta h)^2).
+    const __m256 r = _mm256_sqrt_ps(r2);
+    const __m256 r2e = _mm256_add_ps(r2, splat(c.eta2));
+    const __m256 inverse_product = _mm256_div_ps(one, _mm256_mul_ps(r, r2e));
+    const __m256 inverse_r = _mm256_mul_ps(inverse_product, r2e);
     const __m256 q = _mm256_min_ps(_mm256_mul_ps(_mm256_mul_ps(r2, inverse_r), splat(c.inverse_support)), one);
     const __m256 near = _mm256_sub_ps(_mm256_mul_ps(splat(k18), q), splat(k12));
     const __m256 one_minus_q = _mm256_sub_ps(one, q);
@@ -291,13 +296,13 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
     const __m256 dvz = _mm256_sub_ps(splat(vza), gather(in.vz));
     const __m256 vr = _mm256_fmadd_ps(dvz, dz, _mm256_fmadd_ps(dvy, dy, _mm256_mul_ps(dvx, dx)));
     const __m256 m_b = gather(in.mass);
-    accumulate(rate, _mm256_mul_ps(_mm256_mul_ps(m_b, F), vr));
+    rate = _mm256_fmadd_ps(_mm256_mul_ps(m_b, F), vr, rate);
     if constexpr (with_force) {
       const __m256 mm = _mm256_mul_ps(splat(m_a), m_b);
       const __m256 inverse_rho_b = gather(in.inverse_density);
       const __m256 radial = _mm256_mul_ps(
           _mm256_mul_ps(_mm256_sub_ps(zero, mm), _mm256_add_ps(splat(P_a), gather(in.pressure_term))), F);
-      const __m256 inverse_r2e = _mm256_div_ps(one, _mm256_add_ps(r2, splat(c.eta2)));
+      const __m256 inverse_r2e = _mm256_mul_ps(inverse_product, r);
       const __m256 mu = _mm256_mul_ps(_mm256_mul_ps(splat(c.h), vr), inverse_r2e);
       const __m256 Pi_full = _mm256_mul_ps(
           _mm256_fmadd_ps(splat(c.beta), _mm256_mul_ps(mu, mu), _mm256_mul_ps(splat(-c.alpha_c), mu)),
@@ -322,7 +327,11 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
     _mm256_store_pd(lanes, _mm256_add_pd(sum[0], sum[1]));
     return (lanes[0] + lanes[1]) + (lanes[2] + lanes[3]);
   };
-  sums.rate = total(rate);
+  {
+    alignas(32) float lanes[8];
+    _mm256_store_ps(lanes, rate);
+    for (float lane : lanes) sums.rate += Real(lane);
+  }
   if constexpr (with_force) {
     sums.fpx = total(fp[0]), sums.fpy = total(fp[1]), sums.fpz = total(fp[2]);
     sums.fvx = total(fv[0]), sums.fvy = total(fv[1]), sums.fvz = total(fv[2]);
@@ -335,7 +344,10 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
     const Index b = found[s];
     const float dx = xa - in.x[b], dy = ya - in.y[b], dz = za - in.z[b];
     const float r2 = std::max(std::fma(dz, dz, std::fma(dy, dy, dx * dx)), 1e-30f);
-    const float inverse_r = 1.0f / std::sqrt(r2);
+    const float r = std::sqrt(r2);
+    const float r2e = r2 + c.eta2;
+    const float inverse_product = 1.0f / (r * r2e);
+    const float inverse_r = inverse_product * r2e;
     const float q = std::min(r2 * inverse_r * c.inverse_support, 1.0f);
     const float F = q <= 0.5f ? k18 * q - k12 : -k6H * ((1 - q) * (1 - q)) * inverse_r;
     const float dvx = vxa - in.vx[b], dvy = vya - in.vy[b], dvz = vza - in.vz[b];
@@ -346,7 +358,7 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
       const float mm = m_a * m_b;
       const float inverse_rho_b = in.inverse_density[b];
       const float radial = (-mm * (P_a + in.pressure_term[b])) * F;
-      const float inverse_r2e = 1.0f / (r2 + c.eta2);
+      const float inverse_r2e = inverse_product * r;
       const float mu = (c.h * vr) * inverse_r2e;
       const float Pi = vr < 0 ? std::fma(c.beta, mu * mu, -c.alpha_c * mu) * (0.5f * (inverse_rho_a + inverse_rho_b)) : 0.0f;
       if (vr < 0) sums.max_mu = std::max(sums.max_mu, -mu);
