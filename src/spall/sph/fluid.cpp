@@ -22,8 +22,8 @@ constexpr std::uint8_t all_translations = 7;
 
 // Time-step factors. Courant: the predictor-corrector density update is stable for w dt < 0.72
 // and the fastest SPH acoustic mode has w ~ 1.04 c / h (cubic spline), so h / (c + |v| + the
-// viscous signal speed) is scaled by 0.4 (w dt ~ 0.42). Force: Monaghan 1992, dt <= 0.25 sqrt(h / |a|). Viscous: Morris
-// et al. 1997, dt <= 0.125 h^2 / nu.
+// viscous signal speed) is scaled by 0.4 (w dt ~ 0.42). Force: Monaghan 1992,
+// dt <= 0.25 sqrt(h / |a|). Viscous: Morris et al. 1997, dt <= 0.125 h^2 / nu.
 constexpr Real courant_factor = 0.4;
 constexpr Real force_factor = 0.25;
 constexpr Real viscous_factor = 0.125;
@@ -87,12 +87,6 @@ FluidFormulation::FluidFormulation(const FluidParameters& parameters,
   pressure_force_.assign(3 * n, 0);
   viscous_force_.assign(3 * n, 0);
   max_sound_speed_ = m.reference_sound_speed();
-}
-
-void FluidFormulation::set_density_at_node(Index node, Real rho) {
-  const auto it = std::find(node_.begin(), node_.end(), node);
-  if (it == node_.end()) throw std::invalid_argument("SPH fluid: the node carries no fluid particle");
-  density_[it - node_.begin()] = rho;
 }
 
 // Bins the particles into cells of edge support + skin and puts every per-particle array in cell

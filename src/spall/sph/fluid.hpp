@@ -29,7 +29,8 @@
 //   last rebuild: the bound is the sum over steps of dt max |v|, so no reference positions are
 //   stored.
 // - Positions and velocities are copied each step into single-precision arrays in cell order; the
-//   pair terms are evaluated in double from them, so each pair term is still exactly antisymmetric.
+//   pair terms are evaluated in single precision by one sequence of operations for every pair, so
+//   the term of (a, b) is bitwise minus that of (b, a), and summed in double.
 #include <limits>
 #include <vector>
 
@@ -87,13 +88,10 @@ class FluidFormulation final : public solver::Formulation {
   const FluidParameters& parameters() const { return parameters_; }
   // Bytes held by the formulation: its per-particle arrays and the cell list.
   std::size_t memory_bytes() const;
-  // Number of particles inside the support of each particle (self excluded), node-aligned
-  // through `node_of(k)`; counted on the positions of the last pass.
+  // Number of particles inside the support of each particle (self excluded), in particle
+  // order (node_of(a) is particle a's node), on the positions of the last pass.
   std::vector<Index> neighbour_counts() const;
   Index node_of(Index particle) const { return node_[particle]; }
-  Real density(Index particle) const { return density_[particle]; }
-  // Overrides the density of the particle on `node` (e.g. a hydrostatic start); before the run.
-  void set_density_at_node(Index node, Real rho);
 
  private:
   void rebuild_cells(const solver::NodeStore& nodes);
