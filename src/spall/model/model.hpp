@@ -151,6 +151,19 @@ struct ElementSolid {
   SourceLocation where;
 };
 
+// *DEFINE_SPH_MESH_BOX: the box [XMIN, XMIN + XLEN] x [YMIN, ...] x [ZMIN, ...] cut into
+// NX x NY x NZ equal cells, one particle of part IPID at the centre of each (see
+// io/keyword/sph_mesh_box.cpp for the node IDs and masses the reader gives them).
+struct SphMeshBox {
+  Vec3 lower = Vec3::Zero();   // XMIN YMIN ZMIN
+  Vec3 length = Vec3::Zero();  // XLEN YLEN ZLEN
+  Id ipid = 0;
+  int nx = 0, ny = 0, nz = 0;
+  Id idseg = 0;   // segment set that removes particles near it (0: none)
+  Real sfsp = 0;  // with IDSEG: removal distance as a multiple of the spacing
+  SourceLocation where;
+};
+
 struct NodeSet {
   Id id = 0;
   std::vector<Id> nodes;
@@ -372,6 +385,7 @@ struct Model {
   std::map<Id, Eos> eos;
   std::vector<ElementSph> sph_elements;
   std::vector<ElementSolid> solid_elements;
+  std::vector<SphMeshBox> sph_mesh_boxes;  // as read; their particles are in nodes/sph_elements
   std::map<Id, NodeSet> node_sets;
   std::map<Id, PartSet> part_sets;
   std::map<Id, Curve> curves;

@@ -30,14 +30,9 @@
 #include "spall/materials/material.hpp"
 #include "spall/neighbors/verlet_list.hpp"
 #include "spall/solver/formulation.hpp"
+#include "spall/sph/artificial_viscosity.hpp"
 
 namespace spall::sph {
-
-struct ArtificialViscosity {
-  Real alpha = 0.06;  // linear term (LS-DYNA *CONTROL_BULK_VISCOSITY Q2)
-  Real beta = 1.5;    // quadratic term (Q1)
-  Real eta = 0.1;     // keeps mu_ab finite as r -> 0: r^2 + (eta h)^2
-};
 
 struct ArtificialStress {
   bool enabled = false;

@@ -48,6 +48,10 @@ void read_node(CardCursor&, const KeywordCall&, model::Model&);
 void read_element_solid(CardCursor&, const KeywordCall&, model::Model&);
 void read_element_sph(CardCursor&, const KeywordCall&, model::Model&);
 void read_part(CardCursor&, const KeywordCall&, model::Model&);
+// sph_mesh_box.cpp
+void read_define_sph_mesh_box(CardCursor&, const KeywordCall&, model::Model&);
+// After the whole deck is read: the nodes and particles of every *DEFINE_SPH_MESH_BOX.
+void generate_sph_mesh_box_particles(model::Model&);
 // sections_materials.cpp
 void read_section_solid(CardCursor&, const KeywordCall&, model::Model&);
 void read_section_sph(CardCursor&, const KeywordCall&, model::Model&);
