@@ -80,13 +80,18 @@ void read_initial_velocity_node(CardCursor&, const KeywordCall&, model::Model&);
 void read_initial_velocity_generation(CardCursor&, const KeywordCall&, model::Model&);
 // loads.cpp
 void read_load_body(CardCursor&, const KeywordCall&, model::Model&);
+// rigid_walls.cpp
+void read_rigidwall_planar(CardCursor&, const KeywordCall&, model::Model&);
 // controls.cpp
 void read_control_termination(CardCursor&, const KeywordCall&, model::Model&);
 void read_control_timestep(CardCursor&, const KeywordCall&, model::Model&);
 void read_control_bulk_viscosity(CardCursor&, const KeywordCall&, model::Model&);
 void read_control_sph(CardCursor&, const KeywordCall&, model::Model&);
 void read_spall_sph_artificial_stress(CardCursor&, const KeywordCall&, model::Model&);
+void read_spall_sph_colour_field(CardCursor&, const KeywordCall&, model::Model&);
+void read_spall_residual_stress(CardCursor&, const KeywordCall&, model::Model&);
 void read_database_binary_d3plot(CardCursor&, const KeywordCall&, model::Model&);
 void read_database_glstat(CardCursor&, const KeywordCall&, model::Model&);
+void read_database_rwforc(CardCursor&, const KeywordCall&, model::Model&);
 
 }  // namespace spall::io::keyword

@@ -62,13 +62,20 @@ constexpr SupportedKeyword supported_keywords[] = {
     {"LOAD_BODY_X", read_load_body},
     {"LOAD_BODY_Y", read_load_body},
     {"LOAD_BODY_Z", read_load_body},
+    {"RIGIDWALL_PLANAR", read_rigidwall_planar, false, true},
+    {"RIGIDWALL_PLANAR_MOVING", read_rigidwall_planar, false, true},
+    {"RIGIDWALL_PLANAR_FINITE", read_rigidwall_planar, false, true},
+    {"RIGIDWALL_PLANAR_FINITE_MOVING", read_rigidwall_planar, false, true},
     {"CONTROL_TERMINATION", read_control_termination},
     {"CONTROL_TIMESTEP", read_control_timestep},
     {"CONTROL_BULK_VISCOSITY", read_control_bulk_viscosity},
     {"CONTROL_SPH", read_control_sph},
     {"SPALL_SPH_ARTIFICIAL_STRESS", read_spall_sph_artificial_stress},
+    {"SPALL_SPH_COLOUR_FIELD", read_spall_sph_colour_field},
+    {"SPALL_RESIDUAL_STRESS", read_spall_residual_stress},
     {"DATABASE_BINARY_D3PLOT", read_database_binary_d3plot},
     {"DATABASE_GLSTAT", read_database_glstat},
+    {"DATABASE_RWFORC", read_database_rwforc},
 };
 
 bool ends_with(std::string_view text, std::string_view suffix) {
