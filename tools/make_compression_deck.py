@@ -81,7 +81,11 @@ def stress(x):
 
 size = args.size
 dx = size / args.across
-gap = (args.across - 1) * dx
+# The moving wall's position as the deck writes it; the top layer lies exactly on it (a node
+# behind a wall by a rounding error would never be caught), the layers spaced evenly below.
+wall_text = f"{length((args.across - 1) * dx):10.6g}"
+gap = float(wall_text) * L
+dz = gap / (args.across - 1)
 end_time = args.strain * gap / args.speed
 # The specimen on a lattice of spacing dx, its cells filling the size. The walls pass through the
 # centres of the bottom and top layers, where the kinematic wall keeps the particles it pushes, so
@@ -90,7 +94,7 @@ positions = []
 for k in range(args.across):
     for j in range(args.across):
         for i in range(args.across):
-            x, y, z = (i + 0.5) * dx, (j + 0.5) * dx, k * dx
+            x, y, z = (i + 0.5) * dx, (j + 0.5) * dx, k * dz
             if scene["shape"] == "cylinder":
                 x, y = x - size / 2, y - size / 2
                 if x * x + y * y >= (size / 2) ** 2:
@@ -169,8 +173,7 @@ w("         2moving wall: starts on the top layer and moves down (its normal -z)
 w("$#    nsid    nsidex     boxid    offset     birth     death     rwksf")
 w("         0         0         0       0.0       0.0       0.0       1.0")
 w("$#      xt        yt        zt        xh        yh        zh      fric")
-top = length(gap)
-w(f"       0.0       0.0{top:10.4g}       0.0       0.0{top - 1:10.4g}{fric}")
+w(f"       0.0       0.0{wall_text}       0.0       0.0{float(wall_text) - 1:10.6g}{fric}")
 w("$#    mass        v0")
 w(f"{mass(wall_mass):10.4g}{speed(args.speed):10.4g}")
 w("*END")
