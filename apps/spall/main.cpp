@@ -41,8 +41,10 @@ int main(int argc, char** argv) {
   surface->add_option("--cell", surface_options.cell,
                       "Grid spacing in the deck's length unit (default: half the median smoothing length)")
       ->check(CLI::PositiveNumber);
+  // One name per --field, so that a field name is never taken for the folder.
   surface->add_option("--field", surface_options.fields,
-                      "Point field to carry onto the surface's vertices; repeat for more (default: every field)");
+                      "Point field to carry onto the surface's vertices; repeat --field for more (default: every field)")
+      ->allow_extra_args(false);
   surface->add_option("--threads", surface_threads, "Threads (default: all cores)")->check(CLI::PositiveNumber);
 
   try {

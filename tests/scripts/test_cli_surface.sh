@@ -66,9 +66,10 @@ cp "$work/out/surface_$last.vtp" "$work/many_threads.vtp"
 cmp -s "$work/out/surface_$last.vtp" "$work/many_threads.vtp" || fail "the .vtp depends on the thread count"
 
 # --time picks the snapshot at or last before it; --field limits the fields carried.
-"$cli" surface "$work/out" --time 0 --field pressure 2>/dev/null || fail "surface --time 0"
+"$cli" surface --field pressure "$work/out" --time 0 --field part_id 2>/dev/null || fail "surface --time 0"
 [ -s "$work/out/surface_00000.vtp" ] || fail "no surface_00000.vtp for --time 0"
 grep -q 'Name="pressure"' "$work/out/surface_00000.vtp" || fail "--field pressure not carried"
+grep -q 'Name="part_id"' "$work/out/surface_00000.vtp" || fail "--field part_id not carried"
 ! grep -q 'Name="velocity"' "$work/out/surface_00000.vtp" || fail "--field carried more than asked"
 
 # Bad input: one error line naming what is wrong, exit 2.
