@@ -371,7 +371,7 @@ void SolidFormulation::add_fields(std::vector<io::output::PointField>& fields,
                                   const solver::NodeStore& nodes) const {
   const std::size_t n_nodes = nodes.id.size();
   std::vector<double> pressure(n_nodes, 0), von_mises(n_nodes, 0), density(n_nodes, 0),
-      smoothing(n_nodes, 0), energy(n_nodes, 0), plastic_strain(n_nodes, 0), temperature(n_nodes, 0),
+      smoothing(n_nodes, 0), mass(n_nodes, 0), energy(n_nodes, 0), plastic_strain(n_nodes, 0), temperature(n_nodes, 0),
       stress(6 * n_nodes, 0);
   std::vector<std::int64_t> neighbour_count(n_nodes, 0);
   const auto& list = verlet_.list();
@@ -384,6 +384,7 @@ void SolidFormulation::add_fields(std::vector<io::output::PointField>& fields,
     von_mises[i] = materials::von_mises(S);
     density[i] = density_[a];
     smoothing[i] = smoothing_length_[a];
+    mass[i] = mass_[a];
     energy[i] = internal_energy_[a];
     const Mat3 sigma = S - pressure_[a] * Mat3::Identity();
     const double components[6] = {sigma(0, 0), sigma(1, 1), sigma(2, 2),
@@ -396,6 +397,8 @@ void SolidFormulation::add_fields(std::vector<io::output::PointField>& fields,
   fields.push_back({"density", 1, std::move(density)});
   fields.push_back({"stress", 6, std::move(stress)});
   fields.push_back({"smoothing_length", 1, std::move(smoothing)});
+  // With density, the particle's volume m / rho: what `spall surface` needs for the colour field.
+  fields.push_back({"mass", 1, std::move(mass)});
   fields.push_back({"internal_energy", 1, std::move(energy)});
   fields.push_back({"effective_plastic_strain", 1, std::move(plastic_strain)});
   if (has_temperature_) fields.push_back({"temperature", 1, std::move(temperature)});
