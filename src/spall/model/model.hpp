@@ -56,7 +56,35 @@ struct SectionSph {
   SourceLocation where;
 };
 
-using Section = std::variant<SectionSolid, SectionSph>;
+// *SECTION_SOLID_SPG (ELFORM 47): the Smoothed Particle Galerkin method on the nodes of a solid
+// mesh. Fields as read, with the manual's KERNEL-dependent defaults already applied to DX DY DZ,
+// SMSTEP and ITB. Card 2 column 6 is LSCALE in R9-R11 manuals (unused now); column 8 is SWTIME in
+// R9-R11 and MSC (ITB 3 only) now, kept as read in `column8`.
+struct SectionSolidSpg {
+  Id id = 0;
+  int elform = 47;
+  int aet = 0;
+  Real cohoff = 0, gaskett = 0;
+  Real dx = 1.6, dy = 1.6, dz = 1.6;  // normalized dilation parameters of the kernel
+  int ispline = 0;  // 0 cubic spline, cubical support; 1 quadratic spline, cubical; 2 cubic, spherical
+  int kernel = 0;   // 0 updated Lagrangian, 1 Eulerian, 2 pseudo-Lagrangian
+  Real lscale = 0;
+  int smstep = 15;  // kernel update interval in time steps
+  Real column8 = 0;  // SWTIME (ITB 1, 2) or MSC (ITB 3)
+  int idam = 1;      // bond-failure quantity: 1 effective plastic strain
+  Real fs = 1.0e10;  // critical value of the IDAM quantity (1e10: no failure)
+  Real stretch = 1.0;  // critical relative stretch of a bond (>= 1)
+  int itb = 1;       // stabilization: 1 fluid particle, 2 simplified, 3 momentum-consistent
+  Real msfac = 0;
+  int isc = 0;
+  Id boxid = 0;
+  Real pdamp = -0.001;
+  SourceLocation where;         // card 1
+  SourceLocation where_card2;   // DX ... column 8
+  SourceLocation where_card3;   // IDAM ... PDAMP (absent in decks that end after card 2)
+};
+
+using Section = std::variant<SectionSolid, SectionSph, SectionSolidSpg>;
 
 // *MAT_ELASTIC (001)
 struct MatElastic {
@@ -305,6 +333,16 @@ struct OutputInterval {
   SourceLocation where;
 };
 
+// *DAMPING_GLOBAL: mass-weighted nodal damping f = -D m v, D = VALDMP or the curve LCID of time;
+// STX STY STZ scale it per direction (all six scale factors 0: all 1).
+struct DampingGlobal {
+  Id lcid = 0;
+  Real valdmp = 0;
+  Vec3 translation_scale = Vec3::Ones();  // STX STY STZ
+  Vec3 rotation_scale = Vec3::Zero();     // SRX SRY SRZ (no rotational degrees of freedom in Spall)
+  SourceLocation where;
+};
+
 // *CONTROL_BULK_VISCOSITY: quadratic (Q1) and linear (Q2) artificial-viscosity coefficients.
 // Spall's SPH uses them as Monaghan's beta = Q1 and alpha = Q2, as LS-DYNA's SPH does.
 struct ControlBulkViscosity {
@@ -408,6 +446,7 @@ struct Model {
   std::optional<OutputInterval> d3plot;
   std::optional<OutputInterval> glstat;
   std::optional<OutputInterval> rwforc;
+  std::optional<DampingGlobal> damping_global;
 
   std::vector<UnsupportedKeyword> unsupported;
 

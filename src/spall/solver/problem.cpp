@@ -11,6 +11,7 @@
 #include "spall/materials/make_material.hpp"
 #include "spall/neighbors/verlet_list.hpp"
 #include "spall/solver/fluid_setup.hpp"
+#include "spall/spg/setup.hpp"
 #include "spall/sph/solid.hpp"
 
 namespace spall::solver {
@@ -37,6 +38,8 @@ class Builder {
     build_nodes();
     build_sph();
     reject_unsupported_elements();
+    if (auto spg = spg::build_spg(model_, index_of_node_, problem_.nodes, problem_.part_of_node))
+      problem_.formulations.push_back(std::move(spg));
     apply_spcs();
     build_motions();
     apply_initial_velocities();
@@ -277,13 +280,14 @@ class Builder {
     return options;
   }
 
+  // Solid elements run as SPG particles (*SECTION_SOLID_SPG); finite elements do not run yet.
   void reject_unsupported_elements() {
-    if (!model_.solid_elements.empty()) {
-      const auto& e = model_.solid_elements.front();
-      fail(e.where, "*ELEMENT_SOLID",
-           "solid elements are read and checked, but the solver does not run them yet (FEM and "
-           "SPG parts come with later releases)");
-    }
+    for (const auto& e : model_.solid_elements)
+      if (!spg::is_spg_part(model_, e.pid))
+        fail(e.where, "*ELEMENT_SOLID",
+             fmt::format("element {}: part {} has a *SECTION_SOLID; solid finite elements are read and "
+                         "checked, but the solver does not run them yet (SPG parts, *SECTION_SOLID_SPG, "
+                         "do run)", e.eid, e.pid));
   }
 
   void apply_spcs() {
@@ -482,6 +486,14 @@ class Builder {
              fmt::format("IOOPT {}: only 1 (next output at LCUR of the current time) is supported", r.ioopt));
       if (c.rwforc_dt <= 0 && !c.rwforc_dt_curve)
         fail(r.where, "*DATABASE_RWFORC", "DT: must be > 0 (or give LCUR)");
+    }
+    if (model_.damping_global) {
+      const auto& d = *model_.damping_global;
+      if (d.rotation_scale != Vec3::Zero() && d.rotation_scale != Vec3::Ones())
+        fail(d.where, "*DAMPING_GLOBAL", "SRX SRY SRZ: nodes carry no rotations to damp; leave them 0");
+      c.damping = d.valdmp;
+      c.damping_curve = curve(d.lcid, d.where, "*DAMPING_GLOBAL", "LCID");
+      c.damping_scale = d.translation_scale;
     }
     if (model_.bulk_viscosity.type != 1 && model_.bulk_viscosity.type != -1 && !model_.sph_elements.empty())
       fail(model_.bulk_viscosity.where, "*CONTROL_BULK_VISCOSITY",

@@ -42,6 +42,10 @@ struct RunControls {
   Real glstat_dt = 0;
   Real rwforc_dt = 0;                             // rigid-wall forces (GLSTAT's interval by default)
   const model::Curve* rwforc_dt_curve = nullptr;  // LCUR
+  // *DAMPING_GLOBAL: f = -D(t) m (scale . v), D = damping or damping_curve(t).
+  Real damping = 0;
+  const model::Curve* damping_curve = nullptr;
+  Vec3 damping_scale = Vec3::Zero();
 };
 
 struct Problem {

@@ -118,13 +118,16 @@ RunSummary run(Problem& problem, const Observer& observer) {
     // 2.-3. loads, then the central-difference velocity update over the mid-interval
     const Real dt_mid = step.step == 0 ? Real(0.5) * dt : Real(0.5) * (dt_previous + dt);
     const Vec3 g = base_acceleration(problem, step.time);
+    // *DAMPING_GLOBAL: -D m v on the velocity of the last half step, counted as external work.
+    const Vec3 damping = (controls.damping_curve ? controls.damping_curve->value(step.time) : controls.damping) *
+                         controls.damping_scale;
     // Where v^n lies between v^{n-1/2} and v^{n+1/2} (see 4. below).
     const Real velocity_weight = (dt_previous + dt) > 0 ? dt_previous / (dt_previous + dt) : Real(0.5);
 #pragma omp parallel for schedule(static)
     for (Index i = 0; i < n; ++i) {
       v_old[i] = nodes.v[i];
       if (nodes.mass[i] <= 0) continue;
-      nodes.f[i] -= nodes.mass[i] * g;
+      nodes.f[i] -= nodes.mass[i] * (g + damping.cwiseProduct(nodes.v[i]));
       Vec3 v_new = nodes.v[i] + (dt_mid / nodes.mass[i]) * nodes.f[i];
       for (int d = 0; d < 3; ++d)
         if (nodes.fixed[i] & (1u << d)) v_new[d] = 0;
@@ -159,7 +162,8 @@ RunSummary run(Problem& problem, const Observer& observer) {
     for (Index i = 0; i < n; ++i) {
       if (nodes.mass[i] <= 0) continue;
       const Vec3 dv = nodes.v[i] - v_old[i];
-      external_power += (-nodes.mass[i] * g).dot(v_old[i] + velocity_weight * dv);
+      const Vec3 f_load = -nodes.mass[i] * (g + damping.cwiseProduct(v_old[i]));
+      external_power += f_load.dot(v_old[i] + velocity_weight * dv);
       if (dt_mid <= 0) continue;
       const Vec3 reaction = nodes.mass[i] * dv / dt_mid - nodes.f[i];
       reaction_power += reaction.dot(v_old[i] + reaction_weight * dv);

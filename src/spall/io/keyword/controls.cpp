@@ -61,6 +61,31 @@ void read_control_bulk_viscosity(CardCursor& cursor, const KeywordCall&, model::
   model.bulk_viscosity = viscosity;
 }
 
+void read_damping_global(CardCursor& cursor, const KeywordCall&, model::Model& model) {
+  refuse_second(cursor, model.damping_global.has_value(),
+                model.damping_global ? model.damping_global->where : SourceLocation{});
+  const Card card = cursor.next(standard_fields, "card 1 (LCID VALDMP STX STY STZ SRX SRY SRZ)");
+  model::DampingGlobal damping;
+  damping.lcid = card.integer(0, "LCID", 0);
+  damping.valdmp = card.real(1, "VALDMP", 0.0);
+  static constexpr const char* names[6] = {"STX", "STY", "STZ", "SRX", "SRY", "SRZ"};
+  Real scale[6];
+  bool all_zero = true;
+  for (int k = 0; k < 6; ++k) {
+    scale[k] = card.real(2 + k, names[k], 0.0);
+    if (scale[k] < 0) card.fail(names[k], quoted(card.text(2 + k)) + " is negative");
+    all_zero = all_zero && scale[k] == 0;
+  }
+  // LS-DYNA: when all six scale factors are 0, all six default to 1.
+  for (int k = 0; k < 3; ++k) {
+    damping.translation_scale[k] = all_zero ? 1.0 : scale[k];
+    damping.rotation_scale[k] = all_zero ? 1.0 : scale[3 + k];
+  }
+  if (damping.valdmp < 0) card.fail("VALDMP", quoted(card.text(1)) + " is negative");
+  damping.where = card.where();
+  model.damping_global = damping;
+}
+
 void read_control_sph(CardCursor& cursor, const KeywordCall&, model::Model& model) {
   refuse_second(cursor, model.control_sph.has_value(),
                 model.control_sph ? model.control_sph->where : SourceLocation{});

@@ -54,6 +54,7 @@ void read_define_sph_mesh_box(CardCursor&, const KeywordCall&, model::Model&);
 void generate_sph_mesh_box_particles(model::Model&);
 // sections_materials.cpp
 void read_section_solid(CardCursor&, const KeywordCall&, model::Model&);
+void read_section_solid_spg(CardCursor&, const KeywordCall&, model::Model&);
 void read_section_sph(CardCursor&, const KeywordCall&, model::Model&);
 void read_mat_elastic(CardCursor&, const KeywordCall&, model::Model&);
 void read_mat_rigid(CardCursor&, const KeywordCall&, model::Model&);
@@ -86,6 +87,7 @@ void read_rigidwall_planar(CardCursor&, const KeywordCall&, model::Model&);
 void read_control_termination(CardCursor&, const KeywordCall&, model::Model&);
 void read_control_timestep(CardCursor&, const KeywordCall&, model::Model&);
 void read_control_bulk_viscosity(CardCursor&, const KeywordCall&, model::Model&);
+void read_damping_global(CardCursor&, const KeywordCall&, model::Model&);
 void read_control_sph(CardCursor&, const KeywordCall&, model::Model&);
 void read_spall_sph_artificial_stress(CardCursor&, const KeywordCall&, model::Model&);
 void read_spall_sph_colour_field(CardCursor&, const KeywordCall&, model::Model&);

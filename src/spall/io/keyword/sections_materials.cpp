@@ -1,5 +1,8 @@
-// *SECTION_SOLID, *SECTION_SPH, *MAT_ELASTIC (001), *MAT_RIGID (020).
+// *SECTION_SOLID, *SECTION_SOLID_SPG, *SECTION_SPH, *MAT_ELASTIC (001), *MAT_RIGID (020).
 #include "spall/io/keyword/keyword_readers.hpp"
+
+#include <algorithm>
+#include <iterator>
 
 namespace spall::io::keyword {
 
@@ -25,6 +28,78 @@ void read_section_solid(CardCursor& cursor, const KeywordCall& call, model::Mode
       card.fail("ELFORM", "user-defined solid element " + std::to_string(section.elform) +
                               " is not supported");
     insert_unique(model.sections, section.id, section, card, "section");
+  }
+}
+
+// Both card layouts read the same columns: R9-R11 manuals call card 2 column 6 LSCALE and column 8
+// SWTIME and end card 3 after ITB; current manuals leave column 6 unused, call column 8 MSC and add
+// MSFAC ISC BOXID PDAMP. Blank (or 0) DX DY DZ SMSTEP ITB take the manual's KERNEL-dependent
+// defaults; what the solver cannot run is refused when the problem is built (solver/problem.cpp).
+void read_section_solid_spg(CardCursor& cursor, const KeywordCall& call, model::Model& model) {
+  while (true) {
+    cursor.skip_blank_lines();
+    if (cursor.done()) break;
+    if (call.title) cursor.next_text("title");
+    const Card card1 = cursor.next(standard_fields, "card 1 (SECID ELFORM AET)");
+    model::SectionSolidSpg section;
+    section.id = card1.required_integer(0, "SECID");
+    section.elform = static_cast<int>(card1.integer(1, "ELFORM", 0));
+    if (section.elform != 47)
+      card1.fail("ELFORM", (card1.blank(1) ? std::string("blank") : quoted(card1.text(1))) +
+                               ": *SECTION_SOLID_SPG needs ELFORM 47 (SPG)");
+    section.aet = static_cast<int>(card1.integer(2, "AET", 0));
+    section.cohoff = card1.real(6, "COHOFF", 0.0);
+    section.gaskett = card1.real(7, "GASKETT", 0.0);
+    section.where = card1.where();
+
+    const Card card2 = cursor.next(standard_fields, "card 2 (DX DY DZ ISPLINE KERNEL LSCALE SMSTEP SWTIME/MSC)");
+    section.kernel = static_cast<int>(card2.integer(4, "KERNEL", 0));
+    if (section.kernel < 0 || section.kernel > 2)
+      card2.fail("KERNEL", quoted(card2.text(4)) +
+                               " is not a kernel update scheme (0 updated Lagrangian, 1 Eulerian, 2 "
+                               "pseudo-Lagrangian)");
+    static constexpr Real default_dilation[3] = {1.6, 1.8, 1.5};
+    static constexpr int default_smstep[3] = {15, 5, 30};
+    static constexpr int default_itb[3] = {1, 1, 2};
+    Real* dilation[3] = {&section.dx, &section.dy, &section.dz};
+    static constexpr const char* dilation_name[3] = {"DX", "DY", "DZ"};
+    for (int d = 0; d < 3; ++d) {
+      *dilation[d] = zero_means_default(card2.real(d, dilation_name[d], 0.0), default_dilation[section.kernel]);
+      if (*dilation[d] < 1.0)
+        card2.fail(dilation_name[d], quoted(card2.text(d)) +
+                                         " is below 1.0, which LS-DYNA does not allow (1.4 to 1.8 "
+                                         "are recommended)");
+    }
+    section.ispline = static_cast<int>(card2.integer(3, "ISPLINE", 0));
+    if (section.ispline < 0 || section.ispline > 2)
+      card2.fail("ISPLINE", quoted(card2.text(3)) + " is not a kernel function (0, 1 or 2)");
+    section.lscale = card2.real(5, "LSCALE", 0.0);
+    const auto smstep = card2.integer(6, "SMSTEP", 0);
+    if (smstep < 0) card2.fail("SMSTEP", quoted(card2.text(6)) + ": the interval must be positive");
+    section.smstep = smstep == 0 ? default_smstep[section.kernel] : static_cast<int>(smstep);
+    section.column8 = card2.real(7, "SWTIME/MSC", 0.0);
+    section.where_card2 = card2.where();
+
+    const Card card3 = cursor.next(standard_fields, "card 3 (IDAM FS STRETCH ITB ...)");
+    section.idam = static_cast<int>(card3.integer(0, "IDAM", 1));
+    static constexpr int known_idam[] = {0, 1, 2, 3, 4, 5, 7, 8, 11, 13};
+    if (std::find(std::begin(known_idam), std::end(known_idam), section.idam) == std::end(known_idam))
+      card3.fail("IDAM", quoted(card3.text(0)) + " is not a bond-failure option (0-5, 7, 8, 11, 13)");
+    section.fs = zero_means_default(card3.real(1, "FS", 0.0), 1.0e10);
+    section.stretch = zero_means_default(card3.real(2, "STRETCH", 0.0), 1.0);
+    if (section.stretch < 0) card3.fail("STRETCH", quoted(card3.text(2)) + " is negative");
+    const auto itb = card3.integer(3, "ITB", 0);
+    if (itb < 0 || itb > 3)
+      card3.fail("ITB", quoted(card3.text(3)) + " is not a stabilization option (1, 2 or 3)");
+    section.itb = itb == 0 ? default_itb[section.kernel] : static_cast<int>(itb);
+    section.msfac = card3.real(4, "MSFAC", 0.0);
+    const Real isc = card3.real(5, "ISC", 0.0);
+    if (isc != 0.0 && isc != 1.0) card3.fail("ISC", quoted(card3.text(5)) + " is not 0 or 1");
+    section.isc = static_cast<int>(isc);
+    section.boxid = card3.integer(6, "BOXID", 0);
+    section.pdamp = zero_means_default(card3.real(7, "PDAMP", 0.0), -0.001);
+    section.where_card3 = card3.where();
+    insert_unique(model.sections, section.id, section, card1, "section");
   }
 }
 

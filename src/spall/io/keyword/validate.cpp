@@ -154,11 +154,11 @@ class Validator {
                              location_text(*it->second) + ") but its section " +
                              std::to_string(part.secid) + " is not a *SECTION_SPH");
       if (auto it = first_solid_.find(part.id);
-          it != first_solid_.end() && !std::holds_alternative<model::SectionSolid>(section->second))
+          it != first_solid_.end() && std::holds_alternative<model::SectionSph>(section->second))
         throw InputError(part.where, "*PART",
                          "part " + std::to_string(part.id) + " has *ELEMENT_SOLID elements (" +
                              location_text(*it->second) + ") but its section " +
-                             std::to_string(part.secid) + " is not a *SECTION_SOLID");
+                             std::to_string(part.secid) + " is not a *SECTION_SOLID or *SECTION_SOLID_SPG");
     }
   }
 

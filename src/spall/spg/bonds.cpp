@@ -1,0 +1,72 @@
+#include "spall/spg/bonds.hpp"
+
+#include <algorithm>
+#include <iterator>
+
+namespace spall::spg {
+
+Index BondList::broken_count(Index i) const {
+  Index c = 0;
+  for (Index k = offsets[i]; k < offsets[i + 1]; ++k) c += broken[k];
+  return c;
+}
+
+Real previous_rest_length(const BondList& previous, Index i, Index j, bool& found) {
+  found = false;
+  if (i >= previous.size()) return 0;
+  const auto begin = previous.neighbour.begin() + previous.offsets[i];
+  const auto end = previous.neighbour.begin() + previous.offsets[i + 1];
+  const auto it = std::lower_bound(begin, end, j);
+  if (it == end || *it != j) return 0;
+  found = true;
+  return previous.rest_length[it - previous.neighbour.begin()];
+}
+
+void record_broken_pairs(const BondList& bonds, std::vector<BondPair>& broken_pairs) {
+  std::vector<BondPair> now;
+  for (Index i = 0; i < bonds.size(); ++i)
+    for (Index k = bonds.offsets[i]; k < bonds.offsets[i + 1]; ++k)
+      if (bonds.broken[k] && i < bonds.neighbour[k]) now.emplace_back(i, bonds.neighbour[k]);
+  std::vector<BondPair> merged;
+  merged.reserve(broken_pairs.size() + now.size());
+  std::set_union(broken_pairs.begin(), broken_pairs.end(), now.begin(), now.end(), std::back_inserter(merged));
+  broken_pairs.swap(merged);
+}
+
+void link_mirrors(BondList& bonds) {
+  const Index n = bonds.size();
+  bonds.mirror.resize(bonds.neighbour.size());
+#pragma omp parallel for schedule(static)
+  for (Index i = 0; i < n; ++i) {
+    for (Index k = bonds.offsets[i]; k < bonds.offsets[i + 1]; ++k) {
+      const Index j = bonds.neighbour[k];
+      const auto begin = bonds.neighbour.begin() + bonds.offsets[j];
+      const auto end = bonds.neighbour.begin() + bonds.offsets[j + 1];
+      // The pattern is symmetric, so i is in row j.
+      bonds.mirror[k] = static_cast<Index>(std::lower_bound(begin, end, i) - bonds.neighbour.begin());
+    }
+  }
+}
+
+Index break_bonds(BondList& bonds, std::span<const Real> effective_plastic_strain,
+                  std::span<const Vec3> x, Real critical_strain, Real critical_stretch) {
+  const Index n = bonds.size();
+  Index newly_broken = 0;
+  // Each side decides from the same symmetric expression, so the two flags of a bond agree.
+#pragma omp parallel for schedule(static) reduction(+ : newly_broken)
+  for (Index i = 0; i < n; ++i) {
+    for (Index k = bonds.offsets[i]; k < bonds.offsets[i + 1]; ++k) {
+      if (bonds.broken[k]) continue;
+      const Index j = bonds.neighbour[k];
+      const Real strain = Real(0.5) * (effective_plastic_strain[i] + effective_plastic_strain[j]);
+      if (!(strain > critical_strain)) continue;
+      const Real stretch = (x[i] - x[j]).norm() / bonds.rest_length[k];
+      if (!(stretch > critical_stretch)) continue;
+      bonds.broken[k] = 1;
+      if (i < j) ++newly_broken;
+    }
+  }
+  return newly_broken;
+}
+
+}  // namespace spall::spg

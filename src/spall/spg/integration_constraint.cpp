@@ -1,0 +1,229 @@
+#include "spall/spg/integration_constraint.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace spall::spg {
+
+namespace {
+
+using Vec4 = Eigen::Matrix<Real, 4, 1>;
+using Mat4 = Eigen::Matrix<Real, 4, 4>;
+
+// The unknowns (or a residual) of the normal equations, per particle.
+struct Multipliers {
+  std::vector<Vec3> lambda;
+  std::vector<Mat3> mu;
+  void resize(Index n) {
+    lambda.assign(n, Vec3::Zero());
+    mu.assign(n, Mat3::Zero());
+  }
+};
+
+// Per gradient component i: sum over particles of lambda_i lambda'_i + mu_i . mu'_i, summed in
+// fixed chunks and then chunk by chunk, so that the result does not depend on the thread count.
+Vec3 dot(const Multipliers& a, const Multipliers& b) {
+  const Index n = static_cast<Index>(a.lambda.size());
+  constexpr Index chunk = 1024;
+  const Index chunks = (n + chunk - 1) / chunk;
+  std::vector<Vec3> partial(chunks, Vec3::Zero());
+#pragma omp parallel for schedule(static)
+  for (Index c = 0; c < chunks; ++c) {
+    Vec3 s = Vec3::Zero();
+    for (Index j = c * chunk; j < std::min(n, (c + 1) * chunk); ++j)
+      s += a.lambda[j].cwiseProduct(b.lambda[j]) + a.mu[j].cwiseProduct(b.mu[j]).rowwise().sum();
+    partial[c] = s;
+  }
+  Vec3 total = Vec3::Zero();
+  for (const Vec3& s : partial) total += s;
+  return total;
+}
+
+class NormalEquations {
+ public:
+  NormalEquations(const BondList& bonds, std::span<const Vec3> X, std::span<const std::uint8_t> interior,
+                  std::span<const std::uint8_t> active)
+      : bonds_(bonds), X_(X), interior_(interior), active_(active) {
+    const Index n = bonds.size();
+    // Block-Jacobi preconditioner: the particle's own 4 x 4 block sum_L [1; d][1; d]^T (3 x 3
+    // without the divergence row where the particle is not interior), the same for every
+    // gradient component.
+    preconditioner_.assign(n, Mat4::Zero());
+#pragma omp parallel for schedule(static)
+    for (Index j = 0; j < n; ++j) {
+      if (!active_[j]) continue;
+      Mat4 P = Mat4::Zero();
+      for (Index k = bonds.offsets[j]; k < bonds.offsets[j + 1]; ++k) {
+        if (!usable(j, k)) continue;
+        Vec4 h;
+        h << 1, X_[bonds.neighbour[k]] - X_[j];
+        P += h * h.transpose();
+      }
+      if (!interior_[j]) {
+        P.row(0).setZero();
+        P.col(0).setZero();
+        P(0, 0) = 1;
+      }
+      // A particle with its bonds in a plane leaves P singular: a small ridge keeps the
+      // preconditioner positive definite (it only changes the convergence speed).
+      P += 1e-12 * P.trace() * Mat4::Identity();
+      Mat4 inverse = P.inverse();
+      if (!interior_[j]) {
+        inverse.row(0).setZero();
+        inverse.col(0).setZero();
+      }
+      preconditioner_[j] = inverse;
+    }
+  }
+
+  bool usable(Index j, Index k) const { return !bonds_.broken[k] && active_[bonds_.neighbour[k]] && active_[j]; }
+
+  // The flux of bond k (row j) for multipliers z: c = (lambda_j - lambda_l) + (mu_j + mu_l) d.
+  Vec3 flux(const Multipliers& z, Index j, Index k) const {
+    const Index l = bonds_.neighbour[k];
+    return (z.lambda[j] - z.lambda[l]) + (z.mu[j] + z.mu[l]) * (X_[l] - X_[j]);
+  }
+
+  // y = R R^T z: per particle the divergence (interior only) and first moment of the fluxes.
+  void apply(const Multipliers& z, Multipliers& y) const {
+    const Index n = bonds_.size();
+#pragma omp parallel for schedule(static)
+    for (Index j = 0; j < n; ++j) {
+      Vec3 div = Vec3::Zero();
+      Mat3 moment = Mat3::Zero();
+      if (active_[j])
+        for (Index k = bonds_.offsets[j]; k < bonds_.offsets[j + 1]; ++k) {
+          if (!usable(j, k)) continue;
+          const Vec3 c = flux(z, j, k);
+          div += c;
+          moment.noalias() += c * (X_[bonds_.neighbour[k]] - X_[j]).transpose();
+        }
+      y.lambda[j] = interior_[j] ? div : Vec3::Zero();
+      y.mu[j] = moment;
+    }
+  }
+
+  void precondition(const Multipliers& r, Multipliers& z) const {
+    const Index n = bonds_.size();
+#pragma omp parallel for schedule(static)
+    for (Index j = 0; j < n; ++j) {
+      for (int i = 0; i < 3; ++i) {
+        Vec4 b;
+        b << r.lambda[j][i], r.mu[j].row(i).transpose();
+        const Vec4 s = preconditioner_[j] * b;
+        z.lambda[j][i] = s[0];
+        z.mu[j].row(i) = s.tail<3>().transpose();
+      }
+    }
+  }
+
+ private:
+  const BondList& bonds_;
+  std::span<const Vec3> X_;
+  std::span<const std::uint8_t> interior_;
+  std::span<const std::uint8_t> active_;
+  std::vector<Mat4> preconditioner_;
+};
+
+// z += a r per gradient component (a_i scales component i).
+void axpy(const Vec3& a, const Multipliers& r, Multipliers& z) {
+  const Index n = static_cast<Index>(z.lambda.size());
+#pragma omp parallel for schedule(static)
+  for (Index j = 0; j < n; ++j) {
+    z.lambda[j] += a.cwiseProduct(r.lambda[j]);
+    z.mu[j] += a.asDiagonal() * r.mu[j];
+  }
+}
+
+constexpr Real tolerance = 1e-13;  // relative residual of the normal equations, per component
+constexpr Real round_off = 1e-15;  // absolute residual, relative to the natural size of the sums
+constexpr int max_iterations = 5000;
+
+}  // namespace
+
+void correct_integration(const BondList& bonds, std::span<const Vec3> X, std::span<const Real> volume,
+                         std::span<const std::uint8_t> interior, std::span<const std::uint8_t> active,
+                         std::span<const Vec3> defect, IntegrationCorrection& correction) {
+  const Index n = bonds.size();
+  const NormalEquations equations(bonds, X, interior, active);
+  Multipliers z, r, p, q, s;
+  z.resize(n);
+  if (static_cast<Index>(correction.lambda.size()) == n) {
+    z.lambda = correction.lambda;
+    z.mu = correction.mu;
+  }
+  r.resize(n);
+  p.resize(n);
+  q.resize(n);
+  s.resize(n);
+  // Right-hand side: sum_L c_JL = e_J / 2 at interior particles (then the column sums of D' are
+  // zero there), zero first moments everywhere.
+  Multipliers b;
+  b.resize(n);
+  for (Index j = 0; j < n; ++j)
+    if (interior[j] && active[j]) b.lambda[j] = Real(0.5) * defect[j];
+  equations.apply(z, q);
+  for (Index j = 0; j < n; ++j) {
+    r.lambda[j] = b.lambda[j] - q.lambda[j];
+    r.mu[j] = -q.mu[j];
+  }
+  const Vec3 b_norm = dot(b, b).cwiseSqrt();
+  // The natural size of the column sums, V_J / h_J ~ V_J^(2/3) per particle: a defect at round-off
+  // of it (a regular lattice) needs no correction, and no residual is sought below round-off.
+  Real reference = 0;
+  for (Index j = 0; j < n; ++j) reference += std::pow(volume[j], Real(4) / 3);
+  const Real floor = round_off * std::sqrt(reference);
+  auto converged = [&](const Vec3& rr) {
+    for (int i = 0; i < 3; ++i)
+      if (std::sqrt(rr[i]) > std::max(tolerance * b_norm[i], floor)) return false;
+    return true;
+  };
+  equations.precondition(r, s);
+  p = s;
+  Vec3 rs = dot(r, s);
+  int iteration = 0;
+  Vec3 rr = dot(r, r);
+  while (!converged(rr) && iteration < max_iterations) {
+    equations.apply(p, q);
+    const Vec3 pq = dot(p, q);
+    Vec3 alpha = Vec3::Zero();
+    for (int i = 0; i < 3; ++i) alpha[i] = pq[i] > 0 ? rs[i] / pq[i] : 0;
+    axpy(alpha, p, z);
+    axpy(-alpha, q, r);
+    equations.precondition(r, s);
+    const Vec3 rs_next = dot(r, s);
+    Vec3 beta = Vec3::Zero();
+    for (int i = 0; i < 3; ++i) beta[i] = rs[i] > 0 ? rs_next[i] / rs[i] : 0;
+    rs = rs_next;
+#pragma omp parallel for schedule(static)
+    for (Index j = 0; j < n; ++j) {
+      p.lambda[j] = s.lambda[j] + beta.cwiseProduct(p.lambda[j]);
+      p.mu[j] = s.mu[j] + beta.asDiagonal() * p.mu[j];
+    }
+    rr = dot(r, r);
+    ++iteration;
+  }
+  correction.iterations = iteration;
+  Real worst = 0;
+  for (int i = 0; i < 3; ++i)
+    if (b_norm[i] > 0) worst = std::max(worst, std::sqrt(rr[i]) / b_norm[i]);
+  correction.relative_residual = worst;
+  correction.lambda = z.lambda;
+  correction.mu = z.mu;
+
+  correction.self.assign(n, Vec3::Zero());
+  correction.bond.assign(bonds.neighbour.size(), Vec3::Zero());
+#pragma omp parallel for schedule(static)
+  for (Index j = 0; j < n; ++j) {
+    Vec3 self = Vec3::Zero();
+    for (Index k = bonds.offsets[j]; k < bonds.offsets[j + 1]; ++k) {
+      if (!equations.usable(j, k)) continue;
+      const Vec3 c = equations.flux(z, j, k) / volume[j];
+      correction.bond[k] = c;
+      self -= c;
+    }
+    correction.self[j] = self;
+  }
+}
+
+}  // namespace spall::spg

@@ -1,0 +1,44 @@
+#pragma once
+// A correction of the nodal gradient operator that makes direct nodal integration pass the patch
+// test on irregular particles (THEORY §9.4). With D_JK the gradient of shape function K at
+// particle J and V_J the nodal volumes, DNI reproduces a constant stress exactly only if the
+// integration constraint sum_J V_J D_JK = 0 holds for every particle K whose support stays inside
+// the body (Chen, Wu, Yoon & You 2001); on irregular particles it does not. The correction
+// D' = D + C keeps what the operator already has:
+//   - rows:    sum_K C_JK = 0 and sum_K C_JK (x) X_K = 0  (momentum, exact constant strain)
+//   - columns: sum_J V_J (D_JK + C_JK) = 0 for interior K (the integration constraint)
+// with C on the bonds as antisymmetric fluxes, V_J C_JK = c_JK = -c_KJ and
+// V_J C_JJ = -sum_L c_JL. Of all such fluxes it takes the smallest (least squares), whose form is
+//   c_JL = (lambda_J - lambda_L) + (mu_J + mu_L) (X_L - X_J)
+// per gradient component, with lambda (interior particles only) and mu found by preconditioned
+// conjugate gradients on the normal equations. The same D' serves the strain and the force (a
+// Galerkin, energy-consistent pair).
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "spall/core/types.hpp"
+#include "spall/spg/bonds.hpp"
+
+namespace spall::spg {
+
+struct IntegrationCorrection {
+  std::vector<Vec3> self;  // C_JJ
+  std::vector<Vec3> bond;  // C_JK for bond k in row J (neighbour K)
+  // The multipliers of the last solve, the start of the next one (the configuration changes little
+  // between kernel updates).
+  std::vector<Vec3> lambda;  // component i: the divergence multiplier of gradient component i
+  std::vector<Mat3> mu;      // row i: the first-moment multipliers of gradient component i
+  int iterations = 0;
+  Real relative_residual = 0;
+};
+
+// Computes the correction for the bonds (broken bonds and bonds of inactive particles excluded)
+// given the positions X of the reference configuration, the nodal volumes, which particles are
+// interior (their integration constraint is imposed), which are active (inactive ones take no
+// part), and the defect e_K = sum_J V_J D_JK of the uncorrected operator.
+void correct_integration(const BondList& bonds, std::span<const Vec3> X, std::span<const Real> volume,
+                         std::span<const std::uint8_t> interior, std::span<const std::uint8_t> active,
+                         std::span<const Vec3> defect, IntegrationCorrection& correction);
+
+}  // namespace spall::spg

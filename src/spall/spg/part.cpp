@@ -1,0 +1,531 @@
+#include "spall/spg/part.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+#include <limits>
+
+#include "spall/spg/rk_shape.hpp"
+
+namespace spall::spg {
+
+namespace {
+
+// Stable step dt = alpha h / (c + |v|), h the nodal spacing (support size over DX) scaled with the
+// particle's volume change. The largest frequency of the assembled system on irregular blocks
+// (tests/unit/test_spg_stiffness.cpp) puts the critical step at 0.94 to 1.25 h / c for ISPLINE 0-2,
+// DX 1.2-2.4 and Poisson's ratios up to 0.49; alpha = 0.5 keeps the step at TSSFAC 1 below 0.75
+// of it everywhere (THEORY §9.6).
+constexpr Real courant_factor = 0.5;
+
+template <typename T>
+std::size_t bytes(const std::vector<T>& v) {
+  return v.capacity() * sizeof(T);
+}
+
+// Lowest index that failed in a parallel loop (the same for any thread count), -1 if none.
+struct FirstFailure {
+  Index index = -1;
+  void report(Index i) {
+#pragma omp critical(spg_first_failure)
+    if (index < 0 || i < index) index = i;
+  }
+};
+
+}  // namespace
+
+Part::Part(PartSettings settings, const std::vector<ParticleSetup>& particles,
+           const solver::NodeStore& nodes)
+    : settings_(std::move(settings)) {
+  const std::size_t n = particles.size();
+  const auto& mat = settings_.material;
+  // K + 4G/3 of the reference state, from its longitudinal wave speed.
+  const Real c0 = materials::sound_speed(mat, mat.density, mat.initial_specific_energy);
+  const Real p_wave_modulus = mat.density * c0 * c0;
+  node_.resize(n);
+  node_id_.resize(n);
+  mass_.resize(n);
+  volume0_.resize(n);
+  support_.resize(n);
+  spacing_.resize(n);
+  mean_spacing_.resize(n);
+  stiffness_.resize(n);
+  x_.resize(n);
+  on_surface_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto& p = particles[i];
+    node_[i] = p.node;
+    node_id_[i] = nodes.id[p.node];
+    volume0_[i] = p.volume;
+    mass_[i] = mat.density * p.volume;
+    // A direction in which the elements around the node have no extent (a flat patch) takes the
+    // largest spacing of the other two.
+    Vec3 h = p.spacing;
+    for (int d = 0; d < 3; ++d)
+      if (!(h[d] > 0)) h[d] = p.spacing.maxCoeff();
+    support_[i] = settings_.dilation.cwiseProduct(h);
+    spacing_[i] = h.minCoeff();
+    mean_spacing_[i] = std::cbrt(h.prod());
+    stiffness_[i] = settings_.stabilization_factor * p_wave_modulus * p.volume / (mean_spacing_[i] * mean_spacing_[i]);
+    x_[i] = nodes.x[p.node];
+    on_surface_[i] = p.on_surface ? 1 : 0;
+  }
+  volume_ref_ = volume0_;
+  F_.assign(n, Mat3::Identity());
+  F_total_.assign(n, Mat3::Identity());
+  state_.assign(n, materials::initial_state(mat));
+  specific_energy_.assign(n, mat.initial_specific_energy);
+  pressure_.assign(n, materials::eos_pressure(mat, mat.density, mat.initial_specific_energy));
+  density_.assign(n, mat.density);
+  viscous_pressure_.assign(n, 0);
+  viscous_power_.assign(n, 0);
+  sound_speed_.assign(n, c0);
+  stabilization_force_.assign(n, Vec3::Zero());
+  stabilization_total_.assign(n, Vec3::Zero());
+  stabilization_power_.assign(n, 0);
+  dashpot_.resize(n);
+  for (std::size_t i = 0; i < n; ++i)
+    dashpot_[i] = 2 * settings_.stabilization_damping * std::sqrt(stiffness_[i] * mass_[i]);
+  v_.assign(n, Vec3::Zero());
+  xs_.assign(n, Vec3::Zero());
+  vs_.assign(n, Vec3::Zero());
+  h_.assign(n, Vec3::Zero());
+  force_.assign(n, Vec3::Zero());
+  weighted_stress_.assign(n, Mat3::Zero());
+  spin_.assign(n, Mat3::Zero());
+  degraded_.assign(n, 0);
+
+  search_bonds(nullptr);
+  initial_bond_count_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) initial_bond_count_[i] = bonds_.count(static_cast<Index>(i));
+  build_shape_functions(true);
+  correct_integration_constraint();
+}
+
+// Bonds: the pairs in which one particle lies inside the other's support, in the current positions.
+void Part::search_bonds(const BondList* previous) {
+  Real radius = 0;
+  for (const auto& a : support_) radius = std::max(radius, support_radius(settings_.shape, a));
+  neighbors::VerletList verlet;
+  verlet.build(x_, radius, 0);
+  const auto shape = settings_.shape;
+  auto covers = [&](Index i, Index j) {
+    return kernel_value(shape, x_[i] - x_[j], support_[j]).value > 0 ||
+           kernel_value(shape, x_[j] - x_[i], support_[i]).value > 0;
+  };
+  bonds_ = make_bonds(verlet.list(), x_, covers, previous, broken_pairs_);
+}
+
+// RK shape functions of every particle's row in the current positions, which become the reference
+// configuration X. Broken bonds take no part (seed 001 eq. 14: Phi_K(x_J) = 0 across them).
+void Part::build_shape_functions(bool at_setup) {
+  const Index n = particle_count();
+  psi_self_.resize(n);
+  grad_self_.resize(n);
+  psi_.assign(bonds_.neighbour.size(), 0);
+  grad_.assign(bonds_.neighbour.size(), Vec3::Zero());
+  // KERNEL 0: the windows deform with the material (mapped through each particle's accumulated
+  // deformation), so a stretched bond keeps its weight until it fails (THEORY §9.7).
+  const bool material_windows = settings_.kernel_update == KernelUpdate::updated_lagrangian;
+  std::vector<Mat3> window_map;
+  if (material_windows) {
+    window_map.resize(n);
+    for (Index i = 0; i < n; ++i) window_map[i] = F_total_[i].inverse();
+  }
+  FirstFailure singular;
+#pragma omp parallel
+  {
+    std::vector<KernelSample> samples;
+    std::vector<Index> entry;  // bond position of each sample after the first (self)
+    std::vector<Real> psi;
+    std::vector<Vec3> grad;
+#pragma omp for schedule(static)
+    for (Index j = 0; j < n; ++j) {
+      samples.clear();
+      entry.clear();
+      auto add = [&](Index i) {
+        KernelSample s;
+        s.y = x_[j] - x_[i];
+        s.support = support_[i];
+        if (material_windows) s.map = window_map[i];
+        samples.push_back(s);
+      };
+      add(j);
+      for (Index k = bonds_.offsets[j]; k < bonds_.offsets[j + 1]; ++k) {
+        if (bonds_.broken[k]) continue;
+        add(bonds_.neighbour[k]);
+        entry.push_back(k);
+      }
+      psi.resize(samples.size());
+      grad.resize(samples.size());
+      const Real rcond = rk_shape_functions(settings_.shape, samples, support_[j].maxCoeff(), psi, grad);
+      degraded_[j] = rcond >= min_moment_rcond ? 0 : 1;
+      if (degraded_[j]) {
+        if (at_setup) {
+          singular.report(j);
+          continue;
+        }
+        // Too few bonds left for a linear field (bond failure, or particles drifting apart under
+        // an Eulerian kernel): the particle keeps a Shepard partition of unity for the smoothing
+        // and no strain of its own (THEORY §9.8).
+        if (!shepard_shape_functions(settings_.shape, samples, psi, grad)) {
+          std::fill(psi.begin(), psi.end(), 0);
+          psi[0] = 1;
+        }
+        std::fill(grad.begin(), grad.end(), Vec3::Zero());
+      }
+      psi_self_[j] = psi[0];
+      grad_self_[j] = grad[0];
+      for (std::size_t s = 1; s < samples.size(); ++s) {
+        psi_[entry[s - 1]] = psi[s];
+        grad_[entry[s - 1]] = grad[s];
+      }
+    }
+  }
+  if (singular.index >= 0) {
+    const Index j = singular.index;
+    throw InputError(settings_.where, "*SECTION_SOLID_SPG",
+                     fmt::format("part {}: node {} has {} particles in its kernel support, too few (or "
+                                 "all in one plane) for linear RK shape functions (singular moment "
+                                 "matrix); increase DX/DY/DZ or refine the mesh",
+                                 settings_.part_id, node_id_[j], bonds_.count(j) + 1));
+  }
+}
+
+// The defect e_K = sum_J V_J D_JK of the nodal gradient operator (D = G A with ITB 1, G with ITB 2)
+// at the particles whose support lies inside the body, then the correction that removes it.
+void Part::correct_integration_constraint() {
+  const Index n = particle_count();
+  // Surface particles: on the mesh's boundary, next to a broken bond, or without a strain of their
+  // own. A particle is interior when no particle within the reach of its column of D (two rings of
+  // bonds for G A, one for G) is on the surface.
+  std::vector<std::uint8_t> near(n);
+  for (Index j = 0; j < n; ++j) near[j] = on_surface_[j] || degraded_[j] || bonds_.broken_count(j) > 0;
+  const int rings = settings_.stabilization == Stabilization::fluid_particle ? 2 : 1;
+  for (int ring = 0; ring < rings; ++ring) {
+    std::vector<std::uint8_t> grown = near;
+    for (Index j = 0; j < n; ++j)
+      for (Index k = bonds_.offsets[j]; k < bonds_.offsets[j + 1]; ++k)
+        if (!bonds_.broken[k] && near[bonds_.neighbour[k]]) grown[j] = 1;
+    near.swap(grown);
+  }
+  std::vector<std::uint8_t> interior(n), active(n);
+  for (Index j = 0; j < n; ++j) {
+    interior[j] = near[j] ? 0 : 1;
+    active[j] = degraded_[j] ? 0 : 1;
+  }
+  // g_I = sum_J V_J grad Psi_I(X_J); with smoothing e_K = sum_I Psi_K(X_I) g_I.
+  std::vector<Vec3> g(n), defect(n);
+#pragma omp parallel for schedule(static)
+  for (Index i = 0; i < n; ++i) {
+    Vec3 sum = volume_ref_[i] * grad_self_[i];
+    for (Index k = bonds_.offsets[i]; k < bonds_.offsets[i + 1]; ++k)
+      sum.noalias() += volume_ref_[bonds_.neighbour[k]] * grad_[bonds_.mirror[k]];
+    g[i] = sum;
+  }
+  if (settings_.stabilization == Stabilization::fluid_particle) {
+#pragma omp parallel for schedule(static)
+    for (Index K = 0; K < n; ++K) {
+      Vec3 sum = psi_self_[K] * g[K];
+      for (Index k = bonds_.offsets[K]; k < bonds_.offsets[K + 1]; ++k)
+        sum.noalias() += psi_[bonds_.mirror[k]] * g[bonds_.neighbour[k]];
+      defect[K] = sum;
+    }
+  } else {
+    defect = g;
+  }
+  correct_integration(bonds_, x_, volume_ref_, interior, active, defect, correction_);
+}
+
+void Part::smooth(std::span<const Vec3> field, std::vector<Vec3>& smoothed) const {
+  const Index n = particle_count();
+#pragma omp parallel for schedule(static)
+  for (Index i = 0; i < n; ++i) {
+    Vec3 s = psi_self_[i] * field[i];
+    for (Index k = bonds_.offsets[i]; k < bonds_.offsets[i + 1]; ++k)
+      s.noalias() += psi_[k] * field[bonds_.neighbour[k]];
+    smoothed[i] = s;
+  }
+}
+
+// F and L at every particle from the (smoothed) positions and velocities, then the stress update.
+void Part::deformation(std::span<const Vec3> x, std::span<const Vec3> v, Real dt) {
+  const Index n = particle_count();
+  const auto& mat = settings_.material;
+  FirstFailure inverted;
+#pragma omp parallel for schedule(static)
+  for (Index j = 0; j < n; ++j) {
+    if (degraded_[j]) {
+      spin_[j] = Mat3::Zero();
+      viscous_pressure_[j] = 0;
+      viscous_power_[j] = 0;
+      continue;
+    }
+    // D' = D + C: the gradient of the (smoothed) field plus the correction acting on the nodal
+    // values themselves.
+    Mat3 F = x[j] * grad_self_[j].transpose() + x_[j] * correction_.self[j].transpose();
+    Mat3 dF = v[j] * grad_self_[j].transpose() + v_[j] * correction_.self[j].transpose();
+    for (Index k = bonds_.offsets[j]; k < bonds_.offsets[j + 1]; ++k) {
+      const Index i = bonds_.neighbour[k];
+      F.noalias() += x[i] * grad_[k].transpose() + x_[i] * correction_.bond[k].transpose();
+      dF.noalias() += v[i] * grad_[k].transpose() + v_[i] * correction_.bond[k].transpose();
+    }
+    const Real det = F.determinant();
+    if (!(det > 0)) {
+      inverted.report(j);
+      continue;
+    }
+    F_[j] = F;
+    const Mat3 L = dF * F.inverse();
+    const Mat3 W = Real(0.5) * (L - L.transpose());
+    const Mat3 D = Real(0.5) * (L + L.transpose());
+    spin_[j] = W;
+    // The point update of materials/material.hpp: Jaumann rotation of the deviator and back
+    // stress, the stress update at the new density, then the energy equation de/dt = sigma : D / rho
+    // (trapezoidal in the stress, with the old stress predicting the energy the EOS sees).
+    auto& state = state_[j];
+    const Mat3 sigma_old = state.deviatoric_stress - pressure_[j] * Mat3::Identity();
+    state.deviatoric_stress += dt * (W * state.deviatoric_stress - state.deviatoric_stress * W);
+    state.back_stress += dt * (W * state.back_stress - state.back_stress * W);
+    const Real rho = mass_[j] / (volume_ref_[j] * det);
+    const Real e_predicted = specific_energy_[j] + dt * sigma_old.cwiseProduct(D).sum() / rho;
+    const auto update = materials::update_stress(mat, state, D, dt, rho, e_predicted);
+    const Mat3 sigma = state.deviatoric_stress - update.pressure * Mat3::Identity();
+    specific_energy_[j] += Real(0.5) * dt * (sigma_old + sigma).cwiseProduct(D).sum() / rho;
+    density_[j] = rho;
+    pressure_[j] = update.pressure;
+    sound_speed_[j] = materials::sound_speed(mat, rho, specific_energy_[j]);
+    // Bulk viscosity of LS-DYNA's solid elements, q = rho l (Q1 l tr(D)^2 - Q2 c tr(D)) while the
+    // volume shrinks, with l the particle spacing followed through the volume change.
+    const Real volume_rate = D.trace();
+    const Real volume = volume_ref_[j] * det;
+    const Real length = mean_spacing_[j] * std::cbrt(volume / volume0_[j]);
+    const Real q = volume_rate < 0 ? rho * length *
+                                         (settings_.bulk_viscosity_quadratic * length * volume_rate * volume_rate -
+                                          settings_.bulk_viscosity_linear * sound_speed_[j] * volume_rate)
+                                   : 0;
+    viscous_pressure_[j] = q;
+    viscous_power_[j] = -volume * q * volume_rate;
+  }
+  if (inverted.index >= 0)
+    throw InstabilityError(fmt::format("SPG part {}: the deformation gradient at node {} is no longer "
+                                       "invertible (det F <= 0): the particles have inverted",
+                                       settings_.part_id, node_id_[inverted.index]));
+}
+
+// The spring on the part of the motion that the smoothing removes, in rate form so that it keeps
+// its memory across kernel updates, rotated with the particle's spin (THEORY §9.5).
+void Part::update_stabilization(Real dt) {
+  const Index n = particle_count();
+#pragma omp parallel for schedule(static)
+  for (Index j = 0; j < n; ++j) {
+    if (degraded_[j]) {
+      stabilization_force_[j] = Vec3::Zero();
+      stabilization_total_[j] = Vec3::Zero();
+      stabilization_power_[j] = 0;
+      continue;
+    }
+    const Vec3& s = stabilization_force_[j];
+    const Vec3 removed = v_[j] - vs_[j];  // the velocity the smoothing removes
+    stabilization_force_[j] = s + dt * (stiffness_[j] * removed + spin_[j] * s);
+    stabilization_total_[j] = stabilization_force_[j] + dashpot_[j] * removed;
+    stabilization_power_[j] = dashpot_[j] * removed.squaredNorm();
+  }
+}
+
+void Part::effective_plastic_strain(std::vector<Real>& out) const {
+  out.resize(state_.size());
+  for (std::size_t i = 0; i < state_.size(); ++i) out[i] = state_[i].plastic_strain;
+}
+
+// A particle that bond failure left without a linear approximation can neither carry nor pass on
+// a stress consistently; the bonds it still has would only let its stressed neighbours fling it
+// off the crack. It is detached: its remaining bonds break too, and its neighbours' rows are
+// rebuilt without it (which may detach them in turn). Particles degraded without any broken bond
+// (an Eulerian kernel losing neighbours to distance, fixed windows in a stretch) keep their bonds.
+void Part::detach_degraded_particles() {
+  const Index n = particle_count();
+  for (int pass = 0; pass < 16; ++pass) {
+    bool detached = false;
+    for (Index j = 0; j < n; ++j) {
+      if (!degraded_[j] || bonds_.broken_count(j) == 0 || bonds_.broken_count(j) == bonds_.count(j)) continue;
+      for (Index k = bonds_.offsets[j]; k < bonds_.offsets[j + 1]; ++k) {
+        bonds_.broken[k] = 1;
+        bonds_.broken[bonds_.mirror[k]] = 1;
+      }
+      detached = true;
+    }
+    if (!detached) return;
+    record_broken_pairs(bonds_, broken_pairs_);
+    build_shape_functions(false);
+  }
+}
+
+void Part::update_kernel() {
+  const Index n = particle_count();
+#pragma omp parallel for schedule(static)
+  for (Index j = 0; j < n; ++j) {
+    volume_ref_[j] *= F_[j].determinant();
+    F_total_[j] = F_[j] * F_total_[j];
+    F_[j] = Mat3::Identity();
+  }
+  std::vector<Real> plastic_strain;
+  effective_plastic_strain(plastic_strain);
+  // Broken bonds per particle, over every bond ever broken (also those an Eulerian update drops).
+  auto broken_per_particle = [&] {
+    std::vector<Index> count(n, 0);
+    for (const auto& [i, j] : broken_pairs_) ++count[i], ++count[j];
+    return count;
+  };
+  const std::vector<Index> broken_before = broken_per_particle();
+  break_bonds(bonds_, plastic_strain, x_, settings_.failure_strain, settings_.failure_stretch);
+  record_broken_pairs(bonds_, broken_pairs_);
+  if (settings_.kernel_update == KernelUpdate::eulerian) {
+    const BondList previous = std::move(bonds_);
+    search_bonds(&previous);
+  }
+  build_shape_functions(false);
+  detach_degraded_particles();
+  // A particle that lost bonds has lost the neighbourhood its spring measured the non-affine
+  // motion against: the spring starts again from rest (else it kicks the new crack surface).
+  const std::vector<Index> broken_after = broken_per_particle();
+  for (Index j = 0; j < n; ++j)
+    if (broken_after[j] != broken_before[j]) stabilization_force_[j] = Vec3::Zero();
+  correct_integration_constraint();
+  steps_since_update_ = 0;
+  ++kernel_updates_;
+}
+
+// h_I = sum_J V_J P_J grad Psi_I(X_J), then the force on K gathers h and s through Psi_K(X_I).
+void Part::internal_forces() {
+  const Index n = particle_count();
+#pragma omp parallel for schedule(static)
+  for (Index j = 0; j < n; ++j) {
+    if (degraded_[j]) {
+      weighted_stress_[j] = Mat3::Zero();
+      continue;
+    }
+    const Real volume = volume_ref_[j] * F_[j].determinant();
+    const Mat3 sigma = state_[j].deviatoric_stress - (pressure_[j] + viscous_pressure_[j]) * Mat3::Identity();
+    weighted_stress_[j] = volume * sigma * F_[j].inverse().transpose();
+  }
+#pragma omp parallel for schedule(static)
+  for (Index i = 0; i < n; ++i) {
+    Vec3 h = weighted_stress_[i] * grad_self_[i];
+    for (Index k = bonds_.offsets[i]; k < bonds_.offsets[i + 1]; ++k)
+      h.noalias() += weighted_stress_[bonds_.neighbour[k]] * grad_[bonds_.mirror[k]];
+    h_[i] = h;
+  }
+  const bool smoothed = settings_.stabilization == Stabilization::fluid_particle;
+  const auto& s = stabilization_total_;
+#pragma omp parallel for schedule(static)
+  for (Index K = 0; K < n; ++K) {
+    // f_K = -sum_I Psi_K(X_I) (h_I - s_I) - s_K, or with ITB 2 -h_K - s_K + sum_I Psi_K(X_I) s_I.
+    Vec3 gathered = psi_self_[K] * (smoothed ? Vec3(h_[K] - s[K]) : Vec3(-s[K]));
+    for (Index k = bonds_.offsets[K]; k < bonds_.offsets[K + 1]; ++k) {
+      const Index I = bonds_.neighbour[k];
+      gathered.noalias() += psi_[bonds_.mirror[k]] * (smoothed ? Vec3(h_[I] - s[I]) : Vec3(-s[I]));
+    }
+    // The correction's share: -sum_J V_J P_J C_JK.
+    Vec3 corrected = weighted_stress_[K] * correction_.self[K];
+    for (Index k = bonds_.offsets[K]; k < bonds_.offsets[K + 1]; ++k)
+      corrected.noalias() += weighted_stress_[bonds_.neighbour[k]] * correction_.bond[bonds_.mirror[k]];
+    force_[K] = (smoothed ? Vec3(-gathered - s[K]) : Vec3(-h_[K] - gathered - s[K])) - corrected;
+  }
+}
+
+void Part::compute_forces(solver::NodeStore& nodes, Real dt) {
+  const Index n = particle_count();
+#pragma omp parallel for schedule(static)
+  for (Index i = 0; i < n; ++i) {
+    x_[i] = nodes.x[node_[i]];
+    v_[i] = nodes.v[node_[i]];
+  }
+  if (dt > 0) {
+    smooth(v_, vs_);
+    const bool smoothed = settings_.stabilization == Stabilization::fluid_particle;
+    if (smoothed) smooth(x_, xs_);
+    deformation(smoothed ? std::span<const Vec3>(xs_) : std::span<const Vec3>(x_),
+                smoothed ? std::span<const Vec3>(vs_) : std::span<const Vec3>(v_), dt);
+    update_stabilization(dt);
+    if (++steps_since_update_ >= settings_.update_interval) update_kernel();
+  }
+  internal_forces();
+#pragma omp parallel for schedule(static)
+  for (Index i = 0; i < n; ++i) nodes.f[node_[i]] += force_[i];
+}
+
+// CFL condition on the support size (seed 001 §2.1: the SPG step follows the support of the shape
+// functions, not the closest nodal distance, so a distorted neighbourhood does not cut it down):
+// dt <= alpha (a_min / DX) (V / V_0)^(1/3) / (c + |v|).
+Real Part::stable_time_step(const solver::NodeStore& nodes) const {
+  const Index n = particle_count();
+  Real dt = std::numeric_limits<Real>::infinity();
+#pragma omp parallel for reduction(min : dt) schedule(static)
+  for (Index i = 0; i < n; ++i) {
+    const Real volume_ratio = volume_ref_[i] * F_[i].determinant() / volume0_[i];
+    const Real length = spacing_[i] * std::cbrt(volume_ratio);
+    dt = std::min(dt, courant_factor * length / (sound_speed_[i] + nodes.v[node_[i]].norm()));
+  }
+  return dt;
+}
+
+Part::Power Part::internal_power(std::span<const Vec3> v) const {
+  // Reduced in index order (deterministic). The viscous share is the stress power of q; the rest
+  // of the work of the internal forces is stored.
+  Power p;
+  Real work = 0;
+  for (Index i = 0; i < particle_count(); ++i) {
+    work -= force_[i].dot(v[node_[i]]);
+    p.dissipated += viscous_power_[i] + stabilization_power_[i];
+  }
+  p.stored = work - p.dissipated;
+  return p;
+}
+
+Real Part::max_wave_speed() const {
+  Real c = 0;
+  for (Real s : sound_speed_) c = std::max(c, s);
+  return c;
+}
+
+void Part::write_fields(NodeFields& f) const {
+  for (Index a = 0; a < particle_count(); ++a) {
+    const Index i = node_[a];
+    const Mat3& S = state_[a].deviatoric_stress;
+    f.pressure[i] = pressure_[a];
+    f.von_mises[i] = std::sqrt(Real(1.5) * S.cwiseProduct(S).sum());
+    f.density[i] = density_[a];
+    f.effective_plastic_strain[i] = state_[a].plastic_strain;
+    const Index broken = bonds_.broken_count(a);
+    f.broken_bonds[i] = broken;
+    f.bond_count[i] = bonds_.count(a) - broken;
+    f.bond_damage[i] = initial_bond_count_[a] > 0 ? double(broken) / initial_bond_count_[a] : 0.0;
+    const Mat3 sigma = S - pressure_[a] * Mat3::Identity();
+    const double components[6] = {sigma(0, 0), sigma(1, 1), sigma(2, 2), sigma(0, 1), sigma(1, 2), sigma(2, 0)};
+    std::copy(components, components + 6, f.stress.begin() + 6 * i);
+  }
+}
+
+Index Part::degraded_count() const {
+  Index n = 0;
+  for (auto d : degraded_) n += d;
+  return n;
+}
+
+std::size_t Part::memory_bytes() const {
+  return bytes(node_) + bytes(node_id_) + bytes(mass_) + bytes(volume0_) + bytes(volume_ref_) +
+         bytes(support_) + bytes(spacing_) + bytes(mean_spacing_) + bytes(stiffness_) +
+         bytes(viscous_pressure_) + bytes(viscous_power_) + bytes(F_) + bytes(F_total_) +
+         bytes(state_) + bytes(pressure_) + bytes(density_) + bytes(sound_speed_) +
+         bytes(specific_energy_) + bytes(stabilization_force_) + bytes(stabilization_total_) +
+         bytes(stabilization_power_) + bytes(dashpot_) + bytes(initial_bond_count_) +
+         bytes(degraded_) + bytes(on_surface_) + bytes(correction_.self) +
+         bytes(correction_.bond) + bytes(correction_.lambda) + bytes(correction_.mu) + bytes(psi_self_) + bytes(grad_self_) + bytes(psi_) + bytes(grad_) +
+         bytes(bonds_.offsets) + bytes(bonds_.neighbour) + bytes(bonds_.mirror) +
+         bytes(bonds_.broken) + bytes(bonds_.rest_length) + bytes(broken_pairs_) + bytes(x_) +
+         bytes(v_) + bytes(xs_) + bytes(vs_) + bytes(h_) + bytes(force_) + bytes(weighted_stress_) +
+         bytes(spin_);
+}
+
+}  // namespace spall::spg

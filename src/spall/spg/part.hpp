@@ -1,0 +1,158 @@
+#pragma once
+// One SPG part: its particles (the nodes of its solid mesh), their bonds, RK shape functions and
+// smoothing operator, and the material state at each particle. Particles of different parts do not
+// see each other through the kernel; parts couple through shared nodes only.
+//
+// Per step (docs/THEORY.md §9, seed 001 eqs. 6-13):
+//   smoothing      xs_I = sum_K Psi_K(X_I) x_K,  vs_I = sum_K Psi_K(X_I) v_K      (eq. 9-11 at the particles)
+//   deformation    F_J = sum_I xs_I (x) grad Psi_I(X_J),  dF_J = sum_I vs_I (x) grad Psi_I(X_J)   (eq. 12)
+//                  (ITB 2: x and v in place of xs and vs)
+//                  plus the integration-constraint correction C on x and v (THEORY §9.4)
+//   stress         L = dF F^-1; the material library's point update (materials/material.hpp) with
+//                  the Jaumann rotation of the deviator, D = sym L, rho = m / V and the energy equation;
+//                  bulk viscosity q = rho l (Q1 l tr(D)^2 - Q2 c tr(D)) in compression
+//   force          f_K = -sum_I Psi_K(X_I) h_I - s_K + sum_I Psi_K(X_I) s_I,
+//                  h_I = sum_J V_J P_J grad Psi_I(X_J), P = J sigma F^-T          (eq. 6 with eq. 13)
+//   stabilization  ds_J/dt = kappa_J (v_J - vs_J) + W_J s_J: the spring on the displacement that the
+//                  smoothing removes (reconstructed; THEORY §9.5)
+// with X the reference configuration of the last kernel update (every SMSTEP steps). KERNEL chooses
+// what an update rebuilds (THEORY §9.7): 0 updated Lagrangian, the bonds of the first
+// configuration with windows that deform with the material; 1 Eulerian, bonds searched anew in the
+// current configuration; 2 pseudo-Lagrangian, the bonds of the first configuration with windows of
+// fixed size in the current configuration.
+#include <vector>
+
+#include "spall/core/error.hpp"
+#include "spall/io/output/vtu.hpp"
+#include "spall/materials/material.hpp"
+#include "spall/solver/node_store.hpp"
+#include "spall/spg/bonds.hpp"
+#include "spall/spg/integration_constraint.hpp"
+#include "spall/spg/kernel_function.hpp"
+
+namespace spall::spg {
+
+// *SECTION_SOLID_SPG KERNEL
+enum class KernelUpdate { updated_lagrangian = 0, eulerian = 1, pseudo_lagrangian = 2 };
+// *SECTION_SOLID_SPG ITB (1 and 2; 3 is MC-SPG, not implemented)
+enum class Stabilization { fluid_particle = 1, simplified_fluid_particle = 2 };
+
+struct PartSettings {
+  Id part_id = 0;
+  KernelShape shape = KernelShape::cubic_cubical;  // ISPLINE
+  Vec3 dilation = Vec3::Constant(1.6);             // DX DY DZ
+  KernelUpdate kernel_update = KernelUpdate::updated_lagrangian;
+  int update_interval = 15;  // SMSTEP
+  Stabilization stabilization = Stabilization::fluid_particle;
+  Real failure_strain = 1.0e10;  // FS (IDAM 1: effective plastic strain), or the material's FS / FAIL
+  Real failure_stretch = 1.0;    // STRETCH
+  materials::Material material;
+  // eta in the stabilization stiffness kappa = eta (K + 4G/3) V / h^2; not a deck field (SPG has no
+  // stabilization control parameter, seed 001 §1), 0 only in tests that show what it removes.
+  Real stabilization_factor = 1.0;
+  // xi: the dashpot beside the spring, c = 2 xi sqrt(kappa m) (THEORY §9.5); not a deck field.
+  Real stabilization_damping = 0.3;
+  // *CONTROL_BULK_VISCOSITY Q1 (quadratic) and Q2 (linear), LS-DYNA's bulk viscosity of solids.
+  Real bulk_viscosity_quadratic = 1.5;
+  Real bulk_viscosity_linear = 0.06;
+  SourceLocation where;  // *SECTION_SOLID_SPG card 2 (DX ...), for messages about the supports
+};
+
+// One particle as the problem builder hands it over.
+struct ParticleSetup {
+  Index node = 0;
+  Real volume = 0;              // nodal volume from the mesh
+  Vec3 spacing = Vec3::Zero();  // nodal spacing per direction (largest extent of the elements around)
+  bool on_surface = false;      // a node of a face that only one element of the part has
+};
+
+class Part {
+ public:
+  Part(PartSettings settings, const std::vector<ParticleSetup>& particles, const solver::NodeStore& nodes);
+
+  // Advances the state over dt with x^n and v^{n-1/2}, updates the kernel when it is due, and
+  // adds the internal forces at x^n to nodes.f.
+  void compute_forces(solver::NodeStore& nodes, Real dt);
+  Real stable_time_step(const solver::NodeStore& nodes) const;
+  // The power of the internal forces at the velocities v: stored (strain energy, stabilization
+  // springs) and dissipated by the bulk viscosity.
+  struct Power {
+    Real stored = 0;
+    Real dissipated = 0;
+  };
+  Power internal_power(std::span<const Vec3> v) const;
+  Real max_wave_speed() const;
+
+  // Writes this part's values into node-aligned arrays (zeros elsewhere are the caller's).
+  struct NodeFields {
+    std::vector<double> pressure, von_mises, density, effective_plastic_strain, bond_damage, stress;
+    std::vector<std::int64_t> broken_bonds, bond_count;
+  };
+  void write_fields(NodeFields& fields) const;
+
+  const PartSettings& settings() const { return settings_; }
+  Index particle_count() const { return static_cast<Index>(node_.size()); }
+  const BondList& bonds() const { return bonds_; }
+  // Every bond broken so far, also those an Eulerian update has dropped from the rows since.
+  const std::vector<BondPair>& broken_pairs() const { return broken_pairs_; }
+  const IntegrationCorrection& integration_correction() const { return correction_; }
+  long long kernel_updates() const { return kernel_updates_; }
+  // Particles whose bonds no longer hold a linear field (Shepard smoothing, no strain of their own).
+  Index degraded_count() const;
+  std::size_t memory_bytes() const;
+
+ private:
+  void search_bonds(const BondList* previous);
+  void build_shape_functions(bool at_setup);
+  void update_kernel();
+  void detach_degraded_particles();
+  void smooth(std::span<const Vec3> field, std::vector<Vec3>& smoothed) const;
+  void deformation(std::span<const Vec3> x, std::span<const Vec3> v, Real dt);
+  void update_stabilization(Real dt);
+  void effective_plastic_strain(std::vector<Real>& out) const;
+  void internal_forces();
+  void correct_integration_constraint();
+
+  PartSettings settings_;
+  // Per particle.
+  std::vector<Index> node_;
+  std::vector<Id> node_id_;          // the deck's node ID, for messages
+  std::vector<Real> mass_;           // rho_0 V_0: this part's share of the node's mass
+  std::vector<Real> volume0_;        // V_0
+  std::vector<Real> volume_ref_;     // volume in the reference configuration of the kernel
+  std::vector<Vec3> support_;        // a_I = (DX, DY, DZ) x nodal spacing
+  std::vector<Real> spacing_;        // smallest nodal spacing, for the stable step
+  std::vector<Real> mean_spacing_;   // (h_x h_y h_z)^(1/3)
+  std::vector<Real> stiffness_;      // kappa_I of the stabilization spring
+  std::vector<Mat3> F_;              // deformation gradient since the last kernel update
+  std::vector<Mat3> F_total_;        // from the initial configuration to the last kernel update
+  std::vector<materials::PointState> state_;
+  std::vector<Real> pressure_, density_, sound_speed_, specific_energy_;
+  std::vector<Real> viscous_pressure_;  // bulk viscosity q, added to the pressure
+  std::vector<Real> viscous_power_;     // V q (-tr D): the rate of energy it dissipates
+  std::vector<Vec3> stabilization_force_;  // s_J, the spring
+  std::vector<Real> dashpot_;              // c_J
+  std::vector<Vec3> stabilization_total_;  // s_J + c_J (v_J - vs_J), what the force gathers
+  std::vector<Real> stabilization_power_;  // c_J |v_J - vs_J|^2, dissipated
+  std::vector<Index> initial_bond_count_;
+  // 1 where the bonds left no longer hold a linear field: Shepard smoothing, no strain of its own.
+  std::vector<std::uint8_t> degraded_;
+  // Shape functions in the reference configuration: self term per particle, the rest per bond.
+  std::vector<Real> psi_self_;
+  std::vector<Vec3> grad_self_;
+  std::vector<Real> psi_;   // psi_[k], k in row J: Psi_{neighbour}(X_J)
+  std::vector<Vec3> grad_;  // grad Psi_{neighbour}(X_J)
+  BondList bonds_;
+  std::vector<BondPair> broken_pairs_;
+  std::vector<std::uint8_t> on_surface_;  // on the mesh's boundary faces
+  IntegrationCorrection correction_;
+  // Scratch of the current step.
+  std::vector<Vec3> x_, v_, xs_, vs_, h_, force_;
+  std::vector<Mat3> weighted_stress_;  // V_J P_J
+  std::vector<Mat3> spin_;             // W_J
+
+  int steps_since_update_ = 0;
+  long long kernel_updates_ = 0;
+};
+
+}  // namespace spall::spg

@@ -1,0 +1,214 @@
+#include "spall/spg/setup.hpp"
+
+#include <algorithm>
+#include <fmt/format.h>
+#include <map>
+
+#include "spall/materials/make_material.hpp"
+#include "spall/spg/formulation.hpp"
+#include "spall/spg/nodal_volumes.hpp"
+
+namespace spall::spg {
+
+namespace {
+
+constexpr const char* section_keyword = "*SECTION_SOLID_SPG";
+
+[[noreturn]] void fail(const SourceLocation& where, const std::string& keyword, const std::string& message) {
+  throw InputError(where, keyword, message);
+}
+
+const model::SectionSolidSpg* spg_section(const model::Model& model, const model::Part& part) {
+  auto it = model.sections.find(part.secid);
+  if (it == model.sections.end()) return nullptr;
+  return std::get_if<model::SectionSolidSpg>(&it->second);
+}
+
+// Every field of the section, against what the solver implements (docs/KEYWORDS.md, SPG table).
+PartSettings check_section(const model::SectionSolidSpg& s, Id part_id) {
+  if (s.aet != 0) fail(s.where, section_keyword, fmt::format("AET {}: ambient element types do not apply to SPG (ELFORM 47)", s.aet));
+  if (s.cohoff != 0) fail(s.where, section_keyword, "COHOFF: applies to cohesive elements, not to SPG (ELFORM 47)");
+  if (s.gaskett != 0) fail(s.where, section_keyword, "GASKETT: applies to cohesive gasket elements, not to SPG (ELFORM 47)");
+  if (s.lscale != 0)
+    fail(s.where_card2, section_keyword,
+         fmt::format("LSCALE {}: a displacement-regularization length scale is not implemented (current "
+                     "manuals mark the column unused; leave it blank)", s.lscale));
+  if (s.itb == 3)
+    fail(s.where_card3, section_keyword,
+         "ITB 3: momentum-consistent SPG (MC-SPG) is not implemented; use ITB 1 or 2");
+  if (s.column8 != 0)
+    fail(s.where_card2, section_keyword,
+         fmt::format("SWTIME {}: switching from the updated-Lagrangian to the Eulerian kernel during the "
+                     "run is not implemented (column 8 is SWTIME with ITB {}; MSC only with ITB 3)",
+                     s.column8, s.itb));
+  if (s.idam != 1)
+    fail(s.where_card3, section_keyword,
+         fmt::format("IDAM {}: only bond failure on the effective plastic strain (IDAM 1) is implemented", s.idam));
+  if (s.stretch < 1)
+    fail(s.where_card3, section_keyword,
+         fmt::format("STRETCH {}: a compression ratio below 1 is not implemented; STRETCH >= 1 makes bonds "
+                     "fail only under relative tension (seed 001 §2.3)", s.stretch));
+  if (s.msfac != 0) fail(s.where_card3, section_keyword, "MSFAC: applies to MC-SPG (ITB 3) only, which is not implemented");
+  if (s.isc != 0)
+    fail(s.where_card3, section_keyword, "ISC 1: self-contact between bond-failed particles is not implemented");
+  if (s.boxid != 0)
+    fail(s.where_card3, section_keyword, fmt::format("BOXID {}: an active SPG region (*DEFINE_BOX) is not implemented", s.boxid));
+  if (s.pdamp != -0.001)
+    fail(s.where_card3, section_keyword,
+         fmt::format("PDAMP {}: particle-to-particle damping applies to MC-SPG (ITB 3) only, which is not "
+                     "implemented; leave it blank", s.pdamp));
+  PartSettings p;
+  p.part_id = part_id;
+  p.shape = static_cast<KernelShape>(s.ispline);
+  p.dilation = Vec3(s.dx, s.dy, s.dz);
+  p.kernel_update = static_cast<KernelUpdate>(s.kernel);
+  p.update_interval = s.smstep;
+  p.stabilization = static_cast<Stabilization>(s.itb);
+  p.failure_strain = s.fs;
+  p.failure_stretch = s.stretch;
+  p.where = s.where_card2;
+  return p;
+}
+
+materials::Material resolve_material(const model::Model& model, const model::Part& part) {
+  if (part.hgid != 0)
+    fail(part.where, "*PART", fmt::format("part {}: HGID {}: SPG parts have no hourglass modes to control", part.id, part.hgid));
+  return materials::make_material(model, part);
+}
+
+// LS-DYNA: FS on *MAT_003 and *MAT_024 (FAIL) overwrites the section's FS for bond failure (and the
+// material then also sets the stress to zero at that strain); spg.md §3.
+Real bond_failure_strain(const materials::Material& material, Real section_fs) {
+  Real fs = 0;
+  if (const auto* m = std::get_if<materials::PlasticKinematic>(&material.strength)) fs = m->failure_strain;
+  if (const auto* m = std::get_if<materials::PiecewiseLinear>(&material.strength)) fs = m->failure_strain;
+  return fs > 0 && fs < 1.0e20 ? fs : section_fs;
+}
+
+// One SPG part's particles: nodal volumes and spacings gathered over its elements. The nodal
+// spacing per direction is the mean extent (bounding box) of the elements around the node.
+struct NodeAccumulator {
+  ParticleSetup particle;
+  Vec3 extent_sum = Vec3::Zero();
+  int elements = 0;
+};
+struct PartParticles {
+  std::map<Index, NodeAccumulator> by_node;  // ascending node index: particles in node (cell) order
+};
+
+// A face of a hexahedron as its distinct corner nodes, sorted (a degenerate element has triangular
+// faces; a face that collapsed to an edge or a point is no face).
+using FaceKey = std::array<Index, 4>;
+constexpr int hex_faces[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
+
+// The nodes of faces that only one element of the part has are on the part's surface.
+void mark_surface_nodes(const model::Model& model, const std::unordered_map<Id, Index>& index_of_node,
+                        std::map<Id, PartParticles>& parts) {
+  std::map<Id, std::map<FaceKey, int>> face_count;
+  for (const auto& e : model.solid_elements) {
+    auto part = parts.find(e.pid);
+    if (part == parts.end()) continue;
+    for (const auto& face : hex_faces) {
+      FaceKey key;
+      for (int c = 0; c < 4; ++c) key[c] = index_of_node.at(e.n[face[c]]);
+      std::sort(key.begin(), key.end());
+      // Repeated corners (degenerate faces) become -1: the key holds the distinct nodes.
+      for (int c = 3; c > 0; --c)
+        if (key[c] == key[c - 1]) key[c] = -1;
+      std::sort(key.begin(), key.end());
+      if (key[1] < 0) continue;  // fewer than three distinct corners: an edge or a point
+      ++face_count[e.pid][key];
+    }
+  }
+  for (const auto& [pid, faces] : face_count)
+    for (const auto& [key, count] : faces)
+      if (count == 1)
+        for (Index node : key)
+          if (node >= 0) parts.at(pid).by_node.at(node).particle.on_surface = true;
+}
+
+}  // namespace
+
+bool is_spg_part(const model::Model& model, Id part_id) {
+  const model::Part* part = model.find_part(part_id);
+  return part && spg_section(model, *part);
+}
+
+std::vector<PartSetup> spg_parts(const model::Model& model, const std::unordered_map<Id, Index>& index_of_node,
+                                 const solver::NodeStore& nodes) {
+  std::map<Id, PartParticles> parts;  // by part ID: deterministic order
+  for (const auto& e : model.solid_elements) {
+    if (!is_spg_part(model, e.pid)) continue;
+    auto& part = parts[e.pid];
+    HexCorners x;
+    std::array<Index, 8> index;
+    for (int a = 0; a < 8; ++a) {
+      auto it = index_of_node.find(e.n[a]);
+      if (it == index_of_node.end())
+        fail(e.where, "*ELEMENT_SOLID", fmt::format("element {}: node {} does not exist", e.eid, e.n[a]));
+      index[a] = it->second;
+      x[a] = nodes.x0[index[a]];
+    }
+    const HexVolumes v = hex_volumes(x);
+    if (!(v.min_jacobian > 0) || !(v.total > 0))
+      fail(e.where, "*ELEMENT_SOLID",
+           fmt::format("element {}: inverted or flat (Jacobian {:.3g} at a Gauss point); check the node "
+                       "order (N1-N4 one face, N5-N8 the opposite face)", e.eid, v.min_jacobian));
+    Vec3 lo = x[0], hi = x[0];
+    for (const Vec3& p : x) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+    for (int a = 0; a < 8; ++a) {
+      auto& acc = part.by_node[index[a]];
+      acc.particle.node = index[a];
+      acc.particle.volume += v.corner[a];  // repeated corners of a degenerate element add up
+      if (std::find(index.begin(), index.begin() + a, index[a]) != index.begin() + a) continue;
+      acc.extent_sum += hi - lo;
+      ++acc.elements;
+    }
+  }
+  mark_surface_nodes(model, index_of_node, parts);
+  std::vector<PartSetup> setups;
+  for (const auto& [pid, particles] : parts) {
+    const model::Part& part = *model.find_part(pid);
+    PartSetup setup;
+    setup.settings = check_section(*spg_section(model, part), pid);
+    setup.settings.material = resolve_material(model, part);
+    setup.settings.failure_strain = bond_failure_strain(setup.settings.material, setup.settings.failure_strain);
+    const auto& viscosity = model.bulk_viscosity;
+    if (viscosity.type != 1 && viscosity.type != -1)
+      fail(viscosity.where, "*CONTROL_BULK_VISCOSITY",
+           fmt::format("TYPE {}: only the standard type 1 is supported (SPG part {})", viscosity.type, pid));
+    setup.settings.bulk_viscosity_quadratic = viscosity.q1;
+    setup.settings.bulk_viscosity_linear = viscosity.q2;
+    setup.particles.reserve(particles.by_node.size());
+    for (const auto& [node, acc] : particles.by_node) {
+      ParticleSetup p = acc.particle;
+      p.spacing = acc.extent_sum / acc.elements;
+      setup.particles.push_back(p);
+    }
+    setups.push_back(std::move(setup));
+  }
+  return setups;
+}
+
+std::unique_ptr<solver::Formulation> build_spg(const model::Model& model,
+                                               const std::unordered_map<Id, Index>& index_of_node,
+                                               solver::NodeStore& nodes, std::vector<Id>& part_of_node) {
+  std::vector<PartSetup> setups = spg_parts(model, index_of_node, nodes);
+  if (setups.empty()) return nullptr;
+  std::vector<Part> built;
+  for (auto& setup : setups) {
+    const Id pid = setup.settings.part_id;
+    for (const auto& p : setup.particles) {
+      if (part_of_node[p.node] != 0 && !is_spg_part(model, part_of_node[p.node]))
+        fail(model.find_part(pid)->where, "*PART",
+             fmt::format("part {}: node {} is also an SPH particle of part {}; SPG and SPH parts cannot "
+                         "share nodes", pid, nodes.id[p.node], part_of_node[p.node]));
+      if (part_of_node[p.node] == 0) part_of_node[p.node] = pid;
+      nodes.mass[p.node] += setup.settings.material.density * p.volume;
+    }
+    built.emplace_back(std::move(setup.settings), setup.particles, nodes);
+  }
+  return std::make_unique<SpgFormulation>(std::move(built));
+}
+
+}  // namespace spall::spg
