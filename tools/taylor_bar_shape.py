@@ -4,10 +4,10 @@
     /usr/bin/python3 tools/taylor_bar_shape.py RESULTS_FOLDER   (reads RESULTS_FOLDER/d3plot.pvd)
 
 The rod stands on the wall z = 0 along +z, its axis at x = y = 0 (tools/make_taylor_bar_deck.py).
-Measured as tests/verification/test_sph_taylor_bar.cpp does: the length is the highest particle
-centre plus half a spacing, the foot radius the largest distance from the axis among particles
-within one spacing of the wall plus half a spacing (each particle stands for a cell of one
-spacing). Both ratios divide by the same measure of the rod before impact, so that the lattice's
+Measured as tests/support/taylor_bar.hpp does for the verification test: the length is the
+highest particle centre plus half a spacing, the foot radius the largest distance of a particle
+centre from the axis plus half a spacing (each particle stands for a cell of one spacing; the
+mushroom is widest at its foot). Both ratios divide by the same measure of the rod before impact, so that the lattice's
 own overshoot of the circle cancels. The spacing is the lattice's: the smallest gap between
 distinct x coordinates at t = 0. Prints the time of each file and the two ratios against
 Wilkins & Guinan 1973 test 1 (L/L0 0.630, R/R0 2.204). Needs Debian's python3-vtk9 and numpy.
@@ -53,8 +53,7 @@ def lattice_spacing(x):
 
 def shape(x, dx):
     length = x[:, 2].max() + dx / 2
-    foot = x[x[:, 2] < dx]
-    radius = numpy.hypot(foot[:, 0], foot[:, 1]).max() + dx / 2
+    radius = numpy.hypot(x[:, 0], x[:, 1]).max() + dx / 2
     return length, radius
 
 
