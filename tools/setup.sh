@@ -7,7 +7,7 @@ packages=(
   libeigen3-dev libfmt-dev libcli11-dev
   libgtest-dev libbenchmark-dev
   libopenvdb-dev libboost-iostreams-dev
-  python3-vtk9 python3-numpy
+  python3-vtk9 python3-numpy python3-matplotlib
 )
 missing=()
 for p in "${packages[@]}"; do

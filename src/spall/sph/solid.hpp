@@ -30,14 +30,9 @@
 #include "spall/materials/material.hpp"
 #include "spall/neighbors/verlet_list.hpp"
 #include "spall/solver/formulation.hpp"
+#include "spall/sph/artificial_viscosity.hpp"
 
 namespace spall::sph {
-
-struct ArtificialViscosity {
-  Real alpha = 0.06;  // linear term (LS-DYNA *CONTROL_BULK_VISCOSITY Q2)
-  Real beta = 1.5;    // quadratic term (Q1)
-  Real eta = 0.1;     // keeps mu_ab finite as r -> 0: r^2 + (eta h)^2
-};
 
 struct ArtificialStress {
   bool enabled = false;
@@ -58,6 +53,23 @@ struct ColourField {
 // Particle categories as output in the `category` field.
 enum class Category : std::uint8_t { interior = 0, inner_layer = 1, surface = 2 };
 
+// Residual-stress detection (seed 000; *SPALL_RESIDUAL_STRESS): a particle carries residual
+// stress when its von Mises stress exceeds a fraction of its quasi-static yield stress while its
+// effective strain rate is near zero.
+struct ResidualStressCriterion {
+  Real yield_fraction = 0.5;
+  Real strain_rate = 0;  // "near zero" below this; 0: below 1 % of the largest rate in the body
+};
+
+// Von Mises statistics of one part and category (category -1: all of the part's particles).
+struct ResidualStressRow {
+  Id part = 0;
+  int category = -1;
+  Index particles = 0;
+  Real von_mises_max = 0, von_mises_mean = 0, von_mises_p95 = 0;
+  Index residual = 0;  // particles meeting the criterion
+};
+
 // How the SPH equations are discretized (*CONTROL_SPH, *SECTION_SPH, Spall's keywords).
 struct SolidOptions {
   kernels::KernelKind kernel = kernels::KernelKind::cubic_spline;
@@ -68,6 +80,7 @@ struct SolidOptions {
   Real start_time = 0;             // *CONTROL_SPH START: no SPH forces before
   Real death_time = 1e20;          // *CONTROL_SPH DT: no SPH forces after
   std::vector<ColourField> colour_field;  // per material-table entry (one per part); empty: off
+  std::vector<Id> part_ids;               // the deck's part ID of each material-table entry
 };
 
 // One SPH particle as the solver sets it up.
@@ -100,6 +113,8 @@ class SolidFormulation final : public solver::Formulation {
   // Categories of the last categorization (particle order), empty when no part asks for them.
   const std::vector<Category>& categories() const { return category_; }
   Index node_of(Index particle) const { return node_[particle]; }
+  // Per part and category, in part-table order (residual_stress.cpp).
+  std::vector<ResidualStressRow> residual_stress(const ResidualStressCriterion& criterion) const;
 
  private:
   void gather_kinematics(const solver::NodeStore& nodes);

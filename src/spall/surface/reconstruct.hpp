@@ -3,7 +3,7 @@
 //   c(x) = sum_b V_b W(x - x_b, 2 h_b)          (seed 000 eq. 10, evaluated off the particles)
 // on a sparse grid (OpenVDB), meshed where c = iso (OpenVDB's volumeToMesh). Inside the body c is
 // about one, outside zero; iso 1/2 puts the surface half a particle spacing beyond the outer layer,
-// where the material ends. docs/THEORY.md §7 has the details.
+// where the material ends. docs/THEORY.md §8 has the details.
 #include <span>
 
 #include "spall/core/types.hpp"

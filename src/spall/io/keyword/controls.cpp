@@ -1,5 +1,6 @@
 // *CONTROL_TERMINATION, *CONTROL_TIMESTEP, *CONTROL_BULK_VISCOSITY, *CONTROL_SPH,
-// *SPALL_SPH_ARTIFICIAL_STRESS, *SPALL_SPH_COLOUR_FIELD, *DATABASE_BINARY_D3PLOT, *DATABASE_GLSTAT, *DATABASE_RWFORC. Each
+// *SPALL_SPH_ARTIFICIAL_STRESS, *SPALL_SPH_COLOUR_FIELD, *SPALL_RESIDUAL_STRESS,
+// *DATABASE_BINARY_D3PLOT, *DATABASE_GLSTAT, *DATABASE_RWFORC. Each
 // reads its first card; the later optional cards of *CONTROL_TIMESTEP
 // (mass-scaling details) and *DATABASE_BINARY_D3PLOT (IOOPT, RATE, ...) are not used by Spall.
 #include "spall/io/keyword/keyword_readers.hpp"
@@ -146,6 +147,24 @@ void read_spall_sph_colour_field(CardCursor& cursor, const KeywordCall&, model::
                              other.where.file + ":" + std::to_string(other.where.line) + ")");
     model.sph_colour_fields.push_back(colour);
   }
+}
+
+void read_spall_residual_stress(CardCursor& cursor, const KeywordCall&, model::Model& model) {
+  refuse_second(cursor, model.sph_residual_stress.has_value(),
+                model.sph_residual_stress ? model.sph_residual_stress->where : SourceLocation{});
+  model::SphResidualStress residual;
+  residual.where = cursor.context().where(cursor.line_of_block());
+  if (auto card = cursor.next_if_any(standard_fields)) {
+    residual.yield_fraction = zero_means_default(card->real(0, "FRAC", 0.0), 0.5);
+    residual.strain_rate = card->real(1, "RATE", 0.0);
+    residual.at_output = static_cast<int>(card->integer(2, "OUTPUT", 0));
+    if (residual.yield_fraction < 0) card->fail("FRAC", quoted(card->text(0)) + " is negative");
+    if (residual.strain_rate < 0) card->fail("RATE", quoted(card->text(1)) + " is negative");
+    if (residual.at_output != 0 && residual.at_output != 1)
+      card->fail("OUTPUT", quoted(card->text(2)) + " is not 0 or 1");
+    residual.where = card->where();
+  }
+  model.sph_residual_stress = residual;
 }
 
 void read_database_binary_d3plot(CardCursor& cursor, const KeywordCall&, model::Model& model) {
