@@ -45,6 +45,9 @@ int main(int argc, char** argv) {
   surface->add_option("--field", surface_options.fields,
                       "Point field to carry onto the surface's vertices; repeat --field for more (default: every field)")
       ->allow_extra_args(false);
+  surface->add_option("--part", surface_options.parts,
+                      "Only the particles of this part (PID); repeat --part for more (default: every SPH particle)")
+      ->allow_extra_args(false);
   surface->add_option("--threads", surface_threads, "Threads (default: all cores)")->check(CLI::PositiveNumber);
 
   try {

@@ -5,6 +5,7 @@
 #include <variant>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <omp.h>
 #include <tbb/global_control.h>
 
@@ -90,11 +91,24 @@ int reconstruct_surface(const SurfaceOptions& options) {
   const auto& smoothing_length = real_field(snap, vtu, "smoothing_length");
 
   // SPH particles are the points with a smoothing length; other nodes (elements, rigid bodies)
-  // have none and no volume to add to the colour field.
+  // have none and no volume to add to the colour field. --part keeps those of the parts named
+  // (the water of a tank without its wall particles).
+  const std::vector<std::int64_t>* part_id = nullptr;
+  if (!options.parts.empty()) {
+    const auto* field = snap.field("part_id");
+    if (!field || field->components != 1 || !std::holds_alternative<std::vector<std::int64_t>>(field->values))
+      throw InputError(fmt::format("--part: {} has no integer point field 'part_id'", vtu.string()));
+    part_id = &std::get<std::vector<std::int64_t>>(field->values);
+  }
   std::vector<Index> sph;
-  for (std::size_t i = 0; i < snap.points.size(); ++i)
-    if (smoothing_length[i] > 0) sph.push_back(static_cast<Index>(i));
-  if (sph.empty()) throw InputError(fmt::format("{}: no SPH particle (no point with smoothing_length > 0)", vtu.string()));
+  for (std::size_t i = 0; i < snap.points.size(); ++i) {
+    if (!(smoothing_length[i] > 0)) continue;
+    if (part_id && std::find(options.parts.begin(), options.parts.end(), (*part_id)[i]) == options.parts.end()) continue;
+    sph.push_back(static_cast<Index>(i));
+  }
+  if (sph.empty())
+    throw InputError(fmt::format("{}: no SPH particle (no point with smoothing_length > 0{})", vtu.string(),
+                                 part_id ? fmt::format(" in part {}", fmt::join(options.parts, ", ")) : ""));
   std::vector<Vec3> x;
   std::vector<Real> volume, h;
   Real z_low = snap.points[sph.front()].z(), z_high = z_low;

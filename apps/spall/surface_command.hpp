@@ -1,4 +1,5 @@
 #pragma once
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -11,6 +12,7 @@ struct SurfaceOptions {
   double iso = 0.5;                 // colour on the surface
   double cell = 0;                  // grid spacing; 0: half the median smoothing length
   std::vector<std::string> fields;  // point fields carried to the vertices; empty: every one
+  std::vector<std::int64_t> parts;  // parts whose particles make the body; empty: every SPH part
 };
 
 // Reconstructs the surface of one snapshot's SPH particles and writes surface_NNNNN.vtp and .ply

@@ -65,8 +65,9 @@ cp "$work/out/surface_$last.vtp" "$work/many_threads.vtp"
 "$cli" surface "$work/out" --threads 1 2>/dev/null || fail "surface --threads 1"
 cmp -s "$work/out/surface_$last.vtp" "$work/many_threads.vtp" || fail "the .vtp depends on the thread count"
 
-# --time picks the snapshot at or last before it; --field limits the fields carried.
-"$cli" surface --field pressure "$work/out" --time 0 --field part_id 2>/dev/null || fail "surface --time 0"
+# --time picks the snapshot at or last before it; --field limits the fields carried; --part keeps
+# the particles of the parts named.
+"$cli" surface --field pressure "$work/out" --time 0 --field part_id --part 1 2>/dev/null || fail "surface --time 0"
 [ -s "$work/out/surface_00000.vtp" ] || fail "no surface_00000.vtp for --time 0"
 grep -q 'Name="pressure"' "$work/out/surface_00000.vtp" || fail "--field pressure not carried"
 grep -q 'Name="part_id"' "$work/out/surface_00000.vtp" || fail "--field part_id not carried"
@@ -87,4 +88,5 @@ expect_bad "d3plot\.pvd: no such file" "$work"
 expect_bad "no snapshot at or before time -1" "$work/out" --time -1
 expect_bad "--field nothing: .* has no such point field" "$work/out" --field nothing
 expect_bad "iso" "$work/out" --iso -0.5
+expect_bad "no SPH particle .*in part 2" "$work/out" --part 2
 echo "surface CLI tests passed"

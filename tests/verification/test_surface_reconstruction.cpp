@@ -54,7 +54,7 @@ TEST(SurfaceReconstruction, LatticeSphereIsClosedWithTheSphereAreaAndVolume) {
   // r = 10 dx: 4139 particles, whose cells fill 1.2 % less than the ball (4/3 pi r^3 = 4189 dx^3).
   // The iso-surface c = 1/2 of a curved body sits slightly inside where the material ends (the
   // kernel sees more empty space outside a convex surface than outside a flat one), by O(h^2/r).
-  // Measured at CSLH 1.2: area -0.9 %, volume -2.9 % (docs/THEORY.md §7); the bound is 5 %.
+  // Measured at CSLH 1.2: area -0.9 %, volume -2.9 % (docs/THEORY.md §8); the bound is 5 %.
   const Real dx = 1e-3, r = 10 * dx;
   const Lattice body = sphere(r, dx);
   const surface::TriangleMesh mesh = surface::reconstruct_surface(body.particles(), {});

@@ -505,7 +505,7 @@ std::vector<Index> FluidFormulation::neighbour_counts() const {
 void FluidFormulation::add_fields(std::vector<io::output::PointField>& fields,
                                   const solver::NodeStore& nodes) const {
   const std::size_t n_nodes = nodes.id.size();
-  std::vector<double> pressure(n_nodes, 0), density(n_nodes, 0), smoothing(n_nodes, 0);
+  std::vector<double> pressure(n_nodes, 0), density(n_nodes, 0), smoothing(n_nodes, 0), mass(n_nodes, 0);
   std::vector<std::int64_t> neighbour_count(n_nodes, 0);
   const auto counts = neighbour_counts();
   for (Index a = 0; a < particle_count(); ++a) {
@@ -513,11 +513,14 @@ void FluidFormulation::add_fields(std::vector<io::output::PointField>& fields,
     pressure[i] = parameters_.material.pressure(density_[a]);
     density[i] = density_[a];
     smoothing[i] = parameters_.smoothing_length;
+    mass[i] = mass_[a];
     neighbour_count[i] = counts[a];
   }
   fields.push_back({"pressure", 1, std::move(pressure)});
   fields.push_back({"density", 1, std::move(density)});
   fields.push_back({"smoothing_length", 1, std::move(smoothing)});
+  // With density, the particle's volume m / rho: what `spall surface` needs for the colour field.
+  fields.push_back({"mass", 1, std::move(mass)});
   fields.push_back({"neighbour_count", 1, std::move(neighbour_count)});
 }
 

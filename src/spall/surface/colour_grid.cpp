@@ -19,6 +19,7 @@ namespace {
 using Kernel = kernels::CubicSpline<3>;  // seed 000 eq. 3; support 2h as in LS-DYNA
 using Leaf = openvdb::FloatTree::LeafNodeType;
 constexpr int leaf_dim = static_cast<int>(Leaf::DIM);  // voxels along a leaf's edge
+constexpr int leaf_voxels = static_cast<int>(Leaf::SIZE);
 
 // A grid of this many leaves (512 voxels, 2 KiB each) would take 8 GiB: a cell far too small for
 // the body, which a user should hear about instead of watching the machine swap.
@@ -56,7 +57,7 @@ openvdb::FloatGrid::Ptr colour_level_grid(const SurfaceParticles& particles, Rea
   const auto too_large = [&](double leaves) {
     return InputError(fmt::format("surface grid of cell {:g} needs at least {:.3g} blocks of {} voxels "
                                   "({:.1f} GiB); use a larger cell",
-                                  cell, leaves, Leaf::SIZE, leaves * sizeof(Leaf) / (1 << 30)));
+                                  cell, leaves, leaf_voxels, leaves * sizeof(Leaf) / (1 << 30)));
   };
   // The leaves any particle's support reaches, from each bin's box of supports. A bin's box is
   // counted before it is listed, so that a cell far too small fails at once.
@@ -100,7 +101,7 @@ openvdb::FloatGrid::Ptr colour_level_grid(const SurfaceParticles& particles, Rea
   for (Index l = 0; l < leaf_count; ++l) {
     Leaf& leaf = *leaves[l];
     const openvdb::Coord o = leaf.origin();
-    std::array<Real, Leaf::SIZE> colour{};
+    std::array<Real, leaf_voxels> colour{};
     const Vec3 lo = Vec3(o.x(), o.y(), o.z()) * cell - Vec3::Constant(largest_support);
     const Vec3 hi = Vec3(o.x() + leaf_dim - 1, o.y() + leaf_dim - 1, o.z() + leaf_dim - 1) * cell +
                     Vec3::Constant(largest_support);
@@ -124,7 +125,7 @@ openvdb::FloatGrid::Ptr colour_level_grid(const SurfaceParticles& particles, Rea
         }
       }
     });
-    for (openvdb::Index offset = 0; offset < Leaf::SIZE; ++offset)
+    for (int offset = 0; offset < leaf_voxels; ++offset)
       leaf.setValueOn(offset, static_cast<float>(iso - colour[offset]));
   }
   return grid;

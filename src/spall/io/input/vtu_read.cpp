@@ -94,7 +94,7 @@ std::vector<T> array_values(const fs::path& path, std::string_view appended, con
   if (appended.size() - a.offset - sizeof(bytes) < bytes)
     fail(path, fmt::format("array {}: the file ends inside it", label));
   std::vector<T> values(count * a.components);
-  std::memcpy(values.data(), appended.data() + a.offset + sizeof(bytes), bytes);
+  if (bytes > 0) std::memcpy(values.data(), appended.data() + a.offset + sizeof(bytes), bytes);
   return values;
 }
 
