@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <Eigen/LU>
+
 namespace spall::spg {
 
 namespace {
@@ -135,15 +137,49 @@ void axpy(const Vec3& a, const Multipliers& r, Multipliers& z) {
   }
 }
 
-constexpr Real tolerance = 1e-13;  // relative residual of the normal equations, per component
-constexpr Real round_off = 1e-15;  // absolute residual, relative to the natural size of the sums
-constexpr int max_iterations = 5000;
+// Stop when the residual is 1e-13 of the right-hand side, or at round-off (1e-15) of the natural
+// size of the column sums (a regular lattice needs no iteration at all).
+constexpr Real tolerance = 1e-13;
+constexpr Real natural_tolerance = 1e-15;
 
 }  // namespace
 
+// Removes the first moment that an unconverged solve leaves in row j of the correction, by the
+// smallest change that keeps the row sum: delta_L = a + B d_L per gradient component, with
+// sum_L delta_L [1, d_L] = [0, moment] (the 4 x 4 system of the row's bond geometry). The row then
+// reproduces linear fields exactly whatever the solver reached; only its column sums (the
+// integration constraint) carry the solver's residual.
+void remove_row_moment(const BondList& bonds, std::span<const Vec3> X, Index j, std::span<Vec3> row,
+                       const std::vector<std::uint8_t>& usable) {
+  Mat4 M = Mat4::Zero();
+  Mat3 moment = Mat3::Zero();  // row i: gradient component i
+  for (Index k = bonds.offsets[j]; k < bonds.offsets[j + 1]; ++k) {
+    if (!usable[k - bonds.offsets[j]]) continue;
+    const Vec3 d = X[bonds.neighbour[k]] - X[j];
+    Vec4 h;
+    h << 1, d;
+    M += h * h.transpose();
+    moment.noalias() += row[k - bonds.offsets[j]] * d.transpose();
+  }
+  if (moment.isZero()) return;
+  const Eigen::FullPivLU<Mat4> lu(M);
+  if (lu.rank() < 4) return;  // bonds in a plane: the particle is degraded and has no row
+  for (int i = 0; i < 3; ++i) {
+    Vec4 rhs;
+    rhs << 0, moment.row(i).transpose();
+    const Vec4 ab = lu.solve(rhs);
+    for (Index k = bonds.offsets[j]; k < bonds.offsets[j + 1]; ++k) {
+      if (!usable[k - bonds.offsets[j]]) continue;
+      Vec4 h;
+      h << 1, X[bonds.neighbour[k]] - X[j];
+      row[k - bonds.offsets[j]][i] -= ab.dot(h);
+    }
+  }
+}
+
 void correct_integration(const BondList& bonds, std::span<const Vec3> X, std::span<const Real> volume,
                          std::span<const std::uint8_t> interior, std::span<const std::uint8_t> active,
-                         std::span<const Vec3> defect, IntegrationCorrection& correction) {
+                         std::span<const Vec3> defect, int max_iterations, IntegrationCorrection& correction) {
   const Index n = bonds.size();
   const NormalEquations equations(bonds, X, interior, active);
   Multipliers z, r, p, q, s;
@@ -168,11 +204,10 @@ void correct_integration(const BondList& bonds, std::span<const Vec3> X, std::sp
     r.mu[j] = -q.mu[j];
   }
   const Vec3 b_norm = dot(b, b).cwiseSqrt();
-  // The natural size of the column sums, V_J / h_J ~ V_J^(2/3) per particle: a defect at round-off
-  // of it (a regular lattice) needs no correction, and no residual is sought below round-off.
+  // The natural size of the column sums, V_J / h_J ~ V_J^(2/3) per particle.
   Real reference = 0;
   for (Index j = 0; j < n; ++j) reference += std::pow(volume[j], Real(4) / 3);
-  const Real floor = round_off * std::sqrt(reference);
+  const Real floor = natural_tolerance * std::sqrt(reference);
   auto converged = [&](const Vec3& rr) {
     for (int i = 0; i < 3; ++i)
       if (std::sqrt(rr[i]) > std::max(tolerance * b_norm[i], floor)) return false;
@@ -213,16 +248,29 @@ void correct_integration(const BondList& bonds, std::span<const Vec3> X, std::sp
 
   correction.self.assign(n, Vec3::Zero());
   correction.bond.assign(bonds.neighbour.size(), Vec3::Zero());
-#pragma omp parallel for schedule(static)
-  for (Index j = 0; j < n; ++j) {
-    Vec3 self = Vec3::Zero();
-    for (Index k = bonds.offsets[j]; k < bonds.offsets[j + 1]; ++k) {
-      if (!equations.usable(j, k)) continue;
-      const Vec3 c = equations.flux(z, j, k) / volume[j];
-      correction.bond[k] = c;
-      self -= c;
+#pragma omp parallel
+  {
+    std::vector<Vec3> row;
+    std::vector<std::uint8_t> usable;
+#pragma omp for schedule(static)
+    for (Index j = 0; j < n; ++j) {
+      const Index count = bonds.count(j);
+      row.assign(count, Vec3::Zero());
+      usable.assign(count, 0);
+      for (Index k = bonds.offsets[j]; k < bonds.offsets[j + 1]; ++k) {
+        if (!equations.usable(j, k)) continue;
+        usable[k - bonds.offsets[j]] = 1;
+        row[k - bonds.offsets[j]] = equations.flux(z, j, k);
+      }
+      remove_row_moment(bonds, X, j, row, usable);
+      Vec3 self = Vec3::Zero();
+      for (Index k = bonds.offsets[j]; k < bonds.offsets[j + 1]; ++k) {
+        const Vec3 c = row[k - bonds.offsets[j]] / volume[j];
+        correction.bond[k] = c;
+        self -= c;
+      }
+      correction.self[j] = self;
     }
-    correction.self[j] = self;
   }
 }
 

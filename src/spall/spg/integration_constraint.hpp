@@ -12,7 +12,9 @@
 //   c_JL = (lambda_J - lambda_L) + (mu_J + mu_L) (X_L - X_J)
 // per gradient component, with lambda (interior particles only) and mu found by preconditioned
 // conjugate gradients on the normal equations. The same D' serves the strain and the force (a
-// Galerkin, energy-consistent pair).
+// Galerkin, energy-consistent pair). The solve is global and its conditioning worsens with the
+// size of the body (the admissible fluxes are second differences), so its iterations are capped:
+// fully at set-up (the patch test), a few warm-started ones at each kernel update.
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -36,9 +38,11 @@ struct IntegrationCorrection {
 // Computes the correction for the bonds (broken bonds and bonds of inactive particles excluded)
 // given the positions X of the reference configuration, the nodal volumes, which particles are
 // interior (their integration constraint is imposed), which are active (inactive ones take no
-// part), and the defect e_K = sum_J V_J D_JK of the uncorrected operator.
+// part), and the defect e_K = sum_J V_J D_JK of the uncorrected operator. At most max_iterations
+// conjugate-gradient iterations: the rows always keep zero sums and zero first moments (momentum,
+// exact constant strain); only the integration constraint carries what the solve left.
 void correct_integration(const BondList& bonds, std::span<const Vec3> X, std::span<const Real> volume,
                          std::span<const std::uint8_t> interior, std::span<const std::uint8_t> active,
-                         std::span<const Vec3> defect, IntegrationCorrection& correction);
+                         std::span<const Vec3> defect, int max_iterations, IntegrationCorrection& correction);
 
 }  // namespace spall::spg

@@ -18,6 +18,10 @@ namespace {
 // of it everywhere (THEORY §9.6).
 constexpr Real courant_factor = 0.5;
 
+// Conjugate-gradient iterations of the integration-constraint correction (THEORY §6.4).
+constexpr int setup_iterations = 2000;
+constexpr int update_iterations = 25;
+
 template <typename T>
 std::size_t bytes(const std::vector<T>& v) {
   return v.capacity() * sizeof(T);
@@ -99,7 +103,7 @@ Part::Part(PartSettings settings, const std::vector<ParticleSetup>& particles,
   initial_bond_count_.resize(n);
   for (std::size_t i = 0; i < n; ++i) initial_bond_count_[i] = bonds_.count(static_cast<Index>(i));
   build_shape_functions(true);
-  correct_integration_constraint();
+  correct_integration_constraint(true);
 }
 
 // Bonds: the pairs in which one particle lies inside the other's support, in the current positions.
@@ -194,7 +198,7 @@ void Part::build_shape_functions(bool at_setup) {
 
 // The defect e_K = sum_J V_J D_JK of the nodal gradient operator (D = G A with ITB 1, G with ITB 2)
 // at the particles whose support lies inside the body, then the correction that removes it.
-void Part::correct_integration_constraint() {
+void Part::correct_integration_constraint(bool at_setup) {
   const Index n = particle_count();
   // Surface particles: on the mesh's boundary, next to a broken bond, or without a strain of their
   // own. A particle is interior when no particle within the reach of its column of D (two rings of
@@ -234,7 +238,10 @@ void Part::correct_integration_constraint() {
   } else {
     defect = g;
   }
-  correct_integration(bonds_, x_, volume_ref_, interior, active, defect, correction_);
+  // Set-up: solve to round-off (the patch test of the mesh as given). Kernel updates: the geometry
+  // has moved little since the last solve, whose multipliers start a short one.
+  const int iterations = at_setup ? setup_iterations : update_iterations;
+  correct_integration(bonds_, x_, volume_ref_, interior, active, defect, iterations, correction_);
 }
 
 void Part::smooth(std::span<const Vec3> field, std::vector<Vec3>& smoothed) const {
@@ -391,7 +398,7 @@ void Part::update_kernel() {
   const std::vector<Index> broken_after = broken_per_particle();
   for (Index j = 0; j < n; ++j)
     if (broken_after[j] != broken_before[j]) stabilization_force_[j] = Vec3::Zero();
-  correct_integration_constraint();
+  correct_integration_constraint(false);
   steps_since_update_ = 0;
   ++kernel_updates_;
 }

@@ -111,7 +111,7 @@ class Part {
   void update_stabilization(Real dt);
   void effective_plastic_strain(std::vector<Real>& out) const;
   void internal_forces();
-  void correct_integration_constraint();
+  void correct_integration_constraint(bool at_setup);
 
   PartSettings settings_;
   // Per particle.
