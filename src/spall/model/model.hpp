@@ -151,6 +151,19 @@ struct ElementSolid {
   SourceLocation where;
 };
 
+// *DEFINE_SPH_MESH_BOX: the box [XMIN, XMIN + XLEN] x [YMIN, ...] x [ZMIN, ...] cut into
+// NX x NY x NZ equal cells, one particle of part IPID at the centre of each (see
+// io/keyword/sph_mesh_box.cpp for the node IDs and masses the reader gives them).
+struct SphMeshBox {
+  Vec3 lower = Vec3::Zero();   // XMIN YMIN ZMIN
+  Vec3 length = Vec3::Zero();  // XLEN YLEN ZLEN
+  Id ipid = 0;
+  int nx = 0, ny = 0, nz = 0;
+  Id idseg = 0;   // segment set that removes particles near it (0: none)
+  Real sfsp = 0;  // with IDSEG: removal distance as a multiple of the spacing
+  SourceLocation where;
+};
+
 struct NodeSet {
   Id id = 0;
   std::vector<Id> nodes;
@@ -322,6 +335,29 @@ struct ControlSph {
 
 // *SPALL_SPH_ARTIFICIAL_STRESS (a Spall keyword): Monaghan's (2000) artificial stress against the
 // tensile instability, with Gray, Monaghan & Swift's (2001) defaults. Present = switched on.
+// *SPALL_SPH_COLOUR_FIELD (a Spall keyword; seed 000 §4): colour-field categorization of SPH
+// particles into surface, inner layers and interior, and optionally the treatment that lets
+// surface and inner-layer particles pass only their hydrostatic stress to others. One card per
+// part (PID 0: every SPH part).
+struct SphColourField {
+  Id pid = 0;
+  int treat = 0;                  // 0 categorize only, 1 categorize and treat
+  Real neighbour_fraction = 0.8;  // surface: fewer neighbours than this fraction of a full support
+  Real normal_threshold = 0.3;    // ... and |n| h above this
+  int layers = 1;                 // inner layers behind the surface
+  int interval = 1;               // steps between categorizations
+  SourceLocation where;
+};
+
+// *SPALL_RESIDUAL_STRESS (a Spall keyword; seed 000): how residual stress is detected in SPH
+// solids. Without it the report is still written at the end of the run, with these defaults.
+struct SphResidualStress {
+  Real yield_fraction = 0.5;  // FRAC: von Mises above this fraction of the static yield stress ...
+  Real strain_rate = 0;       // RATE: ... while the effective strain rate is below this (0: 1 % of the largest)
+  int at_output = 0;          // OUTPUT: 1 also at every field output
+  SourceLocation where;
+};
+
 struct SphArtificialStress {
   Real epsilon = 0.3;  // fraction of the tensile principal stress
   Real exponent = 4;   // n in f_ab^n, f_ab = W(r_ab) / W(initial spacing)
@@ -349,6 +385,7 @@ struct Model {
   std::map<Id, Eos> eos;
   std::vector<ElementSph> sph_elements;
   std::vector<ElementSolid> solid_elements;
+  std::vector<SphMeshBox> sph_mesh_boxes;  // as read; their particles are in nodes/sph_elements
   std::map<Id, NodeSet> node_sets;
   std::map<Id, PartSet> part_sets;
   std::map<Id, Curve> curves;
@@ -366,6 +403,8 @@ struct Model {
   ControlBulkViscosity bulk_viscosity;
   std::optional<ControlSph> control_sph;
   std::optional<SphArtificialStress> sph_artificial_stress;
+  std::vector<SphColourField> sph_colour_fields;
+  std::optional<SphResidualStress> sph_residual_stress;
   std::optional<OutputInterval> d3plot;
   std::optional<OutputInterval> glstat;
   std::optional<OutputInterval> rwforc;

@@ -10,6 +10,7 @@
 #include "spall/core/log.hpp"
 #include "spall/materials/make_material.hpp"
 #include "spall/neighbors/verlet_list.hpp"
+#include "spall/solver/fluid_setup.hpp"
 #include "spall/sph/solid.hpp"
 
 namespace spall::solver {
@@ -154,7 +155,15 @@ class Builder {
     std::vector<sph::ParticleSetup> particles;
     std::set<Id> seen;
     sph::SolidOptions options = sph_options();
+    std::vector<FluidParticle> fluid;
     for (const auto& e : model_.sph_elements) {
+      // *MAT_NULL parts are liquid: the SPH fluid formulation (fluid_setup.cpp) takes them.
+      if (is_fluid_part(model_, e.pid)) {
+        if (!seen.insert(e.nid).second)
+          fail(e.where, "*ELEMENT_SPH", fmt::format("node {} carries two SPH particles", e.nid));
+        fluid.push_back({&e, node_index(e.nid, e.where, "*ELEMENT_SPH")});
+        continue;
+      }
       auto found = parts.find(e.pid);
       if (found == parts.end())
         found = parts.emplace(e.pid, resolve_sph_part(e.pid, e.where, table, material_index)).first;
@@ -189,12 +198,44 @@ class Builder {
                          section.sphkern));
       kernel = kind;
     }
+    if (!fluid.empty())
+      problem_.formulations.push_back(build_fluid(model_, fluid, options.viscosity, options.dimension,
+                                                  problem_.nodes, problem_.part_of_node));
+    if (particles.empty()) return;
     options.kernel = *kernel;
+    options.colour_field = colour_fields(parts, table.size());
+    options.part_ids.resize(table.size());
+    for (const auto& [pid, part] : parts) options.part_ids[part.material] = pid;
     // Keep the particles in node (cell) order for memory locality.
     std::sort(particles.begin(), particles.end(),
               [](const auto& a, const auto& b) { return a.node < b.node; });
     problem_.formulations.push_back(
         std::make_unique<sph::SolidFormulation>(std::move(table), particles, options, problem_.nodes));
+  }
+
+  // *SPALL_SPH_COLOUR_FIELD per SPH part (indexed like the material table: one entry per part);
+  // a card for a part that has no SPH particles is an error at the card.
+  std::vector<sph::ColourField> colour_fields(const std::unordered_map<Id, SphPart>& parts,
+                                              std::size_t part_count) const {
+    std::vector<sph::ColourField> result(part_count);
+    for (const auto& card : model_.sph_colour_fields)
+      if (card.pid != 0 && !parts.count(card.pid))
+        fail(card.where, "*SPALL_SPH_COLOUR_FIELD",
+             fmt::format("PID: part {} has no SPH particles", card.pid));
+    for (const auto& [pid, part] : parts) {
+      const model::SphColourField* chosen = nullptr;
+      for (const auto& card : model_.sph_colour_fields)
+        if (card.pid == pid || (card.pid == 0 && !chosen)) chosen = &card;
+      if (!chosen) continue;
+      sph::ColourField& c = result[part.material];
+      c.enabled = true;
+      c.treat = chosen->treat == 1;
+      c.neighbour_fraction = chosen->neighbour_fraction;
+      c.normal_threshold = chosen->normal_threshold;
+      c.layers = chosen->layers;
+      c.interval = chosen->interval;
+    }
+    return result;
   }
 
   // *CONTROL_SPH, *CONTROL_BULK_VISCOSITY and *SPALL_SPH_ARTIFICIAL_STRESS as the SPH solver uses

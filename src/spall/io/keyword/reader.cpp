@@ -27,6 +27,7 @@ constexpr SupportedKeyword supported_keywords[] = {
     {"ELEMENT_SOLID", read_element_solid},
     {"ELEMENT_SPH", read_element_sph},
     {"ELEMENT_SPH_VOLUME", read_element_sph},
+    {"DEFINE_SPH_MESH_BOX", read_define_sph_mesh_box},
     {"SECTION_SOLID", read_section_solid, true},
     {"SECTION_SPH", read_section_sph, true},
     {"MAT_ELASTIC", read_mat_elastic, true},
@@ -70,6 +71,8 @@ constexpr SupportedKeyword supported_keywords[] = {
     {"CONTROL_BULK_VISCOSITY", read_control_bulk_viscosity},
     {"CONTROL_SPH", read_control_sph},
     {"SPALL_SPH_ARTIFICIAL_STRESS", read_spall_sph_artificial_stress},
+    {"SPALL_SPH_COLOUR_FIELD", read_spall_sph_colour_field},
+    {"SPALL_RESIDUAL_STRESS", read_spall_residual_stress},
     {"DATABASE_BINARY_D3PLOT", read_database_binary_d3plot},
     {"DATABASE_GLSTAT", read_database_glstat},
     {"DATABASE_RWFORC", read_database_rwforc},
@@ -110,6 +113,7 @@ class DeckReader {
     if (!file.load(path))
       throw InputError(path.string() + ": cannot open the deck file");
     read_file(file, 0);
+    generate_sph_mesh_box_particles(model_);
     return std::move(model_);
   }
 

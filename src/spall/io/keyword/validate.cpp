@@ -56,6 +56,9 @@ class Validator {
     require_unique(model_.sph_elements, [](const auto& e) { return e.nid; }, "*ELEMENT_SPH",
                    "particle");
     check_ids_against_unsupported();
+    // Before the particles they generate, so that a missing part is reported at the box.
+    for (const auto& box : model_.sph_mesh_boxes)
+      require_part(box.ipid, box.where, "*DEFINE_SPH_MESH_BOX", "IPID");
     check_elements();
     check_parts();
     check_materials();
