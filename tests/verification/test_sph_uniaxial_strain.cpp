@@ -1,33 +1,28 @@
-// Uniaxial strain in an elastic-perfectly-plastic SPH bar
-// (reference/validation.md §6; Wilkins 1964; any plasticity text). A bar of 150
-// x 5 x 5 particles along x, every particle held in y and z (*BOUNDARY_SPC_SET:
-// no lateral strain), is pushed at its left end by a piston whose velocity
-// ramps to V over T_r (*BOUNDARY_PRESCRIBED_MOTION_SET, VAD 0) and held at its
-// right end. Every material point then follows the uniaxial-strain path
+// Uniaxial strain in an elastic-perfectly-plastic SPH bar (reference/validation.md §6; Wilkins
+// 1964; any plasticity text). A bar of 150 x 5 x 5 particles along x, every particle held in y and
+// z (*BOUNDARY_SPC_SET: no lateral strain), is pushed at its left end by a piston whose velocity
+// ramps to V over T_r (*BOUNDARY_PRESCRIBED_MOTION_SET, VAD 0) and held at its right end. Every
+// material point then follows the uniaxial-strain path
 //   sigma_xx = (K + 4G/3) eps                      up to eps_Y = sigma_y / 2G,
 //   sigma_HEL = sigma_y (1 - nu) / (1 - 2 nu)      the Hugoniot elastic limit,
-//   d sigma_xx / d eps = K                         after yield (perfect
-//   plasticity), sigma_yy - sigma_xx = sigma_y                  while yielding
-//   in compression,
-// whatever the wave structure that brings it there (an elastic precursor, then
-// the slower plastic wave). The test records sigma_xx of particles in the
-// middle of the bar (the SPH stress field) against eps_xx from their
-// neighbours' positions, eps = ln((x_{i+1} - x_{i-1}) / (2 dx)), fits a line to
-// each branch, and takes the HEL where the lines meet. MAT_003 with ETAN 0, and
-// MAT_024 with SIGY and ETAN 0.
+//   d sigma_xx / d eps = K                         after yield (perfect plasticity),
+//   sigma_yy - sigma_xx = sigma_y                  while yielding in compression,
+// whatever the wave structure that brings it there (an elastic precursor, then the slower plastic
+// wave). The test records sigma_xx of particles in the middle of the bar (the SPH stress field)
+// against eps_xx from their neighbours' positions, eps = ln((x_{i+1} - x_{i-1}) / (2 dx)), fits a
+// line to each branch, and takes the HEL where the lines meet. MAT_003 with ETAN 0, and MAT_024
+// with SIGY and ETAN 0.
 //
-// Tolerance 2 % on the elastic modulus, the HEL and the post-yield slope. The
-// reference is the small-strain path; the largest strain here is 0.55 %, so
-// finite-strain terms (the EOS is p = K (rho / rho0 - 1), the deviator
-// integrates the log strain) change the slopes by at most 0.3 % and the HEL by
-// 0.04 %. The particle's stress follows the kernel-smoothed strain, the
-// position strain is a central difference: the two differ where the strain
-// profile bends, which the long ramp keeps small (T_r = 24 us, about 20 steps
-// across the elastic branch; with T_r = 6 us the HEL read from the crossing of
-// the fitted lines was 2.3 % high, docs/VALIDATION.md). 1e-9 sigma_y on
-// sigma_yy - sigma_xx while yielding: the radial return puts the deviator on
-// the yield surface to round-off (docs/VALIDATION.md, material points), and
-// nothing rotates it here.
+// Tolerance 2 % on the elastic modulus, the HEL and the post-yield slope. The reference is the
+// small-strain path; the largest strain here is 0.55 %, so finite-strain terms (the EOS is
+// p = K (rho / rho0 - 1), the deviator integrates the log strain) change the slopes by at most
+// 0.3 % and the HEL by 0.04 %. The particle's stress follows the kernel-smoothed strain, the
+// position strain is a central difference: the two differ where the strain profile bends, which
+// the long ramp keeps small (T_r = 24 us, about 25 steps across the elastic branch; with
+// T_r = 6 us the HEL read from the crossing of the fitted lines was 2.3 % high,
+// docs/VALIDATION.md).
+// 1e-9 sigma_y on sigma_yy - sigma_xx while yielding: the radial return puts the deviator on the
+// yield surface to round-off (docs/VALIDATION.md, material points), and nothing rotates it here.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -96,8 +91,7 @@ model::Model bar_model(bool piecewise_linear) {
   m.node_sets[1] = piston;
   m.node_sets[2] = wall;
   m.node_sets[3] = all;
-  // Uniaxial strain: no particle moves in y or z; the far end is held in x as
-  // well.
+  // Uniaxial strain: no particle moves in y or z; the far end is held in x as well.
   model::Spc lateral;
   lateral.target = model::Target::node_set;
   lateral.id = 3;
@@ -162,8 +156,7 @@ void check_uniaxial_strain_path(bool piecewise_linear) {
   solver::Problem problem = solver::build_problem(model);
   std::map<Id, Index> index;
   for (Index n = 0; n < problem.nodes.size(); ++n) index[problem.nodes.id[n]] = n;
-  // Particles in the middle of the bar, in the middle of the cross-section
-  // (full supports).
+  // Particles in the middle of the bar, in the middle of the cross-section (full supports).
   std::vector<int> probes;
   for (int i = 30; i <= 60; i += 10) probes.push_back(i);
   std::vector<Sample> samples;
