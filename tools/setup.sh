@@ -6,7 +6,8 @@ packages=(
   build-essential cmake ninja-build
   libeigen3-dev libfmt-dev libcli11-dev
   libgtest-dev libbenchmark-dev
-  python3-vtk9 python3-numpy
+  libopenvdb-dev libboost-iostreams-dev
+  python3-vtk9 python3-numpy python3-matplotlib
 )
 missing=()
 for p in "${packages[@]}"; do

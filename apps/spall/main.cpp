@@ -1,10 +1,11 @@
-// spall: the command line. `spall run DECK`, `spall check DECK`.
+// spall: the command line. `spall run DECK`, `spall check DECK`, `spall surface OUTDIR`.
 // Exit codes: 0 success, 2 bad input, 3 numerical instability.
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 #include <omp.h>
 
 #include "run_command.hpp"
+#include "surface_command.hpp"
 #include "spall/core/error.hpp"
 #include "spall/core/log.hpp"
 #include "spall/core/version.hpp"
@@ -26,6 +27,29 @@ int main(int argc, char** argv) {
   auto* check = app.add_subcommand("check", "Read and check a deck without running it");
   check->add_option("deck", check_deck, "LS-DYNA keyword deck (.k)")->required();
 
+  spall::cli::SurfaceOptions surface_options;
+  int surface_threads = 0;
+  auto* surface = app.add_subcommand(
+      "surface", "Reconstruct the surface of a run's SPH particles (colour field = iso) as .vtp and .ply");
+  surface->add_option("outdir", surface_options.output_dir, "Output folder of `spall run` (with d3plot.pvd)")
+      ->required();
+  surface->add_option("--time", surface_options.time,
+                      "Snapshot at this time, or the last before it (default: the last snapshot)");
+  surface->add_option("--iso", surface_options.iso,
+                      "Colour-field value on the surface (default 0.5: half the interior colour)")
+      ->check(CLI::PositiveNumber);
+  surface->add_option("--cell", surface_options.cell,
+                      "Grid spacing in the deck's length unit (default: half the median smoothing length)")
+      ->check(CLI::PositiveNumber);
+  // One name per --field, so that a field name is never taken for the folder.
+  surface->add_option("--field", surface_options.fields,
+                      "Point field to carry onto the surface's vertices; repeat --field for more (default: every field)")
+      ->allow_extra_args(false);
+  surface->add_option("--part", surface_options.parts,
+                      "Only the particles of this part (PID); repeat --part for more (default: every SPH particle)")
+      ->allow_extra_args(false);
+  surface->add_option("--threads", surface_threads, "Threads (default: all cores)")->check(CLI::PositiveNumber);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -38,8 +62,10 @@ int main(int argc, char** argv) {
   }
 
   if (options.threads > 0) omp_set_num_threads(options.threads);
+  if (surface_threads > 0) omp_set_num_threads(surface_threads);
   try {
     if (*check) return spall::cli::check_deck(check_deck);
+    if (*surface) return spall::cli::reconstruct_surface(surface_options);
     return spall::cli::run_deck(options);
   } catch (const spall::InputError& e) {
     spall::log::error(e.what());

@@ -3,9 +3,11 @@
 #include <filesystem>
 #include <fmt/format.h>
 #include <map>
+#include <optional>
 #include <omp.h>
 
 #include "progress.hpp"
+#include "residual_report.hpp"
 #include "spall/core/error.hpp"
 #include "spall/core/log.hpp"
 #include "spall/core/version.hpp"
@@ -94,12 +96,28 @@ int run_deck(const RunOptions& options) {
       {{"time", "time"}, {"dt", "time"}, {"kinetic_energy", "energy"}, {"internal_energy", "energy"},
        {"artificial_viscosity_energy", "energy"}, {"external_work", "energy"},
        {"total_energy", "energy"}, {"energy_ratio", ""}});
+  // Forces on the rigid walls, one row per wall and output time; only when the deck has walls.
+  std::optional<io::output::CsvHistory> rwforc;
+  if (!problem.rigid_walls.empty())
+    rwforc.emplace(out / "rwforc.csv",
+                   std::vector<io::output::Column>{{"time", "time"}, {"wall", ""}, {"normal_force", "force"},
+                                                   {"fx", "force"}, {"fy", "force"}, {"fz", "force"}});
+  // Residual stress of the SPH solids per part and category (seed 000), at the end of the run and,
+  // on request, at every field output.
+  const sph::SolidFormulation* solid = nullptr;
+  for (const auto& f : problem.formulations)
+    if (const auto* s = dynamic_cast<const sph::SolidFormulation*>(f.get())) solid = s;
+  const model::SphResidualStress residual_options = model.sph_residual_stress.value_or(model::SphResidualStress{});
+  std::optional<ResidualStressReport> residual;
+  if (solid) residual.emplace(out / "residual.csv", *solid, residual_options);
+
   int field_count = 0;
   auto write_fields = [&](const solver::StepInfo& step, const solver::Problem& p) {
     const auto snap = solver::snapshot_fields(p);
     const std::string name = fmt::format("d3plot_{:05d}.vtu", field_count++);
     io::output::write_vtu(out / name, snap.points, snap.fields);
     series.add(step.time, name);
+    if (residual && residual_options.at_output == 1) residual->write(step.time);
   };
 
   Progress progress(problem.controls.end_time, particles);
@@ -110,6 +128,15 @@ int run_deck(const RunOptions& options) {
     const double row[] = {step.time, step.dt, e.kinetic, e.internal, e.artificial_viscosity,
                           e.external_work, e.total(), e.ratio()};
     glstat.append(row);
+  };
+  observer.on_rigid_wall_forces = [&](const solver::StepInfo& step,
+                                      const std::vector<contact::RigidWall>& walls) {
+    for (const auto& wall : walls) {
+      const Vec3& f = wall.force();
+      const double row[] = {step.time, static_cast<double>(wall.definition().id), wall.normal_force(),
+                            f.x(), f.y(), f.z()};
+      rwforc->append(row);
+    }
   };
   observer.on_step = [&](const solver::StepInfo& step) {
     last_step = step;
@@ -128,6 +155,10 @@ int run_deck(const RunOptions& options) {
     info.steps = summary.steps;
     info.end_time = summary.end_time;
     info.status = "completed";
+    if (residual) {
+      if (residual_options.at_output != 1) residual->write(summary.end_time);
+      log::info(residual->summary());
+    }
     log::info(fmt::format("done: {} steps to t = {:g} in {:.2f} s, {:.3e} particle-steps/s, energy ratio {:.6f}",
                           summary.steps, summary.end_time, progress.elapsed_seconds(),
                           progress.elapsed_seconds() > 0

@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # The command line as a user meets it: a run writes a ParaView series that VTK's own reader opens
-# (Debian's python3-vtk9), glstat.csv, run.json and a copy of the deck; bad input is one
-# `file:line: *KEYWORD:` line and exit 2; an unsupported keyword is a warning with name and line;
-# an unstable run exits 3 and leaves its last state; an SPG run writes its bond fields and an SPG
-# option without an implementation is exit 2 naming the field; every public deck goes through
-# `spall check` with exit 0 or 2, never a crash.
+# (Debian's python3-vtk9), glstat.csv, run.json and a copy of the deck; a rigid wall's forces go
+# to rwforc.csv; bad input is one `file:line: *KEYWORD:` line and exit 2; an unsupported keyword
+# is a warning with name and line; an unstable run exits 3 and leaves its last state; an SPG run
+# writes its bond fields and an SPG option without an implementation is exit 2 naming the field;
+# every public deck goes through `spall check` with exit 0 or 2, never a crash.
 # Arguments, as CTest passes them: CLI SOURCE_DIR SHARED_DIR.
 set -euo pipefail
 cli=$1
@@ -34,6 +34,16 @@ grep -c '<DataSet' "$work/out/d3plot.pvd" | awk '{ exit !($1 >= 5) }' || fail "p
 head -n 1 "$work/out/glstat.csv" | grep -q '^time \[time\],dt \[time\],kinetic_energy' || fail "glstat header"
 grep -q '"status": "completed"' "$work/out/run.json" || fail "run.json"
 cmp -s "$work/bar.k" "$work/out/deck/bar.k" || fail "deck copy"
+
+# A rigid wall through the particle layer at x = 0.5125, facing +x: the half in front of it moves
+# onto it (v = V cos(pi x / L) < 0 there), so rwforc.csv has rows with a positive normal force.
+sed 's/^\*END$/*RIGIDWALL_PLANAR\n\n    0.5125       0.0       0.0       1.5       0.0       0.0\n*DATABASE_RWFORC\n   1.0e-05\n*END/' \
+  "$work/bar.k" >"$work/wall.k"
+"$cli" run "$work/wall.k" -o "$work/wall_out" 2>"$work/wall.log" || { cat "$work/wall.log"; fail "run with a wall"; }
+head -n 1 "$work/wall_out/rwforc.csv" | grep -qx 'time \[time\],wall,normal_force \[force\],fx \[force\],fy \[force\],fz \[force\]' ||
+  fail "rwforc header: $(head -n 1 "$work/wall_out/rwforc.csv")"
+awk -F, 'NR > 1 && $2 == 1 && $3 > 0 && $4 < 0 { found = 1 } END { exit !found }' "$work/wall_out/rwforc.csv" ||
+  fail "no row of wall 1 with a positive normal force"
 
 # A bad number: one line with file, line, keyword and field; exit 2; no output folder.
 sed '0,/^\*NODE/{/^\*NODE/{n;s/^\(.\{8\}\).\{16\}/\1     1.2.3e-02 /}}' "$work/bar.k" >"$work/bad.k"

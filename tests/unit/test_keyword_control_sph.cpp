@@ -1,4 +1,5 @@
-// *CONTROL_SPH and *SPALL_SPH_ARTIFICIAL_STRESS: every field lands where it should, blank fields
+// *CONTROL_SPH and Spall's SPH keywords (*SPALL_SPH_ARTIFICIAL_STRESS, *SPALL_SPH_COLOUR_FIELD,
+// *SPALL_RESIDUAL_STRESS): every field lands where it should, blank fields
 // take LS-DYNA's defaults (FORM: Spall's renormalized default), and options Spall does not run
 // stop at their card with the field named.
 #include <gtest/gtest.h>
@@ -90,6 +91,61 @@ TEST(control_sph, UnimplementedOptionsStopAtTheirCard) {
     const std::string message = input_error_of([&] { solver::build_problem(block); });
     EXPECT_NE(message.find(c.expected), std::string::npos) << message;
   }
+}
+
+TEST(spall_sph_keywords, ColourFieldCardsPerPartWithDefaults) {
+  DeckFolder folder;
+  const auto model = read_deck(folder.write(
+      "c.k", "*KEYWORD\n*SPALL_SPH_COLOUR_FIELD\n" + row({"0"}) + row({"3", "1", "0.7", "0.25", "2", "5"}) + "*END\n"));
+  ASSERT_EQ(model.sph_colour_fields.size(), 2u);
+  const auto& all = model.sph_colour_fields[0];
+  EXPECT_EQ(all.pid, 0);
+  EXPECT_EQ(all.treat, 0);
+  EXPECT_EQ(all.neighbour_fraction, 0.8);  // calibrated defaults (tests/unit/test_sph_colour_field.cpp)
+  EXPECT_EQ(all.normal_threshold, 0.3);
+  EXPECT_EQ(all.layers, 1);
+  EXPECT_EQ(all.interval, 1);
+  const auto& three = model.sph_colour_fields[1];
+  EXPECT_EQ(three.pid, 3);
+  EXPECT_EQ(three.treat, 1);
+  EXPECT_EQ(three.neighbour_fraction, 0.7);
+  EXPECT_EQ(three.normal_threshold, 0.25);
+  EXPECT_EQ(three.layers, 2);
+  EXPECT_EQ(three.interval, 5);
+}
+
+TEST(spall_sph_keywords, ColourFieldBadInputNamesTheField) {
+  DeckFolder folder;
+  const auto bad_treat = folder.write("t.k", "*KEYWORD\n*SPALL_SPH_COLOUR_FIELD\n" + row({"0", "2"}) + "*END\n");
+  EXPECT_NE(input_error_of([&] { read_deck(bad_treat); }).find("t.k:3: *SPALL_SPH_COLOUR_FIELD: field TREAT"),
+            std::string::npos);
+  const auto twice = folder.write("d.k", "*KEYWORD\n*SPALL_SPH_COLOUR_FIELD\n" + row({"4"}) + row({"4"}) + "*END\n");
+  EXPECT_NE(input_error_of([&] { read_deck(twice); }).find("d.k:4: *SPALL_SPH_COLOUR_FIELD: field PID"),
+            std::string::npos);
+  // A card for a part without SPH particles stops the run at the card.
+  model::Model block = test_support::elastic_block_model({Vec3(0.1, 0.1, 0.1), 0.025});
+  model::SphColourField colour;
+  colour.pid = 9;
+  colour.where = {"deck.k", 7};
+  block.sph_colour_fields.push_back(colour);
+  const std::string message = input_error_of([&] { solver::build_problem(block); });
+  EXPECT_NE(message.find("deck.k:7: *SPALL_SPH_COLOUR_FIELD: PID: part 9 has no SPH particles"), std::string::npos)
+      << message;
+}
+
+TEST(spall_sph_keywords, ResidualStressCard) {
+  DeckFolder folder;
+  const auto model = read_deck(folder.write("r.k", "*KEYWORD\n*SPALL_RESIDUAL_STRESS\n" + row({"0.3", "1e-2", "1"}) + "*END\n"));
+  ASSERT_TRUE(model.sph_residual_stress);
+  EXPECT_EQ(model.sph_residual_stress->yield_fraction, 0.3);
+  EXPECT_EQ(model.sph_residual_stress->strain_rate, 1e-2);
+  EXPECT_EQ(model.sph_residual_stress->at_output, 1);
+  const auto defaults = read_deck(folder.write("r2.k", "*KEYWORD\n*SPALL_RESIDUAL_STRESS\n*END\n"));
+  EXPECT_EQ(defaults.sph_residual_stress->yield_fraction, 0.5);
+  EXPECT_EQ(defaults.sph_residual_stress->strain_rate, 0.0);
+  const auto bad = folder.write("r3.k", "*KEYWORD\n*SPALL_RESIDUAL_STRESS\n" + row({"0.5", "-1"}) + "*END\n");
+  EXPECT_NE(input_error_of([&] { read_deck(bad); }).find("r3.k:3: *SPALL_RESIDUAL_STRESS: field RATE"),
+            std::string::npos);
 }
 
 }  // namespace

@@ -113,6 +113,18 @@ TEST(keyword_public_decks, PydynaMechRunTogetherFields) {
   EXPECT_EQ(model.nodes.size(), 4u);
   EXPECT_EQ(model.parts.at(0).heading, "");  // blank heading line
   EXPECT_EQ(model.d3plot->dt, 5.0e-4);
+  // *RIGIDWALL_PLANAR_ID 1: all nodes, DEATH and RWKSF 0 (-> 1e20, 1), normal +y, FRIC 0.5.
+  ASSERT_EQ(model.rigid_walls.size(), 1u);
+  const auto& wall = model.rigid_walls[0];
+  EXPECT_EQ(wall.id, 1);
+  EXPECT_EQ(wall.nsid, 0);
+  EXPECT_EQ(wall.death, 1.0e20);
+  EXPECT_EQ(wall.rwksf, 1.0);
+  EXPECT_EQ(wall.head - wall.tail, Vec3(0, 1, 0));
+  EXPECT_EQ(wall.fric, 0.5);
+  ASSERT_TRUE(model.rwforc);
+  EXPECT_EQ(model.rwforc->dt, 2.0e-4);
+  EXPECT_EQ(model.rwforc->ioopt, 1);
 }
 
 TEST(keyword_public_decks, PydynaIsphRigidMaterialsAndMotion) {

@@ -5,7 +5,7 @@
 //     next eigenvalues fall towards zero: direct nodal integration alone is rank deficient or
 //     nearly so (Chen, Wu, Yoon & You 2001, the instability seed 001 §2.1 stabilizes);
 //   - the stable time step of the formulation (TSSFAC 1) below the central-difference limit
-//     2 / omega_max of the assembled system, with the margin documented in THEORY §6.6.
+//     2 / omega_max of the assembled system, with the margin documented in THEORY §9.6.
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
@@ -123,7 +123,7 @@ TEST(SpgStiffness, WithoutTheStabilizationSpringNodalIntegrationHasNearZeroModes
 
 TEST(SpgStiffness, StableStepBelowTheCentralDifferenceLimit) {
   log::set_quiet(true);
-  // Largest measured ratios (THEORY §6.6): spherical support at small DX with a nearly
+  // Largest measured ratios (THEORY §9.6): spherical support at small DX with a nearly
   // incompressible material, and the default set-up.
   const Block cases[] = {{1, 0, 1.6, 0.3}, {2, 2, 1.2, 0.49}, {1, 1, 2.4, 0.3}};
   for (const Block& block : cases) {

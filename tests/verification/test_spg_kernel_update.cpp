@@ -1,4 +1,4 @@
-// Kernel updates (*SECTION_SOLID_SPG KERNEL, SMSTEP; THEORY §6.7):
+// Kernel updates (*SECTION_SOLID_SPG KERNEL, SMSTEP; THEORY §9.7):
 //   - the kernel is rebuilt every SMSTEP steps, with the manual's defaults 15 / 5 / 30;
 //   - a free block spinning a quarter turn stays stress free and keeps its kinetic energy with
 //     every scheme (objectivity: the reference configuration is reset, the stress rotated);

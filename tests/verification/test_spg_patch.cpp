@@ -1,7 +1,7 @@
 // Patch test of the SPG formulation on irregular particles (a hex mesh with jittered interior
 // nodes): a linear displacement u = G X must give the exact constant strain at every particle and
 // a zero internal force at every particle whose support does not reach the surface (the
-// integration constraint, Chen, Wu, Yoon & You 2001; THEORY §6.4). Both stabilization variants
+// integration constraint, Chen, Wu, Yoon & You 2001; THEORY §9.4). Both stabilization variants
 // (ITB 1, smoothed strain; ITB 2, unsmoothed).
 #include <gtest/gtest.h>
 

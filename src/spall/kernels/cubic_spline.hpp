@@ -6,7 +6,7 @@
 // with sigma = 4/3 (1D), 40/(7 pi) (2D), 8/pi (3D), so that W integrates to one.
 #include <numbers>
 
-#include "spall/core/types.hpp"
+#include "spall/kernels/support_power.hpp"
 
 namespace spall::kernels {
 
@@ -21,11 +21,7 @@ struct CubicSpline {
     return Real(8) / std::numbers::pi_v<Real>;
   }
 
-  static Real power(Real support) {
-    Real p = support;
-    for (int d = 1; d < Dim; ++d) p *= support;
-    return p;
-  }
+  static Real power(Real support) { return support_power<Dim>(support); }
 
   // W(r, H)
   static Real value(Real r, Real support) {

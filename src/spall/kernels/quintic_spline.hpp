@@ -6,7 +6,7 @@
 // sigma = 1/120 (1D), 7/(478 pi) (2D), 1/(120 pi) (3D) (the lattice-integral test checks each).
 #include <numbers>
 
-#include "spall/core/types.hpp"
+#include "spall/kernels/support_power.hpp"
 
 namespace spall::kernels {
 
@@ -22,11 +22,7 @@ struct QuinticSpline {
     return Real(27) / (120 * pi);                                      // 3^3 / (120 pi)
   }
 
-  static Real power(Real support) {
-    Real p = support;
-    for (int d = 1; d < Dim; ++d) p *= support;
-    return p;
-  }
+  static Real power(Real support) { return support_power<Dim>(support); }
 
   static Real value(Real r, Real support) {
     const Real t = 3 * r / support;

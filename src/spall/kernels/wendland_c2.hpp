@@ -6,7 +6,7 @@
 // It has no negative Fourier modes, so it does not pair particles (Dehnen & Aly 2012).
 #include <numbers>
 
-#include "spall/core/types.hpp"
+#include "spall/kernels/support_power.hpp"
 
 namespace spall::kernels {
 
@@ -22,11 +22,7 @@ struct WendlandC2 {
     return Real(21) / (2 * pi);
   }
 
-  static Real power(Real support) {
-    Real p = support;
-    for (int d = 1; d < Dim; ++d) p *= support;
-    return p;
-  }
+  static Real power(Real support) { return support_power<Dim>(support); }
 
   static Real value(Real r, Real support) {
     const Real s = r / support;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include <Eigen/Eigenvalues>
 
@@ -87,6 +88,23 @@ StressUpdate update_stress(const Material& material, PointState& state, const Ma
   const Real pressure = eos_pressure(material, density, specific_energy);
   const Real work = update_deviatoric_stress(material, state, strain_rate, dt, density, pressure);
   return {apply_tensile_limit(material, state, pressure), work};
+}
+
+Real static_yield_stress(const Material& material, const PointState& state) {
+  struct Visitor {
+    const PointState& state;
+    Real operator()(const Elastic&) const { return std::numeric_limits<Real>::infinity(); }
+    Real operator()(const Null&) const { return 0; }
+    // Isotropic part of the yield radius; the back stress moves the surface, not its size.
+    Real operator()(const PlasticKinematic& m) const {
+      return m.yield_stress + m.beta * m.hardening_modulus * state.plastic_strain;
+    }
+    Real operator()(const PiecewiseLinear& m) const { return m.curve.at(state.plastic_strain).stress; }
+    Real operator()(const JohnsonCook& m) const {
+      return johnson_cook_flow_stress(m, state.plastic_strain, 0, state.temperature);
+    }
+  };
+  return std::visit(Visitor{state}, material.strength);
 }
 
 Real sound_speed(const Material& material, Real density, Real specific_energy) {

@@ -75,6 +75,11 @@ Real update_deviatoric_stress(const Material& material, PointState& state, const
 // Returns the pressure to use; may mark the point failed (spall) and then clears its deviator.
 Real apply_tensile_limit(const Material& material, PointState& state, Real pressure);
 
+// The yield stress at the point's plastic strain and temperature without the strain-rate term
+// (the quasi-static flow stress a residual stress is compared with); infinity for materials
+// without yield (*MAT_ELASTIC), 0 for *MAT_NULL.
+Real static_yield_stress(const Material& material, const PointState& state);
+
 // sqrt((K_s + 4G/3) / rho), K_s the isentropic bulk modulus of the EOS at (rho, e) (never below
 // 0): the longitudinal wave speed that bounds the explicit time step.
 Real sound_speed(const Material& material, Real density, Real specific_energy);

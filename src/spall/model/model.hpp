@@ -179,6 +179,19 @@ struct ElementSolid {
   SourceLocation where;
 };
 
+// *DEFINE_SPH_MESH_BOX: the box [XMIN, XMIN + XLEN] x [YMIN, ...] x [ZMIN, ...] cut into
+// NX x NY x NZ equal cells, one particle of part IPID at the centre of each (see
+// io/keyword/sph_mesh_box.cpp for the node IDs and masses the reader gives them).
+struct SphMeshBox {
+  Vec3 lower = Vec3::Zero();   // XMIN YMIN ZMIN
+  Vec3 length = Vec3::Zero();  // XLEN YLEN ZLEN
+  Id ipid = 0;
+  int nx = 0, ny = 0, nz = 0;
+  Id idseg = 0;   // segment set that removes particles near it (0: none)
+  Real sfsp = 0;  // with IDSEG: removal distance as a multiple of the spacing
+  SourceLocation where;
+};
+
 struct NodeSet {
   Id id = 0;
   std::vector<Id> nodes;
@@ -264,6 +277,32 @@ struct BodyLoad {
   SourceLocation where;
 };
 
+// *RIGIDWALL_PLANAR (_MOVING, _FINITE, _FINITE_MOVING; each with _ID): a rigid plane through
+// the tail point, its normal from tail to head pointing to the side where the tracked nodes are.
+struct RigidWallPlanar {
+  Id id = 0;  // the _ID card's ID; 0 when the keyword has no _ID card
+  std::string title;
+  Id nsid = 0;    // tracked nodes; 0 = all nodes
+  Id nsidex = 0;  // nodes exempted from tracking
+  Id boxid = 0;
+  Real offset = 0;  // > 0: only nodes within this normal distance of the wall are tracked
+  Real birth = 0;
+  Real death = 1.0e20;
+  Real rwksf = 1.0;
+  Vec3 tail = Vec3::Zero();
+  Vec3 head = Vec3::Zero();
+  Real fric = 0;  // 0 frictionless, (0, 1) Coulomb coefficient, 1 no sliding, 2 and 3 welding
+  Real wvel = 0;  // normal impact speed above which a node welds (FRIC 2, 3)
+  bool finite = false;              // _FINITE: a rectangle with corner at the tail
+  Vec3 edge_head = Vec3::Zero();    // XHEV YHEV ZHEV: head of the edge vector l (tail at XT YT ZT)
+  Real lenl = 0, lenm = 0;          // extents along l and m = n x l; 0 = unbounded that way
+  bool moving = false;              // _MOVING: a rigid body of mass MASS moving along n
+  Real mass = 0;
+  Real v0 = 0;  // initial velocity along n
+  std::string keyword;  // as written (e.g. "*RIGIDWALL_PLANAR_MOVING_ID"), for messages
+  SourceLocation where;
+};
+
 struct ControlTermination {
   Real endtim = 0;
   int endcyc = 0;  // 0 = no limit
@@ -283,12 +322,14 @@ struct ControlTimestep {
   SourceLocation where;
 };
 
-// An output request: *DATABASE_BINARY_D3PLOT (field output) or *DATABASE_GLSTAT (energies).
+// An output request: *DATABASE_BINARY_D3PLOT (field output), *DATABASE_GLSTAT (energies) or
+// *DATABASE_RWFORC (rigid-wall forces).
 struct OutputInterval {
   Real dt = 0;
   Id lcdt = 0;    // D3PLOT LCDT / GLSTAT LCUR: curve of the output interval versus time
   int beam = 0;   // D3PLOT BEAM (discrete-element output flag; kept for completeness)
   int npltc = 0;  // D3PLOT: DT = ENDTIM / NPLTC when DT is 0
+  int ioopt = 0;  // RWFORC: how LCUR sets the next output time (1: now + LCUR(now))
   SourceLocation where;
 };
 
@@ -332,6 +373,29 @@ struct ControlSph {
 
 // *SPALL_SPH_ARTIFICIAL_STRESS (a Spall keyword): Monaghan's (2000) artificial stress against the
 // tensile instability, with Gray, Monaghan & Swift's (2001) defaults. Present = switched on.
+// *SPALL_SPH_COLOUR_FIELD (a Spall keyword; seed 000 §4): colour-field categorization of SPH
+// particles into surface, inner layers and interior, and optionally the treatment that lets
+// surface and inner-layer particles pass only their hydrostatic stress to others. One card per
+// part (PID 0: every SPH part).
+struct SphColourField {
+  Id pid = 0;
+  int treat = 0;                  // 0 categorize only, 1 categorize and treat
+  Real neighbour_fraction = 0.8;  // surface: fewer neighbours than this fraction of a full support
+  Real normal_threshold = 0.3;    // ... and |n| h above this
+  int layers = 1;                 // inner layers behind the surface
+  int interval = 1;               // steps between categorizations
+  SourceLocation where;
+};
+
+// *SPALL_RESIDUAL_STRESS (a Spall keyword; seed 000): how residual stress is detected in SPH
+// solids. Without it the report is still written at the end of the run, with these defaults.
+struct SphResidualStress {
+  Real yield_fraction = 0.5;  // FRAC: von Mises above this fraction of the static yield stress ...
+  Real strain_rate = 0;       // RATE: ... while the effective strain rate is below this (0: 1 % of the largest)
+  int at_output = 0;          // OUTPUT: 1 also at every field output
+  SourceLocation where;
+};
+
 struct SphArtificialStress {
   Real epsilon = 0.3;  // fraction of the tensile principal stress
   Real exponent = 4;   // n in f_ab^n, f_ab = W(r_ab) / W(initial spacing)
@@ -359,6 +423,7 @@ struct Model {
   std::map<Id, Eos> eos;
   std::vector<ElementSph> sph_elements;
   std::vector<ElementSolid> solid_elements;
+  std::vector<SphMeshBox> sph_mesh_boxes;  // as read; their particles are in nodes/sph_elements
   std::map<Id, NodeSet> node_sets;
   std::map<Id, PartSet> part_sets;
   std::map<Id, Curve> curves;
@@ -369,14 +434,18 @@ struct Model {
   std::vector<InitialVelocityNode> initial_velocity_nodes;
   std::vector<InitialVelocityGeneration> initial_velocity_generations;
   std::vector<BodyLoad> body_loads;
+  std::vector<RigidWallPlanar> rigid_walls;
 
   std::optional<ControlTermination> termination;
   ControlTimestep timestep;
   ControlBulkViscosity bulk_viscosity;
   std::optional<ControlSph> control_sph;
   std::optional<SphArtificialStress> sph_artificial_stress;
+  std::vector<SphColourField> sph_colour_fields;
+  std::optional<SphResidualStress> sph_residual_stress;
   std::optional<OutputInterval> d3plot;
   std::optional<OutputInterval> glstat;
+  std::optional<OutputInterval> rwforc;
   std::optional<DampingGlobal> damping_global;
 
   std::vector<UnsupportedKeyword> unsupported;

@@ -44,6 +44,11 @@ class CellList {
   // Edge of the cells actually used: the one asked for, or larger when the box is more than 2^42
   // cells wide.
   Real cell_size() const { return cell_size_; }
+  // Bytes held between builds: the order and the occupied cells.
+  std::size_t memory_bytes() const {
+    return order_.capacity() * sizeof(Index) + cell_key_.capacity() * sizeof(CellKey) +
+           cell_start_.capacity() * sizeof(Index);
+  }
 
  private:
   CellKey key(std::int64_t ix, std::int64_t iy, std::int64_t iz) const {

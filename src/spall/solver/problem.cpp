@@ -8,7 +8,9 @@
 #include <unordered_map>
 
 #include "spall/core/log.hpp"
+#include "spall/materials/make_material.hpp"
 #include "spall/neighbors/verlet_list.hpp"
+#include "spall/solver/fluid_setup.hpp"
 #include "spall/spg/setup.hpp"
 #include "spall/sph/solid.hpp"
 
@@ -42,6 +44,7 @@ class Builder {
     build_motions();
     apply_initial_velocities();
     build_loads();
+    build_rigid_walls();
     build_controls();
     return std::move(problem_);
   }
@@ -116,7 +119,7 @@ class Builder {
   };
 
   SphPart resolve_sph_part(Id pid, const SourceLocation& where,
-                           std::vector<materials::ElasticConstants>& table,
+                           std::vector<materials::Material>& table,
                            std::unordered_map<Id, Index>& material_index) {
     const model::Part* part = model_.find_part(pid);
     if (!part) fail(where, "*ELEMENT_SPH", fmt::format("PID: part {} does not exist", pid));
@@ -139,40 +142,31 @@ class Builder {
                        section.hmin, section.hmax));
     if (section.death < 1e20 || section.start > 0)
       fail(section.where, "*SECTION_SPH", "DEATH/START: particle birth and death are not implemented yet");
-    auto mat = model_.materials.find(part->mid);
-    if (mat == model_.materials.end())
-      fail(part->where, "*PART", fmt::format("MID: material {} does not exist", part->mid));
-    const auto* elastic = std::get_if<model::MatElastic>(&mat->second.params);
-    if (!elastic)
-      fail(mat->second.where, mat->second.keyword,
-           fmt::format("material {} is used by SPH part {}, but the SPH solver supports only "
-                       "*MAT_ELASTIC so far",
-                       mat->first, part->id));
-    if (elastic->ro <= 0 || elastic->e <= 0 || elastic->pr < 0 || elastic->pr >= 0.5)
-      fail(mat->second.where, mat->second.keyword,
-           fmt::format("material {}: needs RO > 0, E > 0 and 0 <= PR < 0.5 (found RO {}, E {}, PR {})",
-                       mat->first, elastic->ro, elastic->e, elastic->pr));
     if (part->hgid != 0)
       fail(part->where, "*PART",
            fmt::format("part {}: HGID {}: *HOURGLASS controls are not supported yet", part->id, part->hgid));
-    if (part->eosid != 0)
-      fail(part->where, "*PART",
-           fmt::format("part {}: EOSID {} with *MAT_ELASTIC is not supported", part->id, part->eosid));
-    auto [it, inserted] = material_index.emplace(mat->first, static_cast<Index>(table.size()));
-    if (inserted)
-      table.push_back(materials::ElasticConstants::from_young_poisson(elastic->ro, elastic->e, elastic->pr));
-    return {&section, it->second, elastic->ro, 0};
+    auto [it, inserted] = material_index.emplace(part->id, static_cast<Index>(table.size()));
+    if (inserted) table.push_back(materials::make_material(model_, *part));
+    return {&section, it->second, table[it->second].density, 0};
   }
 
   void build_sph() {
     if (model_.sph_elements.empty()) return;
-    std::vector<materials::ElasticConstants> table;
+    std::vector<materials::Material> table;
     std::unordered_map<Id, Index> material_index;
     std::unordered_map<Id, SphPart> parts;
     std::vector<sph::ParticleSetup> particles;
     std::set<Id> seen;
     sph::SolidOptions options = sph_options();
+    std::vector<FluidParticle> fluid;
     for (const auto& e : model_.sph_elements) {
+      // *MAT_NULL parts are liquid: the SPH fluid formulation (fluid_setup.cpp) takes them.
+      if (is_fluid_part(model_, e.pid)) {
+        if (!seen.insert(e.nid).second)
+          fail(e.where, "*ELEMENT_SPH", fmt::format("node {} carries two SPH particles", e.nid));
+        fluid.push_back({&e, node_index(e.nid, e.where, "*ELEMENT_SPH")});
+        continue;
+      }
       auto found = parts.find(e.pid);
       if (found == parts.end())
         found = parts.emplace(e.pid, resolve_sph_part(e.pid, e.where, table, material_index)).first;
@@ -207,12 +201,44 @@ class Builder {
                          section.sphkern));
       kernel = kind;
     }
+    if (!fluid.empty())
+      problem_.formulations.push_back(build_fluid(model_, fluid, options.viscosity, options.dimension,
+                                                  problem_.nodes, problem_.part_of_node));
+    if (particles.empty()) return;
     options.kernel = *kernel;
+    options.colour_field = colour_fields(parts, table.size());
+    options.part_ids.resize(table.size());
+    for (const auto& [pid, part] : parts) options.part_ids[part.material] = pid;
     // Keep the particles in node (cell) order for memory locality.
     std::sort(particles.begin(), particles.end(),
               [](const auto& a, const auto& b) { return a.node < b.node; });
     problem_.formulations.push_back(
         std::make_unique<sph::SolidFormulation>(std::move(table), particles, options, problem_.nodes));
+  }
+
+  // *SPALL_SPH_COLOUR_FIELD per SPH part (indexed like the material table: one entry per part);
+  // a card for a part that has no SPH particles is an error at the card.
+  std::vector<sph::ColourField> colour_fields(const std::unordered_map<Id, SphPart>& parts,
+                                              std::size_t part_count) const {
+    std::vector<sph::ColourField> result(part_count);
+    for (const auto& card : model_.sph_colour_fields)
+      if (card.pid != 0 && !parts.count(card.pid))
+        fail(card.where, "*SPALL_SPH_COLOUR_FIELD",
+             fmt::format("PID: part {} has no SPH particles", card.pid));
+    for (const auto& [pid, part] : parts) {
+      const model::SphColourField* chosen = nullptr;
+      for (const auto& card : model_.sph_colour_fields)
+        if (card.pid == pid || (card.pid == 0 && !chosen)) chosen = &card;
+      if (!chosen) continue;
+      sph::ColourField& c = result[part.material];
+      c.enabled = true;
+      c.treat = chosen->treat == 1;
+      c.neighbour_fraction = chosen->neighbour_fraction;
+      c.normal_threshold = chosen->normal_threshold;
+      c.layers = chosen->layers;
+      c.interval = chosen->interval;
+    }
+    return result;
   }
 
   // *CONTROL_SPH, *CONTROL_BULK_VISCOSITY and *SPALL_SPH_ARTIFICIAL_STRESS as the SPH solver uses
@@ -360,6 +386,71 @@ class Builder {
     }
   }
 
+  // *RIGIDWALL_PLANAR...: the plane, friction, and the tracked nodes (those with mass).
+  void build_rigid_walls() {
+    const auto& x = problem_.nodes.x;
+    for (std::size_t w = 0; w < model_.rigid_walls.size(); ++w) {
+      const auto& wall = model_.rigid_walls[w];
+      const std::string& keyword = wall.keyword;
+      if (wall.boxid != 0)
+        fail(wall.where, keyword, fmt::format("BOXID {}: *DEFINE_BOX is not supported yet", wall.boxid));
+      // LS-DYNA scales with RWKSF the penalty stiffness of a wall against rigid-body nodes; the
+      // kinematic wall of deformable nodes has no stiffness, and Spall has no rigid bodies yet.
+      if (wall.rwksf != 1.0)
+        warn(wall, fmt::format("RWKSF {}: scales a penalty stiffness that the kinematic wall does not "
+                               "have; no effect", wall.rwksf));
+      if (wall.wvel != 0 && wall.fric < 2)
+        warn(wall, fmt::format("WVEL {}: the welding speed applies only with FRIC 2 or 3; no effect "
+                               "with FRIC {}", wall.wvel, wall.fric));
+
+      contact::RigidWall::Definition d;
+      d.id = wall.id != 0 ? wall.id : static_cast<Id>(w + 1);  // LS-DYNA numbers walls in order
+      d.origin = wall.tail;
+      d.normal = (wall.head - wall.tail).normalized();
+      if (wall.finite) {
+        const Vec3 l = wall.edge_head - wall.tail;
+        d.edge_l = (l - l.dot(d.normal) * d.normal).normalized();
+        d.edge_m = d.normal.cross(d.edge_l);
+        d.length_l = wall.lenl;
+        d.length_m = wall.lenm;
+      }
+      auto& friction = d.friction;
+      friction.coefficient = wall.fric < 1 ? wall.fric : 0;
+      friction.stick = wall.fric == 1 || wall.fric == 3;
+      friction.weld = wall.fric == 2 || wall.fric == 3;
+      friction.weld_speed = wall.wvel;
+      d.birth = wall.birth;
+      d.death = wall.death;
+      if (wall.moving) {
+        d.mass = wall.mass;
+        d.initial_velocity = wall.v0;
+      }
+
+      std::vector<char> exempt(problem_.nodes.size(), 0);
+      if (wall.nsidex != 0)
+        for (Index i : node_set(wall.nsidex, wall.where, keyword.c_str())) exempt[i] = 1;
+      std::vector<Index> candidates;
+      if (wall.nsid == 0) {
+        for (Index i = 0; i < problem_.nodes.size(); ++i) candidates.push_back(i);
+      } else {
+        candidates = node_set(wall.nsid, wall.where, keyword.c_str());
+        std::sort(candidates.begin(), candidates.end());
+        candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+      }
+      std::vector<Index> tracked;
+      for (Index i : candidates) {
+        if (exempt[i] || problem_.nodes.mass[i] <= 0) continue;  // a node without mass never moves
+        if (wall.offset > 0 && std::abs(d.normal.dot(x[i] - d.origin)) > wall.offset) continue;
+        tracked.push_back(i);
+      }
+      problem_.rigid_walls.emplace_back(d, std::move(tracked), x);
+    }
+  }
+
+  static void warn(const model::RigidWallPlanar& wall, const std::string& message) {
+    log::warning(fmt::format("{}:{}: {}: {}", wall.where.file, wall.where.line, wall.keyword, message));
+  }
+
   void build_controls() {
     if (!model_.termination)
       throw InputError("the deck has no *CONTROL_TERMINATION: ENDTIM is required");
@@ -385,6 +476,17 @@ class Builder {
     }
     // Without *DATABASE_GLSTAT the energies are still written, 1000 rows over the run.
     c.glstat_dt = (model_.glstat && model_.glstat->dt > 0) ? model_.glstat->dt : c.end_time / 1000;
+    c.rwforc_dt = c.glstat_dt;
+    if (model_.rwforc) {
+      const auto& r = *model_.rwforc;
+      c.rwforc_dt = r.dt;
+      c.rwforc_dt_curve = curve(r.lcdt, r.where, "*DATABASE_RWFORC", "LCUR");
+      if (c.rwforc_dt_curve && r.ioopt != 1)
+        fail(r.where, "*DATABASE_RWFORC",
+             fmt::format("IOOPT {}: only 1 (next output at LCUR of the current time) is supported", r.ioopt));
+      if (c.rwforc_dt <= 0 && !c.rwforc_dt_curve)
+        fail(r.where, "*DATABASE_RWFORC", "DT: must be > 0 (or give LCUR)");
+    }
     if (model_.damping_global) {
       const auto& d = *model_.damping_global;
       if (d.rotation_scale != Vec3::Zero() && d.rotation_scale != Vec3::Ones())

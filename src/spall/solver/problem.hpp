@@ -5,6 +5,7 @@
 #include <memory>
 #include <vector>
 
+#include "spall/contact/rigid_wall.hpp"
 #include "spall/model/model.hpp"
 #include "spall/solver/formulation.hpp"
 #include "spall/solver/node_store.hpp"
@@ -39,6 +40,8 @@ struct RunControls {
   Real d3plot_dt = 0;
   const model::Curve* d3plot_dt_curve = nullptr;  // LCDT
   Real glstat_dt = 0;
+  Real rwforc_dt = 0;                             // rigid-wall forces (GLSTAT's interval by default)
+  const model::Curve* rwforc_dt_curve = nullptr;  // LCUR
   // *DAMPING_GLOBAL: f = -D(t) m (scale . v), D = damping or damping_curve(t).
   Real damping = 0;
   const model::Curve* damping_curve = nullptr;
@@ -50,6 +53,7 @@ struct Problem {
   std::vector<std::unique_ptr<Formulation>> formulations;
   std::vector<NodalMotion> motions;
   std::vector<BaseAcceleration> base_accelerations;
+  std::vector<contact::RigidWall> rigid_walls;
   std::vector<Id> part_of_node;   // the deck's part ID of the node's particle, 0 if none
   RunControls controls;
   const model::Model* model = nullptr;  // curves are owned by the model, which must outlive this

@@ -90,6 +90,10 @@ RunSummary run(Problem& problem, const Observer& observer) {
     return controls.d3plot_dt_curve ? controls.d3plot_dt_curve->value(t) : controls.d3plot_dt;
   };
   const bool field_output = controls.d3plot_dt > 0 || controls.d3plot_dt_curve;
+  Real next_rwforc = 0;
+  auto rwforc_interval = [&](Real t) {
+    return controls.rwforc_dt_curve ? controls.rwforc_dt_curve->value(t) : controls.rwforc_dt;
+  };
 
   for (;;) {
     // 1. internal forces at x^n
@@ -119,18 +123,15 @@ RunSummary run(Problem& problem, const Observer& observer) {
                          controls.damping_scale;
     // Where v^n lies between v^{n-1/2} and v^{n+1/2} (see 4. below).
     const Real velocity_weight = (dt_previous + dt) > 0 ? dt_previous / (dt_previous + dt) : Real(0.5);
-    Real external_power = 0;
-#pragma omp parallel for reduction(+ : external_power) schedule(static)
+#pragma omp parallel for schedule(static)
     for (Index i = 0; i < n; ++i) {
       v_old[i] = nodes.v[i];
       if (nodes.mass[i] <= 0) continue;
-      const Vec3 f_load = -nodes.mass[i] * (g + damping.cwiseProduct(nodes.v[i]));
-      nodes.f[i] += f_load;
+      nodes.f[i] -= nodes.mass[i] * (g + damping.cwiseProduct(nodes.v[i]));
       Vec3 v_new = nodes.v[i] + (dt_mid / nodes.mass[i]) * nodes.f[i];
       for (int d = 0; d < 3; ++d)
         if (nodes.fixed[i] & (1u << d)) v_new[d] = 0;
       nodes.v[i] = v_new;
-      external_power += f_load.dot(v_old[i] + velocity_weight * (v_new - v_old[i]));
     }
     const Real t_mid = step.time + Real(0.5) * dt;
     for (const auto& m : problem.motions) {
@@ -147,13 +148,25 @@ RunSummary run(Problem& problem, const Observer& observer) {
         }
       }
     }
-    // Constraint reactions do work too: r = m dv/dt - f on every held or driven component.
-    Real reaction_power = 0;
-#pragma omp parallel for reduction(+ : reaction_power) schedule(static)
+    // Rigid walls last, so that no constraint above carries a node through a wall.
+    for (auto& wall : problem.rigid_walls) wall.enforce(nodes, t_mid, dt, dt_mid);
+    // External power at v^n, with v^{n+1/2} as the constraints left it: of the loads, and of the
+    // constraint reactions r = m dv/dt - f on every held or driven component and on every node a
+    // wall pushed. The reactions' power on the first step is taken at the mean of v^0 and v^{1/2}
+    // instead: a constraint that changes the initial velocity (a wall stopping a node that starts
+    // on it, a motion that starts at once) acts as an impulse at t^0, whose work is
+    // m/2 (v^{1/2}² - v^0²).
+    const Real reaction_weight = step.step == 0 ? Real(0.5) : velocity_weight;
+    Real external_power = 0, reaction_power = 0;
+#pragma omp parallel for reduction(+ : external_power, reaction_power) schedule(static)
     for (Index i = 0; i < n; ++i) {
-      if (nodes.mass[i] <= 0 || dt_mid <= 0) continue;
-      const Vec3 reaction = nodes.mass[i] * (nodes.v[i] - v_old[i]) / dt_mid - nodes.f[i];
-      reaction_power += reaction.dot(v_old[i] + velocity_weight * (nodes.v[i] - v_old[i]));
+      if (nodes.mass[i] <= 0) continue;
+      const Vec3 dv = nodes.v[i] - v_old[i];
+      const Vec3 f_load = -nodes.mass[i] * (g + damping.cwiseProduct(v_old[i]));
+      external_power += f_load.dot(v_old[i] + velocity_weight * dv);
+      if (dt_mid <= 0) continue;
+      const Vec3 reaction = nodes.mass[i] * dv / dt_mid - nodes.f[i];
+      reaction_power += reaction.dot(v_old[i] + reaction_weight * dv);
     }
 
     // 4. energies at t^n from the velocities at t^n: v^n = v^{n-1/2} + a^n dt^{n-1/2} / 2, i.e.
@@ -189,6 +202,10 @@ RunSummary run(Problem& problem, const Observer& observer) {
       if (observer.on_history) observer.on_history(step, energies);
       next_history = next_output_time(next_history, controls.glstat_dt, step.time + tolerance);
     }
+    if (!problem.rigid_walls.empty() && (step.time + tolerance >= next_rwforc || last)) {
+      if (observer.on_rigid_wall_forces) observer.on_rigid_wall_forces(step, problem.rigid_walls);
+      next_rwforc = next_output_time(next_rwforc, rwforc_interval(step.time), step.time + tolerance);
+    }
     if (observer.on_step) observer.on_step(step);
     if (last) break;
     // ENDENG is a percentage change of the energy ratio.
@@ -197,6 +214,7 @@ RunSummary run(Problem& problem, const Observer& observer) {
     // x^{n+1} = x^n + dt v^{n+1/2}
 #pragma omp parallel for schedule(static)
     for (Index i = 0; i < n; ++i) nodes.x[i] += dt * nodes.v[i];
+    for (auto& wall : problem.rigid_walls) wall.advance(dt);
     step.time += dt;
     if (controls.end_time - step.time < tolerance) step.time = controls.end_time;
     dt_previous = dt;

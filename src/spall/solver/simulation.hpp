@@ -2,7 +2,8 @@
 // The explicit time loop (central difference), as DESIGN draws it:
 //   1. each formulation advances its state and adds internal forces at x^n
 //   2. loads (base accelerations)
-//   3. v^{n+1/2} = v^{n-1/2} + a^n (dt^{n-1/2} + dt^{n+1/2}) / 2, then SPCs and prescribed motion
+//   3. v^{n+1/2} = v^{n-1/2} + a^n (dt^{n-1/2} + dt^{n+1/2}) / 2, then SPCs and prescribed motion,
+//      then rigid walls
 //   4. energies and output at t^n, then x^{n+1} = x^n + v^{n+1/2} dt^{n+1/2}
 //   5. dt = TSSFAC * min(stable step of every formulation)
 #include <filesystem>
@@ -42,6 +43,8 @@ struct Observer {
   std::function<void(const StepInfo&, const Problem&)> on_field_output;
   // Energies at t^n (every GLSTAT interval, and at the end).
   std::function<void(const StepInfo&, const Energies&)> on_history;
+  // Forces on the rigid walls at t^n (every RWFORC interval, GLSTAT's by default, and at the end).
+  std::function<void(const StepInfo&, const std::vector<contact::RigidWall>&)> on_rigid_wall_forces;
   // Called on every step (cheap): for progress lines.
   std::function<void(const StepInfo&)> on_step;
 };

@@ -1,6 +1,6 @@
 #pragma once
 // A correction of the nodal gradient operator that makes direct nodal integration pass the patch
-// test on irregular particles (THEORY §6.4). With D_JK the gradient of shape function K at
+// test on irregular particles (THEORY §9.4). With D_JK the gradient of shape function K at
 // particle J and V_J the nodal volumes, DNI reproduces a constant stress exactly only if the
 // integration constraint sum_J V_J D_JK = 0 holds for every particle K whose support stays inside
 // the body (Chen, Wu, Yoon & You 2001); on irregular particles it does not. The correction

@@ -16,10 +16,10 @@ namespace {
 // particle's volume change. The largest frequency of the assembled system on irregular blocks
 // (tests/unit/test_spg_stiffness.cpp) puts the critical step at 0.94 to 1.25 h / c for ISPLINE 0-2,
 // DX 1.2-2.4 and Poisson's ratios up to 0.49; alpha = 0.5 keeps the step at TSSFAC 1 below 0.75
-// of it everywhere (THEORY §6.6).
+// of it everywhere (THEORY §9.6).
 constexpr Real courant_factor = 0.5;
 
-// Conjugate-gradient iterations of the integration-constraint correction (THEORY §6.4).
+// Conjugate-gradient iterations of the integration-constraint correction (THEORY §9.4).
 constexpr int setup_iterations = 2000;
 constexpr int update_iterations = 25;
 
@@ -130,7 +130,7 @@ void Part::build_shape_functions(bool at_setup) {
   psi_.assign(bonds_.neighbour.size(), 0);
   grad_.assign(bonds_.neighbour.size(), Vec3::Zero());
   // KERNEL 0: the windows deform with the material (mapped through each particle's accumulated
-  // deformation), so a stretched bond keeps its weight until it fails (THEORY §6.7).
+  // deformation), so a stretched bond keeps its weight until it fails (THEORY §9.7).
   const bool material_windows = settings_.kernel_update == KernelUpdate::updated_lagrangian;
   std::vector<Mat3> window_map;
   if (material_windows) {
@@ -172,7 +172,7 @@ void Part::build_shape_functions(bool at_setup) {
         }
         // Too few bonds left for a linear field (bond failure, or particles drifting apart under
         // an Eulerian kernel): the particle keeps a Shepard partition of unity for the smoothing
-        // and no strain of its own (THEORY §6.8).
+        // and no strain of its own (THEORY §9.8).
         if (!shepard_shape_functions(settings_.shape, samples, psi, grad)) {
           std::fill(psi.begin(), psi.end(), 0);
           psi[0] = 1;
@@ -322,7 +322,7 @@ void Part::deformation(std::span<const Vec3> x, std::span<const Vec3> v, Real dt
 }
 
 // The spring on the part of the motion that the smoothing removes, in rate form so that it keeps
-// its memory across kernel updates, rotated with the particle's spin (THEORY §6.5).
+// its memory across kernel updates, rotated with the particle's spin (THEORY §9.5).
 void Part::update_stabilization(Real dt) {
   const Index n = particle_count();
 #pragma omp parallel for schedule(static) if (n > parallel_threshold)

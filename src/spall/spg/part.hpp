@@ -3,11 +3,11 @@
 // smoothing operator, and the material state at each particle. Particles of different parts do not
 // see each other through the kernel; parts couple through shared nodes only.
 //
-// Per step (docs/THEORY.md §6, seed 001 eqs. 6-13):
+// Per step (docs/THEORY.md §9, seed 001 eqs. 6-13):
 //   smoothing      xs_I = sum_K Psi_K(X_I) x_K,  vs_I = sum_K Psi_K(X_I) v_K      (eq. 9-11 at the particles)
 //   deformation    F_J = sum_I xs_I (x) grad Psi_I(X_J),  dF_J = sum_I vs_I (x) grad Psi_I(X_J)   (eq. 12)
 //                  (ITB 2: x and v in place of xs and vs)
-//                  plus the integration-constraint correction C on x and v (THEORY §6.4)
+//                  plus the integration-constraint correction C on x and v (THEORY §9.4)
 //   stress         L = dF F^-1; the material library's point update (materials/material.hpp) with
 //                  the Jaumann rotation of the deviator, D = sym L, rho = m / V and the energy equation;
 //                  bulk viscosity q = rho l (Q1 l tr(D)^2 - Q2 c tr(D)) in compression
@@ -15,9 +15,9 @@
 //                  h_I = sum_J V_J P_J grad Psi_I(X_J), P = J sigma F^-T          (eq. 6 with eq. 13)
 //                  (ITB 2: -h_K in place of the first sum)
 //   stabilization  t_J = s_J + c_J (v_J - vs_J), ds_J/dt = kappa_J (v_J - vs_J) + W_J s_J: a spring
-//                  and a dashpot on the motion that the smoothing removes (reconstructed; THEORY §6.5)
+//                  and a dashpot on the motion that the smoothing removes (reconstructed; THEORY §9.5)
 // with X the reference configuration of the last kernel update (every SMSTEP steps). KERNEL chooses
-// what an update rebuilds (THEORY §6.7): 0 updated Lagrangian, the bonds of the first
+// what an update rebuilds (THEORY §9.7): 0 updated Lagrangian, the bonds of the first
 // configuration with windows that deform with the material; 1 Eulerian, bonds searched anew in the
 // current configuration; 2 pseudo-Lagrangian, the bonds of the first configuration with windows of
 // fixed size in the current configuration.
@@ -51,7 +51,7 @@ struct PartSettings {
   // eta in the stabilization stiffness kappa = eta (K + 4G/3) V / h^2; not a deck field (SPG has no
   // stabilization control parameter, seed 001 §1), 0 only in tests that show what it removes.
   Real stabilization_factor = 1.0;
-  // xi: the dashpot beside the spring, c = 2 xi sqrt(kappa m) (THEORY §6.5); not a deck field.
+  // xi: the dashpot beside the spring, c = 2 xi sqrt(kappa m) (THEORY §9.5); not a deck field.
   Real stabilization_damping = 0.3;
   // *CONTROL_BULK_VISCOSITY Q1 (quadratic) and Q2 (linear), LS-DYNA's bulk viscosity of solids.
   Real bulk_viscosity_quadratic = 1.5;

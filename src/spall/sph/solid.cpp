@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "spall/materials/elastic.hpp"
+
 namespace spall::sph {
 
 namespace {
@@ -37,7 +39,7 @@ inline void for_each_neighbour_in_support(const neighbors::NeighborList& list, I
   }
 }
 
-SolidFormulation::SolidFormulation(std::vector<materials::ElasticConstants> materials,
+SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
                                    const std::vector<ParticleSetup>& particles,
                                    SolidOptions options, const solver::NodeStore& nodes)
     : materials_(std::move(materials)), options_(options) {
@@ -54,7 +56,7 @@ SolidFormulation::SolidFormulation(std::vector<materials::ElasticConstants> mate
   pressure_.assign(n, 0);
   sound_speed_.resize(n);
   internal_energy_.assign(n, 0);
-  deviatoric_stress_.assign(n, Mat3::Zero());
+  state_.resize(n);
   gradient_correction_matrix_.assign(n, Mat3::Identity());
   corrected_stress_.assign(n, Mat3::Zero());
   if (options_.artificial_stress.enabled) artificial_stress_.assign(n, Mat3::Zero());
@@ -76,7 +78,27 @@ SolidFormulation::SolidFormulation(std::vector<materials::ElasticConstants> mate
     spacing_[a] = p.spacing;
     const auto& m = materials_[material_[a]];
     density_[a] = m.density;
-    sound_speed_[a] = m.longitudinal_wave_speed(m.density);
+    state_[a] = materials::initial_state(m);
+    internal_energy_[a] = m.initial_specific_energy;
+    pressure_[a] = materials::eos_pressure(m, m.density, internal_energy_[a]);
+    sound_speed_[a] = materials::sound_speed(m, m.density, internal_energy_[a]);
+  }
+  for (const auto& m : materials_)
+    if (std::holds_alternative<materials::JohnsonCook>(m.strength)) has_temperature_ = true;
+  const bool colour = std::any_of(options_.colour_field.begin(), options_.colour_field.end(),
+                                  [](const ColourField& c) { return c.enabled; });
+  if (colour) {
+    colour_.assign(n, 0);
+    colour_normal_.assign(n, Vec3::Zero());
+    support_count_.assign(n, 0);
+    category_.assign(n, Category::interior);
+    full_support_count_.resize(n);
+    // Particles of spacing dp in a sphere (circle) of radius 2h, less the particle itself.
+    for (std::size_t a = 0; a < n; ++a) {
+      const Real ratio = 2 * smoothing_length_[a] / spacing_[a];
+      full_support_count_[a] = options_.dimension == 2 ? M_PI * ratio * ratio - 1
+                                                       : 4 * M_PI / 3 * ratio * ratio * ratio - 1;
+    }
   }
 }
 
@@ -111,19 +133,33 @@ void SolidFormulation::compute_rates() {
   const auto& list = verlet_.list();
   const Index n = particle_count();
   const bool plane = Kernel::dimension == 2;
+  const bool colour_on = !category_.empty();
 #pragma omp parallel for schedule(static)
   for (Index a = 0; a < n; ++a) {
     Real drho = 0;
     Mat3 L = Mat3::Zero();
     Mat3 moment = Mat3::Zero();  // sum_b V_b (x_b - x_a) (x) grad_a W_ab, = I for a full support
+    Real colour = 0;
+    Vec3 normal = Vec3::Zero();
+    std::int32_t count = 0;
     for_each_neighbour_in_support<Kernel>(list, a, x_, smoothing_length_,
-                                          [&](Index b, const Vec3& xab, Real, Real, const Vec3& grad) {
+                                          [&](Index b, const Vec3& xab, Real r, Real H, const Vec3& grad) {
       const Vec3 vba = v_[b] - v_[a];
       const Real volume = mass_[b] / density_[b];
       drho -= mass_[b] * vba.dot(grad);
       L.noalias() += volume * vba * grad.transpose();
       moment.noalias() -= volume * xab * grad.transpose();
+      if (colour_on) {
+        colour += volume * Kernel::value(r, H);  // seed 000 eq. 10
+        normal.noalias() += volume * grad;       // seed 000 eq. 9: n = grad c_s
+        ++count;
+      }
     });
+    if (colour_on) {
+      colour_[a] = colour + mass_[a] / density_[a] * Kernel::value(0, 2 * smoothing_length_[a]);
+      colour_normal_[a] = normal;
+      support_count_[a] = count;
+    }
     // In plane strain nothing varies along z: the moment is the identity there.
     if (plane) moment(2, 2) = 1;
     Mat3 correction = Mat3::Identity();
@@ -143,6 +179,49 @@ void SolidFormulation::compute_rates() {
   }
 }
 
+// Seed 000 §4: a particle is on the surface when it has fewer neighbours than a fraction of a full
+// support AND its colour-field normal is large (|n| h above a threshold); the inner layers are the
+// particles within 1.5 spacings of the previous layer. Each layer is found from the previous
+// layer's flags only, so the result does not depend on the thread count.
+void SolidFormulation::categorize() {
+  const auto& list = verlet_.list();
+  const Index n = particle_count();
+  int layers = 0;
+#pragma omp parallel for schedule(static)
+  for (Index a = 0; a < n; ++a) {
+    const ColourField& c = options_.colour_field[material_[a]];
+    const bool surface = c.enabled &&
+                         support_count_[a] < c.neighbour_fraction * full_support_count_[a] &&
+                         colour_normal_[a].norm() * smoothing_length_[a] > c.normal_threshold;
+    category_[a] = surface ? Category::surface : Category::interior;
+  }
+  for (const ColourField& c : options_.colour_field)
+    if (c.enabled) layers = std::max(layers, c.layers);
+  std::vector<std::uint8_t> previous(n), next(n);
+  for (Index a = 0; a < n; ++a) previous[a] = category_[a] == Category::surface;
+  for (int layer = 1; layer <= layers; ++layer) {
+#pragma omp parallel for schedule(static)
+    for (Index a = 0; a < n; ++a) {
+      next[a] = 0;
+      const ColourField& c = options_.colour_field[material_[a]];
+      if (!c.enabled || layer > c.layers || category_[a] != Category::interior) continue;
+      // The current spacing: the initial one scaled as h has been.
+      const Real scale = smoothing_length_[a] / initial_smoothing_length_[a];
+      const Real reach = Real(1.5) * spacing_[a] * scale;
+      for (Index k = list.offsets[a]; k < list.offsets[a + 1]; ++k) {
+        const Index b = list.neighbors[k];
+        if (previous[b] && (x_[a] - x_[b]).squaredNorm() < reach * reach) {
+          next[a] = 1;
+          break;
+        }
+      }
+    }
+    for (Index a = 0; a < n; ++a)
+      if (next[a]) category_[a] = Category::inner_layer;
+    previous.swap(next);
+  }
+}
+
 void SolidFormulation::update_state(Real dt) {
   const Index n = particle_count();
   const Real inverse_dimension = Real(1) / options_.dimension;
@@ -150,26 +229,34 @@ void SolidFormulation::update_state(Real dt) {
 #pragma omp parallel for schedule(static)
   for (Index a = 0; a < n; ++a) {
     const auto& m = materials_[material_[a]];
+    materials::PointState& state = state_[a];
     if (dt > 0) {
-      const Mat3 sigma_old = deviatoric_stress_[a] - pressure_[a] * Mat3::Identity();
-      internal_energy_[a] += dt * (sigma_old.cwiseProduct(velocity_gradient_[a]).sum() / density_[a] +
-                                   viscous_heating_[a]);
+      const Mat3& L = velocity_gradient_[a];
+      const Mat3 sigma_old = state.deviatoric_stress - pressure_[a] * Mat3::Identity();
+      internal_energy_[a] += dt * (sigma_old.cwiseProduct(L).sum() / density_[a] + viscous_heating_[a]);
       density_[a] += dt * density_rate_[a];
-      deviatoric_stress_[a] += dt * materials::jaumann_deviatoric_stress_rate(
-                                        m.shear_modulus, deviatoric_stress_[a],
-                                        velocity_gradient_[a]);
+      // Objective (Jaumann) rotation of the stress deviator and back stress, then the material.
+      const Mat3 W = Real(0.5) * (L - L.transpose());
+      state.deviatoric_stress += dt * (W * state.deviatoric_stress - state.deviatoric_stress * W);
+      state.back_stress += dt * (W * state.back_stress - state.back_stress * W);
+      const Mat3 D = Real(0.5) * (L + L.transpose());
+      pressure_[a] = materials::update_stress(m, state, D, dt, density_[a], internal_energy_[a]).pressure;
       smoothing_length_[a] =
           std::clamp(initial_smoothing_length_[a] * std::pow(m.density / density_[a], inverse_dimension),
                      h_min_[a], h_max_[a]);
     }
-    pressure_[a] = materials::elastic_pressure(m, density_[a]);
-    sound_speed_[a] = m.longitudinal_wave_speed(density_[a]);
+    sound_speed_[a] = materials::sound_speed(m, density_[a], internal_energy_[a]);
     // The stress as the pair force uses it: sigma B^T (seed 000 eq. 8 for sigma).
-    const Mat3 sigma = deviatoric_stress_[a] - pressure_[a] * Mat3::Identity();
-    corrected_stress_[a] = sigma * gradient_correction_matrix_[a].transpose();
+    const Mat3 sigma = state.deviatoric_stress - pressure_[a] * Mat3::Identity();
+    // Seed 000 §4: treated surface and inner-layer particles pass only their pressure on.
+    const bool hydrostatic_only = !category_.empty() && category_[a] != Category::interior &&
+                                  options_.colour_field[material_[a]].treat;
+    const Mat3 exported = hydrostatic_only ? Mat3(-pressure_[a] * Mat3::Identity()) : sigma;
+    corrected_stress_[a] = exported * gradient_correction_matrix_[a].transpose();
     if (stress_options.enabled) {
       // Monaghan 2000: a repulsive stress -eps sigma_i / rho^2 along each tensile principal axis.
-      const Eigen::SelfAdjointEigenSolver<Mat3> principal(sigma);
+      // From the stress the particle passes on, so that a treated particle's deviator stays out.
+      const Eigen::SelfAdjointEigenSolver<Mat3> principal(exported);
       Vec3 r = Vec3::Zero();
       for (int i = 0; i < 3; ++i)
         if (principal.eigenvalues()[i] > 0)
@@ -243,6 +330,13 @@ void SolidFormulation::compute_forces(solver::NodeStore& nodes, Real dt) {
   update_neighbour_list();
   kernels::with_kernel(options_.kernel, options_.dimension,
                        [&](auto kernel) { compute_rates<decltype(kernel)>(); });
+  if (!category_.empty()) {
+    int interval = 1 << 30;
+    for (const ColourField& c : options_.colour_field)
+      if (c.enabled) interval = std::min(interval, c.interval);
+    if (step_ % interval == 0) categorize();
+  }
+  ++step_;
   update_state(dt);
   kernels::with_kernel(options_.kernel, options_.dimension,
                        [&](auto kernel) { compute_pair_forces<decltype(kernel)>(); });
@@ -277,16 +371,20 @@ void SolidFormulation::add_fields(std::vector<io::output::PointField>& fields,
                                   const solver::NodeStore& nodes) const {
   const std::size_t n_nodes = nodes.id.size();
   std::vector<double> pressure(n_nodes, 0), von_mises(n_nodes, 0), density(n_nodes, 0),
-      smoothing(n_nodes, 0), energy(n_nodes, 0), stress(6 * n_nodes, 0);
+      smoothing(n_nodes, 0), mass(n_nodes, 0), energy(n_nodes, 0), plastic_strain(n_nodes, 0), temperature(n_nodes, 0),
+      stress(6 * n_nodes, 0);
   std::vector<std::int64_t> neighbour_count(n_nodes, 0);
   const auto& list = verlet_.list();
   for (Index a = 0; a < particle_count(); ++a) {
     const Index i = node_[a];
-    const Mat3& S = deviatoric_stress_[a];
+    const Mat3& S = state_[a].deviatoric_stress;
+    plastic_strain[i] = state_[a].plastic_strain;
+    temperature[i] = state_[a].temperature;
     pressure[i] = pressure_[a];
     von_mises[i] = materials::von_mises(S);
     density[i] = density_[a];
     smoothing[i] = smoothing_length_[a];
+    mass[i] = mass_[a];
     energy[i] = internal_energy_[a];
     const Mat3 sigma = S - pressure_[a] * Mat3::Identity();
     const double components[6] = {sigma(0, 0), sigma(1, 1), sigma(2, 2),
@@ -299,7 +397,24 @@ void SolidFormulation::add_fields(std::vector<io::output::PointField>& fields,
   fields.push_back({"density", 1, std::move(density)});
   fields.push_back({"stress", 6, std::move(stress)});
   fields.push_back({"smoothing_length", 1, std::move(smoothing)});
+  // With density, the particle's volume m / rho: what `spall surface` needs for the colour field.
+  fields.push_back({"mass", 1, std::move(mass)});
   fields.push_back({"internal_energy", 1, std::move(energy)});
+  fields.push_back({"effective_plastic_strain", 1, std::move(plastic_strain)});
+  if (has_temperature_) fields.push_back({"temperature", 1, std::move(temperature)});
+  if (!category_.empty()) {
+    std::vector<double> colour(n_nodes, 0), normal(3 * n_nodes, 0);
+    std::vector<std::int64_t> category(n_nodes, 0);
+    for (Index a = 0; a < particle_count(); ++a) {
+      const Index i = node_[a];
+      colour[i] = colour_[a];
+      for (int d = 0; d < 3; ++d) normal[3 * i + d] = colour_normal_[a][d];
+      category[i] = static_cast<std::int64_t>(category_[a]);
+    }
+    fields.push_back({"colour_field", 1, std::move(colour)});
+    fields.push_back({"colour_normal", 3, std::move(normal)});
+    fields.push_back({"category", 1, std::move(category)});
+  }
   fields.push_back({"neighbour_count", 1, std::move(neighbour_count)});
 }
 
@@ -315,8 +430,9 @@ std::size_t SolidFormulation::memory_bytes() const {
   return bytes(node_) + bytes(material_) + bytes(mass_) + bytes(smoothing_length_) +
          bytes(initial_smoothing_length_) + bytes(h_min_) + bytes(h_max_) + bytes(spacing_) +
          bytes(density_) + bytes(pressure_) + bytes(sound_speed_) + bytes(internal_energy_) +
-         bytes(deviatoric_stress_) + bytes(gradient_correction_matrix_) + bytes(corrected_stress_) +
-         bytes(artificial_stress_) + bytes(x_) + bytes(v_) + bytes(density_rate_) +
+         bytes(state_) + bytes(gradient_correction_matrix_) + bytes(corrected_stress_) +
+         bytes(artificial_stress_) + bytes(colour_) + bytes(colour_normal_) +
+         bytes(support_count_) + bytes(full_support_count_) + bytes(category_) + bytes(x_) + bytes(v_) + bytes(density_rate_) +
          bytes(viscous_heating_) + bytes(velocity_gradient_) + bytes(force_) +
          bytes(viscous_force_) + bytes(list.offsets) + bytes(list.neighbors) +
          verlet_.reference_positions_bytes();

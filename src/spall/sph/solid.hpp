@@ -3,8 +3,9 @@
 // base of seed 000 §3-4:
 //   continuity       d rho_a/dt = sum_b m_b (v_a - v_b) . grad_a W_ab
 //   velocity grad.   L_a = sum_b (m_b / rho_b) (v_b - v_a) (x) grad_a W_ab
-//   Hooke, Jaumann   dS/dt = 2G dev(D) + W S - S W
-//   pressure         p = K (rho / rho_0 - 1)
+//   stress           S rotated by the Jaumann rate (W S - S W) dt, then the material's update
+//                    (Hooke, radial return, hardening, heating, damage; src/spall/materials) and
+//                    its EOS pressure p(rho, e)
 //   momentum         m_a dv_a/dt = sum_b V_a V_b (sigma_a B_a^T + sigma_b B_b^T) grad_a W_ab
 //                                  - sum_b m_a m_b (Pi_ab I - R_ab f_ab^n) grad_a W_ab
 //                    (seed 000 eqs. 7-8 in a symmetric form that conserves linear momentum)
@@ -14,29 +15,59 @@
 //   viscosity        Pi_ab = (-alpha c_ab mu_ab + beta mu_ab^2) / rho_ab when v_ab . x_ab < 0 (Monaghan)
 //   artif. stress    R_ab = R_a + R_b, R_a = -eps sigma_tension / rho_a^2 in the principal frame,
 //                    f_ab = W(r_ab) / W(dp) (Monaghan 2000; Gray, Monaghan & Swift 2001)
+//   colour field     c_a = sum_b V_b W_ab (self included), n_a = sum_b V_b grad_a W_ab (seed 000
+//                    eqs. 9-10); surface: fewer neighbours than a fraction of a full support and
+//                    |n| h above a threshold; inner layers: the particles right behind them;
+//                    treated parts pass only -p I of those particles to the pair force (seed 000 §4)
 //   smoothing length h_a = h0_a (rho_0 / rho_a)^(1/d) within [HMIN h0, HMAX h0] (LS-DYNA's
 //                    dh/dt = h div(v) / d, integrated)
 // One SPH formulation owns every SPH part; particles of different parts interact through the
 // kernel, with each particle's own material.
+#include <cstdint>
 #include <vector>
 
 #include "spall/kernels/kernel.hpp"
-#include "spall/materials/elastic.hpp"
+#include "spall/materials/material.hpp"
 #include "spall/neighbors/verlet_list.hpp"
 #include "spall/solver/formulation.hpp"
+#include "spall/sph/artificial_viscosity.hpp"
 
 namespace spall::sph {
-
-struct ArtificialViscosity {
-  Real alpha = 0.06;  // linear term (LS-DYNA *CONTROL_BULK_VISCOSITY Q2)
-  Real beta = 1.5;    // quadratic term (Q1)
-  Real eta = 0.1;     // keeps mu_ab finite as r -> 0: r^2 + (eta h)^2
-};
 
 struct ArtificialStress {
   bool enabled = false;
   Real epsilon = 0.3;
   Real exponent = 4;
+};
+
+// Colour-field categorization of one part (*SPALL_SPH_COLOUR_FIELD).
+struct ColourField {
+  bool enabled = false;
+  bool treat = false;             // surface and inner layers export only their pressure
+  Real neighbour_fraction = 0.8;  // surface: count < fraction x full-support count ...
+  Real normal_threshold = 0.3;    // ... and |n| h > threshold
+  int layers = 1;
+  int interval = 1;               // steps between categorizations
+};
+
+// Particle categories as output in the `category` field.
+enum class Category : std::uint8_t { interior = 0, inner_layer = 1, surface = 2 };
+
+// Residual-stress detection (seed 000; *SPALL_RESIDUAL_STRESS): a particle carries residual
+// stress when its von Mises stress exceeds a fraction of its quasi-static yield stress while its
+// effective strain rate is near zero.
+struct ResidualStressCriterion {
+  Real yield_fraction = 0.5;
+  Real strain_rate = 0;  // "near zero" below this; 0: below 1 % of the largest rate in the body
+};
+
+// Von Mises statistics of one part and category (category -1: all of the part's particles).
+struct ResidualStressRow {
+  Id part = 0;
+  int category = -1;
+  Index particles = 0;
+  Real von_mises_max = 0, von_mises_mean = 0, von_mises_p95 = 0;
+  Index residual = 0;  // particles meeting the criterion
 };
 
 // How the SPH equations are discretized (*CONTROL_SPH, *SECTION_SPH, Spall's keywords).
@@ -48,6 +79,8 @@ struct SolidOptions {
   ArtificialStress artificial_stress;
   Real start_time = 0;             // *CONTROL_SPH START: no SPH forces before
   Real death_time = 1e20;          // *CONTROL_SPH DT: no SPH forces after
+  std::vector<ColourField> colour_field;  // per material-table entry (one per part); empty: off
+  std::vector<Id> part_ids;               // the deck's part ID of each material-table entry
 };
 
 // One SPH particle as the solver sets it up.
@@ -61,7 +94,7 @@ struct ParticleSetup {
 
 class SolidFormulation final : public solver::Formulation {
  public:
-  SolidFormulation(std::vector<materials::ElasticConstants> materials,
+  SolidFormulation(std::vector<materials::Material> materials,
                    const std::vector<ParticleSetup>& particles, SolidOptions options,
                    const solver::NodeStore& nodes);
 
@@ -77,18 +110,24 @@ class SolidFormulation final : public solver::Formulation {
   // Bytes held by the formulation's arrays and its neighbour list.
   std::size_t memory_bytes() const;
   const neighbors::NeighborList& neighbor_list() const { return verlet_.list(); }
+  // Categories of the last categorization (particle order), empty when no part asks for them.
+  const std::vector<Category>& categories() const { return category_; }
+  Index node_of(Index particle) const { return node_[particle]; }
+  // Per part and category, in part-table order (residual_stress.cpp).
+  std::vector<ResidualStressRow> residual_stress(const ResidualStressCriterion& criterion) const;
 
  private:
   void gather_kinematics(const solver::NodeStore& nodes);
   void update_neighbour_list();
   template <typename Kernel>
   void compute_rates();
+  void categorize();
   void update_state(Real dt);
   template <typename Kernel>
   void compute_pair_forces();
   bool active(Real time) const;
 
-  std::vector<materials::ElasticConstants> materials_;
+  std::vector<materials::Material> materials_;
   SolidOptions options_;
 
   // Per particle (structure of arrays).
@@ -103,10 +142,16 @@ class SolidFormulation final : public solver::Formulation {
   std::vector<Real> pressure_;
   std::vector<Real> sound_speed_;
   std::vector<Real> internal_energy_;  // specific (per unit mass)
-  std::vector<Mat3> deviatoric_stress_;
+  std::vector<materials::PointState> state_;  // deviatoric stress, plastic strain, temperature, ...
   std::vector<Mat3> gradient_correction_matrix_;  // B_a (identity without correction)
   std::vector<Mat3> corrected_stress_;            // sigma_a B_a^T, as the pair force uses it
   std::vector<Mat3> artificial_stress_;           // R_a (empty when switched off)
+  // Colour field (empty when no part asks for it).
+  std::vector<Real> colour_;
+  std::vector<Vec3> colour_normal_;
+  std::vector<std::int32_t> support_count_;        // neighbours inside the support
+  std::vector<Real> full_support_count_;           // the count of a full support at this h/spacing
+  std::vector<Category> category_;
   // Scratch of the current step.
   std::vector<Vec3> x_, v_;
   std::vector<Real> density_rate_;
@@ -117,7 +162,9 @@ class SolidFormulation final : public solver::Formulation {
 
   neighbors::VerletList verlet_;
   Real time_ = 0;
+  long long step_ = 0;
   bool list_built_ = false;
+  bool has_temperature_ = false;  // some material heats (Johnson-Cook): output the temperature
 };
 
 }  // namespace spall::sph

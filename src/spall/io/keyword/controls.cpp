@@ -1,5 +1,7 @@
 // *CONTROL_TERMINATION, *CONTROL_TIMESTEP, *CONTROL_BULK_VISCOSITY, *CONTROL_SPH,
-// *SPALL_SPH_ARTIFICIAL_STRESS, *DATABASE_BINARY_D3PLOT, *DATABASE_GLSTAT. Each reads its first card; the later optional cards of *CONTROL_TIMESTEP
+// *SPALL_SPH_ARTIFICIAL_STRESS, *SPALL_SPH_COLOUR_FIELD, *SPALL_RESIDUAL_STRESS,
+// *DATABASE_BINARY_D3PLOT, *DATABASE_GLSTAT, *DATABASE_RWFORC. Each
+// reads its first card; the later optional cards of *CONTROL_TIMESTEP
 // (mass-scaling details) and *DATABASE_BINARY_D3PLOT (IOOPT, RATE, ...) are not used by Spall.
 #include "spall/io/keyword/keyword_readers.hpp"
 
@@ -143,6 +145,53 @@ void read_spall_sph_artificial_stress(CardCursor& cursor, const KeywordCall&, mo
   model.sph_artificial_stress = stress;
 }
 
+void read_spall_sph_colour_field(CardCursor& cursor, const KeywordCall&, model::Model& model) {
+  while (true) {
+    cursor.skip_blank_lines();
+    if (cursor.done()) break;
+    const Card card = cursor.next(standard_fields, "card 1 (PID TREAT NFRAC NTHRESH LAYERS INTERVAL)");
+    model::SphColourField colour;
+    colour.pid = card.integer(0, "PID", 0);
+    colour.treat = static_cast<int>(card.integer(1, "TREAT", 0));
+    colour.neighbour_fraction = zero_means_default(card.real(2, "NFRAC", 0.0), 0.8);
+    colour.normal_threshold = zero_means_default(card.real(3, "NTHRESH", 0.0), 0.3);
+    colour.layers = static_cast<int>(card.integer(4, "LAYERS", 1));
+    colour.interval = static_cast<int>(card.integer(5, "INTERVAL", 1));
+    if (colour.interval == 0) colour.interval = 1;
+    if (colour.pid < 0) card.fail("PID", quoted(card.text(0)) + " is negative");
+    if (colour.treat != 0 && colour.treat != 1) card.fail("TREAT", quoted(card.text(1)) + " is not 0 or 1");
+    if (colour.neighbour_fraction <= 0 || colour.neighbour_fraction > 1)
+      card.fail("NFRAC", quoted(card.text(2)) + " is not in (0, 1]");
+    if (colour.normal_threshold < 0) card.fail("NTHRESH", quoted(card.text(3)) + " is negative");
+    if (colour.layers < 0) card.fail("LAYERS", quoted(card.text(4)) + " is negative");
+    if (colour.interval < 0) card.fail("INTERVAL", quoted(card.text(5)) + " is negative");
+    colour.where = card.where();
+    for (const auto& other : model.sph_colour_fields)
+      if (other.pid == colour.pid)
+        card.fail("PID", "part " + std::to_string(colour.pid) + " already has a card (at " +
+                             other.where.file + ":" + std::to_string(other.where.line) + ")");
+    model.sph_colour_fields.push_back(colour);
+  }
+}
+
+void read_spall_residual_stress(CardCursor& cursor, const KeywordCall&, model::Model& model) {
+  refuse_second(cursor, model.sph_residual_stress.has_value(),
+                model.sph_residual_stress ? model.sph_residual_stress->where : SourceLocation{});
+  model::SphResidualStress residual;
+  residual.where = cursor.context().where(cursor.line_of_block());
+  if (auto card = cursor.next_if_any(standard_fields)) {
+    residual.yield_fraction = zero_means_default(card->real(0, "FRAC", 0.0), 0.5);
+    residual.strain_rate = card->real(1, "RATE", 0.0);
+    residual.at_output = static_cast<int>(card->integer(2, "OUTPUT", 0));
+    if (residual.yield_fraction < 0) card->fail("FRAC", quoted(card->text(0)) + " is negative");
+    if (residual.strain_rate < 0) card->fail("RATE", quoted(card->text(1)) + " is negative");
+    if (residual.at_output != 0 && residual.at_output != 1)
+      card->fail("OUTPUT", quoted(card->text(2)) + " is not 0 or 1");
+    residual.where = card->where();
+  }
+  model.sph_residual_stress = residual;
+}
+
 void read_database_binary_d3plot(CardCursor& cursor, const KeywordCall&, model::Model& model) {
   const Card card = cursor.next(standard_fields, "card 1 (DT LCDT BEAM NPLTC PSETID)");
   model::OutputInterval output;
@@ -163,6 +212,21 @@ void read_database_glstat(CardCursor& cursor, const KeywordCall&, model::Model& 
   if (output.dt < 0.0) card.fail("DT", quoted(card.text(0)) + " is negative");
   output.where = card.where();
   model.glstat = output;
+}
+
+void read_database_rwforc(CardCursor& cursor, const KeywordCall&, model::Model& model) {
+  const Card card = cursor.next(standard_fields, "card 1 (DT BINARY LCUR IOOPT)");
+  model::OutputInterval output;
+  output.dt = card.real(0, "DT", 0.0);
+  output.lcdt = card.integer(2, "LCUR", 0);
+  // Blank and 0 read alike: IOOPT 1, the next output LCUR(now) after this one.
+  output.ioopt = static_cast<int>(card.integer(3, "IOOPT", 0));
+  if (output.ioopt == 0) output.ioopt = 1;
+  if (output.dt < 0.0) card.fail("DT", quoted(card.text(0)) + " is negative");
+  if (output.ioopt < 1 || output.ioopt > 3)
+    card.fail("IOOPT", quoted(card.text(3)) + " is not 1, 2 or 3");
+  output.where = card.where();
+  model.rwforc = output;
 }
 
 }  // namespace spall::io::keyword

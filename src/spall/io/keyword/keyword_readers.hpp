@@ -48,6 +48,10 @@ void read_node(CardCursor&, const KeywordCall&, model::Model&);
 void read_element_solid(CardCursor&, const KeywordCall&, model::Model&);
 void read_element_sph(CardCursor&, const KeywordCall&, model::Model&);
 void read_part(CardCursor&, const KeywordCall&, model::Model&);
+// sph_mesh_box.cpp
+void read_define_sph_mesh_box(CardCursor&, const KeywordCall&, model::Model&);
+// After the whole deck is read: the nodes and particles of every *DEFINE_SPH_MESH_BOX.
+void generate_sph_mesh_box_particles(model::Model&);
 // sections_materials.cpp
 void read_section_solid(CardCursor&, const KeywordCall&, model::Model&);
 void read_section_solid_spg(CardCursor&, const KeywordCall&, model::Model&);
@@ -77,6 +81,8 @@ void read_initial_velocity_node(CardCursor&, const KeywordCall&, model::Model&);
 void read_initial_velocity_generation(CardCursor&, const KeywordCall&, model::Model&);
 // loads.cpp
 void read_load_body(CardCursor&, const KeywordCall&, model::Model&);
+// rigid_walls.cpp
+void read_rigidwall_planar(CardCursor&, const KeywordCall&, model::Model&);
 // controls.cpp
 void read_control_termination(CardCursor&, const KeywordCall&, model::Model&);
 void read_control_timestep(CardCursor&, const KeywordCall&, model::Model&);
@@ -84,7 +90,10 @@ void read_control_bulk_viscosity(CardCursor&, const KeywordCall&, model::Model&)
 void read_damping_global(CardCursor&, const KeywordCall&, model::Model&);
 void read_control_sph(CardCursor&, const KeywordCall&, model::Model&);
 void read_spall_sph_artificial_stress(CardCursor&, const KeywordCall&, model::Model&);
+void read_spall_sph_colour_field(CardCursor&, const KeywordCall&, model::Model&);
+void read_spall_residual_stress(CardCursor&, const KeywordCall&, model::Model&);
 void read_database_binary_d3plot(CardCursor&, const KeywordCall&, model::Model&);
 void read_database_glstat(CardCursor&, const KeywordCall&, model::Model&);
+void read_database_rwforc(CardCursor&, const KeywordCall&, model::Model&);
 
 }  // namespace spall::io::keyword

@@ -27,6 +27,7 @@ constexpr SupportedKeyword supported_keywords[] = {
     {"ELEMENT_SOLID", read_element_solid},
     {"ELEMENT_SPH", read_element_sph},
     {"ELEMENT_SPH_VOLUME", read_element_sph},
+    {"DEFINE_SPH_MESH_BOX", read_define_sph_mesh_box},
     {"SECTION_SOLID", read_section_solid, true},
     {"SECTION_SOLID_SPG", read_section_solid_spg, true},
     {"SECTION_SPH", read_section_sph, true},
@@ -62,14 +63,21 @@ constexpr SupportedKeyword supported_keywords[] = {
     {"LOAD_BODY_X", read_load_body},
     {"LOAD_BODY_Y", read_load_body},
     {"LOAD_BODY_Z", read_load_body},
+    {"RIGIDWALL_PLANAR", read_rigidwall_planar, false, true},
+    {"RIGIDWALL_PLANAR_MOVING", read_rigidwall_planar, false, true},
+    {"RIGIDWALL_PLANAR_FINITE", read_rigidwall_planar, false, true},
+    {"RIGIDWALL_PLANAR_FINITE_MOVING", read_rigidwall_planar, false, true},
     {"CONTROL_TERMINATION", read_control_termination},
     {"CONTROL_TIMESTEP", read_control_timestep},
     {"CONTROL_BULK_VISCOSITY", read_control_bulk_viscosity},
     {"DAMPING_GLOBAL", read_damping_global},
     {"CONTROL_SPH", read_control_sph},
     {"SPALL_SPH_ARTIFICIAL_STRESS", read_spall_sph_artificial_stress},
+    {"SPALL_SPH_COLOUR_FIELD", read_spall_sph_colour_field},
+    {"SPALL_RESIDUAL_STRESS", read_spall_residual_stress},
     {"DATABASE_BINARY_D3PLOT", read_database_binary_d3plot},
     {"DATABASE_GLSTAT", read_database_glstat},
+    {"DATABASE_RWFORC", read_database_rwforc},
 };
 
 bool ends_with(std::string_view text, std::string_view suffix) {
@@ -107,6 +115,7 @@ class DeckReader {
     if (!file.load(path))
       throw InputError(path.string() + ": cannot open the deck file");
     read_file(file, 0);
+    generate_sph_mesh_box_particles(model_);
     return std::move(model_);
   }
 

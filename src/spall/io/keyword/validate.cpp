@@ -56,6 +56,9 @@ class Validator {
     require_unique(model_.sph_elements, [](const auto& e) { return e.nid; }, "*ELEMENT_SPH",
                    "particle");
     check_ids_against_unsupported();
+    // Before the particles they generate, so that a missing part is reported at the box.
+    for (const auto& box : model_.sph_mesh_boxes)
+      require_part(box.ipid, box.where, "*DEFINE_SPH_MESH_BOX", "IPID");
     check_elements();
     check_parts();
     check_materials();
@@ -290,6 +293,14 @@ class Validator {
       require(target_exists(target, generation.id), generation.where,
               "*INITIAL_VELOCITY_GENERATION", target_name(target), generation.id);
     }
+    for (const auto& wall : model_.rigid_walls) {
+      if (wall.nsid != 0)
+        require(model_.node_sets.contains(wall.nsid), wall.where, wall.keyword.c_str(),
+                "NSID: node set", wall.nsid);
+      if (wall.nsidex != 0)
+        require(model_.node_sets.contains(wall.nsidex), wall.where, wall.keyword.c_str(),
+                "NSIDEX: node set", wall.nsidex);
+    }
     for (const auto& load : model_.body_loads) {
       const char* keyword = load.direction == 0   ? "*LOAD_BODY_X"
                             : load.direction == 1 ? "*LOAD_BODY_Y"
@@ -309,6 +320,8 @@ class Validator {
       require_curve(model_.d3plot->lcdt, model_.d3plot->where, "*DATABASE_BINARY_D3PLOT", "LCDT");
     if (model_.glstat && model_.glstat->lcdt != 0)
       require_curve(model_.glstat->lcdt, model_.glstat->where, "*DATABASE_GLSTAT", "LCUR");
+    if (model_.rwforc && model_.rwforc->lcdt != 0)
+      require_curve(model_.rwforc->lcdt, model_.rwforc->where, "*DATABASE_RWFORC", "LCUR");
   }
 
   const Model& model_;

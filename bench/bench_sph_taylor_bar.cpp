@@ -1,0 +1,125 @@
+// Whole-scene throughput of the elastoplastic SPH solid: the Taylor bar of examples/taylor_bar
+// (OFHC copper, Johnson-Cook, rigid wall; tests/support/taylor_bar.hpp) at D0/35, 105 084
+// particles, at 1 and 2 OpenMP threads. The rod is first run 5 us past impact (set-up, not
+// timed), so that the timed steps see a plastic foot on the wall; each iteration then continues
+// it by 20 steps (21 force evaluations; the first of each run does not advance the material).
+// Reports particle-steps per second (items_per_second) and per core, the mean number of
+// neighbours inside the support (|x_a - x_b| < h_a + h_b) and of Verlet-list entries (support
+// x 1.05 plus a 10 % skin), and the bytes per particle of the SPH arrays and neighbour list
+// (SolidFormulation::memory_bytes()) plus the node store. particle_steps_per_cpu_s divides by the
+// processor time of all threads instead of the wall clock (OMP_WAIT_POLICY=passive keeps idle
+// threads from spinning it away): per core, and less disturbed by other programs on the machine.
+//
+// The 10^6-particle variant (D0/74, 981 312 particles; about 1.3 GB and many minutes of set-up) is
+// registered only when SPALL_BENCH_MILLION is set:
+//   SPALL_BENCH_MILLION=1 build/release/bin/spall_bench --benchmark_filter=TaylorBar
+#include <benchmark/benchmark.h>
+
+#include <ctime>
+#include <cstdlib>
+#include <map>
+#include <memory>
+#include <omp.h>
+
+#include "spall/core/log.hpp"
+#include "spall/neighbors/verlet_list.hpp"
+#include "spall/solver/simulation.hpp"
+#include "spall/sph/solid.hpp"
+#include "support/taylor_bar.hpp"
+
+using namespace spall;
+
+namespace {
+
+constexpr long long steps_per_iteration = 20;
+
+// One rod per resolution, run to 5 us past impact once and then shared by the thread counts.
+solver::Problem& impacted_rod(int particles_across) {
+  static std::map<int, std::unique_ptr<solver::Problem>> rods;
+  auto& rod = rods[particles_across];
+  if (!rod) {
+    test_support::TaylorBar bar;
+    bar.particles_across = particles_across;
+    bar.end_time = 5e-6;
+    rod = std::make_unique<solver::Problem>(solver::build_problem(test_support::taylor_bar_model(bar)));
+    rod->controls.glstat_dt = 1.0;  // histories are not what is measured
+    solver::run(*rod, {});
+    rod->controls.end_time = 1.0;  // from here on the cycle limit ends each run
+    rod->controls.end_cycle = steps_per_iteration;
+  }
+  return *rod;
+}
+
+// Neighbours inside the pair support h_a + h_b, per particle: the pairs the force loops use.
+double neighbours_in_support(const solver::Problem& problem, const sph::SolidFormulation& sph) {
+  std::vector<io::output::PointField> fields;
+  sph.add_fields(fields, problem.nodes);
+  std::vector<double> h;
+  for (auto& field : fields)
+    if (field.name == "smoothing_length") h = std::get<std::vector<double>>(field.values);
+  const auto& x = problem.nodes.x;
+  Real h_largest = 0;
+  for (double value : h) h_largest = std::max<Real>(h_largest, value);
+  neighbors::VerletList pairs;
+  pairs.build(x, 2 * h_largest, 0);
+  const auto& list = pairs.list();
+  long long inside = 0;
+  for (Index a = 0; a < problem.nodes.size(); ++a)
+    for (Index k = list.offsets[a]; k < list.offsets[a + 1]; ++k) {
+      const Index b = list.neighbors[k];
+      if ((x[a] - x[b]).norm() < h[a] + h[b]) ++inside;
+    }
+  return double(inside) / double(sph.particle_count());
+}
+
+void BM_SphTaylorBar(benchmark::State& state) {
+  log::set_quiet(true);
+  const int particles_across = static_cast<int>(state.range(0));
+  const int threads = static_cast<int>(state.range(1));
+  solver::Problem& problem = impacted_rod(particles_across);
+  omp_set_num_threads(threads);
+  const auto& sph = dynamic_cast<const sph::SolidFormulation&>(*problem.formulations.front());
+  const double n = sph.particle_count();
+  // Processor time of every thread (std::clock is per process): on a shared, oversubscribed
+  // machine the wall clock also counts the time other programs held the cores.
+  const std::clock_t cpu_start = std::clock();
+  for (auto _ : state) benchmark::DoNotOptimize(solver::run(problem, {}));
+  const double cpu_seconds = double(std::clock() - cpu_start) / CLOCKS_PER_SEC;
+  const auto& nodes = problem.nodes;
+  const double node_bytes = nodes.id.size() * (sizeof(Id) + 4 * sizeof(Vec3) + sizeof(Real) + 1);
+  const double evaluations = steps_per_iteration + 1;
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * n * evaluations));
+  state.counters["particles"] = n;
+  state.counters["threads"] = threads;
+  state.counters["neighbours_in_support"] = neighbours_in_support(problem, sph);
+  state.counters["verlet_entries"] = double(sph.neighbor_list().neighbors.size()) / n;
+  // What the list's storage holds (it is kept from build to build while under twice the need).
+  state.counters["verlet_capacity"] = double(sph.neighbor_list().neighbors.capacity()) / n;
+  state.counters["bytes_per_particle"] = (double(sph.memory_bytes()) + node_bytes) / n;
+  state.counters["particle_steps_per_s_per_core"] =
+      benchmark::Counter(n * evaluations / threads, benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["particle_steps_per_cpu_s"] = double(state.iterations()) * n * evaluations / cpu_seconds;
+}
+
+}  // namespace
+
+BENCHMARK(BM_SphTaylorBar)
+    ->ArgNames({"across", "threads"})
+    ->Args({35, 1})
+    ->Args({35, 2})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MinTime(2.0);
+
+// The 10^6 variant: only on request (see the header).
+[[maybe_unused]] static const bool million_registered = [] {
+  if (std::getenv("SPALL_BENCH_MILLION") == nullptr) return false;
+  benchmark::RegisterBenchmark("BM_SphTaylorBar/million", BM_SphTaylorBar)
+      ->ArgNames({"across", "threads"})
+      ->Args({74, 1})
+      ->Args({74, 2})
+      ->Unit(benchmark::kMillisecond)
+      ->UseRealTime()
+      ->MinTime(5.0);
+  return true;
+}();

@@ -1,0 +1,168 @@
+#include "spall/contact/rigid_wall.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace spall::contact {
+
+namespace {
+// A few flops per node: below this many nodes a parallel loop costs more than it saves.
+constexpr Index parallel_from = 1024;
+}  // namespace
+
+RigidWall::RigidWall(const Definition& definition, std::vector<Index> tracked,
+                     const std::vector<Vec3>& x)
+    : definition_(definition),
+      nodes_(std::move(tracked)),
+      state_(nodes_.size(), 0),
+      velocity_(definition.mass > 0 ? definition.initial_velocity : 0),
+      closing_(nodes_.size(), 0),
+      candidate_(nodes_.size(), 0) {
+  for (std::size_t k = 0; k < nodes_.size(); ++k)
+    if (definition_.normal.dot(x[nodes_[k]] - definition_.origin) >= 0) state_[k] = in_front;
+}
+
+bool RigidWall::inside(const Vec3& p) const {
+  const auto& d = definition_;
+  if (d.length_l > 0) {
+    const Real a = p.dot(d.edge_l);
+    if (a < 0 || a > d.length_l) return false;
+  }
+  if (d.length_m > 0) {
+    const Real b = p.dot(d.edge_m);
+    if (b < 0 || b > d.length_m) return false;
+  }
+  return true;
+}
+
+void RigidWall::enforce(solver::NodeStore& nodes, Real t_mid, Real dt, Real dt_mid) {
+  force_.setZero();
+  normal_force_ = 0;
+  active_.clear();
+  active_now_ = t_mid >= definition_.birth && t_mid <= definition_.death;
+  const Vec3& n = definition_.normal;
+  const Vec3 origin = definition_.origin + displacement_ * n;
+  const Index count = static_cast<Index>(nodes_.size());
+  if (!active_now_) {
+    // Not there yet (or any more): a node may pass the plane, and is then behind it at birth.
+#pragma omp parallel for schedule(static) if (count >= parallel_from)
+    for (Index k = 0; k < count; ++k) {
+      const Index i = nodes_[k];
+      state_[k] = n.dot(nodes.x[i] + dt * nodes.v[i] - origin) >= 0 ? std::uint8_t(in_front)
+                                                                    : std::uint8_t(0);
+    }
+    return;
+  }
+#pragma omp parallel for schedule(static) if (count >= parallel_from)
+  for (Index k = 0; k < count; ++k) {
+    const Index i = nodes_[k];
+    const Vec3 r = nodes.x[i] - origin;
+    const Real d = n.dot(r);
+    const Real u = n.dot(nodes.v[i]);
+    // The distance at t^{n+1} is d + dt (u - V') = dt (c - V'). A step of zero length (the last
+    // half kick) moves nothing: only a node on or behind the wall can be stopped then.
+    closing_[k] = dt > 0 ? u + d / dt : (d > 0 ? std::numeric_limits<Real>::infinity() : u);
+    candidate_[k] = (state_[k] & in_front) && inside(r + dt * nodes.v[i]);
+  }
+
+  const Real v_wall = solve_wall_velocity(nodes);
+
+  const Friction& friction = definition_.friction;
+  const Real v_before_impact = velocity_;
+  impulse_.resize(active_.size());
+  const Index pushed = static_cast<Index>(active_.size());
+#pragma omp parallel for schedule(static) if (pushed >= parallel_from)
+  for (Index a = 0; a < pushed; ++a) {
+    const Index k = active_[a];
+    const Index i = nodes_[k];
+    Vec3& v = nodes.v[i];
+    const Vec3 v_before = v;
+    // On the wall at t^{n+1}: u' = V' - d/dt = u + (V' - c).
+    const Real du = v_wall - closing_[k];
+    if (friction.weld && !(state_[k] & welded) && v_before_impact - n.dot(v) > friction.weld_speed)
+      state_[k] |= welded;
+    v += du * n;
+    // The wall moves along n only, so the sliding velocity is the node's tangential velocity.
+    const Vec3 slip = v - n.dot(v) * n;
+    const Real speed = slip.norm();
+    if (speed > 0) {
+      if (friction.stick) {
+        v -= slip;
+      } else if (friction.coefficient > 0) {
+        // Coulomb: the tangential impulse is at most mu times the normal one, m |du|.
+        const Real limit = friction.coefficient * std::abs(du);
+        v -= (speed <= limit ? Real(1) : limit / speed) * slip;
+      }
+    }
+    impulse_[a] = nodes.mass[i] * (v - v_before);
+  }
+
+  // Summed in the order of active_, which does not depend on the thread count.
+  Vec3 total = Vec3::Zero();
+  for (const Vec3& j : impulse_) total += j;
+  if (dt_mid > 0) {
+    force_ = (Vec3::Zero() - total) / dt_mid;  // 0 - 0 = +0: no "-0" in rwforc.csv
+    normal_force_ = n.dot(total) / dt_mid;
+  }
+  if (definition_.mass > 0) velocity_ = v_wall;
+
+  // Which side each node will be on at t^{n+1}: a pushed node is on the wall; a node that passes
+  // the plane beside a finite wall, or was behind it, is behind until it comes back in front.
+  if (dt > 0) {
+#pragma omp parallel for schedule(static) if (count >= parallel_from)
+    for (Index k = 0; k < count; ++k)
+      if (candidate_[k] != pushed_now)
+        state_[k] = closing_[k] >= v_wall ? std::uint8_t(in_front) : std::uint8_t(0);
+  }
+}
+
+Real RigidWall::solve_wall_velocity(const solver::NodeStore& nodes) {
+  const Index count = static_cast<Index>(nodes_.size());
+  auto push = [&](Index k) {
+    candidate_[k] = pushed_now;
+    active_.push_back(k);
+  };
+  if (definition_.mass <= 0) {
+    // A fixed wall takes any impulse without moving: every node that would pass it is pushed.
+    for (Index k = 0; k < count; ++k)
+      if (candidate_[k] && ((state_[k] & welded) || closing_[k] < 0)) push(k);
+    return 0;
+  }
+  // A moving wall: momentum along n is conserved, M V + sum m u = M V' + sum m u', and every
+  // pushed node leaves with u' = u + V' - c, so V' = (M V + sum m c) / (M + sum m) over the pushed
+  // nodes. Welded nodes are always held; a free node is pushed iff c < V'. Taking free nodes in
+  // ascending c, each one pushed lowers V' but keeps it above its own c, so the first that is
+  // not below V' ends the set.
+  Real momentum = definition_.mass * velocity_;
+  Real mass = definition_.mass;
+  for (Index k = 0; k < count; ++k)
+    if (candidate_[k] && (state_[k] & welded)) {
+      const Real m = nodes.mass[nodes_[k]];
+      momentum += m * closing_[k];
+      mass += m;
+      push(k);
+    }
+  Real v_wall = momentum / mass;
+  free_.clear();
+  for (Index k = 0; k < count; ++k)
+    if (candidate_[k] == 1 && !(state_[k] & welded) && closing_[k] < v_wall) free_.push_back(k);
+  std::sort(free_.begin(), free_.end(), [&](Index a, Index b) {
+    return closing_[a] != closing_[b] ? closing_[a] < closing_[b] : a < b;
+  });
+  for (Index k : free_) {
+    if (!(closing_[k] < v_wall)) break;
+    const Real m = nodes.mass[nodes_[k]];
+    momentum += m * closing_[k];
+    mass += m;
+    v_wall = momentum / mass;
+    push(k);
+  }
+  return v_wall;
+}
+
+void RigidWall::advance(Real dt) {
+  if (definition_.mass > 0 && active_now_) displacement_ += dt * velocity_;
+}
+
+}  // namespace spall::contact

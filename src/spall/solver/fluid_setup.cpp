@@ -1,0 +1,152 @@
+#include "spall/solver/fluid_setup.hpp"
+
+#include <cmath>
+#include <fmt/format.h>
+#include <unordered_map>
+
+#include "spall/core/log.hpp"
+#include "spall/materials/make_material.hpp"
+
+namespace spall::solver {
+
+namespace {
+
+[[noreturn]] void fail(const SourceLocation& where, const std::string& keyword,
+                       const std::string& message) {
+  throw InputError(where, keyword, message);
+}
+
+// A fluid part as the set-up needs it, checked once however many particles it has.
+struct FluidPart {
+  const model::Part* part = nullptr;
+  const model::SectionSph* section = nullptr;
+  sph::FluidMaterial material;
+  Real smoothing_length = 0;  // from SPHINI, or from CSLH and the largest spacing (below)
+  Real spacing = 0;
+};
+
+FluidPart resolve_fluid_part(const model::Model& model, Id pid) {
+  const model::Part& part = *model.find_part(pid);
+  const auto sec = model.sections.find(part.secid);
+  if (sec == model.sections.end() || !std::holds_alternative<model::SectionSph>(sec->second))
+    fail(part.where, "*PART",
+         fmt::format("part {} has SPH particles but section {} is not a *SECTION_SPH", part.id,
+                     part.secid));
+  const auto& section = std::get<model::SectionSph>(sec->second);
+  if (section.sphkern != 0)
+    fail(section.where, "*SECTION_SPH",
+         fmt::format("SPHKERN {}: the SPH fluid (part {}) has the cubic spline (0) only",
+                     section.sphkern, part.id));
+  if (section.death < 1e20 || section.start > 0)
+    fail(section.where, "*SECTION_SPH", "DEATH/START: particle birth and death are not implemented yet");
+  if (part.hgid != 0)
+    fail(part.where, "*PART",
+         fmt::format("part {}: HGID {}: *HOURGLASS controls are not supported", part.id, part.hgid));
+  // MAT_NULL + EOS through the material library (it refuses a MAT_NULL without EOS).
+  const materials::Material library = materials::make_material(model, part);
+  FluidPart fluid{&part, &section, {}, 0, 0};
+  auto& m = fluid.material;
+  m.density = library.density;
+  m.eos = library.eos;
+  m.specific_energy = library.initial_specific_energy;
+  m.dynamic_viscosity = std::get<materials::Null>(library.strength).viscosity;
+  m.pressure_cutoff = library.pressure_cutoff;  // MAT_NULL PC (0: no tension)
+  if (!(m.density > 0))
+    fail(part.where, "*PART", fmt::format("part {}: its *MAT_NULL needs RO > 0", part.id));
+  if (!(m.reference_sound_speed() > 0))
+    fail(part.where, "*PART",
+         fmt::format("part {}: the equation of state {} gives no sound speed at RO {:g}; a "
+                     "liquid needs dp/drho > 0",
+                     part.id, part.eosid, m.density));
+  return fluid;
+}
+
+// LS-DYNA varies h with the density by default (HMIN 0.2, HMAX 2); a weakly compressible liquid
+// changes density by about 1 %, so h would change by under 1 %: the fluid keeps h constant and
+// says so once.
+void warn_constant_h_once(const model::SectionSph& section, bool& warned) {
+  if (warned || (section.hmin == 1.0 && section.hmax == 1.0)) return;
+  warned = true;
+  log::warning(fmt::format("{}:{}: *SECTION_SPH: HMIN {} HMAX {}: the SPH fluid keeps its "
+                           "smoothing length constant (its density varies by about 1 %); set "
+                           "HMIN = HMAX = 1.0 to say so in the deck",
+                           section.where.file, section.where.line, section.hmin, section.hmax));
+}
+
+}  // namespace
+
+bool is_fluid_part(const model::Model& model, Id pid) {
+  const model::Part* part = model.find_part(pid);
+  if (!part) return false;
+  const auto mat = model.materials.find(part->mid);
+  return mat != model.materials.end() && std::holds_alternative<model::MatNull>(mat->second.params);
+}
+
+std::unique_ptr<sph::FluidFormulation> build_fluid(const model::Model& model,
+                                                   const std::vector<FluidParticle>& particles,
+                                                   const sph::ArtificialViscosity& viscosity,
+                                                   int dimension, NodeStore& nodes,
+                                                   std::vector<Id>& part_of_node) {
+  if (const auto& c = model.control_sph; c && (c->start > 0 || c->dt < 1e20))
+    fail(c->card_where[0], "*CONTROL_SPH",
+         fmt::format("START {:g} / DT {:g}: the SPH fluid has no start or death time", c->start, c->dt));
+  std::unordered_map<Id, FluidPart> parts;
+  const FluidPart* first = nullptr;
+  bool warned = false;
+  for (const auto& p : particles) {
+    const model::ElementSph& e = *p.element;
+    auto found = parts.find(e.pid);
+    if (found == parts.end()) {
+      found = parts.emplace(e.pid, resolve_fluid_part(model, e.pid)).first;
+      const FluidPart& part = found->second;
+      warn_constant_h_once(*part.section, warned);
+      // One liquid: the parts (fluid and its dynamic-boundary walls) share one material.
+      if (!first) {
+        first = &part;
+      } else if (part.part->mid != first->part->mid || part.part->eosid != first->part->eosid) {
+        fail(part.part->where, "*PART",
+             fmt::format("part {}: MID {} EOSID {}, but SPH fluid part {} has MID {} EOSID {}: "
+                         "the SPH fluid takes one liquid (one MID and EOSID for all its parts)",
+                         part.part->id, part.part->mid, part.part->eosid, first->part->id,
+                         first->part->mid, first->part->eosid));
+      }
+    }
+    FluidPart& part = found->second;
+    const Real mass = e.mass > 0 ? e.mass : -e.mass * part.material.density;
+    if (!(mass > 0)) fail(e.where, "*ELEMENT_SPH", fmt::format("MASS: particle {} has no mass", e.nid));
+    nodes.mass[p.node] = mass;
+    part_of_node[p.node] = e.pid;
+    // In plane strain masses are per unit thickness and the particles stay in their plane.
+    const Real spacing = dimension == 2 ? std::sqrt(mass / part.material.density)
+                                        : std::cbrt(mass / part.material.density);
+    part.spacing = std::max(part.spacing, spacing);
+    if (dimension == 2) nodes.fixed[p.node] |= 1u << 2;
+  }
+  // LS-DYNA: h = CSLH x initial spacing, unless SPHINI gives h; the fluid takes one h for all.
+  Real h = 0;
+  const FluidPart* h_part = nullptr;
+  for (auto& [pid, part] : parts) {
+    part.smoothing_length =
+        part.section->sphini > 0 ? part.section->sphini : part.section->cslh * part.spacing;
+    if (!h_part || part.part->id < h_part->part->id) h = part.smoothing_length, h_part = &part;
+  }
+  for (const auto& [pid, part] : parts)
+    if (std::abs(part.smoothing_length - h) > 1e-9 * h)
+      fail(part.section->where, "*SECTION_SPH",
+           fmt::format("part {} has h = {:g} but SPH fluid part {} has h = {:g}: the SPH fluid "
+                       "takes one smoothing length (give its parts the same spacing and CSLH, "
+                       "or SPHINI)",
+                       part.part->id, part.smoothing_length, h_part->part->id, h));
+  sph::FluidParameters parameters;
+  parameters.material = first->material;
+  parameters.smoothing_length = h;
+  parameters.viscosity = viscosity;
+  parameters.dimension = dimension;
+  std::vector<Index> particle_nodes;
+  particle_nodes.reserve(particles.size());
+  for (const auto& p : particles) particle_nodes.push_back(p.node);
+  std::sort(particle_nodes.begin(), particle_nodes.end());  // node (cell) order
+  return std::make_unique<sph::FluidFormulation>(parameters, particle_nodes, nodes);
+}
+
+}  // namespace spall::solver

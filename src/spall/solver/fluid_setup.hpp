@@ -1,0 +1,29 @@
+#pragma once
+// The SPH fluid of a model: its *MAT_NULL parts (with their *EOS_), checked, as one
+// FluidFormulation. Called by build_problem for the particles of those parts.
+#include <memory>
+#include <vector>
+
+#include "spall/model/model.hpp"
+#include "spall/solver/node_store.hpp"
+#include "spall/sph/fluid.hpp"
+
+namespace spall::solver {
+
+// True when part `pid` exists and its material is a *MAT_NULL: its particles are liquid.
+bool is_fluid_part(const model::Model& model, Id pid);
+
+struct FluidParticle {
+  const model::ElementSph* element = nullptr;
+  Index node = 0;
+};
+
+// Sets the particles' masses and part IDs on the nodes (and holds z in plane strain) and returns
+// the formulation; throws InputError at the card for what the fluid cannot run.
+std::unique_ptr<sph::FluidFormulation> build_fluid(const model::Model& model,
+                                                   const std::vector<FluidParticle>& particles,
+                                                   const sph::ArtificialViscosity& viscosity,
+                                                   int dimension, NodeStore& nodes,
+                                                   std::vector<Id>& part_of_node);
+
+}  // namespace spall::solver

@@ -1,0 +1,139 @@
+#pragma once
+// Weakly compressible SPH for liquids (Monaghan 1994, J. Comput. Phys. 110:399), seed 000 eqs. 4-6
+// (m dv/dt = pressure force + viscous force + external force):
+//   continuity      d rho_a/dt = sum_b m_b (v_a - v_b) . grad_a W_ab
+//   Tait/Murnaghan  p = K0 [(rho / rho0)^gamma - 1],  K0 = rho0 c0^2 / gamma (or another EOS)
+//   pressure        f_a = - sum_b m_a m_b (p_a / rho_a^2 + p_b / rho_b^2) grad_a W_ab
+//   art. viscosity  f_a = - sum_b m_a m_b Pi_ab grad_a W_ab  (Monaghan 1992, with c_ab = c0)
+//   laminar visc.   f_a = sum_b m_a m_b (mu_a + mu_b) / (rho_a rho_b)
+//                             (x_ab . grad_a W_ab) / (r_ab^2 + 0.01 h^2) v_ab
+//                   (Morris, Fox & Zhu 1997, J. Comput. Phys. 136:214)
+//   external        gravity and other base accelerations come from the time loop (*LOAD_BODY)
+// Every pair term is antisymmetric in a and b, so linear momentum is conserved to round-off.
+//
+// Walls: a particle whose three translations are held by SPCs is a dynamic boundary particle
+// (Crespo, Gomez-Gesteira & Dalrymple 2007, CMC 5:173; DualSPHysics): it takes part in continuity
+// and pressure like the fluid but does not move, and its density is kept >= rho0 so that it never
+// pulls fluid in.
+//
+// One pair pass per step, no stored neighbour list (memory: docs/THEORY.md):
+// - The forces at step n need every neighbour's density at step n, which the same pass's
+//   continuity sum only gives afterwards. So the pass uses densities predicted from the two last
+//   rates, rho~^n = rho^{n-1} + dt (2 rho'^{n-1} - rho'^{n-2}); the rate it computes then corrects
+//   rho^n = rho^{n-1} + dt rho'^n. For an acoustic mode of frequency w this predictor-corrector is
+//   stable for w dt < 0.72 (and damps the highest modes slightly); the lagged update
+//   rho^n = rho^{n-1} + dt rho'^{n-1} alone is unstable for every dt.
+// - Particles are kept in cell order; each one screens the particles of the 27 cells around its
+//   own and interacts with those inside the support. Cells (edge = support + skin) are rebuilt,
+//   and the particles re-sorted, when the particles may have moved more than skin / 2 since the
+//   last rebuild: the bound is the sum over steps of dt max |v|, so no reference positions are
+//   stored.
+// - Positions and velocities are copied each step into single-precision arrays in cell order; the
+//   pair terms are evaluated in single precision by one sequence of operations for every pair, so
+//   the term of (a, b) is bitwise minus that of (b, a), and summed in double.
+#include <limits>
+#include <vector>
+
+#include "spall/materials/eos.hpp"
+#include "spall/neighbors/cell_list.hpp"
+#include "spall/solver/formulation.hpp"
+#include "spall/sph/artificial_viscosity.hpp"
+
+namespace spall::sph {
+
+// A liquid: its rest density, a barotropic equation of state from the material library (Tait /
+// Murnaghan for weakly compressible water; Grueneisen and the linear polynomial are evaluated at
+// the fixed specific energy e0), a dynamic viscosity and a pressure cutoff.
+struct FluidMaterial {
+  Real density = 0;  // rho0
+  materials::EquationOfState eos = materials::Murnaghan{};
+  Real specific_energy = 0;    // e0 (per unit mass) at which the EOS is evaluated
+  Real dynamic_viscosity = 0;  // mu (Morris laminar viscosity); 0 for none
+  Real pressure_cutoff = -std::numeric_limits<Real>::infinity();  // p >= cutoff (MAT_NULL PC)
+
+  // Tait / Murnaghan water, p = K0 [(rho / rho0)^gamma - 1] with K0 = rho0 c0^2 / gamma.
+  static FluidMaterial tait(Real rho0, Real c0, Real gamma, Real mu);
+  Real pressure(Real rho) const;
+  // c = sqrt(K_s / rho), K_s the isentropic bulk modulus of the EOS (c^2 = dp/drho when the EOS
+  // does not depend on e).
+  Real sound_speed_at(Real rho) const;
+  Real reference_sound_speed() const { return sound_speed_at(density); }  // c0
+};
+
+struct FluidParameters {
+  FluidMaterial material;
+  Real smoothing_length = 0;  // LS-DYNA's h, one for every particle; the kernel support is 2h
+  ArtificialViscosity viscosity;
+  Real skin = 0.1;  // cell edge = (1 + skin) * support
+  // 3, or 2 for plane strain in x-y: every particle at one z, masses per unit thickness, the
+  // two-dimensional kernel (LS-DYNA *CONTROL_SPH IDIM = 2).
+  int dimension = 3;
+};
+
+class FluidFormulation final : public solver::Formulation {
+ public:
+  // `particle_nodes`: the node of each particle; masses come from the node store.
+  FluidFormulation(const FluidParameters& parameters, const std::vector<Index>& particle_nodes,
+                   const solver::NodeStore& nodes);
+
+  const char* name() const override { return "SPH fluid"; }
+  void compute_forces(solver::NodeStore& nodes, Real dt) override;
+  Real stable_time_step(const solver::NodeStore& nodes) const override;
+  Power internal_power(std::span<const Vec3> v) const override;
+  void add_fields(std::vector<io::output::PointField>& fields,
+                  const solver::NodeStore& nodes) const override;
+  Real max_wave_speed() const override;
+
+  Index particle_count() const { return static_cast<Index>(node_.size()); }
+  const FluidParameters& parameters() const { return parameters_; }
+  // Bytes held by the formulation: its per-particle arrays and the cell list.
+  std::size_t memory_bytes() const;
+  // Number of particles inside the support of each particle (self excluded), in particle
+  // order (node_of(a) is particle a's node), on the positions of the last pass.
+  std::vector<Index> neighbour_counts() const;
+  Index node_of(Index particle) const { return node_[particle]; }
+
+ private:
+  void rebuild_cells(const solver::NodeStore& nodes);
+  void gather(const solver::NodeStore& nodes, Real dt);
+  void pair_pass(solver::NodeStore& nodes, Real dt);
+  // Calls visit(own cell, neighbourhood ranges, range count) for every cell, in an `omp for`;
+  // with skip_inactive, cells without moving particles around get no ranges.
+  template <typename Visit>
+  void for_each_cell_neighbourhood(bool skip_inactive, Visit&& visit) const;
+
+  FluidParameters parameters_;
+  Real support_ = 0;  // H = 2h
+
+  // Per particle, in cell order (structure of arrays).
+  std::vector<Index> node_;
+  std::vector<float> mass_;
+  std::vector<Real> density_;        // rho^n (corrected)
+  std::vector<float> rate_;           // rho'^n
+  std::vector<float> previous_rate_;  // rho'^{n-1}
+  // Per step: positions relative to origin_ and velocities, single precision; the inverse of the
+  // predicted density and p / rho^2 the pair pass reads.
+  std::vector<float> x_, y_, z_, vx_, vy_, vz_;
+  std::vector<float> inverse_density_;
+  std::vector<float> pressure_term_;
+  // The last internal forces, for internal_power: pressure part and viscous part.
+  std::vector<float> pressure_force_;  // 3 per particle
+  std::vector<float> viscous_force_;   // 3 per particle
+
+  neighbors::CellList cells_;
+  // Per cell: 1 when a moving (non-wall) particle is in the cell or its 26 neighbours. Wall
+  // particles of other cells have no moving particle in their support until the next rebuild,
+  // so their continuity rate is exactly zero and they are skipped.
+  std::vector<std::uint8_t> active_cell_;
+  Vec3 origin_ = Vec3::Zero();
+  bool cells_built_ = false;
+  bool first_pass_ = true;
+  Real travelled_ = 0;  // bound on any particle's displacement since the cells were built
+  // From the last pass, for the stable step and the runaway check.
+  Real max_speed_ = 0;
+  Real max_sound_speed_ = 0;
+  Real max_acceleration_ = 0;
+  Real max_mu_ = 0;  // largest |mu_ab| of an approaching pair (Monaghan's viscosity)
+};
+
+}  // namespace spall::sph

@@ -1,0 +1,54 @@
+#!/usr/bin/env bash
+# The examples as their READMEs describe them: each committed deck is what its generator writes
+# with the options the README names, `spall check` accepts it, and the post-processing tools
+# (taylor_bar_shape.py, compression_force.py, render_particles.py) work on the output of real,
+# coarse runs of the same scenes. Arguments, as CTest passes them: CLI SOURCE_DIR SHARED_DIR.
+set -euo pipefail
+cli=$1
+source_dir=$2
+py=/usr/bin/python3  # Debian's interpreter: python3-vtk9, numpy, matplotlib
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+fail() { echo "FAIL: $*"; exit 1; }
+# The coarse runs are a few hundred particles: one thread, and no spinning waits on shared cores.
+export OMP_WAIT_POLICY=passive
+examples=$source_dir/examples
+tools=$source_dir/tools
+
+# Generators reproduce the committed decks.
+python3 "$tools/make_taylor_bar_deck.py" --across 12 | cmp -s - "$examples/taylor_bar/taylor_bar.k" ||
+  fail "examples/taylor_bar/taylor_bar.k is not what make_taylor_bar_deck.py --across 12 writes"
+for scene in ductile iron; do
+  python3 "$tools/make_compression_deck.py" --scene $scene | cmp -s - "$examples/compression_$scene/compression_$scene.k" ||
+    fail "examples/compression_$scene/compression_$scene.k is not what make_compression_deck.py --scene $scene writes"
+done
+
+for deck in "$examples"/*/*.k; do
+  "$cli" check "$deck" >"$work/check.log" 2>&1 || { cat "$work/check.log"; fail "spall check $deck"; }
+done
+
+# A coarse Taylor bar, 20 us after impact: shorter and with a wider foot than at t = 0.
+python3 "$tools/make_taylor_bar_deck.py" --across 4 --end-time 20e-6 --outputs 2 >"$work/taylor.k"
+"$cli" run "$work/taylor.k" -o "$work/taylor" --threads 1 >/dev/null 2>&1 || fail "run of the coarse Taylor bar"
+"$py" "$tools/taylor_bar_shape.py" "$work/taylor" >"$work/shape" || fail "taylor_bar_shape.py"
+awk '/^L\/L0/ { l = $2 } /^R\/R0/ { r = $2 } END { exit !(l > 0.5 && l < 1 && r > 1) }' "$work/shape" ||
+  fail "shape after impact: $(cat "$work/shape")"
+
+# Pictures: a planar cut of two files on one colour scale, and the colour-field surface.
+"$py" "$tools/render_particles.py" "$work/taylor/d3plot_00000.vtu" "$work/taylor/d3plot_00002.vtu" \
+  --field effective_plastic_strain --view xz --cut -o "$work/cut.png" >/dev/null || fail "render --cut"
+"$py" "$tools/render_particles.py" "$work/taylor/d3plot_00002.vtu" --field pressure --view iso --surface \
+  -o "$work/surface.png" >/dev/null || fail "render --surface"
+for png in cut surface; do
+  head -c 8 "$work/$png.png" | od -An -tx1 | tr -d ' \n' | grep -qx '89504e470d0a1a0a' || fail "$png.png is not a PNG"
+done
+"$py" "$tools/render_particles.py" "$work/taylor/d3plot_00000.vtu" --field no_such_field -o "$work/x.png" \
+  2>"$work/err" && fail "a missing field was accepted"
+grep -q "no point field 'no_such_field'" "$work/err" || fail "missing-field message: $(cat "$work/err")"
+
+# A coarse frictionless compression to 10 %: both walls report forces; the table has ten rows.
+python3 "$tools/make_compression_deck.py" --scene ductile --across 5 --strain 0.1 --outputs 2 >"$work/squeeze.k"
+"$cli" run "$work/squeeze.k" -o "$work/squeeze" --threads 1 >/dev/null 2>&1 || fail "run of the coarse compression"
+"$py" "$tools/compression_force.py" "$work/squeeze" --flow 0.1 0 1 >"$work/force" || fail "compression_force.py"
+[ "$(awk '$2 ~ /^0\.[0-9]+$/ && NF == 7' "$work/force" | wc -l)" -eq 10 ] || fail "force table: $(cat "$work/force")"
+echo "examples: OK"

@@ -1,0 +1,123 @@
+#pragma once
+// The Taylor bar of Wilkins & Guinan 1973 (J. Appl. Phys. 44:1200), test 1: an OFHC copper rod,
+// L0 = 23.47 mm, D0 = 7.62 mm, hitting a rigid wall at 210 m/s; Johnson & Cook's (1983) copper
+// constants (reference/validation.md §1(b)). SI units. Built in code for the verification test and
+// the benchmark; examples/taylor_bar has the same scene as a deck.
+#include <cmath>
+#include <cstdio>
+
+#include "spall/model/model.hpp"
+#include "spall/solver/simulation.hpp"
+
+namespace spall::test_support {
+
+struct TaylorBar {
+  Real length = 23.47e-3, diameter = 7.62e-3, speed = 210;
+  int particles_across = 10;  // lattice spacing D0 / particles_across
+  Real end_time = 80e-6;
+  Real cslh = 1.2;
+};
+
+inline model::Model taylor_bar_model(const TaylorBar& bar) {
+  model::Model m;
+  m.parts.push_back({1, "copper rod", 1, 1, 0, 0, {}});
+  model::SectionSph section;
+  section.id = 1;
+  section.cslh = bar.cslh;
+  m.sections[1] = section;
+  model::MatJohnsonCook jc;
+  jc.ro = 8960;
+  jc.e = 124e9;
+  jc.pr = 0.34;
+  jc.g = jc.e / (2 * (1 + jc.pr));
+  jc.a = 90e6;
+  jc.b = 292e6;
+  jc.n = 0.31;
+  jc.c = 0.025;
+  jc.m = 1.09;
+  jc.tm = 1356;
+  jc.tr = 298;
+  jc.epso = 1;
+  jc.cp = 383;
+  jc.pc = -1.0e9;  // tension limited at 1 GPa, about copper's spall strength; not reached here
+  jc.spall = 1;
+  model::Material mat;
+  mat.id = 1;
+  mat.keyword = "*MAT_JOHNSON_COOK";
+  mat.params = jc;
+  m.materials[1] = mat;
+
+  const Real dx = bar.diameter / bar.particles_across;
+  const Real radius = bar.diameter / 2;
+  const int layers = static_cast<int>(std::lround(bar.length / dx));
+  std::vector<Vec3> positions;
+  for (int k = 0; k < layers; ++k)
+    for (int j = 0; j < bar.particles_across; ++j)
+      for (int i = 0; i < bar.particles_across; ++i) {
+        const Real x = (i + 0.5) * dx - radius, y = (j + 0.5) * dx - radius;
+        if (x * x + y * y < radius * radius) positions.emplace_back(x, y, (k + 0.5) * bar.length / layers);
+      }
+  // Equal masses that add up to the rod's mass.
+  const Real mass = jc.ro * M_PI * radius * radius * bar.length / static_cast<Real>(positions.size());
+  Id id = 1;
+  for (const Vec3& x : positions) {
+    m.nodes.push_back({id, x, 0, 0, {}});
+    m.sph_elements.push_back({id, 1, mass, {}});
+    model::InitialVelocityNode iv;
+    iv.nid = id;
+    iv.v = Vec3(0, 0, -bar.speed);
+    m.initial_velocity_nodes.push_back(iv);
+    ++id;
+  }
+  model::RigidWallPlanar wall;  // z = 0, normal +z, frictionless
+  wall.tail = Vec3::Zero();
+  wall.head = Vec3(0, 0, 1);
+  wall.keyword = "*RIGIDWALL_PLANAR";
+  m.rigid_walls.push_back(wall);
+  model::ControlTermination term;
+  term.endtim = bar.end_time;
+  m.termination = term;
+  return m;
+}
+
+struct TaylorShape {
+  Real length_ratio = 0, radius_ratio = 0;  // L/L0 and R/R0
+};
+
+// Length from the wall to the far end, and the largest radius (the foot's: the mushroom is widest
+// there); each particle stands for a cell of one spacing, so half a spacing is added beyond the
+// centres.
+inline std::pair<Real, Real> rod_extent(const solver::NodeStore& nodes, Real dx) {
+  Real length = 0, radius = 0;
+  for (Index i = 0; i < nodes.size(); ++i) {
+    length = std::max(length, nodes.x[i].z() + dx / 2);
+    radius = std::max(radius, nodes.x[i].head<2>().norm() + dx / 2);
+  }
+  return {length, radius};
+}
+
+// Runs the bar and returns its final shape. The ratios divide by the same measure of the rod before
+// impact (the lattice's own length and radius: a square lattice cut to a circle overshoots D0/2 by
+// up to half a cell). Prints the shape and energy every 10 us.
+inline TaylorShape run_taylor_bar(const TaylorBar& bar) {
+  const model::Model model = taylor_bar_model(bar);
+  solver::Problem problem = solver::build_problem(model);
+  const Real dx = bar.diameter / bar.particles_across;
+  const auto [length0, radius0] = rod_extent(problem.nodes, dx);
+  solver::Observer observer;
+  problem.controls.glstat_dt = 10e-6;
+  observer.on_history = [&](const solver::StepInfo& step, const solver::Energies& e) {
+    const auto [length, radius] = rod_extent(problem.nodes, dx);
+    std::printf("t %.1f us: L/L0 %.4f  R/R0 %.4f  KE %.4g J  ratio %.4f\n", step.time * 1e6,
+                length / length0, radius / radius0, e.kinetic, e.ratio());
+  };
+  solver::run(problem, observer);
+  const auto [length, radius] = rod_extent(problem.nodes, dx);
+  const TaylorShape shape{length / length0, radius / radius0};
+  std::printf("Taylor bar D0/%d: L/L0 %.4f (measured 0.630, %+.1f %%), R/R0 %.4f (measured 2.204, %+.1f %%)\n",
+              bar.particles_across, shape.length_ratio, 100 * (shape.length_ratio / 0.630 - 1),
+              shape.radius_ratio, 100 * (shape.radius_ratio / 2.204 - 1));
+  return shape;
+}
+
+}  // namespace spall::test_support
