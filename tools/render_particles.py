@@ -213,6 +213,7 @@ def main():
     parser.add_argument("--width", type=float, default=4.0, help="inches per panel")
     parser.add_argument("--height", type=float, default=4.0, help="inches")
     parser.add_argument("--dpi", type=int, default=100)
+    parser.add_argument("--part", type=int, nargs="+", help="draw only the particles of these parts (part_id)")
     args = parser.parse_args()
     if args.labels and len(args.labels) != len(args.vtu):
         sys.exit("render_particles: --labels needs one label per file")
@@ -224,7 +225,13 @@ def main():
         grid = read(path)
         x = vtk_to_numpy(grid.GetPoints().GetData()).astype(float)
         h = point_field(grid, path, "smoothing_length", None) if args.surface else None
-        frames.append((x, point_field(grid, path, args.field, args.component), h))
+        values = point_field(grid, path, args.field, args.component)
+        if args.part:
+            keep = numpy.isin(point_field(grid, path, "part_id", None), args.part)
+            if not keep.any():
+                sys.exit(f"render_particles: {path}: no particle of part(s) {args.part}")
+            x, values, h = x[keep], values[keep], (h[keep] if h is not None else None)
+        frames.append((x, values, h))
     dx = args.spacing or spacing(frames[0][0])
     # One frame for all panels, so that they compare at one scale.
     limits = (numpy.min([x.min(axis=0) for x, _, _ in frames], axis=0),
