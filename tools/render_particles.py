@@ -14,6 +14,8 @@ Several files make panels side by side on one colour scale (e.g. before and afte
               c(x) = sum_b V_b W(x - x_b, h_b) (seed 000 eq. 10, cubic spline of support 2 h_b),
               found by marching cubes (VTK's flying edges) on a grid of half a spacing, each
               triangle coloured by the field of the particle nearest to it.
+--categories colours the field `category` (*SPALL_SPH_COLOUR_FIELD) as seed 000 Figure 4 does:
+surface green, inner layer red, interior blue.
 The particle volume V_b = m_b / rho_b is (h_b / CSLH)^3 while h follows the density
 (h = CSLH (m / rho)^(1/3), docs/THEORY.md), so --cslh must be the deck's (default 1.2).
 
@@ -35,6 +37,8 @@ from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
 from vtk.util.numpy_support import numpy_to_vtk, vtk_to_numpy  # noqa: E402
 
 AXES = {"x": 0, "y": 1, "z": 2}
+# Seed 000 Figure 4's colours for the field `category` (0 interior, 1 inner layer, 2 surface).
+CATEGORIES = [("interior", "tab:blue"), ("inner layer", "tab:red"), ("surface", "tab:green")]
 COMPONENTS = {"x": 0, "y": 1, "z": 2, "xx": 0, "yy": 1, "zz": 2, "xy": 3, "yz": 4, "zx": 5}
 
 
@@ -210,9 +214,13 @@ def main():
     parser.add_argument("--labels", nargs="+", help="one title per panel")
     parser.add_argument("--title", help="title above all panels")
     parser.add_argument("--cmap", default="viridis")
+    parser.add_argument("--categories", action="store_true",
+                        help="colour the field `category` as seed 000 Figure 4 (surface green, inner red, interior blue)")
     parser.add_argument("--width", type=float, default=4.0, help="inches per panel")
-    parser.add_argument("--height", type=float, default=4.0, help="inches")
+    parser.add_argument("--height", type=float, default=4.0, help="inches (per panel with --stack)")
+    parser.add_argument("--stack", action="store_true", help="panels one above the other (long bodies)")
     parser.add_argument("--dpi", type=int, default=100)
+    parser.add_argument("--part", type=int, nargs="+", help="draw only the particles of these parts (part_id)")
     args = parser.parse_args()
     if args.labels and len(args.labels) != len(args.vtu):
         sys.exit("render_particles: --labels needs one label per file")
@@ -224,21 +232,35 @@ def main():
         grid = read(path)
         x = vtk_to_numpy(grid.GetPoints().GetData()).astype(float)
         h = point_field(grid, path, "smoothing_length", None) if args.surface else None
-        frames.append((x, point_field(grid, path, args.field, args.component), h))
+        values = point_field(grid, path, args.field, args.component)
+        if args.part:
+            keep = numpy.isin(point_field(grid, path, "part_id", None), args.part)
+            if not keep.any():
+                sys.exit(f"render_particles: {path}: no particle of part(s) {args.part}")
+            x, values, h = x[keep], values[keep], (h[keep] if h is not None else None)
+        frames.append((x, values, h))
     dx = args.spacing or spacing(frames[0][0])
     # One frame for all panels, so that they compare at one scale.
     limits = (numpy.min([x.min(axis=0) for x, _, _ in frames], axis=0),
               numpy.max([x.max(axis=0) for x, _, _ in frames], axis=0))
-    low = min(v.min() for _, v, _ in frames) if args.range is None else args.range[0]
-    high = max(v.max() for _, v, _ in frames) if args.range is None else args.range[1]
-    norm = matplotlib.colors.Normalize(vmin=low, vmax=high if high > low else low + 1)
-    cmap = matplotlib.colormaps[args.cmap]
+    if args.categories:
+        if args.field != "category" or args.range:
+            sys.exit("render_particles: --categories goes with --field category and no --range")
+        low, high = -0.5, len(CATEGORIES) - 0.5
+        cmap = matplotlib.colors.ListedColormap([colour for _, colour in CATEGORIES])
+        norm = matplotlib.colors.BoundaryNorm(numpy.arange(len(CATEGORIES) + 1) - 0.5, len(CATEGORIES))
+    else:
+        low = min(v.min() for _, v, _ in frames) if args.range is None else args.range[0]
+        high = max(v.max() for _, v, _ in frames) if args.range is None else args.range[1]
+        norm = matplotlib.colors.Normalize(vmin=low, vmax=high if high > low else low + 1)
+        cmap = matplotlib.colormaps[args.cmap]
 
-    fig = plt.figure(figsize=(args.width * len(frames) + 1.2, args.height), dpi=args.dpi, layout="constrained")
+    rows, columns = (len(frames), 1) if args.stack else (1, len(frames))
+    fig = plt.figure(figsize=(args.width * columns + 1.2, args.height * rows), dpi=args.dpi, layout="constrained")
     axes, markers = [], []
     for k, (x, values, h) in enumerate(frames):
         projection = "3d" if args.view == "iso" else None
-        ax = fig.add_subplot(1, len(frames), k + 1, projection=projection)
+        ax = fig.add_subplot(rows, columns, k + 1, projection=projection)
         if args.view == "iso":
             draw_iso(ax, x, values, args.surface, h, args.cslh, dx, limits, norm, cmap, args.scale)
         else:
@@ -258,6 +280,8 @@ def main():
         (data_low < low, data_high > high)]
     bar = fig.colorbar(matplotlib.cm.ScalarMappable(norm=norm, cmap=cmap), ax=axes, shrink=0.9, extend=extend)
     bar.set_label(args.field_label or args.field + (f" {args.component}" if args.component else ""))
+    if args.categories:
+        bar.set_ticks(range(len(CATEGORIES)), labels=[name for name, _ in CATEGORIES])
     if args.title:
         fig.suptitle(args.title, fontsize=11)
     fig.canvas.draw()  # lays the figure out, so that the axes have their final size

@@ -14,6 +14,9 @@ double Progress::elapsed_seconds() const {
 }
 
 void Progress::update(const spall::solver::StepInfo& step) {
+  // The state at the end time is reached by a step of length zero (the velocity synchronisation);
+  // the line shows the last step actually taken.
+  if (step.dt > 0) last_dt_ = step.dt;
   if (terminal_) {
     const auto now = Clock::now();
     if (now - last_print_ < std::chrono::milliseconds(250)) return;
@@ -37,7 +40,7 @@ void Progress::print(const spall::solver::StepInfo& step, bool final) {
   const double eta = fraction > 0 ? seconds * (1 - fraction) / fraction : 0;
   const std::string line =
       fmt::format("t {:.4e} ({:5.1f}%)  step {}  dt {:.3e}  {:.3e} particle-steps/s  ETA {:.0f} s",
-                  step.time, 100 * fraction, step.step, step.dt, rate, eta);
+                  step.time, 100 * fraction, step.step, last_dt_, rate, eta);
   if (terminal_)
     fmt::print(stderr, "\r{}{}", line, final ? "\n" : "   ");
   else

@@ -23,6 +23,7 @@ class Progress {
   bool terminal_;
   Clock::time_point start_ = Clock::now();
   Clock::time_point last_print_ = start_;
+  spall::Real last_dt_ = 0;
   int next_decile_ = 1;
 };
 

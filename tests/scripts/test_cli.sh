@@ -79,13 +79,13 @@ python3 "$source_dir/tools/make_spg_tension_deck.py" --elements 10 --end-time 4e
 "${read_vtu[@]}" "$(ls "$work/spg_out"/d3plot_*.vtu | tail -n 1)" --field effective_plastic_strain \
   --field broken_bonds --field bond_damage --field bond_count >"$work/spg_fields" || fail "SPG fields"
 grep -qx 'points 99' "$work/spg_fields" || fail "SPG point count: $(grep points "$work/spg_fields")"
-sed 's/^         1       0.6       1.2         1$/         2       0.6       1.2         1/' "$work/spg.k" >"$work/spg_idam.k"
+sed 's/^         1       0.6       1.2         1$/         5       0.6       1.2         1/' "$work/spg.k" >"$work/spg_idam.k"
 set +e
 "$cli" check "$work/spg_idam.k" 2>"$work/spg_idam.log"
 code=$?
 set -e
-[ "$code" -eq 2 ] || { cat "$work/spg_idam.log"; fail "SPG IDAM 2: exit $code"; }
-grep -Eq "spg_idam\.k:[0-9]+: \*SECTION_SOLID_SPG: IDAM 2: " "$work/spg_idam.log" || { cat "$work/spg_idam.log"; fail "SPG IDAM message"; }
+[ "$code" -eq 2 ] || { cat "$work/spg_idam.log"; fail "SPG IDAM 5: exit $code"; }
+grep -Eq "spg_idam\.k:[0-9]+: \*SECTION_SOLID_SPG: IDAM 5: " "$work/spg_idam.log" || { cat "$work/spg_idam.log"; fail "SPG IDAM message"; }
 
 # Every public deck: `spall check` answers 0 or 2 with a clear line, never a crash.
 while IFS= read -r deck; do

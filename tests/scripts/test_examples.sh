@@ -23,6 +23,9 @@ for scene in ductile iron; do
     fail "examples/compression_$scene/compression_$scene.k is not what make_compression_deck.py --scene $scene writes"
 done
 
+python3 "$tools/make_brittle_deck.py" | cmp -s - "$examples/brittle_spall/brittle_spall.k" ||
+  fail "examples/brittle_spall/brittle_spall.k is not what make_brittle_deck.py writes"
+
 for deck in "$examples"/*/*.k; do
   "$cli" check "$deck" >"$work/check.log" 2>&1 || { cat "$work/check.log"; fail "spall check $deck"; }
 done
@@ -51,4 +54,17 @@ python3 "$tools/make_compression_deck.py" --scene ductile --across 5 --strain 0.
 "$cli" run "$work/squeeze.k" -o "$work/squeeze" --threads 1 >/dev/null 2>&1 || fail "run of the coarse compression"
 "$py" "$tools/compression_force.py" "$work/squeeze" --flow 0.1 0 1 >"$work/force" || fail "compression_force.py"
 [ "$(awk '$2 ~ /^0\.[0-9]+$/ && NF == 7' "$work/force" | wc -l)" -eq 10 ] || fail "force table: $(cat "$work/force")"
+# A coarse brittle bar (4 x 4 x 40 particles; the physics is tests/verification/
+# test_sph_brittle_spall.cpp): count_fragments.py finds the scabs and their crack faces, and the
+# categories draw in seed 000 Figure 4's colours.
+python3 "$tools/make_brittle_deck.py" --across 4 --end-time 0.15 --outputs 2 >"$work/brittle.k"
+"$cli" run "$work/brittle.k" -o "$work/brittle" --threads 1 >/dev/null 2>&1 || fail "run of the coarse brittle bar"
+"$py" "$tools/count_fragments.py" "$work/brittle/d3plot_00002.vtu" >"$work/fragments" || fail "count_fragments.py"
+awk '/^fragments / { n = $2 } /^crack_face_particles / { faces = $2; surface = $4 }
+     END { exit !(n >= 2 && faces > 0 && surface > 0) }' "$work/fragments" ||
+  fail "fragments of the coarse brittle bar: $(cat "$work/fragments")"
+"$py" "$tools/render_particles.py" "$work/brittle/d3plot_00002.vtu" --field category --categories \
+  --view xz --cut -o "$work/categories.png" >/dev/null || fail "render --categories"
+head -c 8 "$work/categories.png" | od -An -tx1 | tr -d ' \n' | grep -qx '89504e470d0a1a0a' ||
+  fail "categories.png is not a PNG"
 echo "examples: OK"

@@ -158,7 +158,7 @@ TEST(SpgSetup, FieldsWithoutAnImplementationAreRefusedByName) {
       {"LSCALE", [](model::SectionSolidSpg& s) { s.lscale = 0.2; }},
       {"SWTIME", [](model::SectionSolidSpg& s) { s.column8 = 1e-3; }},
       {"ITB 3", [](model::SectionSolidSpg& s) { s.itb = 3; }},
-      {"IDAM 2", [](model::SectionSolidSpg& s) { s.idam = 2; }},
+      {"IDAM 5", [](model::SectionSolidSpg& s) { s.idam = 5; }},
       {"STRETCH", [](model::SectionSolidSpg& s) { s.stretch = 0.8; }},
       {"MSFAC", [](model::SectionSolidSpg& s) { s.msfac = 0.75; }},
       {"ISC", [](model::SectionSolidSpg& s) { s.isc = 1; }},

@@ -48,8 +48,8 @@ void link_mirrors(BondList& bonds) {
   }
 }
 
-Index break_bonds(BondList& bonds, std::span<const Real> effective_plastic_strain,
-                  std::span<const Vec3> x, Real critical_strain, Real critical_stretch) {
+Index break_bonds(BondList& bonds, std::span<const Real> quantity, std::span<const Vec3> x,
+                  Real critical_value, Real critical_stretch) {
   const Index n = bonds.size();
   Index newly_broken = 0;
   // Each side decides from the same symmetric expression, so the two flags of a bond agree.
@@ -58,8 +58,8 @@ Index break_bonds(BondList& bonds, std::span<const Real> effective_plastic_strai
     for (Index k = bonds.offsets[i]; k < bonds.offsets[i + 1]; ++k) {
       if (bonds.broken[k]) continue;
       const Index j = bonds.neighbour[k];
-      const Real strain = Real(0.5) * (effective_plastic_strain[i] + effective_plastic_strain[j]);
-      if (!(strain > critical_strain)) continue;
+      const Real average = Real(0.5) * (quantity[i] + quantity[j]);
+      if (!(average > critical_value)) continue;
       const Real stretch = (x[i] - x[j]).norm() / bonds.rest_length[k];
       if (!(stretch > critical_stretch)) continue;
       bonds.broken[k] = 1;

@@ -44,12 +44,13 @@ BondList make_bonds(const neighbors::NeighborList& list, std::span<const Vec3> x
 // Adds the broken bonds of `bonds` to the sorted list `broken_pairs`.
 void record_broken_pairs(const BondList& bonds, std::vector<BondPair>& broken_pairs);
 
-// The bond-failure rule of seed 001 eq. 14 (IDAM 1): bond K-J breaks when the bond-averaged
-// effective plastic strain (eps_K + eps_J) / 2 exceeds `critical_strain` (FS) and the relative
-// stretch |x_K - x_J| / rest length exceeds `critical_stretch` (STRETCH). Both sides of a bond see
-// the same numbers and break together. Returns the number of bonds broken now (each counted once).
-Index break_bonds(BondList& bonds, std::span<const Real> effective_plastic_strain,
-                  std::span<const Vec3> x, Real critical_strain, Real critical_stretch);
+// The bond-failure rule of seed 001 eq. 14: bond K-J breaks when the bond average (q_K + q_J) / 2
+// of the particles' failure quantity (IDAM 1: the effective plastic strain; bond_failure.hpp)
+// exceeds `critical_value` (FS) and the relative stretch |x_K - x_J| / rest length exceeds
+// `critical_stretch` (STRETCH). Both sides of a bond see the same numbers and break together.
+// Returns the number of bonds broken now (each counted once).
+Index break_bonds(BondList& bonds, std::span<const Real> quantity, std::span<const Vec3> x,
+                  Real critical_value, Real critical_stretch);
 
 // Fills mirror from offsets and neighbour (rows ascending, the pattern symmetric).
 void link_mirrors(BondList& bonds);

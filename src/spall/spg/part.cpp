@@ -341,9 +341,25 @@ void Part::update_stabilization(Real dt) {
   }
 }
 
-void Part::effective_plastic_strain(std::vector<Real>& out) const {
-  out.resize(state_.size());
-  for (std::size_t i = 0; i < state_.size(); ++i) out[i] = state_[i].plastic_strain;
+// Per particle, the quantity IDAM judges bonds on (bond_failure.hpp). Called after the kernel
+// update has folded F into F_total_, so F_total_ is the deformation from the initial configuration.
+void Part::failure_quantity(std::vector<Real>& out) const {
+  const Index n = particle_count();
+  out.resize(n);
+#pragma omp parallel for schedule(static) if (n > parallel_threshold)
+  for (Index j = 0; j < n; ++j) {
+    switch (settings_.failure_quantity) {
+      case BondFailure::plastic_strain:
+        out[j] = state_[j].plastic_strain;
+        break;
+      case BondFailure::principal_stress:
+        out[j] = max_principal_stress(state_[j].deviatoric_stress - pressure_[j] * Mat3::Identity());
+        break;
+      case BondFailure::shear_strain:
+        out[j] = max_shear_strain(F_[j] * F_total_[j]);
+        break;
+    }
+  }
 }
 
 // A particle that bond failure left without a linear approximation can neither carry nor pass on
@@ -377,8 +393,8 @@ void Part::update_kernel() {
     F_total_[j] = F_[j] * F_total_[j];
     F_[j] = Mat3::Identity();
   }
-  std::vector<Real> plastic_strain;
-  effective_plastic_strain(plastic_strain);
+  std::vector<Real> quantity;
+  failure_quantity(quantity);
   // Broken bonds per particle, over every bond ever broken (also those an Eulerian update drops).
   auto broken_per_particle = [&] {
     std::vector<Index> count(n, 0);
@@ -386,7 +402,7 @@ void Part::update_kernel() {
     return count;
   };
   const std::vector<Index> broken_before = broken_per_particle();
-  break_bonds(bonds_, plastic_strain, x_, settings_.failure_strain, settings_.failure_stretch);
+  break_bonds(bonds_, quantity, x_, settings_.failure_value, settings_.failure_stretch);
   record_broken_pairs(bonds_, broken_pairs_);
   if (settings_.kernel_update == KernelUpdate::eulerian) {
     const BondList previous = std::move(bonds_);

@@ -27,6 +27,7 @@
 #include "spall/io/output/vtu.hpp"
 #include "spall/materials/material.hpp"
 #include "spall/solver/node_store.hpp"
+#include "spall/spg/bond_failure.hpp"
 #include "spall/spg/bonds.hpp"
 #include "spall/spg/integration_constraint.hpp"
 #include "spall/spg/kernel_function.hpp"
@@ -45,7 +46,9 @@ struct PartSettings {
   KernelUpdate kernel_update = KernelUpdate::updated_lagrangian;
   int update_interval = 15;  // SMSTEP
   Stabilization stabilization = Stabilization::fluid_particle;
-  Real failure_strain = 1.0e10;  // FS (IDAM 1: effective plastic strain), or the material's FS / FAIL
+  BondFailure failure_quantity = BondFailure::plastic_strain;  // IDAM
+  // FS: the critical value of the IDAM quantity (IDAM 1: the material's FS / FAIL when it has one)
+  Real failure_value = 1.0e10;
   Real failure_stretch = 1.0;    // STRETCH
   materials::Material material;
   // eta in the stabilization stiffness kappa = eta (K + 4G/3) V / h^2; not a deck field (SPG has no
@@ -110,7 +113,7 @@ class Part {
   void smooth(std::span<const Vec3> field, std::vector<Vec3>& smoothed) const;
   void deformation(std::span<const Vec3> x, std::span<const Vec3> v, Real dt);
   void update_stabilization(Real dt);
-  void effective_plastic_strain(std::vector<Real>& out) const;
+  void failure_quantity(std::vector<Real>& out) const;
   void internal_forces();
   void correct_integration_constraint(bool at_setup);
 

@@ -41,9 +41,11 @@ PartSettings check_section(const model::SectionSolidSpg& s, Id part_id) {
          fmt::format("SWTIME {}: switching from the updated-Lagrangian to the Eulerian kernel during the "
                      "run is not implemented (column 8 is SWTIME with ITB {}; MSC only with ITB 3)",
                      s.column8, s.itb));
-  if (s.idam != 1)
+  if (s.idam < 1 || s.idam > 3)
     fail(s.where_card3, section_keyword,
-         fmt::format("IDAM {}: only bond failure on the effective plastic strain (IDAM 1) is implemented", s.idam));
+         fmt::format("IDAM {}: bond failure is implemented on the effective plastic strain (IDAM 1), the maximum "
+                     "principal stress (2) and the maximum shear strain (3) only",
+                     s.idam));
   if (s.stretch < 1)
     fail(s.where_card3, section_keyword,
          fmt::format("STRETCH {}: a compression ratio below 1 is not implemented; STRETCH >= 1 makes bonds "
@@ -64,7 +66,8 @@ PartSettings check_section(const model::SectionSolidSpg& s, Id part_id) {
   p.kernel_update = static_cast<KernelUpdate>(s.kernel);
   p.update_interval = s.smstep;
   p.stabilization = static_cast<Stabilization>(s.itb);
-  p.failure_strain = s.fs;
+  p.failure_quantity = static_cast<BondFailure>(s.idam);
+  p.failure_value = s.fs;
   p.failure_stretch = s.stretch;
   p.where = s.where_card2;
   return p;
@@ -172,7 +175,8 @@ std::vector<PartSetup> spg_parts(const model::Model& model, const std::unordered
     PartSetup setup;
     setup.settings = check_section(*spg_section(model, part), pid);
     setup.settings.material = resolve_material(model, part);
-    setup.settings.failure_strain = bond_failure_strain(setup.settings.material, setup.settings.failure_strain);
+    if (setup.settings.failure_quantity == BondFailure::plastic_strain)
+      setup.settings.failure_value = bond_failure_strain(setup.settings.material, setup.settings.failure_value);
     const auto& viscosity = model.bulk_viscosity;
     if (viscosity.type != 1 && viscosity.type != -1)
       fail(viscosity.where, "*CONTROL_BULK_VISCOSITY",

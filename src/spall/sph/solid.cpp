@@ -392,12 +392,13 @@ void SolidFormulation::add_fields(std::vector<io::output::PointField>& fields,
   std::vector<double> pressure(n_nodes, 0), von_mises(n_nodes, 0), density(n_nodes, 0),
       smoothing(n_nodes, 0), mass(n_nodes, 0), energy(n_nodes, 0), plastic_strain(n_nodes, 0), temperature(n_nodes, 0),
       stress(6 * n_nodes, 0);
-  std::vector<std::int64_t> neighbour_count(n_nodes, 0);
+  std::vector<std::int64_t> neighbour_count(n_nodes, 0), failed(n_nodes, 0);
   const auto& list = verlet_.list();
   for (Index a = 0; a < particle_count(); ++a) {
     const Index i = node_[a];
     const Mat3& S = state_[a].deviatoric_stress;
     plastic_strain[i] = state_[a].plastic_strain;
+    failed[i] = state_[a].failed;
     temperature[i] = state_[a].temperature;
     pressure[i] = pressure_[a];
     von_mises[i] = materials::von_mises(S);
@@ -420,6 +421,8 @@ void SolidFormulation::add_fields(std::vector<io::output::PointField>& fields,
   fields.push_back({"mass", 1, std::move(mass)});
   fields.push_back({"internal_energy", 1, std::move(energy)});
   fields.push_back({"effective_plastic_strain", 1, std::move(plastic_strain)});
+  // 1 once the material point has failed (spall, damage, FS): no deviatoric stress, no tension.
+  fields.push_back({"failed", 1, std::move(failed)});
   if (has_temperature_) fields.push_back({"temperature", 1, std::move(temperature)});
   if (!category_.empty()) {
     std::vector<double> colour(n_nodes, 0), normal(3 * n_nodes, 0);
