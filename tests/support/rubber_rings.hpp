@@ -3,7 +3,7 @@
 // §3, PySPH examples/solid_mech/rings.py): two elastic rings, inner radius 0.03 m, outer 0.04 m,
 // centres at x = -0.041 and +0.041 m, each moving towards the other at 0.059 c0,
 // c0 = sqrt(K / rho); E = 1e7, nu = 0.3975, rho = 1 (scaled units); 2D plane strain (*CONTROL_SPH
-// IDIM 2). Plain SPH (FORM 0) as Gray et al.; Monaghan's viscosity with alpha = beta = 1; the
+// IDIM 2). Plain SPH (FORM 0) as Gray et al. unless asked otherwise; Monaghan's viscosity with alpha = beta = 1; the
 // artificial stress (epsilon 0.3, n 4) on or off. Built in code for the verification tests.
 #include <cmath>
 
@@ -16,6 +16,7 @@ struct RubberRings {
   Real end_time = 4e-4;
   bool artificial_stress = true;
   Real cslh = 1.3;
+  int form = 0;  // *CONTROL_SPH FORM (Gray et al.: plain SPH)
 };
 
 constexpr Real ring_inner_radius = 0.03, ring_outer_radius = 0.04, ring_centre = 0.041;
@@ -46,7 +47,7 @@ inline model::Model rubber_rings_model(const RubberRings& r) {
   m.bulk_viscosity.q2 = 1.0;                                                        // alpha
   model::ControlSph control;
   control.idim = 2;
-  control.form = 0;
+  control.form = r.form;
   m.control_sph = control;
   model::ControlTermination term;
   term.endtim = r.end_time;

@@ -121,3 +121,18 @@ TEST(KernelDispatch, HandsTheRequestedKernelAndDimension) {
   });
   EXPECT_DOUBLE_EQ(w, 21 / (2 * M_PI));
 }
+
+// H times the integral of |grad W| (the stable step's reference row sum, docs/THEORY.md §3). In 1D
+// W decreases from W(0) to 0 on each side, so the integral is 2 W(0) exactly, for every kernel.
+TYPED_TEST(KernelProperties, GradientNormIntegralIn1DIsTwiceTheCentralValue) {
+  using K = TypeParam;
+  if constexpr (K::dimension == 1) EXPECT_NEAR(kernels::gradient_norm_integral<K>(), 2 * K::value(0, 1), 1e-6);
+}
+
+// The cubic spline of seed 000 eq. 3, integrated by hand: |f'(q)| = 12q - 18q^2 below 1/2 and
+// 6(1 - q)^2 above, so H int |grad W| dV = sigma int_0^1 |f'(q)| S(q) dq with the shell S = 2 pi q
+// (2D) or 4 pi q^2 (3D): 0.375 * 2 pi * 40/(7 pi) = 30/7 and 0.175 * 4 pi * 8/pi = 28/5.
+TEST(KernelGradientNormIntegral, CubicSplineByHand) {
+  EXPECT_NEAR(kernels::gradient_norm_integral<kernels::CubicSpline<2>>(), 30.0 / 7, 1e-6);
+  EXPECT_NEAR(kernels::gradient_norm_integral<kernels::CubicSpline<3>>(), 28.0 / 5, 1e-6);
+}

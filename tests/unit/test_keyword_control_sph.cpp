@@ -1,5 +1,5 @@
 // *CONTROL_SPH and Spall's SPH keywords (*SPALL_SPH_ARTIFICIAL_STRESS, *SPALL_SPH_COLOUR_FIELD,
-// *SPALL_RESIDUAL_STRESS): every field lands where it should, blank fields
+// *SPALL_SPH_TIMESTEP, *SPALL_RESIDUAL_STRESS): every field lands where it should, blank fields
 // take LS-DYNA's defaults (FORM: Spall's renormalized default), and options Spall does not run
 // stop at their card with the field named.
 #include <gtest/gtest.h>
@@ -131,6 +131,24 @@ TEST(spall_sph_keywords, ColourFieldBadInputNamesTheField) {
   const std::string message = input_error_of([&] { solver::build_problem(block); });
   EXPECT_NE(message.find("deck.k:7: *SPALL_SPH_COLOUR_FIELD: PID: part 9 has no SPH particles"), std::string::npos)
       << message;
+}
+
+TEST(spall_sph_keywords, TimestepRule) {
+  DeckFolder folder;
+  const auto plain = read_deck(folder.write("p.k", "*KEYWORD\n*SPALL_SPH_TIMESTEP\n" + row({"1"}) + "*END\n"));
+  ASSERT_TRUE(plain.sph_timestep);
+  EXPECT_EQ(plain.sph_timestep->rule, 1);
+  const auto blank = read_deck(folder.write("b.k", "*KEYWORD\n*SPALL_SPH_TIMESTEP\n" + row({""}) + "*END\n"));
+  EXPECT_EQ(blank.sph_timestep->rule, 0);  // the correction-aware step
+  const auto bad = folder.write("r.k", "*KEYWORD\n*SPALL_SPH_TIMESTEP\n" + row({"2"}) + "*END\n");
+  EXPECT_NE(input_error_of([&] { read_deck(bad); }).find("r.k:3: *SPALL_SPH_TIMESTEP: field RULE"), std::string::npos);
+  const auto twice = folder.write("t.k", "*KEYWORD\n*SPALL_SPH_TIMESTEP\n" + row({"1"}) + "*SPALL_SPH_TIMESTEP\n" + row({"0"}) + "*END\n");
+  EXPECT_NE(input_error_of([&] { read_deck(twice); }).find("t.k:4: *SPALL_SPH_TIMESTEP"), std::string::npos);
+  // Without SPH solid particles the rule would set nothing: refused at its card.
+  model::Model empty;
+  empty.sph_timestep = model::SphTimestep{1, {"deck.k", 5}};
+  const std::string message = input_error_of([&] { solver::build_problem(empty); });
+  EXPECT_NE(message.find("deck.k:5: *SPALL_SPH_TIMESTEP: RULE"), std::string::npos) << message;
 }
 
 TEST(spall_sph_keywords, ResidualStressCard) {

@@ -1,6 +1,8 @@
 #pragma once
 // The kernel a *SECTION_SPH asks for (SPHKERN), and a dispatcher that hands a computation the
 // kernel type at compile time so that the pair loops inline it.
+#include <cmath>
+#include <numbers>
 #include <stdexcept>
 
 #include "spall/kernels/cubic_spline.hpp"
@@ -25,6 +27,23 @@ decltype(auto) with_kernel(KernelKind kind, int dimension, F&& f) {
       return dimension == 2 ? f(WendlandC2<2>{}) : f(WendlandC2<3>{});
   }
   throw std::logic_error("with_kernel: unknown kernel");
+}
+
+// H times the integral of |grad W| over the support: H sum_b V_b |grad_a W_ab| for a full support
+// of particles, the row sum of the plain SPH gradient operator that the SPH solid's stable step
+// compares with (docs/THEORY.md §3). Midpoint rule in r = q H, H = 1 (the integrand is a
+// piecewise polynomial: the error is below 1e-6).
+template <typename Kernel>
+Real gradient_norm_integral() {
+  constexpr int steps = 4096;
+  constexpr Real pi = std::numbers::pi_v<Real>;
+  Real sum = 0;
+  for (int i = 0; i < steps; ++i) {
+    const Real r = (i + Real(0.5)) / steps;
+    const Real shell = Kernel::dimension == 3 ? 4 * pi * r * r : Kernel::dimension == 2 ? 2 * pi * r : 2;
+    sum += std::abs(Kernel::derivative(r, 1)) * shell;
+  }
+  return sum / steps;
 }
 
 }  // namespace spall::kernels

@@ -402,6 +402,13 @@ struct SphArtificialStress {
   SourceLocation where;
 };
 
+// *SPALL_SPH_TIMESTEP (a Spall keyword): the SPH solid's stable-step rule. RULE 0 (default):
+// h / (c max(1, ||B||) + |v|), B the gradient correction; 1: LS-DYNA's h / (c + |v|).
+struct SphTimestep {
+  int rule = 0;
+  SourceLocation where;
+};
+
 // A keyword Spall does not support: reported once as a warning. For sections, materials, EOS and
 // *DEFINE_TABLE `id` is the ID on its first card (for *PART_ variants such as *PART_INERTIA, the
 // PID), so that
@@ -441,6 +448,7 @@ struct Model {
   ControlBulkViscosity bulk_viscosity;
   std::optional<ControlSph> control_sph;
   std::optional<SphArtificialStress> sph_artificial_stress;
+  std::optional<SphTimestep> sph_timestep;
   std::vector<SphColourField> sph_colour_fields;
   std::optional<SphResidualStress> sph_residual_stress;
   std::optional<OutputInterval> d3plot;

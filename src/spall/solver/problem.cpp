@@ -150,8 +150,15 @@ class Builder {
     return {&section, it->second, table[it->second].density, 0};
   }
 
+  // *SPALL_SPH_TIMESTEP sets the SPH solid's step: without SPH solid particles it would do nothing.
+  void refuse_sph_timestep_without_solid() const {
+    if (model_.sph_timestep)
+      fail(model_.sph_timestep->where, "*SPALL_SPH_TIMESTEP",
+           "RULE: the deck has no SPH solid particles, whose stable step the rule sets");
+  }
+
   void build_sph() {
-    if (model_.sph_elements.empty()) return;
+    if (model_.sph_elements.empty()) return refuse_sph_timestep_without_solid();
     std::vector<materials::Material> table;
     std::unordered_map<Id, Index> material_index;
     std::unordered_map<Id, SphPart> parts;
@@ -204,7 +211,7 @@ class Builder {
     if (!fluid.empty())
       problem_.formulations.push_back(build_fluid(model_, fluid, options.viscosity, options.dimension,
                                                   problem_.nodes, problem_.part_of_node));
-    if (particles.empty()) return;
+    if (particles.empty()) return refuse_sph_timestep_without_solid();
     options.kernel = *kernel;
     options.colour_field = colour_fields(parts, table.size());
     options.part_ids.resize(table.size());
@@ -252,6 +259,7 @@ class Builder {
       options.artificial_stress.epsilon = stress->epsilon;
       options.artificial_stress.exponent = stress->exponent;
     }
+    if (model_.sph_timestep && model_.sph_timestep->rule == 1) options.time_step_rule = sph::TimeStepRule::plain;
     if (!model_.control_sph) return options;
     const model::ControlSph& c = *model_.control_sph;
     const auto refuse = [&](int card, std::string_view field, auto value, std::string_view why) {

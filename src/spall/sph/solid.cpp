@@ -58,6 +58,10 @@ SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
   internal_energy_.assign(n, 0);
   state_.resize(n);
   gradient_correction_matrix_.assign(n, Mat3::Identity());
+  gradient_amplification_.assign(n, 1);
+  full_support_gradient_ = kernels::with_kernel(options_.kernel, options_.dimension, [](auto kernel) {
+    return kernels::gradient_norm_integral<decltype(kernel)>();
+  });
   corrected_stress_.assign(n, Mat3::Zero());
   if (options_.artificial_stress.enabled) artificial_stress_.assign(n, Mat3::Zero());
   x_.resize(n);
@@ -139,8 +143,9 @@ void SolidFormulation::compute_rates() {
     Real drho = 0;
     Mat3 L = Mat3::Zero();
     Mat3 moment = Mat3::Zero();  // sum_b V_b (x_b - x_a) (x) grad_a W_ab, = I for a full support
+    Mat3 spread = Mat3::Zero();  // sum_b V_b grad (x) grad / |grad|, for the stable step
+    Vec3 normal = Vec3::Zero();  // sum_b V_b grad_a W_ab (seed 000 eq. 9: n = grad c_s)
     Real colour = 0;
-    Vec3 normal = Vec3::Zero();
     std::int32_t count = 0;
     for_each_neighbour_in_support<Kernel>(list, a, x_, smoothing_length_,
                                           [&](Index b, const Vec3& xab, Real r, Real H, const Vec3& grad) {
@@ -149,9 +154,10 @@ void SolidFormulation::compute_rates() {
       drho -= mass_[b] * vba.dot(grad);
       L.noalias() += volume * vba * grad.transpose();
       moment.noalias() -= volume * xab * grad.transpose();
+      normal.noalias() += volume * grad;
+      if (const Real g = grad.norm(); g > 0) spread.noalias() += (volume / g) * grad * grad.transpose();
       if (colour_on) {
         colour += volume * Kernel::value(r, H);  // seed 000 eq. 10
-        normal.noalias() += volume * grad;       // seed 000 eq. 9: n = grad c_s
         ++count;
       }
     });
@@ -174,6 +180,12 @@ void SolidFormulation::compute_rates() {
       }
     }
     gradient_correction_matrix_[a] = correction;
+    // Row sum of the gradient operator v -> L_a, sum_b V_b |B^T grad_a W_ab| + |B^T n_a| (the
+    // second term: the weight of v_a itself), relative to a full support's; the first term by
+    // Cauchy-Schwarz, sqrt(tr T tr(B^T T B)) with T = spread (exact when B = I).
+    const Real row_sum = std::sqrt(spread.trace() * (correction.transpose() * spread * correction).trace()) +
+                         (correction.transpose() * normal).norm();
+    gradient_amplification_[a] = row_sum * 2 * smoothing_length_[a] / full_support_gradient_;
     density_rate_[a] = drho;
     velocity_gradient_[a] = L;
   }
@@ -344,13 +356,20 @@ void SolidFormulation::compute_forces(solver::NodeStore& nodes, Real dt) {
   for (Index a = 0; a < n; ++a) nodes.f[node_[a]] += force_[a];
 }
 
-// CFL condition dt <= h / (c + |v|) per particle (LS-DYNA's SPH time step, h = smoothing length).
+// CFL condition dt <= h / (c s + |v|) per particle (docs/THEORY.md §3): the highest frequency of
+// the linearized scheme, K = G^T (V D) G with G the velocity-gradient operator, is bounded by c
+// times G's row sums (Gershgorin), so s = max(1, row sum of G at a / that of a full plain support)
+// keeps the margin that LS-DYNA's h / (c + |v|) has for plain SPH on a lattice, also where the
+// correction B or a cut or disordered support makes G larger. RULE 1 of *SPALL_SPH_TIMESTEP: s = 1.
 Real SolidFormulation::stable_time_step(const solver::NodeStore& nodes) const {
   const Index n = particle_count();
+  const bool plain = options_.time_step_rule == TimeStepRule::plain;
   Real dt = std::numeric_limits<Real>::infinity();
 #pragma omp parallel for reduction(min : dt) schedule(static)
-  for (Index a = 0; a < n; ++a)
-    dt = std::min(dt, smoothing_length_[a] / (sound_speed_[a] + nodes.v[node_[a]].norm()));
+  for (Index a = 0; a < n; ++a) {
+    const Real s = plain ? Real(1) : std::max(Real(1), gradient_amplification_[a]);
+    dt = std::min(dt, smoothing_length_[a] / (sound_speed_[a] * s + nodes.v[node_[a]].norm()));
+  }
   return dt;
 }
 
@@ -433,7 +452,7 @@ std::size_t SolidFormulation::memory_bytes() const {
   return bytes(node_) + bytes(material_) + bytes(mass_) + bytes(smoothing_length_) +
          bytes(initial_smoothing_length_) + bytes(h_min_) + bytes(h_max_) + bytes(spacing_) +
          bytes(density_) + bytes(pressure_) + bytes(sound_speed_) + bytes(internal_energy_) +
-         bytes(state_) + bytes(gradient_correction_matrix_) + bytes(corrected_stress_) +
+         bytes(state_) + bytes(gradient_correction_matrix_) + bytes(gradient_amplification_) + bytes(corrected_stress_) +
          bytes(artificial_stress_) + bytes(colour_) + bytes(colour_normal_) +
          bytes(support_count_) + bytes(full_support_count_) + bytes(category_) + bytes(x_) + bytes(v_) + bytes(density_rate_) +
          bytes(viscous_heating_) + bytes(velocity_gradient_) + bytes(force_) +

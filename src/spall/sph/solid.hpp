@@ -70,6 +70,12 @@ struct ResidualStressRow {
   Index residual = 0;  // particles meeting the criterion
 };
 
+// How the stable step is found (*SPALL_SPH_TIMESTEP RULE).
+enum class TimeStepRule : std::uint8_t {
+  corrected,  // h / (c s + |v|), s >= 1 from the row sums of the (corrected) gradient operator
+  plain,      // h / (c + |v|), LS-DYNA's (and seed 000's setting)
+};
+
 // How the SPH equations are discretized (*CONTROL_SPH, *SECTION_SPH, Spall's keywords).
 struct SolidOptions {
   kernels::KernelKind kernel = kernels::KernelKind::cubic_spline;
@@ -77,6 +83,7 @@ struct SolidOptions {
   bool gradient_correction = true;  // *CONTROL_SPH FORM 1 (0: plain SPH)
   ArtificialViscosity viscosity;
   ArtificialStress artificial_stress;
+  TimeStepRule time_step_rule = TimeStepRule::corrected;
   Real start_time = 0;             // *CONTROL_SPH START: no SPH forces before
   Real death_time = 1e20;          // *CONTROL_SPH DT: no SPH forces after
   std::vector<ColourField> colour_field;  // per material-table entry (one per part); empty: off
@@ -144,6 +151,8 @@ class SolidFormulation final : public solver::Formulation {
   std::vector<Real> internal_energy_;  // specific (per unit mass)
   std::vector<materials::PointState> state_;  // deviatoric stress, plastic strain, temperature, ...
   std::vector<Mat3> gradient_correction_matrix_;  // B_a (identity without correction)
+  std::vector<Real> gradient_amplification_;      // s_a of the stable step (stable_time_step)
+  Real full_support_gradient_ = 0;                // H sum_b V_b |grad W| of a full support
   std::vector<Mat3> corrected_stress_;            // sigma_a B_a^T, as the pair force uses it
   std::vector<Mat3> artificial_stress_;           // R_a (empty when switched off)
   // Colour field (empty when no part asks for it).

@@ -1,5 +1,5 @@
 // *CONTROL_TERMINATION, *CONTROL_TIMESTEP, *CONTROL_BULK_VISCOSITY, *CONTROL_SPH,
-// *SPALL_SPH_ARTIFICIAL_STRESS, *SPALL_SPH_COLOUR_FIELD, *SPALL_RESIDUAL_STRESS,
+// *SPALL_SPH_ARTIFICIAL_STRESS, *SPALL_SPH_COLOUR_FIELD, *SPALL_SPH_TIMESTEP, *SPALL_RESIDUAL_STRESS,
 // *DATABASE_BINARY_D3PLOT, *DATABASE_GLSTAT, *DATABASE_RWFORC. Each
 // reads its first card; the later optional cards of *CONTROL_TIMESTEP
 // (mass-scaling details) and *DATABASE_BINARY_D3PLOT (IOOPT, RATE, ...) are not used by Spall.
@@ -172,6 +172,17 @@ void read_spall_sph_colour_field(CardCursor& cursor, const KeywordCall&, model::
                              other.where.file + ":" + std::to_string(other.where.line) + ")");
     model.sph_colour_fields.push_back(colour);
   }
+}
+
+void read_spall_sph_timestep(CardCursor& cursor, const KeywordCall&, model::Model& model) {
+  refuse_second(cursor, model.sph_timestep.has_value(),
+                model.sph_timestep ? model.sph_timestep->where : SourceLocation{});
+  const Card card = cursor.next(standard_fields, "card 1 (RULE)");
+  model::SphTimestep timestep;
+  timestep.rule = static_cast<int>(card.integer(0, "RULE", 0));
+  if (timestep.rule != 0 && timestep.rule != 1) card.fail("RULE", quoted(card.text(0)) + " is not 0 or 1");
+  timestep.where = card.where();
+  model.sph_timestep = timestep;
 }
 
 void read_spall_residual_stress(CardCursor& cursor, const KeywordCall&, model::Model& model) {

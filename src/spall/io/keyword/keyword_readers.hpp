@@ -91,6 +91,7 @@ void read_damping_global(CardCursor&, const KeywordCall&, model::Model&);
 void read_control_sph(CardCursor&, const KeywordCall&, model::Model&);
 void read_spall_sph_artificial_stress(CardCursor&, const KeywordCall&, model::Model&);
 void read_spall_sph_colour_field(CardCursor&, const KeywordCall&, model::Model&);
+void read_spall_sph_timestep(CardCursor&, const KeywordCall&, model::Model&);
 void read_spall_residual_stress(CardCursor&, const KeywordCall&, model::Model&);
 void read_database_binary_d3plot(CardCursor&, const KeywordCall&, model::Model&);
 void read_database_glstat(CardCursor&, const KeywordCall&, model::Model&);

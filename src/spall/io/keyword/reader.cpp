@@ -74,6 +74,7 @@ constexpr SupportedKeyword supported_keywords[] = {
     {"CONTROL_SPH", read_control_sph},
     {"SPALL_SPH_ARTIFICIAL_STRESS", read_spall_sph_artificial_stress},
     {"SPALL_SPH_COLOUR_FIELD", read_spall_sph_colour_field},
+    {"SPALL_SPH_TIMESTEP", read_spall_sph_timestep},
     {"SPALL_RESIDUAL_STRESS", read_spall_residual_stress},
     {"DATABASE_BINARY_D3PLOT", read_database_binary_d3plot},
     {"DATABASE_GLSTAT", read_database_glstat},
