@@ -126,7 +126,9 @@ TEST(KernelDispatch, HandsTheRequestedKernelAndDimension) {
 // W decreases from W(0) to 0 on each side, so the integral is 2 W(0) exactly, for every kernel.
 TYPED_TEST(KernelProperties, GradientNormIntegralIn1DIsTwiceTheCentralValue) {
   using K = TypeParam;
-  if constexpr (K::dimension == 1) EXPECT_NEAR(kernels::gradient_norm_integral<K>(), 2 * K::value(0, 1), 1e-6);
+  if constexpr (K::dimension == 1) {
+    EXPECT_NEAR(kernels::gradient_norm_integral<K>(), 2 * K::value(0, 1), 1e-6);
+  }
 }
 
 // The cubic spline of seed 000 eq. 3, integrated by hand: |f'(q)| = 12q - 18q^2 below 1/2 and
