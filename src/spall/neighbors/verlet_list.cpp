@@ -27,8 +27,6 @@ struct CellOrderedPositions {
     }
   }
 
-  // The count pass and the fill pass both decide "is a neighbour" through this one expression,
-  // so they agree on every pair and the fill writes exactly the counted entries.
   Real distance_squared(Index a, Index b) const {
     const Real dx = x[a] - x[b];
     const Real dy = y[a] - y[b];
@@ -36,6 +34,41 @@ struct CellOrderedPositions {
     return dx * dx + dy * dy + dz * dz;
   }
 };
+
+// One search radius for every pair.
+struct UniformRadius {
+  Real radius_squared;
+  Real squared(Index, Index) const { return radius_squared; }
+};
+
+// reach_a + reach_b + skin, the reaches in cell order. Symmetric in a and b bit for bit (a sum of
+// two numbers does not depend on their order), so j is in i's row exactly when i is in j's.
+struct PairRadius {
+  std::vector<Real> reach;
+  Real skin;
+
+  PairRadius(std::span<const Real> reach_by_particle, std::span<const Index> order, Real skin)
+      : reach(order.size()), skin(skin) {
+    const auto n = static_cast<std::int64_t>(order.size());
+#pragma omp parallel for
+    for (std::int64_t k = 0; k < n; ++k) reach[k] = reach_by_particle[order[k]];
+  }
+  Real squared(Index a, Index b) const {
+    const Real r = reach[a] + reach[b] + skin;
+    return r * r;
+  }
+};
+
+// The storage is kept from one rebuild to the next while it holds between the need and 1.25x it
+// (resize then writes nothing); otherwise it is reallocated with 1/16 to spare, so that a slowly
+// growing list is not copied at every build and a shrunken one gives its memory back.
+void size_storage(std::vector<Index>& storage, std::size_t total) {
+  if (storage.capacity() < total || storage.capacity() > total + total / 4) {
+    std::vector<Index>().swap(storage);  // freed first: never both at once
+    storage.reserve(total + total / 16);
+  }
+  storage.resize(total);
+}
 
 }  // namespace
 
@@ -46,6 +79,27 @@ void VerletList::build(std::span<const Vec3> x, Real cutoff, Real skin) {
   }
   cutoff_ = cutoff;
   skin_ = skin;
+  const Real radius = cutoff + skin;
+  build_rows(x, radius, [&](std::span<const Index>) { return UniformRadius{radius * radius}; });
+}
+
+void VerletList::build(std::span<const Vec3> x, std::span<const Real> reach, Real skin) {
+  if (reach.size() != x.size())
+    throw std::invalid_argument("neighbour search: need one reach per particle");
+  Real largest = 0;
+  for (const Real r : reach) {
+    if (!(r > 0)) throw std::invalid_argument("neighbour search: need every reach > 0, got " + std::to_string(r));
+    largest = std::max(largest, r);
+  }
+  if (!(skin >= 0)) throw std::invalid_argument("neighbour search: need skin >= 0, got " + std::to_string(skin));
+  cutoff_ = 2 * largest;
+  skin_ = skin;
+  build_rows(x, cutoff_ + skin,
+             [&](std::span<const Index> order) { return PairRadius(reach, order, skin); });
+}
+
+template <typename MakeRadius>
+void VerletList::build_rows(std::span<const Vec3> x, Real cell_size, const MakeRadius& make_radius) {
   x_at_build_.assign(x.begin(), x.end());
   const auto n = static_cast<Index>(x.size());
   list_.offsets.assign(n + 1, 0);
@@ -54,13 +108,15 @@ void VerletList::build(std::span<const Vec3> x, Real cutoff, Real skin) {
     return;
   }
 
-  const Real radius = cutoff + skin;
-  const Real radius_squared = radius * radius;
   CellList cells;
-  cells.build(x, radius);
+  cells.build(x, cell_size);
   const std::span<const Index> order = cells.order();
   const CellOrderedPositions p(x, order);
+  const auto radius = make_radius(order);
   const Index cell_count = cells.cell_count();
+  // The count pass and the fill pass both decide "is a neighbour" through this one expression,
+  // so they agree on every pair and the fill writes exactly the counted entries.
+  const auto within = [&](Index k, Index j) { return p.distance_squared(k, j) < radius.squared(k, j); };
 
   // Two passes, each writing only its own rows, so the list is the same for any thread count:
   // the count pass sizes the rows, the fill pass writes them. Dynamic scheduling because cells
@@ -71,21 +127,15 @@ void VerletList::build(std::span<const Vec3> x, Real cutoff, Real skin) {
     const int range_count = cells.neighborhood(c, ranges);
     const ParticleRange own = cells.cell(c);
     for (Index k = own.begin; k < own.end; ++k) {
-      Index within = 0;
+      Index count = 0;
       for (int r = 0; r < range_count; ++r) {
-        for (Index j = ranges[r].begin; j < ranges[r].end; ++j) {
-          within += p.distance_squared(k, j) < radius_squared;
-        }
+        for (Index j = ranges[r].begin; j < ranges[r].end; ++j) count += within(k, j);
       }
-      list_.offsets[order[k] + 1] = within - 1;  // k itself, at distance 0, was counted
+      list_.offsets[order[k] + 1] = count - 1;  // k itself, at distance 0, was counted
     }
   }
   for (Index i = 0; i < n; ++i) list_.offsets[i + 1] += list_.offsets[i];
-  // The storage is kept from one rebuild to the next, where the count barely changes (resize
-  // then writes nothing), unless it is more than twice what this build needs.
-  const auto total = static_cast<std::size_t>(list_.offsets[n]);
-  if (list_.neighbors.capacity() > 2 * total) std::vector<Index>().swap(list_.neighbors);
-  list_.neighbors.resize(total);
+  size_storage(list_.neighbors, static_cast<std::size_t>(list_.offsets[n]));
 
 #pragma omp parallel
   {
@@ -105,7 +155,7 @@ void VerletList::build(std::span<const Vec3> x, Real cutoff, Real skin) {
         for (int r = 0; r < range_count; ++r) {
           for (Index j = ranges[r].begin; j < ranges[r].end; ++j) {
             found[count] = order[j];
-            count += (j != k) & (p.distance_squared(k, j) < radius_squared);
+            count += (j != k) & within(k, j);
           }
         }
         // Particles already in cell order (as the solver keeps them) give sorted rows.
@@ -121,15 +171,32 @@ void VerletList::build(std::span<const Vec3> x, Real cutoff, Real skin) {
 
 bool VerletList::needs_rebuild(std::span<const Vec3> x) const {
   if (list_.offsets.empty() || x.size() != x_at_build_.size()) return true;
+  const auto n = static_cast<std::int64_t>(x.size());
+  if (n == 0) return false;
+  // Bounding box of the displacements: min and max are exact, so it does not depend on how the
+  // reduction is split between threads.
+  Real lx = x[0].x() - x_at_build_[0].x(), ly = x[0].y() - x_at_build_[0].y(),
+       lz = x[0].z() - x_at_build_[0].z();
+  Real ux = lx, uy = ly, uz = lz;
+#pragma omp parallel for reduction(min : lx, ly, lz) reduction(max : ux, uy, uz)
+  for (std::int64_t i = 0; i < n; ++i) {
+    const Vec3 d = x[i] - x_at_build_[i];
+    lx = std::min(lx, d.x());
+    ly = std::min(ly, d.y());
+    lz = std::min(lz, d.z());
+    ux = std::max(ux, d.x());
+    uy = std::max(uy, d.y());
+    uz = std::max(uz, d.z());
+  }
+  const Vec3 centre(Real(0.5) * (lx + ux), Real(0.5) * (ly + uy), Real(0.5) * (lz + uz));
   const Real half_skin = skin_ / 2;
   const Real limit_squared = half_skin * half_skin;
-  const auto n = static_cast<std::int64_t>(x.size());
   bool moved_too_far = false;
-  // Written as "not within" so that a NaN position asks for a rebuild, whose cell list then
-  // reports the particle instead of searching with a stale list.
+  // Written as "not within" so that a NaN position (which the min/max above may skip, but not
+  // this test) asks for a rebuild, whose cell list then reports the particle.
 #pragma omp parallel for reduction(|| : moved_too_far)
   for (std::int64_t i = 0; i < n; ++i) {
-    moved_too_far = moved_too_far || !((x[i] - x_at_build_[i]).squaredNorm() <= limit_squared);
+    moved_too_far = moved_too_far || !((x[i] - x_at_build_[i] - centre).squaredNorm() <= limit_squared);
   }
   return moved_too_far;
 }

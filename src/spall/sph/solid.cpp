@@ -12,10 +12,10 @@ namespace {
 // Support radius of the pair: the mean of both particles' supports 2h keeps W_ab symmetric.
 inline Real pair_support(Real ha, Real hb) { return ha + hb; }
 
-// Verlet skin as a fraction of the list's cutoff: a rebuild every few tens of steps at most.
+// Verlet skin as a fraction of the largest pair cutoff: a rebuild every few tens of steps at most.
 constexpr Real skin_fraction = 0.1;
-// The list's cutoff exceeds the largest support by this factor, so that a growing smoothing length
-// does not force a rebuild at every step.
+// Each particle's reach in the list exceeds its h by this factor, so that a growing smoothing
+// length does not force a rebuild at every step.
 constexpr Real cutoff_margin = 1.05;
 
 // Below this the moment matrix is too ill-conditioned to invert (an isolated particle, or one
@@ -48,6 +48,7 @@ SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
   material_.resize(n);
   mass_.resize(n);
   smoothing_length_.resize(n);
+  list_reach_.resize(n);
   initial_smoothing_length_.resize(n);
   h_min_.resize(n);
   h_max_.resize(n);
@@ -115,15 +116,21 @@ void SolidFormulation::gather_kinematics(const solver::NodeStore& nodes) {
   }
 }
 
-// The list holds every pair within cutoff + skin at the build; it stays complete while no particle
-// has moved skin / 2 and no pair support h_a + h_b has outgrown the cutoff.
+// The list holds every pair within reach_a + reach_b + skin at the build, reach = cutoff_margin h
+// of that build; it stays complete while no pair's distance has changed by more than the skin
+// (VerletList::needs_rebuild) and no h_a has outgrown its reach. A per-pair reach keeps the rows of
+// particles with the common h short when a few others (the rim of a splashing foot) expand.
 void SolidFormulation::update_neighbour_list() {
+  const Index n = particle_count();
+  bool outgrown = !list_built_;
+  for (Index a = 0; a < n && !outgrown; ++a) outgrown = smoothing_length_[a] > list_reach_[a];
+  if (!outgrown && !verlet_.needs_rebuild(x_)) return;
   Real h_largest = 0;
-  for (Real h : smoothing_length_) h_largest = std::max(h_largest, h);
-  const Real support = 2 * h_largest;
-  if (list_built_ && support <= verlet_.cutoff() && !verlet_.needs_rebuild(x_)) return;
-  const Real cutoff = cutoff_margin * support;
-  verlet_.build(x_, cutoff, skin_fraction * cutoff);
+  for (Index a = 0; a < n; ++a) {
+    list_reach_[a] = cutoff_margin * smoothing_length_[a];
+    h_largest = std::max(h_largest, smoothing_length_[a]);
+  }
+  verlet_.build(x_, list_reach_, skin_fraction * cutoff_margin * 2 * h_largest);
   list_built_ = true;
 }
 
@@ -427,7 +434,7 @@ std::size_t bytes(const std::vector<T>& v) {
 
 std::size_t SolidFormulation::memory_bytes() const {
   const auto& list = verlet_.list();
-  return bytes(node_) + bytes(material_) + bytes(mass_) + bytes(smoothing_length_) +
+  return bytes(node_) + bytes(material_) + bytes(mass_) + bytes(smoothing_length_) + bytes(list_reach_) +
          bytes(initial_smoothing_length_) + bytes(h_min_) + bytes(h_max_) + bytes(spacing_) +
          bytes(density_) + bytes(pressure_) + bytes(sound_speed_) + bytes(internal_energy_) +
          bytes(state_) + bytes(gradient_correction_matrix_) + bytes(corrected_stress_) +

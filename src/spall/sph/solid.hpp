@@ -135,6 +135,7 @@ class SolidFormulation final : public solver::Formulation {
   std::vector<Index> material_;
   std::vector<Real> mass_;
   std::vector<Real> smoothing_length_;
+  std::vector<Real> list_reach_;  // cutoff_margin h at the last list build
   std::vector<Real> initial_smoothing_length_;
   std::vector<Real> h_min_, h_max_;
   std::vector<Real> spacing_;
