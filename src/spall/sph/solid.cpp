@@ -58,8 +58,7 @@ SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
   sound_speed_.resize(n);
   internal_energy_.assign(n, 0);
   state_.resize(n);
-  gradient_correction_matrix_.assign(n, Mat3::Identity());
-  corrected_stress_.assign(n, Mat3::Zero());
+  corrected_stress_.assign(n, Mat3::Identity());
   if (options_.artificial_stress.enabled) artificial_stress_.assign(n, Mat3::Zero());
   x_.resize(n);
   v_.resize(n);
@@ -180,7 +179,7 @@ void SolidFormulation::compute_rates() {
         drho = -density_[a] * L.trace();
       }
     }
-    gradient_correction_matrix_[a] = correction;
+    corrected_stress_[a] = correction;  // B_a, until update_state turns it into sigma_a B_a^T
     density_rate_[a] = drho;
     velocity_gradient_[a] = L;
   }
@@ -259,7 +258,8 @@ void SolidFormulation::update_state(Real dt) {
     const bool hydrostatic_only = !category_.empty() && category_[a] != Category::interior &&
                                   options_.colour_field[material_[a]].treat;
     const Mat3 exported = hydrostatic_only ? Mat3(-pressure_[a] * Mat3::Identity()) : sigma;
-    corrected_stress_[a] = exported * gradient_correction_matrix_[a].transpose();
+    const Mat3 correction = corrected_stress_[a];  // B_a from compute_rates
+    corrected_stress_[a] = exported * correction.transpose();
     if (stress_options.enabled) {
       // Monaghan 2000: a repulsive stress -eps sigma_i / rho^2 along each tensile principal axis.
       // From the stress the particle passes on, so that a treated particle's deviator stays out.
@@ -437,7 +437,7 @@ std::size_t SolidFormulation::memory_bytes() const {
   return bytes(node_) + bytes(material_) + bytes(mass_) + bytes(smoothing_length_) + bytes(list_reach_) +
          bytes(initial_smoothing_length_) + bytes(h_min_) + bytes(h_max_) + bytes(spacing_) +
          bytes(density_) + bytes(pressure_) + bytes(sound_speed_) + bytes(internal_energy_) +
-         bytes(state_) + bytes(gradient_correction_matrix_) + bytes(corrected_stress_) +
+         bytes(state_) + bytes(corrected_stress_) +
          bytes(artificial_stress_) + bytes(colour_) + bytes(colour_normal_) +
          bytes(support_count_) + bytes(full_support_count_) + bytes(category_) + bytes(x_) + bytes(v_) + bytes(density_rate_) +
          bytes(viscous_heating_) + bytes(velocity_gradient_) + bytes(force_) +

@@ -144,8 +144,9 @@ class SolidFormulation final : public solver::Formulation {
   std::vector<Real> sound_speed_;
   std::vector<Real> internal_energy_;  // specific (per unit mass)
   std::vector<materials::PointState> state_;  // deviatoric stress, plastic strain, temperature, ...
-  std::vector<Mat3> gradient_correction_matrix_;  // B_a (identity without correction)
-  std::vector<Mat3> corrected_stress_;            // sigma_a B_a^T, as the pair force uses it
+  // sigma_a B_a^T, as the pair force uses it. Between compute_rates and update_state it holds B_a
+  // itself (identity without correction): B is needed only there, and one array saves 72 B a particle.
+  std::vector<Mat3> corrected_stress_;
   std::vector<Mat3> artificial_stress_;           // R_a (empty when switched off)
   // Colour field (empty when no part asks for it).
   std::vector<Real> colour_;
