@@ -3,6 +3,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
 #include "spall/materials/elastic.hpp"
 
@@ -60,15 +61,19 @@ SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
   state_.resize(n);
   corrected_stress_.assign(n, Mat3::Identity());
   if (options_.artificial_stress.enabled) artificial_stress_.assign(n, Mat3::Zero());
-  x_.resize(n);
-  v_.resize(n);
   density_rate_.assign(n, 0);
   viscous_heating_.assign(n, 0);
   velocity_gradient_.assign(n, Mat3::Zero());
   force_.assign(n, Vec3::Zero());
   viscous_force_.assign(n, Vec3::Zero());
+  // Particles in node order: the node store is in cell order, so that neighbours are close in
+  // memory, and a formulation owning a contiguous run of nodes reads their x and v in place.
+  std::vector<std::size_t> by_node(n);
+  std::iota(by_node.begin(), by_node.end(), std::size_t{0});
+  std::stable_sort(by_node.begin(), by_node.end(),
+                   [&](std::size_t i, std::size_t j) { return particles[i].node < particles[j].node; });
   for (std::size_t a = 0; a < n; ++a) {
-    const auto& p = particles[a];
+    const auto& p = particles[by_node[a]];
     node_[a] = p.node;
     material_[a] = p.material;
     mass_[a] = nodes.mass[p.node];
@@ -85,6 +90,9 @@ SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
   }
   for (const auto& m : materials_)
     if (std::holds_alternative<materials::JohnsonCook>(m.strength)) has_temperature_ = true;
+  bool contiguous = n > 0;
+  for (std::size_t a = 1; a < n && contiguous; ++a) contiguous = node_[a] == node_[0] + Index(a);
+  first_node_ = contiguous ? node_[0] : -1;
   const bool colour = std::any_of(options_.colour_field.begin(), options_.colour_field.end(),
                                   [](const ColourField& c) { return c.enabled; });
   if (colour) {
@@ -108,11 +116,20 @@ bool SolidFormulation::active(Real time) const {
 
 void SolidFormulation::gather_kinematics(const solver::NodeStore& nodes) {
   const Index n = particle_count();
+  if (first_node_ >= 0) {
+    x_ = std::span<const Vec3>(nodes.x).subspan(first_node_, n);
+    v_ = std::span<const Vec3>(nodes.v).subspan(first_node_, n);
+    return;
+  }
+  x_copy_.resize(n);
+  v_copy_.resize(n);
 #pragma omp parallel for schedule(static)
   for (Index a = 0; a < n; ++a) {
-    x_[a] = nodes.x[node_[a]];
-    v_[a] = nodes.v[node_[a]];
+    x_copy_[a] = nodes.x[node_[a]];
+    v_copy_[a] = nodes.v[node_[a]];
   }
+  x_ = x_copy_;
+  v_ = v_copy_;
 }
 
 // The list holds every pair within reach_a + reach_b + skin at the build, reach = cutoff_margin h
@@ -439,7 +456,7 @@ std::size_t SolidFormulation::memory_bytes() const {
          bytes(density_) + bytes(pressure_) + bytes(sound_speed_) + bytes(internal_energy_) +
          bytes(state_) + bytes(corrected_stress_) +
          bytes(artificial_stress_) + bytes(colour_) + bytes(colour_normal_) +
-         bytes(support_count_) + bytes(full_support_count_) + bytes(category_) + bytes(x_) + bytes(v_) + bytes(density_rate_) +
+         bytes(support_count_) + bytes(full_support_count_) + bytes(category_) + bytes(x_copy_) + bytes(v_copy_) + bytes(density_rate_) +
          bytes(viscous_heating_) + bytes(velocity_gradient_) + bytes(force_) +
          bytes(viscous_force_) + bytes(list.offsets) + bytes(list.neighbors) +
          verlet_.reference_positions_bytes();

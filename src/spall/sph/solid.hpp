@@ -24,6 +24,7 @@
 // One SPH formulation owns every SPH part; particles of different parts interact through the
 // kernel, with each particle's own material.
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "spall/kernels/kernel.hpp"
@@ -155,7 +156,11 @@ class SolidFormulation final : public solver::Formulation {
   std::vector<Real> full_support_count_;           // the count of a full support at this h/spacing
   std::vector<Category> category_;
   // Scratch of the current step.
-  std::vector<Vec3> x_, v_;
+  // x and v of the particles' nodes: the node store's own arrays when the particles own a
+  // contiguous run of nodes (first_node_ >= 0), else copies gathered into x_copy_, v_copy_.
+  std::span<const Vec3> x_, v_;
+  std::vector<Vec3> x_copy_, v_copy_;
+  Index first_node_ = -1;
   std::vector<Real> density_rate_;
   std::vector<Real> viscous_heating_;  // 1/2 sum_b m_b Pi_ab v_ab . grad_a W_ab
   std::vector<Mat3> velocity_gradient_;
