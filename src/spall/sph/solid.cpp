@@ -33,10 +33,12 @@ inline void for_each_neighbour_in_support(const neighbors::NeighborList& list, I
   for (Index k = list.offsets[a]; k < list.offsets[a + 1]; ++k) {
     const Index b = list.neighbors[k];
     const Vec3 xab = x[a] - x[b];
-    const Real r = xab.norm();
+    const Real r2 = xab.squaredNorm();
     const Real H = pair_support(h[a], h[b]);
-    if (r >= H) continue;
-    visit(b, xab, r, H, Kernel::gradient(xab, r, H));
+    if (r2 >= H * H) continue;  // about a third of the listed pairs: no square root for them
+    const Real r = std::sqrt(r2);
+    const Vec3 grad = r > 0 ? Vec3(Kernel::gradient_factor(r, 1 / H) * xab) : Vec3::Zero();
+    visit(b, xab, r, H, grad);
   }
 }
 
@@ -55,6 +57,7 @@ SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
   h_max_.resize(n);
   spacing_.resize(n);
   density_.resize(n);
+  volume_.resize(n);
   pressure_.assign(n, 0);
   sound_speed_.resize(n);
   internal_energy_.assign(n, 0);
@@ -83,6 +86,7 @@ SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
     spacing_[a] = p.spacing;
     const auto& m = materials_[material_[a]];
     density_[a] = m.density;
+    volume_[a] = mass_[a] / density_[a];
     state_[a] = materials::initial_state(m);
     internal_energy_[a] = m.initial_specific_energy;
     pressure_[a] = materials::eos_pressure(m, m.density, internal_energy_[a]);
@@ -168,7 +172,7 @@ void SolidFormulation::compute_rates() {
     for_each_neighbour_in_support<Kernel>(list, a, x_, smoothing_length_,
                                           [&](Index b, const Vec3& xab, Real r, Real H, const Vec3& grad) {
       const Vec3 vba = v_[b] - v_[a];
-      const Real volume = mass_[b] / density_[b];
+      const Real volume = volume_[b];
       drho -= mass_[b] * vba.dot(grad);
       L.noalias() += volume * vba * grad.transpose();
       moment.noalias() -= volume * xab * grad.transpose();
@@ -179,7 +183,7 @@ void SolidFormulation::compute_rates() {
       }
     });
     if (colour_on) {
-      colour_[a] = colour + mass_[a] / density_[a] * Kernel::value(0, 2 * smoothing_length_[a]);
+      colour_[a] = colour + volume_[a] * Kernel::value(0, 2 * smoothing_length_[a]);
       colour_normal_[a] = normal;
       support_count_[a] = count;
     }
@@ -258,6 +262,7 @@ void SolidFormulation::update_state(Real dt) {
       const Mat3 sigma_old = state.deviatoric_stress - pressure_[a] * Mat3::Identity();
       internal_energy_[a] += dt * (sigma_old.cwiseProduct(L).sum() / density_[a] + viscous_heating_[a]);
       density_[a] += dt * density_rate_[a];
+      volume_[a] = mass_[a] / density_[a];
       // Objective (Jaumann) rotation of the stress deviator and back stress, then the material.
       const Mat3 W = Real(0.5) * (L - L.transpose());
       state.deviatoric_stress += dt * (W * state.deviatoric_stress - state.deviatoric_stress * W);
@@ -307,7 +312,7 @@ void SolidFormulation::compute_pair_forces() {
 #pragma omp parallel for schedule(static)
   for (Index a = 0; a < n; ++a) {
     const Real rho_a = density_[a];
-    const Real volume_a = mass_[a] / rho_a;
+    const Real volume_a = volume_[a];
     const Mat3& P_a = corrected_stress_[a];
     Vec3 f = Vec3::Zero();
     Vec3 f_visc = Vec3::Zero();
@@ -317,7 +322,7 @@ void SolidFormulation::compute_pair_forces() {
       const Real rho_b = density_[b];
       // (P_a + P_b) and grad are exactly opposite for the pair (b, a): momentum is conserved
       // to round-off although each particle gathers its own sum.
-      f.noalias() += (volume_a * (mass_[b] / rho_b)) * ((P_a + corrected_stress_[b]) * grad);
+      f.noalias() += (volume_a * volume_[b]) * ((P_a + corrected_stress_[b]) * grad);
       if (stress_on) {
         const Real dp = Real(0.5) * (spacing_[a] + spacing_[b]);
         const Real ratio = Kernel::value(r, H) / Kernel::value(dp, H);
@@ -453,7 +458,7 @@ std::size_t SolidFormulation::memory_bytes() const {
   const auto& list = verlet_.list();
   return bytes(node_) + bytes(material_) + bytes(mass_) + bytes(smoothing_length_) + bytes(list_reach_) +
          bytes(initial_smoothing_length_) + bytes(h_min_) + bytes(h_max_) + bytes(spacing_) +
-         bytes(density_) + bytes(pressure_) + bytes(sound_speed_) + bytes(internal_energy_) +
+         bytes(density_) + bytes(volume_) + bytes(pressure_) + bytes(sound_speed_) + bytes(internal_energy_) +
          bytes(state_) + bytes(corrected_stress_) +
          bytes(artificial_stress_) + bytes(colour_) + bytes(colour_normal_) +
          bytes(support_count_) + bytes(full_support_count_) + bytes(category_) + bytes(x_copy_) + bytes(v_copy_) + bytes(density_rate_) +

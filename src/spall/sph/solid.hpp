@@ -141,6 +141,7 @@ class SolidFormulation final : public solver::Formulation {
   std::vector<Real> h_min_, h_max_;
   std::vector<Real> spacing_;
   std::vector<Real> density_;
+  std::vector<Real> volume_;  // m / rho, kept with the density: the pair loops read it per pair
   std::vector<Real> pressure_;
   std::vector<Real> sound_speed_;
   std::vector<Real> internal_energy_;  // specific (per unit mass)
