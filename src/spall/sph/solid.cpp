@@ -4,6 +4,9 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#if defined(__AVX2__)
+#include <immintrin.h>
+#endif
 
 #include "spall/materials/elastic.hpp"
 
@@ -24,20 +27,89 @@ constexpr Real cutoff_margin = 1.05;
 constexpr Real min_moment_determinant = 1e-3;
 }  // namespace
 
+// The geometry of one Verlet row's pairs, per thread: x_a - x_b, r, 1/r, 1/H_ab and whether the
+// pair is inside its support.
+struct RowTerms {
+  std::vector<Real> dx, dy, dz, r, inverse_r, inverse_support;
+  std::vector<std::uint8_t> inside;
+  void resize(std::size_t n) {
+    if (r.size() >= n + 4) return;
+    for (auto* v : {&dx, &dy, &dz, &r, &inverse_r, &inverse_support}) v->resize(n + 4);
+    inside.resize(n + 4);
+  }
+};
+
+// Fills terms[k] for the pairs (a, neighbour[k]), k in [0, count): four pairs at a time with AVX2
+// (the square root and the two divisions are the pair loops' slowest operations), the rest one at
+// a time by the same operations in the same order, so that every pair gets the same bits either
+// way and (a, b) the same as (b, a).
+inline void row_geometry(const Index* neighbour, Index count, const Real* position, const Real* h,
+                         Index a, RowTerms& terms) {
+  const Real xa = position[3 * a], ya = position[3 * a + 1], za = position[3 * a + 2], ha = h[a];
+  Index k = 0;
+#if defined(__AVX2__) && defined(__FMA__)
+  for (; k + 4 <= count; k += 4) {
+    const __m128i b = _mm_loadu_si128(reinterpret_cast<const __m128i*>(neighbour + k));
+    const __m128i b3 = _mm_add_epi32(b, _mm_add_epi32(b, b));
+    const auto gather = [](const Real* base, __m128i index) {
+      const __m256d all = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
+      return _mm256_mask_i32gather_pd(_mm256_setzero_pd(), base, index, all, 8);
+    };
+    const __m256d dx = _mm256_sub_pd(_mm256_set1_pd(xa), gather(position, b3));
+    const __m256d dy = _mm256_sub_pd(_mm256_set1_pd(ya), gather(position + 1, b3));
+    const __m256d dz = _mm256_sub_pd(_mm256_set1_pd(za), gather(position + 2, b3));
+    const __m256d r2 = _mm256_fmadd_pd(dz, dz, _mm256_fmadd_pd(dy, dy, _mm256_mul_pd(dx, dx)));
+    const __m256d H = _mm256_add_pd(_mm256_set1_pd(ha), gather(h, b));
+    const __m256d r = _mm256_sqrt_pd(r2);
+    const __m256d one = _mm256_set1_pd(1);
+    _mm256_storeu_pd(&terms.dx[k], dx);
+    _mm256_storeu_pd(&terms.dy[k], dy);
+    _mm256_storeu_pd(&terms.dz[k], dz);
+    _mm256_storeu_pd(&terms.r[k], r);
+    _mm256_storeu_pd(&terms.inverse_r[k], _mm256_div_pd(one, r));
+    _mm256_storeu_pd(&terms.inverse_support[k], _mm256_div_pd(one, H));
+    const int mask = _mm256_movemask_pd(_mm256_cmp_pd(r2, _mm256_mul_pd(H, H), _CMP_LT_OQ));
+    for (int lane = 0; lane < 4; ++lane) terms.inside[k + lane] = (mask >> lane) & 1;
+  }
+#endif
+  for (; k < count; ++k) {
+    const Index b = neighbour[k];
+    const Real dx = xa - position[3 * b], dy = ya - position[3 * b + 1], dz = za - position[3 * b + 2];
+    const Real r2 = std::fma(dz, dz, std::fma(dy, dy, dx * dx));
+    const Real H = ha + h[b];
+    const Real r = std::sqrt(r2);
+    terms.dx[k] = dx;
+    terms.dy[k] = dy;
+    terms.dz[k] = dz;
+    terms.r[k] = r;
+    terms.inverse_r[k] = 1 / r;
+    terms.inverse_support[k] = 1 / H;
+    terms.inside[k] = r2 < H * H;
+  }
+}
+
 // Calls visit(b, x_a - x_b, r, H_ab, grad_a W_ab) for every neighbour b of a inside the pair's
-// support, in the fixed order of a's Verlet row.
+// support, in the fixed order of a's Verlet row, so that each particle's sums are added in the
+// same order whatever the thread count.
 template <typename Kernel, typename Visit>
 inline void for_each_neighbour_in_support(const neighbors::NeighborList& list, Index a,
                                           std::span<const Vec3> x, std::span<const Real> h,
                                           Visit&& visit) {
-  for (Index k = list.offsets[a]; k < list.offsets[a + 1]; ++k) {
-    const Index b = list.neighbors[k];
-    const Vec3 xab = x[a] - x[b];
-    const Real r2 = xab.squaredNorm();
+  thread_local RowTerms terms;
+  const Index first = list.offsets[a];
+  const Index count = list.offsets[a + 1] - first;
+  const Index* neighbour = list.neighbors.data() + first;
+  terms.resize(count);
+  row_geometry(neighbour, count, x.data()->data(), h.data(), a, terms);
+  for (Index k = 0; k < count; ++k) {
+    if (!terms.inside[k]) continue;
+    const Index b = neighbour[k];
+    const Vec3 xab(terms.dx[k], terms.dy[k], terms.dz[k]);
+    const Real r = terms.r[k];
+    // H_ab = pair_support(h_a, h_b) = h_a + h_b, the sum the geometry pass took.
     const Real H = pair_support(h[a], h[b]);
-    if (r2 >= H * H) continue;  // about a third of the listed pairs: no square root for them
-    const Real r = std::sqrt(r2);
-    const Vec3 grad = r > 0 ? Vec3(Kernel::gradient_factor(r, 1 / H) * xab) : Vec3::Zero();
+    const Vec3 grad = r > 0 ? Vec3(Kernel::gradient_factor(r, terms.inverse_r[k], terms.inverse_support[k]) * xab)
+                            : Vec3::Zero();
     visit(b, xab, r, H, grad);
   }
 }
