@@ -4,8 +4,8 @@
 // timed), so that the timed steps see a plastic foot on the wall; each iteration then continues
 // it by 20 steps (21 force evaluations; the first of each run does not advance the material).
 // Reports particle-steps per second (items_per_second) and per core, the mean number of
-// neighbours inside the support (|x_a - x_b| < h_a + h_b) and of Verlet-list entries (support
-// x 1.05 plus a 10 % skin), and the bytes per particle of the SPH arrays and neighbour list
+// neighbours inside the support (|x_a - x_b| < h_a + h_b) and of Verlet-list entries (1.05 (h_a +
+// h_b) plus a skin of 10 % of 2.1 x the largest h), and the bytes per particle of the SPH arrays and neighbour list
 // (SolidFormulation::memory_bytes()) plus the node store. particle_steps_per_cpu_s divides by the
 // processor time of all threads instead of the wall clock (OMP_WAIT_POLICY=passive keeps idle
 // threads from spinning it away): per core, and less disturbed by other programs on the machine.
@@ -93,7 +93,7 @@ void BM_SphTaylorBar(benchmark::State& state) {
   state.counters["threads"] = threads;
   state.counters["neighbours_in_support"] = neighbours_in_support(problem, sph);
   state.counters["verlet_entries"] = double(sph.neighbor_list().neighbors.size()) / n;
-  // What the list's storage holds (it is kept from build to build while under twice the need).
+  // What the list's storage holds (it is kept from build to build while under 1.25x the need).
   state.counters["verlet_capacity"] = double(sph.neighbor_list().neighbors.capacity()) / n;
   state.counters["bytes_per_particle"] = (double(sph.memory_bytes()) + node_bytes) / n;
   state.counters["particle_steps_per_s_per_core"] =

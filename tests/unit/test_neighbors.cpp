@@ -196,7 +196,7 @@ TEST(neighbors, SameListForOneAndTwoThreads) {
   EXPECT_EQ(order_one, order_two);
 }
 
-TEST(neighbors, RebuildOnlyAfterAMoveBeyondHalfTheSkin) {
+TEST(neighbors, RebuildOnlyAfterAMoveBeyondTheSkin) {
   const Real cutoff = 0.3, skin = 0.06;
   std::vector<Vec3> x = random_set(1500, Vec3(0, 0, 0), Vec3(2, 2, 2), 12);
   VerletList verlet;
@@ -218,9 +218,13 @@ TEST(neighbors, RebuildOnlyAfterAMoveBeyondHalfTheSkin) {
     }
   }
 
+  // One particle alone moving: its distances to the others change by its own move, so the list
+  // holds until it has moved the whole skin.
   std::vector<Vec3> one_moved = x;
-  one_moved[700] += Vec3(0, 0.51 * skin, 0);
   verlet.build(x, cutoff, skin);
+  one_moved[700] += Vec3(0, 0.99 * skin, 0);
+  EXPECT_FALSE(verlet.needs_rebuild(one_moved));
+  one_moved[700] += Vec3(0, 0.02 * skin, 0);
   EXPECT_TRUE(verlet.needs_rebuild(one_moved));
   one_moved[700] = Vec3(std::numeric_limits<Real>::quiet_NaN(), 0, 0);
   EXPECT_TRUE(verlet.needs_rebuild(one_moved));
@@ -228,6 +232,52 @@ TEST(neighbors, RebuildOnlyAfterAMoveBeyondHalfTheSkin) {
   one_moved.pop_back();
   verlet.build(x, cutoff, skin);
   EXPECT_TRUE(verlet.needs_rebuild(one_moved)) << "particle count changed";
+}
+
+TEST(neighbors, PerParticleReachMatchesBruteForce) {
+  // Reaches from 0.05 to 0.25: pair (i, j) is listed exactly when closer than r_i + r_j + skin.
+  const std::vector<Vec3> x = random_set(2500, Vec3(0, 0, 0), Vec3(3, 2, 2), 14);
+  std::vector<Real> reach(x.size());
+  std::mt19937_64 random(15);
+  std::uniform_real_distribution<Real> uniform(0.05, 0.25);
+  for (Real& r : reach) r = uniform(random);
+  const Real skin = 0.02;
+  VerletList verlet;
+  verlet.build(x, reach, skin);
+  expect_sorted_and_symmetric(verlet.list(), static_cast<Index>(x.size()));
+  NeighborList expected;
+  expected.offsets.push_back(0);
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    for (std::size_t j = 0; j < x.size(); ++j) {
+      const Real radius = reach[i] + reach[j] + skin;
+      if (i != j && (x[i] - x[j]).squaredNorm() < radius * radius) expected.neighbors.push_back(Index(j));
+    }
+    expected.offsets.push_back(static_cast<Index>(expected.neighbors.size()));
+  }
+  EXPECT_EQ(verlet.list().offsets, expected.offsets);
+  EXPECT_EQ(verlet.list().neighbors, expected.neighbors);
+  EXPECT_EQ(verlet.cutoff(), 2 * *std::max_element(reach.begin(), reach.end()));
+  reach[3] = 0;
+  EXPECT_THROW(verlet.build(x, reach, skin), std::invalid_argument);
+}
+
+TEST(neighbors, RigidTranslationNeedsNoRebuild) {
+  // The rebuild test measures displacements from the centre of their bounding box: a common
+  // motion of any size keeps every distance, so the list stays valid.
+  const Real cutoff = 0.3, skin = 0.06;
+  std::vector<Vec3> x = random_set(1500, Vec3(0, 0, 0), Vec3(2, 2, 2), 16);
+  VerletList verlet;
+  verlet.build(x, cutoff, skin);
+  std::vector<Vec3> moved = x;
+  for (Vec3& p : moved) p += Vec3(5.0, -3.0, 0.7);
+  EXPECT_FALSE(verlet.needs_rebuild(moved));
+  // On top of it, two particles moving apart by just under the skin in all: still valid (every
+  // displacement within skin / 2 of the common one); by just over it: rebuild.
+  moved[10] += Vec3(0.49 * skin, 0, 0);
+  moved[20] -= Vec3(0.49 * skin, 0, 0);
+  EXPECT_FALSE(verlet.needs_rebuild(moved));
+  moved[20] -= Vec3(0.03 * skin, 0, 0);
+  EXPECT_TRUE(verlet.needs_rebuild(moved));
 }
 
 TEST(neighbors, SpatialOrderIsAStableSortByRowMajorCell) {

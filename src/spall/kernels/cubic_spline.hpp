@@ -43,11 +43,21 @@ struct CubicSpline {
     return -s * 6 * t * t;
   }
 
+  // (dW/dr) / r for 0 < r < H, from 1/r and 1/H without a division: the pair loops compute the
+  // two reciprocals four pairs at a time. Inside q = 1/2 the 1/r cancels against q = r/H.
+  static Real gradient_factor(Real r, Real inverse_r, Real inverse_support) {
+    const Real q = r * inverse_support;
+    const Real s = normalisation() * power(inverse_support) * inverse_support;  // sigma / H^(d+1)
+    if (q <= Real(0.5)) return s * inverse_support * (18 * q - 12);
+    const Real t = 1 - q;
+    return -s * 6 * t * t * inverse_r;
+  }
+
   // grad_a W(x_a - x_b, H) = dW/dr * (x_a - x_b) / r; exactly antisymmetric in a and b, because
-  // r and the factor depend on |x_a - x_b| only.
+  // r and the factor depend on |x_a - x_b| only. Zero at r = 0 and for r >= H.
   static Vec3 gradient(const Vec3& xab, Real r, Real support) {
-    if (r <= 0) return Vec3::Zero();
-    return (derivative(r, support) / r) * xab;
+    if (r <= 0 || r >= support) return Vec3::Zero();
+    return gradient_factor(r, 1 / r, 1 / support) * xab;
   }
 };
 

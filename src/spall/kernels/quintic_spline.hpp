@@ -39,9 +39,17 @@ struct QuinticSpline {
            (-5 * p4(3 - t) + 30 * p4(2 - t) - 75 * p4(1 - t));
   }
 
+  // (dW/dr) / r for 0 < r < H, from 1/r and 1/H without a division (the pair loops' form).
+  static Real gradient_factor(Real r, Real inverse_r, Real inverse_support) {
+    const Real t = 3 * r * inverse_support;
+    auto p4 = [](Real u) { return u > 0 ? u * u * u * u : Real(0); };
+    return normalisation() * power(inverse_support) * inverse_support * 3 *
+           (-5 * p4(3 - t) + 30 * p4(2 - t) - 75 * p4(1 - t)) * inverse_r;
+  }
+
   static Vec3 gradient(const Vec3& xab, Real r, Real support) {
-    if (r <= 0) return Vec3::Zero();
-    return (derivative(r, support) / r) * xab;
+    if (r <= 0 || r >= support) return Vec3::Zero();
+    return gradient_factor(r, 1 / r, 1 / support) * xab;
   }
 };
 

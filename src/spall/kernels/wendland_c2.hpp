@@ -40,9 +40,18 @@ struct WendlandC2 {
     return normalisation() / (power(support) * support) * (-20 * s * u * u * u);
   }
 
+  // (dW/dr) / r for r < H, from 1/H: the factor s = r/H of the derivative cancels the 1/r, which
+  // is not needed (the argument is there for the pair loops' common form).
+  static Real gradient_factor(Real r, Real /*inverse_r*/, Real inverse_support) {
+    const Real u = 1 - r * inverse_support;
+    const Real i2 = inverse_support * inverse_support;
+    if constexpr (Dim == 1) return normalisation() * i2 * inverse_support * (-12 * u * u);
+    return normalisation() * power(inverse_support) * i2 * (-20 * u * u * u);
+  }
+
   static Vec3 gradient(const Vec3& xab, Real r, Real support) {
-    if (r <= 0) return Vec3::Zero();
-    return (derivative(r, support) / r) * xab;
+    if (r <= 0 || r >= support) return Vec3::Zero();
+    return gradient_factor(r, 1 / r, 1 / support) * xab;
   }
 };
 

@@ -53,15 +53,22 @@ Real update_johnson_cook(const JohnsonCook& model, Real shear_modulus, PointStat
   const Real q = von_mises(trial);
   const Real eps = state.plastic_strain;
   const Real thermal = thermal_factor(model, state.temperature);
+  // The elastic check first, with one pow: sigma_y at dp = 0 has no rate term (rate* = 1).
+  if (q <= (model.a + model.b * std::pow(eps, model.n)) * thermal) {
+    state.deviatoric_stress = trial;
+    return 0;
+  }
   // sigma_y(eps + dp, dp / dt, T) and its derivative in dp.
   const auto yield = [&](Real dp) {
     const Real strain = eps + dp;
-    const Real hardening = model.a + model.b * std::pow(strain, model.n);
+    const Real strain_power = std::pow(strain, model.n);
+    const Real hardening = model.a + model.b * strain_power;
     Real hardening_slope = 0;
+    // d(B eps^N)/d eps = N B eps^N / eps: the same pow serves both.
     if (model.b != 0 && model.n != 0)
-      hardening_slope = strain > 0 || model.n >= 1
-                            ? model.b * model.n * std::pow(strain, model.n - 1)
-                            : std::numeric_limits<Real>::infinity();  // N < 1 at eps_p = 0
+      hardening_slope = strain > 0 ? model.b * model.n * strain_power / strain
+                        : model.n >= 1 ? (model.n == 1 ? model.b : Real(0))
+                                       : std::numeric_limits<Real>::infinity();  // N < 1 at eps_p = 0
     Real rate_factor = 1;
     Real rate_slope = 0;
     if (model.c != 0 && dt > 0) {
@@ -72,10 +79,6 @@ Real update_johnson_cook(const JohnsonCook& model, Real shear_modulus, PointStat
     return YieldValue{hardening * rate_factor * thermal,
                       (hardening_slope * rate_factor + hardening * rate_slope) * thermal};
   };
-  if (q <= yield(0).stress) {
-    state.deviatoric_stress = trial;
-    return 0;
-  }
   const Real dp = plastic_strain_increment(q, 3 * shear_modulus, yield);
   state.deviatoric_stress = trial * (1 - 3 * shear_modulus * dp / q);
   const Real sigma_eq = von_mises(state.deviatoric_stress);

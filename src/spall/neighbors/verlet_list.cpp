@@ -1,7 +1,12 @@
 #include "spall/neighbors/verlet_list.hpp"
 
 #include <algorithm>
+#include <bit>
+#include <cmath>
 #include <stdexcept>
+#if defined(__AVX2__)
+#include <immintrin.h>
+#endif
 #include <string>
 
 #include "spall/neighbors/cell_list.hpp"
@@ -11,7 +16,7 @@ namespace spall::neighbors {
 namespace {
 
 // Positions in cell order, one array per coordinate: the candidates of a particle are 9 contiguous
-// runs of these arrays, read front to back, and the distance test over a run vectorises.
+// runs of these arrays, read front to back, four at a time.
 struct CellOrderedPositions {
   std::vector<Real> x, y, z;
 
@@ -27,15 +32,104 @@ struct CellOrderedPositions {
     }
   }
 
-  // The count pass and the fill pass both decide "is a neighbour" through this one expression,
-  // so they agree on every pair and the fill writes exactly the counted entries.
+  // Written with explicit fused multiply-adds, in the order of the four-lane version below, so
+  // that a pair gets the same distance whichever of the two tests it.
   Real distance_squared(Index a, Index b) const {
     const Real dx = x[a] - x[b];
     const Real dy = y[a] - y[b];
     const Real dz = z[a] - z[b];
-    return dx * dx + dy * dy + dz * dz;
+    return std::fma(dz, dz, std::fma(dy, dy, dx * dx));
   }
+#if defined(__AVX2__) && defined(__FMA__)
+  __m256d distance_squared4(Index a, Index b) const {
+    const __m256d dx = _mm256_sub_pd(_mm256_set1_pd(x[a]), _mm256_loadu_pd(&x[b]));
+    const __m256d dy = _mm256_sub_pd(_mm256_set1_pd(y[a]), _mm256_loadu_pd(&y[b]));
+    const __m256d dz = _mm256_sub_pd(_mm256_set1_pd(z[a]), _mm256_loadu_pd(&z[b]));
+    return _mm256_fmadd_pd(dz, dz, _mm256_fmadd_pd(dy, dy, _mm256_mul_pd(dx, dx)));
+  }
+#endif
 };
+
+// One search radius for every pair.
+struct UniformRadius {
+  Real radius_squared;
+  Real squared(Index, Index) const { return radius_squared; }
+#if defined(__AVX2__) && defined(__FMA__)
+  __m256d squared4(Index, Index) const { return _mm256_set1_pd(radius_squared); }
+#endif
+};
+
+// reach_a + reach_b + skin, the reaches in cell order. Symmetric in a and b bit for bit (a sum of
+// two numbers does not depend on their order), so j is in i's row exactly when i is in j's.
+struct PairRadius {
+  std::vector<Real> reach;
+  Real skin;
+
+  PairRadius(std::span<const Real> reach_by_particle, std::span<const Index> order, Real skin)
+      : reach(order.size()), skin(skin) {
+    const auto n = static_cast<std::int64_t>(order.size());
+#pragma omp parallel for
+    for (std::int64_t k = 0; k < n; ++k) reach[k] = reach_by_particle[order[k]];
+  }
+  Real squared(Index a, Index b) const {
+    const Real r = reach[a] + reach[b] + skin;
+    return r * r;
+  }
+#if defined(__AVX2__) && defined(__FMA__)
+  __m256d squared4(Index a, Index b) const {
+    const __m256d r = _mm256_add_pd(_mm256_add_pd(_mm256_set1_pd(reach[a]), _mm256_loadu_pd(&reach[b])),
+                                    _mm256_set1_pd(skin));
+    return _mm256_mul_pd(r, r);
+  }
+#endif
+};
+
+// The candidates j in `range`, j != k, within the radius of k, handed to take(j_first, mask) four
+// at a time (bit i of mask: j_first + i is within) and to take(j, 1) one at a time for the rest.
+// The count pass and the fill pass both go through this, so they agree on every pair and the fill
+// writes exactly the counted entries.
+template <typename Radius, typename Take>
+inline void for_each_within(const CellOrderedPositions& p, const Radius& radius, Index k,
+                            ParticleRange range, Take&& take) {
+  Index j = range.begin;
+#if defined(__AVX2__) && defined(__FMA__)
+  for (; j + 4 <= range.end; j += 4) {
+    const __m256d inside = _mm256_cmp_pd(p.distance_squared4(k, j), radius.squared4(k, j), _CMP_LT_OQ);
+    unsigned mask = static_cast<unsigned>(_mm256_movemask_pd(inside));
+    if (k >= j && k < j + 4) mask &= ~(1u << (k - j));
+    take(j, mask);
+  }
+#endif
+  for (; j < range.end; ++j)
+    if (j != k && p.distance_squared(k, j) < radius.squared(k, j)) take(j, 1u);
+}
+
+// Writes the entries of from[0..3] whose bit is set in mask to to[0..], in order (a left-pack);
+// may write up to four entries in all.
+inline void append_lanes(const Index* from, unsigned mask, Index* to) {
+#if defined(__AVX2__) && defined(__BMI2__)
+  // The byte indices of the set bits, by pext, widened to lane indices for a permutation.
+  const std::uint64_t bytes_of_mask = _pdep_u64(mask, 0x01010101ull) * 0xFF;
+  const std::uint64_t lanes = _pext_u64(0x03020100ull, bytes_of_mask);
+  const __m128i index = _mm_cvtepu8_epi32(_mm_cvtsi64_si128(static_cast<long long>(lanes)));
+  const __m128 values = _mm_castsi128_ps(_mm_loadu_si128(reinterpret_cast<const __m128i*>(from)));
+  _mm_storeu_si128(reinterpret_cast<__m128i*>(to), _mm_castps_si128(_mm_permutevar_ps(values, index)));
+#else
+  for (int lane = 0; lane < 4; ++lane)
+    if (mask & (1u << lane)) *to++ = from[lane];
+#endif
+}
+
+// The storage is kept from one rebuild to the next while it holds between the need and 1.25x it
+// (resize then writes nothing); otherwise it is reallocated with 1/16 to spare, so that a slowly
+// growing list is not copied at every build and a shrunken one gives its memory back.
+void size_storage(std::vector<Index>& storage, std::size_t total) {
+  if (storage.capacity() < total || storage.capacity() > total + total / 4) {
+    std::vector<Index>().swap(storage);  // freed first: never both at once
+    storage.reserve(total + total / 16);
+  }
+  storage.resize(total);
+}
 
 }  // namespace
 
@@ -46,6 +140,27 @@ void VerletList::build(std::span<const Vec3> x, Real cutoff, Real skin) {
   }
   cutoff_ = cutoff;
   skin_ = skin;
+  const Real radius = cutoff + skin;
+  build_rows(x, radius, [&](std::span<const Index>) { return UniformRadius{radius * radius}; });
+}
+
+void VerletList::build(std::span<const Vec3> x, std::span<const Real> reach, Real skin) {
+  if (reach.size() != x.size())
+    throw std::invalid_argument("neighbour search: need one reach per particle");
+  Real largest = 0;
+  for (const Real r : reach) {
+    if (!(r > 0)) throw std::invalid_argument("neighbour search: need every reach > 0, got " + std::to_string(r));
+    largest = std::max(largest, r);
+  }
+  if (!(skin >= 0)) throw std::invalid_argument("neighbour search: need skin >= 0, got " + std::to_string(skin));
+  cutoff_ = 2 * largest;
+  skin_ = skin;
+  build_rows(x, cutoff_ + skin,
+             [&](std::span<const Index> order) { return PairRadius(reach, order, skin); });
+}
+
+template <typename MakeRadius>
+void VerletList::build_rows(std::span<const Vec3> x, Real cell_size, const MakeRadius& make_radius) {
   x_at_build_.assign(x.begin(), x.end());
   const auto n = static_cast<Index>(x.size());
   list_.offsets.assign(n + 1, 0);
@@ -54,12 +169,11 @@ void VerletList::build(std::span<const Vec3> x, Real cutoff, Real skin) {
     return;
   }
 
-  const Real radius = cutoff + skin;
-  const Real radius_squared = radius * radius;
   CellList cells;
-  cells.build(x, radius);
+  cells.build(x, cell_size);
   const std::span<const Index> order = cells.order();
   const CellOrderedPositions p(x, order);
+  const auto radius = make_radius(order);
   const Index cell_count = cells.cell_count();
 
   // Two passes, each writing only its own rows, so the list is the same for any thread count:
@@ -71,26 +185,21 @@ void VerletList::build(std::span<const Vec3> x, Real cutoff, Real skin) {
     const int range_count = cells.neighborhood(c, ranges);
     const ParticleRange own = cells.cell(c);
     for (Index k = own.begin; k < own.end; ++k) {
-      Index within = 0;
-      for (int r = 0; r < range_count; ++r) {
-        for (Index j = ranges[r].begin; j < ranges[r].end; ++j) {
-          within += p.distance_squared(k, j) < radius_squared;
-        }
-      }
-      list_.offsets[order[k] + 1] = within - 1;  // k itself, at distance 0, was counted
+      Index count = 0;
+      for (int r = 0; r < range_count; ++r)
+        for_each_within(p, radius, k, ranges[r], [&](Index, unsigned mask) { count += std::popcount(mask); });
+      list_.offsets[order[k] + 1] = count;
     }
   }
   for (Index i = 0; i < n; ++i) list_.offsets[i + 1] += list_.offsets[i];
-  // The storage is kept from one rebuild to the next, where the count barely changes (resize
-  // then writes nothing), unless it is more than twice what this build needs.
-  const auto total = static_cast<std::size_t>(list_.offsets[n]);
-  if (list_.neighbors.capacity() > 2 * total) std::vector<Index>().swap(list_.neighbors);
-  list_.neighbors.resize(total);
+  size_storage(list_.neighbors, static_cast<std::size_t>(list_.offsets[n]));
 
 #pragma omp parallel
   {
-    // One particle's neighbours, gathered without a branch per candidate (about one candidate in
-    // seven is a neighbour, so a branch would mispredict often), then sorted and copied out.
+    // One particle's neighbours, gathered four candidates at a time without a branch per
+    // candidate (about one in seven is a neighbour, so a branch would mispredict often), then
+    // sorted and copied out. `found` has room for 4 entries past the candidates, which the
+    // four-lane store may write before the count moves past them.
     std::vector<Index> found;
 #pragma omp for schedule(dynamic, 16)
     for (Index c = 0; c < cell_count; ++c) {
@@ -98,16 +207,19 @@ void VerletList::build(std::span<const Vec3> x, Real cutoff, Real skin) {
       const int range_count = cells.neighborhood(c, ranges);
       Index candidates = 0;
       for (int r = 0; r < range_count; ++r) candidates += ranges[r].end - ranges[r].begin;
-      if (found.size() < static_cast<std::size_t>(candidates)) found.resize(candidates);
+      if (found.size() < static_cast<std::size_t>(candidates) + 4) found.resize(candidates + 4);
       const ParticleRange own = cells.cell(c);
       for (Index k = own.begin; k < own.end; ++k) {
         Index count = 0;
-        for (int r = 0; r < range_count; ++r) {
-          for (Index j = ranges[r].begin; j < ranges[r].end; ++j) {
-            found[count] = order[j];
-            count += (j != k) & (p.distance_squared(k, j) < radius_squared);
-          }
-        }
+        for (int r = 0; r < range_count; ++r)
+          for_each_within(p, radius, k, ranges[r], [&](Index j, unsigned mask) {
+            if (mask == 1u) {
+              found[count++] = order[j];
+              return;
+            }
+            append_lanes(order.data() + j, mask, found.data() + count);
+            count += std::popcount(mask);
+          });
         // Particles already in cell order (as the solver keeps them) give sorted rows.
         if (!std::is_sorted(found.begin(), found.begin() + count)) {
           std::sort(found.begin(), found.begin() + count);
@@ -121,15 +233,32 @@ void VerletList::build(std::span<const Vec3> x, Real cutoff, Real skin) {
 
 bool VerletList::needs_rebuild(std::span<const Vec3> x) const {
   if (list_.offsets.empty() || x.size() != x_at_build_.size()) return true;
+  const auto n = static_cast<std::int64_t>(x.size());
+  if (n == 0) return false;
+  // Bounding box of the displacements: min and max are exact, so it does not depend on how the
+  // reduction is split between threads.
+  Real lx = x[0].x() - x_at_build_[0].x(), ly = x[0].y() - x_at_build_[0].y(),
+       lz = x[0].z() - x_at_build_[0].z();
+  Real ux = lx, uy = ly, uz = lz;
+#pragma omp parallel for reduction(min : lx, ly, lz) reduction(max : ux, uy, uz)
+  for (std::int64_t i = 0; i < n; ++i) {
+    const Vec3 d = x[i] - x_at_build_[i];
+    lx = std::min(lx, d.x());
+    ly = std::min(ly, d.y());
+    lz = std::min(lz, d.z());
+    ux = std::max(ux, d.x());
+    uy = std::max(uy, d.y());
+    uz = std::max(uz, d.z());
+  }
+  const Vec3 centre(Real(0.5) * (lx + ux), Real(0.5) * (ly + uy), Real(0.5) * (lz + uz));
   const Real half_skin = skin_ / 2;
   const Real limit_squared = half_skin * half_skin;
-  const auto n = static_cast<std::int64_t>(x.size());
   bool moved_too_far = false;
-  // Written as "not within" so that a NaN position asks for a rebuild, whose cell list then
-  // reports the particle instead of searching with a stale list.
+  // Written as "not within" so that a NaN position (which the min/max above may skip, but not
+  // this test) asks for a rebuild, whose cell list then reports the particle.
 #pragma omp parallel for reduction(|| : moved_too_far)
   for (std::int64_t i = 0; i < n; ++i) {
-    moved_too_far = moved_too_far || !((x[i] - x_at_build_[i]).squaredNorm() <= limit_squared);
+    moved_too_far = moved_too_far || !((x[i] - x_at_build_[i] - centre).squaredNorm() <= limit_squared);
   }
   return moved_too_far;
 }

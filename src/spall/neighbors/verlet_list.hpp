@@ -20,11 +20,18 @@ struct NeighborList {
 class VerletList {
  public:
   // Lists every pair closer than cutoff + skin (cutoff > 0, skin >= 0). The list stays valid
-  // (contains every pair closer than cutoff) until a particle has moved more than skin / 2 from
-  // where it was at the build. Throws InstabilityError when a position is not finite.
+  // (contains every pair closer than cutoff) while needs_rebuild() is false. Throws
+  // InstabilityError when a position is not finite.
   void build(std::span<const Vec3> x, Real cutoff, Real skin);
-  // True when some particle moved more than skin / 2 since the build (or has a non-finite
-  // position, or the particle count changed, or there was no build).
+  // Per-particle reach (every reach_i > 0): lists every pair closer than reach_i + reach_j + skin,
+  // and stays valid for the pairs closer than reach_i + reach_j while needs_rebuild() is false.
+  // Particles of very different reach then share a list without the small ones listing as far as
+  // the largest. cutoff() is twice the largest reach.
+  void build(std::span<const Vec3> x, std::span<const Real> reach, Real skin);
+  // False while every pair's distance has changed by at most the skin since the build. That holds
+  // when every displacement since the build lies within skin / 2 of one common vector c (triangle
+  // inequality); c is the centre of the displacements' bounding box, so that a rigid translation
+  // costs no rebuild. True also for a non-finite position, a changed particle count, or no build.
   bool needs_rebuild(std::span<const Vec3> x) const;
   const NeighborList& list() const { return list_; }
   Real cutoff() const { return cutoff_; }
@@ -33,6 +40,10 @@ class VerletList {
   std::size_t reference_positions_bytes() const { return x_at_build_.capacity() * sizeof(Vec3); }
 
  private:
+  // Bins x into cells of cell_size and lists the pairs within make_radius(cell order).squared(k, j).
+  template <typename MakeRadius>
+  void build_rows(std::span<const Vec3> x, Real cell_size, const MakeRadius& make_radius);
+
   NeighborList list_;
   std::vector<Vec3> x_at_build_;
   Real cutoff_ = 0;

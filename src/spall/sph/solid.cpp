@@ -3,6 +3,10 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <numeric>
+#if defined(__AVX2__)
+#include <immintrin.h>
+#endif
 
 #include "spall/materials/elastic.hpp"
 
@@ -12,10 +16,10 @@ namespace {
 // Support radius of the pair: the mean of both particles' supports 2h keeps W_ab symmetric.
 inline Real pair_support(Real ha, Real hb) { return ha + hb; }
 
-// Verlet skin as a fraction of the list's cutoff: a rebuild every few tens of steps at most.
+// Verlet skin as a fraction of the largest pair cutoff: a rebuild every few tens of steps at most.
 constexpr Real skin_fraction = 0.1;
-// The list's cutoff exceeds the largest support by this factor, so that a growing smoothing length
-// does not force a rebuild at every step.
+// Each particle's reach in the list exceeds its h by this factor, so that a growing smoothing
+// length does not force a rebuild at every step.
 constexpr Real cutoff_margin = 1.05;
 
 // Below this the moment matrix is too ill-conditioned to invert (an isolated particle, or one
@@ -23,19 +27,90 @@ constexpr Real cutoff_margin = 1.05;
 constexpr Real min_moment_determinant = 1e-3;
 }  // namespace
 
+// The geometry of one Verlet row's pairs, per thread: x_a - x_b, r, 1/r, 1/H_ab and whether the
+// pair is inside its support.
+struct RowTerms {
+  std::vector<Real> dx, dy, dz, r, inverse_r, inverse_support;
+  std::vector<std::uint8_t> inside;
+  void resize(std::size_t n) {
+    if (r.size() >= n + 4) return;
+    for (auto* v : {&dx, &dy, &dz, &r, &inverse_r, &inverse_support}) v->resize(n + 4);
+    inside.resize(n + 4);
+  }
+};
+
+// Fills terms[k] for the pairs (a, neighbour[k]), k in [0, count): four pairs at a time with AVX2
+// (the square root and the two divisions are the pair loops' slowest operations), the rest one at
+// a time by the same operations in the same order, so that every pair gets the same bits either
+// way and (a, b) the same as (b, a).
+inline void row_geometry(const Index* neighbour, Index count, const Real* position, const Real* h,
+                         Index a, RowTerms& terms) {
+  const Real xa = position[3 * a], ya = position[3 * a + 1], za = position[3 * a + 2], ha = h[a];
+  Index k = 0;
+#if defined(__AVX2__) && defined(__FMA__)
+  for (; k + 4 <= count; k += 4) {
+    const __m128i b = _mm_loadu_si128(reinterpret_cast<const __m128i*>(neighbour + k));
+    const __m128i b3 = _mm_add_epi32(b, _mm_add_epi32(b, b));
+    const auto gather = [](const Real* base, __m128i index) {
+      const __m256d all = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
+      return _mm256_mask_i32gather_pd(_mm256_setzero_pd(), base, index, all, 8);
+    };
+    const __m256d dx = _mm256_sub_pd(_mm256_set1_pd(xa), gather(position, b3));
+    const __m256d dy = _mm256_sub_pd(_mm256_set1_pd(ya), gather(position + 1, b3));
+    const __m256d dz = _mm256_sub_pd(_mm256_set1_pd(za), gather(position + 2, b3));
+    const __m256d r2 = _mm256_fmadd_pd(dz, dz, _mm256_fmadd_pd(dy, dy, _mm256_mul_pd(dx, dx)));
+    const __m256d H = _mm256_add_pd(_mm256_set1_pd(ha), gather(h, b));
+    const __m256d r = _mm256_sqrt_pd(r2);
+    const __m256d one = _mm256_set1_pd(1);
+    _mm256_storeu_pd(&terms.dx[k], dx);
+    _mm256_storeu_pd(&terms.dy[k], dy);
+    _mm256_storeu_pd(&terms.dz[k], dz);
+    _mm256_storeu_pd(&terms.r[k], r);
+    _mm256_storeu_pd(&terms.inverse_r[k], _mm256_div_pd(one, r));
+    _mm256_storeu_pd(&terms.inverse_support[k], _mm256_div_pd(one, H));
+    const int mask = _mm256_movemask_pd(_mm256_cmp_pd(r2, _mm256_mul_pd(H, H), _CMP_LT_OQ));
+    for (int lane = 0; lane < 4; ++lane) terms.inside[k + lane] = (mask >> lane) & 1;
+  }
+#endif
+  for (; k < count; ++k) {
+    const Index b = neighbour[k];
+    const Real dx = xa - position[3 * b], dy = ya - position[3 * b + 1], dz = za - position[3 * b + 2];
+    const Real r2 = std::fma(dz, dz, std::fma(dy, dy, dx * dx));
+    const Real H = ha + h[b];
+    const Real r = std::sqrt(r2);
+    terms.dx[k] = dx;
+    terms.dy[k] = dy;
+    terms.dz[k] = dz;
+    terms.r[k] = r;
+    terms.inverse_r[k] = 1 / r;
+    terms.inverse_support[k] = 1 / H;
+    terms.inside[k] = r2 < H * H;
+  }
+}
+
 // Calls visit(b, x_a - x_b, r, H_ab, grad_a W_ab) for every neighbour b of a inside the pair's
-// support, in the fixed order of a's Verlet row.
+// support, in the fixed order of a's Verlet row, so that each particle's sums are added in the
+// same order whatever the thread count.
 template <typename Kernel, typename Visit>
 inline void for_each_neighbour_in_support(const neighbors::NeighborList& list, Index a,
                                           std::span<const Vec3> x, std::span<const Real> h,
                                           Visit&& visit) {
-  for (Index k = list.offsets[a]; k < list.offsets[a + 1]; ++k) {
-    const Index b = list.neighbors[k];
-    const Vec3 xab = x[a] - x[b];
-    const Real r = xab.norm();
+  thread_local RowTerms terms;
+  const Index first = list.offsets[a];
+  const Index count = list.offsets[a + 1] - first;
+  const Index* neighbour = list.neighbors.data() + first;
+  terms.resize(count);
+  row_geometry(neighbour, count, x.data()->data(), h.data(), a, terms);
+  for (Index k = 0; k < count; ++k) {
+    if (!terms.inside[k]) continue;
+    const Index b = neighbour[k];
+    const Vec3 xab(terms.dx[k], terms.dy[k], terms.dz[k]);
+    const Real r = terms.r[k];
+    // H_ab = pair_support(h_a, h_b) = h_a + h_b, the sum the geometry pass took.
     const Real H = pair_support(h[a], h[b]);
-    if (r >= H) continue;
-    visit(b, xab, r, H, Kernel::gradient(xab, r, H));
+    const Vec3 grad = r > 0 ? Vec3(Kernel::gradient_factor(r, terms.inverse_r[k], terms.inverse_support[k]) * xab)
+                            : Vec3::Zero();
+    visit(b, xab, r, H, grad);
   }
 }
 
@@ -48,31 +123,36 @@ SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
   material_.resize(n);
   mass_.resize(n);
   smoothing_length_.resize(n);
+  list_reach_.resize(n);
   initial_smoothing_length_.resize(n);
   h_min_.resize(n);
   h_max_.resize(n);
   spacing_.resize(n);
   density_.resize(n);
+  volume_.resize(n);
   pressure_.assign(n, 0);
   sound_speed_.resize(n);
   internal_energy_.assign(n, 0);
   state_.resize(n);
-  gradient_correction_matrix_.assign(n, Mat3::Identity());
   gradient_amplification_.assign(n, 1);
   full_support_gradient_ = kernels::with_kernel(options_.kernel, options_.dimension, [](auto kernel) {
     return kernels::gradient_norm_integral<decltype(kernel)>();
   });
-  corrected_stress_.assign(n, Mat3::Zero());
+  corrected_stress_.assign(n, Mat3::Identity());
   if (options_.artificial_stress.enabled) artificial_stress_.assign(n, Mat3::Zero());
-  x_.resize(n);
-  v_.resize(n);
   density_rate_.assign(n, 0);
   viscous_heating_.assign(n, 0);
   velocity_gradient_.assign(n, Mat3::Zero());
   force_.assign(n, Vec3::Zero());
   viscous_force_.assign(n, Vec3::Zero());
+  // Particles in node order: the node store is in cell order, so that neighbours are close in
+  // memory, and a formulation owning a contiguous run of nodes reads their x and v in place.
+  std::vector<std::size_t> by_node(n);
+  std::iota(by_node.begin(), by_node.end(), std::size_t{0});
+  std::stable_sort(by_node.begin(), by_node.end(),
+                   [&](std::size_t i, std::size_t j) { return particles[i].node < particles[j].node; });
   for (std::size_t a = 0; a < n; ++a) {
-    const auto& p = particles[a];
+    const auto& p = particles[by_node[a]];
     node_[a] = p.node;
     material_[a] = p.material;
     mass_[a] = nodes.mass[p.node];
@@ -82,6 +162,7 @@ SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
     spacing_[a] = p.spacing;
     const auto& m = materials_[material_[a]];
     density_[a] = m.density;
+    volume_[a] = mass_[a] / density_[a];
     state_[a] = materials::initial_state(m);
     internal_energy_[a] = m.initial_specific_energy;
     pressure_[a] = materials::eos_pressure(m, m.density, internal_energy_[a]);
@@ -89,6 +170,9 @@ SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
   }
   for (const auto& m : materials_)
     if (std::holds_alternative<materials::JohnsonCook>(m.strength)) has_temperature_ = true;
+  bool contiguous = n > 0;
+  for (std::size_t a = 1; a < n && contiguous; ++a) contiguous = node_[a] == node_[0] + Index(a);
+  first_node_ = contiguous ? node_[0] : -1;
   const bool colour = std::any_of(options_.colour_field.begin(), options_.colour_field.end(),
                                   [](const ColourField& c) { return c.enabled; });
   if (colour) {
@@ -112,22 +196,37 @@ bool SolidFormulation::active(Real time) const {
 
 void SolidFormulation::gather_kinematics(const solver::NodeStore& nodes) {
   const Index n = particle_count();
+  if (first_node_ >= 0) {
+    x_ = std::span<const Vec3>(nodes.x).subspan(first_node_, n);
+    v_ = std::span<const Vec3>(nodes.v).subspan(first_node_, n);
+    return;
+  }
+  x_copy_.resize(n);
+  v_copy_.resize(n);
 #pragma omp parallel for schedule(static)
   for (Index a = 0; a < n; ++a) {
-    x_[a] = nodes.x[node_[a]];
-    v_[a] = nodes.v[node_[a]];
+    x_copy_[a] = nodes.x[node_[a]];
+    v_copy_[a] = nodes.v[node_[a]];
   }
+  x_ = x_copy_;
+  v_ = v_copy_;
 }
 
-// The list holds every pair within cutoff + skin at the build; it stays complete while no particle
-// has moved skin / 2 and no pair support h_a + h_b has outgrown the cutoff.
+// The list holds every pair within reach_a + reach_b + skin at the build, reach = cutoff_margin h
+// of that build; it stays complete while no pair's distance has changed by more than the skin
+// (VerletList::needs_rebuild) and no h_a has outgrown its reach. A per-pair reach keeps the rows of
+// particles with the common h short when a few others (the rim of a splashing foot) expand.
 void SolidFormulation::update_neighbour_list() {
+  const Index n = particle_count();
+  bool outgrown = !list_built_;
+  for (Index a = 0; a < n && !outgrown; ++a) outgrown = smoothing_length_[a] > list_reach_[a];
+  if (!outgrown && !verlet_.needs_rebuild(x_)) return;
   Real h_largest = 0;
-  for (Real h : smoothing_length_) h_largest = std::max(h_largest, h);
-  const Real support = 2 * h_largest;
-  if (list_built_ && support <= verlet_.cutoff() && !verlet_.needs_rebuild(x_)) return;
-  const Real cutoff = cutoff_margin * support;
-  verlet_.build(x_, cutoff, skin_fraction * cutoff);
+  for (Index a = 0; a < n; ++a) {
+    list_reach_[a] = cutoff_margin * smoothing_length_[a];
+    h_largest = std::max(h_largest, smoothing_length_[a]);
+  }
+  verlet_.build(x_, list_reach_, skin_fraction * cutoff_margin * 2 * h_largest);
   list_built_ = true;
 }
 
@@ -150,7 +249,7 @@ void SolidFormulation::compute_rates() {
     for_each_neighbour_in_support<Kernel>(list, a, x_, smoothing_length_,
                                           [&](Index b, const Vec3& xab, Real r, Real H, const Vec3& grad) {
       const Vec3 vba = v_[b] - v_[a];
-      const Real volume = mass_[b] / density_[b];
+      const Real volume = volume_[b];
       drho -= mass_[b] * vba.dot(grad);
       L.noalias() += volume * vba * grad.transpose();
       moment.noalias() -= volume * xab * grad.transpose();
@@ -162,7 +261,7 @@ void SolidFormulation::compute_rates() {
       }
     });
     if (colour_on) {
-      colour_[a] = colour + mass_[a] / density_[a] * Kernel::value(0, 2 * smoothing_length_[a]);
+      colour_[a] = colour + volume_[a] * Kernel::value(0, 2 * smoothing_length_[a]);
       colour_normal_[a] = normal;
       support_count_[a] = count;
     }
@@ -179,7 +278,7 @@ void SolidFormulation::compute_rates() {
         drho = -density_[a] * L.trace();
       }
     }
-    gradient_correction_matrix_[a] = correction;
+    corrected_stress_[a] = correction;  // B_a, until update_state turns it into sigma_a B_a^T
     // Row sum of the gradient operator v -> L_a, sum_b V_b |B^T grad_a W_ab| + |B^T n_a| (the
     // second term: the weight of v_a itself), relative to a full support's; the first term by
     // Cauchy-Schwarz, sqrt(tr T tr(B^T T B)) with T = spread (exact when B = I).
@@ -247,6 +346,7 @@ void SolidFormulation::update_state(Real dt) {
       const Mat3 sigma_old = state.deviatoric_stress - pressure_[a] * Mat3::Identity();
       internal_energy_[a] += dt * (sigma_old.cwiseProduct(L).sum() / density_[a] + viscous_heating_[a]);
       density_[a] += dt * density_rate_[a];
+      volume_[a] = mass_[a] / density_[a];
       // Objective (Jaumann) rotation of the stress deviator and back stress, then the material.
       const Mat3 W = Real(0.5) * (L - L.transpose());
       state.deviatoric_stress += dt * (W * state.deviatoric_stress - state.deviatoric_stress * W);
@@ -264,7 +364,8 @@ void SolidFormulation::update_state(Real dt) {
     const bool hydrostatic_only = !category_.empty() && category_[a] != Category::interior &&
                                   options_.colour_field[material_[a]].treat;
     const Mat3 exported = hydrostatic_only ? Mat3(-pressure_[a] * Mat3::Identity()) : sigma;
-    corrected_stress_[a] = exported * gradient_correction_matrix_[a].transpose();
+    const Mat3 correction = corrected_stress_[a];  // B_a from compute_rates
+    corrected_stress_[a] = exported * correction.transpose();
     if (stress_options.enabled) {
       // Monaghan 2000: a repulsive stress -eps sigma_i / rho^2 along each tensile principal axis.
       // From the stress the particle passes on, so that a treated particle's deviator stays out.
@@ -295,7 +396,7 @@ void SolidFormulation::compute_pair_forces() {
 #pragma omp parallel for schedule(static)
   for (Index a = 0; a < n; ++a) {
     const Real rho_a = density_[a];
-    const Real volume_a = mass_[a] / rho_a;
+    const Real volume_a = volume_[a];
     const Mat3& P_a = corrected_stress_[a];
     Vec3 f = Vec3::Zero();
     Vec3 f_visc = Vec3::Zero();
@@ -305,7 +406,7 @@ void SolidFormulation::compute_pair_forces() {
       const Real rho_b = density_[b];
       // (P_a + P_b) and grad are exactly opposite for the pair (b, a): momentum is conserved
       // to round-off although each particle gathers its own sum.
-      f.noalias() += (volume_a * (mass_[b] / rho_b)) * ((P_a + corrected_stress_[b]) * grad);
+      f.noalias() += (volume_a * volume_[b]) * ((P_a + corrected_stress_[b]) * grad);
       if (stress_on) {
         const Real dp = Real(0.5) * (spacing_[a] + spacing_[b]);
         const Real ratio = Kernel::value(r, H) / Kernel::value(dp, H);
@@ -449,12 +550,12 @@ std::size_t bytes(const std::vector<T>& v) {
 
 std::size_t SolidFormulation::memory_bytes() const {
   const auto& list = verlet_.list();
-  return bytes(node_) + bytes(material_) + bytes(mass_) + bytes(smoothing_length_) +
+  return bytes(node_) + bytes(material_) + bytes(mass_) + bytes(smoothing_length_) + bytes(list_reach_) +
          bytes(initial_smoothing_length_) + bytes(h_min_) + bytes(h_max_) + bytes(spacing_) +
-         bytes(density_) + bytes(pressure_) + bytes(sound_speed_) + bytes(internal_energy_) +
-         bytes(state_) + bytes(gradient_correction_matrix_) + bytes(gradient_amplification_) + bytes(corrected_stress_) +
+         bytes(density_) + bytes(volume_) + bytes(pressure_) + bytes(sound_speed_) + bytes(internal_energy_) +
+         bytes(state_) + bytes(gradient_amplification_) + bytes(corrected_stress_) +
          bytes(artificial_stress_) + bytes(colour_) + bytes(colour_normal_) +
-         bytes(support_count_) + bytes(full_support_count_) + bytes(category_) + bytes(x_) + bytes(v_) + bytes(density_rate_) +
+         bytes(support_count_) + bytes(full_support_count_) + bytes(category_) + bytes(x_copy_) + bytes(v_copy_) + bytes(density_rate_) +
          bytes(viscous_heating_) + bytes(velocity_gradient_) + bytes(force_) +
          bytes(viscous_force_) + bytes(list.offsets) + bytes(list.neighbors) +
          verlet_.reference_positions_bytes();

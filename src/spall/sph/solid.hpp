@@ -24,6 +24,7 @@
 // One SPH formulation owns every SPH part; particles of different parts interact through the
 // kernel, with each particle's own material.
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "spall/kernels/kernel.hpp"
@@ -142,18 +143,21 @@ class SolidFormulation final : public solver::Formulation {
   std::vector<Index> material_;
   std::vector<Real> mass_;
   std::vector<Real> smoothing_length_;
+  std::vector<Real> list_reach_;  // cutoff_margin h at the last list build
   std::vector<Real> initial_smoothing_length_;
   std::vector<Real> h_min_, h_max_;
   std::vector<Real> spacing_;
   std::vector<Real> density_;
+  std::vector<Real> volume_;  // m / rho, kept with the density: the pair loops read it per pair
   std::vector<Real> pressure_;
   std::vector<Real> sound_speed_;
   std::vector<Real> internal_energy_;  // specific (per unit mass)
   std::vector<materials::PointState> state_;  // deviatoric stress, plastic strain, temperature, ...
-  std::vector<Mat3> gradient_correction_matrix_;  // B_a (identity without correction)
   std::vector<Real> gradient_amplification_;      // s_a of the stable step (stable_time_step)
   Real full_support_gradient_ = 0;                // H sum_b V_b |grad W| of a full support
-  std::vector<Mat3> corrected_stress_;            // sigma_a B_a^T, as the pair force uses it
+  // sigma_a B_a^T, as the pair force uses it. Between compute_rates and update_state it holds B_a
+  // itself (identity without correction): B is needed only there, and one array saves 72 B a particle.
+  std::vector<Mat3> corrected_stress_;
   std::vector<Mat3> artificial_stress_;           // R_a (empty when switched off)
   // Colour field (empty when no part asks for it).
   std::vector<Real> colour_;
@@ -162,7 +166,11 @@ class SolidFormulation final : public solver::Formulation {
   std::vector<Real> full_support_count_;           // the count of a full support at this h/spacing
   std::vector<Category> category_;
   // Scratch of the current step.
-  std::vector<Vec3> x_, v_;
+  // x and v of the particles' nodes: the node store's own arrays when the particles own a
+  // contiguous run of nodes (first_node_ >= 0), else copies gathered into x_copy_, v_copy_.
+  std::span<const Vec3> x_, v_;
+  std::vector<Vec3> x_copy_, v_copy_;
+  Index first_node_ = -1;
   std::vector<Real> density_rate_;
   std::vector<Real> viscous_heating_;  // 1/2 sum_b m_b Pi_ab v_ab . grad_a W_ab
   std::vector<Mat3> velocity_gradient_;
