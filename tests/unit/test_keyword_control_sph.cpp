@@ -106,7 +106,7 @@ TEST(spall_sph_keywords, ColourFieldCardsPerPartWithDefaults) {
   EXPECT_EQ(all.layers, 1);
   EXPECT_EQ(all.interval, 1);
   EXPECT_EQ(all.form, 1);  // the relaxed treatment (docs/VALIDATION.md: the literal one is unstable)
-  EXPECT_EQ(all.relaxation, 20.0);
+  EXPECT_EQ(all.relaxation, 100.0);
   const auto& three = model.sph_colour_fields[1];
   EXPECT_EQ(three.pid, 3);
   EXPECT_EQ(three.treat, 1);

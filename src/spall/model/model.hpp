@@ -385,7 +385,7 @@ struct SphColourField {
   int layers = 1;                 // inner layers behind the surface
   int interval = 1;               // steps between categorizations
   int form = 1;                   // TFORM 1: relaxed exported deviator, 2: seed 000 literal (-pI)
-  Real relaxation = 20;           // TAU: relaxation time of the exported deviator, in h / c
+  Real relaxation = 100;          // TAU: relaxation time of the exported deviator, in h / c
   SourceLocation where;
 };
 

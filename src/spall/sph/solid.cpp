@@ -457,6 +457,12 @@ void SolidFormulation::add_fields(std::vector<io::output::PointField>& fields,
     fields.push_back({"colour_normal", 3, std::move(normal)});
     fields.push_back({"category", 1, std::move(category)});
   }
+  if (!exported_deviator_.empty()) {
+    // What the relaxed treatment passes on (docs/THEORY.md §3); von_mises is the material's own.
+    std::vector<double> exported(n_nodes, 0);
+    for (Index a = 0; a < particle_count(); ++a) exported[node_[a]] = materials::von_mises(exported_deviator_[a]);
+    fields.push_back({"exported_von_mises", 1, std::move(exported)});
+  }
   fields.push_back({"neighbour_count", 1, std::move(neighbour_count)});
 }
 

@@ -52,7 +52,7 @@ struct ColourField {
   // their deviator. TFORM 1 (default): the exported deviator relaxes to zero in `relaxation`
   // wave-transit times h / c and the energy follows the exported stress (docs/THEORY.md §3).
   bool literal = false;
-  Real relaxation = 20;
+  Real relaxation = 100;
 };
 
 // Particle categories as output in the `category` field.

@@ -160,7 +160,7 @@ void read_spall_sph_colour_field(CardCursor& cursor, const KeywordCall&, model::
     if (colour.interval == 0) colour.interval = 1;
     colour.form = static_cast<int>(card.integer(6, "TFORM", 0));
     if (colour.form == 0) colour.form = 1;
-    colour.relaxation = zero_means_default(card.real(7, "TAU", 0.0), 20.0);
+    colour.relaxation = zero_means_default(card.real(7, "TAU", 0.0), 100.0);
     if (colour.pid < 0) card.fail("PID", quoted(card.text(0)) + " is negative");
     if (colour.treat != 0 && colour.treat != 1) card.fail("TREAT", quoted(card.text(1)) + " is not 0 or 1");
     if (colour.neighbour_fraction <= 0 || colour.neighbour_fraction > 1)
