@@ -96,7 +96,7 @@ TEST(control_sph, UnimplementedOptionsStopAtTheirCard) {
 TEST(spall_sph_keywords, ColourFieldCardsPerPartWithDefaults) {
   DeckFolder folder;
   const auto model = read_deck(folder.write(
-      "c.k", "*KEYWORD\n*SPALL_SPH_COLOUR_FIELD\n" + row({"0"}) + row({"3", "1", "0.7", "0.25", "2", "5"}) + "*END\n"));
+      "c.k", "*KEYWORD\n*SPALL_SPH_COLOUR_FIELD\n" + row({"0"}) + row({"3", "1", "0.7", "0.25", "2", "5", "2", "7.5"}) + "*END\n"));
   ASSERT_EQ(model.sph_colour_fields.size(), 2u);
   const auto& all = model.sph_colour_fields[0];
   EXPECT_EQ(all.pid, 0);
@@ -105,6 +105,8 @@ TEST(spall_sph_keywords, ColourFieldCardsPerPartWithDefaults) {
   EXPECT_EQ(all.normal_threshold, 0.3);
   EXPECT_EQ(all.layers, 1);
   EXPECT_EQ(all.interval, 1);
+  EXPECT_EQ(all.form, 1);  // the relaxed treatment (docs/VALIDATION.md: the literal one is unstable)
+  EXPECT_EQ(all.relaxation, 100.0);
   const auto& three = model.sph_colour_fields[1];
   EXPECT_EQ(three.pid, 3);
   EXPECT_EQ(three.treat, 1);
@@ -112,12 +114,20 @@ TEST(spall_sph_keywords, ColourFieldCardsPerPartWithDefaults) {
   EXPECT_EQ(three.normal_threshold, 0.25);
   EXPECT_EQ(three.layers, 2);
   EXPECT_EQ(three.interval, 5);
+  EXPECT_EQ(three.form, 2);
+  EXPECT_EQ(three.relaxation, 7.5);
 }
 
 TEST(spall_sph_keywords, ColourFieldBadInputNamesTheField) {
   DeckFolder folder;
   const auto bad_treat = folder.write("t.k", "*KEYWORD\n*SPALL_SPH_COLOUR_FIELD\n" + row({"0", "2"}) + "*END\n");
   EXPECT_NE(input_error_of([&] { read_deck(bad_treat); }).find("t.k:3: *SPALL_SPH_COLOUR_FIELD: field TREAT"),
+            std::string::npos);
+  const auto bad_form = folder.write("f.k", "*KEYWORD\n*SPALL_SPH_COLOUR_FIELD\n" + row({"0", "1", "", "", "", "", "3"}) + "*END\n");
+  EXPECT_NE(input_error_of([&] { read_deck(bad_form); }).find("f.k:3: *SPALL_SPH_COLOUR_FIELD: field TFORM"),
+            std::string::npos);
+  const auto bad_tau = folder.write("u.k", "*KEYWORD\n*SPALL_SPH_COLOUR_FIELD\n" + row({"0", "1", "", "", "", "", "1", "-1"}) + "*END\n");
+  EXPECT_NE(input_error_of([&] { read_deck(bad_tau); }).find("u.k:3: *SPALL_SPH_COLOUR_FIELD: field TAU"),
             std::string::npos);
   const auto twice = folder.write("d.k", "*KEYWORD\n*SPALL_SPH_COLOUR_FIELD\n" + row({"4"}) + row({"4"}) + "*END\n");
   EXPECT_NE(input_error_of([&] { read_deck(twice); }).find("d.k:4: *SPALL_SPH_COLOUR_FIELD: field PID"),

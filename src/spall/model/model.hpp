@@ -384,6 +384,8 @@ struct SphColourField {
   Real normal_threshold = 0.3;    // ... and |n| h above this
   int layers = 1;                 // inner layers behind the surface
   int interval = 1;               // steps between categorizations
+  int form = 1;                   // TFORM 1: relaxed exported deviator, 2: seed 000 literal (-pI)
+  Real relaxation = 100;          // TAU: relaxation time of the exported deviator, in h / c
   SourceLocation where;
 };
 

@@ -244,6 +244,8 @@ class Builder {
       c.normal_threshold = chosen->normal_threshold;
       c.layers = chosen->layers;
       c.interval = chosen->interval;
+      c.literal = chosen->form == 2;
+      c.relaxation = chosen->relaxation;
     }
     return result;
   }

@@ -178,6 +178,11 @@ SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
   if (colour) {
     colour_.assign(n, 0);
     colour_normal_.assign(n, Vec3::Zero());
+    if (std::any_of(options_.colour_field.begin(), options_.colour_field.end(),
+                    [](const ColourField& c) { return c.enabled && c.treat && !c.literal; })) {
+      exported_deviator_.resize(n);
+      for (std::size_t a = 0; a < n; ++a) exported_deviator_[a] = state_[a].deviatoric_stress;
+    }
     support_count_.assign(n, 0);
     category_.assign(n, Category::interior);
     full_support_count_.resize(n);
@@ -337,13 +342,18 @@ void SolidFormulation::update_state(Real dt) {
   const Index n = particle_count();
   const Real inverse_dimension = Real(1) / options_.dimension;
   const auto& stress_options = options_.artificial_stress;
+  const bool relaxed = !exported_deviator_.empty();
 #pragma omp parallel for schedule(static)
   for (Index a = 0; a < n; ++a) {
     const auto& m = materials_[material_[a]];
+    const ColourField& colour = options_.colour_field.empty() ? ColourField{} : options_.colour_field[material_[a]];
+    const bool treated = !category_.empty() && category_[a] != Category::interior && colour.treat;
     materials::PointState& state = state_[a];
     if (dt > 0) {
       const Mat3& L = velocity_gradient_[a];
-      const Mat3 sigma_old = state.deviatoric_stress - pressure_[a] * Mat3::Identity();
+      // The stress whose power the pair forces delivered: energy-consistent (docs/THEORY.md §3).
+      const Mat3& S_power = relaxed ? exported_deviator_[a] : state.deviatoric_stress;
+      const Mat3 sigma_old = S_power - pressure_[a] * Mat3::Identity();
       internal_energy_[a] += dt * (sigma_old.cwiseProduct(L).sum() / density_[a] + viscous_heating_[a]);
       density_[a] += dt * density_rate_[a];
       volume_[a] = mass_[a] / density_[a];
@@ -353,6 +363,7 @@ void SolidFormulation::update_state(Real dt) {
       state.back_stress += dt * (W * state.back_stress - state.back_stress * W);
       const Mat3 D = Real(0.5) * (L + L.transpose());
       pressure_[a] = materials::update_stress(m, state, D, dt, density_[a], internal_energy_[a]).pressure;
+      if (relaxed) relax_exported_deviator(a, W, D, treated, colour.relaxation, dt);
       smoothing_length_[a] =
           std::clamp(initial_smoothing_length_[a] * std::pow(m.density / density_[a], inverse_dimension),
                      h_min_[a], h_max_[a]);
@@ -360,10 +371,11 @@ void SolidFormulation::update_state(Real dt) {
     sound_speed_[a] = materials::sound_speed(m, density_[a], internal_energy_[a]);
     // The stress as the pair force uses it: sigma B^T (seed 000 eq. 8 for sigma).
     const Mat3 sigma = state.deviatoric_stress - pressure_[a] * Mat3::Identity();
-    // Seed 000 §4: treated surface and inner-layer particles pass only their pressure on.
-    const bool hydrostatic_only = !category_.empty() && category_[a] != Category::interior &&
-                                  options_.colour_field[material_[a]].treat;
-    const Mat3 exported = hydrostatic_only ? Mat3(-pressure_[a] * Mat3::Identity()) : sigma;
+    // Seed 000 §4: treated surface and inner-layer particles pass only their pressure on
+    // (TFORM 2), or their relaxed deviator (TFORM 1).
+    const Mat3 exported = relaxed ? Mat3(exported_deviator_[a] - pressure_[a] * Mat3::Identity())
+                          : treated ? Mat3(-pressure_[a] * Mat3::Identity())
+                                    : sigma;
     const Mat3 correction = corrected_stress_[a];  // B_a from compute_rates
     corrected_stress_[a] = exported * correction.transpose();
     if (stress_options.enabled) {
@@ -377,6 +389,33 @@ void SolidFormulation::update_state(Real dt) {
       artificial_stress_[a] = principal.eigenvectors() * r.asDiagonal() * principal.eigenvectors().transpose();
     }
   }
+}
+
+// Relaxed treatment (TFORM 1): the exported deviator S* is a Maxwell element with the material's
+// shear modulus, dS*/dt = 2G dev D - (S* - target) / tau, tau = TAU h / c, that relaxes toward 0
+// on a treated particle and toward the material's S on the others, and is kept within the
+// yield surface (the larger of the static yield stress and |S|). A treated particle is thus as
+// stiff and as strong as the material against motion faster than tau and under plastic flow at a
+// strain rate above sigma_y / (2 G tau); a stress that persists at a lower rate (residual stress)
+// is not passed on after a few tau, while the material's own S stays in the output. A failed
+// particle exports no deviator.
+void SolidFormulation::relax_exported_deviator(Index a, const Mat3& W, const Mat3& D, bool treated,
+                                               Real relaxation, Real dt) {
+  const auto& m = materials_[material_[a]];
+  const materials::PointState& state = state_[a];
+  Mat3& exported = exported_deviator_[a];
+  if (state.failed) {
+    exported = state.deviatoric_stress;
+    return;
+  }
+  const Mat3 D_dev = D - D.trace() / 3 * Mat3::Identity();
+  exported += dt * (W * exported - exported * W + 2 * m.shear_modulus * D_dev);
+  const Mat3 target = treated ? Mat3::Zero() : state.deviatoric_stress;
+  const Real tau = relaxation * smoothing_length_[a] / sound_speed_[a];
+  exported = target + std::exp(-dt / tau) * (exported - target);  // exact decay over the step
+  const Real bound = std::max(materials::static_yield_stress(m, state), materials::von_mises(state.deviatoric_stress));
+  const Real size = materials::von_mises(exported);
+  if (size > bound) exported *= bound / size;
 }
 
 // Momentum, dual to the (corrected) velocity gradient: with P = sigma B^T,
@@ -538,6 +577,12 @@ void SolidFormulation::add_fields(std::vector<io::output::PointField>& fields,
     fields.push_back({"colour_normal", 3, std::move(normal)});
     fields.push_back({"category", 1, std::move(category)});
   }
+  if (!exported_deviator_.empty()) {
+    // What the relaxed treatment passes on (docs/THEORY.md §3); von_mises is the material's own.
+    std::vector<double> exported(n_nodes, 0);
+    for (Index a = 0; a < particle_count(); ++a) exported[node_[a]] = materials::von_mises(exported_deviator_[a]);
+    fields.push_back({"exported_von_mises", 1, std::move(exported)});
+  }
   fields.push_back({"neighbour_count", 1, std::move(neighbour_count)});
 }
 
@@ -554,7 +599,7 @@ std::size_t SolidFormulation::memory_bytes() const {
          bytes(initial_smoothing_length_) + bytes(h_min_) + bytes(h_max_) + bytes(spacing_) +
          bytes(density_) + bytes(volume_) + bytes(pressure_) + bytes(sound_speed_) + bytes(internal_energy_) +
          bytes(state_) + bytes(gradient_amplification_) + bytes(corrected_stress_) +
-         bytes(artificial_stress_) + bytes(colour_) + bytes(colour_normal_) +
+         bytes(artificial_stress_) + bytes(exported_deviator_) + bytes(colour_) + bytes(colour_normal_) +
          bytes(support_count_) + bytes(full_support_count_) + bytes(category_) + bytes(x_copy_) + bytes(v_copy_) + bytes(density_rate_) +
          bytes(viscous_heating_) + bytes(velocity_gradient_) + bytes(force_) +
          bytes(viscous_force_) + bytes(list.offsets) + bytes(list.neighbors) +

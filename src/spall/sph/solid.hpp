@@ -49,6 +49,11 @@ struct ColourField {
   Real normal_threshold = 0.3;    // ... and |n| h > threshold
   int layers = 1;
   int interval = 1;               // steps between categorizations
+  // TFORM 2: seed 000 read literally, treated particles export -pI at once and keep integrating
+  // their deviator. TFORM 1 (default): the exported deviator relaxes to zero in `relaxation`
+  // wave-transit times h / c and the energy follows the exported stress (docs/THEORY.md §3).
+  bool literal = false;
+  Real relaxation = 100;
 };
 
 // Particle categories as output in the `category` field.
@@ -131,6 +136,8 @@ class SolidFormulation final : public solver::Formulation {
   void compute_rates();
   void categorize();
   void update_state(Real dt);
+  void relax_exported_deviator(Index a, const Mat3& W, const Mat3& D, bool treated,
+                               Real relaxation, Real dt);
   template <typename Kernel>
   void compute_pair_forces();
   bool active(Real time) const;
@@ -159,6 +166,9 @@ class SolidFormulation final : public solver::Formulation {
   // itself (identity without correction): B is needed only there, and one array saves 72 B a particle.
   std::vector<Mat3> corrected_stress_;
   std::vector<Mat3> artificial_stress_;           // R_a (empty when switched off)
+  // The deviator the pair force uses under the relaxed treatment (empty when no part has it):
+  // follows the material's increments and relaxes toward 0 (treated) or S (not treated).
+  std::vector<Mat3> exported_deviator_;
   // Colour field (empty when no part asks for it).
   std::vector<Real> colour_;
   std::vector<Vec3> colour_normal_;

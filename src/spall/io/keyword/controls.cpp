@@ -149,7 +149,7 @@ void read_spall_sph_colour_field(CardCursor& cursor, const KeywordCall&, model::
   while (true) {
     cursor.skip_blank_lines();
     if (cursor.done()) break;
-    const Card card = cursor.next(standard_fields, "card 1 (PID TREAT NFRAC NTHRESH LAYERS INTERVAL)");
+    const Card card = cursor.next(standard_fields, "card 1 (PID TREAT NFRAC NTHRESH LAYERS INTERVAL TFORM TAU)");
     model::SphColourField colour;
     colour.pid = card.integer(0, "PID", 0);
     colour.treat = static_cast<int>(card.integer(1, "TREAT", 0));
@@ -158,6 +158,9 @@ void read_spall_sph_colour_field(CardCursor& cursor, const KeywordCall&, model::
     colour.layers = static_cast<int>(card.integer(4, "LAYERS", 1));
     colour.interval = static_cast<int>(card.integer(5, "INTERVAL", 1));
     if (colour.interval == 0) colour.interval = 1;
+    colour.form = static_cast<int>(card.integer(6, "TFORM", 0));
+    if (colour.form == 0) colour.form = 1;
+    colour.relaxation = zero_means_default(card.real(7, "TAU", 0.0), 100.0);
     if (colour.pid < 0) card.fail("PID", quoted(card.text(0)) + " is negative");
     if (colour.treat != 0 && colour.treat != 1) card.fail("TREAT", quoted(card.text(1)) + " is not 0 or 1");
     if (colour.neighbour_fraction <= 0 || colour.neighbour_fraction > 1)
@@ -165,6 +168,8 @@ void read_spall_sph_colour_field(CardCursor& cursor, const KeywordCall&, model::
     if (colour.normal_threshold < 0) card.fail("NTHRESH", quoted(card.text(3)) + " is negative");
     if (colour.layers < 0) card.fail("LAYERS", quoted(card.text(4)) + " is negative");
     if (colour.interval < 0) card.fail("INTERVAL", quoted(card.text(5)) + " is negative");
+    if (colour.form != 1 && colour.form != 2) card.fail("TFORM", quoted(card.text(6)) + " is not 1 or 2");
+    if (colour.relaxation < 0) card.fail("TAU", quoted(card.text(7)) + " is negative");
     colour.where = card.where();
     for (const auto& other : model.sph_colour_fields)
       if (other.pid == colour.pid)
