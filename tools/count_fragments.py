@@ -26,19 +26,9 @@ import sys
 
 import numpy
 import vtk
-from vtk.util.numpy_support import numpy_to_vtk, vtk_to_numpy
+from vtk.util.numpy_support import vtk_to_numpy
 
-
-def read(path):
-    reader = vtk.vtkXMLUnstructuredGridReader()
-    errors = []
-    reader.AddObserver("ErrorEvent", lambda caller, event: errors.append(event))
-    reader.SetFileName(path)
-    reader.Update()
-    grid = reader.GetOutput()
-    if errors or grid.GetNumberOfPoints() == 0:
-        sys.exit(f"count_fragments: {path}: VTK cannot read particles from it")
-    return grid
+from particle_files import point_locator, read_particles
 
 
 def field(grid, path, name, required=True):
@@ -50,20 +40,9 @@ def field(grid, path, name, required=True):
     return vtk_to_numpy(array).reshape(grid.GetNumberOfPoints(), -1)
 
 
-def locator_of(x):
-    points = vtk.vtkPoints()
-    points.SetData(numpy_to_vtk(numpy.ascontiguousarray(x)))
-    cloud = vtk.vtkPolyData()
-    cloud.SetPoints(points)
-    locator = vtk.vtkStaticPointLocator()
-    locator.SetDataSet(cloud)
-    locator.BuildLocator()
-    return locator
-
-
 def neighbours(x, radius):
     """For each point, the indices of the other points closer than radius."""
-    locator = locator_of(x)
+    locator = point_locator(x)
     ids = vtk.vtkIdList()
     result = []
     for i, p in enumerate(x):
@@ -73,7 +52,7 @@ def neighbours(x, radius):
 
 
 def median_spacing(x):
-    locator = locator_of(x)
+    locator = point_locator(x)
     ids = vtk.vtkIdList()
     step = max(1, len(x) // 2000)
     distances = []
@@ -111,7 +90,7 @@ def main():
     parser.add_argument("--part", type=int, help="only this part's particles (needs part_id)")
     args = parser.parse_args()
 
-    grid = read(args.vtu)
+    grid = read_particles(args.vtu, "count_fragments")
     x = vtk_to_numpy(grid.GetPoints().GetData()).astype(float)
     x0 = x - field(grid, args.vtu, "displacement")
     v = field(grid, args.vtu, "velocity")

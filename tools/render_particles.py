@@ -34,24 +34,13 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy  # noqa: E402
 import vtk  # noqa: E402
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
+from particle_files import point_locator, read_particles  # noqa: E402
 from vtk.util.numpy_support import numpy_to_vtk, vtk_to_numpy  # noqa: E402
 
 AXES = {"x": 0, "y": 1, "z": 2}
 # Seed 000 Figure 4's colours for the field `category` (0 interior, 1 inner layer, 2 surface).
 CATEGORIES = [("interior", "tab:blue"), ("inner layer", "tab:red"), ("surface", "tab:green")]
 COMPONENTS = {"x": 0, "y": 1, "z": 2, "xx": 0, "yy": 1, "zz": 2, "xy": 3, "yz": 4, "zx": 5}
-
-
-def read(path):
-    reader = vtk.vtkXMLUnstructuredGridReader()
-    errors = []
-    reader.AddObserver("ErrorEvent", lambda caller, event: errors.append(event))
-    reader.SetFileName(path)
-    reader.Update()
-    grid = reader.GetOutput()
-    if errors or grid.GetNumberOfPoints() == 0:
-        sys.exit(f"render_particles: {path}: VTK cannot read particles from it")
-    return grid
 
 
 def point_field(grid, path, name, component):
@@ -74,13 +63,7 @@ def point_field(grid, path, name, component):
 
 def spacing(x):
     """The median distance from a particle to its nearest neighbour (of up to 2000 samples)."""
-    points = vtk.vtkPoints()
-    points.SetData(numpy_to_vtk(numpy.ascontiguousarray(x)))
-    cloud = vtk.vtkPolyData()
-    cloud.SetPoints(points)
-    locator = vtk.vtkStaticPointLocator()
-    locator.SetDataSet(cloud)
-    locator.BuildLocator()
+    locator = point_locator(x)
     ids = vtk.vtkIdList()
     step = max(1, len(x) // 2000)
     distances = []
@@ -132,13 +115,7 @@ def colour_field_surface(x, h, cslh, dx):
 
 def nearest_values(x, values, points):
     """The value of the particle nearest to each of the points."""
-    cloud = vtk.vtkPolyData()
-    vtk_points = vtk.vtkPoints()
-    vtk_points.SetData(numpy_to_vtk(numpy.ascontiguousarray(x)))
-    cloud.SetPoints(vtk_points)
-    locator = vtk.vtkStaticPointLocator()
-    locator.SetDataSet(cloud)
-    locator.BuildLocator()
+    locator = point_locator(x)
     return numpy.array([values[locator.FindClosestPoint(p)] for p in points])
 
 
@@ -229,7 +206,7 @@ def main():
 
     frames = []
     for path in args.vtu:
-        grid = read(path)
+        grid = read_particles(path, "render_particles")
         x = vtk_to_numpy(grid.GetPoints().GetData()).astype(float)
         h = point_field(grid, path, "smoothing_length", None) if args.surface else None
         values = point_field(grid, path, args.field, args.component)

@@ -1,0 +1,35 @@
+"""What the particle tools share: reading one Spall .vtu with VTK, and a point locator.
+
+Imported by render_particles.py and count_fragments.py (run them with /usr/bin/python3, which has
+python3-vtk9).
+"""
+import sys
+
+import numpy
+import vtk
+from vtk.util.numpy_support import numpy_to_vtk
+
+
+def read_particles(path, tool):
+    """The unstructured grid of a .vtu; exits naming `tool` when VTK finds no particles in it."""
+    reader = vtk.vtkXMLUnstructuredGridReader()
+    errors = []
+    reader.AddObserver("ErrorEvent", lambda caller, event: errors.append(event))
+    reader.SetFileName(path)
+    reader.Update()
+    grid = reader.GetOutput()
+    if errors or grid.GetNumberOfPoints() == 0:
+        sys.exit(f"{tool}: {path}: VTK cannot read particles from it")
+    return grid
+
+
+def point_locator(x):
+    """A VTK static point locator over the positions x (n, 3)."""
+    points = vtk.vtkPoints()
+    points.SetData(numpy_to_vtk(numpy.ascontiguousarray(x)))
+    cloud = vtk.vtkPolyData()
+    cloud.SetPoints(points)
+    locator = vtk.vtkStaticPointLocator()
+    locator.SetDataSet(cloud)
+    locator.BuildLocator()
+    return locator
