@@ -70,5 +70,8 @@ int main(int argc, char** argv) {
   } catch (const spall::InputError& e) {
     spall::log::error(e.what());
     return spall::exit_bad_input;
+  } catch (const std::exception& e) {
+    spall::log::error(fmt::format("internal error (please report it with the deck): {}", e.what()));
+    return spall::exit_internal;
   }
 }

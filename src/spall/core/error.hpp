@@ -6,7 +6,8 @@
 
 namespace spall {
 
-enum ExitCode : int { exit_success = 0, exit_bad_input = 2, exit_unstable = 3 };
+// 1: an internal error (a bug in Spall, reported with what failed rather than an abort).
+enum ExitCode : int { exit_success = 0, exit_internal = 1, exit_bad_input = 2, exit_unstable = 3 };
 
 // Where something was read: a file and a 1-based line number (0 when not from a file).
 struct SourceLocation {

@@ -98,7 +98,14 @@ RunSummary run(Problem& problem, const Observer& observer) {
   for (;;) {
     // 1. internal forces at x^n
     for (Index i = 0; i < n; ++i) nodes.f[i] = Vec3::Zero();
-    for (auto& f : problem.formulations) f->compute_forces(nodes, dt_previous);
+    try {
+      for (auto& f : problem.formulations) f->compute_forces(nodes, dt_previous);
+    } catch (const InstabilityError& e) {
+      // A formulation found its state broken (a material point, a particle's neighbourhood):
+      // the same step and time as the runaway check gives.
+      throw InstabilityError(fmt::format("numerical instability at step {}, time {:.6g}: {}", step.step,
+                                         step.time, e.what()));
+    }
 
     // 5. the next step, from the state at t^n
     Real dt = stable_time_step(problem, step.time);

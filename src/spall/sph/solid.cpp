@@ -8,6 +8,9 @@
 #include <immintrin.h>
 #endif
 
+#include <fmt/core.h>
+
+#include "spall/core/error.hpp"
 #include "spall/materials/elastic.hpp"
 
 namespace spall::sph {
@@ -418,6 +421,17 @@ void SolidFormulation::relax_exported_deviator(Index a, const Mat3& W, const Mat
   if (size > bound) exported *= bound / size;
 }
 
+void SolidFormulation::check_state(const solver::NodeStore& nodes) const {
+  for (Index a = 0; a < particle_count(); ++a) {
+    if (density_[a] > 0 && std::isfinite(density_[a]) && std::isfinite(smoothing_length_[a])) continue;
+    throw InstabilityError(fmt::format(
+        "SPH solid: node {} has density {:.6g} and smoothing length {:.6g}: its particle's "
+        "neighbourhood has collapsed or torn apart (a smaller TSSFAC, or the artificial stress "
+        "against the tensile instability, may help)",
+        nodes.id[node_[a]], density_[a], smoothing_length_[a]));
+  }
+}
+
 // Momentum, dual to the (corrected) velocity gradient: with P = sigma B^T,
 //   f_a = sum_b V_a V_b (P_a + P_b) grad_a W_ab  -  sum_b m_a m_b Pi_ab grad_a W_ab
 //         + sum_b m_a m_b f_ab^n (R_a + R_b) grad_a W_ab.
@@ -490,6 +504,7 @@ void SolidFormulation::compute_forces(solver::NodeStore& nodes, Real dt) {
   }
   ++step_;
   update_state(dt);
+  check_state(nodes);
   kernels::with_kernel(options_.kernel, options_.dimension,
                        [&](auto kernel) { compute_pair_forces<decltype(kernel)>(); });
 #pragma omp parallel for schedule(static)

@@ -136,6 +136,9 @@ class SolidFormulation final : public solver::Formulation {
   void compute_rates();
   void categorize();
   void update_state(Real dt);
+  // Stops the run (InstabilityError) at the first particle whose density or smoothing length is
+  // no longer a positive number, before the neighbour search or the materials see it.
+  void check_state(const solver::NodeStore& nodes) const;
   void relax_exported_deviator(Index a, const Mat3& W, const Mat3& D, bool treated,
                                Real relaxation, Real dt);
   template <typename Kernel>
