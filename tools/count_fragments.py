@@ -28,7 +28,7 @@ import numpy
 import vtk
 from vtk.util.numpy_support import vtk_to_numpy
 
-from particle_files import point_locator, read_particles
+from particle_files import median_spacing, point_locator, read_particles
 
 
 def field(grid, path, name, required=True):
@@ -49,18 +49,6 @@ def neighbours(x, radius):
         locator.FindPointsWithinRadius(radius, p, ids)
         result.append([ids.GetId(k) for k in range(ids.GetNumberOfIds()) if ids.GetId(k) != i])
     return result
-
-
-def median_spacing(x):
-    locator = point_locator(x)
-    ids = vtk.vtkIdList()
-    step = max(1, len(x) // 2000)
-    distances = []
-    for i in range(0, len(x), step):
-        locator.FindClosestNPoints(2, x[i], ids)
-        j = ids.GetId(1) if ids.GetId(0) == i else ids.GetId(0)
-        distances.append(numpy.linalg.norm(x[j] - x[i]))
-    return float(numpy.median(distances))
 
 
 def components(links):

@@ -33,3 +33,16 @@ def point_locator(x):
     locator.SetDataSet(cloud)
     locator.BuildLocator()
     return locator
+
+
+def median_spacing(x):
+    """The median distance from a particle to its nearest neighbour (of up to 2000 samples)."""
+    locator = point_locator(x)
+    ids = vtk.vtkIdList()
+    step = max(1, len(x) // 2000)
+    distances = []
+    for i in range(0, len(x), step):
+        locator.FindClosestNPoints(2, x[i], ids)
+        j = ids.GetId(1) if ids.GetId(0) == i else ids.GetId(0)
+        distances.append(numpy.linalg.norm(x[j] - x[i]))
+    return float(numpy.median(distances))

@@ -34,7 +34,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy  # noqa: E402
 import vtk  # noqa: E402
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection  # noqa: E402
-from particle_files import point_locator, read_particles  # noqa: E402
+from particle_files import median_spacing, point_locator, read_particles  # noqa: E402
 from vtk.util.numpy_support import numpy_to_vtk, vtk_to_numpy  # noqa: E402
 
 AXES = {"x": 0, "y": 1, "z": 2}
@@ -59,19 +59,6 @@ def point_field(grid, path, name, component):
     if index >= values.shape[1]:
         sys.exit(f"render_particles: field '{name}' has {values.shape[1]} components, no '{component}'")
     return values[:, index]
-
-
-def spacing(x):
-    """The median distance from a particle to its nearest neighbour (of up to 2000 samples)."""
-    locator = point_locator(x)
-    ids = vtk.vtkIdList()
-    step = max(1, len(x) // 2000)
-    distances = []
-    for i in range(0, len(x), step):
-        locator.FindClosestNPoints(2, x[i], ids)
-        j = ids.GetId(1) if ids.GetId(0) == i else ids.GetId(0)
-        distances.append(numpy.linalg.norm(x[j] - x[i]))
-    return float(numpy.median(distances))
 
 
 def cubic_spline(q, h):
@@ -216,7 +203,7 @@ def main():
                 sys.exit(f"render_particles: {path}: no particle of part(s) {args.part}")
             x, values, h = x[keep], values[keep], (h[keep] if h is not None else None)
         frames.append((x, values, h))
-    dx = args.spacing or spacing(frames[0][0])
+    dx = args.spacing or median_spacing(frames[0][0])
     # One frame for all panels, so that they compare at one scale.
     limits = (numpy.min([x.min(axis=0) for x, _, _ in frames], axis=0),
               numpy.max([x.max(axis=0) for x, _, _ in frames], axis=0))
