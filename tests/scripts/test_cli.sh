@@ -34,6 +34,12 @@ grep -c '<DataSet' "$work/out/d3plot.pvd" | awk '{ exit !($1 >= 5) }' || fail "p
 head -n 1 "$work/out/glstat.csv" | grep -q '^time \[time\],dt \[time\],kinetic_energy' || fail "glstat header"
 grep -q '"status": "completed"' "$work/out/run.json" || fail "run.json"
 cmp -s "$work/bar.k" "$work/out/deck/bar.k" || fail "deck copy"
+# The energies do not depend on the thread count either (sums in a fixed order; a bar of more
+# than two of ordered_sum's blocks of 4096 nodes).
+python3 "$source_dir/tools/make_bar_deck.py" --spacing 0.01 --width 0.1 --periods 0.02 >"$work/bar_threads.k"
+"$cli" run "$work/bar_threads.k" -o "$work/threads1" --threads 1 2>/dev/null || fail "1-thread run"
+"$cli" run "$work/bar_threads.k" -o "$work/threads2" --threads 2 2>/dev/null || fail "2-thread run"
+cmp -s "$work/threads1/glstat.csv" "$work/threads2/glstat.csv" || fail "glstat.csv differs between 1 and 2 threads"
 
 # A rigid wall through the particle layer at x = 0.5125, facing +x: the half in front of it moves
 # onto it (v = V cos(pi x / L) < 0 there), so rwforc.csv has rows with a positive normal force.

@@ -5,6 +5,8 @@
 #include <fmt/format.h>
 #include <limits>
 
+#include "spall/core/ordered_sum.hpp"
+
 namespace spall::solver {
 
 namespace {
@@ -164,29 +166,33 @@ RunSummary run(Problem& problem, const Observer& observer) {
     // on it, a motion that starts at once) acts as an impulse at t^0, whose work is
     // m/2 (v^{1/2}² - v^0²).
     const Real reaction_weight = step.step == 0 ? Real(0.5) : velocity_weight;
-    Real external_power = 0, reaction_power = 0;
-#pragma omp parallel for reduction(+ : external_power, reaction_power) schedule(static)
-    for (Index i = 0; i < n; ++i) {
-      if (nodes.mass[i] <= 0) continue;
-      const Vec3 dv = nodes.v[i] - v_old[i];
-      const Vec3 f_load = -nodes.mass[i] * (g + damping.cwiseProduct(v_old[i]));
-      external_power += f_load.dot(v_old[i] + velocity_weight * dv);
-      if (dt_mid <= 0) continue;
-      const Vec3 reaction = nodes.mass[i] * dv / dt_mid - nodes.f[i];
-      reaction_power += reaction.dot(v_old[i] + reaction_weight * dv);
-    }
+    // (load power, reaction power), summed in an order independent of the thread count.
+    const Eigen::Vector2d powers = ordered_sum(
+        n,
+        [&](Index i) -> Eigen::Vector2d {
+          if (nodes.mass[i] <= 0) return Eigen::Vector2d::Zero();
+          const Vec3 dv = nodes.v[i] - v_old[i];
+          const Vec3 f_load = -nodes.mass[i] * (g + damping.cwiseProduct(v_old[i]));
+          const Real load = f_load.dot(v_old[i] + velocity_weight * dv);
+          if (dt_mid <= 0) return {load, 0};
+          const Vec3 reaction = nodes.mass[i] * dv / dt_mid - nodes.f[i];
+          return {load, reaction.dot(v_old[i] + reaction_weight * dv)};
+        },
+        Eigen::Vector2d::Zero().eval());
+    const Real external_power = powers[0], reaction_power = powers[1];
 
     // 4. energies at t^n from the velocities at t^n: v^n = v^{n-1/2} + a^n dt^{n-1/2} / 2, i.e.
     // the point dt^{n-1/2} / (dt^{n-1/2} + dt^{n+1/2}) of the way from v^{n-1/2} to v^{n+1/2}
     // (the mean of the two only when the steps are equal; v^0 at the start, v^{n+1/2} at the
     // shortened last step).
     std::vector<Vec3>& v_mid = v_old;
-    Real kinetic = 0;
-#pragma omp parallel for reduction(+ : kinetic) schedule(static)
-    for (Index i = 0; i < n; ++i) {
-      v_mid[i] += velocity_weight * (nodes.v[i] - v_mid[i]);
-      kinetic += Real(0.5) * nodes.mass[i] * v_mid[i].squaredNorm();
-    }
+    const Real kinetic = ordered_sum(
+        n,
+        [&](Index i) {
+          v_mid[i] += velocity_weight * (nodes.v[i] - v_mid[i]);
+          return Real(0.5) * nodes.mass[i] * v_mid[i].squaredNorm();
+        },
+        Real(0));
     for (const auto& f : problem.formulations) {
       const auto p = f->internal_power(v_mid);
       energies.internal += dt_mid * p.stored;
