@@ -245,6 +245,8 @@ void SolidFormulation::compute_rates() {
   const Index n = particle_count();
   const bool plane = Kernel::dimension == 2;
   const bool colour_on = !category_.empty();
+  // LS-DYNA's step (RULE 1) needs no row sums: the per-pair outer product is skipped.
+  const bool row_sums = options_.time_step_rule != TimeStepRule::plain;
 #pragma omp parallel for schedule(static)
   for (Index a = 0; a < n; ++a) {
     Real drho = 0;
@@ -262,7 +264,7 @@ void SolidFormulation::compute_rates() {
       L.noalias() += volume * vba * grad.transpose();
       moment.noalias() -= volume * xab * grad.transpose();
       normal.noalias() += volume * grad;
-      if (const Real g = grad.norm(); g > 0) spread.noalias() += (volume / g) * grad * grad.transpose();
+      if (const Real g = row_sums ? grad.norm() : 0; g > 0) spread.noalias() += (volume / g) * grad * grad.transpose();
       if (colour_on) {
         colour += volume * Kernel::value(r, H);  // seed 000 eq. 10
         ++count;
@@ -290,9 +292,11 @@ void SolidFormulation::compute_rates() {
     // Row sum of the gradient operator v -> L_a, sum_b V_b |B^T grad_a W_ab| + |B^T n_a| (the
     // second term: the weight of v_a itself), relative to a full support's; the first term by
     // Cauchy-Schwarz, sqrt(tr T tr(B^T T B)) with T = spread (exact when B = I).
-    const Real row_sum = std::sqrt(spread.trace() * (correction.transpose() * spread * correction).trace()) +
-                         (correction.transpose() * normal).norm();
-    gradient_amplification_[a] = row_sum * 2 * smoothing_length_[a] / full_support_gradient_;
+    if (row_sums) {
+      const Real row_sum = std::sqrt(spread.trace() * (correction.transpose() * spread * correction).trace()) +
+                           (correction.transpose() * normal).norm();
+      gradient_amplification_[a] = row_sum * 2 * smoothing_length_[a] / full_support_gradient_;
+    }
     density_rate_[a] = drho;
     velocity_gradient_[a] = L;
   }
