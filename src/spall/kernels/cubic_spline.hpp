@@ -6,6 +6,7 @@
 // with sigma = 4/3 (1D), 40/(7 pi) (2D), 8/pi (3D), so that W integrates to one.
 #include <numbers>
 
+#include "spall/core/simd.hpp"
 #include "spall/kernels/support_power.hpp"
 
 namespace spall::kernels {
@@ -44,13 +45,17 @@ struct CubicSpline {
   }
 
   // (dW/dr) / r for 0 < r < H, from 1/r and 1/H without a division: the pair loops compute the
-  // two reciprocals four pairs at a time. Inside q = 1/2 the 1/r cancels against q = r/H.
-  static Real gradient_factor(Real r, Real inverse_r, Real inverse_support) {
-    const Real q = r * inverse_support;
-    const Real s = normalisation() * power(inverse_support) * inverse_support;  // sigma / H^(d+1)
-    if (q <= Real(0.5)) return s * inverse_support * (18 * q - 12);
-    const Real t = 1 - q;
-    return -s * 6 * t * t * inverse_r;
+  // two reciprocals four pairs at a time (T = simd::Real4). Inside q = 1/2 the 1/r cancels
+  // against q = r/H.
+  template <typename T>
+  static T gradient_factor(T r, T inverse_r, T inverse_support) {
+    using simd::select;
+    const T q = r * inverse_support;
+    const T s = T(normalisation()) * support_power<Dim>(inverse_support) * inverse_support;  // sigma / H^(d+1)
+    const T near = s * inverse_support * (T(18) * q - T(12));
+    const T t = T(1) - q;
+    const T far = -s * T(6) * t * t * inverse_r;
+    return select(q <= T(0.5), near, far);
   }
 
   // grad_a W(x_a - x_b, H) = dW/dr * (x_a - x_b) / r; exactly antisymmetric in a and b, because

@@ -6,6 +6,7 @@
 // sigma = 1/120 (1D), 7/(478 pi) (2D), 1/(120 pi) (3D) (the lattice-integral test checks each).
 #include <numbers>
 
+#include "spall/core/simd.hpp"
 #include "spall/kernels/support_power.hpp"
 
 namespace spall::kernels {
@@ -39,12 +40,18 @@ struct QuinticSpline {
            (-5 * p4(3 - t) + 30 * p4(2 - t) - 75 * p4(1 - t));
   }
 
-  // (dW/dr) / r for 0 < r < H, from 1/r and 1/H without a division (the pair loops' form).
-  static Real gradient_factor(Real r, Real inverse_r, Real inverse_support) {
-    const Real t = 3 * r * inverse_support;
-    auto p4 = [](Real u) { return u > 0 ? u * u * u * u : Real(0); };
-    return normalisation() * power(inverse_support) * inverse_support * 3 *
-           (-5 * p4(3 - t) + 30 * p4(2 - t) - 75 * p4(1 - t)) * inverse_r;
+  // (dW/dr) / r for 0 < r < H, from 1/r and 1/H without a division (the pair loops' form; T = Real
+  // or simd::Real4). A bracket (u)^4 counts only while u > 0: max(u, 0)^4.
+  template <typename T>
+  static T gradient_factor(T r, T inverse_r, T inverse_support) {
+    using simd::max;
+    const T t = T(3) * r * inverse_support;
+    auto p4 = [](T u) {
+      const T m = max(u, T(0));
+      return m * m * m * m;
+    };
+    return T(normalisation()) * support_power<Dim>(inverse_support) * inverse_support * T(3) *
+           (T(-5) * p4(T(3) - t) + T(30) * p4(T(2) - t) - T(75) * p4(T(1) - t)) * inverse_r;
   }
 
   static Vec3 gradient(const Vec3& xab, Real r, Real support) {

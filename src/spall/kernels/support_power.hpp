@@ -4,9 +4,9 @@
 
 namespace spall::kernels {
 
-template <int Dim>
-constexpr Real support_power(Real support) {
-  Real p = support;
+template <int Dim, typename T = Real>
+constexpr T support_power(T support) {
+  T p = support;
   for (int d = 1; d < Dim; ++d) p *= support;
   return p;
 }

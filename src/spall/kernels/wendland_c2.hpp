@@ -6,6 +6,7 @@
 // It has no negative Fourier modes, so it does not pair particles (Dehnen & Aly 2012).
 #include <numbers>
 
+#include "spall/core/simd.hpp"
 #include "spall/kernels/support_power.hpp"
 
 namespace spall::kernels {
@@ -41,12 +42,14 @@ struct WendlandC2 {
   }
 
   // (dW/dr) / r for r < H, from 1/H: the factor s = r/H of the derivative cancels the 1/r, which
-  // is not needed (the argument is there for the pair loops' common form).
-  static Real gradient_factor(Real r, Real /*inverse_r*/, Real inverse_support) {
-    const Real u = 1 - r * inverse_support;
-    const Real i2 = inverse_support * inverse_support;
-    if constexpr (Dim == 1) return normalisation() * i2 * inverse_support * (-12 * u * u);
-    return normalisation() * power(inverse_support) * i2 * (-20 * u * u * u);
+  // is not needed (the argument is there for the pair loops' common form; T = Real or
+  // simd::Real4).
+  template <typename T>
+  static T gradient_factor(T r, T /*inverse_r*/, T inverse_support) {
+    const T u = T(1) - r * inverse_support;
+    const T i2 = inverse_support * inverse_support;
+    if constexpr (Dim == 1) return T(normalisation()) * i2 * inverse_support * (T(-12) * u * u);
+    return T(normalisation()) * support_power<Dim>(inverse_support) * i2 * (T(-20) * u * u * u);
   }
 
   static Vec3 gradient(const Vec3& xab, Real r, Real support) {

@@ -2,15 +2,14 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <numeric>
-#if defined(__AVX2__)
-#include <immintrin.h>
-#endif
 
 #include <fmt/core.h>
 
 #include "spall/core/error.hpp"
+#include "spall/core/simd.hpp"
 #include "spall/materials/elastic.hpp"
 
 namespace spall::sph {
@@ -30,91 +29,75 @@ constexpr Real cutoff_margin = 1.05;
 constexpr Real min_moment_determinant = 1e-3;
 }  // namespace
 
-// The geometry of one Verlet row's pairs, per thread: x_a - x_b, r, 1/r, 1/H_ab and whether the
-// pair is inside its support.
+// The pairs of one Verlet row inside their support (r < H_ab = h_a + h_b), per thread, padded with
+// the particle itself to a multiple of four (a pair at r = 0 has no gradient, so the padding adds
+// exact zeros): neighbour, x_a - x_b, r, H_ab, the gradient factor F = (dW/dr) / r
+// (grad_a W_ab = F (x_a - x_b); 0 at r = 0), 1/r where F is defined (else 0), and a per-pass
+// weight. About a third of a Verlet row lies outside the support (the skin and the reach margin).
 struct RowTerms {
-  std::vector<Real> dx, dy, dz, r, inverse_r, inverse_support;
-  std::vector<std::uint8_t> inside;
+  std::vector<Index> row, neighbour;  // the Verlet row as read, then the pairs kept
+  std::vector<Real> dx, dy, dz, r, support, factor, inverse_r, weight;
   void resize(std::size_t n) {
     if (r.size() >= n + 4) return;
-    for (auto* v : {&dx, &dy, &dz, &r, &inverse_r, &inverse_support}) v->resize(n + 4);
-    inside.resize(n + 4);
+    row.resize(n + 4);
+    neighbour.resize(n + 4);
+    for (auto* v : {&dx, &dy, &dz, &r, &support, &factor, &inverse_r, &weight}) v->resize(n + 4);
   }
 };
 
-// Fills terms[k] for the pairs (a, neighbour[k]), k in [0, count): four pairs at a time with AVX2
-// (the square root and the two divisions are the pair loops' slowest operations), the rest one at
-// a time by the same operations in the same order, so that every pair gets the same bits either
-// way and (a, b) the same as (b, a).
-inline void row_geometry(const Index* neighbour, Index count, const Real* position, const Real* h,
-                         Index a, RowTerms& terms) {
-  const Real xa = position[3 * a], ya = position[3 * a + 1], za = position[3 * a + 2], ha = h[a];
-  Index k = 0;
-#if defined(__AVX2__) && defined(__FMA__)
-  for (; k + 4 <= count; k += 4) {
-    const __m128i b = _mm_loadu_si128(reinterpret_cast<const __m128i*>(neighbour + k));
-    const __m128i b3 = _mm_add_epi32(b, _mm_add_epi32(b, b));
-    const auto gather = [](const Real* base, __m128i index) {
-      const __m256d all = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
-      return _mm256_mask_i32gather_pd(_mm256_setzero_pd(), base, index, all, 8);
-    };
-    const __m256d dx = _mm256_sub_pd(_mm256_set1_pd(xa), gather(position, b3));
-    const __m256d dy = _mm256_sub_pd(_mm256_set1_pd(ya), gather(position + 1, b3));
-    const __m256d dz = _mm256_sub_pd(_mm256_set1_pd(za), gather(position + 2, b3));
-    const __m256d r2 = _mm256_fmadd_pd(dz, dz, _mm256_fmadd_pd(dy, dy, _mm256_mul_pd(dx, dx)));
-    const __m256d H = _mm256_add_pd(_mm256_set1_pd(ha), gather(h, b));
-    const __m256d r = _mm256_sqrt_pd(r2);
-    const __m256d one = _mm256_set1_pd(1);
-    _mm256_storeu_pd(&terms.dx[k], dx);
-    _mm256_storeu_pd(&terms.dy[k], dy);
-    _mm256_storeu_pd(&terms.dz[k], dz);
-    _mm256_storeu_pd(&terms.r[k], r);
-    _mm256_storeu_pd(&terms.inverse_r[k], _mm256_div_pd(one, r));
-    _mm256_storeu_pd(&terms.inverse_support[k], _mm256_div_pd(one, H));
-    const int mask = _mm256_movemask_pd(_mm256_cmp_pd(r2, _mm256_mul_pd(H, H), _CMP_LT_OQ));
-    for (int lane = 0; lane < 4; ++lane) terms.inside[k + lane] = (mask >> lane) & 1;
-  }
-#endif
-  for (; k < count; ++k) {
-    const Index b = neighbour[k];
-    const Real dx = xa - position[3 * b], dy = ya - position[3 * b + 1], dz = za - position[3 * b + 2];
-    const Real r2 = std::fma(dz, dz, std::fma(dy, dy, dx * dx));
-    const Real H = ha + h[b];
-    const Real r = std::sqrt(r2);
-    terms.dx[k] = dx;
-    terms.dy[k] = dy;
-    terms.dz[k] = dz;
-    terms.r[k] = r;
-    terms.inverse_r[k] = 1 / r;
-    terms.inverse_support[k] = 1 / H;
-    terms.inside[k] = r2 < H * H;
-  }
-}
-
-// Calls visit(b, x_a - x_b, r, H_ab, grad_a W_ab) for every neighbour b of a inside the pair's
-// support, in the fixed order of a's Verlet row, so that each particle's sums are added in the
-// same order whatever the thread count.
-template <typename Kernel, typename Visit>
-inline void for_each_neighbour_in_support(const neighbors::NeighborList& list, Index a,
-                                          std::span<const Vec3> x, std::span<const Real> h,
-                                          Visit&& visit) {
-  thread_local RowTerms terms;
+// Fills terms for the row of particle a, four pairs at a time (simd::Real4), each pair by the same
+// operations whichever side computes it, so that (a, b) gets exactly the factor of (b, a) and
+// opposite differences. Returns the padded count of pairs kept (a multiple of four).
+template <typename Kernel>
+Index row_geometry(const neighbors::NeighborList& list, Index a, const Real* position, const Real* h,
+                   RowTerms& terms) {
+  using simd::Real4;
   const Index first = list.offsets[a];
   const Index count = list.offsets[a + 1] - first;
-  const Index* neighbour = list.neighbors.data() + first;
-  terms.resize(count);
-  row_geometry(neighbour, count, x.data()->data(), h.data(), a, terms);
-  for (Index k = 0; k < count; ++k) {
-    if (!terms.inside[k]) continue;
-    const Index b = neighbour[k];
-    const Vec3 xab(terms.dx[k], terms.dy[k], terms.dz[k]);
-    const Real r = terms.r[k];
-    // H_ab = pair_support(h_a, h_b) = h_a + h_b, the sum the geometry pass took.
-    const Real H = pair_support(h[a], h[b]);
-    const Vec3 grad = r > 0 ? Vec3(Kernel::gradient_factor(r, terms.inverse_r[k], terms.inverse_support[k]) * xab)
-                            : Vec3::Zero();
-    visit(b, xab, r, H, grad);
+  terms.resize(count + 4);
+  // Raw pointers: the vector stores may alias anything, so the vectors' own pointers would be
+  // reloaded at every store.
+  Index* row = terms.row.data();
+  Index* neighbour = terms.neighbour.data();
+  Real *dx_out = terms.dx.data(), *dy_out = terms.dy.data(), *dz_out = terms.dz.data(), *r_out = terms.r.data(),
+       *support_out = terms.support.data(), *factor_out = terms.factor.data(), *inverse_r_out = terms.inverse_r.data();
+  std::copy(list.neighbors.begin() + first, list.neighbors.begin() + first + count, row);
+  std::fill(row + count, row + count + 4, a);
+  const Real4 xa(position[3 * a]), ya(position[3 * a + 1]), za(position[3 * a + 2]), ha(h[a]);
+  Index kept = 0;
+  for (Index k = 0; k < count; k += 4) {
+    const Index* b = row + k;
+    const Real4 dx = xa - Real4::gather<3>(position, b, 0);
+    const Real4 dy = ya - Real4::gather<3>(position, b, 1);
+    const Real4 dz = za - Real4::gather<3>(position, b, 2);
+    const Real4 r2 = fma(dz, dz, fma(dy, dy, dx * dx));
+    const Real4 H = ha + Real4::gather<1>(h, b);
+    const Real4 r = sqrt(r2);
+    const simd::Mask4 inside = r2 < H * H;
+    const simd::Mask4 defined = inside & (r2 > Real4(0));
+    // One division for both reciprocals: 1/r = H / (r H), 1/H = r / (r H).
+    const Real4 inverse_product = Real4(1) / (r * H);
+    const Real4 inverse_r = select(defined, H * inverse_product, Real4(0));
+    const Real4 factor = select(defined, Kernel::gradient_factor(r, inverse_r, r * inverse_product), Real4(0));
+    // The lanes past the row's end are the padding.
+    const int lanes = inside.lanes() & (count - k >= 4 ? 0xF : (1 << (count - k)) - 1);
+    simd::compress_store(b, lanes, neighbour + kept);
+    dx.compress_store(dx_out + kept, lanes);
+    dy.compress_store(dy_out + kept, lanes);
+    dz.compress_store(dz_out + kept, lanes);
+    r.compress_store(r_out + kept, lanes);
+    H.compress_store(support_out + kept, lanes);
+    factor.compress_store(factor_out + kept, lanes);
+    inverse_r.compress_store(inverse_r_out + kept, lanes);
+    kept += std::popcount(static_cast<unsigned>(lanes));
   }
+  const Index padded = (kept + 3) / 4 * 4;
+  for (Index k = kept; k < padded; ++k) {
+    neighbour[k] = a;
+    dx_out[k] = dy_out[k] = dz_out[k] = r_out[k] = factor_out[k] = inverse_r_out[k] = 0;
+    support_out[k] = 2 * h[a];
+  }
+  return padded;
 }
 
 SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
@@ -238,40 +221,85 @@ void SolidFormulation::update_neighbour_list() {
   list_built_ = true;
 }
 
-// Continuity and velocity gradient, gathered per particle over its full neighbour row.
+// Continuity and velocity gradient, gathered per particle over its full neighbour row, four pairs
+// at a time; each particle's lanes are summed in one fixed order, whatever the thread count.
 template <typename Kernel>
 void SolidFormulation::compute_rates() {
+  using simd::Real4;
   const auto& list = verlet_.list();
   const Index n = particle_count();
   const bool plane = Kernel::dimension == 2;
   const bool colour_on = !category_.empty();
   // LS-DYNA's step (RULE 1) needs no row sums: the per-pair outer product is skipped.
   const bool row_sums = options_.time_step_rule != TimeStepRule::plain;
+  const Real* position = x_.data()->data();
+  const Real* velocity = v_.data()->data();
 #pragma omp parallel for schedule(static)
   for (Index a = 0; a < n; ++a) {
-    Real drho = 0;
-    Mat3 L = Mat3::Zero();
-    Mat3 moment = Mat3::Zero();  // sum_b V_b (x_b - x_a) (x) grad_a W_ab, = I for a full support
-    Mat3 spread = Mat3::Zero();  // sum_b V_b grad (x) grad / |grad|, for the stable step
-    Vec3 normal = Vec3::Zero();  // sum_b V_b grad_a W_ab (seed 000 eq. 9: n = grad c_s)
-    Real colour = 0;
-    std::int32_t count = 0;
-    for_each_neighbour_in_support<Kernel>(list, a, x_, smoothing_length_,
-                                          [&](Index b, const Vec3& xab, Real r, Real H, const Vec3& grad) {
-      const Vec3 vba = v_[b] - v_[a];
-      const Real volume = volume_[b];
-      drho -= mass_[b] * vba.dot(grad);
-      L.noalias() += volume * vba * grad.transpose();
-      moment.noalias() -= volume * xab * grad.transpose();
-      normal.noalias() += volume * grad;
-      if (const Real g = row_sums ? grad.norm() : 0; g > 0) spread.noalias() += (volume / g) * grad * grad.transpose();
-      if (colour_on) {
-        colour += volume * Kernel::value(r, H);  // seed 000 eq. 10
+    thread_local RowTerms terms;
+    const Index padded = row_geometry<Kernel>(list, a, position, smoothing_length_.data(), terms);
+    const Index* neighbour = terms.neighbour.data();
+    const Real *dx_k = terms.dx.data(), *dy_k = terms.dy.data(), *dz_k = terms.dz.data(), *factor_k = terms.factor.data(),
+               *inverse_r_k = terms.inverse_r.data();
+    Real* weight_k = terms.weight.data();
+    // With g = V_b grad_a W_ab = V_b F x_ab:
+    //   normal n = sum g (seed 000 eq. 9: n = grad c_s)
+    //   moment   = -sum g (x) x_ab, = I for a full support (symmetric: 6 sums)
+    //   spread   = sum_b V_b grad (x) grad / |grad| = sum V_b |F| / r x_ab (x) x_ab, for the stable step
+    //   L        = sum (v_b - v_a) (x) g,  drho = -sum m_b F (v_b - v_a) . x_ab
+    Real4 n_x, n_y, n_z, m_xx, m_yy, m_zz, m_xy, m_yz, m_zx, s_xx, s_yy, s_zz, s_xy, s_yz, s_zx;
+    for (Index k = 0; k < padded; k += 4) {
+      const Index* b = neighbour + k;
+      const Real4 volume = Real4::gather<1>(volume_.data(), b);
+      const Real4 factor = Real4::load(factor_k + k);
+      const Real4 dx = Real4::load(dx_k + k), dy = Real4::load(dy_k + k), dz = Real4::load(dz_k + k);
+      const Real4 w = volume * factor;
+      w.store(weight_k + k);
+      const Real4 gx = w * dx, gy = w * dy, gz = w * dz;
+      n_x += gx, n_y += gy, n_z += gz;
+      m_xx = fma(gx, dx, m_xx), m_yy = fma(gy, dy, m_yy), m_zz = fma(gz, dz, m_zz);
+      m_xy = fma(gx, dy, m_xy), m_yz = fma(gy, dz, m_yz), m_zx = fma(gz, dx, m_zx);
+      if (row_sums) {
+        const Real4 spread = volume * abs(factor) * Real4::load(inverse_r_k + k);
+        const Real4 sx = spread * dx, sy = spread * dy, sz = spread * dz;
+        s_xx = fma(sx, dx, s_xx), s_yy = fma(sy, dy, s_yy), s_zz = fma(sz, dz, s_zz);
+        s_xy = fma(sx, dy, s_xy), s_yz = fma(sy, dz, s_yz), s_zx = fma(sz, dx, s_zx);
+      }
+    }
+    Real4 L4[9], drho4;
+    const Real4 vax(velocity[3 * a]), vay(velocity[3 * a + 1]), vaz(velocity[3 * a + 2]);
+    for (Index k = 0; k < padded; k += 4) {
+      const Index* b = neighbour + k;
+      const Real4 vx = Real4::gather<3>(velocity, b, 0) - vax;
+      const Real4 vy = Real4::gather<3>(velocity, b, 1) - vay;
+      const Real4 vz = Real4::gather<3>(velocity, b, 2) - vaz;
+      const Real4 dx = Real4::load(dx_k + k), dy = Real4::load(dy_k + k), dz = Real4::load(dz_k + k);
+      const Real4 w = Real4::load(weight_k + k);
+      const Real4 gx = w * dx, gy = w * dy, gz = w * dz;
+      // Column-major like Mat3: L(i, j) = L4[i + 3 j].
+      L4[0] = fma(vx, gx, L4[0]), L4[1] = fma(vy, gx, L4[1]), L4[2] = fma(vz, gx, L4[2]);
+      L4[3] = fma(vx, gy, L4[3]), L4[4] = fma(vy, gy, L4[4]), L4[5] = fma(vz, gy, L4[5]);
+      L4[6] = fma(vx, gz, L4[6]), L4[7] = fma(vy, gz, L4[7]), L4[8] = fma(vz, gz, L4[8]);
+      const Real4 mass = Real4::gather<1>(mass_.data(), b);
+      drho4 -= mass * Real4::load(factor_k + k) * fma(vz, dz, fma(vy, dy, vx * dx));
+    }
+    Real drho = drho4.sum();
+    Mat3 L;
+    for (int i = 0; i < 9; ++i) L.data()[i] = L4[i].sum();
+    Mat3 moment;
+    moment << -m_xx.sum(), -m_xy.sum(), -m_zx.sum(), -m_xy.sum(), -m_yy.sum(), -m_yz.sum(), -m_zx.sum(),
+        -m_yz.sum(), -m_zz.sum();
+    const Vec3 normal(n_x.sum(), n_y.sum(), n_z.sum());
+    if (colour_on) {
+      // seed 000 eq. 10, self included
+      Real colour = volume_[a] * Kernel::value(0, 2 * smoothing_length_[a]);
+      std::int32_t count = 0;
+      for (Index k = 0; k < padded; ++k) {
+        if (terms.neighbour[k] == a) continue;  // the padding
+        colour += volume_[terms.neighbour[k]] * Kernel::value(terms.r[k], terms.support[k]);
         ++count;
       }
-    });
-    if (colour_on) {
-      colour_[a] = colour + volume_[a] * Kernel::value(0, 2 * smoothing_length_[a]);
+      colour_[a] = colour;
       colour_normal_[a] = normal;
       support_count_[a] = count;
     }
@@ -293,6 +321,9 @@ void SolidFormulation::compute_rates() {
     // second term: the weight of v_a itself), relative to a full support's; the first term by
     // Cauchy-Schwarz, sqrt(tr T tr(B^T T B)) with T = spread (exact when B = I).
     if (row_sums) {
+      Mat3 spread;
+      spread << s_xx.sum(), s_xy.sum(), s_zx.sum(), s_xy.sum(), s_yy.sum(), s_yz.sum(), s_zx.sum(), s_yz.sum(),
+          s_zz.sum();
       const Real row_sum = std::sqrt(spread.trace() * (correction.transpose() * spread * correction).trace()) +
                            (correction.transpose() * normal).norm();
       gradient_amplification_[a] = row_sum * 2 * smoothing_length_[a] / full_support_gradient_;
@@ -444,46 +475,78 @@ void SolidFormulation::check_state(const solver::NodeStore& nodes) const {
 // the symmetric SPH form of seed 000 eq. 7 with V_a V_b in place of m_a m_b / (rho_a rho_b).
 template <typename Kernel>
 void SolidFormulation::compute_pair_forces() {
+  using simd::Real4;
   const auto& list = verlet_.list();
   const Index n = particle_count();
   const Real alpha = options_.viscosity.alpha, beta = options_.viscosity.beta;
   const Real eta2 = options_.viscosity.eta * options_.viscosity.eta;
   const bool stress_on = options_.artificial_stress.enabled;
   const Real exponent = options_.artificial_stress.exponent;
+  const Real* position = x_.data()->data();
+  const Real* velocity = v_.data()->data();
+  const Real* P = corrected_stress_.data()->data();  // P_b(i, j) = P[9 b + i + 3 j]
 #pragma omp parallel for schedule(static)
   for (Index a = 0; a < n; ++a) {
-    const Real rho_a = density_[a];
-    const Real volume_a = volume_[a];
-    const Mat3& P_a = corrected_stress_[a];
-    Vec3 f = Vec3::Zero();
-    Vec3 f_visc = Vec3::Zero();
-    Real heating = 0;
-    for_each_neighbour_in_support<Kernel>(list, a, x_, smoothing_length_,
-                                          [&](Index b, const Vec3& xab, Real r, Real H, const Vec3& grad) {
-      const Real rho_b = density_[b];
-      // (P_a + P_b) and grad are exactly opposite for the pair (b, a): momentum is conserved
-      // to round-off although each particle gathers its own sum.
-      f.noalias() += (volume_a * volume_[b]) * ((P_a + corrected_stress_[b]) * grad);
-      if (stress_on) {
+    thread_local RowTerms terms;
+    const Index padded = row_geometry<Kernel>(list, a, position, smoothing_length_.data(), terms);
+    const Index* neighbour = terms.neighbour.data();
+    const Real *dx_k = terms.dx.data(), *dy_k = terms.dy.data(), *dz_k = terms.dz.data(), *factor_k = terms.factor.data(),
+               *r_k = terms.r.data(), *support_k = terms.support.data();
+    const Real4 rho_a(density_[a]), volume_a(volume_[a]), c_a(sound_speed_[a]), m_a(mass_[a]);
+    const Real4 vax(velocity[3 * a]), vay(velocity[3 * a + 1]), vaz(velocity[3 * a + 2]);
+    Real4 P_a[9];
+    for (int i = 0; i < 9; ++i) P_a[i] = Real4(P[9 * a + i]);
+    Real4 f_x, f_y, f_z, v_x, v_y, v_z, heating4;
+    for (Index k = 0; k < padded; k += 4) {
+      const Index* b = neighbour + k;
+      const Real4 factor = Real4::load(factor_k + k);
+      const Real4 dx = Real4::load(dx_k + k), dy = Real4::load(dy_k + k), dz = Real4::load(dz_k + k);
+      // (P_a + P_b) grad_a W_ab with grad = F x_ab: exactly opposite for the pair (b, a), so
+      // momentum is conserved to round-off although each particle gathers its own sum.
+      const Real4 t = volume_a * Real4::gather<1>(volume_.data(), b) * factor;
+      Real4 Pd[3];
+      for (int i = 0; i < 3; ++i) {
+        const Real4 p0 = P_a[i] + Real4::gather<9>(P, b, i);
+        const Real4 p1 = P_a[i + 3] + Real4::gather<9>(P, b, i + 3);
+        const Real4 p2 = P_a[i + 6] + Real4::gather<9>(P, b, i + 6);
+        Pd[i] = fma(p2, dz, fma(p1, dy, p0 * dx));
+      }
+      f_x = fma(t, Pd[0], f_x), f_y = fma(t, Pd[1], f_y), f_z = fma(t, Pd[2], f_z);
+      // Monaghan's viscosity on approaching pairs, mu = h v_ab . x_ab / (r^2 + eta^2 h^2).
+      const Real4 ux = vax - Real4::gather<3>(velocity, b, 0);
+      const Real4 uy = vay - Real4::gather<3>(velocity, b, 1);
+      const Real4 uz = vaz - Real4::gather<3>(velocity, b, 2);
+      const Real4 vr = fma(uz, dz, fma(uy, dy, ux * dx));
+      const simd::Mask4 approaching = vr < Real4(0);
+      if (approaching.lanes() == 0) continue;
+      const Real4 h = Real4(0.5) * Real4::load(support_k + k);  // mean smoothing length
+      const Real4 r = Real4::load(r_k + k);
+      const Real4 mu = h * vr / (r * r + Real4(eta2) * h * h);
+      const Real4 c = Real4(0.5) * (c_a + Real4::gather<1>(sound_speed_.data(), b));
+      const Real4 rho = Real4(0.5) * (rho_a + Real4::gather<1>(density_.data(), b));
+      const Real4 Pi = select(approaching, (Real4(-alpha) * c * mu + Real4(beta) * mu * mu) / rho, Real4(0));
+      const Real4 m_b = Real4::gather<1>(mass_.data(), b);
+      const Real4 s = m_a * m_b * Pi * factor;
+      v_x = fma(s, dx, v_x), v_y = fma(s, dy, v_y), v_z = fma(s, dz, v_z);
+      heating4 = fma(Real4(0.5) * m_b * Pi * factor, vr, heating4);
+    }
+    Vec3 f(f_x.sum(), f_y.sum(), f_z.sum());
+    const Vec3 f_visc(-v_x.sum(), -v_y.sum(), -v_z.sum());
+    if (stress_on) {
+      // Monaghan 2000: m_a m_b f_ab^n (R_a + R_b) grad_a W_ab, f_ab = W(r) / W(dp).
+      for (Index k = 0; k < padded; ++k) {
+        if (terms.factor[k] == 0) continue;
+        const Index b = terms.neighbour[k];
+        const Real H = terms.support[k];
         const Real dp = Real(0.5) * (spacing_[a] + spacing_[b]);
-        const Real ratio = Kernel::value(r, H) / Kernel::value(dp, H);
+        const Real ratio = Kernel::value(terms.r[k], H) / Kernel::value(dp, H);
+        const Vec3 grad = terms.factor[k] * Vec3(terms.dx[k], terms.dy[k], terms.dz[k]);
         f.noalias() += (mass_[a] * mass_[b] * std::pow(ratio, exponent)) *
                        ((artificial_stress_[a] + artificial_stress_[b]) * grad);
       }
-      const Vec3 vab = v_[a] - v_[b];
-      const Real vr = vab.dot(xab);
-      if (vr < 0) {
-        const Real h = Real(0.5) * H;  // mean smoothing length
-        const Real mu = h * vr / (r * r + eta2 * h * h);
-        const Real c = Real(0.5) * (sound_speed_[a] + sound_speed_[b]);
-        const Real rho = Real(0.5) * (rho_a + rho_b);
-        const Real Pi = (-alpha * c * mu + beta * mu * mu) / rho;
-        f_visc.noalias() -= (mass_[a] * mass_[b] * Pi) * grad;
-        heating += Real(0.5) * mass_[b] * Pi * vab.dot(grad);
-      }
-    });
+    }
     viscous_force_[a] = f_visc;
-    viscous_heating_[a] = heating;
+    viscous_heating_[a] = heating4.sum();
     force_[a] = f + f_visc;
   }
 }
