@@ -88,6 +88,23 @@ struct Real4 {
   }
 };
 
+// Four consecutive doubles from each of four rows (base + Stride index[i] + offset), transposed:
+// out[j] holds element j of the four rows. Whole 256-bit row loads where gathering would load the
+// same 16 doubles one by one.
+template <int Stride>
+inline void load_transposed(const Real* base, const Index* index, int offset, Real4 (&out)[4]) {
+  const __m256d r0 = _mm256_loadu_pd(base + Stride * index[0] + offset);
+  const __m256d r1 = _mm256_loadu_pd(base + Stride * index[1] + offset);
+  const __m256d r2 = _mm256_loadu_pd(base + Stride * index[2] + offset);
+  const __m256d r3 = _mm256_loadu_pd(base + Stride * index[3] + offset);
+  const __m256d t0 = _mm256_unpacklo_pd(r0, r1), t1 = _mm256_unpackhi_pd(r0, r1);
+  const __m256d t2 = _mm256_unpacklo_pd(r2, r3), t3 = _mm256_unpackhi_pd(r2, r3);
+  out[0] = {_mm256_permute2f128_pd(t0, t2, 0x20)};
+  out[1] = {_mm256_permute2f128_pd(t1, t3, 0x20)};
+  out[2] = {_mm256_permute2f128_pd(t0, t2, 0x31)};
+  out[3] = {_mm256_permute2f128_pd(t1, t3, 0x31)};
+}
+
 // The same for four indices.
 inline void compress_store(const Index* in, int lanes, Index* out) {
   const __m256i index = compress_permutation(lanes);
@@ -151,6 +168,11 @@ struct Real4 {
   }
   Real sum() const { return (v[0] + v[1]) + (v[2] + v[3]); }
 };
+
+template <int Stride>
+inline void load_transposed(const Real* base, const Index* index, int offset, Real4 (&out)[4]) {
+  for (int j = 0; j < 4; ++j) out[j] = Real4::gather<Stride>(base, index, offset + j);
+}
 
 inline void compress_store(const Index* in, int lanes, Index* out) {
   for (int i = 0; i < 4; ++i)

@@ -504,11 +504,15 @@ void SolidFormulation::compute_pair_forces() {
       // (P_a + P_b) grad_a W_ab with grad = F x_ab: exactly opposite for the pair (b, a), so
       // momentum is conserved to round-off although each particle gathers its own sum.
       const Real4 t = volume_a * Real4::gather<1>(volume_.data(), b) * factor;
+      // P_b column-major: elements 0-3 and 4-7 as two transposed row loads, element 8 gathered.
+      Real4 P_low[4], P_high[4];
+      simd::load_transposed<9>(P, b, 0, P_low);
+      simd::load_transposed<9>(P, b, 4, P_high);
+      const Real4 P_b[9] = {P_low[0],  P_low[1],  P_low[2],  P_low[3], P_high[0],
+                            P_high[1], P_high[2], P_high[3], Real4::gather<9>(P, b, 8)};
       Real4 Pd[3];
       for (int i = 0; i < 3; ++i) {
-        const Real4 p0 = P_a[i] + Real4::gather<9>(P, b, i);
-        const Real4 p1 = P_a[i + 3] + Real4::gather<9>(P, b, i + 3);
-        const Real4 p2 = P_a[i + 6] + Real4::gather<9>(P, b, i + 6);
+        const Real4 p0 = P_a[i] + P_b[i], p1 = P_a[i + 3] + P_b[i + 3], p2 = P_a[i + 6] + P_b[i + 6];
         Pd[i] = fma(p2, dz, fma(p1, dy, p0 * dx));
       }
       f_x = fma(t, Pd[0], f_x), f_y = fma(t, Pd[1], f_y), f_z = fma(t, Pd[2], f_z);
