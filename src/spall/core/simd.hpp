@@ -16,7 +16,77 @@
 
 namespace spall::simd {
 
+// Four scalars, lane by lane: the portable implementation, and the reference the vector one is
+// tested against (tests/unit/test_simd.cpp).
+namespace lanes {
+
+struct Mask4 {
+  bool bit[4];
+  friend Mask4 operator&(Mask4 a, Mask4 b) {
+    return {{a.bit[0] && b.bit[0], a.bit[1] && b.bit[1], a.bit[2] && b.bit[2], a.bit[3] && b.bit[3]}};
+  }
+  int lanes() const { return bit[0] | bit[1] << 1 | bit[2] << 2 | bit[3] << 3; }
+};
+
+struct Real4 {
+  Real v[4];
+  Real4() : v{0, 0, 0, 0} {}
+  Real4(Real value) : v{value, value, value, value} {}
+  static Real4 load(const Real* p) { return from([&](int i) { return p[i]; }); }
+  void store(Real* p) const {
+    for (int i = 0; i < 4; ++i) p[i] = v[i];
+  }
+  template <int Stride>
+  static Real4 gather(const Real* base, const Index* index, int offset = 0) {
+    return from([&](int i) { return base[Stride * index[i] + offset]; });
+  }
+  template <typename F>
+  static Real4 from(F&& f) {
+    Real4 r;
+    for (int i = 0; i < 4; ++i) r.v[i] = f(i);
+    return r;
+  }
+  friend Real4 operator+(Real4 a, Real4 b) { return from([&](int i) { return a.v[i] + b.v[i]; }); }
+  friend Real4 operator-(Real4 a, Real4 b) { return from([&](int i) { return a.v[i] - b.v[i]; }); }
+  friend Real4 operator*(Real4 a, Real4 b) { return from([&](int i) { return a.v[i] * b.v[i]; }); }
+  friend Real4 operator/(Real4 a, Real4 b) { return from([&](int i) { return a.v[i] / b.v[i]; }); }
+  friend Real4 operator-(Real4 a) { return from([&](int i) { return -a.v[i]; }); }
+  Real4& operator+=(Real4 b) { return *this = *this + b; }
+  Real4& operator-=(Real4 b) { return *this = *this - b; }
+  Real4& operator*=(Real4 b) { return *this = *this * b; }
+  template <typename C>
+  static Mask4 compare(Real4 a, Real4 b, C&& c) {
+    return {{c(a.v[0], b.v[0]), c(a.v[1], b.v[1]), c(a.v[2], b.v[2]), c(a.v[3], b.v[3])}};
+  }
+  friend Mask4 operator<(Real4 a, Real4 b) { return compare(a, b, [](Real x, Real y) { return x < y; }); }
+  friend Mask4 operator<=(Real4 a, Real4 b) { return compare(a, b, [](Real x, Real y) { return x <= y; }); }
+  friend Mask4 operator>(Real4 a, Real4 b) { return compare(a, b, [](Real x, Real y) { return x > y; }); }
+  friend Real4 fma(Real4 b, Real4 c, Real4 a) { return from([&](int i) { return std::fma(b.v[i], c.v[i], a.v[i]); }); }
+  friend Real4 sqrt(Real4 a) { return from([&](int i) { return std::sqrt(a.v[i]); }); }
+  friend Real4 abs(Real4 a) { return from([&](int i) { return std::abs(a.v[i]); }); }
+  friend Real4 max(Real4 a, Real4 b) { return from([&](int i) { return a.v[i] < b.v[i] ? b.v[i] : a.v[i]; }); }
+  friend Real4 select(Mask4 m, Real4 a, Real4 b) { return from([&](int i) { return m.bit[i] ? a.v[i] : b.v[i]; }); }
+  void compress_store(Real* out, int lanes) const {
+    for (int i = 0; i < 4; ++i)
+      if (lanes & (1 << i)) *out++ = v[i];
+  }
+  Real sum() const { return (v[0] + v[1]) + (v[2] + v[3]); }
+};
+
+template <int Stride>
+inline void load_transposed(const Real* base, const Index* index, int offset, Real4 (&out)[4]) {
+  for (int j = 0; j < 4; ++j) out[j] = Real4::gather<Stride>(base, index, offset + j);
+}
+
+inline void compress_store(const Index* in, int lanes, Index* out) {
+  for (int i = 0; i < 4; ++i)
+    if (lanes & (1 << i)) *out++ = in[i];
+}
+
+}  // namespace lanes
+
 #if defined(SPALL_SIMD_AVX2)
+namespace avx2 {
 
 // For each 4-bit lane mask, the 32-bit permutation that moves the selected double lanes to the
 // front in order (the rest unspecified).
@@ -114,71 +184,16 @@ inline void compress_store(const Index* in, int lanes, Index* out) {
   _mm_storeu_si128(reinterpret_cast<__m128i*>(out), _mm_castps_si128(_mm_permutevar_ps(values, lane)));
 }
 
+}  // namespace avx2
+using avx2::compress_store;
+using avx2::load_transposed;
+using avx2::Mask4;
+using avx2::Real4;
 #else
-
-struct Mask4 {
-  bool bit[4];
-  friend Mask4 operator&(Mask4 a, Mask4 b) {
-    return {{a.bit[0] && b.bit[0], a.bit[1] && b.bit[1], a.bit[2] && b.bit[2], a.bit[3] && b.bit[3]}};
-  }
-  int lanes() const { return bit[0] | bit[1] << 1 | bit[2] << 2 | bit[3] << 3; }
-};
-
-struct Real4 {
-  Real v[4];
-  Real4() : v{0, 0, 0, 0} {}
-  Real4(Real value) : v{value, value, value, value} {}
-  static Real4 load(const Real* p) { return from([&](int i) { return p[i]; }); }
-  void store(Real* p) const {
-    for (int i = 0; i < 4; ++i) p[i] = v[i];
-  }
-  template <int Stride>
-  static Real4 gather(const Real* base, const Index* index, int offset = 0) {
-    return from([&](int i) { return base[Stride * index[i] + offset]; });
-  }
-  template <typename F>
-  static Real4 from(F&& f) {
-    Real4 r;
-    for (int i = 0; i < 4; ++i) r.v[i] = f(i);
-    return r;
-  }
-  friend Real4 operator+(Real4 a, Real4 b) { return from([&](int i) { return a.v[i] + b.v[i]; }); }
-  friend Real4 operator-(Real4 a, Real4 b) { return from([&](int i) { return a.v[i] - b.v[i]; }); }
-  friend Real4 operator*(Real4 a, Real4 b) { return from([&](int i) { return a.v[i] * b.v[i]; }); }
-  friend Real4 operator/(Real4 a, Real4 b) { return from([&](int i) { return a.v[i] / b.v[i]; }); }
-  friend Real4 operator-(Real4 a) { return from([&](int i) { return -a.v[i]; }); }
-  Real4& operator+=(Real4 b) { return *this = *this + b; }
-  Real4& operator-=(Real4 b) { return *this = *this - b; }
-  Real4& operator*=(Real4 b) { return *this = *this * b; }
-  template <typename C>
-  static Mask4 compare(Real4 a, Real4 b, C&& c) {
-    return {{c(a.v[0], b.v[0]), c(a.v[1], b.v[1]), c(a.v[2], b.v[2]), c(a.v[3], b.v[3])}};
-  }
-  friend Mask4 operator<(Real4 a, Real4 b) { return compare(a, b, [](Real x, Real y) { return x < y; }); }
-  friend Mask4 operator<=(Real4 a, Real4 b) { return compare(a, b, [](Real x, Real y) { return x <= y; }); }
-  friend Mask4 operator>(Real4 a, Real4 b) { return compare(a, b, [](Real x, Real y) { return x > y; }); }
-  friend Real4 fma(Real4 b, Real4 c, Real4 a) { return from([&](int i) { return std::fma(b.v[i], c.v[i], a.v[i]); }); }
-  friend Real4 sqrt(Real4 a) { return from([&](int i) { return std::sqrt(a.v[i]); }); }
-  friend Real4 abs(Real4 a) { return from([&](int i) { return std::abs(a.v[i]); }); }
-  friend Real4 max(Real4 a, Real4 b) { return from([&](int i) { return a.v[i] < b.v[i] ? b.v[i] : a.v[i]; }); }
-  friend Real4 select(Mask4 m, Real4 a, Real4 b) { return from([&](int i) { return m.bit[i] ? a.v[i] : b.v[i]; }); }
-  void compress_store(Real* out, int lanes) const {
-    for (int i = 0; i < 4; ++i)
-      if (lanes & (1 << i)) *out++ = v[i];
-  }
-  Real sum() const { return (v[0] + v[1]) + (v[2] + v[3]); }
-};
-
-template <int Stride>
-inline void load_transposed(const Real* base, const Index* index, int offset, Real4 (&out)[4]) {
-  for (int j = 0; j < 4; ++j) out[j] = Real4::gather<Stride>(base, index, offset + j);
-}
-
-inline void compress_store(const Index* in, int lanes, Index* out) {
-  for (int i = 0; i < 4; ++i)
-    if (lanes & (1 << i)) *out++ = in[i];
-}
-
+using lanes::compress_store;
+using lanes::load_transposed;
+using lanes::Mask4;
+using lanes::Real4;
 #endif
 
 // The scalar forms, so that a kernel written with select/max serves both Real and Real4.
