@@ -125,6 +125,16 @@ TEST(neighbors, CubicLatticeInteriorCountsAreExact) {
   }
 }
 
+TEST(neighbors, LatticeOnCellFacesMatchesBruteForce) {
+  // The search bins into cells of half the radius: at radius 2 and 3 on a unit lattice the
+  // particles lie on cell faces, the radius is a multiple of the cell edge, and whole shells lie
+  // exactly on the radius (outside it: the test is strict).
+  const std::vector<Vec3> x = cubic_lattice(8, 1.0);
+  expect_matches_brute_force(x, 2.0, 0.0);
+  expect_matches_brute_force(x, 1.5, 0.5);
+  expect_matches_brute_force(x, 3.0, 0.0);
+}
+
 TEST(neighbors, AllParticlesInOneCell) {
   const std::vector<Vec3> x = random_set(60, Vec3(5, 5, 5), Vec3(5.1, 5.2, 5.05), 5);
   VerletList verlet;

@@ -82,13 +82,15 @@ void CellList::build(std::span<const Vec3> x, Real cell_size) {
   }
   const auto n = static_cast<std::int64_t>(x.size());
   order_.clear();
-  cell_key_.clear();
+  cell_key_.assign(1, ~CellKey(0));
   cell_start_.assign(1, 0);
   cell_size_ = cell_size;
   cells_ = {1, 1, 1};
+  lower_ = Vec3::Zero();
   if (n == 0) return;
 
   const BoundingBox box = bounding_box(x);
+  lower_ = box.lower;
   const Vec3 extent = box.upper - box.lower;
   if (!extent.allFinite()) {
     throw InstabilityError("neighbour search: particles span more than the largest double");
@@ -122,36 +124,25 @@ void CellList::build(std::span<const Vec3> x, Real cell_size) {
 
   for (std::int64_t k = 0; k < n; ++k) {
     if (k == 0 || particle_key[k] != particle_key[k - 1]) {
-      cell_key_.push_back(particle_key[k]);
+      cell_key_.back() = particle_key[k];
+      cell_key_.push_back(~CellKey(0));
       if (k > 0) cell_start_.push_back(static_cast<Index>(k));
     }
   }
   cell_start_.push_back(static_cast<Index>(n));
 }
 
-Index CellList::first_cell_from(CellKey k) const {
-  return static_cast<Index>(std::lower_bound(cell_key_.begin(), cell_key_.end(), k) -
+Index CellList::first_cell_from(CellKey k, Index from) const {
+  return static_cast<Index>(std::lower_bound(cell_key_.begin() + from, cell_key_.end() - 1, k) -
                             cell_key_.begin());
 }
 
-int CellList::neighborhood(Index c, std::array<ParticleRange, 9>& ranges) const {
+std::array<std::int64_t, 3> CellList::coordinates(Index c) const {
   const CellKey k = cell_key_[c];
-  const auto ix = static_cast<std::int64_t>(k % CellKey(cells_[0]));
-  const auto iy = static_cast<std::int64_t>((k / CellKey(cells_[0])) % CellKey(cells_[1]));
-  const auto iz = static_cast<std::int64_t>(k / (CellKey(cells_[0]) * CellKey(cells_[1])));
-  const std::int64_t x_first = std::max<std::int64_t>(ix - 1, 0);
-  const std::int64_t x_last = std::min(ix + 1, cells_[0] - 1);
-  int count = 0;
-  for (std::int64_t z = std::max<std::int64_t>(iz - 1, 0); z <= std::min(iz + 1, cells_[2] - 1);
-       ++z) {
-    for (std::int64_t y = std::max<std::int64_t>(iy - 1, 0); y <= std::min(iy + 1, cells_[1] - 1);
-         ++y) {
-      const Index first = first_cell_from(key(x_first, y, z));
-      const Index past_last = first_cell_from(key(x_last, y, z) + 1);
-      if (first < past_last) ranges[count++] = {cell_start_[first], cell_start_[past_last]};
-    }
-  }
-  return count;
+  const CellKey row = k / CellKey(cells_[0]);
+  return {static_cast<std::int64_t>(k - row * CellKey(cells_[0])),
+          static_cast<std::int64_t>(row % CellKey(cells_[1])),
+          static_cast<std::int64_t>(row / CellKey(cells_[1]))};
 }
 
 }  // namespace spall::neighbors

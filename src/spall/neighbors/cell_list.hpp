@@ -5,12 +5,13 @@
 // the first particle of each. A huge box with few particles (a fragment flying away from the
 // target, a tool far from the part) then costs memory for its particles only, and cells keep the
 // size asked for; capping a dense grid instead would make the cells of the dense part larger and
-// its search quadratic. A neighbour cell is found by binary search over the occupied keys, once per
-// cell rather than once per particle. Row-major keys put the three cells (ix-1, ix, ix+1) of one
-// (iy, iz) row next to each other, so the 27 cells around a cell are 9 contiguous particle ranges.
+// its search quadratic. A neighbour cell is found by search over the occupied keys, once per cell
+// rather than once per particle. Row-major keys put the cells of one (iy, iz) row next to each
+// other, so any run of cells along x is one contiguous particle range (trimmed_stencil.hpp).
 #include <array>
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "spall/core/types.hpp"
@@ -35,12 +36,30 @@ class CellList {
 
   // order()[k] is the particle at position k in cell order; within a cell, input order is kept.
   std::span<const Index> order() const { return order_; }
-  Index cell_count() const { return static_cast<Index>(cell_key_.size()); }
+  // Hands order() over (it is empty afterwards), for a caller that puts its particles in cell
+  // order and from then on only needs the cells: their positions in order() are then particle
+  // indices.
+  std::vector<Index> take_order() { return std::move(order_); }
+  Index cell_count() const { return static_cast<Index>(cell_key_.size()) - 1; }
   // The particles of occupied cell c, as positions in order().
   ParticleRange cell(Index c) const { return {cell_start_[c], cell_start_[c + 1]}; }
-  // The particles of the (up to 27) occupied cells around and including cell c, as at most 9
-  // ranges of positions in order(); returns how many ranges were written.
-  int neighborhood(Index c, std::array<ParticleRange, 9>& ranges) const;
+  // Position in order() of the first particle of occupied cell c; cell_start(cell_count()) is the
+  // particle count.
+  Index cell_start(Index c) const { return cell_start_[c]; }
+  // Key of occupied cell c; cell_key(cell_count()) is larger than any key of a cell.
+  CellKey cell_key(Index c) const { return cell_key_[c]; }
+  // Cell (ix, iy, iz) of occupied cell c.
+  std::array<std::int64_t, 3> coordinates(Index c) const;
+  // Cells along x, y, z of the virtual grid; cell (ix, iy, iz) covers
+  // lower() + cell_size() * [ix, ix + 1) x [iy, iy + 1) x [iz, iz + 1).
+  const std::array<std::int64_t, 3>& cells_along() const { return cells_; }
+  // Corner of the grid: the lower corner of the particles' bounding box.
+  const Vec3& lower() const { return lower_; }
+  CellKey key(std::int64_t ix, std::int64_t iy, std::int64_t iz) const {
+    return (CellKey(iz) * CellKey(cells_[1]) + CellKey(iy)) * CellKey(cells_[0]) + CellKey(ix);
+  }
+  // First occupied cell with key >= k (cell_count() when none), searched from cell `from` on.
+  Index first_cell_from(CellKey k, Index from = 0) const;
   // Edge of the cells actually used: the one asked for, or larger when the box is more than 2^42
   // cells wide.
   Real cell_size() const { return cell_size_; }
@@ -51,16 +70,11 @@ class CellList {
   }
 
  private:
-  CellKey key(std::int64_t ix, std::int64_t iy, std::int64_t iz) const {
-    return (CellKey(iz) * CellKey(cells_[1]) + CellKey(iy)) * CellKey(cells_[0]) + CellKey(ix);
-  }
-  // First occupied cell with key >= k (cell_count() when none).
-  Index first_cell_from(CellKey k) const;
-
   Real cell_size_ = 0;
+  Vec3 lower_ = Vec3::Zero();
   std::array<std::int64_t, 3> cells_{1, 1, 1};  // cells along x, y, z of the virtual grid
   std::vector<Index> order_;
-  std::vector<CellKey> cell_key_;  // occupied cells, ascending
+  std::vector<CellKey> cell_key_;  // occupied cells, ascending, and a sentinel past the last
   std::vector<Index> cell_start_;  // cell_count() + 1 entries into order_
 };
 

@@ -40,9 +40,10 @@ class VerletList {
   std::size_t reference_positions_bytes() const { return x_at_build_.capacity() * sizeof(Vec3); }
 
  private:
-  // Bins x into cells of cell_size and lists the pairs within make_radius(cell order).squared(k, j).
+  // Lists the pairs within make_radius(cell order).squared(k, j), radius being the largest pair
+  // radius.
   template <typename MakeRadius>
-  void build_rows(std::span<const Vec3> x, Real cell_size, const MakeRadius& make_radius);
+  void build_rows(std::span<const Vec3> x, Real radius, const MakeRadius& make_radius);
 
   NeighborList list_;
   std::vector<Vec3> x_at_build_;

@@ -12,6 +12,7 @@
 
 #include "spall/core/error.hpp"
 #include "spall/kernels/cubic_spline.hpp"
+#include "spall/neighbors/trimmed_stencil.hpp"
 
 namespace spall::sph {
 
@@ -27,6 +28,13 @@ constexpr std::uint8_t all_translations = 7;
 constexpr Real courant_factor = 0.4;
 constexpr Real force_factor = 0.25;
 constexpr Real viscous_factor = 0.125;
+
+// Cells of edge (support + skin) / 2, searched by the trimmed stencil: each particle screens only
+// the runs of cells that can reach its support (neighbors/trimmed_stencil.hpp).
+constexpr int stencil_reach = 2;
+// Lanes of the pair loops; the position arrays have this many entries past the last particle, so
+// that the screen's last load of a range stays inside them (the lanes past the range are masked).
+constexpr Index simd_width = 8;
 
 template <typename T>
 void permute(std::vector<T>& values, std::span<const Index> order) {
@@ -82,22 +90,23 @@ FluidFormulation::FluidFormulation(const FluidParameters& parameters,
   density_.assign(n, m.density);
   rate_.assign(n, 0);
   previous_rate_.assign(n, 0);
-  for (auto* v : {&x_, &y_, &z_, &vx_, &vy_, &vz_, &inverse_density_, &pressure_term_})
-    v->assign(n, 0);
+  for (auto* v : {&x_, &y_, &z_}) v->assign(n + simd_width, 0);
+  for (auto* v : {&vx_, &vy_, &vz_, &inverse_density_, &pressure_term_}) v->assign(n, 0);
   pressure_force_.assign(3 * n, 0);
   viscous_force_.assign(3 * n, 0);
   max_sound_speed_ = m.reference_sound_speed();
 }
 
-// Bins the particles into cells of edge support + skin and puts every per-particle array in cell
-// order, so that the particles of a cell are contiguous.
+// Bins the particles into cells of edge (support + skin) / 2 and puts every per-particle array in
+// cell order, so that the particles of a cell are contiguous.
 void FluidFormulation::rebuild_cells(const solver::NodeStore& nodes) {
   const Index n = particle_count();
   std::vector<Vec3> x(n);
 #pragma omp parallel for schedule(static)
   for (Index a = 0; a < n; ++a) x[a] = nodes.x[node_[a]];
-  cells_.build(x, (1 + parameters_.skin) * support_);
-  const std::span<const Index> order = cells_.order();
+  cells_.build(x, (1 + parameters_.skin) * support_ / stencil_reach);
+  // The cell list keeps no order: from here on the particles are in cell order.
+  const std::vector<Index> order = cells_.take_order();
   permute(node_, order);
   permute(mass_, order);
   permute(density_, order);
@@ -109,16 +118,25 @@ void FluidFormulation::rebuild_cells(const solver::NodeStore& nodes) {
     moving_before[a + 1] = moving_before[a] + (nodes.fixed[node_[a]] != all_translations);
   const Index cell_count = cells_.cell_count();
   active_cell_.assign(cell_count, 0);
-#pragma omp parallel for schedule(static)
-  for (Index c = 0; c < cell_count; ++c) {
-    std::array<neighbors::ParticleRange, 9> ranges;
-    const int range_count = cells_.neighborhood(c, ranges);
-    for (int r = 0; r < range_count; ++r)
-      if (moving_before[ranges[r].end] > moving_before[ranges[r].begin]) active_cell_[c] = 1;
+#pragma omp parallel
+  {
+    neighbors::TrimmedStencil stencil(cells_, stencil_reach);
+    neighbors::TrimmedStencil::Ranges ranges;
+#pragma omp for schedule(dynamic, 64)
+    for (Index c = 0; c < cell_count; ++c) {
+      stencil.prepare(c);
+      const int range_count = stencil.block(ranges);
+      for (int r = 0; r < range_count; ++r)
+        if (moving_before[ranges[r].end] > moving_before[ranges[r].begin]) active_cell_[c] = 1;
+    }
   }
-  Vec3 lower = n > 0 ? x[0] : Vec3::Zero();
-  for (const Vec3& p : x) lower = lower.cwiseMin(p);
-  origin_ = lower;
+  // Positions are taken relative to the grid corner, in single precision: a position and the
+  // distance test carry relative errors of a few 2^-24 of the box size and of the support, which
+  // the stencil's radius covers with this margin.
+  origin_ = cells_.lower();
+  const auto& along = cells_.cells_along();
+  const Real box = cells_.cell_size() * static_cast<Real>(std::max({along[0], along[1], along[2]}));
+  rounding_margin_ = 1e-6 * (box + support_);
   cells_built_ = true;
   travelled_ = 0;
 }
@@ -164,13 +182,24 @@ void FluidFormulation::gather(const solver::NodeStore& nodes, Real dt) {
 }
 
 template <typename Visit>
-void FluidFormulation::for_each_cell_neighbourhood(bool skip_inactive, Visit&& visit) const {
+void FluidFormulation::for_each_particle_candidates(bool skip_inactive, Visit&& visit) const {
+  neighbors::TrimmedStencil stencil(cells_, stencil_reach);
+  neighbors::TrimmedStencil::Ranges ranges;
+  // A neighbour within the support now was binned within support + travelled_ of this
+  // particle's position now, which is within travelled_ of its own cell: the 5 x 5 x 5 cells of
+  // edge (support + skin) / 2 hold it while 2 travelled_ + margin <= skin support (compute_forces).
+  const Real radius = support_ + travelled_ + rounding_margin_;
   const Index cell_count = cells_.cell_count();
-#pragma omp for schedule(dynamic, 4)
+  // Chunks of consecutive cells, so that the stencil mostly slides along a row of cells.
+#pragma omp for schedule(dynamic, 16)
   for (Index c = 0; c < cell_count; ++c) {
-    std::array<neighbors::ParticleRange, 9> ranges;
-    const int range_count = !skip_inactive || active_cell_[c] ? cells_.neighborhood(c, ranges) : 0;
-    visit(cells_.cell(c), ranges, range_count);
+    const neighbors::ParticleRange own = cells_.cell(c);
+    const bool active = !skip_inactive || active_cell_[c];
+    if (active) stencil.prepare(c);
+    for (Index a = own.begin; a < own.end; ++a) {
+      const int range_count = active ? stencil.trimmed(Vec3(x_[a], y_[a], z_[a]), radius, ranges) : 0;
+      visit(a, ranges, range_count);
+    }
   }
 }
 
@@ -209,21 +238,22 @@ struct PairSums {
 };
 
 // Appends to `found` the particles of [begin, end) closer to (xa, ya, za) than H, except `self`;
-// returns the new count. The vector path writes 8 entries at a time (found needs 8 spare slots)
-// and tests exactly as the scalar path does (same fused operations), so the pair (a, b) is found
-// from both sides or from neither.
+// returns the new count. The vector path reads 8 positions at a time, up to 7 past `end` (the
+// arrays are padded), masks the lanes past `end` off and writes 8 entries at a time (found needs
+// 8 spare slots); it tests exactly as the scalar path does (same fused operations), so the pair
+// (a, b) is found from both sides or from neither.
 Index screen(const PairInputs& in, float xa, float ya, float za, float H2, Index begin, Index end,
              Index self, Index* found, Index count) {
-  Index b = begin;
 #if defined(__AVX2__) && defined(__BMI2__)
   const __m256 vxa = _mm256_set1_ps(xa), vya = _mm256_set1_ps(ya), vza = _mm256_set1_ps(za);
   const __m256 vH2 = _mm256_set1_ps(H2);
-  for (; b + 8 <= end; b += 8) {
+  for (Index b = begin; b < end; b += 8) {
     const __m256 dx = _mm256_sub_ps(vxa, _mm256_loadu_ps(in.x + b));
     const __m256 dy = _mm256_sub_ps(vya, _mm256_loadu_ps(in.y + b));
     const __m256 dz = _mm256_sub_ps(vza, _mm256_loadu_ps(in.z + b));
     const __m256 r2 = _mm256_fmadd_ps(dz, dz, _mm256_fmadd_ps(dy, dy, _mm256_mul_ps(dx, dx)));
     unsigned mask = static_cast<unsigned>(_mm256_movemask_ps(_mm256_cmp_ps(r2, vH2, _CMP_LT_OQ)));
+    mask = _bzhi_u32(mask, static_cast<unsigned>(std::min<Index>(end - b, 8)));
     if (self >= b && self < b + 8) mask &= ~(1u << (self - b));
     // Left-pack the lanes whose bit is set: the byte indices of the set bits, by pext.
     const std::uint64_t bytes_of_mask = _pdep_u64(mask, 0x0101010101010101ull) * 0xFF;
@@ -233,12 +263,13 @@ Index screen(const PairInputs& in, float xa, float ya, float za, float H2, Index
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(found + count), index);
     count += std::popcount(mask);
   }
-#endif
-  for (; b < end; ++b) {
+#else
+  for (Index b = begin; b < end; ++b) {
     const float dx = xa - in.x[b], dy = ya - in.y[b], dz = za - in.z[b];
     found[count] = b;
     count += (std::fma(dz, dz, std::fma(dy, dy, dx * dx)) < H2) & (b != self);
   }
+#endif
   return count;
 }
 
@@ -369,8 +400,6 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
   return sums;
 }
 
-constexpr Index simd_width = 8;
-
 }  // namespace
 
 void FluidFormulation::pair_pass(solver::NodeStore& nodes, Real dt) {
@@ -399,40 +428,36 @@ void FluidFormulation::pair_pass(solver::NodeStore& nodes, Real dt) {
 #pragma omp parallel reduction(max : max_acceleration, max_mu)
   {
     std::vector<Index> found;
-    for_each_cell_neighbourhood(true, [&](neighbors::ParticleRange own,
-                                          const std::array<neighbors::ParticleRange, 9>& ranges,
-                                          int range_count) {
+    for_each_particle_candidates(true, [&](Index a, const auto& ranges, int range_count) {
       Index candidates = 0;
       for (int r = 0; r < range_count; ++r) candidates += ranges[r].end - ranges[r].begin;
       if (found.size() < static_cast<std::size_t>(candidates + 2 * simd_width))
         found.resize(candidates + 2 * simd_width);
-      for (Index a = own.begin; a < own.end; ++a) {
-        Index count = 0;
-        for (int r = 0; r < range_count; ++r)
-          count = screen(in, x_[a], y_[a], z_[a], constants.support_squared, ranges[r].begin,
-                         ranges[r].end, a, found.data(), count);
-        while (count % simd_width != 0) found[count++] = a;
-        const Index node = node_[a];
-        const bool wall = nodes.fixed[node] == all_translations;
-        const PairSums sums = wall ? interact<false>(in, constants, a, found.data(), count)
-                                   : interact<true>(in, constants, a, found.data(), count);
-        const Vec3 fp(sums.fpx, sums.fpy, sums.fpz), fv(sums.fvx, sums.fvy, sums.fvz);
-        nodes.f[node] += fp + fv;
-        for (int d = 0; d < 3; ++d) {
-          pressure_force_[3 * a + d] = static_cast<float>(fp[d]);
-          viscous_force_[3 * a + d] = static_cast<float>(fv[d]);
-        }
-        if (!wall) {
-          max_acceleration = std::max(max_acceleration, (fp + fv).norm() / Real(mass_[a]));
-          max_mu = std::max(max_mu, Real(sums.max_mu));
-        }
-        // rho^n = rho^{n-1} + dt rho'^n; walls never go below rho0.
-        Real rho = density_[a] + dt * sums.rate;
-        if (wall) rho = std::max(rho, m.density);
-        density_[a] = rho;
-        previous_rate_[a] = first_pass_ ? static_cast<float>(sums.rate) : rate_[a];
-        rate_[a] = static_cast<float>(sums.rate);
+      Index count = 0;
+      for (int r = 0; r < range_count; ++r)
+        count = screen(in, x_[a], y_[a], z_[a], constants.support_squared, ranges[r].begin,
+                       ranges[r].end, a, found.data(), count);
+      while (count % simd_width != 0) found[count++] = a;
+      const Index node = node_[a];
+      const bool wall = nodes.fixed[node] == all_translations;
+      const PairSums sums = wall ? interact<false>(in, constants, a, found.data(), count)
+                                 : interact<true>(in, constants, a, found.data(), count);
+      const Vec3 fp(sums.fpx, sums.fpy, sums.fpz), fv(sums.fvx, sums.fvy, sums.fvz);
+      nodes.f[node] += fp + fv;
+      for (int d = 0; d < 3; ++d) {
+        pressure_force_[3 * a + d] = static_cast<float>(fp[d]);
+        viscous_force_[3 * a + d] = static_cast<float>(fv[d]);
       }
+      if (!wall) {
+        max_acceleration = std::max(max_acceleration, (fp + fv).norm() / Real(mass_[a]));
+        max_mu = std::max(max_mu, Real(sums.max_mu));
+      }
+      // rho^n = rho^{n-1} + dt rho'^n; walls never go below rho0.
+      Real rho = density_[a] + dt * sums.rate;
+      if (wall) rho = std::max(rho, m.density);
+      density_[a] = rho;
+      previous_rate_[a] = first_pass_ ? static_cast<float>(sums.rate) : rate_[a];
+      rate_[a] = static_cast<float>(sums.rate);
     });
   }
   max_acceleration_ = max_acceleration;
@@ -447,8 +472,9 @@ void FluidFormulation::compute_forces(solver::NodeStore& nodes, Real dt) {
 #pragma omp parallel for schedule(static) reduction(max : max_speed)
   for (Index a = 0; a < n; ++a) max_speed = std::max(max_speed, nodes.v[node_[a]].norm());
   travelled_ += dt * max_speed;
-  // Two particles approach each other by at most twice the bound.
-  if (!cells_built_ || 2 * travelled_ > parameters_.skin * support_) rebuild_cells(nodes);
+  // Two particles approach each other by at most twice the bound; the search also widens by the
+  // rounding margin, and all of it must stay within the skin (see for_each_particle_candidates).
+  if (!cells_built_ || 2 * travelled_ + rounding_margin_ > parameters_.skin * support_) rebuild_cells(nodes);
   gather(nodes, dt);
   pair_pass(nodes, dt);
 }
@@ -486,18 +512,14 @@ std::vector<Index> FluidFormulation::neighbour_counts() const {
   if (!cells_built_) return counts;
   const float H2 = static_cast<float>(support_ * support_);
 #pragma omp parallel
-  for_each_cell_neighbourhood(false, [&](neighbors::ParticleRange own,
-                                         const std::array<neighbors::ParticleRange, 9>& ranges,
-                                         int range_count) {
-    for (Index a = own.begin; a < own.end; ++a) {
-      Index count = 0;
-      for (int r = 0; r < range_count; ++r)
-        for (Index b = ranges[r].begin; b < ranges[r].end; ++b) {
-          const float dx = x_[a] - x_[b], dy = y_[a] - y_[b], dz = z_[a] - z_[b];
-          count += (dx * dx + dy * dy + dz * dz < H2) & (b != a);
-        }
-      counts[a] = count;
-    }
+  for_each_particle_candidates(false, [&](Index a, const auto& ranges, int range_count) {
+    Index count = 0;
+    for (int r = 0; r < range_count; ++r)
+      for (Index b = ranges[r].begin; b < ranges[r].end; ++b) {
+        const float dx = x_[a] - x_[b], dy = y_[a] - y_[b], dz = z_[a] - z_[b];
+        count += (dx * dx + dy * dy + dz * dz < H2) & (b != a);
+      }
+    counts[a] = count;
   });
   return counts;
 }

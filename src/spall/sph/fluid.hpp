@@ -23,11 +23,12 @@
 //   rho^n = rho^{n-1} + dt rho'^n. For an acoustic mode of frequency w this predictor-corrector is
 //   stable for w dt < 0.72 (and damps the highest modes slightly); the lagged update
 //   rho^n = rho^{n-1} + dt rho'^{n-1} alone is unstable for every dt.
-// - Particles are kept in cell order; each one screens the particles of the 27 cells around its
-//   own and interacts with those inside the support. Cells (edge = support + skin) are rebuilt,
-//   and the particles re-sorted, when the particles may have moved more than skin / 2 since the
-//   last rebuild: the bound is the sum over steps of dt max |v|, so no reference positions are
-//   stored.
+// - Particles are kept in cell order; each one screens the particles of the cells that can reach
+//   its support (cells of edge (support + skin) / 2, the runs of the 5 x 5 x 5 block around its
+//   cell trimmed to its position: neighbors/trimmed_stencil.hpp) and interacts with those inside
+//   the support. Cells are rebuilt, and the particles re-sorted, when the particles may have moved
+//   more than skin / 2 since the last rebuild: the bound is the sum over steps of dt max |v|, so
+//   no reference positions are stored.
 // - Positions and velocities are copied each step into single-precision arrays in cell order; the
 //   pair terms are evaluated in single precision by one sequence of operations for every pair, so
 //   the term of (a, b) is bitwise minus that of (b, a), and summed in double.
@@ -97,10 +98,11 @@ class FluidFormulation final : public solver::Formulation {
   void rebuild_cells(const solver::NodeStore& nodes);
   void gather(const solver::NodeStore& nodes, Real dt);
   void pair_pass(solver::NodeStore& nodes, Real dt);
-  // Calls visit(own cell, neighbourhood ranges, range count) for every cell, in an `omp for`;
-  // with skip_inactive, cells without moving particles around get no ranges.
+  // Calls visit(a, ranges, range count) for every particle a, in an `omp for` over the cells: the
+  // ranges hold every particle within the support of a. With skip_inactive, the particles of cells
+  // without moving particles around get no ranges.
   template <typename Visit>
-  void for_each_cell_neighbourhood(bool skip_inactive, Visit&& visit) const;
+  void for_each_particle_candidates(bool skip_inactive, Visit&& visit) const;
 
   FluidParameters parameters_;
   Real support_ = 0;  // H = 2h
@@ -111,8 +113,8 @@ class FluidFormulation final : public solver::Formulation {
   std::vector<Real> density_;        // rho^n (corrected)
   std::vector<float> rate_;           // rho'^n
   std::vector<float> previous_rate_;  // rho'^{n-1}
-  // Per step: positions relative to origin_ and velocities, single precision; the inverse of the
-  // predicted density and p / rho^2 the pair pass reads.
+  // Per step: positions relative to origin_ (padded: see simd_width in fluid.cpp) and velocities,
+  // single precision; the inverse of the predicted density and p / rho^2 the pair pass reads.
   std::vector<float> x_, y_, z_, vx_, vy_, vz_;
   std::vector<float> inverse_density_;
   std::vector<float> pressure_term_;
@@ -121,11 +123,12 @@ class FluidFormulation final : public solver::Formulation {
   std::vector<float> viscous_force_;   // 3 per particle
 
   neighbors::CellList cells_;
-  // Per cell: 1 when a moving (non-wall) particle is in the cell or its 26 neighbours. Wall
+  // Per cell: 1 when a moving (non-wall) particle is in the 5 x 5 x 5 cells around it. Wall
   // particles of other cells have no moving particle in their support until the next rebuild,
   // so their continuity rate is exactly zero and they are skipped.
   std::vector<std::uint8_t> active_cell_;
-  Vec3 origin_ = Vec3::Zero();
+  Vec3 origin_ = Vec3::Zero();  // the cells' grid corner
+  Real rounding_margin_ = 0;    // widens the search for the single-precision positions
   bool cells_built_ = false;
   bool first_pass_ = true;
   Real travelled_ = 0;  // bound on any particle's displacement since the cells were built
