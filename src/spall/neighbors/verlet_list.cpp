@@ -140,6 +140,7 @@ void VerletList::build(std::span<const Vec3> x, Real cutoff, Real skin) {
   }
   cutoff_ = cutoff;
   skin_ = skin;
+  ++builds_;
   const Real radius = cutoff + skin;
   build_rows(x, radius, [&](std::span<const Index>) { return UniformRadius{radius * radius}; });
 }
@@ -155,6 +156,7 @@ void VerletList::build(std::span<const Vec3> x, std::span<const Real> reach, Rea
   if (!(skin >= 0)) throw std::invalid_argument("neighbour search: need skin >= 0, got " + std::to_string(skin));
   cutoff_ = 2 * largest;
   skin_ = skin;
+  ++builds_;
   build_rows(x, cutoff_ + skin,
              [&](std::span<const Index> order) { return PairRadius(reach, order, skin); });
 }

@@ -36,6 +36,8 @@ class VerletList {
   const NeighborList& list() const { return list_; }
   Real cutoff() const { return cutoff_; }
   Real skin() const { return skin_; }
+  // Lists built since construction: how often needs_rebuild() said yes, for the benchmarks.
+  long long builds() const { return builds_; }
   // Bytes held besides the list itself: the positions saved at the build.
   std::size_t reference_positions_bytes() const { return x_at_build_.capacity() * sizeof(Vec3); }
 
@@ -48,6 +50,7 @@ class VerletList {
   std::vector<Vec3> x_at_build_;
   Real cutoff_ = 0;
   Real skin_ = 0;
+  long long builds_ = 0;
 };
 
 // A permutation that puts particles in cell order (cells of `cell_size`, row-major over the cell
