@@ -281,12 +281,18 @@ TEST(neighbors, RigidTranslationNeedsNoRebuild) {
   std::vector<Vec3> moved = x;
   for (Vec3& p : moved) p += Vec3(5.0, -3.0, 0.7);
   EXPECT_FALSE(verlet.needs_rebuild(moved));
-  // On top of it, two particles moving apart by just under the skin in all: still valid (every
-  // displacement within skin / 2 of the common one); by just over it: rebuild.
+  // On top of it, particle 10 and its nearest neighbour moving apart by just under the skin in
+  // all: still valid (every displacement within skin / 2 of the common one); by just over it, while
+  // still within the cutoff of each other: rebuild.
+  const std::vector<Index> listed = row(verlet.list(), 10);
+  const Index other = *std::min_element(listed.begin(), listed.end(), [&](Index a, Index b) {
+    return (x[a] - x[10]).norm() < (x[b] - x[10]).norm();
+  });
+  ASSERT_LT((x[other] - x[10]).norm() + 1.02 * skin, cutoff);
   moved[10] += Vec3(0.49 * skin, 0, 0);
-  moved[20] -= Vec3(0.49 * skin, 0, 0);
+  moved[other] -= Vec3(0.49 * skin, 0, 0);
   EXPECT_FALSE(verlet.needs_rebuild(moved));
-  moved[20] -= Vec3(0.03 * skin, 0, 0);
+  moved[other] -= Vec3(0.03 * skin, 0, 0);
   EXPECT_TRUE(verlet.needs_rebuild(moved));
 }
 

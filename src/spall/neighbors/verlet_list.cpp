@@ -10,6 +10,7 @@
 #include <string>
 
 #include "spall/neighbors/cell_list.hpp"
+#include "spall/neighbors/relative_motion.hpp"
 #include "spall/neighbors/trimmed_stencil.hpp"
 
 namespace spall::neighbors {
@@ -163,6 +164,7 @@ void VerletList::build(std::span<const Vec3> x, Real cutoff, Real skin) {
   }
   cutoff_ = cutoff;
   skin_ = skin;
+  ++builds_;
   const Real radius = cutoff + skin;
   build_rows(x, radius, [&](std::span<const Index>) { return UniformRadius{radius, radius * radius}; });
 }
@@ -178,6 +180,7 @@ void VerletList::build(std::span<const Vec3> x, std::span<const Real> reach, Rea
   if (!(skin >= 0)) throw std::invalid_argument("neighbour search: need skin >= 0, got " + std::to_string(skin));
   cutoff_ = 2 * largest;
   skin_ = skin;
+  ++builds_;
   build_rows(x, cutoff_ + skin,
              [&](std::span<const Index> order) { return PairRadius(reach, order, largest, skin); });
 }
@@ -264,34 +267,10 @@ void VerletList::build_rows(std::span<const Vec3> x, Real radius, const MakeRadi
 
 bool VerletList::needs_rebuild(std::span<const Vec3> x) const {
   if (list_.offsets.empty() || x.size() != x_at_build_.size()) return true;
-  const auto n = static_cast<std::int64_t>(x.size());
-  if (n == 0) return false;
-  // Bounding box of the displacements: min and max are exact, so it does not depend on how the
-  // reduction is split between threads.
-  Real lx = x[0].x() - x_at_build_[0].x(), ly = x[0].y() - x_at_build_[0].y(),
-       lz = x[0].z() - x_at_build_[0].z();
-  Real ux = lx, uy = ly, uz = lz;
-#pragma omp parallel for reduction(min : lx, ly, lz) reduction(max : ux, uy, uz)
-  for (std::int64_t i = 0; i < n; ++i) {
-    const Vec3 d = x[i] - x_at_build_[i];
-    lx = std::min(lx, d.x());
-    ly = std::min(ly, d.y());
-    lz = std::min(lz, d.z());
-    ux = std::max(ux, d.x());
-    uy = std::max(uy, d.y());
-    uz = std::max(uz, d.z());
-  }
-  const Vec3 centre(Real(0.5) * (lx + ux), Real(0.5) * (ly + uy), Real(0.5) * (lz + uz));
-  const Real half_skin = skin_ / 2;
-  const Real limit_squared = half_skin * half_skin;
-  bool moved_too_far = false;
-  // Written as "not within" so that a NaN position (which the min/max above may skip, but not
-  // this test) asks for a rebuild, whose cell list then reports the particle.
-#pragma omp parallel for reduction(|| : moved_too_far)
-  for (std::int64_t i = 0; i < n; ++i) {
-    moved_too_far = moved_too_far || !((x[i] - x_at_build_[i] - centre).squaredNorm() <= limit_squared);
-  }
-  return moved_too_far;
+  // The list holds every pair within r_ij + skin at the build (r_ij <= cutoff_). A pair now closer
+  // than r_ij was within |x_i - x_j| + |d_i - d_j| < r_ij + |d_i - d_j| then (triangle inequality,
+  // d = x - x_at_build_), so it is listed when its relative displacement is at most the skin.
+  return !close_pairs_moved_together(x, x_at_build_, cutoff_, skin_);
 }
 
 std::vector<Index> spatial_order(std::span<const Vec3> x, Real cell_size) {

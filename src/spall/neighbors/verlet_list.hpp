@@ -28,14 +28,19 @@ class VerletList {
   // Particles of very different reach then share a list without the small ones listing as far as
   // the largest. cutoff() is twice the largest reach.
   void build(std::span<const Vec3> x, std::span<const Real> reach, Real skin);
-  // False while every pair's distance has changed by at most the skin since the build. That holds
-  // when every displacement since the build lies within skin / 2 of one common vector c (triangle
-  // inequality); c is the centre of the displacements' bounding box, so that a rigid translation
-  // costs no rebuild. True also for a non-finite position, a changed particle count, or no build.
+  // False while every pair now within the cutoff (reach_i + reach_j) has moved by at most the skin
+  // relative to each other since the build, which keeps such pairs in the list (triangle
+  // inequality). Checked globally (every displacement within skin / 2 of a common vector: a rigid
+  // translation costs no rebuild) and, failing that, between neighbouring cells of the current
+  // positions (close_pairs_moved_together): a body that stretches or spins as a whole keeps its
+  // list while neighbouring particles move together. True also for a non-finite position, a
+  // changed particle count, or no build.
   bool needs_rebuild(std::span<const Vec3> x) const;
   const NeighborList& list() const { return list_; }
   Real cutoff() const { return cutoff_; }
   Real skin() const { return skin_; }
+  // Lists built since construction: how often needs_rebuild() said yes, for the benchmarks.
+  long long builds() const { return builds_; }
   // Bytes held besides the list itself: the positions saved at the build.
   std::size_t reference_positions_bytes() const { return x_at_build_.capacity() * sizeof(Vec3); }
 
@@ -49,6 +54,7 @@ class VerletList {
   std::vector<Vec3> x_at_build_;
   Real cutoff_ = 0;
   Real skin_ = 0;
+  long long builds_ = 0;
 };
 
 // A permutation that puts particles in cell order (cells of `cell_size`, row-major over the cell

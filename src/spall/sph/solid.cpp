@@ -204,9 +204,10 @@ void SolidFormulation::gather_kinematics(const solver::NodeStore& nodes) {
 }
 
 // The list holds every pair within reach_a + reach_b + skin at the build, reach = cutoff_margin h
-// of that build; it stays complete while no pair's distance has changed by more than the skin
-// (VerletList::needs_rebuild) and no h_a has outgrown its reach. A per-pair reach keeps the rows of
-// particles with the common h short when a few others (the rim of a splashing foot) expand.
+// of that build; it stays complete while no two particles within the cutoff have moved by more
+// than the skin relative to each other (VerletList::needs_rebuild) and no h_a has outgrown its
+// reach. A per-pair reach keeps the rows of particles with the common h short when a few others
+// (the rim of a splashing foot) expand.
 void SolidFormulation::update_neighbour_list() {
   const Index n = particle_count();
   bool outgrown = !list_built_;

@@ -123,6 +123,7 @@ class SolidFormulation final : public solver::Formulation {
   // Bytes held by the formulation's arrays and its neighbour list.
   std::size_t memory_bytes() const;
   const neighbors::NeighborList& neighbor_list() const { return verlet_.list(); }
+  long long neighbor_list_builds() const { return verlet_.builds(); }
   // Categories of the last categorization (particle order), empty when no part asks for them.
   const std::vector<Category>& categories() const { return category_; }
   Index node_of(Index particle) const { return node_[particle]; }

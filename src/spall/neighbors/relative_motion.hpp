@@ -1,0 +1,18 @@
+#pragma once
+// Whether particles that are now close have moved together since an earlier configuration: the
+// test behind VerletList::needs_rebuild. OpenMP inside; the answer never depends on the thread
+// count (it is made of exact min/max reductions and comparisons only).
+#include <span>
+
+#include "spall/core/types.hpp"
+
+namespace spall::neighbors {
+
+// True only when every pair (i, j) now closer than `distance` (> 0) has moved by at most `limit`
+// relative to each other since `before`: |d_i - d_j| <= limit with d = x - before. May answer
+// false for a motion that satisfies this (the test bounds displacements by boxes); answers false
+// for a non-finite position. `before` must be finite and as long as x.
+bool close_pairs_moved_together(std::span<const Vec3> x, std::span<const Vec3> before, Real distance,
+                                Real limit);
+
+}  // namespace spall::neighbors
