@@ -82,6 +82,14 @@ TEST(Simd, GatherCompressAndTransposedLoadsPickTheRightElements) {
       for (int i = 0; i < 4; ++i) EXPECT_EQ(g[i], 100 * rows[i] + offset + j);
     }
   }
+  simd::Real4 x, y, z;
+  simd::load_vectors(table.data(), rows, x, y, z);  // the table read as 3-vectors
+  const auto xs = lanes_of(x), ys = lanes_of(y), zs = lanes_of(z);
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_EQ(xs[i], table[3 * rows[i]]);
+    EXPECT_EQ(ys[i], table[3 * rows[i] + 1]);
+    EXPECT_EQ(zs[i], table[3 * rows[i] + 2]);
+  }
   const Real values[4] = {10, 11, 12, 13};
   const Index indices[4] = {20, 21, 22, 23};
   for (int mask = 0; mask < 16; ++mask) {

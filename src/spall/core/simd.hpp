@@ -78,6 +78,12 @@ inline void load_transposed(const Real* base, const Index* index, int offset, Re
   for (int j = 0; j < 4; ++j) out[j] = Real4::gather<Stride>(base, index, offset + j);
 }
 
+inline void load_vectors(const Real* v, const Index* index, Real4& x, Real4& y, Real4& z) {
+  x = Real4::gather<3>(v, index, 0);
+  y = Real4::gather<3>(v, index, 1);
+  z = Real4::gather<3>(v, index, 2);
+}
+
 inline void compress_store(const Index* in, int lanes, Index* out) {
   for (int i = 0; i < 4; ++i)
     if (lanes & (1 << i)) *out++ = in[i];
@@ -175,6 +181,19 @@ inline void load_transposed(const Real* base, const Index* index, int offset, Re
   out[3] = {_mm256_permute2f128_pd(t1, t3, 0x31)};
 }
 
+// The three components of the vectors v[index[i]] of an array of 3-vectors (x, y, z, x, ...):
+// x and y as one 128-bit load a vector, interleaved; z gathered. Reads only the vectors' own
+// components (a 256-bit load would read past the last vector).
+inline void load_vectors(const Real* v, const Index* index, Real4& x, Real4& y, Real4& z) {
+  const __m256d low = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(v + 3 * index[0])),
+                                           _mm_loadu_pd(v + 3 * index[2]), 1);  // x0 y0 x2 y2
+  const __m256d high = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(v + 3 * index[1])),
+                                            _mm_loadu_pd(v + 3 * index[3]), 1);  // x1 y1 x3 y3
+  x = {_mm256_unpacklo_pd(low, high)};
+  y = {_mm256_unpackhi_pd(low, high)};
+  z = Real4::gather<3>(v, index, 2);
+}
+
 // The same for four indices.
 inline void compress_store(const Index* in, int lanes, Index* out) {
   const __m256i index = compress_permutation(lanes);
@@ -187,11 +206,13 @@ inline void compress_store(const Index* in, int lanes, Index* out) {
 }  // namespace avx2
 using avx2::compress_store;
 using avx2::load_transposed;
+using avx2::load_vectors;
 using avx2::Mask4;
 using avx2::Real4;
 #else
 using lanes::compress_store;
 using lanes::load_transposed;
+using lanes::load_vectors;
 using lanes::Mask4;
 using lanes::Real4;
 #endif

@@ -47,7 +47,8 @@ struct RowTerms {
 
 // Fills terms for the row of particle a, four pairs at a time (simd::Real4), each pair by the same
 // operations whichever side computes it, so that (a, b) gets exactly the factor of (b, a) and
-// opposite differences. Returns the padded count of pairs kept (a multiple of four).
+// opposite differences. First the neighbours inside the support are picked from the Verlet row,
+// then their geometry is computed. Returns the padded count of pairs kept (a multiple of four).
 template <typename Kernel>
 Index row_geometry(const neighbors::NeighborList& list, Index a, const Real* position, const Real* h,
                    RowTerms& terms) {
@@ -64,38 +65,41 @@ Index row_geometry(const neighbors::NeighborList& list, Index a, const Real* pos
   std::copy(list.neighbors.begin() + first, list.neighbors.begin() + first + count, row);
   std::fill(row + count, row + count + 4, a);
   const Real4 xa(position[3 * a]), ya(position[3 * a + 1]), za(position[3 * a + 2]), ha(h[a]);
+  const auto difference = [&](const Index* b, Real4& dx, Real4& dy, Real4& dz) {
+    simd::load_vectors(position, b, dx, dy, dz);
+    dx = xa - dx, dy = ya - dy, dz = za - dz;
+    return fma(dz, dz, fma(dy, dy, dx * dx));
+  };
   Index kept = 0;
   for (Index k = 0; k < count; k += 4) {
-    const Index* b = row + k;
-    const Real4 dx = xa - Real4::gather<3>(position, b, 0);
-    const Real4 dy = ya - Real4::gather<3>(position, b, 1);
-    const Real4 dz = za - Real4::gather<3>(position, b, 2);
-    const Real4 r2 = fma(dz, dz, fma(dy, dy, dx * dx));
+    Real4 dx, dy, dz;
+    const Real4 r2 = difference(row + k, dx, dy, dz);
+    const Real4 H = ha + Real4::gather<1>(h, row + k);
+    // The lanes past the row's end are the padding.
+    const int lanes = (r2 < H * H).lanes() & (count - k >= 4 ? 0xF : (1 << (count - k)) - 1);
+    simd::compress_store(row + k, lanes, neighbour + kept);
+    kept += std::popcount(static_cast<unsigned>(lanes));
+  }
+  const Index padded = (kept + 3) / 4 * 4;
+  std::fill(neighbour + kept, neighbour + padded, a);
+  for (Index k = 0; k < padded; k += 4) {
+    const Index* b = neighbour + k;
+    Real4 dx, dy, dz;
+    const Real4 r2 = difference(b, dx, dy, dz);
     const Real4 H = ha + Real4::gather<1>(h, b);
     const Real4 r = sqrt(r2);
-    const simd::Mask4 inside = r2 < H * H;
-    const simd::Mask4 defined = inside & (r2 > Real4(0));
+    const simd::Mask4 defined = r2 > Real4(0);  // inside the support, by the selection above
     // One division for both reciprocals: 1/r = H / (r H), 1/H = r / (r H).
     const Real4 inverse_product = Real4(1) / (r * H);
     const Real4 inverse_r = select(defined, H * inverse_product, Real4(0));
     const Real4 factor = select(defined, Kernel::gradient_factor(r, inverse_r, r * inverse_product), Real4(0));
-    // The lanes past the row's end are the padding.
-    const int lanes = inside.lanes() & (count - k >= 4 ? 0xF : (1 << (count - k)) - 1);
-    simd::compress_store(b, lanes, neighbour + kept);
-    dx.compress_store(dx_out + kept, lanes);
-    dy.compress_store(dy_out + kept, lanes);
-    dz.compress_store(dz_out + kept, lanes);
-    r.compress_store(r_out + kept, lanes);
-    H.compress_store(support_out + kept, lanes);
-    factor.compress_store(factor_out + kept, lanes);
-    inverse_r.compress_store(inverse_r_out + kept, lanes);
-    kept += std::popcount(static_cast<unsigned>(lanes));
-  }
-  const Index padded = (kept + 3) / 4 * 4;
-  for (Index k = kept; k < padded; ++k) {
-    neighbour[k] = a;
-    dx_out[k] = dy_out[k] = dz_out[k] = r_out[k] = factor_out[k] = inverse_r_out[k] = 0;
-    support_out[k] = 2 * h[a];
+    dx.store(dx_out + k);
+    dy.store(dy_out + k);
+    dz.store(dz_out + k);
+    r.store(r_out + k);
+    H.store(support_out + k);
+    factor.store(factor_out + k);
+    inverse_r.store(inverse_r_out + k);
   }
   return padded;
 }
@@ -271,9 +275,9 @@ void SolidFormulation::compute_rates() {
     const Real4 vax(velocity[3 * a]), vay(velocity[3 * a + 1]), vaz(velocity[3 * a + 2]);
     for (Index k = 0; k < padded; k += 4) {
       const Index* b = neighbour + k;
-      const Real4 vx = Real4::gather<3>(velocity, b, 0) - vax;
-      const Real4 vy = Real4::gather<3>(velocity, b, 1) - vay;
-      const Real4 vz = Real4::gather<3>(velocity, b, 2) - vaz;
+      Real4 vx, vy, vz;
+      simd::load_vectors(velocity, b, vx, vy, vz);
+      vx -= vax, vy -= vay, vz -= vaz;
       const Real4 dx = Real4::load(dx_k + k), dy = Real4::load(dy_k + k), dz = Real4::load(dz_k + k);
       const Real4 w = Real4::load(weight_k + k);
       const Real4 gx = w * dx, gy = w * dy, gz = w * dz;
@@ -518,9 +522,9 @@ void SolidFormulation::compute_pair_forces() {
       }
       f_x = fma(t, Pd[0], f_x), f_y = fma(t, Pd[1], f_y), f_z = fma(t, Pd[2], f_z);
       // Monaghan's viscosity on approaching pairs, mu = h v_ab . x_ab / (r^2 + eta^2 h^2).
-      const Real4 ux = vax - Real4::gather<3>(velocity, b, 0);
-      const Real4 uy = vay - Real4::gather<3>(velocity, b, 1);
-      const Real4 uz = vaz - Real4::gather<3>(velocity, b, 2);
+      Real4 ux, uy, uz;
+      simd::load_vectors(velocity, b, ux, uy, uz);
+      ux = vax - ux, uy = vay - uy, uz = vaz - uz;
       const Real4 vr = fma(uz, dz, fma(uy, dy, ux * dx));
       const simd::Mask4 approaching = vr < Real4(0);
       if (approaching.lanes() == 0) continue;
