@@ -383,7 +383,6 @@ void SolidFormulation::categorize() {
 
 void SolidFormulation::update_state(Real dt) {
   const Index n = particle_count();
-  const Real inverse_dimension = Real(1) / options_.dimension;
   const auto& stress_options = options_.artificial_stress;
   const bool relaxed = !exported_deviator_.empty();
 #pragma omp parallel for schedule(static)
@@ -407,9 +406,9 @@ void SolidFormulation::update_state(Real dt) {
       const Mat3 D = Real(0.5) * (L + L.transpose());
       pressure_[a] = materials::update_stress(m, state, D, dt, density_[a], internal_energy_[a]).pressure;
       if (relaxed) relax_exported_deviator(a, W, D, treated, colour.relaxation, dt);
-      smoothing_length_[a] =
-          std::clamp(initial_smoothing_length_[a] * std::pow(m.density / density_[a], inverse_dimension),
-                     h_min_[a], h_max_[a]);
+      const Real compression = m.density / density_[a];
+      const Real scale = options_.dimension == 3 ? std::cbrt(compression) : std::sqrt(compression);
+      smoothing_length_[a] = std::clamp(initial_smoothing_length_[a] * scale, h_min_[a], h_max_[a]);
     }
     sound_speed_[a] = materials::sound_speed(m, density_[a], internal_energy_[a]);
     // The stress as the pair force uses it: sigma B^T (seed 000 eq. 8 for sigma).
