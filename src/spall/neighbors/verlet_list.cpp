@@ -202,27 +202,31 @@ void VerletList::build_rows(std::span<const Vec3> x, Real radius, const MakeRadi
   const auto pair_radius = make_radius(order);
   const Index cell_count = cells.cell_count();
 
-  // Two passes, each writing only its own rows, so the list is the same for any thread count:
-  // the count pass sizes the rows, the fill pass writes them. Dynamic scheduling because cells
-  // hold different numbers of particles; it changes who computes a row, never what it holds.
-  // Chunks of consecutive cells, so that the stencil mostly slides along a row of cells.
-#pragma omp parallel
-  {
+  // Calls visit(k, ranges, range_count) with the trimmed candidate ranges of every particle k (in
+  // cell order), from inside a parallel region. Chunks of consecutive cells, so that the stencil
+  // mostly slides along a row of cells; dynamic scheduling because cells hold different numbers
+  // of particles: it changes who computes a row, never what it holds.
+  const auto for_each_particle = [&](auto&& visit) {
     TrimmedStencil stencil(cells, stencil_reach);
     TrimmedStencil::Ranges ranges;
 #pragma omp for schedule(dynamic, 64)
     for (Index c = 0; c < cell_count; ++c) {
       stencil.prepare(c);
       const ParticleRange own = cells.cell(c);
-      for (Index k = own.begin; k < own.end; ++k) {
-        const int range_count = stencil.trimmed(p.offset(k), pair_radius.largest(k), ranges);
-        Index count = 0;
-        for (int r = 0; r < range_count; ++r)
-          for_each_within(p, pair_radius, k, ranges[r], [&](Index, unsigned mask) { count += std::popcount(mask); });
-        list_.offsets[order[k] + 1] = count;
-      }
+      for (Index k = own.begin; k < own.end; ++k)
+        visit(k, ranges, stencil.trimmed(p.offset(k), pair_radius.largest(k), ranges));
     }
-  }
+  };
+
+  // Two passes, each writing only its own rows, so the list is the same for any thread count:
+  // the count pass sizes the rows, the fill pass writes them.
+#pragma omp parallel
+  for_each_particle([&](Index k, const TrimmedStencil::Ranges& ranges, int range_count) {
+    Index count = 0;
+    for (int r = 0; r < range_count; ++r)
+      for_each_within(p, pair_radius, k, ranges[r], [&](Index, unsigned mask) { count += std::popcount(mask); });
+    list_.offsets[order[k] + 1] = count;
+  });
   for (Index i = 0; i < n; ++i) list_.offsets[i + 1] += list_.offsets[i];
   size_storage(list_.neighbors, static_cast<std::size_t>(list_.offsets[n]));
 
@@ -232,36 +236,25 @@ void VerletList::build_rows(std::span<const Vec3> x, Real radius, const MakeRadi
     // candidate (about one in three is a neighbour, so a branch would mispredict often), then
     // sorted and copied out. `found` has room for 4 entries past the candidates, which the
     // four-lane store may write before the count moves past them.
-    TrimmedStencil stencil(cells, stencil_reach);
-    TrimmedStencil::Ranges ranges;
     std::vector<Index> found;
-#pragma omp for schedule(dynamic, 64)
-    for (Index c = 0; c < cell_count; ++c) {
-      stencil.prepare(c);
-      const ParticleRange own = cells.cell(c);
-      for (Index k = own.begin; k < own.end; ++k) {
-        const int range_count = stencil.trimmed(p.offset(k), pair_radius.largest(k), ranges);
-        Index candidates = 0;
-        for (int r = 0; r < range_count; ++r) candidates += ranges[r].end - ranges[r].begin;
-        if (found.size() < static_cast<std::size_t>(candidates) + 4) found.resize(candidates + 4);
-        Index count = 0;
-        for (int r = 0; r < range_count; ++r)
-          for_each_within(p, pair_radius, k, ranges[r], [&](Index j, unsigned mask) {
-            if (mask == 1u) {
-              found[count++] = p.particle[j];
-              return;
-            }
-            append_lanes(p.particle.data() + j, mask, found.data() + count);
-            count += std::popcount(mask);
-          });
-        // Particles already in cell order give sorted rows.
-        if (!std::is_sorted(found.begin(), found.begin() + count)) {
-          std::sort(found.begin(), found.begin() + count);
-        }
-        std::copy(found.begin(), found.begin() + count,
-                  list_.neighbors.begin() + list_.offsets[order[k]]);
-      }
-    }
+    for_each_particle([&](Index k, const TrimmedStencil::Ranges& ranges, int range_count) {
+      Index candidates = 0;
+      for (int r = 0; r < range_count; ++r) candidates += ranges[r].end - ranges[r].begin;
+      if (found.size() < static_cast<std::size_t>(candidates) + 4) found.resize(candidates + 4);
+      Index count = 0;
+      for (int r = 0; r < range_count; ++r)
+        for_each_within(p, pair_radius, k, ranges[r], [&](Index j, unsigned mask) {
+          if (mask == 1u) {
+            found[count++] = p.particle[j];
+            return;
+          }
+          append_lanes(p.particle.data() + j, mask, found.data() + count);
+          count += std::popcount(mask);
+        });
+      // Particles already in cell order give sorted rows.
+      if (!std::is_sorted(found.begin(), found.begin() + count)) std::sort(found.begin(), found.begin() + count);
+      std::copy(found.begin(), found.begin() + count, list_.neighbors.begin() + list_.offsets[order[k]]);
+    });
   }
 }
 
