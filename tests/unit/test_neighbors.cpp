@@ -267,6 +267,18 @@ TEST(neighbors, PerParticleReachMatchesBruteForce) {
   EXPECT_EQ(verlet.list().offsets, expected.offsets);
   EXPECT_EQ(verlet.list().neighbors, expected.neighbors);
   EXPECT_EQ(verlet.cutoff(), 2 * *std::max_element(reach.begin(), reach.end()));
+  // In the search's order, on particles in random order: the same rows up to order.
+  VerletList unsorted;
+  unsorted.build(x, reach, skin, RowOrder::search);
+  ASSERT_EQ(unsorted.list().offsets, expected.offsets);
+  bool some_row_unsorted = false;
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    std::vector<Index> r = row(unsorted.list(), Index(i));
+    some_row_unsorted |= !std::is_sorted(r.begin(), r.end());
+    std::sort(r.begin(), r.end());
+    EXPECT_EQ(r, row(verlet.list(), Index(i))) << "row " << i;
+  }
+  EXPECT_TRUE(some_row_unsorted) << "random order should leave rows unsorted";
   reach[3] = 0;
   EXPECT_THROW(verlet.build(x, reach, skin), std::invalid_argument);
 }

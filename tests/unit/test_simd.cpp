@@ -1,6 +1,7 @@
-// The four-lane type of the SPH pair loops (core/simd.hpp): the vector implementation must give,
-// lane by lane, what the scalar lanes give (exactly: both round every operation once), and the
-// kernels' gradient factor over four lanes must be the scalar one at each lane.
+// The packs of the SPH pair loops (core/simd.hpp): every vector implementation the build has (AVX2,
+// four lanes; AVX-512, eight) must give, lane by lane, what the scalar lanes give (exactly: both
+// round every operation once), and the kernels' gradient factor over a pack must be the scalar
+// one at each lane.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -16,37 +17,47 @@ namespace kernels = spall::kernels;
 
 namespace {
 
-std::array<Real, 4> lanes_of(simd::Real4 v) {
-  std::array<Real, 4> out;
-  v.store(out.data());
-  return out;
-}
-
-std::array<Real, 4> lanes_of(simd::lanes::Real4 v) {
-  std::array<Real, 4> out;
+template <typename P>
+std::array<Real, P::width> lanes_of(P v) {
+  std::array<Real, P::width> out;
   v.store(out.data());
   return out;
 }
 
 // Random numbers of both signs over several decades.
-std::array<Real, 4> random_lanes(std::mt19937_64& rng) {
+template <int W>
+std::array<Real, W> random_lanes(std::mt19937_64& rng) {
   std::uniform_real_distribution<Real> mantissa(-1, 1);
   std::uniform_int_distribution<int> exponent(-8, 8);
-  std::array<Real, 4> v;
+  std::array<Real, W> v;
   for (Real& x : v) x = std::ldexp(mantissa(rng), exponent(rng));
   return v;
 }
 
 }  // namespace
 
-TEST(Simd, EveryOperationMatchesTheScalarLanesExactly) {
+// Every vector implementation the build has, each against the scalar lanes of its width.
+template <typename P>
+class VectorLanes : public ::testing::Test {};
+using VectorImplementations = ::testing::Types<simd::lanes::Pack<4>
+#if defined(SPALL_SIMD_AVX2)
+                                               , simd::avx2::Real4
+#endif
+#if defined(SPALL_SIMD_AVX512)
+                                               , simd::avx512::Real8
+#endif
+                                               >;
+TYPED_TEST_SUITE(VectorLanes, VectorImplementations);
+
+TYPED_TEST(VectorLanes, EveryOperationMatchesTheScalarLanesExactly) {
+  using P = TypeParam;
+  constexpr int W = P::width;
+  using S = simd::lanes::Pack<W>;
   std::mt19937_64 rng(7);
   for (int trial = 0; trial < 200; ++trial) {
-    const auto a = random_lanes(rng), b = random_lanes(rng), c = random_lanes(rng);
-    const simd::Real4 va = simd::Real4::load(a.data()), vb = simd::Real4::load(b.data()),
-                      vc = simd::Real4::load(c.data());
-    const auto sa = simd::lanes::Real4::load(a.data()), sb = simd::lanes::Real4::load(b.data()),
-               sc = simd::lanes::Real4::load(c.data());
+    const auto a = random_lanes<W>(rng), b = random_lanes<W>(rng), c = random_lanes<W>(rng);
+    const P va = P::load(a.data()), vb = P::load(b.data()), vc = P::load(c.data());
+    const S sa = S::load(a.data()), sb = S::load(b.data()), sc = S::load(c.data());
     EXPECT_EQ(lanes_of(va + vb), lanes_of(sa + sb));
     EXPECT_EQ(lanes_of(va - vb), lanes_of(sa - sb));
     EXPECT_EQ(lanes_of(va * vb), lanes_of(sa * sb));
@@ -59,46 +70,56 @@ TEST(Simd, EveryOperationMatchesTheScalarLanesExactly) {
     EXPECT_EQ((va <= vb).lanes(), (sa <= sb).lanes());
     EXPECT_EQ((va > vb).lanes(), (sa > sb).lanes());
     EXPECT_EQ(lanes_of(select(va < vb, va, vc)), lanes_of(select(sa < sb, sa, sc)));
-    EXPECT_EQ(va.sum(), (a[0] + a[1]) + (a[2] + a[3]));
+    // Neighbouring lanes in pairs, then pairs of pairs.
+    Real pairs[W];
+    for (int i = 0; i < W; ++i) pairs[i] = a[i];
+    for (int n = W; n > 1; n /= 2)
+      for (int i = 0; i < n / 2; ++i) pairs[i] = pairs[2 * i] + pairs[2 * i + 1];
+    EXPECT_EQ(va.sum(), pairs[0]);
     EXPECT_EQ(sa.sum(), va.sum());
   }
 }
 
-TEST(Simd, GatherCompressAndTransposedLoadsPickTheRightElements) {
+TYPED_TEST(VectorLanes, GatherCompressAndTransposedLoadsPickTheRightElements) {
+  using P = TypeParam;
+  constexpr int W = P::width;
   // A 9-wide table (the stride of a 3x3 matrix) whose element (row, column) is 100 row + column.
   std::vector<Real> table(9 * 12 + 4);
   for (int row = 0; row < 12; ++row)
     for (int column = 0; column < 9; ++column) table[9 * row + column] = 100 * row + column;
-  const Index rows[4] = {7, 0, 11, 3};
+  const Index all_rows[8] = {7, 0, 11, 3, 5, 10, 1, 8};
+  const Index* rows = all_rows;
   for (int column = 0; column < 9; ++column) {
-    const auto g = lanes_of(simd::Real4::gather<9>(table.data(), rows, column));
-    for (int i = 0; i < 4; ++i) EXPECT_EQ(g[i], 100 * rows[i] + column);
+    const auto g = lanes_of(P::template gather<9>(table.data(), rows, column));
+    for (int i = 0; i < W; ++i) EXPECT_EQ(g[i], 100 * rows[i] + column);
   }
   for (int offset : {0, 4}) {
-    simd::Real4 block[4];
-    simd::load_transposed<9>(table.data(), rows, offset, block);
+    P block[4];
+    load_transposed<9>(table.data(), rows, offset, block);  // found by argument type
     for (int j = 0; j < 4; ++j) {
       const auto g = lanes_of(block[j]);
-      for (int i = 0; i < 4; ++i) EXPECT_EQ(g[i], 100 * rows[i] + offset + j);
+      for (int i = 0; i < W; ++i) EXPECT_EQ(g[i], 100 * rows[i] + offset + j);
     }
   }
-  simd::Real4 x, y, z;
-  simd::load_vectors(table.data(), rows, x, y, z);  // the table read as 3-vectors
+  P x, y, z;
+  load_vectors(table.data(), rows, x, y, z);  // the table read as 3-vectors
   const auto xs = lanes_of(x), ys = lanes_of(y), zs = lanes_of(z);
-  for (int i = 0; i < 4; ++i) {
+  for (int i = 0; i < W; ++i) {
     EXPECT_EQ(xs[i], table[3 * rows[i]]);
     EXPECT_EQ(ys[i], table[3 * rows[i] + 1]);
     EXPECT_EQ(zs[i], table[3 * rows[i] + 2]);
   }
-  const Real values[4] = {10, 11, 12, 13};
-  const Index indices[4] = {20, 21, 22, 23};
-  for (int mask = 0; mask < 16; ++mask) {
-    Real packed[4] = {-1, -1, -1, -1};
-    Index packed_index[4] = {-1, -1, -1, -1};
-    simd::Real4::load(values).compress_store(packed, mask);
-    simd::compress_store(indices, mask, packed_index);
+  Real values[W];
+  Index indices[W];
+  for (int i = 0; i < W; ++i) values[i] = 10 + i, indices[i] = 20 + i;
+  for (int mask = 0; mask < (1 << W); ++mask) {
+    Real packed[W];
+    Index packed_index[W];
+    for (int i = 0; i < W; ++i) packed[i] = -1, packed_index[i] = -1;
+    P::load(values).compress_store(packed, mask);
+    P::compress_indices(indices, mask, packed_index);
     int k = 0;
-    for (int lane = 0; lane < 4; ++lane) {
+    for (int lane = 0; lane < W; ++lane) {
       if (!(mask & (1 << lane))) continue;
       EXPECT_EQ(packed[k], values[lane]) << "mask " << mask;
       EXPECT_EQ(packed_index[k], indices[lane]) << "mask " << mask;
@@ -113,20 +134,22 @@ using AllKernels3 = ::testing::Types<kernels::CubicSpline<2>, kernels::CubicSpli
                                      kernels::WendlandC2<3>>;
 TYPED_TEST_SUITE(KernelLanes, AllKernels3);
 
-TYPED_TEST(KernelLanes, GradientFactorOfFourPairsIsTheScalarOneAtEachLane) {
+TYPED_TEST(KernelLanes, GradientFactorOfAPackOfPairsIsTheScalarOneAtEachLane) {
   using K = TypeParam;
+  using P = simd::Pack;
+  constexpr int W = P::width;
   const Real H = 0.37;
   // Near q = 1 the factor cancels to zero: errors are measured against its size mid-support.
   const Real scale = std::abs(K::gradient_factor(H / 2, 2 / H, 1 / H));
-  for (int i = 1; i < 200; i += 4) {
-    Real r[4];
-    for (int lane = 0; lane < 4; ++lane) r[lane] = H * (i + lane) / 200.0;
-    simd::Real4 vr = simd::Real4::load(r);
-    const auto four = lanes_of(K::gradient_factor(vr, simd::Real4(1) / vr, simd::Real4(1 / H)));
-    for (int lane = 0; lane < 4; ++lane) {
+  for (int i = 1; i + W <= 200; i += W) {
+    Real r[W];
+    for (int lane = 0; lane < W; ++lane) r[lane] = H * (i + lane) / 200.0;
+    const P vr = P::load(r);
+    const auto pack = lanes_of(K::gradient_factor(vr, P(1) / vr, P(1 / H)));
+    for (int lane = 0; lane < W; ++lane) {
       const Real one = K::gradient_factor(r[lane], 1 / r[lane], 1 / H);
       // The scalar form may be contracted into fused multiply-adds by the compiler: a few ulps.
-      EXPECT_NEAR(four[lane], one, 1e-13 * scale) << "q = " << r[lane] / H;
+      EXPECT_NEAR(pack[lane], one, 1e-13 * scale) << "q = " << r[lane] / H;
     }
   }
 }

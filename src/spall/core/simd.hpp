@@ -1,9 +1,11 @@
 #pragma once
-// Four doubles processed as one: the lanes of the SPH pair loops, which take a particle's
-// neighbours four at a time. AVX2 and FMA when the build targets them (x86-64-v3, the project's
-// default), otherwise four scalars with the same operations lane by lane, so that the pair loops
-// are written once. Every operation is lane-wise and exactly rounded (fused multiply-adds only
-// where written), so a lane's result does not depend on its neighbours or on the thread count.
+// A pack of doubles processed as one: the lanes of the SPH pair loops, which take a particle's
+// neighbours a pack at a time. Eight lanes with AVX-512 (x86-64-v4, chosen by the build where the
+// machine has it), four with AVX2 and FMA (x86-64-v3), otherwise four scalars with the same
+// operations lane by lane, so that the pair loops are written once over simd::Pack. Every
+// operation is lane-wise and exactly rounded (fused multiply-adds only where written), so a lane's
+// result does not depend on its neighbours or on the thread count; the sums over lanes go in one
+// fixed order (pairs of neighbouring lanes, then pairs of those, ...).
 #include <cmath>
 #include <cstdint>
 
@@ -13,81 +15,113 @@
 #include <immintrin.h>
 #define SPALL_SIMD_AVX2 1
 #endif
+#if defined(SPALL_SIMD_AVX2) && defined(__AVX512F__) && defined(__AVX512DQ__) && defined(__AVX512VL__)
+#define SPALL_SIMD_AVX512 1
+#endif
 
 namespace spall::simd {
 
-// Four scalars, lane by lane: the portable implementation, and the reference the vector one is
+// W scalars, lane by lane: the portable implementation, and the reference the vector ones are
 // tested against (tests/unit/test_simd.cpp).
 namespace lanes {
 
-struct Mask4 {
-  bool bit[4];
-  friend Mask4 operator&(Mask4 a, Mask4 b) {
-    return {{a.bit[0] && b.bit[0], a.bit[1] && b.bit[1], a.bit[2] && b.bit[2], a.bit[3] && b.bit[3]}};
+template <int W>
+struct Mask {
+  bool bit[W];
+  friend Mask operator&(Mask a, Mask b) {
+    Mask m;
+    for (int i = 0; i < W; ++i) m.bit[i] = a.bit[i] && b.bit[i];
+    return m;
   }
-  int lanes() const { return bit[0] | bit[1] << 1 | bit[2] << 2 | bit[3] << 3; }
+  // Bit i set when lane i is true.
+  int lanes() const {
+    int bits = 0;
+    for (int i = 0; i < W; ++i) bits |= int(bit[i]) << i;
+    return bits;
+  }
 };
 
-struct Real4 {
-  Real v[4];
-  Real4() : v{0, 0, 0, 0} {}
-  Real4(Real value) : v{value, value, value, value} {}
-  static Real4 load(const Real* p) { return from([&](int i) { return p[i]; }); }
+template <int W>
+struct Pack {
+  static constexpr int width = W;
+  Real v[W];
+  Pack() : Pack(Real(0)) {}
+  Pack(Real value) {
+    for (Real& x : v) x = value;
+  }
+  static Pack load(const Real* p) { return from([&](int i) { return p[i]; }); }
   void store(Real* p) const {
-    for (int i = 0; i < 4; ++i) p[i] = v[i];
+    for (int i = 0; i < W; ++i) p[i] = v[i];
   }
   template <int Stride>
-  static Real4 gather(const Real* base, const Index* index, int offset = 0) {
+  static Pack gather(const Real* base, const Index* index, int offset = 0) {
     return from([&](int i) { return base[Stride * index[i] + offset]; });
   }
   template <typename F>
-  static Real4 from(F&& f) {
-    Real4 r;
-    for (int i = 0; i < 4; ++i) r.v[i] = f(i);
+  static Pack from(F&& f) {
+    Pack r;
+    for (int i = 0; i < W; ++i) r.v[i] = f(i);
     return r;
   }
-  friend Real4 operator+(Real4 a, Real4 b) { return from([&](int i) { return a.v[i] + b.v[i]; }); }
-  friend Real4 operator-(Real4 a, Real4 b) { return from([&](int i) { return a.v[i] - b.v[i]; }); }
-  friend Real4 operator*(Real4 a, Real4 b) { return from([&](int i) { return a.v[i] * b.v[i]; }); }
-  friend Real4 operator/(Real4 a, Real4 b) { return from([&](int i) { return a.v[i] / b.v[i]; }); }
-  friend Real4 operator-(Real4 a) { return from([&](int i) { return -a.v[i]; }); }
-  Real4& operator+=(Real4 b) { return *this = *this + b; }
-  Real4& operator-=(Real4 b) { return *this = *this - b; }
-  Real4& operator*=(Real4 b) { return *this = *this * b; }
+  friend Pack operator+(Pack a, Pack b) { return from([&](int i) { return a.v[i] + b.v[i]; }); }
+  friend Pack operator-(Pack a, Pack b) { return from([&](int i) { return a.v[i] - b.v[i]; }); }
+  friend Pack operator*(Pack a, Pack b) { return from([&](int i) { return a.v[i] * b.v[i]; }); }
+  friend Pack operator/(Pack a, Pack b) { return from([&](int i) { return a.v[i] / b.v[i]; }); }
+  friend Pack operator-(Pack a) { return from([&](int i) { return -a.v[i]; }); }
+  Pack& operator+=(Pack b) { return *this = *this + b; }
+  Pack& operator-=(Pack b) { return *this = *this - b; }
+  Pack& operator*=(Pack b) { return *this = *this * b; }
   template <typename C>
-  static Mask4 compare(Real4 a, Real4 b, C&& c) {
-    return {{c(a.v[0], b.v[0]), c(a.v[1], b.v[1]), c(a.v[2], b.v[2]), c(a.v[3], b.v[3])}};
+  static Mask<W> compare(Pack a, Pack b, C&& c) {
+    Mask<W> m;
+    for (int i = 0; i < W; ++i) m.bit[i] = c(a.v[i], b.v[i]);
+    return m;
   }
-  friend Mask4 operator<(Real4 a, Real4 b) { return compare(a, b, [](Real x, Real y) { return x < y; }); }
-  friend Mask4 operator<=(Real4 a, Real4 b) { return compare(a, b, [](Real x, Real y) { return x <= y; }); }
-  friend Mask4 operator>(Real4 a, Real4 b) { return compare(a, b, [](Real x, Real y) { return x > y; }); }
-  friend Real4 fma(Real4 b, Real4 c, Real4 a) { return from([&](int i) { return std::fma(b.v[i], c.v[i], a.v[i]); }); }
-  friend Real4 sqrt(Real4 a) { return from([&](int i) { return std::sqrt(a.v[i]); }); }
-  friend Real4 abs(Real4 a) { return from([&](int i) { return std::abs(a.v[i]); }); }
-  friend Real4 max(Real4 a, Real4 b) { return from([&](int i) { return a.v[i] < b.v[i] ? b.v[i] : a.v[i]; }); }
-  friend Real4 select(Mask4 m, Real4 a, Real4 b) { return from([&](int i) { return m.bit[i] ? a.v[i] : b.v[i]; }); }
+  friend Mask<W> operator<(Pack a, Pack b) { return compare(a, b, [](Real x, Real y) { return x < y; }); }
+  friend Mask<W> operator<=(Pack a, Pack b) { return compare(a, b, [](Real x, Real y) { return x <= y; }); }
+  friend Mask<W> operator>(Pack a, Pack b) { return compare(a, b, [](Real x, Real y) { return x > y; }); }
+  friend Pack fma(Pack b, Pack c, Pack a) { return from([&](int i) { return std::fma(b.v[i], c.v[i], a.v[i]); }); }
+  friend Pack sqrt(Pack a) { return from([&](int i) { return std::sqrt(a.v[i]); }); }
+  friend Pack abs(Pack a) { return from([&](int i) { return std::abs(a.v[i]); }); }
+  friend Pack max(Pack a, Pack b) { return from([&](int i) { return a.v[i] < b.v[i] ? b.v[i] : a.v[i]; }); }
+  friend Pack select(Mask<W> m, Pack a, Pack b) { return from([&](int i) { return m.bit[i] ? a.v[i] : b.v[i]; }); }
+  // Writes the lanes whose bit is set in `lanes` to out[0..], in order; may write all W.
   void compress_store(Real* out, int lanes) const {
-    for (int i = 0; i < 4; ++i)
+    for (int i = 0; i < W; ++i)
       if (lanes & (1 << i)) *out++ = v[i];
   }
-  Real sum() const { return (v[0] + v[1]) + (v[2] + v[3]); }
+  // The same for W indices.
+  static void compress_indices(const Index* in, int lanes, Index* out) {
+    for (int i = 0; i < W; ++i)
+      if (lanes & (1 << i)) *out++ = in[i];
+  }
+  // Neighbouring lanes in pairs, then the pairs in pairs, ...: ((l0 + l1) + (l2 + l3)) + ...
+  Real sum() const {
+    Real partial[W];
+    for (int i = 0; i < W; ++i) partial[i] = v[i];
+    for (int n = W; n > 1; n /= 2)
+      for (int i = 0; i < n / 2; ++i) partial[i] = partial[2 * i] + partial[2 * i + 1];
+    return partial[0];
+  }
 };
 
-template <int Stride>
-inline void load_transposed(const Real* base, const Index* index, int offset, Real4 (&out)[4]) {
-  for (int j = 0; j < 4; ++j) out[j] = Real4::gather<Stride>(base, index, offset + j);
+// Four consecutive doubles from each of W rows (base + Stride index[i] + offset), transposed:
+// out[j] holds element j of the W rows.
+template <int Stride, int W>
+inline void load_transposed(const Real* base, const Index* index, int offset, Pack<W> (&out)[4]) {
+  for (int j = 0; j < 4; ++j) out[j] = Pack<W>::template gather<Stride>(base, index, offset + j);
 }
 
-inline void load_vectors(const Real* v, const Index* index, Real4& x, Real4& y, Real4& z) {
-  x = Real4::gather<3>(v, index, 0);
-  y = Real4::gather<3>(v, index, 1);
-  z = Real4::gather<3>(v, index, 2);
+// The three components of the vectors v[index[i]] of an array of 3-vectors (x, y, z, x, ...).
+template <int W>
+inline void load_vectors(const Real* v, const Index* index, Pack<W>& x, Pack<W>& y, Pack<W>& z) {
+  x = Pack<W>::template gather<3>(v, index, 0);
+  y = Pack<W>::template gather<3>(v, index, 1);
+  z = Pack<W>::template gather<3>(v, index, 2);
 }
 
-inline void compress_store(const Index* in, int lanes, Index* out) {
-  for (int i = 0; i < 4; ++i)
-    if (lanes & (1 << i)) *out++ = in[i];
-}
+using Real4 = Pack<4>;
+using Mask4 = Mask<4>;
 
 }  // namespace lanes
 
@@ -120,6 +154,7 @@ struct Mask4 {
 };
 
 struct Real4 {
+  static constexpr int width = 4;
   __m256d v;
   Real4() : v(_mm256_setzero_pd()) {}
   Real4(__m256d value) : v(value) {}
@@ -156,6 +191,8 @@ struct Real4 {
   void compress_store(Real* out, int lanes) const {
     _mm256_storeu_pd(out, _mm256_castps_pd(_mm256_permutevar8x32_ps(_mm256_castpd_ps(v), compress_permutation(lanes))));
   }
+  // The same for four indices.
+  static void compress_indices(const Index* in, int lanes, Index* out);
   // (l0 + l1) + (l2 + l3): one fixed order.
   Real sum() const {
     const __m128d low = _mm256_castpd256_pd128(v), high = _mm256_extractf128_pd(v, 1);
@@ -194,8 +231,7 @@ inline void load_vectors(const Real* v, const Index* index, Real4& x, Real4& y, 
   z = Real4::gather<3>(v, index, 2);
 }
 
-// The same for four indices.
-inline void compress_store(const Index* in, int lanes, Index* out) {
+inline void Real4::compress_indices(const Index* in, int lanes, Index* out) {
   const __m256i index = compress_permutation(lanes);
   // Even float lanes of the double permutation are the 32-bit lane numbers times two.
   const __m128i lane = _mm_srli_epi32(_mm256_castsi256_si128(_mm256_permutevar8x32_epi32(index, _mm256_setr_epi32(0, 2, 4, 6, 0, 2, 4, 6))), 1);
@@ -204,20 +240,124 @@ inline void compress_store(const Index* in, int lanes, Index* out) {
 }
 
 }  // namespace avx2
-using avx2::compress_store;
-using avx2::load_transposed;
-using avx2::load_vectors;
-using avx2::Mask4;
-using avx2::Real4;
-#else
-using lanes::compress_store;
-using lanes::load_transposed;
-using lanes::load_vectors;
-using lanes::Mask4;
-using lanes::Real4;
 #endif
 
-// The scalar forms, so that a kernel written with select/max serves both Real and Real4.
+#if defined(SPALL_SIMD_AVX512)
+namespace avx512 {
+
+// GCC 12 warns that the unmasked forms of some AVX-512 intrinsics (sqrt, max, the 256-bit halves'
+// inserts, extracts and casts) read an undefined source; their zero-masked forms with every lane on compile to the
+// same instructions without the warning.
+constexpr __mmask8 all_lanes = 0xFF;
+
+struct Mask8 {
+  __mmask8 bits;
+  friend Mask8 operator&(Mask8 a, Mask8 b) { return {static_cast<__mmask8>(a.bits & b.bits)}; }
+  // Bit i set when lane i is true.
+  int lanes() const { return bits; }
+};
+
+struct Real8 {
+  static constexpr int width = 8;
+  __m512d v;
+  Real8() : v(_mm512_setzero_pd()) {}
+  Real8(__m512d value) : v(value) {}
+  Real8(Real value) : v(_mm512_set1_pd(value)) {}
+  static Real8 load(const Real* p) { return {_mm512_loadu_pd(p)}; }
+  void store(Real* p) const { _mm512_storeu_pd(p, v); }
+  // base[stride * index[i] + offset] for i = 0..7.
+  template <int Stride>
+  static Real8 gather(const Real* base, const Index* index, int offset = 0) {
+    __m256i i = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(index));
+    if constexpr (Stride != 1) i = _mm256_mullo_epi32(i, _mm256_set1_epi32(Stride));
+    return {_mm512_mask_i32gather_pd(_mm512_setzero_pd(), all_lanes, i, base + offset, 8)};
+  }
+  friend Real8 operator+(Real8 a, Real8 b) { return {_mm512_add_pd(a.v, b.v)}; }
+  friend Real8 operator-(Real8 a, Real8 b) { return {_mm512_sub_pd(a.v, b.v)}; }
+  friend Real8 operator*(Real8 a, Real8 b) { return {_mm512_mul_pd(a.v, b.v)}; }
+  friend Real8 operator/(Real8 a, Real8 b) { return {_mm512_div_pd(a.v, b.v)}; }
+  friend Real8 operator-(Real8 a) { return {_mm512_xor_pd(a.v, _mm512_set1_pd(-0.0))}; }
+  Real8& operator+=(Real8 b) { return *this = *this + b; }
+  Real8& operator-=(Real8 b) { return *this = *this - b; }
+  Real8& operator*=(Real8 b) { return *this = *this * b; }
+  friend Mask8 operator<(Real8 a, Real8 b) { return {_mm512_cmp_pd_mask(a.v, b.v, _CMP_LT_OQ)}; }
+  friend Mask8 operator<=(Real8 a, Real8 b) { return {_mm512_cmp_pd_mask(a.v, b.v, _CMP_LE_OQ)}; }
+  friend Mask8 operator>(Real8 a, Real8 b) { return {_mm512_cmp_pd_mask(a.v, b.v, _CMP_GT_OQ)}; }
+  // a + b c, rounded once.
+  friend Real8 fma(Real8 b, Real8 c, Real8 a) { return {_mm512_fmadd_pd(b.v, c.v, a.v)}; }
+  friend Real8 sqrt(Real8 a) { return {_mm512_maskz_sqrt_pd(all_lanes, a.v)}; }
+  friend Real8 abs(Real8 a) { return {_mm512_abs_pd(a.v)}; }
+  friend Real8 max(Real8 a, Real8 b) { return {_mm512_maskz_max_pd(all_lanes, a.v, b.v)}; }
+  friend Real8 select(Mask8 m, Real8 a, Real8 b) { return {_mm512_mask_blend_pd(m.bits, b.v, a.v)}; }
+  // Writes the lanes whose bit is set in `lanes` to out[0..], in order (only those).
+  void compress_store(Real* out, int lanes) const {
+    _mm512_mask_compressstoreu_pd(out, static_cast<__mmask8>(lanes), v);
+  }
+  // The same for eight indices.
+  static void compress_indices(const Index* in, int lanes, Index* out) {
+    _mm256_mask_compressstoreu_epi32(out, static_cast<__mmask8>(lanes),
+                                     _mm256_loadu_si256(reinterpret_cast<const __m256i*>(in)));
+  }
+  // ((l0 + l1) + (l2 + l3)) + ((l4 + l5) + (l6 + l7)), the order of lanes::Pack<8>::sum.
+  Real sum() const {
+    const __m256d low = _mm512_maskz_extractf64x4_pd(all_lanes, v, 0);
+    const __m256d high = _mm512_maskz_extractf64x4_pd(all_lanes, v, 1);
+    const __m256d pairs = _mm256_hadd_pd(low, high);
+    // pairs = (l0 + l1, l4 + l5, l2 + l3, l6 + l7)
+    const __m128d quads = _mm_add_pd(_mm256_castpd256_pd128(pairs), _mm256_extractf128_pd(pairs, 1));
+    return _mm_cvtsd_f64(_mm_add_sd(quads, _mm_unpackhi_pd(quads, quads)));
+  }
+};
+
+inline Real8 join(avx2::Real4 low, avx2::Real4 high) {
+  const __m512d low_half = _mm512_maskz_insertf64x4(all_lanes, _mm512_setzero_pd(), low.v, 0);
+  return {_mm512_maskz_insertf64x4(all_lanes, low_half, high.v, 1)};
+}
+
+// Four consecutive doubles from each of eight rows, transposed (avx2::load_transposed per half).
+template <int Stride>
+inline void load_transposed(const Real* base, const Index* index, int offset, Real8 (&out)[4]) {
+  avx2::Real4 low[4], high[4];
+  avx2::load_transposed<Stride>(base, index, offset, low);
+  avx2::load_transposed<Stride>(base, index + 4, offset, high);
+  for (int j = 0; j < 4; ++j) out[j] = join(low[j], high[j]);
+}
+
+// The three components of eight 3-vectors: x and y by 128-bit loads (avx2::load_vectors per
+// half), z gathered.
+// Always inlined: called through the pair loops' lambdas, GCC 12 otherwise keeps it a call.
+[[gnu::always_inline]] inline void load_vectors(const Real* v, const Index* index, Real8& x, Real8& y,
+                                                Real8& z) {
+  avx2::Real4 x_low, y_low, z_low, x_high, y_high, z_high;
+  avx2::load_vectors(v, index, x_low, y_low, z_low);
+  avx2::load_vectors(v, index + 4, x_high, y_high, z_high);
+  x = join(x_low, x_high);
+  y = join(y_low, y_high);
+  z = Real8::gather<3>(v, index, 2);
+}
+
+}  // namespace avx512
+#endif
+
+// The pack the pair loops use: the widest the build targets.
+#if defined(SPALL_SIMD_AVX512)
+using Pack = avx512::Real8;
+using PackMask = avx512::Mask8;
+using avx512::load_transposed;
+using avx512::load_vectors;
+#elif defined(SPALL_SIMD_AVX2)
+using Pack = avx2::Real4;
+using PackMask = avx2::Mask4;
+using avx2::load_transposed;
+using avx2::load_vectors;
+#else
+using Pack = lanes::Pack<4>;
+using PackMask = lanes::Mask<4>;
+using lanes::load_transposed;
+using lanes::load_vectors;
+#endif
+
+// The scalar forms, so that a kernel written with select/max serves both Real and a Pack.
 inline Real select(bool m, Real a, Real b) { return m ? a : b; }
 using std::max;
 

@@ -45,7 +45,7 @@ struct CubicSpline {
   }
 
   // (dW/dr) / r for 0 < r < H, from 1/r and 1/H without a division: the pair loops compute the
-  // two reciprocals four pairs at a time (T = simd::Real4). Inside q = 1/2 the 1/r cancels
+  // two reciprocals a pack of pairs at a time (T = simd::Pack). Inside q = 1/2 the 1/r cancels
   // against q = r/H.
   template <typename T>
   static T gradient_factor(T r, T inverse_r, T inverse_support) {

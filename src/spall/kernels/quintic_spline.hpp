@@ -41,7 +41,7 @@ struct QuinticSpline {
   }
 
   // (dW/dr) / r for 0 < r < H, from 1/r and 1/H without a division (the pair loops' form; T = Real
-  // or simd::Real4). A bracket (u)^4 counts only while u > 0: max(u, 0)^4.
+  // or simd::Pack). A bracket (u)^4 counts only while u > 0: max(u, 0)^4.
   template <typename T>
   static T gradient_factor(T r, T inverse_r, T inverse_support) {
     using simd::max;

@@ -43,7 +43,7 @@ struct WendlandC2 {
 
   // (dW/dr) / r for r < H, from 1/H: the factor s = r/H of the derivative cancels the 1/r, which
   // is not needed (the argument is there for the pair loops' common form; T = Real or
-  // simd::Real4).
+  // simd::Pack).
   template <typename T>
   static T gradient_factor(T r, T /*inverse_r*/, T inverse_support) {
     const T u = T(1) - r * inverse_support;

@@ -166,10 +166,11 @@ void VerletList::build(std::span<const Vec3> x, Real cutoff, Real skin) {
   skin_ = skin;
   ++builds_;
   const Real radius = cutoff + skin;
-  build_rows(x, radius, [&](std::span<const Index>) { return UniformRadius{radius, radius * radius}; });
+  build_rows(x, radius, [&](std::span<const Index>) { return UniformRadius{radius, radius * radius}; },
+             RowOrder::ascending);
 }
 
-void VerletList::build(std::span<const Vec3> x, std::span<const Real> reach, Real skin) {
+void VerletList::build(std::span<const Vec3> x, std::span<const Real> reach, Real skin, RowOrder order) {
   if (reach.size() != x.size())
     throw std::invalid_argument("neighbour search: need one reach per particle");
   Real largest = 0;
@@ -182,11 +183,13 @@ void VerletList::build(std::span<const Vec3> x, std::span<const Real> reach, Rea
   skin_ = skin;
   ++builds_;
   build_rows(x, cutoff_ + skin,
-             [&](std::span<const Index> order) { return PairRadius(reach, order, largest, skin); });
+             [&](std::span<const Index> cell_order) { return PairRadius(reach, cell_order, largest, skin); },
+             order);
 }
 
 template <typename MakeRadius>
-void VerletList::build_rows(std::span<const Vec3> x, Real radius, const MakeRadius& make_radius) {
+void VerletList::build_rows(std::span<const Vec3> x, Real radius, const MakeRadius& make_radius,
+                            RowOrder row_order) {
   x_at_build_.assign(x.begin(), x.end());
   const auto n = static_cast<Index>(x.size());
   list_.offsets.assign(n + 1, 0);
@@ -234,7 +237,7 @@ void VerletList::build_rows(std::span<const Vec3> x, Real radius, const MakeRadi
   {
     // One particle's neighbours, gathered four candidates at a time without a branch per
     // candidate (about one in three is a neighbour, so a branch would mispredict often), then
-    // sorted and copied out. `found` has room for 4 entries past the candidates, which the
+    // sorted when asked and copied out. `found` has room for 4 entries past the candidates, which the
     // four-lane store may write before the count moves past them.
     std::vector<Index> found;
     for_each_particle([&](Index k, const TrimmedStencil::Ranges& ranges, int range_count) {
@@ -252,7 +255,8 @@ void VerletList::build_rows(std::span<const Vec3> x, Real radius, const MakeRadi
           count += std::popcount(mask);
         });
       // Particles already in cell order give sorted rows.
-      if (!std::is_sorted(found.begin(), found.begin() + count)) std::sort(found.begin(), found.begin() + count);
+      if (row_order == RowOrder::ascending && !std::is_sorted(found.begin(), found.begin() + count))
+        std::sort(found.begin(), found.begin() + count);
       std::copy(found.begin(), found.begin() + count, list_.neighbors.begin() + list_.offsets[order[k]]);
     });
   }

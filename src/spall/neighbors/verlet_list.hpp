@@ -10,12 +10,20 @@
 namespace spall::neighbors {
 
 // Compressed rows: the neighbours of particle i are neighbors[offsets[i] .. offsets[i+1]).
-// Full lists (j in i's row and i in j's row), self excluded, each row sorted ascending.
+// Full lists (j in i's row and i in j's row), self excluded, each row in the order asked of the
+// build (RowOrder).
 struct NeighborList {
   std::vector<Index> offsets;
   std::vector<Index> neighbors;
   Index count(Index i) const { return offsets[i + 1] - offsets[i]; }
 };
+
+// The order of the neighbours within a row: ascending index (what a caller that searches its rows
+// or pairs them with each other needs: the SPG bonds), or the order the cell search met them in,
+// cell by cell of the search's grid, which keeps neighbours that are close in space next to each
+// other in the row and saves sorting (the SPH solid: +10 % on the Taylor bar, docs/PERFORMANCE.md).
+// Either order is a function of the positions alone, never of the thread count.
+enum class RowOrder { ascending, search };
 
 class VerletList {
  public:
@@ -27,7 +35,8 @@ class VerletList {
   // and stays valid for the pairs closer than reach_i + reach_j while needs_rebuild() is false.
   // Particles of very different reach then share a list without the small ones listing as far as
   // the largest. cutoff() is twice the largest reach.
-  void build(std::span<const Vec3> x, std::span<const Real> reach, Real skin);
+  void build(std::span<const Vec3> x, std::span<const Real> reach, Real skin,
+             RowOrder order = RowOrder::ascending);
   // False while every pair now within the cutoff (reach_i + reach_j) has moved by at most the skin
   // relative to each other since the build, which keeps such pairs in the list (triangle
   // inequality). Checked globally (every displacement within skin / 2 of a common vector: a rigid
@@ -48,7 +57,7 @@ class VerletList {
   // Lists the pairs within make_radius(cell order).squared(k, j), radius being the largest pair
   // radius.
   template <typename MakeRadius>
-  void build_rows(std::span<const Vec3> x, Real radius, const MakeRadius& make_radius);
+  void build_rows(std::span<const Vec3> x, Real radius, const MakeRadius& make_radius, RowOrder order);
 
   NeighborList list_;
   std::vector<Vec3> x_at_build_;

@@ -30,32 +30,35 @@ constexpr Real min_moment_determinant = 1e-3;
 }  // namespace
 
 // The pairs of one Verlet row inside their support (r < H_ab = h_a + h_b), per thread, padded with
-// the particle itself to a multiple of four (a pair at r = 0 has no gradient, so the padding adds
-// exact zeros): neighbour, x_a - x_b, r, H_ab, the gradient factor F = (dW/dr) / r
+// the particle itself to a multiple of the pack width (a pair at r = 0 has no gradient, so the
+// padding adds exact zeros): neighbour, x_a - x_b, r, H_ab, the gradient factor F = (dW/dr) / r
 // (grad_a W_ab = F (x_a - x_b); 0 at r = 0), 1/r where F is defined (else 0), and a per-pass
 // weight. About a third of a Verlet row lies outside the support (the skin and the reach margin).
 struct RowTerms {
   std::vector<Index> row, neighbour;  // the Verlet row as read, then the pairs kept
   std::vector<Real> dx, dy, dz, r, support, factor, inverse_r, weight;
   void resize(std::size_t n) {
-    if (r.size() >= n + 4) return;
-    row.resize(n + 4);
-    neighbour.resize(n + 4);
-    for (auto* v : {&dx, &dy, &dz, &r, &support, &factor, &inverse_r, &weight}) v->resize(n + 4);
+    constexpr std::size_t W = simd::Pack::width;
+    if (r.size() >= n + W) return;
+    row.resize(n + W);
+    neighbour.resize(n + W);
+    for (auto* v : {&dx, &dy, &dz, &r, &support, &factor, &inverse_r, &weight}) v->resize(n + W);
   }
 };
 
-// Fills terms for the row of particle a, four pairs at a time (simd::Real4), each pair by the same
-// operations whichever side computes it, so that (a, b) gets exactly the factor of (b, a) and
-// opposite differences. First the neighbours inside the support are picked from the Verlet row,
-// then their geometry is computed. Returns the padded count of pairs kept (a multiple of four).
+// Fills terms for the row of particle a, a pack of pairs at a time (simd::Pack: 4 or 8 lanes),
+// each pair by the same operations whichever side computes it, so that (a, b) gets exactly the
+// factor of (b, a) and opposite differences. First the neighbours inside the support are picked
+// from the Verlet row, then their geometry is computed. Returns the padded count of pairs kept (a
+// multiple of the pack width).
 template <typename Kernel>
 Index row_geometry(const neighbors::NeighborList& list, Index a, const Real* position, const Real* h,
                    RowTerms& terms) {
-  using simd::Real4;
+  using simd::Pack;
+  constexpr int W = Pack::width;
   const Index first = list.offsets[a];
   const Index count = list.offsets[a + 1] - first;
-  terms.resize(count + 4);
+  terms.resize(count + W);
   // Raw pointers: the vector stores may alias anything, so the vectors' own pointers would be
   // reloaded at every store.
   Index* row = terms.row.data();
@@ -63,36 +66,36 @@ Index row_geometry(const neighbors::NeighborList& list, Index a, const Real* pos
   Real *dx_out = terms.dx.data(), *dy_out = terms.dy.data(), *dz_out = terms.dz.data(), *r_out = terms.r.data(),
        *support_out = terms.support.data(), *factor_out = terms.factor.data(), *inverse_r_out = terms.inverse_r.data();
   std::copy(list.neighbors.begin() + first, list.neighbors.begin() + first + count, row);
-  std::fill(row + count, row + count + 4, a);
-  const Real4 xa(position[3 * a]), ya(position[3 * a + 1]), za(position[3 * a + 2]), ha(h[a]);
-  const auto difference = [&](const Index* b, Real4& dx, Real4& dy, Real4& dz) {
+  std::fill(row + count, row + count + W, a);
+  const Pack xa(position[3 * a]), ya(position[3 * a + 1]), za(position[3 * a + 2]), ha(h[a]);
+  const auto difference = [&](const Index* b, Pack& dx, Pack& dy, Pack& dz) {
     simd::load_vectors(position, b, dx, dy, dz);
     dx = xa - dx, dy = ya - dy, dz = za - dz;
     return fma(dz, dz, fma(dy, dy, dx * dx));
   };
   Index kept = 0;
-  for (Index k = 0; k < count; k += 4) {
-    Real4 dx, dy, dz;
-    const Real4 r2 = difference(row + k, dx, dy, dz);
-    const Real4 H = ha + Real4::gather<1>(h, row + k);
+  for (Index k = 0; k < count; k += W) {
+    Pack dx, dy, dz;
+    const Pack r2 = difference(row + k, dx, dy, dz);
+    const Pack H = ha + Pack::gather<1>(h, row + k);
     // The lanes past the row's end are the padding.
-    const int lanes = (r2 < H * H).lanes() & (count - k >= 4 ? 0xF : (1 << (count - k)) - 1);
-    simd::compress_store(row + k, lanes, neighbour + kept);
+    const int lanes = (r2 < H * H).lanes() & (count - k >= W ? (1 << W) - 1 : (1 << (count - k)) - 1);
+    Pack::compress_indices(row + k, lanes, neighbour + kept);
     kept += std::popcount(static_cast<unsigned>(lanes));
   }
-  const Index padded = (kept + 3) / 4 * 4;
+  const Index padded = (kept + W - 1) / W * W;
   std::fill(neighbour + kept, neighbour + padded, a);
-  for (Index k = 0; k < padded; k += 4) {
+  for (Index k = 0; k < padded; k += W) {
     const Index* b = neighbour + k;
-    Real4 dx, dy, dz;
-    const Real4 r2 = difference(b, dx, dy, dz);
-    const Real4 H = ha + Real4::gather<1>(h, b);
-    const Real4 r = sqrt(r2);
-    const simd::Mask4 defined = r2 > Real4(0);  // inside the support, by the selection above
+    Pack dx, dy, dz;
+    const Pack r2 = difference(b, dx, dy, dz);
+    const Pack H = ha + Pack::gather<1>(h, b);
+    const Pack r = sqrt(r2);
+    const simd::PackMask defined = r2 > Pack(0);  // inside the support, by the selection above
     // One division for both reciprocals: 1/r = H / (r H), 1/H = r / (r H).
-    const Real4 inverse_product = Real4(1) / (r * H);
-    const Real4 inverse_r = select(defined, H * inverse_product, Real4(0));
-    const Real4 factor = select(defined, Kernel::gradient_factor(r, inverse_r, r * inverse_product), Real4(0));
+    const Pack inverse_product = Pack(1) / (r * H);
+    const Pack inverse_r = select(defined, H * inverse_product, Pack(0));
+    const Pack factor = select(defined, Kernel::gradient_factor(r, inverse_r, r * inverse_product), Pack(0));
     dx.store(dx_out + k);
     dy.store(dy_out + k);
     dz.store(dz_out + k);
@@ -222,15 +225,16 @@ void SolidFormulation::update_neighbour_list() {
     list_reach_[a] = cutoff_margin * smoothing_length_[a];
     h_largest = std::max(h_largest, smoothing_length_[a]);
   }
-  verlet_.build(x_, list_reach_, skin_fraction * cutoff_margin * 2 * h_largest);
+  verlet_.build(x_, list_reach_, skin_fraction * cutoff_margin * 2 * h_largest, neighbors::RowOrder::search);
   list_built_ = true;
 }
 
-// Continuity and velocity gradient, gathered per particle over its full neighbour row, four pairs
-// at a time; each particle's lanes are summed in one fixed order, whatever the thread count.
+// Continuity and velocity gradient, gathered per particle over its full neighbour row, a pack of
+// pairs at a time; each particle's lanes are summed in one fixed order, whatever the thread count.
 template <typename Kernel>
 void SolidFormulation::compute_rates() {
-  using simd::Real4;
+  using simd::Pack;
+  constexpr int W = Pack::width;
   const auto& list = verlet_.list();
   const Index n = particle_count();
   const bool plane = Kernel::dimension == 2;
@@ -252,45 +256,45 @@ void SolidFormulation::compute_rates() {
     //   moment   = -sum g (x) x_ab, = I for a full support (symmetric: 6 sums)
     //   spread   = sum_b V_b grad (x) grad / |grad| = sum V_b |F| / r x_ab (x) x_ab, for the stable step
     //   L        = sum (v_b - v_a) (x) g,  drho = -sum m_b F (v_b - v_a) . x_ab
-    Real4 n_x, n_y, n_z, m_xx, m_yy, m_zz, m_xy, m_yz, m_zx, s_xx, s_yy, s_zz, s_xy, s_yz, s_zx;
-    for (Index k = 0; k < padded; k += 4) {
+    Pack n_x, n_y, n_z, m_xx, m_yy, m_zz, m_xy, m_yz, m_zx, s_xx, s_yy, s_zz, s_xy, s_yz, s_zx;
+    for (Index k = 0; k < padded; k += W) {
       const Index* b = neighbour + k;
-      const Real4 volume = Real4::gather<1>(volume_.data(), b);
-      const Real4 factor = Real4::load(factor_k + k);
-      const Real4 dx = Real4::load(dx_k + k), dy = Real4::load(dy_k + k), dz = Real4::load(dz_k + k);
-      const Real4 w = volume * factor;
+      const Pack volume = Pack::gather<1>(volume_.data(), b);
+      const Pack factor = Pack::load(factor_k + k);
+      const Pack dx = Pack::load(dx_k + k), dy = Pack::load(dy_k + k), dz = Pack::load(dz_k + k);
+      const Pack w = volume * factor;
       w.store(weight_k + k);
-      const Real4 gx = w * dx, gy = w * dy, gz = w * dz;
+      const Pack gx = w * dx, gy = w * dy, gz = w * dz;
       n_x += gx, n_y += gy, n_z += gz;
       m_xx = fma(gx, dx, m_xx), m_yy = fma(gy, dy, m_yy), m_zz = fma(gz, dz, m_zz);
       m_xy = fma(gx, dy, m_xy), m_yz = fma(gy, dz, m_yz), m_zx = fma(gz, dx, m_zx);
       if (row_sums) {
-        const Real4 spread = volume * abs(factor) * Real4::load(inverse_r_k + k);
-        const Real4 sx = spread * dx, sy = spread * dy, sz = spread * dz;
+        const Pack spread = volume * abs(factor) * Pack::load(inverse_r_k + k);
+        const Pack sx = spread * dx, sy = spread * dy, sz = spread * dz;
         s_xx = fma(sx, dx, s_xx), s_yy = fma(sy, dy, s_yy), s_zz = fma(sz, dz, s_zz);
         s_xy = fma(sx, dy, s_xy), s_yz = fma(sy, dz, s_yz), s_zx = fma(sz, dx, s_zx);
       }
     }
-    Real4 L4[9], drho4;
-    const Real4 vax(velocity[3 * a]), vay(velocity[3 * a + 1]), vaz(velocity[3 * a + 2]);
-    for (Index k = 0; k < padded; k += 4) {
+    Pack L_lanes[9], drho_lanes;
+    const Pack vax(velocity[3 * a]), vay(velocity[3 * a + 1]), vaz(velocity[3 * a + 2]);
+    for (Index k = 0; k < padded; k += W) {
       const Index* b = neighbour + k;
-      Real4 vx, vy, vz;
+      Pack vx, vy, vz;
       simd::load_vectors(velocity, b, vx, vy, vz);
       vx -= vax, vy -= vay, vz -= vaz;
-      const Real4 dx = Real4::load(dx_k + k), dy = Real4::load(dy_k + k), dz = Real4::load(dz_k + k);
-      const Real4 w = Real4::load(weight_k + k);
-      const Real4 gx = w * dx, gy = w * dy, gz = w * dz;
-      // Column-major like Mat3: L(i, j) = L4[i + 3 j].
-      L4[0] = fma(vx, gx, L4[0]), L4[1] = fma(vy, gx, L4[1]), L4[2] = fma(vz, gx, L4[2]);
-      L4[3] = fma(vx, gy, L4[3]), L4[4] = fma(vy, gy, L4[4]), L4[5] = fma(vz, gy, L4[5]);
-      L4[6] = fma(vx, gz, L4[6]), L4[7] = fma(vy, gz, L4[7]), L4[8] = fma(vz, gz, L4[8]);
-      const Real4 mass = Real4::gather<1>(mass_.data(), b);
-      drho4 -= mass * Real4::load(factor_k + k) * fma(vz, dz, fma(vy, dy, vx * dx));
+      const Pack dx = Pack::load(dx_k + k), dy = Pack::load(dy_k + k), dz = Pack::load(dz_k + k);
+      const Pack w = Pack::load(weight_k + k);
+      const Pack gx = w * dx, gy = w * dy, gz = w * dz;
+      // Column-major like Mat3: L(i, j) = L_lanes[i + 3 j].
+      L_lanes[0] = fma(vx, gx, L_lanes[0]), L_lanes[1] = fma(vy, gx, L_lanes[1]), L_lanes[2] = fma(vz, gx, L_lanes[2]);
+      L_lanes[3] = fma(vx, gy, L_lanes[3]), L_lanes[4] = fma(vy, gy, L_lanes[4]), L_lanes[5] = fma(vz, gy, L_lanes[5]);
+      L_lanes[6] = fma(vx, gz, L_lanes[6]), L_lanes[7] = fma(vy, gz, L_lanes[7]), L_lanes[8] = fma(vz, gz, L_lanes[8]);
+      const Pack mass = Pack::gather<1>(mass_.data(), b);
+      drho_lanes -= mass * Pack::load(factor_k + k) * fma(vz, dz, fma(vy, dy, vx * dx));
     }
-    Real drho = drho4.sum();
+    Real drho = drho_lanes.sum();
     Mat3 L;
-    for (int i = 0; i < 9; ++i) L.data()[i] = L4[i].sum();
+    for (int i = 0; i < 9; ++i) L.data()[i] = L_lanes[i].sum();
     Mat3 moment;
     moment << -m_xx.sum(), -m_xy.sum(), -m_zx.sum(), -m_xy.sum(), -m_yy.sum(), -m_yz.sum(), -m_zx.sum(),
         -m_yz.sum(), -m_zz.sum();
@@ -479,7 +483,8 @@ void SolidFormulation::check_state(const solver::NodeStore& nodes) const {
 // the symmetric SPH form of seed 000 eq. 7 with V_a V_b in place of m_a m_b / (rho_a rho_b).
 template <typename Kernel>
 void SolidFormulation::compute_pair_forces() {
-  using simd::Real4;
+  using simd::Pack;
+  constexpr int W = Pack::width;
   const auto& list = verlet_.list();
   const Index n = particle_count();
   const Real alpha = options_.viscosity.alpha, beta = options_.viscosity.beta;
@@ -496,47 +501,47 @@ void SolidFormulation::compute_pair_forces() {
     const Index* neighbour = terms.neighbour.data();
     const Real *dx_k = terms.dx.data(), *dy_k = terms.dy.data(), *dz_k = terms.dz.data(), *factor_k = terms.factor.data(),
                *r_k = terms.r.data(), *support_k = terms.support.data();
-    const Real4 rho_a(density_[a]), volume_a(volume_[a]), c_a(sound_speed_[a]), m_a(mass_[a]);
-    const Real4 vax(velocity[3 * a]), vay(velocity[3 * a + 1]), vaz(velocity[3 * a + 2]);
-    Real4 P_a[9];
-    for (int i = 0; i < 9; ++i) P_a[i] = Real4(P[9 * a + i]);
-    Real4 f_x, f_y, f_z, v_x, v_y, v_z, heating4;
-    for (Index k = 0; k < padded; k += 4) {
+    const Pack rho_a(density_[a]), volume_a(volume_[a]), c_a(sound_speed_[a]), m_a(mass_[a]);
+    const Pack vax(velocity[3 * a]), vay(velocity[3 * a + 1]), vaz(velocity[3 * a + 2]);
+    Pack P_a[9];
+    for (int i = 0; i < 9; ++i) P_a[i] = Pack(P[9 * a + i]);
+    Pack f_x, f_y, f_z, v_x, v_y, v_z, heating_lanes;
+    for (Index k = 0; k < padded; k += W) {
       const Index* b = neighbour + k;
-      const Real4 factor = Real4::load(factor_k + k);
-      const Real4 dx = Real4::load(dx_k + k), dy = Real4::load(dy_k + k), dz = Real4::load(dz_k + k);
+      const Pack factor = Pack::load(factor_k + k);
+      const Pack dx = Pack::load(dx_k + k), dy = Pack::load(dy_k + k), dz = Pack::load(dz_k + k);
       // (P_a + P_b) grad_a W_ab with grad = F x_ab: exactly opposite for the pair (b, a), so
       // momentum is conserved to round-off although each particle gathers its own sum.
-      const Real4 t = volume_a * Real4::gather<1>(volume_.data(), b) * factor;
+      const Pack t = volume_a * Pack::gather<1>(volume_.data(), b) * factor;
       // P_b column-major: elements 0-3 and 4-7 as two transposed row loads, element 8 gathered.
-      Real4 P_low[4], P_high[4];
+      Pack P_low[4], P_high[4];
       simd::load_transposed<9>(P, b, 0, P_low);
       simd::load_transposed<9>(P, b, 4, P_high);
-      const Real4 P_b[9] = {P_low[0],  P_low[1],  P_low[2],  P_low[3], P_high[0],
-                            P_high[1], P_high[2], P_high[3], Real4::gather<9>(P, b, 8)};
-      Real4 Pd[3];
+      const Pack P_b[9] = {P_low[0],  P_low[1],  P_low[2],  P_low[3], P_high[0],
+                            P_high[1], P_high[2], P_high[3], Pack::gather<9>(P, b, 8)};
+      Pack Pd[3];
       for (int i = 0; i < 3; ++i) {
-        const Real4 p0 = P_a[i] + P_b[i], p1 = P_a[i + 3] + P_b[i + 3], p2 = P_a[i + 6] + P_b[i + 6];
+        const Pack p0 = P_a[i] + P_b[i], p1 = P_a[i + 3] + P_b[i + 3], p2 = P_a[i + 6] + P_b[i + 6];
         Pd[i] = fma(p2, dz, fma(p1, dy, p0 * dx));
       }
       f_x = fma(t, Pd[0], f_x), f_y = fma(t, Pd[1], f_y), f_z = fma(t, Pd[2], f_z);
       // Monaghan's viscosity on approaching pairs, mu = h v_ab . x_ab / (r^2 + eta^2 h^2).
-      Real4 ux, uy, uz;
+      Pack ux, uy, uz;
       simd::load_vectors(velocity, b, ux, uy, uz);
       ux = vax - ux, uy = vay - uy, uz = vaz - uz;
-      const Real4 vr = fma(uz, dz, fma(uy, dy, ux * dx));
-      const simd::Mask4 approaching = vr < Real4(0);
+      const Pack vr = fma(uz, dz, fma(uy, dy, ux * dx));
+      const simd::PackMask approaching = vr < Pack(0);
       if (approaching.lanes() == 0) continue;
-      const Real4 h = Real4(0.5) * Real4::load(support_k + k);  // mean smoothing length
-      const Real4 r = Real4::load(r_k + k);
-      const Real4 mu = h * vr / (r * r + Real4(eta2) * h * h);
-      const Real4 c = Real4(0.5) * (c_a + Real4::gather<1>(sound_speed_.data(), b));
-      const Real4 rho = Real4(0.5) * (rho_a + Real4::gather<1>(density_.data(), b));
-      const Real4 Pi = select(approaching, (Real4(-alpha) * c * mu + Real4(beta) * mu * mu) / rho, Real4(0));
-      const Real4 m_b = Real4::gather<1>(mass_.data(), b);
-      const Real4 s = m_a * m_b * Pi * factor;
+      const Pack h = Pack(0.5) * Pack::load(support_k + k);  // mean smoothing length
+      const Pack r = Pack::load(r_k + k);
+      const Pack mu = h * vr / (r * r + Pack(eta2) * h * h);
+      const Pack c = Pack(0.5) * (c_a + Pack::gather<1>(sound_speed_.data(), b));
+      const Pack rho = Pack(0.5) * (rho_a + Pack::gather<1>(density_.data(), b));
+      const Pack Pi = select(approaching, (Pack(-alpha) * c * mu + Pack(beta) * mu * mu) / rho, Pack(0));
+      const Pack m_b = Pack::gather<1>(mass_.data(), b);
+      const Pack s = m_a * m_b * Pi * factor;
       v_x = fma(s, dx, v_x), v_y = fma(s, dy, v_y), v_z = fma(s, dz, v_z);
-      heating4 = fma(Real4(0.5) * m_b * Pi * factor, vr, heating4);
+      heating_lanes = fma(Pack(0.5) * m_b * Pi * factor, vr, heating_lanes);
     }
     Vec3 f(f_x.sum(), f_y.sum(), f_z.sum());
     const Vec3 f_visc(-v_x.sum(), -v_y.sum(), -v_z.sum());
@@ -554,7 +559,7 @@ void SolidFormulation::compute_pair_forces() {
       }
     }
     viscous_force_[a] = f_visc;
-    viscous_heating_[a] = heating4.sum();
+    viscous_heating_[a] = heating_lanes.sum();
     force_[a] = f + f_visc;
   }
 }
