@@ -11,11 +11,6 @@
 // else on 8 with AVX2, else scalar.
 #if defined(__AVX512F__) && defined(__AVX512BW__) && defined(__AVX512DQ__) && defined(__AVX512VL__)
 #define SPALL_FLUID_AVX512 1
-// GCC 12's AVX-512 intrinsics start from a self-initialised "undefined" register, on which it
-// warns once they are inlined (GCC bug 105593, fixed in 13).
-#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ < 13
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-#endif
 #endif
 
 #include <fmt/format.h>
@@ -217,6 +212,12 @@ void FluidFormulation::for_each_particle_candidates(bool skip_inactive, Visit&& 
   }
 }
 
+// GCC 12 warns on its own AVX-512 intrinsics once they are inlined (their "undefined" start
+// register is self-initialised; GCC bug 105593, fixed in 13).
+#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ < 13
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 namespace {
 
 // What the pair loop reads, in cell order.
@@ -513,6 +514,9 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
 }
 
 }  // namespace
+#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ < 13
+#pragma GCC diagnostic pop
+#endif
 
 void FluidFormulation::pair_pass(solver::NodeStore& nodes, Real dt) {
   const auto& m = parameters_.material;
