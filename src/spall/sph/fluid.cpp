@@ -37,8 +37,9 @@ constexpr Real viscous_factor = 0.125;
 // Cells of edge (support + skin) / 2, searched by the trimmed stencil: each particle screens only
 // the runs of cells that can reach its support (neighbors/trimmed_stencil.hpp).
 constexpr int stencil_reach = 2;
-// Lanes of the pair loops; the position arrays have this many entries past the last particle, so
-// that the screen's last load of a range stays inside them (the lanes past the range are masked).
+// Lanes of the pair loops; the position and velocity arrays have this many entries past the last
+// particle, so that the screen's last load of a range stays inside them (the lanes past the range
+// are masked).
 #if defined(SPALL_FLUID_AVX512)
 constexpr Index simd_width = 16;
 #else
@@ -99,8 +100,8 @@ FluidFormulation::FluidFormulation(const FluidParameters& parameters,
   density_.assign(n, m.density);
   rate_.assign(n, 0);
   previous_rate_.assign(n, 0);
-  for (auto* v : {&x_, &y_, &z_}) v->assign(n + simd_width, 0);
-  for (auto* v : {&vx_, &vy_, &vz_, &inverse_density_, &pressure_term_}) v->assign(n, 0);
+  for (auto* v : {&x_, &y_, &z_, &vx_, &vy_, &vz_}) v->assign(n + simd_width, 0);
+  for (auto* v : {&inverse_density_, &pressure_term_}) v->assign(n, 0);
   pressure_force_.assign(3 * n, 0);
   viscous_force_.assign(3 * n, 0);
   max_sound_speed_ = m.reference_sound_speed();
@@ -252,26 +253,37 @@ struct PairSums {
   float max_mu = 0;                // largest -mu_ab of an approaching pair (Monaghan's time step)
 };
 
-// Appends to `found` the particles of [begin, end) closer to (xa, ya, za) than H, except `self`;
-// returns the new count. The vector paths read simd_width positions at a time, up to
-// simd_width - 1 past `end` (the arrays are padded), mask the lanes past `end` off and write
-// simd_width entries at a time (found needs simd_width spare slots); they test exactly as the
-// scalar path does (same fused operations), so the pair (a, b) is found from both sides or from
-// neither.
-Index screen(const PairInputs& in, float xa, float ya, float za, float H2, Index begin, Index end,
-             Index self, Index* found, Index count) {
+// Appends to `found` the particles of [begin, end) closer to particle `self` than H, except
+// `self`; returns the new count. With moving_only, also leaves out the particles whose velocity is
+// bitwise that of `self`: their continuity term m_b F v_ab . x_ab is exactly zero (for a wall,
+// the walls around it), and continuity is all a wall's pass sums. The vector paths read simd_width
+// positions (and velocities) at a time, up to simd_width - 1 past `end` (the arrays are padded),
+// mask the lanes past `end` off and write simd_width entries at a time (found needs simd_width
+// spare slots); they test exactly as the scalar path does (same fused operations), so the pair
+// (a, b) of two moving particles is found from both sides or from neither.
+template <bool moving_only>
+Index screen(const PairInputs& in, float H2, Index begin, Index end, Index self, Index* found,
+             Index count) {
+  const float xa = in.x[self], ya = in.y[self], za = in.z[self];
+  const float vxa = in.vx[self], vya = in.vy[self], vza = in.vz[self];
 #if defined(SPALL_FLUID_AVX512)
-  const __m512 vxa = _mm512_set1_ps(xa), vya = _mm512_set1_ps(ya), vza = _mm512_set1_ps(za);
+  const __m512 pxa = _mm512_set1_ps(xa), pya = _mm512_set1_ps(ya), pza = _mm512_set1_ps(za);
   const __m512 vH2 = _mm512_set1_ps(H2);
   const __m512i lane = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
   for (Index b = begin; b < end; b += 16) {
-    const __m512 dx = _mm512_sub_ps(vxa, _mm512_loadu_ps(in.x + b));
-    const __m512 dy = _mm512_sub_ps(vya, _mm512_loadu_ps(in.y + b));
-    const __m512 dz = _mm512_sub_ps(vza, _mm512_loadu_ps(in.z + b));
+    const __m512 dx = _mm512_sub_ps(pxa, _mm512_loadu_ps(in.x + b));
+    const __m512 dy = _mm512_sub_ps(pya, _mm512_loadu_ps(in.y + b));
+    const __m512 dz = _mm512_sub_ps(pza, _mm512_loadu_ps(in.z + b));
     const __m512 r2 = _mm512_fmadd_ps(dz, dz, _mm512_fmadd_ps(dy, dy, _mm512_mul_ps(dx, dx)));
     unsigned in_range = 0xFFFFu >> (16 - std::min<Index>(end - b, 16));
     if (self >= b && self < b + 16) in_range &= ~(1u << (self - b));
-    const __mmask16 mask = _mm512_mask_cmp_ps_mask(static_cast<__mmask16>(in_range), r2, vH2, _CMP_LT_OQ);
+    __mmask16 mask = _mm512_mask_cmp_ps_mask(static_cast<__mmask16>(in_range), r2, vH2, _CMP_LT_OQ);
+    if constexpr (moving_only) {
+      const auto differs = [&](const float* v, float va) {
+        return _mm512_cmp_ps_mask(_mm512_loadu_ps(v + b), _mm512_set1_ps(va), _CMP_NEQ_UQ);
+      };
+      mask &= differs(in.vx, vxa) | differs(in.vy, vya) | differs(in.vz, vza);
+    }
     // Left-pack in a register and store all 16 lanes (found has the spare slots): the compressing
     // store to memory is no faster on Intel cores and microcoded, far slower, on AMD Zen 4.
     const __m512i index = _mm512_maskz_compress_epi32(mask, _mm512_add_epi32(_mm512_set1_epi32(b), lane));
@@ -279,14 +291,21 @@ Index screen(const PairInputs& in, float xa, float ya, float za, float H2, Index
     count += std::popcount(static_cast<unsigned>(mask));
   }
 #elif defined(__AVX2__) && defined(__BMI2__)
-  const __m256 vxa = _mm256_set1_ps(xa), vya = _mm256_set1_ps(ya), vza = _mm256_set1_ps(za);
+  const __m256 pxa = _mm256_set1_ps(xa), pya = _mm256_set1_ps(ya), pza = _mm256_set1_ps(za);
   const __m256 vH2 = _mm256_set1_ps(H2);
   for (Index b = begin; b < end; b += 8) {
-    const __m256 dx = _mm256_sub_ps(vxa, _mm256_loadu_ps(in.x + b));
-    const __m256 dy = _mm256_sub_ps(vya, _mm256_loadu_ps(in.y + b));
-    const __m256 dz = _mm256_sub_ps(vza, _mm256_loadu_ps(in.z + b));
+    const __m256 dx = _mm256_sub_ps(pxa, _mm256_loadu_ps(in.x + b));
+    const __m256 dy = _mm256_sub_ps(pya, _mm256_loadu_ps(in.y + b));
+    const __m256 dz = _mm256_sub_ps(pza, _mm256_loadu_ps(in.z + b));
     const __m256 r2 = _mm256_fmadd_ps(dz, dz, _mm256_fmadd_ps(dy, dy, _mm256_mul_ps(dx, dx)));
     unsigned mask = static_cast<unsigned>(_mm256_movemask_ps(_mm256_cmp_ps(r2, vH2, _CMP_LT_OQ)));
+    if constexpr (moving_only) {
+      const auto differs = [&](const float* v, float va) {
+        return _mm256_cmp_ps(_mm256_loadu_ps(v + b), _mm256_set1_ps(va), _CMP_NEQ_UQ);
+      };
+      mask &= static_cast<unsigned>(_mm256_movemask_ps(
+          _mm256_or_ps(_mm256_or_ps(differs(in.vx, vxa), differs(in.vy, vya)), differs(in.vz, vza))));
+    }
     mask = _bzhi_u32(mask, static_cast<unsigned>(std::min<Index>(end - b, 8)));
     if (self >= b && self < b + 8) mask &= ~(1u << (self - b));
     // Left-pack the lanes whose bit is set: the byte indices of the set bits, by pext.
@@ -300,8 +319,9 @@ Index screen(const PairInputs& in, float xa, float ya, float za, float H2, Index
 #else
   for (Index b = begin; b < end; ++b) {
     const float dx = xa - in.x[b], dy = ya - in.y[b], dz = za - in.z[b];
+    const bool moving = !moving_only || in.vx[b] != vxa || in.vy[b] != vya || in.vz[b] != vza;
     found[count] = b;
-    count += (std::fma(dz, dz, std::fma(dy, dy, dx * dx)) < H2) & (b != self);
+    count += (std::fma(dz, dz, std::fma(dy, dy, dx * dx)) < H2) & (b != self) & moving;
   }
 #endif
   return count;
@@ -549,13 +569,15 @@ void FluidFormulation::pair_pass(solver::NodeStore& nodes, Real dt) {
       for (int r = 0; r < range_count; ++r) candidates += ranges[r].end - ranges[r].begin;
       if (found.size() < static_cast<std::size_t>(candidates + 2 * simd_width))
         found.resize(candidates + 2 * simd_width);
-      Index count = 0;
-      for (int r = 0; r < range_count; ++r)
-        count = screen(in, x_[a], y_[a], z_[a], constants.support_squared, ranges[r].begin,
-                       ranges[r].end, a, found.data(), count);
-      while (count % simd_width != 0) found[count++] = a;
       const Index node = node_[a];
       const bool wall = nodes.fixed[node] == all_translations;
+      Index count = 0;
+      for (int r = 0; r < range_count; ++r)
+        count = wall ? screen<true>(in, constants.support_squared, ranges[r].begin, ranges[r].end, a,
+                                    found.data(), count)
+                     : screen<false>(in, constants.support_squared, ranges[r].begin, ranges[r].end, a,
+                                     found.data(), count);
+      while (count % simd_width != 0) found[count++] = a;
       const PairSums sums = wall ? interact<false>(in, constants, a, found.data(), count)
                                  : interact<true>(in, constants, a, found.data(), count);
       const Vec3 fp(sums.fpx, sums.fpy, sums.fpz), fv(sums.fvx, sums.fvy, sums.fvz);
