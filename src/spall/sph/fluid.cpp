@@ -4,8 +4,13 @@
 #include <bit>
 #include <cmath>
 #include <stdexcept>
-#if defined(__AVX2__) && defined(__BMI2__)
+#if defined(__AVX2__)
 #include <immintrin.h>
+#endif
+// The pair loops run on 16 single-precision lanes where the compiler targets AVX-512 (x86-64-v4),
+// else on 8 with AVX2, else scalar.
+#if defined(__AVX512F__) && defined(__AVX512BW__) && defined(__AVX512DQ__) && defined(__AVX512VL__)
+#define SPALL_FLUID_AVX512 1
 #endif
 
 #include <fmt/format.h>
@@ -32,9 +37,14 @@ constexpr Real viscous_factor = 0.125;
 // Cells of edge (support + skin) / 2, searched by the trimmed stencil: each particle screens only
 // the runs of cells that can reach its support (neighbors/trimmed_stencil.hpp).
 constexpr int stencil_reach = 2;
-// Lanes of the pair loops; the position arrays have this many entries past the last particle, so
-// that the screen's last load of a range stays inside them (the lanes past the range are masked).
+// Lanes of the pair loops; the position and velocity arrays have this many entries past the last
+// particle, so that the screen's last load of a range stays inside them (the lanes past the range
+// are masked).
+#if defined(SPALL_FLUID_AVX512)
+constexpr Index simd_width = 16;
+#else
 constexpr Index simd_width = 8;
+#endif
 
 template <typename T>
 void permute(std::vector<T>& values, std::span<const Index> order) {
@@ -90,8 +100,8 @@ FluidFormulation::FluidFormulation(const FluidParameters& parameters,
   density_.assign(n, m.density);
   rate_.assign(n, 0);
   previous_rate_.assign(n, 0);
-  for (auto* v : {&x_, &y_, &z_}) v->assign(n + simd_width, 0);
-  for (auto* v : {&vx_, &vy_, &vz_, &inverse_density_, &pressure_term_}) v->assign(n, 0);
+  for (auto* v : {&x_, &y_, &z_, &vx_, &vy_, &vz_}) v->assign(n + simd_width, 0);
+  for (auto* v : {&inverse_density_, &pressure_term_}) v->assign(n, 0);
   pressure_force_.assign(3 * n, 0);
   viscous_force_.assign(3 * n, 0);
   max_sound_speed_ = m.reference_sound_speed();
@@ -203,6 +213,12 @@ void FluidFormulation::for_each_particle_candidates(bool skip_inactive, Visit&& 
   }
 }
 
+// GCC 12 warns on its own AVX-512 intrinsics once they are inlined (their "undefined" start
+// register is self-initialised; GCC bug 105593, fixed in 13).
+#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ < 13
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 namespace {
 
 // What the pair loop reads, in cell order.
@@ -237,22 +253,59 @@ struct PairSums {
   float max_mu = 0;                // largest -mu_ab of an approaching pair (Monaghan's time step)
 };
 
-// Appends to `found` the particles of [begin, end) closer to (xa, ya, za) than H, except `self`;
-// returns the new count. The vector path reads 8 positions at a time, up to 7 past `end` (the
-// arrays are padded), masks the lanes past `end` off and writes 8 entries at a time (found needs
-// 8 spare slots); it tests exactly as the scalar path does (same fused operations), so the pair
-// (a, b) is found from both sides or from neither.
-Index screen(const PairInputs& in, float xa, float ya, float za, float H2, Index begin, Index end,
-             Index self, Index* found, Index count) {
-#if defined(__AVX2__) && defined(__BMI2__)
-  const __m256 vxa = _mm256_set1_ps(xa), vya = _mm256_set1_ps(ya), vza = _mm256_set1_ps(za);
+// Appends to `found` the particles of [begin, end) closer to particle `self` than H, except
+// `self`; returns the new count. With moving_only, also leaves out the particles whose velocity is
+// bitwise that of `self`: their continuity term m_b F v_ab . x_ab is exactly zero (for a wall,
+// the walls around it), and continuity is all a wall's pass sums. The vector paths read simd_width
+// positions (and velocities) at a time, up to simd_width - 1 past `end` (the arrays are padded),
+// mask the lanes past `end` off and write simd_width entries at a time (found needs simd_width
+// spare slots); they test exactly as the scalar path does (same fused operations), so the pair
+// (a, b) of two moving particles is found from both sides or from neither.
+template <bool moving_only>
+Index screen(const PairInputs& in, float H2, Index begin, Index end, Index self, Index* found,
+             Index count) {
+  const float xa = in.x[self], ya = in.y[self], za = in.z[self];
+  const float vxa = in.vx[self], vya = in.vy[self], vza = in.vz[self];
+#if defined(SPALL_FLUID_AVX512)
+  const __m512 pxa = _mm512_set1_ps(xa), pya = _mm512_set1_ps(ya), pza = _mm512_set1_ps(za);
+  const __m512 vH2 = _mm512_set1_ps(H2);
+  const __m512i lane = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+  for (Index b = begin; b < end; b += 16) {
+    const __m512 dx = _mm512_sub_ps(pxa, _mm512_loadu_ps(in.x + b));
+    const __m512 dy = _mm512_sub_ps(pya, _mm512_loadu_ps(in.y + b));
+    const __m512 dz = _mm512_sub_ps(pza, _mm512_loadu_ps(in.z + b));
+    const __m512 r2 = _mm512_fmadd_ps(dz, dz, _mm512_fmadd_ps(dy, dy, _mm512_mul_ps(dx, dx)));
+    unsigned in_range = 0xFFFFu >> (16 - std::min<Index>(end - b, 16));
+    if (self >= b && self < b + 16) in_range &= ~(1u << (self - b));
+    __mmask16 mask = _mm512_mask_cmp_ps_mask(static_cast<__mmask16>(in_range), r2, vH2, _CMP_LT_OQ);
+    if constexpr (moving_only) {
+      const auto differs = [&](const float* v, float va) {
+        return _mm512_cmp_ps_mask(_mm512_loadu_ps(v + b), _mm512_set1_ps(va), _CMP_NEQ_UQ);
+      };
+      mask &= differs(in.vx, vxa) | differs(in.vy, vya) | differs(in.vz, vza);
+    }
+    // Left-pack in a register and store all 16 lanes (found has the spare slots): the compressing
+    // store to memory is no faster on Intel cores and microcoded, far slower, on AMD Zen 4.
+    const __m512i index = _mm512_maskz_compress_epi32(mask, _mm512_add_epi32(_mm512_set1_epi32(b), lane));
+    _mm512_storeu_si512(found + count, index);
+    count += std::popcount(static_cast<unsigned>(mask));
+  }
+#elif defined(__AVX2__) && defined(__BMI2__)
+  const __m256 pxa = _mm256_set1_ps(xa), pya = _mm256_set1_ps(ya), pza = _mm256_set1_ps(za);
   const __m256 vH2 = _mm256_set1_ps(H2);
   for (Index b = begin; b < end; b += 8) {
-    const __m256 dx = _mm256_sub_ps(vxa, _mm256_loadu_ps(in.x + b));
-    const __m256 dy = _mm256_sub_ps(vya, _mm256_loadu_ps(in.y + b));
-    const __m256 dz = _mm256_sub_ps(vza, _mm256_loadu_ps(in.z + b));
+    const __m256 dx = _mm256_sub_ps(pxa, _mm256_loadu_ps(in.x + b));
+    const __m256 dy = _mm256_sub_ps(pya, _mm256_loadu_ps(in.y + b));
+    const __m256 dz = _mm256_sub_ps(pza, _mm256_loadu_ps(in.z + b));
     const __m256 r2 = _mm256_fmadd_ps(dz, dz, _mm256_fmadd_ps(dy, dy, _mm256_mul_ps(dx, dx)));
     unsigned mask = static_cast<unsigned>(_mm256_movemask_ps(_mm256_cmp_ps(r2, vH2, _CMP_LT_OQ)));
+    if constexpr (moving_only) {
+      const auto differs = [&](const float* v, float va) {
+        return _mm256_cmp_ps(_mm256_loadu_ps(v + b), _mm256_set1_ps(va), _CMP_NEQ_UQ);
+      };
+      mask &= static_cast<unsigned>(_mm256_movemask_ps(
+          _mm256_or_ps(_mm256_or_ps(differs(in.vx, vxa), differs(in.vy, vya)), differs(in.vz, vza))));
+    }
     mask = _bzhi_u32(mask, static_cast<unsigned>(std::min<Index>(end - b, 8)));
     if (self >= b && self < b + 8) mask &= ~(1u << (self - b));
     // Left-pack the lanes whose bit is set: the byte indices of the set bits, by pext.
@@ -266,8 +319,9 @@ Index screen(const PairInputs& in, float xa, float ya, float za, float H2, Index
 #else
   for (Index b = begin; b < end; ++b) {
     const float dx = xa - in.x[b], dy = ya - in.y[b], dz = za - in.z[b];
+    const bool moving = !moving_only || in.vx[b] != vxa || in.vy[b] != vya || in.vz[b] != vza;
     found[count] = b;
-    count += (std::fma(dz, dz, std::fma(dy, dy, dx * dx)) < H2) & (b != self);
+    count += (std::fma(dz, dz, std::fma(dy, dy, dx * dx)) < H2) & (b != self) & moving;
   }
 #endif
   return count;
@@ -276,8 +330,10 @@ Index screen(const PairInputs& in, float xa, float ya, float za, float H2, Index
 // The pair sums of particle a over its neighbours found[0, count). The terms are evaluated in
 // single precision by one sequence of operations for every pair (x_ba = -x_ab and v_ba = -v_ab
 // bitwise), so the term of (a, b) is exactly minus the term of (b, a); they are summed in double.
-// `count` is a multiple of 8, padded with a itself, whose terms are exactly zero (x_aa = 0,
-// v_aa = 0). The AVX2 path and the scalar path do the same operations, lane by lane.
+// `count` is a multiple of simd_width, padded with a itself, whose terms are exactly zero
+// (x_aa = 0, v_aa = 0). The AVX-512, AVX2 and scalar paths do the same operations, lane by lane
+// (a select by mask register where AVX2 blends, a masked max where it maxes with a blended zero):
+// only the order of the double sums differs between them, which is fixed for each.
 template <bool with_force>
 PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const Index* found,
                   Index count) {
@@ -288,7 +344,84 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
   const float k18 = 18 * c.kernel, k12 = 12 * c.kernel, k6H = 6 * c.kernel / c.inverse_support;
   PairSums sums;
   Index s = 0;
-#if defined(__AVX2__)
+#if defined(SPALL_FLUID_AVX512)
+  const auto splat = [](float v) { return _mm512_set1_ps(v); };
+  const __m512 one = splat(1), half = splat(0.5f), tiny = splat(1e-30f), zero = _mm512_setzero_ps();
+  // Lanes 0-7 of a term go to sum[0], lanes 8-15 to sum[1], each in 8 doubles.
+  __m512d fp[3][2] = {}, fv[3][2] = {};
+  __m512 rate = zero;  // the density rate needs no double sum (momentum does not depend on it)
+  __m512 max_mu = zero;
+  const auto accumulate = [](__m512d (&sum)[2], __m512 v) {
+    sum[0] = _mm512_add_pd(sum[0], _mm512_cvtps_pd(_mm512_castps512_ps256(v)));
+    sum[1] = _mm512_add_pd(sum[1], _mm512_cvtps_pd(_mm512_extractf32x8_ps(v, 1)));
+  };
+  for (; s < count; s += 16) {
+    const __m512i b = _mm512_loadu_si512(found + s);
+    const auto gather = [&](const float* array) { return _mm512_i32gather_ps(b, array, 4); };
+    const __m512 dx = _mm512_sub_ps(splat(xa), gather(in.x));
+    const __m512 dy = _mm512_sub_ps(splat(ya), gather(in.y));
+    const __m512 dz = _mm512_sub_ps(splat(za), gather(in.z));
+    const __m512 r2 = _mm512_max_ps(
+        _mm512_fmadd_ps(dz, dz, _mm512_fmadd_ps(dy, dy, _mm512_mul_ps(dx, dx))), tiny);
+    // One division for both 1 / r and 1 / (r^2 + (eta h)^2).
+    const __m512 r = _mm512_sqrt_ps(r2);
+    const __m512 r2e = _mm512_add_ps(r2, splat(c.eta2));
+    const __m512 inverse_product = _mm512_div_ps(one, _mm512_mul_ps(r, r2e));
+    const __m512 inverse_r = _mm512_mul_ps(inverse_product, r2e);
+    const __m512 q = _mm512_min_ps(_mm512_mul_ps(_mm512_mul_ps(r2, inverse_r), splat(c.inverse_support)), one);
+    const __m512 near = _mm512_sub_ps(_mm512_mul_ps(splat(k18), q), splat(k12));
+    const __m512 one_minus_q = _mm512_sub_ps(one, q);
+    const __m512 far = _mm512_mul_ps(_mm512_mul_ps(splat(-k6H), _mm512_mul_ps(one_minus_q, one_minus_q)), inverse_r);
+    const __m512 F = _mm512_mask_blend_ps(_mm512_cmp_ps_mask(q, half, _CMP_LE_OQ), far, near);
+    const __m512 dvx = _mm512_sub_ps(splat(vxa), gather(in.vx));
+    const __m512 dvy = _mm512_sub_ps(splat(vya), gather(in.vy));
+    const __m512 dvz = _mm512_sub_ps(splat(vza), gather(in.vz));
+    const __m512 vr = _mm512_fmadd_ps(dvz, dz, _mm512_fmadd_ps(dvy, dy, _mm512_mul_ps(dvx, dx)));
+    const __m512 m_b = gather(in.mass);
+    rate = _mm512_fmadd_ps(_mm512_mul_ps(m_b, F), vr, rate);
+    if constexpr (with_force) {
+      const __m512 mm = _mm512_mul_ps(splat(m_a), m_b);
+      const __m512 inverse_rho_b = gather(in.inverse_density);
+      const __m512 radial = _mm512_mul_ps(
+          _mm512_mul_ps(_mm512_sub_ps(zero, mm), _mm512_add_ps(splat(P_a), gather(in.pressure_term))), F);
+      const __m512 inverse_r2e = _mm512_mul_ps(inverse_product, r);
+      const __m512 mu = _mm512_mul_ps(_mm512_mul_ps(splat(c.h), vr), inverse_r2e);
+      const __mmask16 approaching = _mm512_cmp_ps_mask(vr, zero, _CMP_LT_OQ);
+      const __m512 Pi = _mm512_maskz_mul_ps(
+          approaching,
+          _mm512_fmadd_ps(splat(c.beta), _mm512_mul_ps(mu, mu), _mm512_mul_ps(splat(-c.alpha_c), mu)),
+          _mm512_mul_ps(half, _mm512_add_ps(splat(inverse_rho_a), inverse_rho_b)));
+      max_mu = _mm512_mask_max_ps(max_mu, approaching, _mm512_sub_ps(zero, mu), max_mu);
+      const __m512 viscous_radial = _mm512_mul_ps(_mm512_mul_ps(_mm512_sub_ps(zero, mm), Pi), F);
+      const __m512 laminar = _mm512_mul_ps(
+          _mm512_mul_ps(_mm512_mul_ps(mm, splat(c.two_mu)),
+                        _mm512_mul_ps(splat(inverse_rho_a), inverse_rho_b)),
+          _mm512_mul_ps(_mm512_mul_ps(F, r2), inverse_r2e));
+      const __m512 d[3] = {dx, dy, dz}, dv[3] = {dvx, dvy, dvz};
+      for (int i = 0; i < 3; ++i) {
+        accumulate(fp[i], _mm512_mul_ps(radial, d[i]));
+        accumulate(fv[i], _mm512_fmadd_ps(viscous_radial, d[i], _mm512_mul_ps(laminar, dv[i])));
+      }
+    }
+  }
+  const auto total = [](const __m512d (&sum)[2]) {
+    alignas(64) double lanes[8];
+    _mm512_store_pd(lanes, _mm512_add_pd(sum[0], sum[1]));
+    return ((lanes[0] + lanes[1]) + (lanes[2] + lanes[3])) + ((lanes[4] + lanes[5]) + (lanes[6] + lanes[7]));
+  };
+  {
+    alignas(64) float lanes[16];
+    _mm512_store_ps(lanes, rate);
+    for (float lane : lanes) sums.rate += Real(lane);
+  }
+  if constexpr (with_force) {
+    sums.fpx = total(fp[0]), sums.fpy = total(fp[1]), sums.fpz = total(fp[2]);
+    sums.fvx = total(fv[0]), sums.fvy = total(fv[1]), sums.fvz = total(fv[2]);
+    alignas(64) float lanes[16];
+    _mm512_store_ps(lanes, max_mu);
+    sums.max_mu = *std::max_element(lanes, lanes + 16);
+  }
+#elif defined(__AVX2__)
   const auto splat = [](float v) { return _mm256_set1_ps(v); };
   const __m256 one = splat(1), half = splat(0.5f), tiny = splat(1e-30f), zero = _mm256_setzero_ps();
   __m256d fp[3][2] = {}, fv[3][2] = {};
@@ -401,6 +534,9 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
 }
 
 }  // namespace
+#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ < 13
+#pragma GCC diagnostic pop
+#endif
 
 void FluidFormulation::pair_pass(solver::NodeStore& nodes, Real dt) {
   const auto& m = parameters_.material;
@@ -433,13 +569,15 @@ void FluidFormulation::pair_pass(solver::NodeStore& nodes, Real dt) {
       for (int r = 0; r < range_count; ++r) candidates += ranges[r].end - ranges[r].begin;
       if (found.size() < static_cast<std::size_t>(candidates + 2 * simd_width))
         found.resize(candidates + 2 * simd_width);
-      Index count = 0;
-      for (int r = 0; r < range_count; ++r)
-        count = screen(in, x_[a], y_[a], z_[a], constants.support_squared, ranges[r].begin,
-                       ranges[r].end, a, found.data(), count);
-      while (count % simd_width != 0) found[count++] = a;
       const Index node = node_[a];
       const bool wall = nodes.fixed[node] == all_translations;
+      Index count = 0;
+      for (int r = 0; r < range_count; ++r)
+        count = wall ? screen<true>(in, constants.support_squared, ranges[r].begin, ranges[r].end, a,
+                                    found.data(), count)
+                     : screen<false>(in, constants.support_squared, ranges[r].begin, ranges[r].end, a,
+                                     found.data(), count);
+      while (count % simd_width != 0) found[count++] = a;
       const PairSums sums = wall ? interact<false>(in, constants, a, found.data(), count)
                                  : interact<true>(in, constants, a, found.data(), count);
       const Vec3 fp(sums.fpx, sums.fpy, sums.fpz), fv(sums.fvx, sums.fvy, sums.fvz);

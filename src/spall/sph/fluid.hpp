@@ -113,8 +113,8 @@ class FluidFormulation final : public solver::Formulation {
   std::vector<Real> density_;        // rho^n (corrected)
   std::vector<float> rate_;           // rho'^n
   std::vector<float> previous_rate_;  // rho'^{n-1}
-  // Per step: positions relative to origin_ (padded: see simd_width in fluid.cpp) and velocities,
-  // single precision; the inverse of the predicted density and p / rho^2 the pair pass reads.
+  // Per step: positions relative to origin_ and velocities, single precision (padded: see
+  // simd_width in fluid.cpp); the inverse of the predicted density and p / rho^2 the pair pass reads.
   std::vector<float> x_, y_, z_, vx_, vy_, vz_;
   std::vector<float> inverse_density_;
   std::vector<float> pressure_term_;
