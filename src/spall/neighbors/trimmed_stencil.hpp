@@ -80,12 +80,6 @@ class TrimmedStencil {
   std::array<Index, (2 * max_reach + 2) * range_capacity> start_{};
 };
 
-// GCC 12 warns on its own AVX-512 intrinsics once they are inlined (their "undefined" start
-// register is self-initialised; GCC bug 105593, fixed in 13).
-#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ < 13
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-#endif
 // Called once per particle: inline, eight rows (AVX-512) or four (AVX2) at a time, without a
 // branch per row; every path does the same operations per row.
 int TrimmedStencil::trimmed(const Vec3& offset, Real radius, Ranges& ranges) const {
@@ -174,8 +168,5 @@ int TrimmedStencil::trimmed(const Vec3& offset, Real radius, Ranges& ranges) con
 #endif
   return row_count_;
 }
-#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ < 13
-#pragma GCC diagnostic pop
-#endif
 
 }  // namespace spall::neighbors

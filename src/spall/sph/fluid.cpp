@@ -213,12 +213,6 @@ void FluidFormulation::for_each_particle_candidates(bool skip_inactive, Visit&& 
   }
 }
 
-// GCC 12 warns on its own AVX-512 intrinsics once they are inlined (their "undefined" start
-// register is self-initialised; GCC bug 105593, fixed in 13).
-#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ < 13
-#pragma GCC diagnostic push
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
-#endif
 namespace {
 
 // What the pair loop reads, in cell order.
@@ -534,9 +528,6 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
 }
 
 }  // namespace
-#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ < 13
-#pragma GCC diagnostic pop
-#endif
 
 void FluidFormulation::pair_pass(solver::NodeStore& nodes, Real dt) {
   const auto& m = parameters_.material;
