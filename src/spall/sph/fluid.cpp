@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <functional>
 #include <stdexcept>
 #if defined(__AVX2__)
 #include <immintrin.h>
@@ -226,6 +227,9 @@ struct PairInputs {
   const float* mass;
   const float* inverse_density;
   const float* pressure_term;
+  // Every particle's mass when they are all equal (the usual lattice of one spacing), else 0:
+  // the vector paths then broadcast it instead of gathering the same number.
+  float uniform_mass;
 };
 
 // Constants of the pair terms, in single precision.
@@ -371,7 +375,7 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
     const __m512 dvy = _mm512_sub_ps(splat(vya), gather(in.vy));
     const __m512 dvz = _mm512_sub_ps(splat(vza), gather(in.vz));
     const __m512 vr = _mm512_fmadd_ps(dvz, dz, _mm512_fmadd_ps(dvy, dy, _mm512_mul_ps(dvx, dx)));
-    const __m512 m_b = gather(in.mass);
+    const __m512 m_b = in.uniform_mass > 0 ? splat(in.uniform_mass) : gather(in.mass);
     rate = _mm512_fmadd_ps(_mm512_mul_ps(m_b, F), vr, rate);
     if constexpr (with_force) {
       const __m512 mm = _mm512_mul_ps(splat(m_a), m_b);
@@ -447,7 +451,7 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
     const __m256 dvy = _mm256_sub_ps(splat(vya), gather(in.vy));
     const __m256 dvz = _mm256_sub_ps(splat(vza), gather(in.vz));
     const __m256 vr = _mm256_fmadd_ps(dvz, dz, _mm256_fmadd_ps(dvy, dy, _mm256_mul_ps(dvx, dx)));
-    const __m256 m_b = gather(in.mass);
+    const __m256 m_b = in.uniform_mass > 0 ? splat(in.uniform_mass) : gather(in.mass);
     rate = _mm256_fmadd_ps(_mm256_mul_ps(m_b, F), vr, rate);
     if constexpr (with_force) {
       const __m256 mm = _mm256_mul_ps(splat(m_a), m_b);
@@ -547,9 +551,11 @@ void FluidFormulation::pair_pass(solver::NodeStore& nodes, Real dt) {
                                 static_cast<float>(av.alpha * m.reference_sound_speed()),
                                 static_cast<float>(av.beta),
                                 static_cast<float>(2 * m.dynamic_viscosity)};
+  const bool uniform = std::adjacent_find(mass_.begin(), mass_.end(), std::not_equal_to<>()) == mass_.end();
   const PairInputs in{x_.data(),    y_.data(),    z_.data(),
                       vx_.data(),   vy_.data(),   vz_.data(),
-                      mass_.data(), inverse_density_.data(), pressure_term_.data()};
+                      mass_.data(), inverse_density_.data(), pressure_term_.data(),
+                      uniform && !mass_.empty() ? mass_.front() : 0.0f};
   Real max_acceleration = 0, max_mu = 0;
 
 #pragma omp parallel reduction(max : max_acceleration, max_mu)
