@@ -53,8 +53,10 @@ Real update_johnson_cook(const JohnsonCook& model, Real shear_modulus, PointStat
   const Real q = von_mises(trial);
   const Real eps = state.plastic_strain;
   const Real thermal = thermal_factor(model, state.temperature);
-  // The elastic check first, with one pow: sigma_y at dp = 0 has no rate term (rate* = 1).
-  if (q <= (model.a + model.b * std::pow(eps, model.n)) * thermal) {
+  // The elastic check first: sigma_y at dp = 0 has no rate term (rate* = 1). It is also the
+  // return's first guess, yield(0) below (the same products: the rate factor is exactly 1).
+  const Real yield_at_rest = (model.a + model.b * std::pow(eps, model.n)) * thermal;
+  if (q <= yield_at_rest) {
     state.deviatoric_stress = trial;
     return 0;
   }
@@ -79,7 +81,7 @@ Real update_johnson_cook(const JohnsonCook& model, Real shear_modulus, PointStat
     return YieldValue{hardening * rate_factor * thermal,
                       (hardening_slope * rate_factor + hardening * rate_slope) * thermal};
   };
-  const Real dp = plastic_strain_increment(q, 3 * shear_modulus, yield);
+  const Real dp = plastic_strain_increment(q, 3 * shear_modulus, yield, yield_at_rest);
   state.deviatoric_stress = trial * (1 - 3 * shear_modulus * dp / q);
   const Real sigma_eq = von_mises(state.deviatoric_stress);
   const Real work = sigma_eq * dp;
