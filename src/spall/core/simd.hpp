@@ -218,16 +218,21 @@ inline void load_transposed(const Real* base, const Index* index, int offset, Re
   out[3] = {_mm256_permute2f128_pd(t1, t3, 0x31)};
 }
 
-// The three components of the vectors v[index[i]] of an array of 3-vectors (x, y, z, x, ...):
-// x and y as one 128-bit load a vector, interleaved; z gathered. Reads only the vectors' own
-// components (a 256-bit load would read past the last vector).
-inline void load_vectors(const Real* v, const Index* index, Real4& x, Real4& y, Real4& z) {
+// The x and y components of the vectors v[index[i]] of an array of 3-vectors (x, y, z, x, ...),
+// as one 128-bit load a vector, interleaved. Reads only the vectors' own components (a 256-bit
+// load would read past the last vector).
+inline void load_xy(const Real* v, const Index* index, Real4& x, Real4& y) {
   const __m256d low = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(v + 3 * index[0])),
                                            _mm_loadu_pd(v + 3 * index[2]), 1);  // x0 y0 x2 y2
   const __m256d high = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(v + 3 * index[1])),
                                             _mm_loadu_pd(v + 3 * index[3]), 1);  // x1 y1 x3 y3
   x = {_mm256_unpacklo_pd(low, high)};
   y = {_mm256_unpackhi_pd(low, high)};
+}
+
+// All three components: x and y by load_xy, z gathered.
+inline void load_vectors(const Real* v, const Index* index, Real4& x, Real4& y, Real4& z) {
+  load_xy(v, index, x, y);
   z = Real4::gather<3>(v, index, 2);
 }
 
@@ -246,8 +251,8 @@ inline void Real4::compress_indices(const Index* in, int lanes, Index* out) {
 namespace avx512 {
 
 // GCC 12 warns that the unmasked forms of some AVX-512 intrinsics (sqrt, max, the 256-bit halves'
-// inserts, extracts and casts) read an undefined source; their zero-masked forms with every lane on compile to the
-// same instructions without the warning.
+// inserts, extracts and casts) read an undefined source; their zero-masked forms with every lane
+// on compile to the same instructions without the warning.
 constexpr __mmask8 all_lanes = 0xFF;
 
 struct Mask8 {
@@ -323,14 +328,14 @@ inline void load_transposed(const Real* base, const Index* index, int offset, Re
   for (int j = 0; j < 4; ++j) out[j] = join(low[j], high[j]);
 }
 
-// The three components of eight 3-vectors: x and y by 128-bit loads (avx2::load_vectors per
-// half), z gathered.
+// The three components of eight 3-vectors: x and y by 128-bit loads (avx2::load_xy per half),
+// z gathered.
 // Always inlined: called through the pair loops' lambdas, GCC 12 otherwise keeps it a call.
 [[gnu::always_inline]] inline void load_vectors(const Real* v, const Index* index, Real8& x, Real8& y,
                                                 Real8& z) {
-  avx2::Real4 x_low, y_low, z_low, x_high, y_high, z_high;
-  avx2::load_vectors(v, index, x_low, y_low, z_low);
-  avx2::load_vectors(v, index + 4, x_high, y_high, z_high);
+  avx2::Real4 x_low, y_low, x_high, y_high;
+  avx2::load_xy(v, index, x_low, y_low);
+  avx2::load_xy(v, index + 4, x_high, y_high);
   x = join(x_low, x_high);
   y = join(y_low, y_high);
   z = Real8::gather<3>(v, index, 2);
