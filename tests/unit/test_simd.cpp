@@ -109,19 +109,15 @@ TYPED_TEST(VectorLanes, GatherCompressAndTransposedLoadsPickTheRightElements) {
     EXPECT_EQ(ys[i], table[3 * rows[i] + 1]);
     EXPECT_EQ(zs[i], table[3 * rows[i] + 2]);
   }
-  Real values[W];
   Index indices[W];
-  for (int i = 0; i < W; ++i) values[i] = 10 + i, indices[i] = 20 + i;
+  for (int i = 0; i < W; ++i) indices[i] = 20 + i;
   for (int mask = 0; mask < (1 << W); ++mask) {
-    Real packed[W];
     Index packed_index[W];
-    for (int i = 0; i < W; ++i) packed[i] = -1, packed_index[i] = -1;
-    P::load(values).compress_store(packed, mask);
+    for (int i = 0; i < W; ++i) packed_index[i] = -1;
     P::compress_indices(indices, mask, packed_index);
     int k = 0;
     for (int lane = 0; lane < W; ++lane) {
       if (!(mask & (1 << lane))) continue;
-      EXPECT_EQ(packed[k], values[lane]) << "mask " << mask;
       EXPECT_EQ(packed_index[k], indices[lane]) << "mask " << mask;
       ++k;
     }

@@ -85,12 +85,7 @@ struct Pack {
   friend Pack abs(Pack a) { return from([&](int i) { return std::abs(a.v[i]); }); }
   friend Pack max(Pack a, Pack b) { return from([&](int i) { return a.v[i] < b.v[i] ? b.v[i] : a.v[i]; }); }
   friend Pack select(Mask<W> m, Pack a, Pack b) { return from([&](int i) { return m.bit[i] ? a.v[i] : b.v[i]; }); }
-  // Writes the lanes whose bit is set in `lanes` to out[0..], in order; may write all W.
-  void compress_store(Real* out, int lanes) const {
-    for (int i = 0; i < W; ++i)
-      if (lanes & (1 << i)) *out++ = v[i];
-  }
-  // The same for W indices.
+  // Writes the indices in[i] whose bit i is set in `lanes` to out[0..], in order.
   static void compress_indices(const Index* in, int lanes, Index* out) {
     for (int i = 0; i < W; ++i)
       if (lanes & (1 << i)) *out++ = in[i];
@@ -120,31 +115,25 @@ inline void load_vectors(const Real* v, const Index* index, Pack<W>& x, Pack<W>&
   z = Pack<W>::template gather<3>(v, index, 2);
 }
 
-using Real4 = Pack<4>;
-using Mask4 = Mask<4>;
-
 }  // namespace lanes
 
 #if defined(SPALL_SIMD_AVX2)
 namespace avx2 {
 
-// For each 4-bit lane mask, the 32-bit permutation that moves the selected double lanes to the
-// front in order (the rest unspecified).
+// For each 4-bit lane mask, the permutation of four 32-bit lanes that moves the selected ones to
+// the front in order (the rest unspecified).
 struct CompressTable {
-  alignas(32) std::int32_t lanes[16][8];
+  alignas(16) std::int32_t lanes[16][4];
   constexpr CompressTable() : lanes{} {
     for (int mask = 0; mask < 16; ++mask) {
       int k = 0;
       for (int lane = 0; lane < 4; ++lane)
-        if (mask & (1 << lane)) lanes[mask][2 * k] = 2 * lane, lanes[mask][2 * k + 1] = 2 * lane + 1, ++k;
-      for (; k < 4; ++k) lanes[mask][2 * k] = 0, lanes[mask][2 * k + 1] = 1;
+        if (mask & (1 << lane)) lanes[mask][k++] = lane;
+      for (; k < 4; ++k) lanes[mask][k] = 0;
     }
   }
 };
 inline constexpr CompressTable compress_lanes;
-inline __m256i compress_permutation(int mask) {
-  return _mm256_load_si256(reinterpret_cast<const __m256i*>(compress_lanes.lanes[mask]));
-}
 
 struct Mask4 {
   __m256d bits;
@@ -187,11 +176,8 @@ struct Real4 {
   friend Real4 abs(Real4 a) { return {_mm256_andnot_pd(_mm256_set1_pd(-0.0), a.v)}; }
   friend Real4 max(Real4 a, Real4 b) { return {_mm256_max_pd(a.v, b.v)}; }
   friend Real4 select(Mask4 m, Real4 a, Real4 b) { return {_mm256_blendv_pd(b.v, a.v, m.bits)}; }
-  // Writes the lanes whose bit is set in `lanes` to out[0..], in order; may write all four.
-  void compress_store(Real* out, int lanes) const {
-    _mm256_storeu_pd(out, _mm256_castps_pd(_mm256_permutevar8x32_ps(_mm256_castpd_ps(v), compress_permutation(lanes))));
-  }
-  // The same for four indices.
+  // Writes the indices in[i] whose bit i is set in `lanes` to out[0..], in order; may write all
+  // four.
   static void compress_indices(const Index* in, int lanes, Index* out);
   // (l0 + l1) + (l2 + l3): one fixed order.
   Real sum() const {
@@ -237,9 +223,7 @@ inline void load_vectors(const Real* v, const Index* index, Real4& x, Real4& y, 
 }
 
 inline void Real4::compress_indices(const Index* in, int lanes, Index* out) {
-  const __m256i index = compress_permutation(lanes);
-  // Even float lanes of the double permutation are the 32-bit lane numbers times two.
-  const __m128i lane = _mm_srli_epi32(_mm256_castsi256_si128(_mm256_permutevar8x32_epi32(index, _mm256_setr_epi32(0, 2, 4, 6, 0, 2, 4, 6))), 1);
+  const __m128i lane = _mm_load_si128(reinterpret_cast<const __m128i*>(compress_lanes.lanes[lanes]));
   const __m128 values = _mm_castsi128_ps(_mm_loadu_si128(reinterpret_cast<const __m128i*>(in)));
   _mm_storeu_si128(reinterpret_cast<__m128i*>(out), _mm_castps_si128(_mm_permutevar_ps(values, lane)));
 }
@@ -294,11 +278,7 @@ struct Real8 {
   friend Real8 abs(Real8 a) { return {_mm512_abs_pd(a.v)}; }
   friend Real8 max(Real8 a, Real8 b) { return {_mm512_maskz_max_pd(all_lanes, a.v, b.v)}; }
   friend Real8 select(Mask8 m, Real8 a, Real8 b) { return {_mm512_mask_blend_pd(m.bits, b.v, a.v)}; }
-  // Writes the lanes whose bit is set in `lanes` to out[0..], in order (only those).
-  void compress_store(Real* out, int lanes) const {
-    _mm512_mask_compressstoreu_pd(out, static_cast<__mmask8>(lanes), v);
-  }
-  // The same for eight indices.
+  // Writes the indices in[i] whose bit i is set in `lanes` to out[0..], in order (only those).
   static void compress_indices(const Index* in, int lanes, Index* out) {
     _mm256_mask_compressstoreu_epi32(out, static_cast<__mmask8>(lanes),
                                      _mm256_loadu_si256(reinterpret_cast<const __m256i*>(in)));

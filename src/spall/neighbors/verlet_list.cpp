@@ -237,8 +237,8 @@ void VerletList::build_rows(std::span<const Vec3> x, Real radius, const MakeRadi
   {
     // One particle's neighbours, gathered four candidates at a time without a branch per
     // candidate (about one in three is a neighbour, so a branch would mispredict often), then
-    // sorted when asked and copied out. `found` has room for 4 entries past the candidates, which the
-    // four-lane store may write before the count moves past them.
+    // sorted when asked and copied out. `found` has room for 4 entries past the candidates, which
+    // the four-lane store may write before the count moves past them.
     std::vector<Index> found;
     for_each_particle([&](Index k, const TrimmedStencil::Ranges& ranges, int range_count) {
       Index candidates = 0;
