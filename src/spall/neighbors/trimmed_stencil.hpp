@@ -21,6 +21,7 @@
 #include <immintrin.h>
 #endif
 
+#include "spall/core/simd.hpp"
 #include "spall/core/types.hpp"
 #include "spall/neighbors/cell_list.hpp"
 
@@ -103,7 +104,7 @@ int TrimmedStencil::trimmed(const Vec3& offset, Real radius, Ranges& ranges) con
   // with [i, i + 1] meeting [u.x - sqrt(left), u.x + sqrt(left)]. A row out of reach gets
   // first = past_last; min after max keeps a NaN inside the block.
   const Real last_cell = width - 1;
-#if defined(__AVX512F__) && defined(__AVX512BW__) && defined(__AVX512DQ__) && defined(__AVX512VL__)
+#if defined(SPALL_SIMD_AVX512)
   const __m512d ux = _mm512_set1_pd(u.x()), r2 = _mm512_set1_pd(reach_squared);
   const __m512d zero = _mm512_setzero_pd(), one = _mm512_set1_pd(1), last = _mm512_set1_pd(last_cell);
   const __m512d all_gap_y = _mm512_load_pd(gap_y.data()), all_gap_z = _mm512_load_pd(gap_z.data());

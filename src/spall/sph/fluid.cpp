@@ -8,15 +8,11 @@
 #if defined(__AVX2__)
 #include <immintrin.h>
 #endif
-// The pair loops run on 16 single-precision lanes where the compiler targets AVX-512 (x86-64-v4),
-// else on 8 with AVX2, else scalar.
-#if defined(__AVX512F__) && defined(__AVX512BW__) && defined(__AVX512DQ__) && defined(__AVX512VL__)
-#define SPALL_FLUID_AVX512 1
-#endif
 
 #include <fmt/format.h>
 
 #include "spall/core/error.hpp"
+#include "spall/core/simd.hpp"
 #include "spall/kernels/cubic_spline.hpp"
 #include "spall/neighbors/trimmed_stencil.hpp"
 
@@ -38,10 +34,11 @@ constexpr Real viscous_factor = 0.125;
 // Cells of edge (support + skin) / 2, searched by the trimmed stencil: each particle screens only
 // the runs of cells that can reach its support (neighbors/trimmed_stencil.hpp).
 constexpr int stencil_reach = 2;
-// Lanes of the pair loops; the position and velocity arrays have this many entries past the last
+// Lanes of the pair loops (16 single-precision lanes where the build targets AVX-512, else 8 with
+// AVX2, else scalar); the position and velocity arrays have this many entries past the last
 // particle, so that the screen's last load of a range stays inside them (the lanes past the range
 // are masked).
-#if defined(SPALL_FLUID_AVX512)
+#if defined(SPALL_SIMD_AVX512)
 constexpr Index simd_width = 16;
 #else
 constexpr Index simd_width = 8;
@@ -264,7 +261,7 @@ Index screen(const PairInputs& in, float H2, Index begin, Index end, Index self,
              Index count) {
   const float xa = in.x[self], ya = in.y[self], za = in.z[self];
   const float vxa = in.vx[self], vya = in.vy[self], vza = in.vz[self];
-#if defined(SPALL_FLUID_AVX512)
+#if defined(SPALL_SIMD_AVX512)
   const __m512 pxa = _mm512_set1_ps(xa), pya = _mm512_set1_ps(ya), pza = _mm512_set1_ps(za);
   const __m512 vH2 = _mm512_set1_ps(H2);
   const __m512i lane = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
@@ -342,7 +339,7 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
   const float k18 = 18 * c.kernel, k12 = 12 * c.kernel, k6H = 6 * c.kernel / c.inverse_support;
   PairSums sums;
   Index s = 0;
-#if defined(SPALL_FLUID_AVX512)
+#if defined(SPALL_SIMD_AVX512)
   const auto splat = [](float v) { return _mm512_set1_ps(v); };
   const __m512 one = splat(1), half = splat(0.5f), tiny = splat(1e-30f), zero = _mm512_setzero_ps();
   // Lanes 0-7 of a term go to sum[0], lanes 8-15 to sum[1], each in 8 doubles.
