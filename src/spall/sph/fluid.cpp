@@ -95,6 +95,8 @@ FluidFormulation::FluidFormulation(const FluidParameters& parameters,
   node_ = particle_nodes;
   mass_.resize(n);
   for (std::size_t a = 0; a < n; ++a) mass_[a] = static_cast<float>(nodes.mass[node_[a]]);
+  if (n > 0 && std::adjacent_find(mass_.begin(), mass_.end(), std::not_equal_to<>()) == mass_.end())
+    uniform_mass_ = mass_.front();
   density_.assign(n, m.density);
   rate_.assign(n, 0);
   previous_rate_.assign(n, 0);
@@ -224,9 +226,7 @@ struct PairInputs {
   const float* mass;
   const float* inverse_density;
   const float* pressure_term;
-  // Every particle's mass when they are all equal (the usual lattice of one spacing), else 0:
-  // the vector paths then broadcast it instead of gathering the same number.
-  float uniform_mass;
+  float uniform_mass;  // FluidFormulation::uniform_mass_
 };
 
 // Constants of the pair terms, in single precision.
@@ -548,11 +548,10 @@ void FluidFormulation::pair_pass(solver::NodeStore& nodes, Real dt) {
                                 static_cast<float>(av.alpha * m.reference_sound_speed()),
                                 static_cast<float>(av.beta),
                                 static_cast<float>(2 * m.dynamic_viscosity)};
-  const bool uniform = std::adjacent_find(mass_.begin(), mass_.end(), std::not_equal_to<>()) == mass_.end();
   const PairInputs in{x_.data(),    y_.data(),    z_.data(),
                       vx_.data(),   vy_.data(),   vz_.data(),
                       mass_.data(), inverse_density_.data(), pressure_term_.data(),
-                      uniform && !mass_.empty() ? mass_.front() : 0.0f};
+                      uniform_mass_};
   Real max_acceleration = 0, max_mu = 0;
 
 #pragma omp parallel reduction(max : max_acceleration, max_mu)

@@ -110,6 +110,9 @@ class FluidFormulation final : public solver::Formulation {
   // Per particle, in cell order (structure of arrays).
   std::vector<Index> node_;
   std::vector<float> mass_;
+  // Every particle's mass when they are all equal (the usual lattice of one spacing), else 0: the
+  // vector pair paths then broadcast it instead of gathering the same number.
+  float uniform_mass_ = 0;
   std::vector<Real> density_;        // rho^n (corrected)
   std::vector<float> rate_;           // rho'^n
   std::vector<float> previous_rate_;  // rho'^{n-1}
