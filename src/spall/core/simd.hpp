@@ -85,6 +85,9 @@ struct Pack {
   friend Mask<W> operator>(Pack a, Pack b) { return compare(a, b, [](Real x, Real y) { return x > y; }); }
   friend Pack fma(Pack b, Pack c, Pack a) { return from([&](int i) { return std::fma(b.v[i], c.v[i], a.v[i]); }); }
   friend Pack sqrt(Pack a) { return from([&](int i) { return std::sqrt(a.v[i]); }); }
+  // 1 / sqrt(a) and 1 / a (a > 0): exactly rounded here; within a few ulp in the AVX-512 pack.
+  friend Pack reciprocal_sqrt(Pack a) { return from([&](int i) { return 1 / std::sqrt(a.v[i]); }); }
+  friend Pack reciprocal(Pack a) { return from([&](int i) { return 1 / a.v[i]; }); }
   friend Pack abs(Pack a) { return from([&](int i) { return std::abs(a.v[i]); }); }
   friend Pack max(Pack a, Pack b) { return from([&](int i) { return a.v[i] < b.v[i] ? b.v[i] : a.v[i]; }); }
   friend Pack select(Mask<W> m, Pack a, Pack b) { return from([&](int i) { return m.bit[i] ? a.v[i] : b.v[i]; }); }
@@ -176,6 +179,8 @@ struct Real4 {
   // a + b c, rounded once.
   friend Real4 fma(Real4 b, Real4 c, Real4 a) { return {_mm256_fmadd_pd(b.v, c.v, a.v)}; }
   friend Real4 sqrt(Real4 a) { return {_mm256_sqrt_pd(a.v)}; }
+  friend Real4 reciprocal_sqrt(Real4 a) { return {_mm256_div_pd(_mm256_set1_pd(1), _mm256_sqrt_pd(a.v))}; }
+  friend Real4 reciprocal(Real4 a) { return {_mm256_div_pd(_mm256_set1_pd(1), a.v)}; }
   friend Real4 abs(Real4 a) { return {_mm256_andnot_pd(_mm256_set1_pd(-0.0), a.v)}; }
   friend Real4 max(Real4 a, Real4 b) { return {_mm256_max_pd(a.v, b.v)}; }
   friend Real4 select(Mask4 m, Real4 a, Real4 b) { return {_mm256_blendv_pd(b.v, a.v, m.bits)}; }
@@ -237,9 +242,9 @@ inline void Real4::compress_indices(const Index* in, int lanes, Index* out) {
 #if defined(SPALL_SIMD_AVX512)
 namespace avx512 {
 
-// GCC 12 warns that the unmasked forms of some AVX-512 intrinsics (sqrt, max, the 256-bit halves'
-// inserts, extracts and casts) read an undefined source; their zero-masked forms with every lane
-// on compile to the same instructions without the warning.
+// GCC 12 warns that the unmasked forms of some AVX-512 intrinsics (sqrt, max, the reciprocal
+// estimates, the 256-bit halves' inserts, extracts and casts) read an undefined source; their
+// zero-masked forms with every lane on compile to the same instructions without the warning.
 constexpr __mmask8 all_lanes = 0xFF;
 
 struct Mask8 {
@@ -278,6 +283,23 @@ struct Real8 {
   // a + b c, rounded once.
   friend Real8 fma(Real8 b, Real8 c, Real8 a) { return {_mm512_fmadd_pd(b.v, c.v, a.v)}; }
   friend Real8 sqrt(Real8 a) { return {_mm512_maskz_sqrt_pd(all_lanes, a.v)}; }
+  // 1 / sqrt(a) and 1 / a for a > 0 (normal), to within a few ulp: the 14-bit estimates refined by
+  // two Newton steps (each doubles the bits), multiplications and FMAs on two ports where a square
+  // root and a division would queue on the one port that does those.
+  friend Real8 reciprocal_sqrt(Real8 a) {
+    const __m512d y0 = _mm512_maskz_rsqrt14_pd(all_lanes, a.v), half_a = _mm512_mul_pd(_mm512_set1_pd(0.5), a.v);
+    const auto step = [&](__m512d y) {  // y (3/2 - a/2 y^2)
+      return _mm512_mul_pd(y, _mm512_fnmadd_pd(half_a, _mm512_mul_pd(y, y), _mm512_set1_pd(1.5)));
+    };
+    return {step(step(y0))};
+  }
+  friend Real8 reciprocal(Real8 a) {
+    const __m512d y0 = _mm512_maskz_rcp14_pd(all_lanes, a.v);
+    const auto step = [&](__m512d y) {  // y + y (1 - a y)
+      return _mm512_fmadd_pd(y, _mm512_fnmadd_pd(a.v, y, _mm512_set1_pd(1)), y);
+    };
+    return {step(step(y0))};
+  }
   friend Real8 abs(Real8 a) { return {_mm512_abs_pd(a.v)}; }
   friend Real8 max(Real8 a, Real8 b) { return {_mm512_maskz_max_pd(all_lanes, a.v, b.v)}; }
   friend Real8 select(Mask8 m, Real8 a, Real8 b) { return {_mm512_mask_blend_pd(m.bits, b.v, a.v)}; }

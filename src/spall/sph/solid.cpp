@@ -35,12 +35,11 @@ constexpr Real min_moment_determinant = 1e-3;
 // (grad_a W_ab = F (x_a - x_b); 0 at r = 0), 1/r where F is defined (else 0), and a per-pass
 // weight. About a third of a Verlet row lies outside the support (the skin and the reach margin).
 struct RowTerms {
-  std::vector<Index> row, neighbour;  // the Verlet row as read, then the pairs kept
+  std::vector<Index> neighbour;  // the pairs kept
   std::vector<Real> dx, dy, dz, r, support, factor, inverse_r, weight;
   void resize(std::size_t n) {
     constexpr std::size_t W = simd::Pack::width;
     if (r.size() >= n + W) return;
-    row.resize(n + W);
     neighbour.resize(n + W);
     for (auto* v : {&dx, &dy, &dz, &r, &support, &factor, &inverse_r, &weight}) v->resize(n + W);
   }
@@ -61,12 +60,14 @@ Index row_geometry(const neighbors::NeighborList& list, Index a, const Real* pos
   terms.resize(count + W);
   // Raw pointers: the vector stores may alias anything, so the vectors' own pointers would be
   // reloaded at every store.
-  Index* row = terms.row.data();
+  const Index* row = list.neighbors.data() + first;
   Index* neighbour = terms.neighbour.data();
   Real *dx_out = terms.dx.data(), *dy_out = terms.dy.data(), *dz_out = terms.dz.data(), *r_out = terms.r.data(),
        *support_out = terms.support.data(), *factor_out = terms.factor.data(), *inverse_r_out = terms.inverse_r.data();
-  std::copy(list.neighbors.begin() + first, list.neighbors.begin() + first + count, row);
-  std::fill(row + count, row + count + W, a);
+  // The row's last, partial pack, padded with the particle itself.
+  Index tail[W];
+  const Index full = count / W * W;
+  std::fill(std::copy(row + full, row + count, tail), tail + W, a);
   const Pack xa(position[3 * a]), ya(position[3 * a + 1]), za(position[3 * a + 2]), ha(h[a]);
   const auto difference = [&](const Index* b, Pack& dx, Pack& dy, Pack& dz) {
     simd::load_vectors(position, b, dx, dy, dz);
@@ -74,15 +75,16 @@ Index row_geometry(const neighbors::NeighborList& list, Index a, const Real* pos
     return fma(dz, dz, fma(dy, dy, dx * dx));
   };
   Index kept = 0;
-  for (Index k = 0; k < count; k += W) {
+  const auto pick = [&](const Index* b, int present) {
     Pack dx, dy, dz;
-    const Pack r2 = difference(row + k, dx, dy, dz);
-    const Pack H = ha + Pack::gather<1>(h, row + k);
-    // The lanes past the row's end are the padding.
-    const int lanes = (r2 < H * H).lanes() & (count - k >= W ? (1 << W) - 1 : (1 << (count - k)) - 1);
-    Pack::compress_indices(row + k, lanes, neighbour + kept);
+    const Pack r2 = difference(b, dx, dy, dz);
+    const Pack H = ha + Pack::gather<1>(h, b);
+    const int lanes = (r2 < H * H).lanes() & present;
+    Pack::compress_indices(b, lanes, neighbour + kept);
     kept += std::popcount(static_cast<unsigned>(lanes));
-  }
+  };
+  for (Index k = 0; k < full; k += W) pick(row + k, (1 << W) - 1);
+  if (full < count) pick(tail, (1 << (count - full)) - 1);
   const Index padded = (kept + W - 1) / W * W;
   std::fill(neighbour + kept, neighbour + padded, a);
   for (Index k = 0; k < padded; k += W) {
@@ -90,12 +92,11 @@ Index row_geometry(const neighbors::NeighborList& list, Index a, const Real* pos
     Pack dx, dy, dz;
     const Pack r2 = difference(b, dx, dy, dz);
     const Pack H = ha + Pack::gather<1>(h, b);
-    const Pack r = sqrt(r2);
     const simd::PackMask defined = r2 > Pack(0);  // inside the support, by the selection above
-    // One division for both reciprocals: 1/r = H / (r H), 1/H = r / (r H).
-    const Pack inverse_product = Pack(1) / (r * H);
-    const Pack inverse_r = select(defined, H * inverse_product, Pack(0));
-    const Pack factor = select(defined, Kernel::gradient_factor(r, inverse_r, r * inverse_product), Pack(0));
+    // 1/r and 1/H as reciprocals (simd.hpp: a few ulp, the same for (a, b) and (b, a)).
+    const Pack inverse_r = select(defined, reciprocal_sqrt(r2), Pack(0));
+    const Pack r = r2 * inverse_r;
+    const Pack factor = select(defined, Kernel::gradient_factor(r, inverse_r, reciprocal(H)), Pack(0));
     dx.store(dx_out + k);
     dy.store(dy_out + k);
     dz.store(dz_out + k);
@@ -163,6 +164,10 @@ SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
   }
   for (const auto& m : materials_)
     if (std::holds_alternative<materials::JohnsonCook>(m.strength)) has_temperature_ = true;
+  // Whether every particle has one mass (a lattice): the pair loops then broadcast it instead of
+  // gathering it (masses never change).
+  if (n > 0 && std::all_of(mass_.begin(), mass_.end(), [&](Real m) { return m == mass_.front(); }))
+    uniform_mass_ = mass_.front();
   bool contiguous = n > 0;
   for (std::size_t a = 1; a < n && contiguous; ++a) contiguous = node_[a] == node_[0] + Index(a);
   first_node_ = contiguous ? node_[0] : -1;
@@ -275,7 +280,7 @@ void SolidFormulation::compute_rates() {
         s_xy = fma(sx, dy, s_xy), s_yz = fma(sy, dz, s_yz), s_zx = fma(sz, dx, s_zx);
       }
     }
-    Pack L_lanes[9], drho_lanes;
+    Pack L_lanes[9];
     const Pack vax(velocity[3 * a]), vay(velocity[3 * a + 1]), vaz(velocity[3 * a + 2]);
     for (Index k = 0; k < padded; k += W) {
       const Index* b = neighbour + k;
@@ -289,10 +294,23 @@ void SolidFormulation::compute_rates() {
       L_lanes[0] = fma(vx, gx, L_lanes[0]), L_lanes[1] = fma(vy, gx, L_lanes[1]), L_lanes[2] = fma(vz, gx, L_lanes[2]);
       L_lanes[3] = fma(vx, gy, L_lanes[3]), L_lanes[4] = fma(vy, gy, L_lanes[4]), L_lanes[5] = fma(vz, gy, L_lanes[5]);
       L_lanes[6] = fma(vx, gz, L_lanes[6]), L_lanes[7] = fma(vy, gz, L_lanes[7]), L_lanes[8] = fma(vz, gz, L_lanes[8]);
-      const Pack mass = Pack::gather<1>(mass_.data(), b);
-      drho_lanes -= mass * Pack::load(factor_k + k) * fma(vz, dz, fma(vy, dy, vx * dx));
     }
-    Real drho = drho_lanes.sum();
+    // The continuity sum, for a particle whose velocity gradient is not corrected (with the
+    // correction its density follows from tr(L) instead).
+    const auto continuity = [&] {
+      Pack drho_lanes;
+      for (Index k = 0; k < padded; k += W) {
+        const Index* b = neighbour + k;
+        Pack vx, vy, vz;
+        simd::load_vectors(velocity, b, vx, vy, vz);
+        vx -= vax, vy -= vay, vz -= vaz;
+        const Pack dx = Pack::load(dx_k + k), dy = Pack::load(dy_k + k), dz = Pack::load(dz_k + k);
+        const Pack mass = uniform_mass_ > 0 ? Pack(uniform_mass_) : Pack::gather<1>(mass_.data(), b);
+        drho_lanes -= mass * Pack::load(factor_k + k) * fma(vz, dz, fma(vy, dy, vx * dx));
+      }
+      return drho_lanes.sum();
+    };
+    Real drho;
     Mat3 L;
     for (int i = 0; i < 9; ++i) L.data()[i] = L_lanes[i].sum();
     Mat3 moment;
@@ -315,15 +333,14 @@ void SolidFormulation::compute_rates() {
     // In plane strain nothing varies along z: the moment is the identity there.
     if (plane) moment(2, 2) = 1;
     Mat3 correction = Mat3::Identity();
-    if (options_.gradient_correction) {
-      // Randles & Libersky 1996: L B with B = moment^{-1} is exact for linear velocity fields,
-      // also where the support is cut by a free surface; the density follows from tr(L).
-      const Real det = moment.determinant();
-      if (det > min_moment_determinant) {
-        correction = moment.inverse();
-        L = L * correction;
-        drho = -density_[a] * L.trace();
-      }
+    // Randles & Libersky 1996: L B with B = moment^{-1} is exact for linear velocity fields,
+    // also where the support is cut by a free surface; the density follows from tr(L).
+    if (options_.gradient_correction && moment.determinant() > min_moment_determinant) {
+      correction = moment.inverse();
+      L = L * correction;
+      drho = -density_[a] * L.trace();
+    } else {
+      drho = continuity();
     }
     corrected_stress_[a] = correction;  // B_a, until update_state turns it into sigma_a B_a^T
     // Row sum of the gradient operator v -> L_a, sum_b V_b |B^T grad_a W_ab| + |B^T n_a| (the
@@ -538,7 +555,7 @@ void SolidFormulation::compute_pair_forces() {
       const Pack c = Pack(0.5) * (c_a + Pack::gather<1>(sound_speed_.data(), b));
       const Pack rho = Pack(0.5) * (rho_a + Pack::gather<1>(density_.data(), b));
       const Pack Pi = select(approaching, (Pack(-alpha) * c * mu + Pack(beta) * mu * mu) / rho, Pack(0));
-      const Pack m_b = Pack::gather<1>(mass_.data(), b);
+      const Pack m_b = uniform_mass_ > 0 ? Pack(uniform_mass_) : Pack::gather<1>(mass_.data(), b);
       const Pack s = m_a * m_b * Pi * factor;
       v_x = fma(s, dx, v_x), v_y = fma(s, dy, v_y), v_z = fma(s, dz, v_z);
       heating_lanes = fma(Pack(0.5) * m_b * Pi * factor, vr, heating_lanes);

@@ -153,6 +153,7 @@ class SolidFormulation final : public solver::Formulation {
   std::vector<Index> node_;
   std::vector<Index> material_;
   std::vector<Real> mass_;
+  Real uniform_mass_ = 0;  // the mass of every particle when all are equal, else 0
   std::vector<Real> smoothing_length_;
   std::vector<Real> list_reach_;  // cutoff_margin h at the last list build
   std::vector<Real> initial_smoothing_length_;
