@@ -53,8 +53,7 @@ Real update_johnson_cook(const JohnsonCook& model, Real shear_modulus, PointStat
   const Real q = von_mises(trial);
   const Real eps = state.plastic_strain;
   const Real thermal = thermal_factor(model, state.temperature);
-  // The elastic check first: sigma_y at dp = 0 has no rate term (rate* = 1). It is also the
-  // return's first guess, yield(0) below (the same products: the rate factor is exactly 1).
+  // The elastic check first: sigma_y at dp = 0 has no rate term (rate* = 1).
   const Real yield_at_rest = (model.a + model.b * std::pow(eps, model.n)) * thermal;
   if (q <= yield_at_rest) {
     state.deviatoric_stress = trial;
@@ -81,7 +80,16 @@ Real update_johnson_cook(const JohnsonCook& model, Real shear_modulus, PointStat
     return YieldValue{hardening * rate_factor * thermal,
                       (hardening_slope * rate_factor + hardening * rate_slope) * thermal};
   };
-  const Real dp = plastic_strain_increment(q, 3 * shear_modulus, yield, yield_at_rest);
+  // First guess of the return: perfect plasticity at the yield stress of the current effective
+  // strain rate, which plastic flow mostly carries; the rate term lifts it well above the stress at
+  // rest (about 1.2 times for copper at 10^4 /s), and starting there saves Newton steps.
+  Real guess_yield = yield_at_rest;
+  if (model.c != 0 && dt > 0) {
+    const Real rate = effective_strain_rate(deviator(strain_rate));
+    const Real at_rate = yield_at_rest * (1 + model.c * log_rate_ratio(model, rate));
+    if (at_rate < q) guess_yield = at_rate;
+  }
+  const Real dp = plastic_strain_increment(q, 3 * shear_modulus, yield, guess_yield);
   state.deviatoric_stress = trial * (1 - 3 * shear_modulus * dp / q);
   const Real sigma_eq = von_mises(state.deviatoric_stress);
   const Real work = sigma_eq * dp;

@@ -29,15 +29,15 @@ inline Real effective_strain_rate(const Mat3& d) {
 
 // The root dp of g above, by Newton's method kept inside the bracket (bisection when a Newton
 // step leaves it). It lands on the yield surface to round-off: |g| <= a few ulp of q, or the
-// bracket has shrunk to one ulp. `yield(dp)` returns a YieldValue; `yield_at_zero`, when given
-// (a caller that has just checked the trial against it), is yield(0).stress.
+// bracket has shrunk to one ulp. `yield(dp)` returns a YieldValue. The first guess is the
+// increment of perfect plasticity at the yield stress `guess_yield`, by default yield(0).stress;
+// a caller may know a closer one (the elastic check's, or one at the current strain rate).
 template <class Yield>
-Real plastic_strain_increment(Real q_trial, Real stiffness, const Yield& yield, Real yield_at_zero = -1) {
+Real plastic_strain_increment(Real q_trial, Real stiffness, const Yield& yield, Real guess_yield = -1) {
   constexpr Real epsilon = std::numeric_limits<Real>::epsilon();
   Real low = 0;
   Real high = q_trial / stiffness;
-  // First guess: the increment if the yield stress did not change (perfect plasticity).
-  Real dp = (q_trial - (yield_at_zero >= 0 ? yield_at_zero : yield(Real(0)).stress)) / stiffness;
+  Real dp = (q_trial - (guess_yield >= 0 ? guess_yield : yield(Real(0)).stress)) / stiffness;
   if (!(dp > low && dp < high)) dp = Real(0.5) * high;
   for (int iteration = 0; iteration < 200; ++iteration) {
     const YieldValue y = yield(dp);
