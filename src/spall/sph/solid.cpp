@@ -45,41 +45,77 @@ struct RowTerms {
   }
 };
 
-// Fills terms for the row of particle a, a pack of pairs at a time (simd::Pack: 4 or 8 lanes),
-// each pair by the same operations whichever side computes it, so that (a, b) gets exactly the
-// factor of (b, a) and opposite differences. First the neighbours inside the support are picked
-// from the Verlet row, then their geometry is computed. Returns the padded count of pairs kept (a
-// multiple of the pack width).
+// Particle a's side of its pairs, broadcast over a pack.
+struct PackCentre {
+  simd::Pack x, y, z, h;
+  PackCentre(const Real* position, const Real* h, Index a)
+      : x(position[3 * a]), y(position[3 * a + 1]), z(position[3 * a + 2]), h(h[a]) {}
+};
+
+// x_a - x_b of a pack of pairs; returns r^2.
+[[gnu::always_inline]] inline simd::Pack pair_difference(const PackCentre& a, const Real* position, const Index* b,
+                                                         simd::Pack& dx, simd::Pack& dy, simd::Pack& dz) {
+  simd::load_vectors(position, b, dx, dy, dz);
+  dx = a.x - dx, dy = a.y - dy, dz = a.z - dz;
+  return fma(dz, dz, fma(dy, dy, dx * dx));
+}
+
+// The geometry of a pack of pairs inside their support (or padding, r = 0), by the same
+// operations whichever side computes it, so that (a, b) gets exactly the factor of (b, a) and
+// opposite differences.
+struct PairGeometry {
+  simd::Pack dx, dy, dz, r, support, factor, inverse_r;
+};
 template <typename Kernel>
-Index row_geometry(const neighbors::NeighborList& list, Index a, const Real* position, const Real* h,
-                   RowTerms& terms) {
+[[gnu::always_inline]] inline PairGeometry pair_geometry(const PackCentre& a, const Real* position, const Real* h,
+                                                         const Index* b) {
+  using simd::Pack;
+  PairGeometry g;
+  const Pack r2 = pair_difference(a, position, b, g.dx, g.dy, g.dz);
+  g.support = a.h + Pack::gather<1>(h, b);
+  const simd::PackMask defined = r2 > Pack(0);  // inside the support, by the pick
+  // 1/r and 1/H as reciprocals (simd.hpp: a few ulp, the same for (a, b) and (b, a)).
+  g.inverse_r = select(defined, reciprocal_sqrt(r2), Pack(0));
+  g.r = r2 * g.inverse_r;
+  g.factor = select(defined, Kernel::gradient_factor(g.r, g.inverse_r, reciprocal(g.support)), Pack(0));
+  return g;
+}
+
+// The first byte of particle a's support mask: one byte per pack of its Verlet row (bit i: lane i
+// is inside the support), each row starting on a byte of its own so that threads never share one.
+inline std::size_t mask_start(const neighbors::NeighborList& list, Index a) {
+  return static_cast<std::size_t>(list.offsets[a] / simd::Pack::width) + a;
+}
+inline std::size_t mask_bytes(const neighbors::NeighborList& list) {
+  return mask_start(list, static_cast<Index>(list.offsets.size()) - 1) + 1;
+}
+
+// Picks the neighbours of particle a inside their support from its Verlet row into
+// terms.neighbour, a pack at a time (simd::Pack: 4 or 8 lanes), padded with a itself to a multiple
+// of the pack width, and records the pick in mask (mask_start). Returns the padded count.
+Index pick_support(const neighbors::NeighborList& list, Index a, const Real* position, const Real* h,
+                   std::uint8_t* mask, RowTerms& terms) {
   using simd::Pack;
   constexpr int W = Pack::width;
   const Index first = list.offsets[a];
   const Index count = list.offsets[a + 1] - first;
   terms.resize(count + W);
-  // Raw pointers: the vector stores may alias anything, so the vectors' own pointers would be
-  // reloaded at every store.
   const Index* row = list.neighbors.data() + first;
+  // A raw pointer: the vector's own would be reloaded at every store, which may alias anything.
   Index* neighbour = terms.neighbour.data();
-  Real *dx_out = terms.dx.data(), *dy_out = terms.dy.data(), *dz_out = terms.dz.data(), *r_out = terms.r.data(),
-       *support_out = terms.support.data(), *factor_out = terms.factor.data(), *inverse_r_out = terms.inverse_r.data();
   // The row's last, partial pack, padded with the particle itself.
   Index tail[W];
   const Index full = count / W * W;
   std::fill(std::copy(row + full, row + count, tail), tail + W, a);
-  const Pack xa(position[3 * a]), ya(position[3 * a + 1]), za(position[3 * a + 2]), ha(h[a]);
-  const auto difference = [&](const Index* b, Pack& dx, Pack& dy, Pack& dz) {
-    simd::load_vectors(position, b, dx, dy, dz);
-    dx = xa - dx, dy = ya - dy, dz = za - dz;
-    return fma(dz, dz, fma(dy, dy, dx * dx));
-  };
+  const PackCentre centre(position, h, a);
+  mask += mask_start(list, a);
   Index kept = 0;
   const auto pick = [&](const Index* b, int present) {
     Pack dx, dy, dz;
-    const Pack r2 = difference(b, dx, dy, dz);
-    const Pack H = ha + Pack::gather<1>(h, b);
+    const Pack r2 = pair_difference(centre, position, b, dx, dy, dz);
+    const Pack H = centre.h + Pack::gather<1>(h, b);
     const int lanes = (r2 < H * H).lanes() & present;
+    *mask++ = static_cast<std::uint8_t>(lanes);
     Pack::compress_indices(b, lanes, neighbour + kept);
     kept += std::popcount(static_cast<unsigned>(lanes));
   };
@@ -87,23 +123,55 @@ Index row_geometry(const neighbors::NeighborList& list, Index a, const Real* pos
   if (full < count) pick(tail, (1 << (count - full)) - 1);
   const Index padded = (kept + W - 1) / W * W;
   std::fill(neighbour + kept, neighbour + padded, a);
+  return padded;
+}
+
+// The pick that pick_support recorded in mask, again (the force pass, at the rates pass's h).
+Index picked_support(const neighbors::NeighborList& list, Index a, const std::uint8_t* mask, RowTerms& terms) {
+  using simd::Pack;
+  constexpr int W = Pack::width;
+  const Index first = list.offsets[a];
+  const Index count = list.offsets[a + 1] - first;
+  terms.resize(count + W);
+  const Index* row = list.neighbors.data() + first;
+  Index* neighbour = terms.neighbour.data();
+  Index tail[W];
+  const Index full = count / W * W;
+  std::fill(std::copy(row + full, row + count, tail), tail + W, a);
+  mask += mask_start(list, a);
+  Index kept = 0;
+  const auto pick = [&](const Index* b) {
+    const int lanes = *mask++;
+    Pack::compress_indices(b, lanes, neighbour + kept);
+    kept += std::popcount(static_cast<unsigned>(lanes));
+  };
+  for (Index k = 0; k < full; k += W) pick(row + k);
+  if (full < count) pick(tail);
+  const Index padded = (kept + W - 1) / W * W;
+  std::fill(neighbour + kept, neighbour + padded, a);
+  return padded;
+}
+
+// pick_support, then the pairs' geometry into terms (for a pass that reads it more than once).
+template <typename Kernel>
+Index row_geometry(const neighbors::NeighborList& list, Index a, const Real* position, const Real* h,
+                   std::uint8_t* mask, RowTerms& terms) {
+  using simd::Pack;
+  constexpr int W = Pack::width;
+  const Index padded = pick_support(list, a, position, h, mask, terms);
+  const PackCentre centre(position, h, a);
+  const Index* neighbour = terms.neighbour.data();
+  Real *dx_out = terms.dx.data(), *dy_out = terms.dy.data(), *dz_out = terms.dz.data(), *r_out = terms.r.data(),
+       *support_out = terms.support.data(), *factor_out = terms.factor.data(), *inverse_r_out = terms.inverse_r.data();
   for (Index k = 0; k < padded; k += W) {
-    const Index* b = neighbour + k;
-    Pack dx, dy, dz;
-    const Pack r2 = difference(b, dx, dy, dz);
-    const Pack H = ha + Pack::gather<1>(h, b);
-    const simd::PackMask defined = r2 > Pack(0);  // inside the support, by the selection above
-    // 1/r and 1/H as reciprocals (simd.hpp: a few ulp, the same for (a, b) and (b, a)).
-    const Pack inverse_r = select(defined, reciprocal_sqrt(r2), Pack(0));
-    const Pack r = r2 * inverse_r;
-    const Pack factor = select(defined, Kernel::gradient_factor(r, inverse_r, reciprocal(H)), Pack(0));
-    dx.store(dx_out + k);
-    dy.store(dy_out + k);
-    dz.store(dz_out + k);
-    r.store(r_out + k);
-    H.store(support_out + k);
-    factor.store(factor_out + k);
-    inverse_r.store(inverse_r_out + k);
+    const PairGeometry g = pair_geometry<Kernel>(centre, position, h, neighbour + k);
+    g.dx.store(dx_out + k);
+    g.dy.store(dy_out + k);
+    g.dz.store(dz_out + k);
+    g.r.store(r_out + k);
+    g.support.store(support_out + k);
+    g.factor.store(factor_out + k);
+    g.inverse_r.store(inverse_r_out + k);
   }
   return padded;
 }
@@ -248,10 +316,12 @@ void SolidFormulation::compute_rates() {
   const bool row_sums = options_.time_step_rule != TimeStepRule::plain;
   const Real* position = x_.data()->data();
   const Real* velocity = v_.data()->data();
+  support_mask_.resize(mask_bytes(list));
+  std::uint8_t* mask = support_mask_.data();
 #pragma omp parallel for schedule(static)
   for (Index a = 0; a < n; ++a) {
     thread_local RowTerms terms;
-    const Index padded = row_geometry<Kernel>(list, a, position, smoothing_length_.data(), terms);
+    const Index padded = row_geometry<Kernel>(list, a, position, smoothing_length_.data(), mask, terms);
     const Index* neighbour = terms.neighbour.data();
     const Real *dx_k = terms.dx.data(), *dy_k = terms.dy.data(), *dz_k = terms.dz.data(), *factor_k = terms.factor.data(),
                *inverse_r_k = terms.inverse_r.data();
@@ -350,7 +420,8 @@ void SolidFormulation::compute_rates() {
       Mat3 spread;
       spread << s_xx.sum(), s_xy.sum(), s_zx.sum(), s_xy.sum(), s_yy.sum(), s_yz.sum(), s_zx.sum(), s_yz.sum(),
           s_zz.sum();
-      const Real row_sum = std::sqrt(spread.trace() * (correction.transpose() * spread * correction).trace()) +
+      // tr(B^T T B) = sum_ij (T B)_ij B_ij: one product, not two and a diagonal.
+      const Real row_sum = std::sqrt(spread.trace() * (spread * correction).cwiseProduct(correction).sum()) +
                            (correction.transpose() * normal).norm();
       gradient_amplification_[a] = row_sum * 2 * smoothing_length_[a] / full_support_gradient_;
     }
@@ -427,9 +498,6 @@ void SolidFormulation::update_state(Real dt) {
       const Mat3 D = Real(0.5) * (L + L.transpose());
       pressure_[a] = materials::update_stress(m, state, D, dt, density_[a], internal_energy_[a]).pressure;
       if (relaxed) relax_exported_deviator(a, W, D, treated, colour.relaxation, dt);
-      const Real compression = m.density / density_[a];
-      const Real scale = options_.dimension == 3 ? std::cbrt(compression) : std::sqrt(compression);
-      smoothing_length_[a] = std::clamp(initial_smoothing_length_[a] * scale, h_min_[a], h_max_[a]);
     }
     sound_speed_[a] = materials::sound_speed(m, density_[a], internal_energy_[a]);
     // The stress as the pair force uses it: sigma B^T (seed 000 eq. 8 for sigma).
@@ -511,13 +579,13 @@ void SolidFormulation::compute_pair_forces() {
   const Real* position = x_.data()->data();
   const Real* velocity = v_.data()->data();
   const Real* P = corrected_stress_.data()->data();  // P_b(i, j) = P[9 b + i + 3 j]
+  const Real* h = smoothing_length_.data();
 #pragma omp parallel for schedule(static)
   for (Index a = 0; a < n; ++a) {
     thread_local RowTerms terms;
-    const Index padded = row_geometry<Kernel>(list, a, position, smoothing_length_.data(), terms);
+    const Index padded = picked_support(list, a, support_mask_.data(), terms);
     const Index* neighbour = terms.neighbour.data();
-    const Real *dx_k = terms.dx.data(), *dy_k = terms.dy.data(), *dz_k = terms.dz.data(), *factor_k = terms.factor.data(),
-               *r_k = terms.r.data(), *support_k = terms.support.data();
+    const PackCentre centre(position, h, a);
     const Pack rho_a(density_[a]), volume_a(volume_[a]), c_a(sound_speed_[a]), m_a(mass_[a]);
     const Pack vax(velocity[3 * a]), vay(velocity[3 * a + 1]), vaz(velocity[3 * a + 2]);
     Pack P_a[9];
@@ -525,8 +593,8 @@ void SolidFormulation::compute_pair_forces() {
     Pack f_x, f_y, f_z, v_x, v_y, v_z, heating_lanes;
     for (Index k = 0; k < padded; k += W) {
       const Index* b = neighbour + k;
-      const Pack factor = Pack::load(factor_k + k);
-      const Pack dx = Pack::load(dx_k + k), dy = Pack::load(dy_k + k), dz = Pack::load(dz_k + k);
+      const PairGeometry g = pair_geometry<Kernel>(centre, position, h, b);
+      const Pack factor = g.factor, dx = g.dx, dy = g.dy, dz = g.dz;
       // (P_a + P_b) grad_a W_ab with grad = F x_ab: exactly opposite for the pair (b, a), so
       // momentum is conserved to round-off although each particle gathers its own sum.
       const Pack t = volume_a * Pack::gather<1>(volume_.data(), b) * factor;
@@ -549,9 +617,8 @@ void SolidFormulation::compute_pair_forces() {
       const Pack vr = fma(uz, dz, fma(uy, dy, ux * dx));
       const simd::PackMask approaching = vr < Pack(0);
       if (approaching.lanes() == 0) continue;
-      const Pack h = Pack(0.5) * Pack::load(support_k + k);  // mean smoothing length
-      const Pack r = Pack::load(r_k + k);
-      const Pack mu = h * vr / (r * r + Pack(eta2) * h * h);
+      const Pack h_ab = Pack(0.5) * g.support;  // mean smoothing length
+      const Pack mu = h_ab * vr / (g.r * g.r + Pack(eta2) * h_ab * h_ab);
       const Pack c = Pack(0.5) * (c_a + Pack::gather<1>(sound_speed_.data(), b));
       const Pack rho = Pack(0.5) * (rho_a + Pack::gather<1>(density_.data(), b));
       const Pack Pi = select(approaching, (Pack(-alpha) * c * mu + Pack(beta) * mu * mu) / rho, Pack(0));
@@ -565,12 +632,13 @@ void SolidFormulation::compute_pair_forces() {
     if (stress_on) {
       // Monaghan 2000: m_a m_b f_ab^n (R_a + R_b) grad_a W_ab, f_ab = W(r) / W(dp).
       for (Index k = 0; k < padded; ++k) {
-        if (terms.factor[k] == 0) continue;
         const Index b = terms.neighbour[k];
-        const Real H = terms.support[k];
+        if (b == a) continue;  // the padding
+        const Vec3 x_ab = x_[a] - x_[b];
+        const Real r = x_ab.norm(), H = smoothing_length_[a] + smoothing_length_[b];
         const Real dp = Real(0.5) * (spacing_[a] + spacing_[b]);
-        const Real ratio = Kernel::value(terms.r[k], H) / Kernel::value(dp, H);
-        const Vec3 grad = terms.factor[k] * Vec3(terms.dx[k], terms.dy[k], terms.dz[k]);
+        const Real ratio = Kernel::value(r, H) / Kernel::value(dp, H);
+        const Vec3 grad = Kernel::gradient(x_ab, r, H);
         f.noalias() += (mass_[a] * mass_[b] * std::pow(ratio, exponent)) *
                        ((artificial_stress_[a] + artificial_stress_[b]) * grad);
       }
@@ -604,8 +672,17 @@ void SolidFormulation::compute_forces(solver::NodeStore& nodes, Real dt) {
   check_state(nodes);
   kernels::with_kernel(options_.kernel, options_.dimension,
                        [&](auto kernel) { compute_pair_forces<decltype(kernel)>(); });
+  // h follows the density only now, so that both pair passes of a step use one kernel: the force
+  // pass takes the rates pass's pick, and its force is exactly dual to the velocity gradient.
 #pragma omp parallel for schedule(static)
-  for (Index a = 0; a < n; ++a) nodes.f[node_[a]] += force_[a];
+  for (Index a = 0; a < n; ++a) {
+    nodes.f[node_[a]] += force_[a];
+    if (dt > 0) {
+      const Real compression = materials_[material_[a]].density / density_[a];
+      const Real scale = options_.dimension == 3 ? std::cbrt(compression) : std::sqrt(compression);
+      smoothing_length_[a] = std::clamp(initial_smoothing_length_[a] * scale, h_min_[a], h_max_[a]);
+    }
+  }
 }
 
 // CFL condition dt <= h / (c s + |v|) per particle (docs/THEORY.md §3): the highest frequency of
@@ -712,7 +789,7 @@ std::size_t SolidFormulation::memory_bytes() const {
          bytes(density_) + bytes(volume_) + bytes(pressure_) + bytes(sound_speed_) + bytes(internal_energy_) +
          bytes(state_) + bytes(gradient_amplification_) + bytes(corrected_stress_) +
          bytes(artificial_stress_) + bytes(exported_deviator_) + bytes(colour_) + bytes(colour_normal_) +
-         bytes(support_count_) + bytes(full_support_count_) + bytes(category_) + bytes(x_copy_) + bytes(v_copy_) + bytes(density_rate_) +
+         bytes(support_count_) + bytes(full_support_count_) + bytes(category_) + bytes(x_copy_) + bytes(v_copy_) + bytes(density_rate_) + bytes(support_mask_) +
          bytes(viscous_heating_) + bytes(velocity_gradient_) + bytes(force_) +
          bytes(viscous_force_) + bytes(list.offsets) + bytes(list.neighbors) +
          verlet_.reference_positions_bytes();

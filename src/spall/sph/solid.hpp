@@ -20,7 +20,8 @@
 //                    |n| h above a threshold; inner layers: the particles right behind them;
 //                    treated parts pass only -p I of those particles to the pair force (seed 000 §4)
 //   smoothing length h_a = h0_a (rho_0 / rho_a)^(1/d) within [HMIN h0, HMAX h0] (LS-DYNA's
-//                    dh/dt = h div(v) / d, integrated)
+//                    dh/dt = h div(v) / d, integrated), updated after both pair passes of a step,
+//                    which thus share one kernel
 // One SPH formulation owns every SPH part; particles of different parts interact through the
 // kernel, with each particle's own material.
 #include <cstdint>
@@ -187,6 +188,9 @@ class SolidFormulation final : public solver::Formulation {
   std::vector<Vec3> x_copy_, v_copy_;
   Index first_node_ = -1;
   std::vector<Real> density_rate_;
+  // Which entries of each Verlet row the rates pass found inside the support (one byte per pack;
+  // solid.cpp, mask_start): the force pass, at the same h, takes the same pairs.
+  std::vector<std::uint8_t> support_mask_;
   std::vector<Real> viscous_heating_;  // 1/2 sum_b m_b Pi_ab v_ab . grad_a W_ab
   std::vector<Mat3> velocity_gradient_;
   std::vector<Vec3> force_;            // total internal force
