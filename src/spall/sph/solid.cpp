@@ -27,6 +27,23 @@ constexpr Real cutoff_margin = 1.05;
 // Below this the moment matrix is too ill-conditioned to invert (an isolated particle, or one
 // whose neighbours lie in a plane): the particle keeps the uncorrected gradient.
 constexpr Real min_moment_determinant = 1e-3;
+
+// The inverse of a symmetric 3x3 matrix by its cofactors, if its determinant exceeds `least`
+// (else `inverse` is left as it is).
+bool invert_symmetric(const Mat3& m, Real least, Mat3& inverse) {
+  const Real c00 = m(1, 1) * m(2, 2) - m(1, 2) * m(1, 2);
+  const Real c01 = m(0, 2) * m(1, 2) - m(0, 1) * m(2, 2);
+  const Real c02 = m(0, 1) * m(1, 2) - m(0, 2) * m(1, 1);
+  const Real det = m(0, 0) * c00 + m(0, 1) * c01 + m(0, 2) * c02;
+  if (!(det > least)) return false;
+  const Real c11 = m(0, 0) * m(2, 2) - m(0, 2) * m(0, 2);
+  const Real c12 = m(0, 1) * m(0, 2) - m(0, 0) * m(1, 2);
+  const Real c22 = m(0, 0) * m(1, 1) - m(0, 1) * m(0, 1);
+  inverse << c00, c01, c02, c01, c11, c12, c02, c12, c22;
+  inverse /= det;
+  return true;
+}
+
 }  // namespace
 
 // The pairs of one Verlet row inside their support (r < H_ab = h_a + h_b), per thread, padded with
@@ -405,8 +422,7 @@ void SolidFormulation::compute_rates() {
     Mat3 correction = Mat3::Identity();
     // Randles & Libersky 1996: L B with B = moment^{-1} is exact for linear velocity fields,
     // also where the support is cut by a free surface; the density follows from tr(L).
-    if (options_.gradient_correction && moment.determinant() > min_moment_determinant) {
-      correction = moment.inverse();
+    if (options_.gradient_correction && invert_symmetric(moment, min_moment_determinant, correction)) {
       L = L * correction;
       drho = -density_[a] * L.trace();
     } else {
@@ -493,8 +509,14 @@ void SolidFormulation::update_state(Real dt) {
       volume_[a] = mass_[a] / density_[a];
       // Objective (Jaumann) rotation of the stress deviator and back stress, then the material.
       const Mat3 W = Real(0.5) * (L - L.transpose());
-      state.deviatoric_stress += dt * (W * state.deviatoric_stress - state.deviatoric_stress * W);
-      state.back_stress += dt * (W * state.back_stress - state.back_stress * W);
+      // W S - S W = W S + (W S)^T for symmetric S and skew W: one product.
+      const Mat3 WS = W * state.deviatoric_stress;
+      state.deviatoric_stress += dt * (WS + WS.transpose());
+      // Only kinematic hardening (MAT_003 BETA < 1) moves the back stress away from zero.
+      if (!state.back_stress.isZero(0)) {
+        const Mat3 Wa = W * state.back_stress;
+        state.back_stress += dt * (Wa + Wa.transpose());
+      }
       const Mat3 D = Real(0.5) * (L + L.transpose());
       pressure_[a] = materials::update_stress(m, state, D, dt, density_[a], internal_energy_[a]).pressure;
       if (relaxed) relax_exported_deviator(a, W, D, treated, colour.relaxation, dt);
