@@ -107,11 +107,11 @@ inline std::size_t mask_bytes(const neighbors::NeighborList& list) {
   return mask_start(list, static_cast<Index>(list.offsets.size()) - 1) + 1;
 }
 
-// Picks the neighbours of particle a inside their support from its Verlet row into
-// terms.neighbour, a pack at a time (simd::Pack: 4 or 8 lanes), padded with a itself to a multiple
-// of the pack width, and records the pick in mask (mask_start). Returns the padded count.
-Index pick_support(const neighbors::NeighborList& list, Index a, const Real* position, const Real* h,
-                   std::uint8_t* mask, RowTerms& terms) {
+// Keeps the entries of particle a's Verlet row that lanes(b, present) selects, a pack b at a time
+// (simd::Pack: 4 or 8 lanes; `present` masks the lanes past the row's end), in terms.neighbour,
+// padded with a itself to a multiple of the pack width. Returns the padded count.
+template <typename Lanes>
+Index keep_row(const neighbors::NeighborList& list, Index a, RowTerms& terms, Lanes&& lanes) {
   using simd::Pack;
   constexpr int W = Pack::width;
   const Index first = list.offsets[a];
@@ -124,49 +124,40 @@ Index pick_support(const neighbors::NeighborList& list, Index a, const Real* pos
   Index tail[W];
   const Index full = count / W * W;
   std::fill(std::copy(row + full, row + count, tail), tail + W, a);
-  const PackCentre centre(position, h, a);
-  mask += mask_start(list, a);
   Index kept = 0;
-  const auto pick = [&](const Index* b, int present) {
-    Pack dx, dy, dz;
-    const Pack r2 = pair_difference(centre, position, b, dx, dy, dz);
-    const Pack H = centre.h + Pack::gather<1>(h, b);
-    const int lanes = (r2 < H * H).lanes() & present;
-    *mask++ = static_cast<std::uint8_t>(lanes);
-    Pack::compress_indices(b, lanes, neighbour + kept);
-    kept += std::popcount(static_cast<unsigned>(lanes));
+  const auto keep = [&](const Index* b, int present) {
+    const int selected = lanes(b, present);
+    Pack::compress_indices(b, selected, neighbour + kept);
+    kept += std::popcount(static_cast<unsigned>(selected));
   };
-  for (Index k = 0; k < full; k += W) pick(row + k, (1 << W) - 1);
-  if (full < count) pick(tail, (1 << (count - full)) - 1);
+  for (Index k = 0; k < full; k += W) keep(row + k, (1 << W) - 1);
+  if (full < count) keep(tail, (1 << (count - full)) - 1);
   const Index padded = (kept + W - 1) / W * W;
   std::fill(neighbour + kept, neighbour + padded, a);
   return padded;
 }
 
+// Picks the neighbours of particle a inside their support (keep_row) and records the pick in
+// mask (mask_start).
+Index pick_support(const neighbors::NeighborList& list, Index a, const Real* position, const Real* h,
+                   std::uint8_t* mask, RowTerms& terms) {
+  using simd::Pack;
+  const PackCentre centre(position, h, a);
+  mask += mask_start(list, a);
+  return keep_row(list, a, terms, [&](const Index* b, int present) {
+    Pack dx, dy, dz;
+    const Pack r2 = pair_difference(centre, position, b, dx, dy, dz);
+    const Pack H = centre.h + Pack::gather<1>(h, b);
+    const int inside = (r2 < H * H).lanes() & present;
+    *mask++ = static_cast<std::uint8_t>(inside);
+    return inside;
+  });
+}
+
 // The pick that pick_support recorded in mask, again (the force pass, at the rates pass's h).
 Index picked_support(const neighbors::NeighborList& list, Index a, const std::uint8_t* mask, RowTerms& terms) {
-  using simd::Pack;
-  constexpr int W = Pack::width;
-  const Index first = list.offsets[a];
-  const Index count = list.offsets[a + 1] - first;
-  terms.resize(count + W);
-  const Index* row = list.neighbors.data() + first;
-  Index* neighbour = terms.neighbour.data();
-  Index tail[W];
-  const Index full = count / W * W;
-  std::fill(std::copy(row + full, row + count, tail), tail + W, a);
   mask += mask_start(list, a);
-  Index kept = 0;
-  const auto pick = [&](const Index* b) {
-    const int lanes = *mask++;
-    Pack::compress_indices(b, lanes, neighbour + kept);
-    kept += std::popcount(static_cast<unsigned>(lanes));
-  };
-  for (Index k = 0; k < full; k += W) pick(row + k);
-  if (full < count) pick(tail);
-  const Index padded = (kept + W - 1) / W * W;
-  std::fill(neighbour + kept, neighbour + padded, a);
-  return padded;
+  return keep_row(list, a, terms, [&](const Index*, int) { return int(*mask++); });
 }
 
 // pick_support, then the pairs' geometry into terms (for a pass that reads it more than once).
@@ -369,12 +360,15 @@ void SolidFormulation::compute_rates() {
     }
     Pack L_lanes[9];
     const Pack vax(velocity[3 * a]), vay(velocity[3 * a + 1]), vaz(velocity[3 * a + 2]);
-    for (Index k = 0; k < padded; k += W) {
-      const Index* b = neighbour + k;
-      Pack vx, vy, vz;
-      simd::load_vectors(velocity, b, vx, vy, vz);
+    // v_b - v_a and x_a - x_b of the pack of pairs at k.
+    const auto pair_kinematics = [&](Index k, Pack& vx, Pack& vy, Pack& vz, Pack& dx, Pack& dy, Pack& dz) {
+      simd::load_vectors(velocity, neighbour + k, vx, vy, vz);
       vx -= vax, vy -= vay, vz -= vaz;
-      const Pack dx = Pack::load(dx_k + k), dy = Pack::load(dy_k + k), dz = Pack::load(dz_k + k);
+      dx = Pack::load(dx_k + k), dy = Pack::load(dy_k + k), dz = Pack::load(dz_k + k);
+    };
+    for (Index k = 0; k < padded; k += W) {
+      Pack vx, vy, vz, dx, dy, dz;
+      pair_kinematics(k, vx, vy, vz, dx, dy, dz);
       const Pack w = Pack::load(weight_k + k);
       const Pack gx = w * dx, gy = w * dy, gz = w * dz;
       // Column-major like Mat3: L(i, j) = L_lanes[i + 3 j].
@@ -387,12 +381,9 @@ void SolidFormulation::compute_rates() {
     const auto continuity = [&] {
       Pack drho_lanes;
       for (Index k = 0; k < padded; k += W) {
-        const Index* b = neighbour + k;
-        Pack vx, vy, vz;
-        simd::load_vectors(velocity, b, vx, vy, vz);
-        vx -= vax, vy -= vay, vz -= vaz;
-        const Pack dx = Pack::load(dx_k + k), dy = Pack::load(dy_k + k), dz = Pack::load(dz_k + k);
-        const Pack mass = uniform_mass_ > 0 ? Pack(uniform_mass_) : Pack::gather<1>(mass_.data(), b);
+        Pack vx, vy, vz, dx, dy, dz;
+        pair_kinematics(k, vx, vy, vz, dx, dy, dz);
+        const Pack mass = uniform_mass_ > 0 ? Pack(uniform_mass_) : Pack::gather<1>(mass_.data(), neighbour + k);
         drho_lanes -= mass * Pack::load(factor_k + k) * fma(vz, dz, fma(vy, dy, vx * dx));
       }
       return drho_lanes.sum();
