@@ -9,6 +9,8 @@
 #endif
 #include <string>
 
+#include <omp.h>
+
 #include "spall/neighbors/cell_list.hpp"
 #include "spall/neighbors/relative_motion.hpp"
 #include "spall/neighbors/trimmed_stencil.hpp"
@@ -221,44 +223,57 @@ void VerletList::build_rows(std::span<const Vec3> x, Real radius, const MakeRadi
     }
   };
 
-  // Two passes, each writing only its own rows, so the list is the same for any thread count:
-  // the count pass sizes the rows, the fill pass writes them.
-#pragma omp parallel
-  for_each_particle([&](Index k, const TrimmedStencil::Ranges& ranges, int range_count) {
-    Index count = 0;
-    for (int r = 0; r < range_count; ++r)
-      for_each_within(p, pair_radius, k, ranges[r], [&](Index, unsigned mask) { count += std::popcount(mask); });
-    list_.offsets[order[k] + 1] = count;
-  });
-  for (Index i = 0; i < n; ++i) list_.offsets[i + 1] += list_.offsets[i];
-  size_storage(list_.neighbors, static_cast<std::size_t>(list_.offsets[n]));
-
+  // One walk: each thread appends the rows it finds to a buffer of its own, with each row's
+  // particle and length; once the lengths give the offsets, each thread copies its rows into
+  // place. Every row is written by one thread and holds what the search found, so the list is the
+  // same for any thread count. The buffers hold the list once more while the build runs.
+  std::vector<std::vector<Index>> found_rows, found_particles;
 #pragma omp parallel
   {
-    // One particle's neighbours, gathered four candidates at a time without a branch per
-    // candidate (about one in three is a neighbour, so a branch would mispredict often), then
-    // sorted when asked and copied out. `found` has room for 4 entries past the candidates, which
-    // the four-lane store may write before the count moves past them.
-    std::vector<Index> found;
+#pragma omp single
+    {
+      found_rows.resize(omp_get_num_threads());
+      found_particles.resize(omp_get_num_threads());
+    }
+    // found has room for 4 entries past the candidates, which the four-lane store may write
+    // before the count moves past them. Candidates are gathered four at a time without a branch
+    // per candidate (about one in three is a neighbour, so a branch would mispredict often).
+    std::vector<Index>& found = found_rows[omp_get_thread_num()];
+    std::vector<Index>& particles = found_particles[omp_get_thread_num()];
     for_each_particle([&](Index k, const TrimmedStencil::Ranges& ranges, int range_count) {
       Index candidates = 0;
       for (int r = 0; r < range_count; ++r) candidates += ranges[r].end - ranges[r].begin;
-      if (found.size() < static_cast<std::size_t>(candidates) + 4) found.resize(candidates + 4);
+      const std::size_t start = found.size();
+      found.resize(start + candidates + 4);
+      Index* row = found.data() + start;
       Index count = 0;
       for (int r = 0; r < range_count; ++r)
         for_each_within(p, pair_radius, k, ranges[r], [&](Index j, unsigned mask) {
           if (mask == 1u) {
-            found[count++] = p.particle[j];
+            row[count++] = p.particle[j];
             return;
           }
-          append_lanes(p.particle.data() + j, mask, found.data() + count);
+          append_lanes(p.particle.data() + j, mask, row + count);
           count += std::popcount(mask);
         });
       // Particles already in cell order give sorted rows.
-      if (row_order == RowOrder::ascending && !std::is_sorted(found.begin(), found.begin() + count))
-        std::sort(found.begin(), found.begin() + count);
-      std::copy(found.begin(), found.begin() + count, list_.neighbors.begin() + list_.offsets[order[k]]);
+      if (row_order == RowOrder::ascending && !std::is_sorted(row, row + count)) std::sort(row, row + count);
+      found.resize(start + count);
+      particles.push_back(order[k]);
+      list_.offsets[order[k] + 1] = count;
     });
+  }
+  for (Index i = 0; i < n; ++i) list_.offsets[i + 1] += list_.offsets[i];
+  size_storage(list_.neighbors, static_cast<std::size_t>(list_.offsets[n]));
+  const auto threads = static_cast<int>(found_rows.size());
+#pragma omp parallel for schedule(static, 1)
+  for (int t = 0; t < threads; ++t) {
+    const Index* from = found_rows[t].data();
+    for (const Index i : found_particles[t]) {
+      const Index count = list_.count(i);
+      std::copy(from, from + count, list_.neighbors.begin() + list_.offsets[i]);
+      from += count;
+    }
   }
 }
 
