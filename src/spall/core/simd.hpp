@@ -84,7 +84,6 @@ struct Pack {
   friend Mask<W> operator<=(Pack a, Pack b) { return compare(a, b, [](Real x, Real y) { return x <= y; }); }
   friend Mask<W> operator>(Pack a, Pack b) { return compare(a, b, [](Real x, Real y) { return x > y; }); }
   friend Pack fma(Pack b, Pack c, Pack a) { return from([&](int i) { return std::fma(b.v[i], c.v[i], a.v[i]); }); }
-  friend Pack sqrt(Pack a) { return from([&](int i) { return std::sqrt(a.v[i]); }); }
   // 1 / sqrt(a) and 1 / a (a > 0): exactly rounded here; within a few ulp in the AVX-512 pack.
   friend Pack reciprocal_sqrt(Pack a) { return from([&](int i) { return 1 / std::sqrt(a.v[i]); }); }
   friend Pack reciprocal(Pack a) { return from([&](int i) { return 1 / a.v[i]; }); }
@@ -178,7 +177,6 @@ struct Real4 {
   friend Mask4 operator>(Real4 a, Real4 b) { return {_mm256_cmp_pd(a.v, b.v, _CMP_GT_OQ)}; }
   // a + b c, rounded once.
   friend Real4 fma(Real4 b, Real4 c, Real4 a) { return {_mm256_fmadd_pd(b.v, c.v, a.v)}; }
-  friend Real4 sqrt(Real4 a) { return {_mm256_sqrt_pd(a.v)}; }
   friend Real4 reciprocal_sqrt(Real4 a) { return {_mm256_div_pd(_mm256_set1_pd(1), _mm256_sqrt_pd(a.v))}; }
   friend Real4 reciprocal(Real4 a) { return {_mm256_div_pd(_mm256_set1_pd(1), a.v)}; }
   friend Real4 abs(Real4 a) { return {_mm256_andnot_pd(_mm256_set1_pd(-0.0), a.v)}; }
@@ -242,9 +240,9 @@ inline void Real4::compress_indices(const Index* in, int lanes, Index* out) {
 #if defined(SPALL_SIMD_AVX512)
 namespace avx512 {
 
-// GCC 12 warns that the unmasked forms of some AVX-512 intrinsics (sqrt, max, the reciprocal
-// estimates, the 256-bit halves' inserts, extracts and casts) read an undefined source; their
-// zero-masked forms with every lane on compile to the same instructions without the warning.
+// GCC 12 warns that the unmasked forms of some AVX-512 intrinsics (max, the reciprocal estimates,
+// the 256-bit halves' inserts, extracts and casts) read an undefined source; their zero-masked
+// forms with every lane on compile to the same instructions without the warning.
 constexpr __mmask8 all_lanes = 0xFF;
 
 struct Mask8 {
@@ -282,7 +280,6 @@ struct Real8 {
   friend Mask8 operator>(Real8 a, Real8 b) { return {_mm512_cmp_pd_mask(a.v, b.v, _CMP_GT_OQ)}; }
   // a + b c, rounded once.
   friend Real8 fma(Real8 b, Real8 c, Real8 a) { return {_mm512_fmadd_pd(b.v, c.v, a.v)}; }
-  friend Real8 sqrt(Real8 a) { return {_mm512_maskz_sqrt_pd(all_lanes, a.v)}; }
   // 1 / sqrt(a) and 1 / a for a > 0 (normal), to within a few ulp: the 14-bit estimates refined by
   // two Newton steps (each doubles the bits), multiplications and FMAs on two ports where a square
   // root and a division would queue on the one port that does those.
