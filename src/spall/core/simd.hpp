@@ -84,7 +84,8 @@ struct Pack {
   friend Mask<W> operator<=(Pack a, Pack b) { return compare(a, b, [](Real x, Real y) { return x <= y; }); }
   friend Mask<W> operator>(Pack a, Pack b) { return compare(a, b, [](Real x, Real y) { return x > y; }); }
   friend Pack fma(Pack b, Pack c, Pack a) { return from([&](int i) { return std::fma(b.v[i], c.v[i], a.v[i]); }); }
-  // 1 / sqrt(a) and 1 / a (a > 0): exactly rounded here; within a few ulp in the AVX-512 pack.
+  // 1 / sqrt(a) and 1 / a (a > 0): by a square root and a division here (an ulp or two); within
+  // a few ulp in the AVX-512 pack.
   friend Pack reciprocal_sqrt(Pack a) { return from([&](int i) { return 1 / std::sqrt(a.v[i]); }); }
   friend Pack reciprocal(Pack a) { return from([&](int i) { return 1 / a.v[i]; }); }
   friend Pack abs(Pack a) { return from([&](int i) { return std::abs(a.v[i]); }); }

@@ -15,8 +15,12 @@
 namespace spall::sph {
 
 namespace {
-// Support radius of the pair: the mean of both particles' supports 2h keeps W_ab symmetric.
-inline Real pair_support(Real ha, Real hb) { return ha + hb; }
+// Support radius of the pair: the mean of both particles' supports 2h keeps W_ab symmetric
+// (T = Real or simd::Pack).
+template <typename T>
+inline T pair_support(T ha, T hb) {
+  return ha + hb;
+}
 
 // Verlet skin as a fraction of the largest pair cutoff: a rebuild every few tens of steps at most.
 constexpr Real skin_fraction = 0.1;
@@ -89,13 +93,18 @@ template <typename Kernel>
   using simd::Pack;
   PairGeometry g;
   const Pack r2 = pair_difference(a, position, b, g.dx, g.dy, g.dz);
-  g.support = a.h + Pack::gather<1>(h, b);
+  g.support = pair_support(a.h, Pack::gather<1>(h, b));
   const simd::PackMask defined = r2 > Pack(0);  // inside the support, by the pick
   // 1/r and 1/H as reciprocals (simd.hpp: a few ulp, the same for (a, b) and (b, a)).
   g.inverse_r = select(defined, reciprocal_sqrt(r2), Pack(0));
   g.r = r2 * g.inverse_r;
   g.factor = select(defined, Kernel::gradient_factor(g.r, g.inverse_r, reciprocal(g.support)), Pack(0));
   return g;
+}
+
+// m_b of a pack of pairs: the one mass of a lattice broadcast (uniform > 0), else gathered.
+inline simd::Pack pair_mass(const std::vector<Real>& mass, Real uniform, const Index* b) {
+  return uniform > 0 ? simd::Pack(uniform) : simd::Pack::gather<1>(mass.data(), b);
 }
 
 // The first byte of particle a's support mask: one byte per pack of its Verlet row (bit i: lane i
@@ -147,7 +156,7 @@ Index pick_support(const neighbors::NeighborList& list, Index a, const Real* pos
   return keep_row(list, a, terms, [&](const Index* b, int present) {
     Pack dx, dy, dz;
     const Pack r2 = pair_difference(centre, position, b, dx, dy, dz);
-    const Pack H = centre.h + Pack::gather<1>(h, b);
+    const Pack H = pair_support(centre.h, Pack::gather<1>(h, b));
     const int inside = (r2 < H * H).lanes() & present;
     *mask++ = static_cast<std::uint8_t>(inside);
     return inside;
@@ -383,7 +392,7 @@ void SolidFormulation::compute_rates() {
       for (Index k = 0; k < padded; k += W) {
         Pack vx, vy, vz, dx, dy, dz;
         pair_kinematics(k, vx, vy, vz, dx, dy, dz);
-        const Pack mass = uniform_mass_ > 0 ? Pack(uniform_mass_) : Pack::gather<1>(mass_.data(), neighbour + k);
+        const Pack mass = pair_mass(mass_, uniform_mass_, neighbour + k);
         drho_lanes -= mass * Pack::load(factor_k + k) * fma(vz, dz, fma(vy, dy, vx * dx));
       }
       return drho_lanes.sum();
@@ -635,7 +644,7 @@ void SolidFormulation::compute_pair_forces() {
       const Pack c = Pack(0.5) * (c_a + Pack::gather<1>(sound_speed_.data(), b));
       const Pack rho = Pack(0.5) * (rho_a + Pack::gather<1>(density_.data(), b));
       const Pack Pi = select(approaching, (Pack(-alpha) * c * mu + Pack(beta) * mu * mu) / rho, Pack(0));
-      const Pack m_b = uniform_mass_ > 0 ? Pack(uniform_mass_) : Pack::gather<1>(mass_.data(), b);
+      const Pack m_b = pair_mass(mass_, uniform_mass_, b);
       const Pack s = m_a * m_b * Pi * factor;
       v_x = fma(s, dx, v_x), v_y = fma(s, dy, v_y), v_z = fma(s, dz, v_z);
       heating_lanes = fma(Pack(0.5) * m_b * Pi * factor, vr, heating_lanes);
@@ -648,7 +657,7 @@ void SolidFormulation::compute_pair_forces() {
         const Index b = terms.neighbour[k];
         if (b == a) continue;  // the padding
         const Vec3 x_ab = x_[a] - x_[b];
-        const Real r = x_ab.norm(), H = smoothing_length_[a] + smoothing_length_[b];
+        const Real r = x_ab.norm(), H = pair_support(smoothing_length_[a], smoothing_length_[b]);
         const Real dp = Real(0.5) * (spacing_[a] + spacing_[b]);
         const Real ratio = Kernel::value(r, H) / Kernel::value(dp, H);
         const Vec3 grad = Kernel::gradient(x_ab, r, H);
