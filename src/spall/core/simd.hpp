@@ -301,10 +301,12 @@ struct Real8 {
   friend Real8 abs(Real8 a) { return {_mm512_abs_pd(a.v)}; }
   friend Real8 max(Real8 a, Real8 b) { return {_mm512_maskz_max_pd(all_lanes, a.v, b.v)}; }
   friend Real8 select(Mask8 m, Real8 a, Real8 b) { return {_mm512_mask_blend_pd(m.bits, b.v, a.v)}; }
-  // Writes the indices in[i] whose bit i is set in `lanes` to out[0..], in order (only those).
+  // Writes the indices in[i] whose bit i is set in `lanes` to out[0..], in order; writes all
+  // eight. Compressed in a register and stored whole: a compressing store to memory is several
+  // times slower on the processors measured (docs/PERFORMANCE.md).
   static void compress_indices(const Index* in, int lanes, Index* out) {
-    _mm256_mask_compressstoreu_epi32(out, static_cast<__mmask8>(lanes),
-                                     _mm256_loadu_si256(reinterpret_cast<const __m256i*>(in)));
+    const __m256i all = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(in));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out), _mm256_maskz_compress_epi32(static_cast<__mmask8>(lanes), all));
   }
   // ((l0 + l1) + (l2 + l3)) + ((l4 + l5) + (l6 + l7)), the order of lanes::Pack<8>::sum.
   Real sum() const {
@@ -317,31 +319,48 @@ struct Real8 {
   }
 };
 
-inline Real8 join(avx2::Real4 low, avx2::Real4 high) {
-  const __m512d low_half = _mm512_maskz_insertf64x4(all_lanes, _mm512_setzero_pd(), low.v, 0);
-  return {_mm512_maskz_insertf64x4(all_lanes, low_half, high.v, 1)};
+// Rows i and i + 4 of a transpose in the low and high halves of one register.
+inline __m512d row_pair(__m256d low, __m256d high) {
+  return _mm512_maskz_insertf64x4(all_lanes, _mm512_zextpd256_pd512(low), high, 1);
 }
 
-// Four consecutive doubles from each of eight rows, transposed (avx2::load_transposed per half).
+// Element j of the eight rows packed in t (rows 0, 1 | 4, 5 interleaved by unpack) and u (rows
+// 2, 3 | 6, 7): `even` picks elements 0 and 1 of each 128-bit lane pair, else 2 and 3.
+inline __m512d transposed_column(__m512d t, __m512d u, bool even) {
+  const __m512i low = _mm512_set_epi64(13, 12, 5, 4, 9, 8, 1, 0), high = _mm512_set_epi64(15, 14, 7, 6, 11, 10, 3, 2);
+  return _mm512_permutex2var_pd(t, even ? low : high, u);
+}
+
+// Four consecutive doubles from each of eight rows (base + Stride index[i] + offset), transposed:
+// eight 256-bit loads and twelve shuffles (rows i and i + 4 paired in one register, then an
+// unpack and a two-source permute per column), where gathering would load 32 doubles one by one.
 template <int Stride>
 inline void load_transposed(const Real* base, const Index* index, int offset, Real8 (&out)[4]) {
-  avx2::Real4 low[4], high[4];
-  avx2::load_transposed<Stride>(base, index, offset, low);
-  avx2::load_transposed<Stride>(base, index + 4, offset, high);
-  for (int j = 0; j < 4; ++j) out[j] = join(low[j], high[j]);
+  const auto row = [&](int i) { return _mm256_loadu_pd(base + Stride * index[i] + offset); };
+  const __m512d r04 = row_pair(row(0), row(4)), r15 = row_pair(row(1), row(5));
+  const __m512d r26 = row_pair(row(2), row(6)), r37 = row_pair(row(3), row(7));
+  const __m512d t0 = _mm512_unpacklo_pd(r04, r15), t1 = _mm512_unpackhi_pd(r04, r15);
+  const __m512d t2 = _mm512_unpacklo_pd(r26, r37), t3 = _mm512_unpackhi_pd(r26, r37);
+  out[0] = {transposed_column(t0, t2, true)};
+  out[1] = {transposed_column(t1, t3, true)};
+  out[2] = {transposed_column(t0, t2, false)};
+  out[3] = {transposed_column(t1, t3, false)};
 }
 
-// The three components of eight 3-vectors: x and y by 128-bit loads (avx2::load_xy per half),
-// z gathered.
+// The three components of eight 3-vectors, transposed as load_transposed does from 256-bit loads
+// masked to the vector's own three doubles (a masked-off element is not read, so the last vector
+// of an array is safe), with no gather.
 // Always inlined: called through the pair loops' lambdas, GCC 12 otherwise keeps it a call.
 [[gnu::always_inline]] inline void load_vectors(const Real* v, const Index* index, Real8& x, Real8& y,
                                                 Real8& z) {
-  avx2::Real4 x_low, y_low, x_high, y_high;
-  avx2::load_xy(v, index, x_low, y_low);
-  avx2::load_xy(v, index + 4, x_high, y_high);
-  x = join(x_low, x_high);
-  y = join(y_low, y_high);
-  z = Real8::gather<3>(v, index, 2);
+  const auto row = [&](int i) { return _mm256_maskz_loadu_pd(0b0111, v + 3 * index[i]); };
+  const __m512d r04 = row_pair(row(0), row(4)), r15 = row_pair(row(1), row(5));
+  const __m512d r26 = row_pair(row(2), row(6)), r37 = row_pair(row(3), row(7));
+  const __m512d t0 = _mm512_unpacklo_pd(r04, r15), t1 = _mm512_unpackhi_pd(r04, r15);
+  const __m512d t2 = _mm512_unpacklo_pd(r26, r37), t3 = _mm512_unpackhi_pd(r26, r37);
+  x = {transposed_column(t0, t2, true)};
+  y = {transposed_column(t1, t3, true)};
+  z = {transposed_column(t0, t2, false)};
 }
 
 }  // namespace avx512
