@@ -88,6 +88,13 @@ Real update_johnson_cook(const JohnsonCook& model, Real shear_modulus, PointStat
     const Real rate = effective_strain_rate(deviator(strain_rate));
     const Real at_rate = yield_at_rest * (1 + model.c * log_rate_ratio(model, rate));
     if (at_rate < q) guess_yield = at_rate;
+    // The root dp also satisfies yield_at_rest (1 + C ln(dp / (dt EPSO))) <= q - 3G dp <= q
+    // (hardening only adds), which bounds it by dp_rate below: near the onset of yield, where the
+    // rate term carries the overstress, the guess above overshoots by an order of magnitude.
+    if (model.c > 0 && yield_at_rest > 0) {
+      const Real dp_rate = model.reference_rate * dt * std::exp((q / yield_at_rest - 1) / model.c);
+      guess_yield = std::max(guess_yield, q - 3 * shear_modulus * dp_rate);
+    }
   }
   const Real dp = plastic_strain_increment(q, 3 * shear_modulus, yield, guess_yield);
   state.deviatoric_stress = trial * (1 - 3 * shear_modulus * dp / q);

