@@ -198,8 +198,8 @@ class Builder {
       const SphPart& part = parts.at(problem_.part_of_node[p.node]);
       const model::SectionSph& section = *part.section;
       p.smoothing_length = section.sphini > 0 ? section.sphini : section.cslh * part.spacing;
-      p.h_min = section.hmin * p.smoothing_length;
-      p.h_max = section.hmax * p.smoothing_length;
+      p.h_min_factor = section.hmin;
+      p.h_max_factor = section.hmax;
       const auto kind = static_cast<kernels::KernelKind>(section.sphkern);
       if (kernel && *kernel != kind)
         fail(section.where, "*SECTION_SPH",

@@ -66,18 +66,21 @@ struct RowTerms {
   }
 };
 
-// Particle a's side of its pairs, broadcast over a pack.
+// Particle a's side of its pairs, broadcast over a pack, from the kernel centres (x, y, z, h per
+// particle; SolidFormulation::centre_).
 struct PackCentre {
   simd::Pack x, y, z, h;
-  PackCentre(const Real* position, const Real* h, Index a)
-      : x(position[3 * a]), y(position[3 * a + 1]), z(position[3 * a + 2]), h(h[a]) {}
+  PackCentre(const Real* centres, Index a)
+      : x(centres[4 * a]), y(centres[4 * a + 1]), z(centres[4 * a + 2]), h(centres[4 * a + 3]) {}
 };
 
-// x_a - x_b of a pack of pairs; returns r^2.
-[[gnu::always_inline]] inline simd::Pack pair_difference(const PackCentre& a, const Real* position, const Index* b,
-                                                         simd::Pack& dx, simd::Pack& dy, simd::Pack& dz) {
-  simd::load_vectors(position, b, dx, dy, dz);
-  dx = a.x - dx, dy = a.y - dy, dz = a.z - dz;
+// x_a - x_b and h_b of a pack of pairs, by one transposed row load; returns r^2.
+[[gnu::always_inline]] inline simd::Pack pair_difference(const PackCentre& a, const Real* centres, const Index* b,
+                                                         simd::Pack& dx, simd::Pack& dy, simd::Pack& dz,
+                                                         simd::Pack& hb) {
+  simd::Pack c[4];
+  simd::load_transposed<4>(centres, b, 0, c);
+  dx = a.x - c[0], dy = a.y - c[1], dz = a.z - c[2], hb = c[3];
   return fma(dz, dz, fma(dy, dy, dx * dx));
 }
 
@@ -88,12 +91,12 @@ struct PairGeometry {
   simd::Pack dx, dy, dz, r, support, factor, inverse_r;
 };
 template <typename Kernel>
-[[gnu::always_inline]] inline PairGeometry pair_geometry(const PackCentre& a, const Real* position, const Real* h,
-                                                         const Index* b) {
+[[gnu::always_inline]] inline PairGeometry pair_geometry(const PackCentre& a, const Real* centres, const Index* b) {
   using simd::Pack;
   PairGeometry g;
-  const Pack r2 = pair_difference(a, position, b, g.dx, g.dy, g.dz);
-  g.support = pair_support(a.h, Pack::gather<1>(h, b));
+  Pack hb;
+  const Pack r2 = pair_difference(a, centres, b, g.dx, g.dy, g.dz, hb);
+  g.support = pair_support(a.h, hb);
   const simd::PackMask defined = r2 > Pack(0);  // inside the support, by the pick
   // 1/r and 1/H as reciprocals (simd.hpp: a few ulp, the same for (a, b) and (b, a)).
   g.inverse_r = select(defined, reciprocal_sqrt(r2), Pack(0));
@@ -148,15 +151,15 @@ Index keep_row(const neighbors::NeighborList& list, Index a, RowTerms& terms, La
 
 // Picks the neighbours of particle a inside their support (keep_row) and records the pick in
 // mask (mask_start).
-Index pick_support(const neighbors::NeighborList& list, Index a, const Real* position, const Real* h,
-                   std::uint8_t* mask, RowTerms& terms) {
+Index pick_support(const neighbors::NeighborList& list, Index a, const Real* centres, std::uint8_t* mask,
+                   RowTerms& terms) {
   using simd::Pack;
-  const PackCentre centre(position, h, a);
+  const PackCentre centre(centres, a);
   mask += mask_start(list, a);
   return keep_row(list, a, terms, [&](const Index* b, int present) {
-    Pack dx, dy, dz;
-    const Pack r2 = pair_difference(centre, position, b, dx, dy, dz);
-    const Pack H = pair_support(centre.h, Pack::gather<1>(h, b));
+    Pack dx, dy, dz, hb;
+    const Pack r2 = pair_difference(centre, centres, b, dx, dy, dz, hb);
+    const Pack H = pair_support(centre.h, hb);
     const int inside = (r2 < H * H).lanes() & present;
     *mask++ = static_cast<std::uint8_t>(inside);
     return inside;
@@ -171,17 +174,17 @@ Index picked_support(const neighbors::NeighborList& list, Index a, const std::ui
 
 // pick_support, then the pairs' geometry into terms (for a pass that reads it more than once).
 template <typename Kernel>
-Index row_geometry(const neighbors::NeighborList& list, Index a, const Real* position, const Real* h,
-                   std::uint8_t* mask, RowTerms& terms) {
+Index row_geometry(const neighbors::NeighborList& list, Index a, const Real* centres, std::uint8_t* mask,
+                   RowTerms& terms) {
   using simd::Pack;
   constexpr int W = Pack::width;
-  const Index padded = pick_support(list, a, position, h, mask, terms);
-  const PackCentre centre(position, h, a);
+  const Index padded = pick_support(list, a, centres, mask, terms);
+  const PackCentre centre(centres, a);
   const Index* neighbour = terms.neighbour.data();
   Real *dx_out = terms.dx.data(), *dy_out = terms.dy.data(), *dz_out = terms.dz.data(), *r_out = terms.r.data(),
        *support_out = terms.support.data(), *factor_out = terms.factor.data(), *inverse_r_out = terms.inverse_r.data();
   for (Index k = 0; k < padded; k += W) {
-    const PairGeometry g = pair_geometry<Kernel>(centre, position, h, neighbour + k);
+    const PairGeometry g = pair_geometry<Kernel>(centre, centres, neighbour + k);
     g.dx.store(dx_out + k);
     g.dy.store(dy_out + k);
     g.dz.store(dz_out + k);
@@ -201,11 +204,9 @@ SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
   node_.resize(n);
   material_.resize(n);
   mass_.resize(n);
-  smoothing_length_.resize(n);
+  centre_.assign(4 * n, 0);
   list_reach_.resize(n);
   initial_smoothing_length_.resize(n);
-  h_min_.resize(n);
-  h_max_.resize(n);
   spacing_.resize(n);
   density_.resize(n);
   volume_.resize(n);
@@ -235,9 +236,9 @@ SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
     node_[a] = p.node;
     material_[a] = p.material;
     mass_[a] = nodes.mass[p.node];
-    smoothing_length_[a] = initial_smoothing_length_[a] = p.smoothing_length;
-    h_min_[a] = p.h_min;
-    h_max_[a] = p.h_max;
+    smoothing_length(a) = initial_smoothing_length_[a] = p.smoothing_length;
+    h_bounds_.resize(std::max(h_bounds_.size(), std::size_t(p.material) + 1));
+    h_bounds_[p.material] = {p.h_min_factor, p.h_max_factor};
     spacing_[a] = p.spacing;
     const auto& m = materials_[material_[a]];
     density_[a] = m.density;
@@ -271,7 +272,7 @@ SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
     full_support_count_.resize(n);
     // Particles of spacing dp in a sphere (circle) of radius 2h, less the particle itself.
     for (std::size_t a = 0; a < n; ++a) {
-      const Real ratio = 2 * smoothing_length_[a] / spacing_[a];
+      const Real ratio = 2 * smoothing_length(a) / spacing_[a];
       full_support_count_[a] = options_.dimension == 2 ? M_PI * ratio * ratio - 1
                                                        : 4 * M_PI / 3 * ratio * ratio * ratio - 1;
     }
@@ -300,6 +301,14 @@ void SolidFormulation::gather_kinematics(const solver::NodeStore& nodes) {
   v_ = v_copy_;
 }
 
+// The positions of this step into the kernel centres (their h stays where it is).
+void SolidFormulation::update_centres() {
+  const Index n = particle_count();
+#pragma omp parallel for schedule(static)
+  for (Index a = 0; a < n; ++a)
+    for (int d = 0; d < 3; ++d) centre_[4 * a + d] = x_[a][d];
+}
+
 // The list holds every pair within reach_a + reach_b + skin at the build, reach = cutoff_margin h
 // of that build; it stays complete while no two particles within the cutoff have moved by more
 // than the skin relative to each other (VerletList::needs_rebuild) and no h_a has outgrown its
@@ -308,12 +317,12 @@ void SolidFormulation::gather_kinematics(const solver::NodeStore& nodes) {
 void SolidFormulation::update_neighbour_list() {
   const Index n = particle_count();
   bool outgrown = !list_built_;
-  for (Index a = 0; a < n && !outgrown; ++a) outgrown = smoothing_length_[a] > list_reach_[a];
+  for (Index a = 0; a < n && !outgrown; ++a) outgrown = smoothing_length(a) > list_reach_[a];
   if (!outgrown && !verlet_.needs_rebuild(x_)) return;
   Real h_largest = 0;
   for (Index a = 0; a < n; ++a) {
-    list_reach_[a] = cutoff_margin * smoothing_length_[a];
-    h_largest = std::max(h_largest, smoothing_length_[a]);
+    list_reach_[a] = cutoff_margin * smoothing_length(a);
+    h_largest = std::max(h_largest, smoothing_length(a));
   }
   verlet_.build(x_, list_reach_, skin_fraction * cutoff_margin * 2 * h_largest, neighbors::RowOrder::search);
   list_built_ = true;
@@ -331,14 +340,13 @@ void SolidFormulation::compute_rates() {
   const bool colour_on = !category_.empty();
   // LS-DYNA's step (RULE 1) needs no row sums: the per-pair outer product is skipped.
   const bool row_sums = options_.time_step_rule != TimeStepRule::plain;
-  const Real* position = x_.data()->data();
   const Real* velocity = v_.data()->data();
   support_mask_.resize(mask_bytes(list));
   std::uint8_t* mask = support_mask_.data();
 #pragma omp parallel for schedule(static)
   for (Index a = 0; a < n; ++a) {
     thread_local RowTerms terms;
-    const Index padded = row_geometry<Kernel>(list, a, position, smoothing_length_.data(), mask, terms);
+    const Index padded = row_geometry<Kernel>(list, a, centre_.data(), mask, terms);
     const Index* neighbour = terms.neighbour.data();
     const Real *dx_k = terms.dx.data(), *dy_k = terms.dy.data(), *dz_k = terms.dz.data(), *factor_k = terms.factor.data(),
                *inverse_r_k = terms.inverse_r.data();
@@ -406,7 +414,7 @@ void SolidFormulation::compute_rates() {
     const Vec3 normal(n_x.sum(), n_y.sum(), n_z.sum());
     if (colour_on) {
       // seed 000 eq. 10, self included
-      Real colour = volume_[a] * Kernel::value(0, 2 * smoothing_length_[a]);
+      Real colour = volume_[a] * Kernel::value(0, 2 * smoothing_length(a));
       std::int32_t count = 0;
       for (Index k = 0; k < padded; ++k) {
         if (terms.neighbour[k] == a) continue;  // the padding
@@ -450,7 +458,7 @@ void SolidFormulation::compute_rates() {
         transposed_normal += normal_j * normal_j;
       }
       const Real row_sum = std::sqrt(spread.trace() * quadratic) + std::sqrt(transposed_normal);
-      gradient_amplification_[a] = row_sum * 2 * smoothing_length_[a] / full_support_gradient_;
+      gradient_amplification_[a] = row_sum * 2 * smoothing_length(a) / full_support_gradient_;
     }
     density_rate_[a] = drho;
     velocity_gradient_[a] = L;
@@ -470,7 +478,7 @@ void SolidFormulation::categorize() {
     const ColourField& c = options_.colour_field[material_[a]];
     const bool surface = c.enabled &&
                          support_count_[a] < c.neighbour_fraction * full_support_count_[a] &&
-                         colour_normal_[a].norm() * smoothing_length_[a] > c.normal_threshold;
+                         colour_normal_[a].norm() * smoothing_length(a) > c.normal_threshold;
     category_[a] = surface ? Category::surface : Category::interior;
   }
   for (const ColourField& c : options_.colour_field)
@@ -484,7 +492,7 @@ void SolidFormulation::categorize() {
       const ColourField& c = options_.colour_field[material_[a]];
       if (!c.enabled || layer > c.layers || category_[a] != Category::interior) continue;
       // The current spacing: the initial one scaled as h has been.
-      const Real scale = smoothing_length_[a] / initial_smoothing_length_[a];
+      const Real scale = smoothing_length(a) / initial_smoothing_length_[a];
       const Real reach = Real(1.5) * spacing_[a] * scale;
       for (Index k = list.offsets[a]; k < list.offsets[a + 1]; ++k) {
         const Index b = list.neighbors[k];
@@ -575,7 +583,7 @@ void SolidFormulation::relax_exported_deviator(Index a, const Mat3& W, const Mat
   const Mat3 D_dev = D - D.trace() / 3 * Mat3::Identity();
   exported += dt * (W * exported - exported * W + 2 * m.shear_modulus * D_dev);
   const Mat3 target = treated ? Mat3::Zero() : state.deviatoric_stress;
-  const Real tau = relaxation * smoothing_length_[a] / sound_speed_[a];
+  const Real tau = relaxation * smoothing_length(a) / sound_speed_[a];
   exported = target + std::exp(-dt / tau) * (exported - target);  // exact decay over the step
   const Real bound = std::max(materials::static_yield_stress(m, state), materials::von_mises(state.deviatoric_stress));
   const Real size = materials::von_mises(exported);
@@ -584,12 +592,12 @@ void SolidFormulation::relax_exported_deviator(Index a, const Mat3& W, const Mat
 
 void SolidFormulation::check_state(const solver::NodeStore& nodes) const {
   for (Index a = 0; a < particle_count(); ++a) {
-    if (density_[a] > 0 && std::isfinite(density_[a]) && std::isfinite(smoothing_length_[a])) continue;
+    if (density_[a] > 0 && std::isfinite(density_[a]) && std::isfinite(smoothing_length(a))) continue;
     throw InstabilityError(fmt::format(
         "SPH solid: node {} has density {:.6g} and smoothing length {:.6g}: its particle's "
         "neighbourhood has collapsed or torn apart (a smaller TSSFAC, or the artificial stress "
         "against the tensile instability, may help)",
-        nodes.id[node_[a]], density_[a], smoothing_length_[a]));
+        nodes.id[node_[a]], density_[a], smoothing_length(a)));
   }
 }
 
@@ -609,16 +617,14 @@ void SolidFormulation::compute_pair_forces() {
   const Real eta2 = options_.viscosity.eta * options_.viscosity.eta;
   const bool stress_on = options_.artificial_stress.enabled;
   const Real exponent = options_.artificial_stress.exponent;
-  const Real* position = x_.data()->data();
   const Real* velocity = v_.data()->data();
   const Real* P = corrected_stress_.data()->data();  // P_b(i, j) = P[9 b + i + 3 j]
-  const Real* h = smoothing_length_.data();
 #pragma omp parallel for schedule(static)
   for (Index a = 0; a < n; ++a) {
     thread_local RowTerms terms;
     const Index padded = picked_support(list, a, support_mask_.data(), terms);
     const Index* neighbour = terms.neighbour.data();
-    const PackCentre centre(position, h, a);
+    const PackCentre centre(centre_.data(), a);
     const Pack rho_a(density_[a]), volume_a(volume_[a]), c_a(sound_speed_[a]), m_a(mass_[a]);
     const Pack vax(velocity[3 * a]), vay(velocity[3 * a + 1]), vaz(velocity[3 * a + 2]);
     Pack P_a[9];
@@ -626,7 +632,7 @@ void SolidFormulation::compute_pair_forces() {
     Pack f_x, f_y, f_z, v_x, v_y, v_z, heating_lanes;
     for (Index k = 0; k < padded; k += W) {
       const Index* b = neighbour + k;
-      const PairGeometry g = pair_geometry<Kernel>(centre, position, h, b);
+      const PairGeometry g = pair_geometry<Kernel>(centre, centre_.data(), b);
       const Pack factor = g.factor, dx = g.dx, dy = g.dy, dz = g.dz;
       // (P_a + P_b) grad_a W_ab with grad = F x_ab: exactly opposite for the pair (b, a), so
       // momentum is conserved to round-off although each particle gathers its own sum.
@@ -673,7 +679,7 @@ void SolidFormulation::compute_pair_forces() {
         const Index b = terms.neighbour[k];
         if (b == a) continue;  // the padding
         const Vec3 x_ab = x_[a] - x_[b];
-        const Real r = x_ab.norm(), H = pair_support(smoothing_length_[a], smoothing_length_[b]);
+        const Real r = x_ab.norm(), H = pair_support(smoothing_length(a), smoothing_length(b));
         const Real dp = Real(0.5) * (spacing_[a] + spacing_[b]);
         const Real ratio = Kernel::value(r, H) / Kernel::value(dp, H);
         const Vec3 grad = Kernel::gradient(x_ab, r, H);
@@ -696,6 +702,7 @@ void SolidFormulation::compute_forces(solver::NodeStore& nodes, Real dt) {
     return;
   }
   gather_kinematics(nodes);
+  update_centres();
   update_neighbour_list();
   kernels::with_kernel(options_.kernel, options_.dimension,
                        [&](auto kernel) { compute_rates<decltype(kernel)>(); });
@@ -718,7 +725,9 @@ void SolidFormulation::compute_forces(solver::NodeStore& nodes, Real dt) {
     if (dt > 0) {
       const Real compression = materials_[material_[a]].density / density_[a];
       const Real scale = options_.dimension == 3 ? std::cbrt(compression) : std::sqrt(compression);
-      smoothing_length_[a] = std::clamp(initial_smoothing_length_[a] * scale, h_min_[a], h_max_[a]);
+      const HBounds& bounds = h_bounds_[material_[a]];
+      const Real h0 = initial_smoothing_length_[a];
+      smoothing_length(a) = std::clamp(h0 * scale, h0 * bounds.lower, h0 * bounds.upper);
     }
   }
 }
@@ -735,7 +744,7 @@ Real SolidFormulation::stable_time_step(const solver::NodeStore& nodes) const {
 #pragma omp parallel for reduction(min : dt) schedule(static)
   for (Index a = 0; a < n; ++a) {
     const Real s = plain ? Real(1) : std::max(Real(1), gradient_amplification_[a]);
-    dt = std::min(dt, smoothing_length_[a] / (sound_speed_[a] * s + nodes.v[node_[a]].norm()));
+    dt = std::min(dt, smoothing_length(a) / (sound_speed_[a] * s + nodes.v[node_[a]].norm()));
   }
   return dt;
 }
@@ -770,7 +779,7 @@ void SolidFormulation::add_fields(std::vector<io::output::PointField>& fields,
     pressure[i] = pressure_[a];
     von_mises[i] = materials::von_mises(S);
     density[i] = density_[a];
-    smoothing[i] = smoothing_length_[a];
+    smoothing[i] = smoothing_length(a);
     mass[i] = mass_[a];
     energy[i] = internal_energy_[a];
     const Mat3 sigma = S - pressure_[a] * Mat3::Identity();
@@ -822,8 +831,8 @@ std::size_t bytes(const std::vector<T>& v) {
 
 std::size_t SolidFormulation::memory_bytes() const {
   const auto& list = verlet_.list();
-  return bytes(node_) + bytes(material_) + bytes(mass_) + bytes(smoothing_length_) + bytes(list_reach_) +
-         bytes(initial_smoothing_length_) + bytes(h_min_) + bytes(h_max_) + bytes(spacing_) +
+  return bytes(node_) + bytes(material_) + bytes(mass_) + bytes(centre_) + bytes(list_reach_) +
+         bytes(initial_smoothing_length_) + bytes(h_bounds_) + bytes(spacing_) +
          bytes(density_) + bytes(volume_) + bytes(pressure_) + bytes(sound_speed_) + bytes(internal_energy_) +
          bytes(state_) + bytes(gradient_amplification_) + bytes(corrected_stress_) +
          bytes(artificial_stress_) + bytes(exported_deviator_) + bytes(colour_) + bytes(colour_normal_) +

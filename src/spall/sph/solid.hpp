@@ -101,9 +101,10 @@ struct SolidOptions {
 struct ParticleSetup {
   Index node = 0;
   Index material = 0;         // index into the material table
-  Real smoothing_length = 0;  // initial h (LS-DYNA's); the kernel support is 2h
+  Real smoothing_length = 0;  // initial h0 (LS-DYNA's); the kernel support is 2h
   Real spacing = 0;           // initial particle spacing (m / rho)^(1/d)
-  Real h_min = 0, h_max = 0;  // bounds of h (HMIN h0, HMAX h0)
+  // h stays within [HMIN h0, HMAX h0] (*SECTION_SPH), one pair of factors per material-table entry.
+  Real h_min_factor = 0, h_max_factor = 0;
 };
 
 class SolidFormulation final : public solver::Formulation {
@@ -133,6 +134,7 @@ class SolidFormulation final : public solver::Formulation {
 
  private:
   void gather_kinematics(const solver::NodeStore& nodes);
+  void update_centres();
   void update_neighbour_list();
   template <typename Kernel>
   void compute_rates();
@@ -155,10 +157,18 @@ class SolidFormulation final : public solver::Formulation {
   std::vector<Index> material_;
   std::vector<Real> mass_;
   Real uniform_mass_ = 0;  // the mass of every particle when all are equal, else 0
-  std::vector<Real> smoothing_length_;
+  // Kernel centres: x, y, z and h of each particle, so that the pair loops load a neighbour's
+  // position and smoothing length as one 256-bit row (simd::load_transposed). The positions are
+  // copied in at each step (update_centres); h lives here only.
+  std::vector<Real> centre_;
+  Real smoothing_length(Index a) const { return centre_[4 * static_cast<std::size_t>(a) + 3]; }
+  Real& smoothing_length(Index a) { return centre_[4 * static_cast<std::size_t>(a) + 3]; }
   std::vector<Real> list_reach_;  // cutoff_margin h at the last list build
   std::vector<Real> initial_smoothing_length_;
-  std::vector<Real> h_min_, h_max_;
+  struct HBounds {
+    Real lower = 0, upper = 0;  // HMIN, HMAX
+  };
+  std::vector<HBounds> h_bounds_;  // per material-table entry
   std::vector<Real> spacing_;
   std::vector<Real> density_;
   std::vector<Real> volume_;  // m / rho, kept with the density: the pair loops read it per pair
