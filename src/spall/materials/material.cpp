@@ -83,11 +83,19 @@ Real apply_tensile_limit(const Material& material, PointState& state, Real press
   return pressure;
 }
 
+namespace {
+// sqrt((K_s + 4G/3) / rho) from an EOS evaluation at rho.
+Real longitudinal_wave_speed(const Material& material, const EosValue& eos, Real density) {
+  const Real bulk = std::max(isentropic_bulk_modulus(eos, density), Real(0));
+  return std::sqrt((bulk + Real(4) / 3 * material.shear_modulus) / density);
+}
+}  // namespace
+
 StressUpdate update_stress(const Material& material, PointState& state, const Mat3& strain_rate,
                            Real dt, Real density, Real specific_energy) {
-  const Real pressure = eos_pressure(material, density, specific_energy);
-  const Real work = update_deviatoric_stress(material, state, strain_rate, dt, density, pressure);
-  return {apply_tensile_limit(material, state, pressure), work};
+  const EosValue eos = evaluate_eos(material.eos, material.density, density, specific_energy);
+  const Real work = update_deviatoric_stress(material, state, strain_rate, dt, density, eos.pressure);
+  return {apply_tensile_limit(material, state, eos.pressure), work, longitudinal_wave_speed(material, eos, density)};
 }
 
 Real static_yield_stress(const Material& material, const PointState& state) {
@@ -108,9 +116,8 @@ Real static_yield_stress(const Material& material, const PointState& state) {
 }
 
 Real sound_speed(const Material& material, Real density, Real specific_energy) {
-  const EosValue value = evaluate_eos(material.eos, material.density, density, specific_energy);
-  const Real bulk = std::max(isentropic_bulk_modulus(value, density), Real(0));
-  return std::sqrt((bulk + Real(4) / 3 * material.shear_modulus) / density);
+  return longitudinal_wave_speed(material, evaluate_eos(material.eos, material.density, density, specific_energy),
+                                 density);
 }
 
 }  // namespace spall::materials

@@ -58,6 +58,7 @@ PointState initial_state(const Material& material);
 struct StressUpdate {
   Real pressure = 0;      // p, compression positive, after the tensile limit
   Real plastic_work = 0;  // sigma : d(eps^p) of the step, per unit current volume
+  Real sound_speed = 0;   // sound_speed(material, rho, e) at the update's rho and e, from its EOS call
 };
 
 // One step of a material point, in this order: the EOS pressure at the new density and energy;

@@ -132,10 +132,11 @@ Index keep_row(const neighbors::NeighborList& list, Index a, RowTerms& terms, La
   const Index* row = list.neighbors.data() + first;
   // A raw pointer: the vector's own would be reloaded at every store, which may alias anything.
   Index* neighbour = terms.neighbour.data();
-  // The row's last, partial pack, padded with the particle itself.
+  // The row's last, partial pack, padded with the particle itself (a fixed-length loop: std::copy
+  // of a few entries is a call to memmove, 2 % of the step).
   Index tail[W];
   const Index full = count / W * W;
-  std::fill(std::copy(row + full, row + count, tail), tail + W, a);
+  for (int i = 0; i < W; ++i) tail[i] = full + i < count ? row[full + i] : a;
   Index kept = 0;
   const auto keep = [&](const Index* b, int present) {
     const int selected = lanes(b, present);
@@ -537,10 +538,13 @@ void SolidFormulation::update_state(Real dt) {
         state.back_stress += dt * (Wa + Wa.transpose());
       }
       const Mat3 D = Real(0.5) * (L + L.transpose());
-      pressure_[a] = materials::update_stress(m, state, D, dt, density_[a], internal_energy_[a]).pressure;
-      if (relaxed) relax_exported_deviator(a, W, D, treated, colour.relaxation, dt);
+      const materials::StressUpdate update = materials::update_stress(m, state, D, dt, density_[a], internal_energy_[a]);
+      pressure_[a] = update.pressure;
+      if (relaxed) relax_exported_deviator(a, W, D, treated, colour.relaxation, dt);  // with the c of the step start
+      sound_speed_[a] = update.sound_speed;
+    } else {
+      sound_speed_[a] = materials::sound_speed(m, density_[a], internal_energy_[a]);
     }
-    sound_speed_[a] = materials::sound_speed(m, density_[a], internal_energy_[a]);
     // The stress as the pair force uses it: sigma B^T (seed 000 eq. 8 for sigma).
     const Mat3 sigma = state.deviatoric_stress - pressure_[a] * Mat3::Identity();
     // Seed 000 §4: treated surface and inner-layer particles pass only their pressure on
