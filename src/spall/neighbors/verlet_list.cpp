@@ -24,17 +24,24 @@ namespace {
 // radius (docs/PERFORMANCE.md).
 constexpr int stencil_reach = 2;
 
+// Candidates tested at once (for_each_within): eight with AVX-512, four with AVX2.
+#if defined(__AVX512F__)
+constexpr int search_lanes = 8;
+#else
+constexpr int search_lanes = 4;
+#endif
+
 // Positions in cell order, one array per coordinate, and the particle at each position: the
-// candidates of a particle are contiguous runs of these arrays, read front to back, four at a
-// time. Each array has 4 entries past the last particle, so that the last four-lane load of a run
-// stays inside it (those lanes are masked off).
+// candidates of a particle are contiguous runs of these arrays, read front to back, search_lanes
+// at a time. Each array has search_lanes entries past the last particle, so that the last load of
+// a run stays inside it (those lanes are masked off).
 struct CellOrderedPositions {
   std::vector<Real> x, y, z;
   std::vector<Index> particle;
   Vec3 lower;
 
   CellOrderedPositions(std::span<const Vec3> positions, const CellList& cells)
-      : x(cells.order().size() + 4), y(x.size()), z(x.size()), particle(x.size()), lower(cells.lower()) {
+      : x(cells.order().size() + search_lanes), y(x.size()), z(x.size()), particle(x.size()), lower(cells.lower()) {
     const std::span<const Index> order = cells.order();
     const auto n = static_cast<std::int64_t>(order.size());
 #pragma omp parallel for
@@ -50,7 +57,7 @@ struct CellOrderedPositions {
   // Position minus the grid corner, as CellList::build bins it.
   Vec3 offset(Index k) const { return Vec3(x[k] - lower.x(), y[k] - lower.y(), z[k] - lower.z()); }
 
-  // Written with explicit fused multiply-adds, in the order of the four-lane version below, so
+  // Written with explicit fused multiply-adds, in the order of the vector versions below, so
   // that a pair gets the same distance whichever of the two tests it.
   Real distance_squared(Index a, Index b) const {
     const Real dx = x[a] - x[b];
@@ -66,6 +73,14 @@ struct CellOrderedPositions {
     return _mm256_fmadd_pd(dz, dz, _mm256_fmadd_pd(dy, dy, _mm256_mul_pd(dx, dx)));
   }
 #endif
+#if defined(__AVX512F__)
+  __m512d distance_squared8(Index a, Index b) const {
+    const __m512d dx = _mm512_sub_pd(_mm512_set1_pd(x[a]), _mm512_loadu_pd(&x[b]));
+    const __m512d dy = _mm512_sub_pd(_mm512_set1_pd(y[a]), _mm512_loadu_pd(&y[b]));
+    const __m512d dz = _mm512_sub_pd(_mm512_set1_pd(z[a]), _mm512_loadu_pd(&z[b]));
+    return _mm512_fmadd_pd(dz, dz, _mm512_fmadd_pd(dy, dy, _mm512_mul_pd(dx, dx)));
+  }
+#endif
 };
 
 // One search radius for every pair.
@@ -78,10 +93,13 @@ struct UniformRadius {
 #if defined(__AVX2__) && defined(__FMA__)
   __m256d squared4(Index, Index) const { return _mm256_set1_pd(radius_squared); }
 #endif
+#if defined(__AVX512F__)
+  __m512d squared8(Index, Index) const { return _mm512_set1_pd(radius_squared); }
+#endif
 };
 
-// reach_a + reach_b + skin, the reaches in cell order (4 entries past the last particle, like the
-// positions). Symmetric in a and b bit for bit (a sum of two numbers does not depend on their
+// reach_a + reach_b + skin, the reaches in cell order (search_lanes entries past the last
+// particle, like the positions). Symmetric in a and b bit for bit (a sum of two numbers does not depend on their
 // order), so j is in i's row exactly when i is in j's.
 struct PairRadius {
   std::vector<Real> reach;
@@ -90,7 +108,7 @@ struct PairRadius {
 
   PairRadius(std::span<const Real> reach_by_particle, std::span<const Index> order, Real largest_reach,
              Real skin)
-      : reach(order.size() + 4), largest_reach(largest_reach), skin(skin) {
+      : reach(order.size() + search_lanes), largest_reach(largest_reach), skin(skin) {
     const auto n = static_cast<std::int64_t>(order.size());
 #pragma omp parallel for
     for (std::int64_t k = 0; k < n; ++k) reach[k] = reach_by_particle[order[k]];
@@ -107,16 +125,29 @@ struct PairRadius {
     return _mm256_mul_pd(r, r);
   }
 #endif
+#if defined(__AVX512F__)
+  __m512d squared8(Index a, Index b) const {
+    const __m512d r = _mm512_add_pd(_mm512_add_pd(_mm512_set1_pd(reach[a]), _mm512_loadu_pd(&reach[b])),
+                                    _mm512_set1_pd(skin));
+    return _mm512_mul_pd(r, r);
+  }
+#endif
 };
 
-// The candidates j in `range`, j != k, within the radius of k, handed to take(j_first, mask) four
-// at a time (bit i of mask: j_first + i is within; the lanes past the range are masked off), or
-// without AVX2 to take(j, 1) one at a time. The count pass and the fill pass both go through this,
-// so they agree on every pair and the fill writes exactly the counted entries.
+// The candidates j in `range`, j != k, within the radius of k, handed to take(j_first, mask)
+// search_lanes at a time (bit i of mask: j_first + i is within; the lanes past the range are
+// masked off), or without AVX2 to take(j, 1) one at a time.
 template <typename Radius, typename Take>
 inline void for_each_within(const CellOrderedPositions& p, const Radius& radius, Index k,
                             ParticleRange range, Take&& take) {
-#if defined(__AVX2__) && defined(__FMA__)
+#if defined(__AVX512F__)
+  for (Index j = range.begin; j < range.end; j += 8) {
+    unsigned mask = _mm512_cmp_pd_mask(p.distance_squared8(k, j), radius.squared8(k, j), _CMP_LT_OQ);
+    if (range.end - j < 8) mask &= (1u << (range.end - j)) - 1;
+    if (k >= j && k < j + 8) mask &= ~(1u << (k - j));
+    take(j, mask);
+  }
+#elif defined(__AVX2__) && defined(__FMA__)
   for (Index j = range.begin; j < range.end; j += 4) {
     const __m256d inside = _mm256_cmp_pd(p.distance_squared4(k, j), radius.squared4(k, j), _CMP_LT_OQ);
     unsigned mask = static_cast<unsigned>(_mm256_movemask_pd(inside));
@@ -130,10 +161,14 @@ inline void for_each_within(const CellOrderedPositions& p, const Radius& radius,
 #endif
 }
 
-// Writes the entries of from[0..3] whose bit is set in mask to to[0..], in order (a left-pack);
-// may write up to four entries in all.
+// Writes the entries of from[0..search_lanes) whose bit is set in mask to to[0..], in order (a
+// left-pack); may write up to search_lanes entries in all.
 inline void append_lanes(const Index* from, unsigned mask, Index* to) {
-#if defined(__AVX2__) && defined(__BMI2__)
+#if defined(__AVX512F__) && defined(__AVX512VL__)
+  // Compressed in a register and stored whole (a compressing store to memory is slow).
+  const __m256i all = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(from));
+  _mm256_storeu_si256(reinterpret_cast<__m256i*>(to), _mm256_maskz_compress_epi32(static_cast<__mmask8>(mask), all));
+#elif defined(__AVX2__) && defined(__BMI2__)
   // The byte indices of the set bits, by pext, widened to lane indices for a permutation.
   const std::uint64_t bytes_of_mask = _pdep_u64(mask, 0x01010101ull) * 0xFF;
   const std::uint64_t lanes = _pext_u64(0x03020100ull, bytes_of_mask);
@@ -235,16 +270,16 @@ void VerletList::build_rows(std::span<const Vec3> x, Real radius, const MakeRadi
       found_rows.resize(omp_get_num_threads());
       found_particles.resize(omp_get_num_threads());
     }
-    // found has room for 4 entries past the candidates, which the four-lane store may write
-    // before the count moves past them. Candidates are gathered four at a time without a branch
-    // per candidate (about one in three is a neighbour, so a branch would mispredict often).
+    // found has room for search_lanes entries past the candidates, which append_lanes may write
+    // before the count moves past them. Candidates are gathered search_lanes at a time without a
+    // branch per candidate (about one in three is a neighbour, so a branch would mispredict often).
     std::vector<Index>& found = found_rows[omp_get_thread_num()];
     std::vector<Index>& particles = found_particles[omp_get_thread_num()];
     for_each_particle([&](Index k, const TrimmedStencil::Ranges& ranges, int range_count) {
       Index candidates = 0;
       for (int r = 0; r < range_count; ++r) candidates += ranges[r].end - ranges[r].begin;
       const std::size_t start = found.size();
-      found.resize(start + candidates + 4);
+      found.resize(start + candidates + search_lanes);
       Index* row = found.data() + start;
       Index count = 0;
       for (int r = 0; r < range_count; ++r)
