@@ -133,6 +133,41 @@ TEST(materials_return_mapping, JohnsonCookWithRateFromTheIncrement) {
       });
 }
 
+TEST(materials_return_mapping, JohnsonCookSmallIncrementsOfAStrainedPoint) {
+  // Steady flow of a strained point (eps_p from 0.4, 10^3 /s, dt 100 ns): dp (about 10^-4) stays
+  // below 2^-7 eps_p, where the return takes (1 + dp/eps_p)^N and the rate logarithm from series
+  // (johnson_cook.cpp). It must land on the yield surface as exactly as with pow and log.
+  JohnsonCook jc;
+  jc.a = 90e6, jc.b = 292e6, jc.n = 0.31, jc.c = 0.025, jc.m = 1.09;
+  jc.melt_temperature = 1356, jc.room_temperature = 298, jc.reference_rate = 1.0;
+  jc.heat_capacity = 383;
+  Material material = with_strength(jc, 46.3e9);
+  material.density = 8960;
+  material.initial_temperature = 298;
+  PointState state = initial_state(material);
+  state.plastic_strain = 0.4;
+  Mat3 d;
+  d << 1, 0.3, 0, 0.3, -0.5, 0.2, 0, 0.2, -0.5;
+  d *= 1e3 / effective_strain_rate(d);
+  const Real dt = 1e-7;
+  int series_steps = 0;
+  for (int step = 0; step < 300; ++step) {
+    const PointState before = state;
+    update_deviatoric_stress(material, state, d, dt, material.density, 0.0);
+    // dp as the difference of two plastic strains near 0.4 carries an error of ulp(0.4), which
+    // the rate term C ln(dp / dt) turns into 0.025 ulp(0.4) / dp: below 1e-6 (the step into yield)
+    // that exceeds the tolerance and the step is not checked.
+    const Real dp = state.plastic_strain - before.plastic_strain;
+    if (!(dp > 1e-6)) continue;
+    series_steps += dp <= 0x1p-7 * before.plastic_strain;
+    const Real t_star = (before.temperature - 298) / (1356 - 298);
+    const Real radius = (90e6 + 292e6 * std::pow(state.plastic_strain, 0.31)) *
+                        (1 + 0.025 * std::log(std::max(dp / dt, 1.0))) * (1 - std::pow(t_star, 1.09));
+    ASSERT_NEAR(von_mises(state.deviatoric_stress), radius, 1e-12 * radius) << "step " << step;
+  }
+  EXPECT_GT(series_steps, 200);
+}
+
 // Normality: the isotropic return keeps the direction of the trial deviator.
 TEST(materials_return_mapping, ReturnIsRadial) {
   const Material material = with_strength(PlasticKinematic{250e6, 1e9, 1.0, {}, 0});
