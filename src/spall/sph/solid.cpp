@@ -32,6 +32,22 @@ constexpr Real cutoff_margin = 1.05;
 // whose neighbours lie in a plane): the particle keeps the uncorrected gradient.
 constexpr Real min_moment_determinant = 1e-3;
 
+// A B and A B^T of 3x3 matrices, element by element. Eigen's two-lane forms of these products
+// store single lanes of their temporaries and reload them as pairs, which stalls store forwarding
+// (a third of update_state in perf annotate).
+Mat3 product(const Mat3& A, const Mat3& B) {
+  Mat3 C;
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) C(i, j) = A(i, 0) * B(0, j) + A(i, 1) * B(1, j) + A(i, 2) * B(2, j);
+  return C;
+}
+Mat3 product_transposed(const Mat3& A, const Mat3& B) {
+  Mat3 C;
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < 3; ++i) C(i, j) = A(i, 0) * B(j, 0) + A(i, 1) * B(j, 1) + A(i, 2) * B(j, 2);
+  return C;
+}
+
 // The inverse of a symmetric 3x3 matrix by its cofactors, if its determinant exceeds `least`
 // (else `inverse` is left as it is).
 bool invert_symmetric(const Mat3& m, Real least, Mat3& inverse) {
@@ -43,8 +59,11 @@ bool invert_symmetric(const Mat3& m, Real least, Mat3& inverse) {
   const Real c11 = m(0, 0) * m(2, 2) - m(0, 2) * m(0, 2);
   const Real c12 = m(0, 1) * m(0, 2) - m(0, 0) * m(1, 2);
   const Real c22 = m(0, 0) * m(1, 1) - m(0, 1) * m(0, 1);
-  inverse << c00, c01, c02, c01, c11, c12, c02, c12, c22;
-  inverse /= det;
+  // Element by element (the comma initializer and /= det went through the stack in two-lane
+  // pieces, a store-forwarding stall).
+  const Real cofactor[9] = {c00, c01, c02, c01, c11, c12, c02, c12, c22};
+  const Real inverse_det = 1 / det;
+  for (int k = 0; k < 9; ++k) inverse.data()[k] = cofactor[k] * inverse_det;
   return true;
 }
 
@@ -432,7 +451,7 @@ void SolidFormulation::compute_rates() {
     // Randles & Libersky 1996: L B with B = moment^{-1} is exact for linear velocity fields,
     // also where the support is cut by a free surface; the density follows from tr(L).
     if (options_.gradient_correction && invert_symmetric(moment, min_moment_determinant, correction)) {
-      L = L * correction;
+      L = product(L, correction);
       drho = -density_[a] * L.trace();
     } else {
       drho = continuity();
@@ -530,11 +549,11 @@ void SolidFormulation::update_state(Real dt) {
       // Objective (Jaumann) rotation of the stress deviator and back stress, then the material.
       const Mat3 W = Real(0.5) * (L - L.transpose());
       // W S - S W = W S + (W S)^T for symmetric S and skew W: one product.
-      const Mat3 WS = W * state.deviatoric_stress;
+      const Mat3 WS = product(W, state.deviatoric_stress);
       state.deviatoric_stress += dt * (WS + WS.transpose());
       // Only kinematic hardening (MAT_003 BETA < 1) moves the back stress away from zero.
       if (!state.back_stress.isZero(0)) {
-        const Mat3 Wa = W * state.back_stress;
+        const Mat3 Wa = product(W, state.back_stress);
         state.back_stress += dt * (Wa + Wa.transpose());
       }
       const Mat3 D = Real(0.5) * (L + L.transpose());
@@ -553,7 +572,7 @@ void SolidFormulation::update_state(Real dt) {
                           : treated ? Mat3(-pressure_[a] * Mat3::Identity())
                                     : sigma;
     const Mat3 correction = corrected_stress_[a];  // B_a from compute_rates
-    corrected_stress_[a] = exported * correction.transpose();
+    corrected_stress_[a] = product_transposed(exported, correction);
     if (stress_options.enabled) {
       // Monaghan 2000: a repulsive stress -eps sigma_i / rho^2 along each tensile principal axis.
       // From the stress the particle passes on, so that a treated particle's deviator stays out.
