@@ -112,8 +112,8 @@ TEST(materials_return_mapping, PiecewiseLinearCurveWithRate) {
       });
 }
 
-TEST(materials_return_mapping, JohnsonCookWithRateFromTheIncrement) {
-  // OFHC copper (validation.md §1(b)); rate term on the increment's own plastic strain rate.
+// OFHC copper, Johnson-Cook (validation.md §1(b)): A 90 MPa, B 292 MPa, N 0.31, C 0.025, M 1.09.
+Material johnson_cook_copper() {
   JohnsonCook jc;
   jc.a = 90e6, jc.b = 292e6, jc.n = 0.31, jc.c = 0.025, jc.m = 1.09;
   jc.melt_temperature = 1356, jc.room_temperature = 298, jc.reference_rate = 1.0;
@@ -121,6 +121,12 @@ TEST(materials_return_mapping, JohnsonCookWithRateFromTheIncrement) {
   Material material = with_strength(jc, 46.3e9);
   material.density = 8960;
   material.initial_temperature = 298;
+  return material;
+}
+
+TEST(materials_return_mapping, JohnsonCookWithRateFromTheIncrement) {
+  // Rate term on the increment's own plastic strain rate.
+  const Material material = johnson_cook_copper();
   for_random_plastic_steps(
       material, 3e-3, [&](const PointState& before, const PointState& after, const Mat3&, Real dt) {
         // sigma_y = (A + B eps_p^N)(1 + C ln max(eps_rate/EPSO, 1))(1 - T*^M), T at the step start
@@ -137,13 +143,7 @@ TEST(materials_return_mapping, JohnsonCookSmallIncrementsOfAStrainedPoint) {
   // Steady flow of a strained point (eps_p from 0.4, 10^3 /s, dt 100 ns): dp (about 10^-4) stays
   // below 2^-7 eps_p, where the return takes (1 + dp/eps_p)^N and the rate logarithm from series
   // (johnson_cook.cpp). It must land on the yield surface as exactly as with pow and log.
-  JohnsonCook jc;
-  jc.a = 90e6, jc.b = 292e6, jc.n = 0.31, jc.c = 0.025, jc.m = 1.09;
-  jc.melt_temperature = 1356, jc.room_temperature = 298, jc.reference_rate = 1.0;
-  jc.heat_capacity = 383;
-  Material material = with_strength(jc, 46.3e9);
-  material.density = 8960;
-  material.initial_temperature = 298;
+  const Material material = johnson_cook_copper();
   PointState state = initial_state(material);
   state.plastic_strain = 0.4;
   Mat3 d;
