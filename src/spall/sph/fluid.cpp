@@ -358,14 +358,11 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
     const __m512 dz = _mm512_sub_ps(splat(za), gather(in.z));
     const __m512 r2 = _mm512_max_ps(
         _mm512_fmadd_ps(dz, dz, _mm512_fmadd_ps(dy, dy, _mm512_mul_ps(dx, dx))), tiny);
-    // 1 / r and 1 / (r^2 + (eta h)^2) from the 14-bit estimates and one Newton step each (within
-    // an ulp or two of single precision): a square root and a division of 16 lanes occupy the
-    // divider for longer than the rest of the pair.
+    // One division for both 1 / r and 1 / (r^2 + (eta h)^2).
+    const __m512 r = _mm512_sqrt_ps(r2);
     const __m512 r2e = _mm512_add_ps(r2, splat(c.eta2));
-    const __m512 y = _mm512_rsqrt14_ps(r2);
-    const __m512 inverse_r = _mm512_mul_ps(_mm512_mul_ps(half, y), _mm512_fnmadd_ps(_mm512_mul_ps(r2, y), y, splat(3)));
-    const __m512 z = _mm512_rcp14_ps(r2e);
-    const __m512 inverse_r2e = _mm512_mul_ps(z, _mm512_fnmadd_ps(r2e, z, splat(2)));
+    const __m512 inverse_product = _mm512_div_ps(one, _mm512_mul_ps(r, r2e));
+    const __m512 inverse_r = _mm512_mul_ps(inverse_product, r2e);
     const __m512 q = _mm512_min_ps(_mm512_mul_ps(_mm512_mul_ps(r2, inverse_r), splat(c.inverse_support)), one);
     const __m512 near = _mm512_sub_ps(_mm512_mul_ps(splat(k18), q), splat(k12));
     const __m512 one_minus_q = _mm512_sub_ps(one, q);
@@ -382,6 +379,7 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
       const __m512 inverse_rho_b = gather(in.inverse_density);
       const __m512 radial = _mm512_mul_ps(
           _mm512_mul_ps(_mm512_sub_ps(zero, mm), _mm512_add_ps(splat(P_a), gather(in.pressure_term))), F);
+      const __m512 inverse_r2e = _mm512_mul_ps(inverse_product, r);
       const __m512 mu = _mm512_mul_ps(_mm512_mul_ps(splat(c.h), vr), inverse_r2e);
       const __mmask16 approaching = _mm512_cmp_ps_mask(vr, zero, _CMP_LT_OQ);
       const __m512 Pi = _mm512_maskz_mul_ps(
