@@ -331,36 +331,39 @@ inline __m512d transposed_column(__m512d t, __m512d u, bool even) {
   return _mm512_permutex2var_pd(t, even ? low : high, u);
 }
 
-// Four consecutive doubles from each of eight rows (base + Stride index[i] + offset), transposed:
-// eight 256-bit loads and twelve shuffles (rows i and i + 4 paired in one register, then an
-// unpack and a two-source permute per column), where gathering would load 32 doubles one by one.
-template <int Stride>
-inline void load_transposed(const Real* base, const Index* index, int offset, Real8 (&out)[4]) {
-  const auto row = [&](int i) { return _mm256_loadu_pd(base + Stride * index[i] + offset); };
+// The eight 256-bit rows row(0) .. row(7), transposed: out[j] holds element j of each row. Twelve
+// shuffles: rows i and i + 4 paired in one register, then an unpack and a two-source permute per
+// column. Always inlined, like its callers.
+template <typename Row>
+[[gnu::always_inline]] inline void transpose_rows(const Row& row, __m512d (&out)[4]) {
   const __m512d r04 = row_pair(row(0), row(4)), r15 = row_pair(row(1), row(5));
   const __m512d r26 = row_pair(row(2), row(6)), r37 = row_pair(row(3), row(7));
   const __m512d t0 = _mm512_unpacklo_pd(r04, r15), t1 = _mm512_unpackhi_pd(r04, r15);
   const __m512d t2 = _mm512_unpacklo_pd(r26, r37), t3 = _mm512_unpackhi_pd(r26, r37);
-  out[0] = {transposed_column(t0, t2, true)};
-  out[1] = {transposed_column(t1, t3, true)};
-  out[2] = {transposed_column(t0, t2, false)};
-  out[3] = {transposed_column(t1, t3, false)};
+  out[0] = transposed_column(t0, t2, true);
+  out[1] = transposed_column(t1, t3, true);
+  out[2] = transposed_column(t0, t2, false);
+  out[3] = transposed_column(t1, t3, false);
 }
 
-// The three components of eight 3-vectors, transposed as load_transposed does from 256-bit loads
-// masked to the vector's own three doubles (a masked-off element is not read, so the last vector
-// of an array is safe), with no gather.
+// Four consecutive doubles from each of eight rows (base + Stride index[i] + offset), transposed:
+// eight 256-bit loads and transpose_rows, where gathering would load 32 doubles one by one.
+template <int Stride>
+inline void load_transposed(const Real* base, const Index* index, int offset, Real8 (&out)[4]) {
+  __m512d columns[4];
+  transpose_rows([&](int i) { return _mm256_loadu_pd(base + Stride * index[i] + offset); }, columns);
+  for (int j = 0; j < 4; ++j) out[j] = {columns[j]};
+}
+
+// The three components of eight 3-vectors, transposed from 256-bit loads masked to the vector's
+// own three doubles (a masked-off element is not read, so the last vector of an array is safe),
+// with no gather.
 // Always inlined: called through the pair loops' lambdas, GCC 12 otherwise keeps it a call.
 [[gnu::always_inline]] inline void load_vectors(const Real* v, const Index* index, Real8& x, Real8& y,
                                                 Real8& z) {
-  const auto row = [&](int i) { return _mm256_maskz_loadu_pd(0b0111, v + 3 * index[i]); };
-  const __m512d r04 = row_pair(row(0), row(4)), r15 = row_pair(row(1), row(5));
-  const __m512d r26 = row_pair(row(2), row(6)), r37 = row_pair(row(3), row(7));
-  const __m512d t0 = _mm512_unpacklo_pd(r04, r15), t1 = _mm512_unpackhi_pd(r04, r15);
-  const __m512d t2 = _mm512_unpacklo_pd(r26, r37), t3 = _mm512_unpackhi_pd(r26, r37);
-  x = {transposed_column(t0, t2, true)};
-  y = {transposed_column(t1, t3, true)};
-  z = {transposed_column(t0, t2, false)};
+  __m512d columns[4];
+  transpose_rows([&](int i) { return _mm256_maskz_loadu_pd(0b0111, v + 3 * index[i]); }, columns);
+  x = {columns[0]}, y = {columns[1]}, z = {columns[2]};
 }
 
 }  // namespace avx512

@@ -4,13 +4,11 @@
 #include <bit>
 #include <cmath>
 #include <stdexcept>
-#if defined(__AVX2__)
-#include <immintrin.h>
-#endif
 #include <string>
 
 #include <omp.h>
 
+#include "spall/core/simd.hpp"
 #include "spall/neighbors/cell_list.hpp"
 #include "spall/neighbors/relative_motion.hpp"
 #include "spall/neighbors/trimmed_stencil.hpp"
@@ -24,12 +22,8 @@ namespace {
 // radius (docs/PERFORMANCE.md).
 constexpr int stencil_reach = 2;
 
-// Candidates tested at once (for_each_within): eight with AVX-512, four with AVX2.
-#if defined(__AVX512F__)
-constexpr int search_lanes = 8;
-#else
-constexpr int search_lanes = 4;
-#endif
+// Candidates tested at once (for_each_within): a simd::Pack of them.
+constexpr int search_lanes = simd::Pack::width;
 
 // Positions in cell order, one array per coordinate, and the particle at each position: the
 // candidates of a particle are contiguous runs of these arrays, read front to back, search_lanes
@@ -57,30 +51,14 @@ struct CellOrderedPositions {
   // Position minus the grid corner, as CellList::build bins it.
   Vec3 offset(Index k) const { return Vec3(x[k] - lower.x(), y[k] - lower.y(), z[k] - lower.z()); }
 
-  // Written with explicit fused multiply-adds, in the order of the vector versions below, so
-  // that a pair gets the same distance whichever of the two tests it.
-  Real distance_squared(Index a, Index b) const {
-    const Real dx = x[a] - x[b];
-    const Real dy = y[a] - y[b];
-    const Real dz = z[a] - z[b];
-    return std::fma(dz, dz, std::fma(dy, dy, dx * dx));
+  // The squared distances from a to the pack of candidates b, b + 1, ...
+  simd::Pack distance_squared(Index a, Index b) const {
+    using simd::Pack;
+    const Pack dx = Pack(x[a]) - Pack::load(&x[b]);
+    const Pack dy = Pack(y[a]) - Pack::load(&y[b]);
+    const Pack dz = Pack(z[a]) - Pack::load(&z[b]);
+    return fma(dz, dz, fma(dy, dy, dx * dx));
   }
-#if defined(__AVX2__) && defined(__FMA__)
-  __m256d distance_squared4(Index a, Index b) const {
-    const __m256d dx = _mm256_sub_pd(_mm256_set1_pd(x[a]), _mm256_loadu_pd(&x[b]));
-    const __m256d dy = _mm256_sub_pd(_mm256_set1_pd(y[a]), _mm256_loadu_pd(&y[b]));
-    const __m256d dz = _mm256_sub_pd(_mm256_set1_pd(z[a]), _mm256_loadu_pd(&z[b]));
-    return _mm256_fmadd_pd(dz, dz, _mm256_fmadd_pd(dy, dy, _mm256_mul_pd(dx, dx)));
-  }
-#endif
-#if defined(__AVX512F__)
-  __m512d distance_squared8(Index a, Index b) const {
-    const __m512d dx = _mm512_sub_pd(_mm512_set1_pd(x[a]), _mm512_loadu_pd(&x[b]));
-    const __m512d dy = _mm512_sub_pd(_mm512_set1_pd(y[a]), _mm512_loadu_pd(&y[b]));
-    const __m512d dz = _mm512_sub_pd(_mm512_set1_pd(z[a]), _mm512_loadu_pd(&z[b]));
-    return _mm512_fmadd_pd(dz, dz, _mm512_fmadd_pd(dy, dy, _mm512_mul_pd(dx, dx)));
-  }
-#endif
 };
 
 // One search radius for every pair.
@@ -89,18 +67,12 @@ struct UniformRadius {
   Real radius_squared;
   // The largest radius of a pair of a, for the stencil.
   Real largest(Index) const { return radius; }
-  Real squared(Index, Index) const { return radius_squared; }
-#if defined(__AVX2__) && defined(__FMA__)
-  __m256d squared4(Index, Index) const { return _mm256_set1_pd(radius_squared); }
-#endif
-#if defined(__AVX512F__)
-  __m512d squared8(Index, Index) const { return _mm512_set1_pd(radius_squared); }
-#endif
+  simd::Pack squared(Index, Index) const { return simd::Pack(radius_squared); }
 };
 
 // reach_a + reach_b + skin, the reaches in cell order (search_lanes entries past the last
-// particle, like the positions). Symmetric in a and b bit for bit (a sum of two numbers does not depend on their
-// order), so j is in i's row exactly when i is in j's.
+// particle, like the positions). Symmetric in a and b bit for bit (a sum of two numbers does not
+// depend on their order), so j is in i's row exactly when i is in j's.
 struct PairRadius {
   std::vector<Real> reach;
   Real largest_reach;
@@ -114,71 +86,25 @@ struct PairRadius {
     for (std::int64_t k = 0; k < n; ++k) reach[k] = reach_by_particle[order[k]];
   }
   Real largest(Index a) const { return reach[a] + largest_reach + skin; }
-  Real squared(Index a, Index b) const {
-    const Real r = reach[a] + reach[b] + skin;
+  // For the pack of candidates b, b + 1, ... of a.
+  simd::Pack squared(Index a, Index b) const {
+    using simd::Pack;
+    const Pack r = (Pack(reach[a]) + Pack::load(&reach[b])) + Pack(skin);
     return r * r;
   }
-#if defined(__AVX2__) && defined(__FMA__)
-  __m256d squared4(Index a, Index b) const {
-    const __m256d r = _mm256_add_pd(_mm256_add_pd(_mm256_set1_pd(reach[a]), _mm256_loadu_pd(&reach[b])),
-                                    _mm256_set1_pd(skin));
-    return _mm256_mul_pd(r, r);
-  }
-#endif
-#if defined(__AVX512F__)
-  __m512d squared8(Index a, Index b) const {
-    const __m512d r = _mm512_add_pd(_mm512_add_pd(_mm512_set1_pd(reach[a]), _mm512_loadu_pd(&reach[b])),
-                                    _mm512_set1_pd(skin));
-    return _mm512_mul_pd(r, r);
-  }
-#endif
 };
 
-// The candidates j in `range`, j != k, within the radius of k, handed to take(j_first, mask)
-// search_lanes at a time (bit i of mask: j_first + i is within; the lanes past the range are
-// masked off), or without AVX2 to take(j, 1) one at a time.
+// The candidates j in `range`, j != k, within the radius of k, handed to take(j_first, mask) a
+// pack at a time (bit i of mask: j_first + i is within; the lanes past the range are masked off).
 template <typename Radius, typename Take>
 inline void for_each_within(const CellOrderedPositions& p, const Radius& radius, Index k,
                             ParticleRange range, Take&& take) {
-#if defined(__AVX512F__)
-  for (Index j = range.begin; j < range.end; j += 8) {
-    unsigned mask = _mm512_cmp_pd_mask(p.distance_squared8(k, j), radius.squared8(k, j), _CMP_LT_OQ);
-    if (range.end - j < 8) mask &= (1u << (range.end - j)) - 1;
-    if (k >= j && k < j + 8) mask &= ~(1u << (k - j));
+  for (Index j = range.begin; j < range.end; j += search_lanes) {
+    auto mask = static_cast<unsigned>((p.distance_squared(k, j) < radius.squared(k, j)).lanes());
+    if (range.end - j < search_lanes) mask &= (1u << (range.end - j)) - 1;
+    if (k >= j && k < j + search_lanes) mask &= ~(1u << (k - j));
     take(j, mask);
   }
-#elif defined(__AVX2__) && defined(__FMA__)
-  for (Index j = range.begin; j < range.end; j += 4) {
-    const __m256d inside = _mm256_cmp_pd(p.distance_squared4(k, j), radius.squared4(k, j), _CMP_LT_OQ);
-    unsigned mask = static_cast<unsigned>(_mm256_movemask_pd(inside));
-    if (range.end - j < 4) mask &= (1u << (range.end - j)) - 1;
-    if (k >= j && k < j + 4) mask &= ~(1u << (k - j));
-    take(j, mask);
-  }
-#else
-  for (Index j = range.begin; j < range.end; ++j)
-    if (j != k && p.distance_squared(k, j) < radius.squared(k, j)) take(j, 1u);
-#endif
-}
-
-// Writes the entries of from[0..search_lanes) whose bit is set in mask to to[0..], in order (a
-// left-pack); may write up to search_lanes entries in all.
-inline void append_lanes(const Index* from, unsigned mask, Index* to) {
-#if defined(__AVX512F__) && defined(__AVX512VL__)
-  // Compressed in a register and stored whole (a compressing store to memory is slow).
-  const __m256i all = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(from));
-  _mm256_storeu_si256(reinterpret_cast<__m256i*>(to), _mm256_maskz_compress_epi32(static_cast<__mmask8>(mask), all));
-#elif defined(__AVX2__) && defined(__BMI2__)
-  // The byte indices of the set bits, by pext, widened to lane indices for a permutation.
-  const std::uint64_t bytes_of_mask = _pdep_u64(mask, 0x01010101ull) * 0xFF;
-  const std::uint64_t lanes = _pext_u64(0x03020100ull, bytes_of_mask);
-  const __m128i index = _mm_cvtepu8_epi32(_mm_cvtsi64_si128(static_cast<long long>(lanes)));
-  const __m128 values = _mm_castsi128_ps(_mm_loadu_si128(reinterpret_cast<const __m128i*>(from)));
-  _mm_storeu_si128(reinterpret_cast<__m128i*>(to), _mm_castps_si128(_mm_permutevar_ps(values, index)));
-#else
-  for (int lane = 0; lane < 4; ++lane)
-    if (mask & (1u << lane)) *to++ = from[lane];
-#endif
 }
 
 // The storage is kept from one rebuild to the next while it holds between the need and 1.25x it
@@ -270,7 +196,7 @@ void VerletList::build_rows(std::span<const Vec3> x, Real radius, const MakeRadi
       found_rows.resize(omp_get_num_threads());
       found_particles.resize(omp_get_num_threads());
     }
-    // found has room for search_lanes entries past the candidates, which append_lanes may write
+    // found has room for search_lanes entries past the candidates, which compress_indices may write
     // before the count moves past them. Candidates are gathered search_lanes at a time without a
     // branch per candidate (about one in three is a neighbour, so a branch would mispredict often).
     std::vector<Index>& found = found_rows[omp_get_thread_num()];
@@ -284,11 +210,7 @@ void VerletList::build_rows(std::span<const Vec3> x, Real radius, const MakeRadi
       Index count = 0;
       for (int r = 0; r < range_count; ++r)
         for_each_within(p, pair_radius, k, ranges[r], [&](Index j, unsigned mask) {
-          if (mask == 1u) {
-            row[count++] = p.particle[j];
-            return;
-          }
-          append_lanes(p.particle.data() + j, mask, row + count);
+          simd::Pack::compress_indices(p.particle.data() + j, static_cast<int>(mask), row + count);
           count += std::popcount(mask);
         });
       // Particles already in cell order give sorted rows.
