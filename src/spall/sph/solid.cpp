@@ -48,6 +48,18 @@ Mat3 product_transposed(const Mat3& A, const Mat3& B) {
   return C;
 }
 
+// The symmetric matrix whose six independent entries are sign times the lane sums of the packs,
+// each pack summed once.
+Mat3 symmetric_sum(simd::Pack xx, simd::Pack yy, simd::Pack zz, simd::Pack xy, simd::Pack yz, simd::Pack zx,
+                   Real sign) {
+  Mat3 m;
+  m(0, 0) = sign * xx.sum(), m(1, 1) = sign * yy.sum(), m(2, 2) = sign * zz.sum();
+  m(0, 1) = m(1, 0) = sign * xy.sum();
+  m(1, 2) = m(2, 1) = sign * yz.sum();
+  m(0, 2) = m(2, 0) = sign * zx.sum();
+  return m;
+}
+
 // The inverse of a symmetric 3x3 matrix by its cofactors, if its determinant exceeds `least`
 // (else `inverse` is left as it is).
 bool invert_symmetric(const Mat3& m, Real least, Mat3& inverse) {
@@ -428,9 +440,7 @@ void SolidFormulation::compute_rates() {
     Real drho;
     Mat3 L;
     for (int i = 0; i < 9; ++i) L.data()[i] = L_lanes[i].sum();
-    Mat3 moment;
-    moment << -m_xx.sum(), -m_xy.sum(), -m_zx.sum(), -m_xy.sum(), -m_yy.sum(), -m_yz.sum(), -m_zx.sum(),
-        -m_yz.sum(), -m_zz.sum();
+    Mat3 moment = symmetric_sum(m_xx, m_yy, m_zz, m_xy, m_yz, m_zx, Real(-1));
     const Vec3 normal(n_x.sum(), n_y.sum(), n_z.sum());
     if (colour_on) {
       // seed 000 eq. 10, self included
@@ -461,9 +471,7 @@ void SolidFormulation::compute_rates() {
     // second term: the weight of v_a itself), relative to a full support's; the first term by
     // Cauchy-Schwarz, sqrt(tr T tr(B^T T B)) with T = spread (exact when B = I).
     if (row_sums) {
-      Mat3 spread;
-      spread << s_xx.sum(), s_xy.sum(), s_zx.sum(), s_xy.sum(), s_yy.sum(), s_yz.sum(), s_zx.sum(), s_yz.sum(),
-          s_zz.sum();
+      const Mat3 spread = symmetric_sum(s_xx, s_yy, s_zz, s_xy, s_yz, s_zx, Real(1));
       // tr(B^T T B) = sum_ij (T B)_ij B_ij: one product, not two and a diagonal. Written out in
       // scalars: Eigen's two-lane forms of these 3x3 products store single lanes to the stack and
       // reload them as pairs, which stalls store forwarding (a tenth of this pass, measured).
