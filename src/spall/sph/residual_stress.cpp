@@ -10,12 +10,6 @@
 namespace spall::sph {
 
 namespace {
-// Effective strain rate sqrt(2/3 D':D') of a velocity gradient.
-Real effective_strain_rate(const Mat3& L) {
-  const Mat3 D = Real(0.5) * (L + L.transpose());
-  const Mat3 dev = D - (D.trace() / 3) * Mat3::Identity();
-  return std::sqrt(Real(2) / 3 * dev.cwiseProduct(dev).sum());
-}
 
 // The 95th percentile by the nearest-rank method.
 Real percentile95(std::vector<Real> values) {
@@ -30,12 +24,8 @@ Real percentile95(std::vector<Real> values) {
 std::vector<ResidualStressRow> SolidFormulation::residual_stress(
     const ResidualStressCriterion& criterion) const {
   const Index n = particle_count();
-  std::vector<Real> rate(n);
-  Real largest_rate = 0;
-  for (Index a = 0; a < n; ++a) {
-    rate[a] = effective_strain_rate(velocity_gradient_[a]);
-    largest_rate = std::max(largest_rate, rate[a]);
-  }
+  const std::vector<Real>& rate = strain_rate_;
+  const Real largest_rate = n > 0 ? *std::max_element(rate.begin(), rate.end()) : 0;
   const Real rate_limit = criterion.strain_rate > 0 ? criterion.strain_rate : 0.01 * largest_rate;
 
   const std::size_t parts = materials_.size();

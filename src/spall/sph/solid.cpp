@@ -242,6 +242,7 @@ SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
   spacing_.resize(n);
   density_.resize(n);
   volume_.resize(n);
+  updated_volume_.resize(n);
   pressure_.assign(n, 0);
   sound_speed_.resize(n);
   internal_energy_.assign(n, 0);
@@ -252,9 +253,8 @@ SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
   });
   corrected_stress_.assign(n, Mat3::Identity());
   if (options_.artificial_stress.enabled) artificial_stress_.assign(n, Mat3::Zero());
-  density_rate_.assign(n, 0);
+  strain_rate_.assign(n, 0);
   viscous_heating_.assign(n, 0);
-  velocity_gradient_.assign(n, Mat3::Zero());
   force_.assign(n, Vec3::Zero());
   viscous_force_.assign(n, Vec3::Zero());
   // Particles in node order: the node store is in cell order, so that neighbours are close in
@@ -275,6 +275,7 @@ SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
     const auto& m = materials_[material_[a]];
     density_[a] = m.density;
     volume_[a] = mass_[a] / density_[a];
+    updated_volume_[a] = volume_[a];
     state_[a] = materials::initial_state(m);
     internal_energy_[a] = m.initial_specific_energy;
     pressure_[a] = materials::eos_pressure(m, m.density, internal_energy_[a]);
@@ -301,6 +302,8 @@ SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
     }
     support_count_.assign(n, 0);
     category_.assign(n, Category::interior);
+    density_rate_.assign(n, 0);
+    velocity_gradient_.assign(n, Mat3::Zero());
     full_support_count_.resize(n);
     // Particles of spacing dp in a sphere (circle) of radius 2h, less the particle itself.
     for (std::size_t a = 0; a < n; ++a) {
@@ -363,7 +366,7 @@ void SolidFormulation::update_neighbour_list() {
 // Continuity and velocity gradient, gathered per particle over its full neighbour row, a pack of
 // pairs at a time; each particle's lanes are summed in one fixed order, whatever the thread count.
 template <typename Kernel>
-void SolidFormulation::compute_rates() {
+void SolidFormulation::compute_rates(Real dt) {
   using simd::Pack;
   constexpr int W = Pack::width;
   const auto& list = verlet_.list();
@@ -466,7 +469,6 @@ void SolidFormulation::compute_rates() {
     } else {
       drho = continuity();
     }
-    corrected_stress_[a] = correction;  // B_a, until update_state turns it into sigma_a B_a^T
     // Row sum of the gradient operator v -> L_a, sum_b V_b |B^T grad_a W_ab| + |B^T n_a| (the
     // second term: the weight of v_a itself), relative to a full support's; the first term by
     // Cauchy-Schwarz, sqrt(tr T tr(B^T T B)) with T = spread (exact when B = I).
@@ -488,8 +490,14 @@ void SolidFormulation::compute_rates() {
       const Real row_sum = std::sqrt(spread.trace() * quadratic) + std::sqrt(transposed_normal);
       gradient_amplification_[a] = row_sum * 2 * smoothing_length(a) / full_support_gradient_;
     }
-    density_rate_[a] = drho;
-    velocity_gradient_[a] = L;
+    if (categorizing()) {
+      density_rate_[a] = drho;
+      velocity_gradient_[a] = L;
+      corrected_stress_[a] = correction;  // B_a, until update_state turns it into sigma_a B_a^T
+    } else {
+      update_particle(a, L, correction, drho, dt);  // its own data only: the neighbours' rates
+                                                     // read the step start's volume_
+    }
   }
 }
 
@@ -538,59 +546,63 @@ void SolidFormulation::categorize() {
 
 void SolidFormulation::update_state(Real dt) {
   const Index n = particle_count();
+#pragma omp parallel for schedule(static)
+  for (Index a = 0; a < n; ++a) update_particle(a, velocity_gradient_[a], corrected_stress_[a], density_rate_[a], dt);
+}
+
+void SolidFormulation::update_particle(Index a, const Mat3& L, const Mat3& correction_in, Real density_rate, Real dt) {
+  const Mat3 correction = correction_in;  // may be corrected_stress_[a], which is overwritten below
   const auto& stress_options = options_.artificial_stress;
   const bool relaxed = !exported_deviator_.empty();
-#pragma omp parallel for schedule(static)
-  for (Index a = 0; a < n; ++a) {
-    const auto& m = materials_[material_[a]];
-    const ColourField& colour = options_.colour_field.empty() ? ColourField{} : options_.colour_field[material_[a]];
-    const bool treated = !category_.empty() && category_[a] != Category::interior && colour.treat;
-    materials::PointState& state = state_[a];
-    if (dt > 0) {
-      const Mat3& L = velocity_gradient_[a];
-      // The stress whose power the pair forces delivered: energy-consistent (docs/THEORY.md §3).
-      const Mat3& S_power = relaxed ? exported_deviator_[a] : state.deviatoric_stress;
-      const Mat3 sigma_old = S_power - pressure_[a] * Mat3::Identity();
-      internal_energy_[a] += dt * (sigma_old.cwiseProduct(L).sum() / density_[a] + viscous_heating_[a]);
-      density_[a] += dt * density_rate_[a];
-      volume_[a] = mass_[a] / density_[a];
-      // Objective (Jaumann) rotation of the stress deviator and back stress, then the material.
-      const Mat3 W = Real(0.5) * (L - L.transpose());
-      // W S - S W = W S + (W S)^T for symmetric S and skew W: one product.
-      const Mat3 WS = product(W, state.deviatoric_stress);
-      state.deviatoric_stress += dt * (WS + WS.transpose());
-      // Only kinematic hardening (MAT_003 BETA < 1) moves the back stress away from zero.
-      if (!state.back_stress.isZero(0)) {
-        const Mat3 Wa = product(W, state.back_stress);
-        state.back_stress += dt * (Wa + Wa.transpose());
-      }
-      const Mat3 D = Real(0.5) * (L + L.transpose());
-      const materials::StressUpdate update = materials::update_stress(m, state, D, dt, density_[a], internal_energy_[a]);
-      pressure_[a] = update.pressure;
-      if (relaxed) relax_exported_deviator(a, W, D, treated, colour.relaxation, dt);  // with the c of the step start
-      sound_speed_[a] = update.sound_speed;
-    } else {
-      sound_speed_[a] = materials::sound_speed(m, density_[a], internal_energy_[a]);
+  const auto& m = materials_[material_[a]];
+  const ColourField& colour = options_.colour_field.empty() ? ColourField{} : options_.colour_field[material_[a]];
+  const bool treated = categorizing() && category_[a] != Category::interior && colour.treat;
+  materials::PointState& state = state_[a];
+  if (dt > 0) {
+    // The stress whose power the pair forces delivered: energy-consistent (docs/THEORY.md §3).
+    const Mat3& S_power = relaxed ? exported_deviator_[a] : state.deviatoric_stress;
+    const Mat3 sigma_old = S_power - pressure_[a] * Mat3::Identity();
+    internal_energy_[a] += dt * (sigma_old.cwiseProduct(L).sum() / density_[a] + viscous_heating_[a]);
+    density_[a] += dt * density_rate;
+    updated_volume_[a] = mass_[a] / density_[a];
+    // Objective (Jaumann) rotation of the stress deviator and back stress, then the material.
+    const Mat3 W = Real(0.5) * (L - L.transpose());
+    // W S - S W = W S + (W S)^T for symmetric S and skew W: one product.
+    const Mat3 WS = product(W, state.deviatoric_stress);
+    state.deviatoric_stress += dt * (WS + WS.transpose());
+    // Only kinematic hardening (MAT_003 BETA < 1) moves the back stress away from zero.
+    if (!state.back_stress.isZero(0)) {
+      const Mat3 Wa = product(W, state.back_stress);
+      state.back_stress += dt * (Wa + Wa.transpose());
     }
-    // The stress as the pair force uses it: sigma B^T (seed 000 eq. 8 for sigma).
-    const Mat3 sigma = state.deviatoric_stress - pressure_[a] * Mat3::Identity();
-    // Seed 000 §4: treated surface and inner-layer particles pass only their pressure on
-    // (TFORM 2), or their relaxed deviator (TFORM 1).
-    const Mat3 exported = relaxed ? Mat3(exported_deviator_[a] - pressure_[a] * Mat3::Identity())
-                          : treated ? Mat3(-pressure_[a] * Mat3::Identity())
-                                    : sigma;
-    const Mat3 correction = corrected_stress_[a];  // B_a from compute_rates
-    corrected_stress_[a] = product_transposed(exported, correction);
-    if (stress_options.enabled) {
-      // Monaghan 2000: a repulsive stress -eps sigma_i / rho^2 along each tensile principal axis.
-      // From the stress the particle passes on, so that a treated particle's deviator stays out.
-      const Eigen::SelfAdjointEigenSolver<Mat3> principal(exported);
-      Vec3 r = Vec3::Zero();
-      for (int i = 0; i < 3; ++i)
-        if (principal.eigenvalues()[i] > 0)
-          r[i] = -stress_options.epsilon * principal.eigenvalues()[i] / (density_[a] * density_[a]);
-      artificial_stress_[a] = principal.eigenvectors() * r.asDiagonal() * principal.eigenvectors().transpose();
-    }
+    const Mat3 D = Real(0.5) * (L + L.transpose());
+    const Mat3 D_dev = D - D.trace() / 3 * Mat3::Identity();
+    strain_rate_[a] = std::sqrt(Real(2) / 3 * D_dev.cwiseProduct(D_dev).sum());  // for residual_stress
+    const materials::StressUpdate update = materials::update_stress(m, state, D, dt, density_[a], internal_energy_[a]);
+    pressure_[a] = update.pressure;
+    if (relaxed) relax_exported_deviator(a, W, D, treated, colour.relaxation, dt);  // with the c of the step start
+    sound_speed_[a] = update.sound_speed;
+  } else {
+    updated_volume_[a] = volume_[a];
+    sound_speed_[a] = materials::sound_speed(m, density_[a], internal_energy_[a]);
+  }
+  // The stress as the pair force uses it: sigma B^T (seed 000 eq. 8 for sigma).
+  const Mat3 sigma = state.deviatoric_stress - pressure_[a] * Mat3::Identity();
+  // Seed 000 §4: treated surface and inner-layer particles pass only their pressure on
+  // (TFORM 2), or their relaxed deviator (TFORM 1).
+  const Mat3 exported = relaxed ? Mat3(exported_deviator_[a] - pressure_[a] * Mat3::Identity())
+                        : treated ? Mat3(-pressure_[a] * Mat3::Identity())
+                                  : sigma;
+  corrected_stress_[a] = product_transposed(exported, correction);
+  if (stress_options.enabled) {
+    // Monaghan 2000: a repulsive stress -eps sigma_i / rho^2 along each tensile principal axis.
+    // From the stress the particle passes on, so that a treated particle's deviator stays out.
+    const Eigen::SelfAdjointEigenSolver<Mat3> principal(exported);
+    Vec3 r = Vec3::Zero();
+    for (int i = 0; i < 3; ++i)
+      if (principal.eigenvalues()[i] > 0)
+        r[i] = -stress_options.epsilon * principal.eigenvalues()[i] / (density_[a] * density_[a]);
+    artificial_stress_[a] = principal.eigenvectors() * r.asDiagonal() * principal.eigenvectors().transpose();
   }
 }
 
@@ -736,15 +748,16 @@ void SolidFormulation::compute_forces(solver::NodeStore& nodes, Real dt) {
   update_centres();
   update_neighbour_list();
   kernels::with_kernel(options_.kernel, options_.dimension,
-                       [&](auto kernel) { compute_rates<decltype(kernel)>(); });
-  if (!category_.empty()) {
+                       [&](auto kernel) { compute_rates<decltype(kernel)>(dt); });
+  if (categorizing()) {
     int interval = 1 << 30;
     for (const ColourField& c : options_.colour_field)
       if (c.enabled) interval = std::min(interval, c.interval);
     if (step_ % interval == 0) categorize();
+    update_state(dt);
   }
+  volume_.swap(updated_volume_);
   ++step_;
-  update_state(dt);
   check_state(nodes);
   kernels::with_kernel(options_.kernel, options_.dimension,
                        [&](auto kernel) { compute_pair_forces<decltype(kernel)>(); });
@@ -864,11 +877,11 @@ std::size_t SolidFormulation::memory_bytes() const {
   const auto& list = verlet_.list();
   return bytes(node_) + bytes(material_) + bytes(mass_) + bytes(centre_) + bytes(list_reach_) +
          bytes(initial_smoothing_length_) + bytes(h_bounds_) + bytes(spacing_) +
-         bytes(density_) + bytes(volume_) + bytes(pressure_) + bytes(sound_speed_) + bytes(internal_energy_) +
+         bytes(density_) + bytes(volume_) + bytes(updated_volume_) + bytes(pressure_) + bytes(sound_speed_) + bytes(internal_energy_) +
          bytes(state_) + bytes(gradient_amplification_) + bytes(corrected_stress_) +
          bytes(artificial_stress_) + bytes(exported_deviator_) + bytes(colour_) + bytes(colour_normal_) +
          bytes(support_count_) + bytes(full_support_count_) + bytes(category_) + bytes(x_copy_) + bytes(v_copy_) + bytes(density_rate_) + bytes(support_mask_) +
-         bytes(viscous_heating_) + bytes(velocity_gradient_) + bytes(force_) +
+         bytes(viscous_heating_) + bytes(velocity_gradient_) + bytes(strain_rate_) + bytes(force_) +
          bytes(viscous_force_) + bytes(list.offsets) + bytes(list.neighbors) +
          verlet_.reference_positions_bytes();
 }

@@ -137,9 +137,17 @@ class SolidFormulation final : public solver::Formulation {
   void update_centres();
   void update_neighbour_list();
   template <typename Kernel>
-  void compute_rates();
+  void compute_rates(Real dt);
   void categorize();
+  // The state update of every particle, after the categorization (colour field on); without it
+  // compute_rates updates each particle as soon as its rates are known (update_particle).
   void update_state(Real dt);
+  // Particle a's material state, density and exported stress sigma_a B_a^T over dt, from its
+  // velocity gradient L (corrected), correction B and density rate.
+  void update_particle(Index a, const Mat3& L, const Mat3& correction, Real density_rate, Real dt);
+  // Whether the categorization, which needs every particle's rates, separates the rates pass
+  // from the state update.
+  bool categorizing() const { return !category_.empty(); }
   // Stops the run (InstabilityError) at the first particle whose density or smoothing length is
   // no longer a positive number, before the neighbour search or the materials see it.
   void check_state(const solver::NodeStore& nodes) const;
@@ -172,14 +180,17 @@ class SolidFormulation final : public solver::Formulation {
   std::vector<Real> spacing_;
   std::vector<Real> density_;
   std::vector<Real> volume_;  // m / rho, kept with the density: the pair loops read it per pair
+  // The volume after the state update: the rates pass of the step still reads the step start's
+  // volume_ of the neighbours while particles are being updated; swapped in after the update.
+  std::vector<Real> updated_volume_;
   std::vector<Real> pressure_;
   std::vector<Real> sound_speed_;
   std::vector<Real> internal_energy_;  // specific (per unit mass)
   std::vector<materials::PointState> state_;  // deviatoric stress, plastic strain, temperature, ...
   std::vector<Real> gradient_amplification_;      // s_a of the stable step (stable_time_step)
   Real full_support_gradient_ = 0;                // H sum_b V_b |grad W| of a full support
-  // sigma_a B_a^T, as the pair force uses it. Between compute_rates and update_state it holds B_a
-  // itself (identity without correction): B is needed only there, and one array saves 72 B a particle.
+  // sigma_a B_a^T, as the pair force uses it. When categorizing, between compute_rates and
+  // update_state it holds B_a itself (identity without correction): one array saves 72 B a particle.
   std::vector<Mat3> corrected_stress_;
   std::vector<Mat3> artificial_stress_;           // R_a (empty when switched off)
   // The deviator the pair force uses under the relaxed treatment (empty when no part has it):
@@ -197,12 +208,14 @@ class SolidFormulation final : public solver::Formulation {
   std::span<const Vec3> x_, v_;
   std::vector<Vec3> x_copy_, v_copy_;
   Index first_node_ = -1;
+  // The rates that wait for the categorization (empty when not categorizing).
   std::vector<Real> density_rate_;
+  std::vector<Mat3> velocity_gradient_;
+  std::vector<Real> strain_rate_;  // effective strain rate sqrt(2/3 D':D') of the last step
   // Which entries of each Verlet row the rates pass found inside the support (one byte per pack;
   // solid.cpp, mask_start): the force pass, at the same h, takes the same pairs.
   std::vector<std::uint8_t> support_mask_;
   std::vector<Real> viscous_heating_;  // 1/2 sum_b m_b Pi_ab v_ab . grad_a W_ab
-  std::vector<Mat3> velocity_gradient_;
   std::vector<Vec3> force_;            // total internal force
   std::vector<Vec3> viscous_force_;    // its artificial-viscosity part
 
