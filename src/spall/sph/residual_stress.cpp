@@ -10,7 +10,6 @@
 namespace spall::sph {
 
 namespace {
-
 // The 95th percentile by the nearest-rank method.
 Real percentile95(std::vector<Real> values) {
   if (values.empty()) return 0;

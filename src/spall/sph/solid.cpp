@@ -11,6 +11,7 @@
 #include "spall/core/error.hpp"
 #include "spall/core/simd.hpp"
 #include "spall/materials/elastic.hpp"
+#include "spall/materials/radial_return.hpp"
 
 namespace spall::sph {
 
@@ -372,7 +373,7 @@ void SolidFormulation::compute_rates(Real dt) {
   const auto& list = verlet_.list();
   const Index n = particle_count();
   const bool plane = Kernel::dimension == 2;
-  const bool colour_on = !category_.empty();
+  const bool colour_on = categorizing();
   // LS-DYNA's step (RULE 1) needs no row sums: the per-pair outer product is skipped.
   const bool row_sums = options_.time_step_rule != TimeStepRule::plain;
   const Real* velocity = v_.data()->data();
@@ -576,11 +577,11 @@ void SolidFormulation::update_particle(Index a, const Mat3& L, const Mat3& corre
       state.back_stress += dt * (Wa + Wa.transpose());
     }
     const Mat3 D = Real(0.5) * (L + L.transpose());
-    const Mat3 D_dev = D - D.trace() / 3 * Mat3::Identity();
-    strain_rate_[a] = std::sqrt(Real(2) / 3 * D_dev.cwiseProduct(D_dev).sum());  // for residual_stress
+    const Mat3 D_dev = materials::deviator(D);
+    strain_rate_[a] = materials::effective_strain_rate(D_dev);  // for residual_stress
     const materials::StressUpdate update = materials::update_stress(m, state, D, dt, density_[a], internal_energy_[a]);
     pressure_[a] = update.pressure;
-    if (relaxed) relax_exported_deviator(a, W, D, treated, colour.relaxation, dt);  // with the c of the step start
+    if (relaxed) relax_exported_deviator(a, W, D_dev, treated, colour.relaxation, dt);  // with the c of the step start
     sound_speed_[a] = update.sound_speed;
   } else {
     updated_volume_[a] = volume_[a];
@@ -614,7 +615,7 @@ void SolidFormulation::update_particle(Index a, const Mat3& L, const Mat3& corre
 // strain rate above sigma_y / (2 G tau); a stress that persists at a lower rate (residual stress)
 // is not passed on after a few tau, while the material's own S stays in the output. A failed
 // particle exports no deviator.
-void SolidFormulation::relax_exported_deviator(Index a, const Mat3& W, const Mat3& D, bool treated,
+void SolidFormulation::relax_exported_deviator(Index a, const Mat3& W, const Mat3& D_dev, bool treated,
                                                Real relaxation, Real dt) {
   const auto& m = materials_[material_[a]];
   const materials::PointState& state = state_[a];
@@ -623,7 +624,6 @@ void SolidFormulation::relax_exported_deviator(Index a, const Mat3& W, const Mat
     exported = state.deviatoric_stress;
     return;
   }
-  const Mat3 D_dev = D - D.trace() / 3 * Mat3::Identity();
   exported += dt * (W * exported - exported * W + 2 * m.shear_modulus * D_dev);
   const Mat3 target = treated ? Mat3::Zero() : state.deviatoric_stress;
   const Real tau = relaxation * smoothing_length(a) / sound_speed_[a];

@@ -151,7 +151,7 @@ class SolidFormulation final : public solver::Formulation {
   // Stops the run (InstabilityError) at the first particle whose density or smoothing length is
   // no longer a positive number, before the neighbour search or the materials see it.
   void check_state(const solver::NodeStore& nodes) const;
-  void relax_exported_deviator(Index a, const Mat3& W, const Mat3& D, bool treated,
+  void relax_exported_deviator(Index a, const Mat3& W, const Mat3& D_dev, bool treated,
                                Real relaxation, Real dt);
   template <typename Kernel>
   void compute_pair_forces();
