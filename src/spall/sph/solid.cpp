@@ -9,6 +9,7 @@
 #include <fmt/core.h>
 
 #include "spall/core/error.hpp"
+#include "spall/core/ordered_sum.hpp"
 #include "spall/core/simd.hpp"
 #include "spall/materials/elastic.hpp"
 #include "spall/materials/radial_return.hpp"
@@ -353,9 +354,11 @@ void SolidFormulation::update_centres() {
 void SolidFormulation::update_neighbour_list() {
   const Index n = particle_count();
   bool outgrown = !list_built_;
-  for (Index a = 0; a < n && !outgrown; ++a) outgrown = smoothing_length(a) > list_reach_[a];
+#pragma omp parallel for reduction(|| : outgrown) schedule(static)
+  for (Index a = 0; a < n; ++a) outgrown = outgrown || smoothing_length(a) > list_reach_[a];
   if (!outgrown && !verlet_.needs_rebuild(x_)) return;
   Real h_largest = 0;
+#pragma omp parallel for reduction(max : h_largest) schedule(static)
   for (Index a = 0; a < n; ++a) {
     list_reach_[a] = cutoff_margin * smoothing_length(a);
     h_largest = std::max(h_largest, smoothing_length(a));
@@ -379,7 +382,7 @@ void SolidFormulation::compute_rates(Real dt) {
   const Real* velocity = v_.data()->data();
   support_mask_.resize(mask_bytes(list));
   std::uint8_t* mask = support_mask_.data();
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(dynamic, 512)
   for (Index a = 0; a < n; ++a) {
     thread_local RowTerms terms;
     const Index padded = row_geometry<Kernel>(list, a, centre_.data(), mask, terms);
@@ -547,7 +550,7 @@ void SolidFormulation::categorize() {
 
 void SolidFormulation::update_state(Real dt) {
   const Index n = particle_count();
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(dynamic, 512)
   for (Index a = 0; a < n; ++a) update_particle(a, velocity_gradient_[a], corrected_stress_[a], density_rate_[a], dt);
 }
 
@@ -634,8 +637,17 @@ void SolidFormulation::relax_exported_deviator(Index a, const Mat3& W, const Mat
 }
 
 void SolidFormulation::check_state(const solver::NodeStore& nodes) const {
-  for (Index a = 0; a < particle_count(); ++a) {
-    if (density_[a] > 0 && std::isfinite(density_[a]) && std::isfinite(smoothing_length(a))) continue;
+  const Index n = particle_count();
+  const auto sound = [&](Index a) {
+    return density_[a] > 0 && std::isfinite(density_[a]) && std::isfinite(smoothing_length(a));
+  };
+  // The first particle that is not, whatever the thread count.
+  Index first = n;
+#pragma omp parallel for reduction(min : first) schedule(static)
+  for (Index a = 0; a < n; ++a)
+    if (!sound(a)) first = std::min(first, a);
+  if (first < n) {
+    const Index a = first;
     throw InstabilityError(fmt::format(
         "SPH solid: node {} has density {:.6g} and smoothing length {:.6g}: its particle's "
         "neighbourhood has collapsed or torn apart (a smaller TSSFAC, or the artificial stress "
@@ -662,7 +674,7 @@ void SolidFormulation::compute_pair_forces() {
   const Real exponent = options_.artificial_stress.exponent;
   const Real* velocity = v_.data()->data();
   const Real* P = corrected_stress_.data()->data();  // P_b(i, j) = P[9 b + i + 3 j]
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(dynamic, 512)
   for (Index a = 0; a < n; ++a) {
     thread_local RowTerms terms;
     const Index padded = picked_support(list, a, support_mask_.data(), terms);
@@ -795,14 +807,17 @@ Real SolidFormulation::stable_time_step(const solver::NodeStore& nodes) const {
 
 solver::Formulation::Power SolidFormulation::internal_power(std::span<const Vec3> v) const {
   // Work of the internal forces on the nodes: strain energy grows by -f_stress . v, and the
-  // artificial viscosity dissipates -f_visc . v >= 0. Reduced in index order (deterministic).
+  // artificial viscosity dissipates -f_visc . v >= 0. In an order independent of the thread count.
+  const Eigen::Vector2d sums = ordered_sum(
+      particle_count(),
+      [&](Index a) -> Eigen::Vector2d {
+        const Vec3& va = v[node_[a]];
+        return {(force_[a] - viscous_force_[a]).dot(va), viscous_force_[a].dot(va)};
+      },
+      Eigen::Vector2d::Zero().eval());
   Power p;
-  const Index n = particle_count();
-  for (Index a = 0; a < n; ++a) {
-    const Vec3& va = v[node_[a]];
-    p.stored -= (force_[a] - viscous_force_[a]).dot(va);
-    p.dissipated -= viscous_force_[a].dot(va);
-  }
+  p.stored = -sums[0];
+  p.dissipated = -sums[1];
   return p;
 }
 
