@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include "spall/core/error.hpp"
+#include "spall/core/ordered_sum.hpp"
 #include "spall/core/simd.hpp"
 #include "spall/kernels/cubic_spline.hpp"
 #include "spall/neighbors/trimmed_stencil.hpp"
@@ -625,16 +626,22 @@ Real FluidFormulation::stable_time_step(const solver::NodeStore&) const {
 
 solver::Formulation::Power FluidFormulation::internal_power(std::span<const Vec3> v) const {
   // Stored (compression) energy grows by -f_pressure . v; viscosity dissipates -f_viscous . v.
-  // Reduced in particle order (deterministic).
+  // In an order independent of the thread count.
+  const Eigen::Vector2d sums = ordered_sum(
+      particle_count(),
+      [&](Index a) -> Eigen::Vector2d {
+        const Vec3& va = v[node_[a]];
+        Eigen::Vector2d term = Eigen::Vector2d::Zero();
+        for (int d = 0; d < 3; ++d) {
+          term[0] += Real(pressure_force_[3 * a + d]) * va[d];
+          term[1] += Real(viscous_force_[3 * a + d]) * va[d];
+        }
+        return term;
+      },
+      Eigen::Vector2d::Zero().eval());
   Power p;
-  const Index n = particle_count();
-  for (Index a = 0; a < n; ++a) {
-    const Vec3& va = v[node_[a]];
-    for (int d = 0; d < 3; ++d) {
-      p.stored -= Real(pressure_force_[3 * a + d]) * va[d];
-      p.dissipated -= Real(viscous_force_[3 * a + d]) * va[d];
-    }
-  }
+  p.stored = -sums[0];
+  p.dissipated = -sums[1];
   return p;
 }
 
