@@ -83,6 +83,21 @@ TYPED_TEST(VectorLanes, EveryOperationMatchesTheScalarLanesExactly) {
   }
 }
 
+TYPED_TEST(VectorLanes, EightSumsAtOnceAreEachSumBitForBit) {
+  using P = TypeParam;
+  std::mt19937_64 rng(5);
+  for (int trial = 0; trial < 200; ++trial) {
+    P packs[8];
+    for (P& p : packs) {
+      const auto a = random_lanes<P::width>(rng);
+      p = P::load(a.data());
+    }
+    Real sums[8];
+    simd::sum_lanes(packs, sums);
+    for (int i = 0; i < 8; ++i) EXPECT_EQ(sums[i], packs[i].sum()) << "pack " << i;
+  }
+}
+
 TYPED_TEST(VectorLanes, ReciprocalAndReciprocalSquareRootAreWithinFourUlp) {
   using P = TypeParam;
   constexpr int W = P::width;

@@ -387,6 +387,35 @@ using lanes::load_transposed;
 using lanes::load_vectors;
 #endif
 
+// The lane sums of eight packs into out[0..7], out[i] = packs[i].sum() bit for bit (the same
+// additions in the same pairs).
+template <typename P>
+inline void sum_lanes(const P (&packs)[8], Real* out) {
+  for (int i = 0; i < 8; ++i) out[i] = packs[i].sum();
+}
+#if defined(SPALL_SIMD_AVX512)
+// The eight packs transposed in a tree while they are added: neighbouring lanes of two packs by
+// unpacks, then pairs of pairs and quads of quads by 128-bit shuffles, 21 instructions where eight
+// sum() take 64, two thirds of them shuffles on the one port that does those. (The zero-masked
+// forms with every lane on: see all_lanes.)
+inline void sum_lanes(const avx512::Real8 (&packs)[8], Real* out) {
+  __m512d pairs[4];  // pairs[k] = (a0 + a1, b0 + b1, a2 + a3, b2 + b3, ...) of packs 2k (a), 2k + 1 (b)
+  for (int k = 0; k < 4; ++k) {
+    const __m512d a = packs[2 * k].v, b = packs[2 * k + 1].v;
+    pairs[k] = _mm512_add_pd(_mm512_maskz_unpacklo_pd(avx512::all_lanes, a, b),
+                             _mm512_maskz_unpackhi_pd(avx512::all_lanes, a, b));
+  }
+  // 128-bit lanes 0 and 2 of x, then of y; and lanes 1 and 3: (l0 + l1) + (l2 + l3) of each pack in
+  // the first, (l4 + l5) + (l6 + l7) in the second half of each 128-bit lane's pair.
+  const auto halves = [](__m512d x, __m512d y) {
+    return _mm512_add_pd(_mm512_maskz_shuffle_f64x2(avx512::all_lanes, x, y, 0x88),
+                         _mm512_maskz_shuffle_f64x2(avx512::all_lanes, x, y, 0xDD));
+  };
+  const __m512d quads_low = halves(pairs[0], pairs[1]), quads_high = halves(pairs[2], pairs[3]);
+  _mm512_storeu_pd(out, halves(quads_low, quads_high));
+}
+#endif
+
 // The scalar forms, so that a kernel written with select/max serves both Real and a Pack.
 inline Real select(bool m, Real a, Real b) { return m ? a : b; }
 using std::max;

@@ -50,15 +50,13 @@ Mat3 product_transposed(const Mat3& A, const Mat3& B) {
   return C;
 }
 
-// The symmetric matrix whose six independent entries are sign times the lane sums of the packs,
-// each pack summed once.
-Mat3 symmetric_sum(simd::Pack xx, simd::Pack yy, simd::Pack zz, simd::Pack xy, simd::Pack yz, simd::Pack zx,
-                   Real sign) {
+// The symmetric matrix of the six independent entries xx, yy, zz, xy, yz, zx at s, times sign.
+Mat3 symmetric(const Real* s, Real sign) {
   Mat3 m;
-  m(0, 0) = sign * xx.sum(), m(1, 1) = sign * yy.sum(), m(2, 2) = sign * zz.sum();
-  m(0, 1) = m(1, 0) = sign * xy.sum();
-  m(1, 2) = m(2, 1) = sign * yz.sum();
-  m(0, 2) = m(2, 0) = sign * zx.sum();
+  m(0, 0) = sign * s[0], m(1, 1) = sign * s[1], m(2, 2) = sign * s[2];
+  m(0, 1) = m(1, 0) = sign * s[3];
+  m(1, 2) = m(2, 1) = sign * s[4];
+  m(0, 2) = m(2, 0) = sign * s[5];
   return m;
 }
 
@@ -444,11 +442,18 @@ void SolidFormulation::compute_rates(Real dt) {
       }
       return drho_lanes.sum();
     };
+    // The 24 sums eight at a time: L's nine, then the normal, the moment and the spread.
+    const Pack lanes[3][8] = {{L_lanes[0], L_lanes[1], L_lanes[2], L_lanes[3], L_lanes[4], L_lanes[5], L_lanes[6],
+                               L_lanes[7]},
+                              {L_lanes[8], n_x, n_y, n_z, m_xx, m_yy, m_zz, m_xy},
+                              {m_yz, m_zx, s_xx, s_yy, s_zz, s_xy, s_yz, s_zx}};
+    Real sums[24];
+    for (int i = 0; i < 3; ++i) simd::sum_lanes(lanes[i], sums + 8 * i);
     Real drho;
     Mat3 L;
-    for (int i = 0; i < 9; ++i) L.data()[i] = L_lanes[i].sum();
-    Mat3 moment = symmetric_sum(m_xx, m_yy, m_zz, m_xy, m_yz, m_zx, Real(-1));
-    const Vec3 normal(n_x.sum(), n_y.sum(), n_z.sum());
+    for (int i = 0; i < 9; ++i) L.data()[i] = sums[i];
+    const Vec3 normal(sums[9], sums[10], sums[11]);
+    Mat3 moment = symmetric(sums + 12, Real(-1));
     if (colour_on) {
       // seed 000 eq. 10, self included
       Real colour = volume_[a] * Kernel::value(0, 2 * smoothing_length(a));
@@ -477,7 +482,7 @@ void SolidFormulation::compute_rates(Real dt) {
     // second term: the weight of v_a itself), relative to a full support's; the first term by
     // Cauchy-Schwarz, sqrt(tr T tr(B^T T B)) with T = spread (exact when B = I).
     if (row_sums) {
-      const Mat3 spread = symmetric_sum(s_xx, s_yy, s_zz, s_xy, s_yz, s_zx, Real(1));
+      const Mat3 spread = symmetric(sums + 18, Real(1));
       // tr(B^T T B) = sum_ij (T B)_ij B_ij: one product, not two and a diagonal. Written out in
       // scalars: Eigen's two-lane forms of these 3x3 products store single lanes to the stack and
       // reload them as pairs, which stalls store forwarding (a tenth of this pass, measured).
@@ -726,8 +731,11 @@ void SolidFormulation::compute_pair_forces() {
       v_x = fma(s, dx, v_x), v_y = fma(s, dy, v_y), v_z = fma(s, dz, v_z);
       heating_lanes = fma(Pack(0.5) * m_b * Pi * factor, vr, heating_lanes);
     }
-    Vec3 f(f_x.sum(), f_y.sum(), f_z.sum());
-    const Vec3 f_visc(-v_x.sum(), -v_y.sum(), -v_z.sum());
+    const Pack lanes[8] = {f_x, f_y, f_z, v_x, v_y, v_z, heating_lanes, Pack()};
+    Real sums[8];
+    simd::sum_lanes(lanes, sums);
+    Vec3 f(sums[0], sums[1], sums[2]);
+    const Vec3 f_visc(-sums[3], -sums[4], -sums[5]);
     if (stress_on) {
       // Monaghan 2000: m_a m_b f_ab^n (R_a + R_b) grad_a W_ab, f_ab = W(r) / W(dp).
       for (Index k = 0; k < padded; ++k) {
@@ -743,7 +751,7 @@ void SolidFormulation::compute_pair_forces() {
       }
     }
     viscous_force_[a] = f_visc;
-    viscous_heating_[a] = heating_lanes.sum();
+    viscous_heating_[a] = sums[6];
     force_[a] = f + f_visc;
   }
 }
