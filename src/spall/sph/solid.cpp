@@ -499,7 +499,7 @@ void SolidFormulation::compute_rates(Real dt) {
       const Real row_sum = std::sqrt(spread.trace() * quadratic) + std::sqrt(transposed_normal);
       gradient_amplification_[a] = row_sum * 2 * smoothing_length(a) / full_support_gradient_;
     }
-    if (categorizing()) {
+    if (colour_on) {
       density_rate_[a] = drho;
       velocity_gradient_[a] = L;
       corrected_stress_[a] = correction;  // B_a, until update_state turns it into sigma_a B_a^T
