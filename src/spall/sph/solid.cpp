@@ -88,12 +88,12 @@ bool invert_symmetric(const Mat3& m, Real least, Mat3& inverse) {
 // weight. About a third of a Verlet row lies outside the support (the skin and the reach margin).
 struct RowTerms {
   std::vector<Index> neighbour;  // the pairs kept
-  std::vector<Real> dx, dy, dz, r, support, factor, inverse_r, weight;
+  std::vector<Real> dx, dy, dz, r, support, factor, inverse_r, volume, weight;
   void resize(std::size_t n) {
     constexpr std::size_t W = simd::Pack::width;
     if (r.size() >= n + W) return;
     neighbour.resize(n + W);
-    for (auto* v : {&dx, &dy, &dz, &r, &support, &factor, &inverse_r, &weight}) v->resize(n + W);
+    for (auto* v : {&dx, &dy, &dz, &r, &support, &factor, &inverse_r, &volume, &weight}) v->resize(n + W);
   }
 };
 
@@ -245,6 +245,7 @@ SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
   updated_volume_.resize(n);
   pressure_.assign(n, 0);
   sound_speed_.resize(n);
+  updated_sound_speed_.resize(n);
   internal_energy_.assign(n, 0);
   state_.resize(n);
   gradient_amplification_.assign(n, 1);
@@ -280,6 +281,7 @@ SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
     internal_energy_[a] = m.initial_specific_energy;
     pressure_[a] = materials::eos_pressure(m, m.density, internal_energy_[a]);
     sound_speed_[a] = materials::sound_speed(m, m.density, internal_energy_[a]);
+    updated_sound_speed_[a] = sound_speed_[a];
   }
   for (const auto& m : materials_)
     if (std::holds_alternative<materials::JohnsonCook>(m.strength)) has_temperature_ = true;
@@ -378,6 +380,8 @@ void SolidFormulation::compute_rates(Real dt) {
   // LS-DYNA's step (RULE 1) needs no row sums: the per-pair outer product is skipped.
   const bool row_sums = options_.time_step_rule != TimeStepRule::plain;
   const Real* velocity = v_.data()->data();
+  const Real alpha = options_.viscosity.alpha, beta = options_.viscosity.beta;
+  const Real eta2 = options_.viscosity.eta * options_.viscosity.eta;
   support_mask_.resize(mask_bytes(list));
   std::uint8_t* mask = support_mask_.data();
 #pragma omp parallel for schedule(dynamic, 512)
@@ -386,8 +390,8 @@ void SolidFormulation::compute_rates(Real dt) {
     const Index padded = row_geometry<Kernel>(list, a, centre_.data(), mask, terms);
     const Index* neighbour = terms.neighbour.data();
     const Real *dx_k = terms.dx.data(), *dy_k = terms.dy.data(), *dz_k = terms.dz.data(), *factor_k = terms.factor.data(),
-               *inverse_r_k = terms.inverse_r.data();
-    Real* weight_k = terms.weight.data();
+               *inverse_r_k = terms.inverse_r.data(), *r_k = terms.r.data(), *support_k = terms.support.data();
+    Real *volume_k = terms.volume.data(), *weight_k = terms.weight.data();
     // With g = V_b grad_a W_ab = V_b F x_ab:
     //   normal n = sum g (seed 000 eq. 9: n = grad c_s)
     //   moment   = -sum g (x) x_ab, = I for a full support (symmetric: 6 sums)
@@ -400,6 +404,7 @@ void SolidFormulation::compute_rates(Real dt) {
       const Pack factor = Pack::load(factor_k + k);
       const Pack dx = Pack::load(dx_k + k), dy = Pack::load(dy_k + k), dz = Pack::load(dz_k + k);
       const Pack w = volume * factor;
+      volume.store(volume_k + k);
       w.store(weight_k + k);
       const Pack gx = w * dx, gy = w * dy, gz = w * dz;
       n_x += gx, n_y += gy, n_z += gz;
@@ -420,6 +425,11 @@ void SolidFormulation::compute_rates(Real dt) {
       vx -= vax, vy -= vay, vz -= vaz;
       dx = Pack::load(dx_k + k), dy = Pack::load(dy_k + k), dz = Pack::load(dz_k + k);
     };
+    // Monaghan's viscosity, -m_a m_b Pi_ab grad_a W_ab on the pairs approaching each other, here
+    // where v_ab and the pair geometry are at hand, with rho and c of the step start (the
+    // neighbours' volume_ and sound_speed_ until the swap after the update).
+    const Pack m_a(mass_[a]), V_a(volume_[a]), c_a(sound_speed_[a]);
+    Pack visc_x, visc_y, visc_z, heating_lanes;
     for (Index k = 0; k < padded; k += W) {
       Pack vx, vy, vz, dx, dy, dz;
       pair_kinematics(k, vx, vy, vz, dx, dy, dz);
@@ -429,6 +439,29 @@ void SolidFormulation::compute_rates(Real dt) {
       L_lanes[0] = fma(vx, gx, L_lanes[0]), L_lanes[1] = fma(vy, gx, L_lanes[1]), L_lanes[2] = fma(vz, gx, L_lanes[2]);
       L_lanes[3] = fma(vx, gy, L_lanes[3]), L_lanes[4] = fma(vy, gy, L_lanes[4]), L_lanes[5] = fma(vz, gy, L_lanes[5]);
       L_lanes[6] = fma(vx, gz, L_lanes[6]), L_lanes[7] = fma(vy, gz, L_lanes[7]), L_lanes[8] = fma(vz, gz, L_lanes[8]);
+      // v_ab . x_ab, bit for bit that of (b, a): v_b - v_a and x_a - x_b change sign exactly.
+      const Pack vr = Pack(0) - fma(vz, dz, fma(vy, dy, vx * dx));
+      const simd::PackMask approaching = vr < Pack(0);
+      if (approaching.lanes() == 0) continue;
+      // Pi = (-alpha c mu + beta mu^2) / rho_ab with mu = h v_ab . x_ab / d, d = r^2 + eta^2 h^2, as
+      // (-alpha c d + beta h v.x) h v.x / (d^2 rho_ab) with one reciprocal (simd.hpp), and
+      // rho_ab = (rho_a + rho_b) / 2 = (m_a V_b + m_b V_a) / (2 V_a V_b): every product and sum
+      // is commutative, so that (a, b) and (b, a) get the same Pi.
+      const Index* b = neighbour + k;
+      const Pack h_ab = Pack(0.5) * Pack::load(support_k + k);  // mean smoothing length
+      const Pack hv = h_ab * vr;
+      const Pack r = Pack::load(r_k + k);
+      const Pack d = fma(Pack(eta2) * h_ab, h_ab, r * r);
+      const Pack V_b = Pack::load(volume_k + k), m_b = pair_mass(mass_, uniform_mass_, b);
+      const Pack c = Pack(0.5) * (c_a + Pack::gather<1>(sound_speed_.data(), b));
+      const Pack Pi = select(approaching,
+                             fma(Pack(-alpha) * c, d, Pack(beta) * hv) * hv * reciprocal(d * d * (m_a * V_b + m_b * V_a)) *
+                                 (Pack(2) * (V_a * V_b)),
+                             Pack(0));
+      const Pack factor = Pack::load(factor_k + k);
+      const Pack s = m_a * m_b * Pi * factor;
+      visc_x = fma(s, dx, visc_x), visc_y = fma(s, dy, visc_y), visc_z = fma(s, dz, visc_z);
+      heating_lanes = fma(Pack(0.5) * m_b * Pi * factor, vr, heating_lanes);
     }
     // The continuity sum, for a particle whose velocity gradient is not corrected (with the
     // correction its density follows from tr(L) instead).
@@ -442,13 +475,16 @@ void SolidFormulation::compute_rates(Real dt) {
       }
       return drho_lanes.sum();
     };
-    // The 24 sums eight at a time: L's nine, then the normal, the moment and the spread.
-    const Pack lanes[3][8] = {{L_lanes[0], L_lanes[1], L_lanes[2], L_lanes[3], L_lanes[4], L_lanes[5], L_lanes[6],
+    // The 28 sums eight at a time: L's nine, then the normal, the moment, the spread and the viscosity.
+    const Pack lanes[4][8] = {{L_lanes[0], L_lanes[1], L_lanes[2], L_lanes[3], L_lanes[4], L_lanes[5], L_lanes[6],
                                L_lanes[7]},
                               {L_lanes[8], n_x, n_y, n_z, m_xx, m_yy, m_zz, m_xy},
-                              {m_yz, m_zx, s_xx, s_yy, s_zz, s_xy, s_yz, s_zx}};
-    Real sums[24];
-    for (int i = 0; i < 3; ++i) simd::sum_lanes(lanes[i], sums + 8 * i);
+                              {m_yz, m_zx, s_xx, s_yy, s_zz, s_xy, s_yz, s_zx},
+                              {visc_x, visc_y, visc_z, heating_lanes, Pack(), Pack(), Pack(), Pack()}};
+    Real sums[32];
+    for (int i = 0; i < 4; ++i) simd::sum_lanes(lanes[i], sums + 8 * i);
+    viscous_force_[a] = Vec3(-sums[24], -sums[25], -sums[26]);
+    viscous_heating_[a] = sums[27];
     Real drho;
     Mat3 L;
     for (int i = 0; i < 9; ++i) L.data()[i] = sums[i];
@@ -590,10 +626,10 @@ void SolidFormulation::update_particle(Index a, const Mat3& L, const Mat3& corre
     const materials::StressUpdate update = materials::update_stress(m, state, D, dt, density_[a], internal_energy_[a]);
     pressure_[a] = update.pressure;
     if (relaxed) relax_exported_deviator(a, W, D_dev, treated, colour.relaxation, dt);  // with the c of the step start
-    sound_speed_[a] = update.sound_speed;
+    updated_sound_speed_[a] = update.sound_speed;
   } else {
     updated_volume_[a] = volume_[a];
-    sound_speed_[a] = materials::sound_speed(m, density_[a], internal_energy_[a]);
+    updated_sound_speed_[a] = materials::sound_speed(m, density_[a], internal_energy_[a]);
   }
   // The stress as the pair force uses it: sigma B^T (seed 000 eq. 8 for sigma).
   const Mat3 sigma = state.deviatoric_stress - pressure_[a] * Mat3::Identity();
@@ -663,7 +699,8 @@ void SolidFormulation::check_state(const solver::NodeStore& nodes) const {
 
 // Momentum, dual to the (corrected) velocity gradient: with P = sigma B^T,
 //   f_a = sum_b V_a V_b (P_a + P_b) grad_a W_ab  -  sum_b m_a m_b Pi_ab grad_a W_ab
-//         + sum_b m_a m_b f_ab^n (R_a + R_b) grad_a W_ab.
+//         + sum_b m_a m_b f_ab^n (R_a + R_b) grad_a W_ab,
+// the viscous term from the rates pass (compute_rates).
 // Stress power sum_a V_a sigma_a : L_a equals -sum_a f_a . v_a exactly, and the pair term is
 // antisymmetric, so linear momentum is conserved to round-off. Without correction (B = I) this is
 // the symmetric SPH form of seed 000 eq. 7 with V_a V_b in place of m_a m_b / (rho_a rho_b).
@@ -673,11 +710,8 @@ void SolidFormulation::compute_pair_forces() {
   constexpr int W = Pack::width;
   const auto& list = verlet_.list();
   const Index n = particle_count();
-  const Real alpha = options_.viscosity.alpha, beta = options_.viscosity.beta;
-  const Real eta2 = options_.viscosity.eta * options_.viscosity.eta;
   const bool stress_on = options_.artificial_stress.enabled;
   const Real exponent = options_.artificial_stress.exponent;
-  const Real* velocity = v_.data()->data();
   const Real* P = corrected_stress_.data()->data();  // P_b(i, j) = P[9 b + i + 3 j]
 #pragma omp parallel for schedule(dynamic, 512)
   for (Index a = 0; a < n; ++a) {
@@ -685,11 +719,10 @@ void SolidFormulation::compute_pair_forces() {
     const Index padded = picked_support(list, a, support_mask_.data(), terms);
     const Index* neighbour = terms.neighbour.data();
     const PackCentre centre(centre_.data(), a);
-    const Pack rho_a(density_[a]), volume_a(volume_[a]), c_a(sound_speed_[a]), m_a(mass_[a]);
-    const Pack vax(velocity[3 * a]), vay(velocity[3 * a + 1]), vaz(velocity[3 * a + 2]);
+    const Pack volume_a(volume_[a]);
     Pack P_a[9];
     for (int i = 0; i < 9; ++i) P_a[i] = Pack(P[9 * a + i]);
-    Pack f_x, f_y, f_z, v_x, v_y, v_z, heating_lanes;
+    Pack f_x, f_y, f_z;
     for (Index k = 0; k < padded; k += W) {
       const Index* b = neighbour + k;
       const PairGeometry g = pair_geometry<Kernel>(centre, centre_.data(), b);
@@ -709,33 +742,8 @@ void SolidFormulation::compute_pair_forces() {
         Pd[i] = fma(p2, dz, fma(p1, dy, p0 * dx));
       }
       f_x = fma(t, Pd[0], f_x), f_y = fma(t, Pd[1], f_y), f_z = fma(t, Pd[2], f_z);
-      // Monaghan's viscosity on approaching pairs, mu = h v_ab . x_ab / (r^2 + eta^2 h^2).
-      Pack ux, uy, uz;
-      simd::load_vectors(velocity, b, ux, uy, uz);
-      ux = vax - ux, uy = vay - uy, uz = vaz - uz;
-      const Pack vr = fma(uz, dz, fma(uy, dy, ux * dx));
-      const simd::PackMask approaching = vr < Pack(0);
-      if (approaching.lanes() == 0) continue;
-      // Pi = (-alpha c mu + beta mu^2) / rho_ab with mu = h v_ab . x_ab / d, d = r^2 + eta^2 h^2, as
-      // (-alpha c d + beta h v.x) h v.x / (d^2 rho_ab) with one reciprocal (simd.hpp): the two
-      // divisions were a tenth of this pass.
-      const Pack h_ab = Pack(0.5) * g.support;  // mean smoothing length
-      const Pack hv = h_ab * vr;
-      const Pack d = fma(Pack(eta2) * h_ab, h_ab, g.r * g.r);
-      const Pack c = Pack(0.5) * (c_a + Pack::gather<1>(sound_speed_.data(), b));
-      const Pack rho = Pack(0.5) * (rho_a + Pack::gather<1>(density_.data(), b));
-      const Pack Pi =
-          select(approaching, fma(Pack(-alpha) * c, d, Pack(beta) * hv) * hv * reciprocal(d * d * rho), Pack(0));
-      const Pack m_b = pair_mass(mass_, uniform_mass_, b);
-      const Pack s = m_a * m_b * Pi * factor;
-      v_x = fma(s, dx, v_x), v_y = fma(s, dy, v_y), v_z = fma(s, dz, v_z);
-      heating_lanes = fma(Pack(0.5) * m_b * Pi * factor, vr, heating_lanes);
     }
-    const Pack lanes[8] = {f_x, f_y, f_z, v_x, v_y, v_z, heating_lanes, Pack()};
-    Real sums[8];
-    simd::sum_lanes(lanes, sums);
-    Vec3 f(sums[0], sums[1], sums[2]);
-    const Vec3 f_visc(-sums[3], -sums[4], -sums[5]);
+    Vec3 f(f_x.sum(), f_y.sum(), f_z.sum());
     if (stress_on) {
       // Monaghan 2000: m_a m_b f_ab^n (R_a + R_b) grad_a W_ab, f_ab = W(r) / W(dp).
       for (Index k = 0; k < padded; ++k) {
@@ -750,9 +758,7 @@ void SolidFormulation::compute_pair_forces() {
                        ((artificial_stress_[a] + artificial_stress_[b]) * grad);
       }
     }
-    viscous_force_[a] = f_visc;
-    viscous_heating_[a] = sums[6];
-    force_[a] = f + f_visc;
+    force_[a] = f + viscous_force_[a];  // the viscosity from the rates pass
   }
 }
 
@@ -777,6 +783,7 @@ void SolidFormulation::compute_forces(solver::NodeStore& nodes, Real dt) {
     update_state(dt);
   }
   volume_.swap(updated_volume_);
+  sound_speed_.swap(updated_sound_speed_);
   ++step_;
   check_state(nodes);
   kernels::with_kernel(options_.kernel, options_.dimension,
@@ -900,7 +907,7 @@ std::size_t SolidFormulation::memory_bytes() const {
   const auto& list = verlet_.list();
   return bytes(node_) + bytes(material_) + bytes(mass_) + bytes(centre_) + bytes(list_reach_) +
          bytes(initial_smoothing_length_) + bytes(h_bounds_) + bytes(spacing_) +
-         bytes(density_) + bytes(volume_) + bytes(updated_volume_) + bytes(pressure_) + bytes(sound_speed_) + bytes(internal_energy_) +
+         bytes(density_) + bytes(volume_) + bytes(updated_volume_) + bytes(pressure_) + bytes(sound_speed_) + bytes(updated_sound_speed_) + bytes(internal_energy_) +
          bytes(state_) + bytes(gradient_amplification_) + bytes(corrected_stress_) +
          bytes(artificial_stress_) + bytes(exported_deviator_) + bytes(colour_) + bytes(colour_normal_) +
          bytes(support_count_) + bytes(full_support_count_) + bytes(category_) + bytes(x_copy_) + bytes(v_copy_) + bytes(density_rate_) + bytes(support_mask_) +

@@ -12,7 +12,9 @@
 //   energy           de_a/dt = sigma_a : L_a / rho_a + 1/2 sum_b m_b Pi_ab v_ab . grad_a W_ab
 //   correction       B_a = (sum_b V_b (x_b - x_a) (x) grad_a W_ab)^-1 (Randles & Libersky 1996),
 //                    applied to L and, by duality, to the force; B = I when switched off
-//   viscosity        Pi_ab = (-alpha c_ab mu_ab + beta mu_ab^2) / rho_ab when v_ab . x_ab < 0 (Monaghan)
+//   viscosity        Pi_ab = (-alpha c_ab mu_ab + beta mu_ab^2) / rho_ab when v_ab . x_ab < 0 (Monaghan),
+//                    with rho and c of the step start (evaluated in the rates pass, which holds v_ab
+//                    and the pair geometry already)
 //   artif. stress    R_ab = R_a + R_b, R_a = -eps sigma_tension / rho_a^2 in the principal frame,
 //                    f_ab = W(r_ab) / W(dp) (Monaghan 2000; Gray, Monaghan & Swift 2001)
 //   colour field     c_a = sum_b V_b W_ab (self included), n_a = sum_b V_b grad_a W_ab (seed 000
@@ -185,6 +187,9 @@ class SolidFormulation final : public solver::Formulation {
   std::vector<Real> updated_volume_;
   std::vector<Real> pressure_;
   std::vector<Real> sound_speed_;
+  // c after the state update, swapped in with updated_volume_: the rates pass's viscosity reads the
+  // neighbours' c of the step start.
+  std::vector<Real> updated_sound_speed_;
   std::vector<Real> internal_energy_;  // specific (per unit mass)
   std::vector<materials::PointState> state_;  // deviatoric stress, plastic strain, temperature, ...
   std::vector<Real> gradient_amplification_;      // s_a of the stable step (stable_time_step)
@@ -215,9 +220,10 @@ class SolidFormulation final : public solver::Formulation {
   // Which entries of each Verlet row the rates pass found inside the support (one byte per pack;
   // solid.cpp, mask_start): the force pass, at the same h, takes the same pairs.
   std::vector<std::uint8_t> support_mask_;
+  // The artificial viscosity of the step, from the rates pass (compute_rates).
   std::vector<Real> viscous_heating_;  // 1/2 sum_b m_b Pi_ab v_ab . grad_a W_ab
-  std::vector<Vec3> force_;            // total internal force
-  std::vector<Vec3> viscous_force_;    // its artificial-viscosity part
+  std::vector<Vec3> viscous_force_;    // -sum_b m_a m_b Pi_ab grad_a W_ab
+  std::vector<Vec3> force_;            // total internal force, viscous_force_ included
 
   neighbors::VerletList verlet_;
   Real time_ = 0;
