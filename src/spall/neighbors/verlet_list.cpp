@@ -198,15 +198,15 @@ void VerletList::build_rows(std::span<const Vec3> x, Real radius, const MakeRadi
       found_rows.resize(omp_get_num_threads());
       found_particles.resize(omp_get_num_threads());
     }
-    // Each thread's share of the last list with 1/8 to spare: a buffer grown from empty by doubling
-    // copies itself over as it goes (memmove was a quarter of the Taylor bar's builds).
-    const std::size_t share = last_total / static_cast<std::size_t>(omp_get_num_threads());
-    found_rows[omp_get_thread_num()].reserve(share + share / 8 + search_lanes);
     // found has room for search_lanes entries past the candidates, which compress_indices may write
     // before the count moves past them. Candidates are gathered search_lanes at a time without a
     // branch per candidate (about one in three is a neighbour, so a branch would mispredict often).
     std::vector<Index>& found = found_rows[omp_get_thread_num()];
     std::vector<Index>& particles = found_particles[omp_get_thread_num()];
+    // The thread's share of the last list with 1/8 to spare: a buffer grown from empty by doubling
+    // copies itself over as it goes (memmove was a quarter of the Taylor bar's builds).
+    const std::size_t share = last_total / static_cast<std::size_t>(omp_get_num_threads());
+    found.reserve(share + share / 8 + search_lanes);
     for_each_particle([&](Index k, const TrimmedStencil::Ranges& ranges, int range_count) {
       Index candidates = 0;
       for (int r = 0; r < range_count; ++r) candidates += ranges[r].end - ranges[r].begin;
