@@ -32,19 +32,23 @@ Real log1p_series(Real u) {
 }
 
 // x^n, by the binomial series (to u^6, u = x / last - 1) about the last point where pow was called
-// when x lies within series_reach of it (0 < n <= 2; otherwise always pow). The Newton loop is a
-// chain of dependent operations, so the series' coefficients and 1 / last are ready beforehand.
+// (the anchor, kept in the point's state from step to step) when x lies within series_reach of it
+// (0 < n <= 2; otherwise always pow). The series is always about an exact pow, so that its error
+// does not add up over the steps. The Newton loop is a chain of dependent operations, so the
+// series' coefficients and 1 / last are ready beforehand.
 class PowerNearLast {
  public:
-  PowerNearLast(Real n, Real x, Real x_power) : n_(n), series_(n > 0 && n <= 2) {
+  PowerNearLast(Real n, PowerAnchor anchor) : n_(n), series_(n > 0 && n <= 2) {
     if (series_) {
       static constexpr Real inverse[7] = {0, 1, 1.0 / 2, 1.0 / 3, 1.0 / 4, 1.0 / 5, 1.0 / 6};
       coefficient_[0] = 1;
       for (int k = 1; k <= 6; ++k) coefficient_[k] = coefficient_[k - 1] * (n - (k - 1)) * inverse[k];
     }
-    rebase(x, x_power);
+    rebase(anchor.base, anchor.power);
   }
+  PowerAnchor anchor() const { return {last_, last_power_}; }
   Real operator()(Real x) {
+    if (x == last_) return last_power_;  // an elastic step's, or eps_p = 0 and T* = 0
     const Real u = (x - last_) * inverse_last_;
     if (series_ && last_ > 0 && std::abs(u) <= series_reach) {
       Real sum = coefficient_[6];
@@ -116,15 +120,20 @@ Real update_johnson_cook(const JohnsonCook& model, Real shear_modulus, PointStat
   const Mat3 trial = state.deviatoric_stress + 2 * shear_modulus * dt * deviator(strain_rate);
   const Real q = von_mises(trial);
   const Real eps = state.plastic_strain;
-  const Real thermal = thermal_factor(model, state.temperature);
+  // eps_p^N and T*^M by series about the state's anchors: pow only where they have moved away (two
+  // pow calls a point and step were a twentieth of the Taylor bar's step).
+  PowerNearLast strain_power_of(model.n, state.strain_power);
+  PowerNearLast temperature_power_of(model.m, state.temperature_power);
+  const Real thermal = 1 - temperature_power_of(homologous_temperature(model, state.temperature));
+  state.temperature_power = temperature_power_of.anchor();
   // The elastic check first: sigma_y at dp = 0 has no rate term (rate* = 1).
-  const Real eps_power = std::pow(eps, model.n);
+  const Real eps_power = strain_power_of(eps);
+  state.strain_power = strain_power_of.anchor();
   const Real yield_at_rest = (model.a + model.b * eps_power) * thermal;
   if (q <= yield_at_rest) {
     state.deviatoric_stress = trial;
     return 0;
   }
-  PowerNearLast strain_power_of(model.n, eps, eps_power);
   LogNearLast log_of;
   const Real inverse_reference_increment = dt > 0 ? 1 / (dt * model.reference_rate) : 0;
   // sigma_y(eps + dp, dp / dt, T) and its derivative in dp.
@@ -132,23 +141,38 @@ Real update_johnson_cook(const JohnsonCook& model, Real shear_modulus, PointStat
     const Real strain = eps + dp;
     const Real strain_power = strain_power_of(strain);
     const Real hardening = model.a + model.b * strain_power;
-    Real hardening_slope = 0;
-    // d(B eps^N)/d eps = N B eps^N / eps: the same pow serves both.
-    if (model.b != 0 && model.n != 0)
-      hardening_slope = strain > 0 ? model.b * model.n * strain_power / strain
-                        : model.n >= 1 ? (model.n == 1 ? model.b : Real(0))
+    Real hardening_slope = 0, hardening_curvature = 0;
+    // d(B eps^N)/d eps = N B eps^N / eps, and the second derivative (N - 1) / eps times that: the
+    // same power serves all three.
+    if (model.b != 0 && model.n != 0) {
+      if (strain > 0) {
+        const Real inverse_strain = 1 / strain;
+        hardening_slope = model.b * model.n * strain_power * inverse_strain;
+        hardening_curvature = hardening_slope * (model.n - 1) * inverse_strain;
+      } else {
+        hardening_slope = model.n >= 1 ? (model.n == 1 ? model.b : Real(0))
                                        : std::numeric_limits<Real>::infinity();  // N < 1 at eps_p = 0
+      }
+    }
     Real rate_factor = 1;
-    Real rate_slope = 0;
+    Real rate_slope = 0, rate_curvature = 0;
+    bool smooth = strain > 0;
     if (model.c != 0 && dt > 0) {
       const Real ratio = dp * inverse_reference_increment;  // rate* = dp / dt / EPSO
       Real log_ratio = 0;
       if (ratio > 1) log_ratio = log_of(ratio);
       rate_factor = 1 + model.c * log_ratio;
-      if (log_ratio > 0) rate_slope = model.c / dp;
+      if (log_ratio > 0) {
+        const Real inverse_dp = 1 / dp;
+        rate_slope = model.c * inverse_dp, rate_curvature = -rate_slope * inverse_dp;
+      }
+      smooth = smooth && log_ratio > 0;  // not at or below the kink of max(rate*, 1)
     }
+    const Real curvature = smooth ? (hardening_curvature * rate_factor + 2 * hardening_slope * rate_slope +
+                                     hardening * rate_curvature) * thermal
+                                  : 0;
     return YieldValue{hardening * rate_factor * thermal,
-                      (hardening_slope * rate_factor + hardening * rate_slope) * thermal};
+                      (hardening_slope * rate_factor + hardening * rate_slope) * thermal, curvature};
   };
   // First guess of the return: perfect plasticity at the yield stress of the current effective
   // strain rate, which plastic flow mostly carries; the rate term lifts it well above the stress at
@@ -179,6 +203,7 @@ Real update_johnson_cook(const JohnsonCook& model, Real shear_modulus, PointStat
   }
   state.plastic_strain += dp;
   state.temperature += work / (density * model.heat_capacity);
+  state.strain_power = strain_power_of.anchor();  // where the return last called pow
   return work;
 }
 

@@ -4,12 +4,21 @@
 
 namespace spall::materials {
 
+// x^p taken by pow at x = base (base -1: none taken yet), the anchor from which the next steps'
+// powers follow by a short series while x stays near it (johnson_cook.cpp).
+struct PowerAnchor {
+  Real base = -1;
+  Real power = 0;
+};
+
 struct PointState {
   Mat3 deviatoric_stress = Mat3::Zero();  // S, the deviator of the Cauchy stress
   Mat3 back_stress = Mat3::Zero();        // alpha: kinematic hardening (MAT_003 BETA < 1)
   Real plastic_strain = 0;                // effective plastic strain
   Real temperature = 0;                   // MAT_015: starts at TR, rises by adiabatic heating
   Real damage = 0;                        // MAT_015 Johnson-Cook damage D; fails at 1
+  PowerAnchor strain_power;               // MAT_015: eps_p^N
+  PowerAnchor temperature_power;          // MAT_015: T*^M
   bool failed = false;                    // no deviatoric stress and no tension from now on
 };
 
