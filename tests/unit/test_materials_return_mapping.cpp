@@ -168,6 +168,33 @@ TEST(materials_return_mapping, JohnsonCookSmallIncrementsOfAStrainedPoint) {
   EXPECT_GT(series_steps, 200);
 }
 
+TEST(materials_return_mapping, JohnsonCookStateChangedByHandBetweenSteps) {
+  // eps_p^N and T*^M follow by series from pow anchors kept in the state (johnson_cook.cpp): a state
+  // whose plastic strain and temperature are then set by hand, near the anchors (within their
+  // series' reach) and far from them, must still land on the yield surface of its new values.
+  const Material material = johnson_cook_copper();
+  Mat3 d;
+  d << 1, 0.3, 0, 0.3, -0.5, 0.2, 0, 0.2, -0.5;
+  d *= 1e3 / effective_strain_rate(d);
+  const Real dt = 1e-7;
+  for (const Real scale : {1.001, 1.5}) {
+    PointState state = initial_state(material);
+    state.plastic_strain = 0.3;
+    state.temperature = 400;
+    for (int step = 0; step < 20; ++step) update_deviatoric_stress(material, state, d, dt, material.density, 0.0);
+    state.plastic_strain *= scale;
+    state.temperature *= scale;
+    const PointState before = state;
+    update_deviatoric_stress(material, state, d, dt, material.density, 0.0);
+    const Real dp = state.plastic_strain - before.plastic_strain;
+    ASSERT_GT(dp, 1e-6) << "scale " << scale;
+    const Real t_star = (before.temperature - 298) / (1356 - 298);
+    const Real radius = (90e6 + 292e6 * std::pow(state.plastic_strain, 0.31)) * (1 + 0.025 * std::log(dp / dt)) *
+                        (1 - std::pow(t_star, 1.09));
+    EXPECT_NEAR(von_mises(state.deviatoric_stress), radius, 1e-12 * radius) << "scale " << scale;
+  }
+}
+
 // Normality: the isotropic return keeps the direction of the trial deviator.
 TEST(materials_return_mapping, ReturnIsRadial) {
   const Material material = with_strength(PlasticKinematic{250e6, 1e9, 1.0, {}, 0});
