@@ -117,7 +117,8 @@ Real johnson_cook_failure_strain(const JohnsonCook& model, Real triaxiality,
 
 Real update_johnson_cook(const JohnsonCook& model, Real shear_modulus, PointState& state,
                          const Mat3& strain_rate, Real dt, Real density, Real pressure) {
-  const Mat3 trial = state.deviatoric_stress + 2 * shear_modulus * dt * deviator(strain_rate);
+  const Mat3 rate_deviator = deviator(strain_rate);
+  const Mat3 trial = state.deviatoric_stress + 2 * shear_modulus * dt * rate_deviator;
   const Real q = von_mises(trial);
   const Real eps = state.plastic_strain;
   // eps_p^N and T*^M by series about the state's anchors: pow only where they have moved away (two
@@ -179,7 +180,7 @@ Real update_johnson_cook(const JohnsonCook& model, Real shear_modulus, PointStat
   // rest (about 1.2 times for copper at 10^4 /s), and starting there saves Newton steps.
   Real guess_yield = yield_at_rest;
   if (model.c != 0 && dt > 0) {
-    const Real rate = effective_strain_rate(deviator(strain_rate));
+    const Real rate = effective_strain_rate(rate_deviator);
     const Real at_rate = yield_at_rest * (1 + model.c * log_rate_ratio(model, rate));
     if (at_rate < q) guess_yield = at_rate;
     // The root dp also satisfies yield_at_rest (1 + C ln(dp / (dt EPSO))) <= q - 3G dp <= q
