@@ -129,10 +129,10 @@ Real update_johnson_cook(const JohnsonCook& model, Real shear_modulus, PointStat
   state.temperature_power = temperature_power_of.anchor();
   // The elastic check first: sigma_y at dp = 0 has no rate term (rate* = 1).
   const Real eps_power = strain_power_of(eps);
-  state.strain_power = strain_power_of.anchor();
   const Real yield_at_rest = (model.a + model.b * eps_power) * thermal;
   if (q <= yield_at_rest) {
     state.deviatoric_stress = trial;
+    state.strain_power = strain_power_of.anchor();
     return 0;
   }
   LogNearLast log_of;
