@@ -36,9 +36,8 @@ constexpr Real viscous_factor = 0.125;
 // the runs of cells that can reach its support (neighbors/trimmed_stencil.hpp).
 constexpr int stencil_reach = 2;
 // Lanes of the pair loops (16 single-precision lanes where the build targets AVX-512, else 8 with
-// AVX2, else scalar); the position and velocity arrays have this many entries past the last
-// particle, so that the screen's last load of a range stays inside them (the lanes past the range
-// are masked).
+// AVX2, else scalar). The records have this many past the last particle, plus one, so that the
+// screen's last loads of a range stay inside them (the lanes past the range are masked).
 #if defined(SPALL_SIMD_AVX512)
 constexpr Index simd_width = 16;
 #else
@@ -101,8 +100,7 @@ FluidFormulation::FluidFormulation(const FluidParameters& parameters,
   density_.assign(n, m.density);
   rate_.assign(n, 0);
   previous_rate_.assign(n, 0);
-  for (auto* v : {&x_, &y_, &z_, &vx_, &vy_, &vz_}) v->assign(n + simd_width, 0);
-  for (auto* v : {&inverse_density_, &pressure_term_}) v->assign(n, 0);
+  record_.assign(n + simd_width + 1, FluidRecord{});
   pressure_force_.assign(3 * n, 0);
   viscous_force_.assign(3 * n, 0);
   max_sound_speed_ = m.reference_sound_speed();
@@ -165,19 +163,20 @@ void FluidFormulation::gather(const solver::NodeStore& nodes, Real dt) {
     const Index i = node_[a];
     const Vec3 p = nodes.x[i] - origin_;
     const Vec3& v = nodes.v[i];
-    x_[a] = static_cast<float>(p.x());
-    y_[a] = static_cast<float>(p.y());
-    z_[a] = static_cast<float>(p.z());
-    vx_[a] = static_cast<float>(v.x());
-    vy_[a] = static_cast<float>(v.y());
-    vz_[a] = static_cast<float>(v.z());
+    FluidRecord& record = record_[a];
+    record.x = static_cast<float>(p.x());
+    record.y = static_cast<float>(p.y());
+    record.z = static_cast<float>(p.z());
+    record.vx = static_cast<float>(v.x());
+    record.vy = static_cast<float>(v.y());
+    record.vz = static_cast<float>(v.z());
     max_speed = std::max(max_speed, v.norm());
     // rho~^n = rho^{n-1} + dt (2 rho'^{n-1} - rho'^{n-2})
     Real rho = density_[a] + dt * (2 * Real(rate_[a]) - Real(previous_rate_[a]));
     if (nodes.fixed[i] == all_translations) rho = std::max(rho, m.density);
     if (!(rho > 0)) first_empty = std::min(first_empty, a);
-    inverse_density_[a] = static_cast<float>(1 / rho);
-    pressure_term_[a] = static_cast<float>(m.pressure(rho) / (rho * rho));
+    record.inverse_density = static_cast<float>(1 / rho);
+    record.pressure_term = static_cast<float>(m.pressure(rho) / (rho * rho));
     max_density = std::max(max_density, rho);
   }
   // Continuity can empty a particle that a splash tears from its neighbours under tension; its
@@ -208,7 +207,7 @@ void FluidFormulation::for_each_particle_candidates(bool skip_inactive, Visit&& 
     const bool active = !skip_inactive || active_cell_[c];
     if (active) stencil.prepare(c);
     for (Index a = own.begin; a < own.end; ++a) {
-      const int range_count = active ? stencil.trimmed(Vec3(x_[a], y_[a], z_[a]), radius, ranges) : 0;
+      const int range_count = active ? stencil.trimmed(Vec3(record_[a].x, record_[a].y, record_[a].z), radius, ranges) : 0;
       visit(a, ranges, range_count);
     }
   }
@@ -218,17 +217,81 @@ namespace {
 
 // What the pair loop reads, in cell order.
 struct PairInputs {
-  const float* x;
-  const float* y;
-  const float* z;
-  const float* vx;
-  const float* vy;
-  const float* vz;
+  const FluidRecord* record;
   const float* mass;
-  const float* inverse_density;
-  const float* pressure_term;
   float uniform_mass;  // FluidFormulation::uniform_mass_
 };
+
+#if defined(SPALL_SIMD_AVX512)
+// Fields k, k + 1 and k + 2 of the sixteen consecutive records r[0..15], lane i from r[i]:
+// eleven two-source permutes (the three fields of four records per register, then of eight, then
+// of sixteen) where three gathers would take about 28 cycles each.
+[[gnu::always_inline]] inline void load_three(const FluidRecord* r, int k, __m512& first,
+                                              __m512& second, __m512& third) {
+  const float* p = &r->x + k;
+  // Records 4j .. 4j + 3: the fields in lanes 0-3, 4-7 and 8-11 (lanes 12-15 are not used).
+  const __m512i of_four = _mm512_setr_epi32(0, 8, 16, 24, 1, 9, 17, 25, 2, 10, 18, 26, 0, 8, 16, 24);
+  __m512 four[4];
+  for (int j = 0; j < 4; ++j)
+    four[j] = _mm512_permutex2var_ps(_mm512_loadu_ps(p + 32 * j), of_four, _mm512_loadu_ps(p + 32 * j + 16));
+  // Of eight records: the first two fields in lanes 0-7 and 8-15, and the third in lanes 0-7.
+  const __m512i two_of_eight = _mm512_setr_epi32(0, 1, 2, 3, 16, 17, 18, 19, 4, 5, 6, 7, 20, 21, 22, 23);
+  const __m512i third_of_eight = _mm512_setr_epi32(8, 9, 10, 11, 24, 25, 26, 27, 8, 9, 10, 11, 24, 25, 26, 27);
+  const __m512 low = _mm512_permutex2var_ps(four[0], two_of_eight, four[1]);
+  const __m512 high = _mm512_permutex2var_ps(four[2], two_of_eight, four[3]);
+  const __m512 third_low = _mm512_permutex2var_ps(four[0], third_of_eight, four[1]);
+  const __m512 third_high = _mm512_permutex2var_ps(four[2], third_of_eight, four[3]);
+  first = _mm512_shuffle_f32x4(low, high, _MM_SHUFFLE(1, 0, 1, 0));
+  second = _mm512_shuffle_f32x4(low, high, _MM_SHUFFLE(3, 2, 3, 2));
+  third = _mm512_shuffle_f32x4(third_low, third_high, _MM_SHUFFLE(1, 0, 1, 0));
+}
+
+// The eight fields of the records r[index[0..15]], transposed: field k in out[k]. Lane order
+// index 0-3, 8-11, 4-7, 12-15 (lane_order), the same for every field: sixteen loads and 32
+// shuffles where eight gathers would take about 28 cycles each.
+constexpr int lane_order[16] = {0, 1, 2, 3, 8, 9, 10, 11, 4, 5, 6, 7, 12, 13, 14, 15};
+[[gnu::always_inline]] inline void load_records(const FluidRecord* r, const Index* index, __m512 (&out)[8]) {
+  const auto rows = [&](int i) {  // record index[i] in lanes 0-7, index[i + 8] in lanes 8-15
+    return _mm512_insertf32x8(_mm512_castps256_ps512(_mm256_load_ps(&r[index[i]].x)),
+                              _mm256_load_ps(&r[index[i + 8]].x), 1);
+  };
+  // Within each 256-bit half, the 8 x 8 transpose of unpacks and in-lane shuffles: s[k] holds
+  // field k of four records in its 128-bit lanes 0 and 2, field k + 4 in lanes 1 and 3.
+  __m512 s[8];
+  for (int g = 0; g < 2; ++g) {
+    const __m512 r0 = rows(4 * g), r1 = rows(4 * g + 1), r2 = rows(4 * g + 2), r3 = rows(4 * g + 3);
+    const __m512 t0 = _mm512_unpacklo_ps(r0, r1), t1 = _mm512_unpackhi_ps(r0, r1);
+    const __m512 t2 = _mm512_unpacklo_ps(r2, r3), t3 = _mm512_unpackhi_ps(r2, r3);
+    s[4 * g + 0] = _mm512_shuffle_ps(t0, t2, _MM_SHUFFLE(1, 0, 1, 0));
+    s[4 * g + 1] = _mm512_shuffle_ps(t0, t2, _MM_SHUFFLE(3, 2, 3, 2));
+    s[4 * g + 2] = _mm512_shuffle_ps(t1, t3, _MM_SHUFFLE(1, 0, 1, 0));
+    s[4 * g + 3] = _mm512_shuffle_ps(t1, t3, _MM_SHUFFLE(3, 2, 3, 2));
+  }
+  for (int k = 0; k < 4; ++k) {
+    out[k] = _mm512_shuffle_f32x4(s[k], s[k + 4], _MM_SHUFFLE(2, 0, 2, 0));
+    out[k + 4] = _mm512_shuffle_f32x4(s[k], s[k + 4], _MM_SHUFFLE(3, 1, 3, 1));
+  }
+}
+#elif defined(__AVX2__)
+// The 8 x 8 transpose of the eight records row(0) .. row(7): field k of the eight in out[k].
+template <typename Row>
+[[gnu::always_inline]] inline void transpose_records(const Row& row, __m256 (&out)[8]) {
+  __m256 s[8];
+  for (int g = 0; g < 2; ++g) {
+    const __m256 r0 = row(4 * g), r1 = row(4 * g + 1), r2 = row(4 * g + 2), r3 = row(4 * g + 3);
+    const __m256 t0 = _mm256_unpacklo_ps(r0, r1), t1 = _mm256_unpackhi_ps(r0, r1);
+    const __m256 t2 = _mm256_unpacklo_ps(r2, r3), t3 = _mm256_unpackhi_ps(r2, r3);
+    s[4 * g + 0] = _mm256_shuffle_ps(t0, t2, _MM_SHUFFLE(1, 0, 1, 0));
+    s[4 * g + 1] = _mm256_shuffle_ps(t0, t2, _MM_SHUFFLE(3, 2, 3, 2));
+    s[4 * g + 2] = _mm256_shuffle_ps(t1, t3, _MM_SHUFFLE(1, 0, 1, 0));
+    s[4 * g + 3] = _mm256_shuffle_ps(t1, t3, _MM_SHUFFLE(3, 2, 3, 2));
+  }
+  for (int k = 0; k < 4; ++k) {
+    out[k] = _mm256_permute2f128_ps(s[k], s[k + 4], 0x20);
+    out[k + 4] = _mm256_permute2f128_ps(s[k], s[k + 4], 0x31);
+  }
+}
+#endif
 
 // Constants of the pair terms, in single precision.
 struct PairConstants {
@@ -253,32 +316,37 @@ struct PairSums {
 // `self`; returns the new count. With moving_only, also leaves out the particles whose velocity is
 // bitwise that of `self`: their continuity term m_b F v_ab . x_ab is exactly zero (for a wall,
 // the walls around it), and continuity is all a wall's pass sums. The vector paths read simd_width
-// positions (and velocities) at a time, up to simd_width - 1 past `end` (the arrays are padded),
+// records at a time, up to simd_width past `end` (the records are padded),
 // mask the lanes past `end` off and write simd_width entries at a time (found needs simd_width
 // spare slots); they test exactly as the scalar path does (same fused operations), so the pair
 // (a, b) of two moving particles is found from both sides or from neither.
 template <bool moving_only>
 Index screen(const PairInputs& in, float H2, Index begin, Index end, Index self, Index* found,
              Index count) {
-  const float xa = in.x[self], ya = in.y[self], za = in.z[self];
-  const float vxa = in.vx[self], vya = in.vy[self], vza = in.vz[self];
+  const FluidRecord& own = in.record[self];
+  const float xa = own.x, ya = own.y, za = own.z;
+  const float vxa = own.vx, vya = own.vy, vza = own.vz;
 #if defined(SPALL_SIMD_AVX512)
   const __m512 pxa = _mm512_set1_ps(xa), pya = _mm512_set1_ps(ya), pza = _mm512_set1_ps(za);
   const __m512 vH2 = _mm512_set1_ps(H2);
   const __m512i lane = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
   for (Index b = begin; b < end; b += 16) {
-    const __m512 dx = _mm512_sub_ps(pxa, _mm512_loadu_ps(in.x + b));
-    const __m512 dy = _mm512_sub_ps(pya, _mm512_loadu_ps(in.y + b));
-    const __m512 dz = _mm512_sub_ps(pza, _mm512_loadu_ps(in.z + b));
+    __m512 xb, yb, zb;
+    load_three(in.record + b, 0, xb, yb, zb);
+    const __m512 dx = _mm512_sub_ps(pxa, xb);
+    const __m512 dy = _mm512_sub_ps(pya, yb);
+    const __m512 dz = _mm512_sub_ps(pza, zb);
     const __m512 r2 = _mm512_fmadd_ps(dz, dz, _mm512_fmadd_ps(dy, dy, _mm512_mul_ps(dx, dx)));
     unsigned in_range = 0xFFFFu >> (16 - std::min<Index>(end - b, 16));
     if (self >= b && self < b + 16) in_range &= ~(1u << (self - b));
     __mmask16 mask = _mm512_mask_cmp_ps_mask(static_cast<__mmask16>(in_range), r2, vH2, _CMP_LT_OQ);
     if constexpr (moving_only) {
-      const auto differs = [&](const float* v, float va) {
-        return _mm512_cmp_ps_mask(_mm512_loadu_ps(v + b), _mm512_set1_ps(va), _CMP_NEQ_UQ);
+      __m512 vxb, vyb, vzb;
+      load_three(in.record + b, 3, vxb, vyb, vzb);
+      const auto differs = [&](__m512 vb, float va) {
+        return _mm512_cmp_ps_mask(vb, _mm512_set1_ps(va), _CMP_NEQ_UQ);
       };
-      mask &= differs(in.vx, vxa) | differs(in.vy, vya) | differs(in.vz, vza);
+      mask &= differs(vxb, vxa) | differs(vyb, vya) | differs(vzb, vza);
     }
     // Left-pack in a register and store all 16 lanes (found has the spare slots): the compressing
     // store to memory is no faster on Intel cores and microcoded, far slower, on AMD Zen 4.
@@ -290,17 +358,17 @@ Index screen(const PairInputs& in, float H2, Index begin, Index end, Index self,
   const __m256 pxa = _mm256_set1_ps(xa), pya = _mm256_set1_ps(ya), pza = _mm256_set1_ps(za);
   const __m256 vH2 = _mm256_set1_ps(H2);
   for (Index b = begin; b < end; b += 8) {
-    const __m256 dx = _mm256_sub_ps(pxa, _mm256_loadu_ps(in.x + b));
-    const __m256 dy = _mm256_sub_ps(pya, _mm256_loadu_ps(in.y + b));
-    const __m256 dz = _mm256_sub_ps(pza, _mm256_loadu_ps(in.z + b));
+    __m256 field[8];
+    transpose_records([&](int i) { return _mm256_load_ps(&in.record[b + i].x); }, field);
+    const __m256 dx = _mm256_sub_ps(pxa, field[0]);
+    const __m256 dy = _mm256_sub_ps(pya, field[1]);
+    const __m256 dz = _mm256_sub_ps(pza, field[2]);
     const __m256 r2 = _mm256_fmadd_ps(dz, dz, _mm256_fmadd_ps(dy, dy, _mm256_mul_ps(dx, dx)));
     unsigned mask = static_cast<unsigned>(_mm256_movemask_ps(_mm256_cmp_ps(r2, vH2, _CMP_LT_OQ)));
     if constexpr (moving_only) {
-      const auto differs = [&](const float* v, float va) {
-        return _mm256_cmp_ps(_mm256_loadu_ps(v + b), _mm256_set1_ps(va), _CMP_NEQ_UQ);
-      };
+      const auto differs = [&](__m256 vb, float va) { return _mm256_cmp_ps(vb, _mm256_set1_ps(va), _CMP_NEQ_UQ); };
       mask &= static_cast<unsigned>(_mm256_movemask_ps(
-          _mm256_or_ps(_mm256_or_ps(differs(in.vx, vxa), differs(in.vy, vya)), differs(in.vz, vza))));
+          _mm256_or_ps(_mm256_or_ps(differs(field[3], vxa), differs(field[4], vya)), differs(field[5], vza))));
     }
     mask = _bzhi_u32(mask, static_cast<unsigned>(std::min<Index>(end - b, 8)));
     if (self >= b && self < b + 8) mask &= ~(1u << (self - b));
@@ -314,8 +382,9 @@ Index screen(const PairInputs& in, float H2, Index begin, Index end, Index self,
   }
 #else
   for (Index b = begin; b < end; ++b) {
-    const float dx = xa - in.x[b], dy = ya - in.y[b], dz = za - in.z[b];
-    const bool moving = !moving_only || in.vx[b] != vxa || in.vy[b] != vya || in.vz[b] != vza;
+    const FluidRecord& other = in.record[b];
+    const float dx = xa - other.x, dy = ya - other.y, dz = za - other.z;
+    const bool moving = !moving_only || other.vx != vxa || other.vy != vya || other.vz != vza;
     found[count] = b;
     count += (std::fma(dz, dz, std::fma(dy, dy, dx * dx)) < H2) & (b != self) & moving;
   }
@@ -333,9 +402,10 @@ Index screen(const PairInputs& in, float H2, Index begin, Index end, Index self,
 template <bool with_force>
 PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const Index* found,
                   Index count) {
-  const float xa = in.x[a], ya = in.y[a], za = in.z[a];
-  const float vxa = in.vx[a], vya = in.vy[a], vza = in.vz[a];
-  const float m_a = in.mass[a], inverse_rho_a = in.inverse_density[a], P_a = in.pressure_term[a];
+  const FluidRecord& own = in.record[a];
+  const float xa = own.x, ya = own.y, za = own.z;
+  const float vxa = own.vx, vya = own.vy, vza = own.vz;
+  const float m_a = in.mass[a], inverse_rho_a = own.inverse_density, P_a = own.pressure_term;
   // F = k (18 q - 12) for q <= 1/2, -6 k (1 - q)^2 / q beyond, with 1 / q = H / r.
   const float k18 = 18 * c.kernel, k12 = 12 * c.kernel, k6H = 6 * c.kernel / c.inverse_support;
   PairSums sums;
@@ -351,12 +421,13 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
     sum[0] = _mm512_add_pd(sum[0], _mm512_cvtps_pd(_mm512_castps512_ps256(v)));
     sum[1] = _mm512_add_pd(sum[1], _mm512_cvtps_pd(_mm512_extractf32x8_ps(v, 1)));
   };
+  const __m512i lanes_of_records = _mm512_loadu_si512(lane_order);
   for (; s < count; s += 16) {
-    const __m512i b = _mm512_loadu_si512(found + s);
-    const auto gather = [&](const float* array) { return _mm512_i32gather_ps(b, array, 4); };
-    const __m512 dx = _mm512_sub_ps(splat(xa), gather(in.x));
-    const __m512 dy = _mm512_sub_ps(splat(ya), gather(in.y));
-    const __m512 dz = _mm512_sub_ps(splat(za), gather(in.z));
+    __m512 field[8];
+    load_records(in.record, found + s, field);
+    const __m512 dx = _mm512_sub_ps(splat(xa), field[0]);
+    const __m512 dy = _mm512_sub_ps(splat(ya), field[1]);
+    const __m512 dz = _mm512_sub_ps(splat(za), field[2]);
     const __m512 r2 = _mm512_max_ps(
         _mm512_fmadd_ps(dz, dz, _mm512_fmadd_ps(dy, dy, _mm512_mul_ps(dx, dx))), tiny);
     // One division for both 1 / r and 1 / (r^2 + (eta h)^2).
@@ -369,17 +440,19 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
     const __m512 one_minus_q = _mm512_sub_ps(one, q);
     const __m512 far = _mm512_mul_ps(_mm512_mul_ps(splat(-k6H), _mm512_mul_ps(one_minus_q, one_minus_q)), inverse_r);
     const __m512 F = _mm512_mask_blend_ps(_mm512_cmp_ps_mask(q, half, _CMP_LE_OQ), far, near);
-    const __m512 dvx = _mm512_sub_ps(splat(vxa), gather(in.vx));
-    const __m512 dvy = _mm512_sub_ps(splat(vya), gather(in.vy));
-    const __m512 dvz = _mm512_sub_ps(splat(vza), gather(in.vz));
+    const __m512 dvx = _mm512_sub_ps(splat(vxa), field[3]);
+    const __m512 dvy = _mm512_sub_ps(splat(vya), field[4]);
+    const __m512 dvz = _mm512_sub_ps(splat(vza), field[5]);
     const __m512 vr = _mm512_fmadd_ps(dvz, dz, _mm512_fmadd_ps(dvy, dy, _mm512_mul_ps(dvx, dx)));
-    const __m512 m_b = in.uniform_mass > 0 ? splat(in.uniform_mass) : gather(in.mass);
+    const __m512 m_b = in.uniform_mass > 0
+                           ? splat(in.uniform_mass)
+                           : _mm512_i32gather_ps(_mm512_permutexvar_epi32(lanes_of_records, _mm512_loadu_si512(found + s)),
+                                                 in.mass, 4);
     rate = _mm512_fmadd_ps(_mm512_mul_ps(m_b, F), vr, rate);
     if constexpr (with_force) {
       const __m512 mm = _mm512_mul_ps(splat(m_a), m_b);
-      const __m512 inverse_rho_b = gather(in.inverse_density);
-      const __m512 radial = _mm512_mul_ps(
-          _mm512_mul_ps(_mm512_sub_ps(zero, mm), _mm512_add_ps(splat(P_a), gather(in.pressure_term))), F);
+      const __m512 inverse_rho_b = field[6];
+      const __m512 radial = _mm512_mul_ps(_mm512_mul_ps(_mm512_sub_ps(zero, mm), _mm512_add_ps(splat(P_a), field[7])), F);
       const __m512 inverse_r2e = _mm512_mul_ps(inverse_product, r);
       const __m512 mu = _mm512_mul_ps(_mm512_mul_ps(splat(c.h), vr), inverse_r2e);
       const __mmask16 approaching = _mm512_cmp_ps_mask(vr, zero, _CMP_LT_OQ);
@@ -428,11 +501,11 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
     sum[1] = _mm256_add_pd(sum[1], _mm256_cvtps_pd(_mm256_extractf128_ps(v, 1)));
   };
   for (; s < count; s += 8) {
-    const __m256i b = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(found + s));
-    const auto gather = [&](const float* array) { return _mm256_i32gather_ps(array, b, 4); };
-    const __m256 dx = _mm256_sub_ps(splat(xa), gather(in.x));
-    const __m256 dy = _mm256_sub_ps(splat(ya), gather(in.y));
-    const __m256 dz = _mm256_sub_ps(splat(za), gather(in.z));
+    __m256 field[8];
+    transpose_records([&](int i) { return _mm256_load_ps(&in.record[found[s + i]].x); }, field);
+    const __m256 dx = _mm256_sub_ps(splat(xa), field[0]);
+    const __m256 dy = _mm256_sub_ps(splat(ya), field[1]);
+    const __m256 dz = _mm256_sub_ps(splat(za), field[2]);
     const __m256 r2 = _mm256_max_ps(
         _mm256_fmadd_ps(dz, dz, _mm256_fmadd_ps(dy, dy, _mm256_mul_ps(dx, dx))), tiny);
     // One division for both 1 / r and 1 / (r^2 + (eta h)^2).
@@ -445,17 +518,18 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
     const __m256 one_minus_q = _mm256_sub_ps(one, q);
     const __m256 far = _mm256_mul_ps(_mm256_mul_ps(splat(-k6H), _mm256_mul_ps(one_minus_q, one_minus_q)), inverse_r);
     const __m256 F = _mm256_blendv_ps(far, near, _mm256_cmp_ps(q, half, _CMP_LE_OQ));
-    const __m256 dvx = _mm256_sub_ps(splat(vxa), gather(in.vx));
-    const __m256 dvy = _mm256_sub_ps(splat(vya), gather(in.vy));
-    const __m256 dvz = _mm256_sub_ps(splat(vza), gather(in.vz));
+    const __m256 dvx = _mm256_sub_ps(splat(vxa), field[3]);
+    const __m256 dvy = _mm256_sub_ps(splat(vya), field[4]);
+    const __m256 dvz = _mm256_sub_ps(splat(vza), field[5]);
     const __m256 vr = _mm256_fmadd_ps(dvz, dz, _mm256_fmadd_ps(dvy, dy, _mm256_mul_ps(dvx, dx)));
-    const __m256 m_b = in.uniform_mass > 0 ? splat(in.uniform_mass) : gather(in.mass);
+    const __m256 m_b = in.uniform_mass > 0
+                           ? splat(in.uniform_mass)
+                           : _mm256_i32gather_ps(in.mass, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(found + s)), 4);
     rate = _mm256_fmadd_ps(_mm256_mul_ps(m_b, F), vr, rate);
     if constexpr (with_force) {
       const __m256 mm = _mm256_mul_ps(splat(m_a), m_b);
-      const __m256 inverse_rho_b = gather(in.inverse_density);
-      const __m256 radial = _mm256_mul_ps(
-          _mm256_mul_ps(_mm256_sub_ps(zero, mm), _mm256_add_ps(splat(P_a), gather(in.pressure_term))), F);
+      const __m256 inverse_rho_b = field[6];
+      const __m256 radial = _mm256_mul_ps(_mm256_mul_ps(_mm256_sub_ps(zero, mm), _mm256_add_ps(splat(P_a), field[7])), F);
       const __m256 inverse_r2e = _mm256_mul_ps(inverse_product, r);
       const __m256 mu = _mm256_mul_ps(_mm256_mul_ps(splat(c.h), vr), inverse_r2e);
       const __m256 Pi_full = _mm256_mul_ps(
@@ -496,7 +570,8 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
 #endif
   for (; s < count; ++s) {
     const Index b = found[s];
-    const float dx = xa - in.x[b], dy = ya - in.y[b], dz = za - in.z[b];
+    const FluidRecord& other = in.record[b];
+    const float dx = xa - other.x, dy = ya - other.y, dz = za - other.z;
     const float r2 = std::max(std::fma(dz, dz, std::fma(dy, dy, dx * dx)), 1e-30f);
     const float r = std::sqrt(r2);
     const float r2e = r2 + c.eta2;
@@ -504,14 +579,14 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
     const float inverse_r = inverse_product * r2e;
     const float q = std::min(r2 * inverse_r * c.inverse_support, 1.0f);
     const float F = q <= 0.5f ? k18 * q - k12 : -k6H * ((1 - q) * (1 - q)) * inverse_r;
-    const float dvx = vxa - in.vx[b], dvy = vya - in.vy[b], dvz = vza - in.vz[b];
+    const float dvx = vxa - other.vx, dvy = vya - other.vy, dvz = vza - other.vz;
     const float vr = std::fma(dvz, dz, std::fma(dvy, dy, dvx * dx));
     const float m_b = in.mass[b];
     sums.rate += Real(m_b * F * vr);
     if constexpr (with_force) {
       const float mm = m_a * m_b;
-      const float inverse_rho_b = in.inverse_density[b];
-      const float radial = (-mm * (P_a + in.pressure_term[b])) * F;
+      const float inverse_rho_b = other.inverse_density;
+      const float radial = (-mm * (P_a + other.pressure_term)) * F;
       const float inverse_r2e = inverse_product * r;
       const float mu = (c.h * vr) * inverse_r2e;
       const float Pi = vr < 0 ? std::fma(c.beta, mu * mu, -c.alpha_c * mu) * (0.5f * (inverse_rho_a + inverse_rho_b)) : 0.0f;
@@ -549,10 +624,7 @@ void FluidFormulation::pair_pass(solver::NodeStore& nodes, Real dt) {
                                 static_cast<float>(av.alpha * m.reference_sound_speed()),
                                 static_cast<float>(av.beta),
                                 static_cast<float>(2 * m.dynamic_viscosity)};
-  const PairInputs in{x_.data(),    y_.data(),    z_.data(),
-                      vx_.data(),   vy_.data(),   vz_.data(),
-                      mass_.data(), inverse_density_.data(), pressure_term_.data(),
-                      uniform_mass_};
+  const PairInputs in{record_.data(), mass_.data(), uniform_mass_};
   Real max_acceleration = 0, max_mu = 0;
 
 #pragma omp parallel reduction(max : max_acceleration, max_mu)
@@ -654,7 +726,8 @@ std::vector<Index> FluidFormulation::neighbour_counts() const {
     Index count = 0;
     for (int r = 0; r < range_count; ++r)
       for (Index b = ranges[r].begin; b < ranges[r].end; ++b) {
-        const float dx = x_[a] - x_[b], dy = y_[a] - y_[b], dz = z_[a] - z_[b];
+        const float dx = record_[a].x - record_[b].x, dy = record_[a].y - record_[b].y,
+                    dz = record_[a].z - record_[b].z;
         count += (dx * dx + dy * dy + dz * dz < H2) & (b != a);
       }
     counts[a] = count;
@@ -686,9 +759,8 @@ void FluidFormulation::add_fields(std::vector<io::output::PointField>& fields,
 
 std::size_t FluidFormulation::memory_bytes() const {
   std::size_t total = bytes(node_) + bytes(mass_) + bytes(density_) + bytes(rate_) +
-                      bytes(previous_rate_) + bytes(inverse_density_) + bytes(pressure_term_) +
-                      bytes(pressure_force_) + bytes(viscous_force_) + bytes(active_cell_);
-  for (const auto* v : {&x_, &y_, &z_, &vx_, &vy_, &vz_}) total += bytes(*v);
+                      bytes(previous_rate_) + bytes(record_) + bytes(pressure_force_) +
+                      bytes(viscous_force_) + bytes(active_cell_);
   return total + cells_.memory_bytes();
 }
 

@@ -29,9 +29,9 @@
 //   the support. Cells are rebuilt, and the particles re-sorted, when the particles may have moved
 //   more than skin / 2 since the last rebuild: the bound is the sum over steps of dt max |v|, so
 //   no reference positions are stored.
-// - Positions and velocities are copied each step into single-precision arrays in cell order; the
-//   pair terms are evaluated in single precision by one sequence of operations for every pair, so
-//   the term of (a, b) is bitwise minus that of (b, a), and summed in double.
+// - Positions and velocities are copied each step into single-precision records in cell order;
+//   the pair terms are evaluated in single precision by one sequence of operations for every pair,
+//   so the term of (a, b) is bitwise minus that of (b, a), and summed in double.
 #include <limits>
 #include <vector>
 
@@ -59,6 +59,18 @@ struct FluidMaterial {
   // does not depend on e).
   Real sound_speed_at(Real rho) const;
   Real reference_sound_speed() const { return sound_speed_at(density); }  // c0
+};
+
+// What the pair pass reads of a particle, in one 32-byte record: its position relative to the
+// cells' corner, its velocity, 1 / rho~ and p / rho~^2, single precision. A neighbour's eight
+// numbers are one aligned load; the vector paths transpose sixteen records (eight with AVX2) into
+// lanes, where gathering the eight numbers from eight arrays took eight gather instructions of
+// about 28 cycles each on the hosts measured (docs/PERFORMANCE.md, session 12).
+struct alignas(32) FluidRecord {
+  float x, y, z;
+  float vx, vy, vz;
+  float inverse_density;
+  float pressure_term;
 };
 
 struct FluidParameters {
@@ -116,11 +128,8 @@ class FluidFormulation final : public solver::Formulation {
   std::vector<Real> density_;        // rho^n (corrected)
   std::vector<float> rate_;           // rho'^n
   std::vector<float> previous_rate_;  // rho'^{n-1}
-  // Per step: positions relative to origin_ and velocities, single precision (padded: see
-  // simd_width in fluid.cpp); the inverse of the predicted density and p / rho^2 the pair pass reads.
-  std::vector<float> x_, y_, z_, vx_, vy_, vz_;
-  std::vector<float> inverse_density_;
-  std::vector<float> pressure_term_;
+  // Per step: what the pair pass reads (padded: see simd_width in fluid.cpp).
+  std::vector<FluidRecord> record_;
   // The last internal forces, for internal_power: pressure part and viscous part.
   std::vector<float> pressure_force_;  // 3 per particle
   std::vector<float> viscous_force_;   // 3 per particle
