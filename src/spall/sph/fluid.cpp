@@ -396,9 +396,11 @@ Index screen(const PairInputs& in, float H2, Index begin, Index end, Index self,
 // single precision by one sequence of operations for every pair (x_ba = -x_ab and v_ba = -v_ab
 // bitwise), so the term of (a, b) is exactly minus the term of (b, a); they are summed in double.
 // `count` is a multiple of simd_width, padded with a itself, whose terms are exactly zero
-// (x_aa = 0, v_aa = 0). The AVX-512, AVX2 and scalar paths do the same operations, lane by lane
-// (a select by mask register where AVX2 blends, a masked max where it maxes with a blended zero):
-// only the order of the double sums differs between them, which is fixed for each.
+// (x_aa = 0, v_aa = 0). The AVX2 and scalar paths do the same operations, lane by lane (AVX2
+// blends where the scalar path branches): only the order of the double sums differs between them,
+// which is fixed for each. The AVX-512 path takes 1 / r and 1 / (r^2 + (eta h)^2) from the
+// hardware's estimates refined by a Newton step, where the others divide and take a square root;
+// one build runs one path, so the pair (a, b) and the pair (b, a) always see the same operations.
 template <bool with_force>
 PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const Index* found,
                   Index count) {
@@ -413,6 +415,8 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
 #if defined(SPALL_SIMD_AVX512)
   const auto splat = [](float v) { return _mm512_set1_ps(v); };
   const __m512 one = splat(1), half = splat(0.5f), tiny = splat(1e-30f), zero = _mm512_setzero_ps();
+  // (The zero-masked estimates with every lane on: GCC 12 warns on the unmasked forms, simd.hpp.)
+  constexpr __mmask16 all_lanes = 0xFFFF;
   // Lanes 0-7 of a term go to sum[0], lanes 8-15 to sum[1], each in 8 doubles.
   __m512d fp[3][2] = {}, fv[3][2] = {};
   __m512 rate = zero;  // the density rate needs no double sum (momentum does not depend on it)
@@ -430,11 +434,14 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
     const __m512 dz = _mm512_sub_ps(splat(za), field[2]);
     const __m512 r2 = _mm512_max_ps(
         _mm512_fmadd_ps(dz, dz, _mm512_fmadd_ps(dy, dy, _mm512_mul_ps(dx, dx))), tiny);
-    // One division for both 1 / r and 1 / (r^2 + (eta h)^2).
-    const __m512 r = _mm512_sqrt_ps(r2);
+    // 1 / r and 1 / (r^2 + (eta h)^2) from the 14-bit estimates and one Newton step each (to a
+    // few single-precision ulp): multiplications on two ports, where a square root and a division
+    // queued on the one port that does those (+4 % on the dam break's pass, docs/PERFORMANCE.md).
     const __m512 r2e = _mm512_add_ps(r2, splat(c.eta2));
-    const __m512 inverse_product = _mm512_div_ps(one, _mm512_mul_ps(r, r2e));
-    const __m512 inverse_r = _mm512_mul_ps(inverse_product, r2e);
+    const __m512 y = _mm512_maskz_rsqrt14_ps(all_lanes, r2);  // y (3/2 - r^2/2 y^2)
+    const __m512 inverse_r = _mm512_mul_ps(y, _mm512_fnmadd_ps(_mm512_mul_ps(half, r2), _mm512_mul_ps(y, y), splat(1.5f)));
+    const __m512 z = _mm512_maskz_rcp14_ps(all_lanes, r2e);  // z + z (1 - r2e z)
+    const __m512 inverse_r2e = _mm512_fmadd_ps(z, _mm512_fnmadd_ps(r2e, z, one), z);
     const __m512 q = _mm512_min_ps(_mm512_mul_ps(_mm512_mul_ps(r2, inverse_r), splat(c.inverse_support)), one);
     const __m512 near = _mm512_sub_ps(_mm512_mul_ps(splat(k18), q), splat(k12));
     const __m512 one_minus_q = _mm512_sub_ps(one, q);
@@ -453,7 +460,6 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
       const __m512 mm = _mm512_mul_ps(splat(m_a), m_b);
       const __m512 inverse_rho_b = field[6];
       const __m512 radial = _mm512_mul_ps(_mm512_mul_ps(_mm512_sub_ps(zero, mm), _mm512_add_ps(splat(P_a), field[7])), F);
-      const __m512 inverse_r2e = _mm512_mul_ps(inverse_product, r);
       const __m512 mu = _mm512_mul_ps(_mm512_mul_ps(splat(c.h), vr), inverse_r2e);
       const __mmask16 approaching = _mm512_cmp_ps_mask(vr, zero, _CMP_LT_OQ);
       const __m512 Pi = _mm512_maskz_mul_ps(
