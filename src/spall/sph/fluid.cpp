@@ -222,6 +222,36 @@ struct PairInputs {
   float uniform_mass;  // FluidFormulation::uniform_mass_
 };
 
+#if defined(__AVX2__)
+// Unpacks and in-lane shuffles act on each 128-bit lane alike, for 256- and 512-bit registers.
+inline __m256 unpack_low(__m256 a, __m256 b) { return _mm256_unpacklo_ps(a, b); }
+inline __m256 unpack_high(__m256 a, __m256 b) { return _mm256_unpackhi_ps(a, b); }
+template <int Pattern>
+inline __m256 shuffle(__m256 a, __m256 b) { return _mm256_shuffle_ps(a, b, Pattern); }
+#if defined(SPALL_SIMD_AVX512)
+inline __m512 unpack_low(__m512 a, __m512 b) { return _mm512_unpacklo_ps(a, b); }
+inline __m512 unpack_high(__m512 a, __m512 b) { return _mm512_unpackhi_ps(a, b); }
+template <int Pattern>
+inline __m512 shuffle(__m512 a, __m512 b) { return _mm512_shuffle_ps(a, b, Pattern); }
+#endif
+
+// The in-lane half of the 8 x 8 transpose of the records row(0) .. row(7): s[k] (k < 4) holds
+// field k of rows 0-3 in each even 128-bit lane and field k + 4 in each odd one; s[k + 4] the
+// same of rows 4-7. A 512-bit row holds two records, one per 256-bit half.
+template <typename V, typename Row>
+[[gnu::always_inline]] inline void transpose_in_lanes(const Row& row, V (&s)[8]) {
+  for (int g = 0; g < 2; ++g) {
+    const V r0 = row(4 * g), r1 = row(4 * g + 1), r2 = row(4 * g + 2), r3 = row(4 * g + 3);
+    const V t0 = unpack_low(r0, r1), t1 = unpack_high(r0, r1);
+    const V t2 = unpack_low(r2, r3), t3 = unpack_high(r2, r3);
+    s[4 * g + 0] = shuffle<_MM_SHUFFLE(1, 0, 1, 0)>(t0, t2);
+    s[4 * g + 1] = shuffle<_MM_SHUFFLE(3, 2, 3, 2)>(t0, t2);
+    s[4 * g + 2] = shuffle<_MM_SHUFFLE(1, 0, 1, 0)>(t1, t3);
+    s[4 * g + 3] = shuffle<_MM_SHUFFLE(3, 2, 3, 2)>(t1, t3);
+  }
+}
+#endif
+
 #if defined(SPALL_SIMD_AVX512)
 // Fields k, k + 1 and k + 2 of the sixteen consecutive records r[0..15], lane i from r[i]:
 // eleven two-source permutes (the three fields of four records per register, then of eight, then
@@ -255,18 +285,10 @@ constexpr int lane_order[16] = {0, 1, 2, 3, 8, 9, 10, 11, 4, 5, 6, 7, 12, 13, 14
     return _mm512_insertf32x8(_mm512_castps256_ps512(_mm256_load_ps(&r[index[i]].x)),
                               _mm256_load_ps(&r[index[i + 8]].x), 1);
   };
-  // Within each 256-bit half, the 8 x 8 transpose of unpacks and in-lane shuffles: s[k] holds
-  // field k of four records in its 128-bit lanes 0 and 2, field k + 4 in lanes 1 and 3.
+  // Within each 256-bit half: s[k] holds field k of records 0-3 and 8-11 in its 128-bit lanes 0
+  // and 2, field k + 4 in lanes 1 and 3; s[k + 4] the same of records 4-7 and 12-15.
   __m512 s[8];
-  for (int g = 0; g < 2; ++g) {
-    const __m512 r0 = rows(4 * g), r1 = rows(4 * g + 1), r2 = rows(4 * g + 2), r3 = rows(4 * g + 3);
-    const __m512 t0 = _mm512_unpacklo_ps(r0, r1), t1 = _mm512_unpackhi_ps(r0, r1);
-    const __m512 t2 = _mm512_unpacklo_ps(r2, r3), t3 = _mm512_unpackhi_ps(r2, r3);
-    s[4 * g + 0] = _mm512_shuffle_ps(t0, t2, _MM_SHUFFLE(1, 0, 1, 0));
-    s[4 * g + 1] = _mm512_shuffle_ps(t0, t2, _MM_SHUFFLE(3, 2, 3, 2));
-    s[4 * g + 2] = _mm512_shuffle_ps(t1, t3, _MM_SHUFFLE(1, 0, 1, 0));
-    s[4 * g + 3] = _mm512_shuffle_ps(t1, t3, _MM_SHUFFLE(3, 2, 3, 2));
-  }
+  transpose_in_lanes(rows, s);
   for (int k = 0; k < 4; ++k) {
     out[k] = _mm512_shuffle_f32x4(s[k], s[k + 4], _MM_SHUFFLE(2, 0, 2, 0));
     out[k + 4] = _mm512_shuffle_f32x4(s[k], s[k + 4], _MM_SHUFFLE(3, 1, 3, 1));
@@ -277,15 +299,7 @@ constexpr int lane_order[16] = {0, 1, 2, 3, 8, 9, 10, 11, 4, 5, 6, 7, 12, 13, 14
 template <typename Row>
 [[gnu::always_inline]] inline void transpose_records(const Row& row, __m256 (&out)[8]) {
   __m256 s[8];
-  for (int g = 0; g < 2; ++g) {
-    const __m256 r0 = row(4 * g), r1 = row(4 * g + 1), r2 = row(4 * g + 2), r3 = row(4 * g + 3);
-    const __m256 t0 = _mm256_unpacklo_ps(r0, r1), t1 = _mm256_unpackhi_ps(r0, r1);
-    const __m256 t2 = _mm256_unpacklo_ps(r2, r3), t3 = _mm256_unpackhi_ps(r2, r3);
-    s[4 * g + 0] = _mm256_shuffle_ps(t0, t2, _MM_SHUFFLE(1, 0, 1, 0));
-    s[4 * g + 1] = _mm256_shuffle_ps(t0, t2, _MM_SHUFFLE(3, 2, 3, 2));
-    s[4 * g + 2] = _mm256_shuffle_ps(t1, t3, _MM_SHUFFLE(1, 0, 1, 0));
-    s[4 * g + 3] = _mm256_shuffle_ps(t1, t3, _MM_SHUFFLE(3, 2, 3, 2));
-  }
+  transpose_in_lanes(row, s);
   for (int k = 0; k < 4; ++k) {
     out[k] = _mm256_permute2f128_ps(s[k], s[k + 4], 0x20);
     out[k + 4] = _mm256_permute2f128_ps(s[k], s[k + 4], 0x31);
