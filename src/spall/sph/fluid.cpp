@@ -207,7 +207,8 @@ void FluidFormulation::for_each_particle_candidates(bool skip_inactive, Visit&& 
     const bool active = !skip_inactive || active_cell_[c];
     if (active) stencil.prepare(c);
     for (Index a = own.begin; a < own.end; ++a) {
-      const int range_count = active ? stencil.trimmed(Vec3(record_[a].x, record_[a].y, record_[a].z), radius, ranges) : 0;
+      const FluidRecord& r = record_[a];
+      const int range_count = active ? stencil.trimmed(Vec3(r.x, r.y, r.z), radius, ranges) : 0;
       visit(a, ranges, range_count);
     }
   }
@@ -253,9 +254,10 @@ template <typename V, typename Row>
 #endif
 
 #if defined(SPALL_SIMD_AVX512)
-// Fields k, k + 1 and k + 2 of the sixteen consecutive records r[0..15], lane i from r[i]:
-// eleven two-source permutes (the three fields of four records per register, then of eight, then
-// of sixteen) where three gathers would take about 28 cycles each.
+// Fields k, k + 1 and k + 2 of the sixteen consecutive records r[0..15], lane i from r[i]: eight
+// loads and eleven two-source permutes (the three fields of four records per register, then of
+// eight, then of sixteen). This is what the records cost the screen, which read three contiguous
+// arrays before; the pair terms gain far more (docs/PERFORMANCE.md, session 12).
 [[gnu::always_inline]] inline void load_three(const FluidRecord* r, int k, __m512& first,
                                               __m512& second, __m512& third) {
   const float* p = &r->x + k;
@@ -453,7 +455,8 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
     // queued on the one port that does those (+4 % on the dam break's pass, docs/PERFORMANCE.md).
     const __m512 r2e = _mm512_add_ps(r2, splat(c.eta2));
     const __m512 y = _mm512_maskz_rsqrt14_ps(all_lanes, r2);  // y (3/2 - r^2/2 y^2)
-    const __m512 inverse_r = _mm512_mul_ps(y, _mm512_fnmadd_ps(_mm512_mul_ps(half, r2), _mm512_mul_ps(y, y), splat(1.5f)));
+    const __m512 inverse_r =
+        _mm512_mul_ps(y, _mm512_fnmadd_ps(_mm512_mul_ps(half, r2), _mm512_mul_ps(y, y), splat(1.5f)));
     const __m512 z = _mm512_maskz_rcp14_ps(all_lanes, r2e);  // z + z (1 - r2e z)
     const __m512 inverse_r2e = _mm512_fmadd_ps(z, _mm512_fnmadd_ps(r2e, z, one), z);
     const __m512 q = _mm512_min_ps(_mm512_mul_ps(_mm512_mul_ps(r2, inverse_r), splat(c.inverse_support)), one);
@@ -465,15 +468,16 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
     const __m512 dvy = _mm512_sub_ps(splat(vya), field[4]);
     const __m512 dvz = _mm512_sub_ps(splat(vza), field[5]);
     const __m512 vr = _mm512_fmadd_ps(dvz, dz, _mm512_fmadd_ps(dvy, dy, _mm512_mul_ps(dvx, dx)));
-    const __m512 m_b = in.uniform_mass > 0
-                           ? splat(in.uniform_mass)
-                           : _mm512_i32gather_ps(_mm512_permutexvar_epi32(lanes_of_records, _mm512_loadu_si512(found + s)),
-                                                 in.mass, 4);
+    const __m512 m_b =
+        in.uniform_mass > 0
+            ? splat(in.uniform_mass)
+            : _mm512_i32gather_ps(_mm512_permutexvar_epi32(lanes_of_records, _mm512_loadu_si512(found + s)), in.mass, 4);
     rate = _mm512_fmadd_ps(_mm512_mul_ps(m_b, F), vr, rate);
     if constexpr (with_force) {
       const __m512 mm = _mm512_mul_ps(splat(m_a), m_b);
       const __m512 inverse_rho_b = field[6];
-      const __m512 radial = _mm512_mul_ps(_mm512_mul_ps(_mm512_sub_ps(zero, mm), _mm512_add_ps(splat(P_a), field[7])), F);
+      const __m512 radial =
+          _mm512_mul_ps(_mm512_mul_ps(_mm512_sub_ps(zero, mm), _mm512_add_ps(splat(P_a), field[7])), F);
       const __m512 mu = _mm512_mul_ps(_mm512_mul_ps(splat(c.h), vr), inverse_r2e);
       const __mmask16 approaching = _mm512_cmp_ps_mask(vr, zero, _CMP_LT_OQ);
       const __m512 Pi = _mm512_maskz_mul_ps(
@@ -542,14 +546,16 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
     const __m256 dvy = _mm256_sub_ps(splat(vya), field[4]);
     const __m256 dvz = _mm256_sub_ps(splat(vza), field[5]);
     const __m256 vr = _mm256_fmadd_ps(dvz, dz, _mm256_fmadd_ps(dvy, dy, _mm256_mul_ps(dvx, dx)));
-    const __m256 m_b = in.uniform_mass > 0
-                           ? splat(in.uniform_mass)
-                           : _mm256_i32gather_ps(in.mass, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(found + s)), 4);
+    const __m256 m_b =
+        in.uniform_mass > 0
+            ? splat(in.uniform_mass)
+            : _mm256_i32gather_ps(in.mass, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(found + s)), 4);
     rate = _mm256_fmadd_ps(_mm256_mul_ps(m_b, F), vr, rate);
     if constexpr (with_force) {
       const __m256 mm = _mm256_mul_ps(splat(m_a), m_b);
       const __m256 inverse_rho_b = field[6];
-      const __m256 radial = _mm256_mul_ps(_mm256_mul_ps(_mm256_sub_ps(zero, mm), _mm256_add_ps(splat(P_a), field[7])), F);
+      const __m256 radial =
+          _mm256_mul_ps(_mm256_mul_ps(_mm256_sub_ps(zero, mm), _mm256_add_ps(splat(P_a), field[7])), F);
       const __m256 inverse_r2e = _mm256_mul_ps(inverse_product, r);
       const __m256 mu = _mm256_mul_ps(_mm256_mul_ps(splat(c.h), vr), inverse_r2e);
       const __m256 Pi_full = _mm256_mul_ps(

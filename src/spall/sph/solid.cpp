@@ -85,7 +85,8 @@ bool invert_symmetric(const Mat3& m, Real least, Mat3& inverse) {
 // the particle itself to a multiple of the pack width (a pair at r = 0 has no gradient, so the
 // padding adds exact zeros): neighbour, x_a - x_b, r, H_ab, the gradient factor F = (dW/dr) / r
 // (grad_a W_ab = F (x_a - x_b); 0 at r = 0), 1/r where F is defined (else 0), the neighbour's
-// volume V_b (gathered once for the rates pass's two loops) and a per-pass weight. About a third of a Verlet row lies outside the support (the skin and the reach margin).
+// volume V_b (gathered once for the rates pass's two loops) and a per-pass weight. About a third
+// of a Verlet row lies outside the support (the skin and the reach margin).
 struct RowTerms {
   std::vector<Index> neighbour;  // the pairs kept
   std::vector<Real> dx, dy, dz, r, support, factor, inverse_r, volume, weight;
