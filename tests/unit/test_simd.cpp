@@ -121,7 +121,7 @@ TYPED_TEST(VectorLanes, ReciprocalAndReciprocalSquareRootAreWithinFourUlp) {
   }
 }
 
-TYPED_TEST(VectorLanes, GatherCompressAndTransposedLoadsPickTheRightElements) {
+TYPED_TEST(VectorLanes, GatherCompressCompareAndTransposedLoadsPickTheRightElements) {
   using P = TypeParam;
   constexpr int W = P::width;
   // A 9-wide table (the stride of a 3x3 matrix) whose element (row, column) is 100 row + column.
@@ -162,6 +162,13 @@ TYPED_TEST(VectorLanes, GatherCompressAndTransposedLoadsPickTheRightElements) {
       EXPECT_EQ(packed_index[k], indices[lane]) << "mask " << mask;
       ++k;
     }
+  }
+  // indices_above: the lanes holding an index above a, for a below, inside and above the rows'
+  // range (including equality, which is not above).
+  for (Index a : {-1, 0, 3, 7, 8, 11, 12}) {
+    int expected = 0;
+    for (int i = 0; i < W; ++i) expected |= int(rows[i] > a) << i;
+    EXPECT_EQ(P::indices_above(rows, a), expected) << "a " << a;
   }
 }
 

@@ -96,6 +96,12 @@ struct Pack {
     for (int i = 0; i < W; ++i)
       if (lanes & (1 << i)) *out++ = in[i];
   }
+  // Bit i set where in[i] > a.
+  static int indices_above(const Index* in, Index a) {
+    int lanes = 0;
+    for (int i = 0; i < W; ++i) lanes |= int(in[i] > a) << i;
+    return lanes;
+  }
   // Neighbouring lanes in pairs, then the pairs in pairs, ...: ((l0 + l1) + (l2 + l3)) + ...
   Real sum() const {
     Real partial[W];
@@ -186,6 +192,11 @@ struct Real4 {
   // Writes the indices in[i] whose bit i is set in `lanes` to out[0..], in order; may write all
   // four.
   static void compress_indices(const Index* in, int lanes, Index* out);
+  // Bit i set where in[i] > a.
+  static int indices_above(const Index* in, Index a) {
+    const __m128i above = _mm_cmpgt_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(in)), _mm_set1_epi32(a));
+    return _mm_movemask_ps(_mm_castsi128_ps(above));
+  }
   // (l0 + l1) + (l2 + l3): one fixed order.
   Real sum() const {
     const __m128d low = _mm256_castpd256_pd128(v), high = _mm256_extractf128_pd(v, 1);
@@ -307,6 +318,10 @@ struct Real8 {
   static void compress_indices(const Index* in, int lanes, Index* out) {
     const __m256i all = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(in));
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(out), _mm256_maskz_compress_epi32(static_cast<__mmask8>(lanes), all));
+  }
+  // Bit i set where in[i] > a.
+  static int indices_above(const Index* in, Index a) {
+    return _mm256_cmpgt_epi32_mask(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(in)), _mm256_set1_epi32(a));
   }
   // ((l0 + l1) + (l2 + l3)) + ((l4 + l5) + (l6 + l7)), the order of lanes::Pack<8>::sum.
   Real sum() const {

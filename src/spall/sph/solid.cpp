@@ -34,6 +34,10 @@ constexpr Real cutoff_margin = 1.05;
 // whose neighbours lie in a plane): the particle keeps the uncorrected gradient.
 constexpr Real min_moment_determinant = 1e-3;
 
+// The force pass takes each pair once when the particles fall into at least this many blocks
+// (compute_pair_forces): half of them at a time run side by side.
+constexpr Index min_force_blocks = 8;
+
 // A B and A B^T of 3x3 matrices, element by element. Eigen's two-lane forms of these products
 // store single lanes of their temporaries and reload them as pairs, which stalls store forwarding
 // (a third of update_state in perf annotate).
@@ -199,10 +203,15 @@ Index pick_support(const neighbors::NeighborList& list, Index a, const Real* cen
   });
 }
 
-// The pick that pick_support recorded in mask, again (the force pass, at the rates pass's h).
+// The pick that pick_support recorded in mask, again (the force pass, at the rates pass's h):
+// every pair of the row, or (half) only those with b > a, each pair once.
+template <bool half>
 Index picked_support(const neighbors::NeighborList& list, Index a, const std::uint8_t* mask, RowTerms& terms) {
   mask += mask_start(list, a);
-  return keep_row(list, a, terms, [&](const Index*, int) { return int(*mask++); });
+  return keep_row(list, a, terms, [&](const Index* b, int) {
+    if constexpr (half) return *mask++ & simd::Pack::indices_above(b, a);
+    return int(*mask++);
+  });
 }
 
 // pick_support, then the pairs' geometry into terms (for a pass that reads it more than once).
@@ -366,6 +375,15 @@ void SolidFormulation::update_neighbour_list() {
   }
   verlet_.build(x_, list_reach_, skin_fraction * cutoff_margin * 2 * h_largest, neighbors::RowOrder::search);
   list_built_ = true;
+  // The force pass's blocks (compute_pair_forces): as long as the largest b - a of any pair.
+  const auto& list = verlet_.list();
+  Index span = 1;
+#pragma omp parallel for reduction(max : span) schedule(static)
+  for (Index a = 0; a < n; ++a)
+    for (Index k = list.offsets[a]; k < list.offsets[a + 1]; ++k) span = std::max(span, list.neighbors[k] - a);
+  force_block_length_ = span;
+  force_blocks_ = (n + span - 1) / span;
+  if (force_blocks_ < min_force_blocks) force_blocks_ = 0;
 }
 
 // Continuity and velocity gradient, gathered per particle over its full neighbour row, a pack of
@@ -714,10 +732,11 @@ void SolidFormulation::compute_pair_forces() {
   const bool stress_on = options_.artificial_stress.enabled;
   const Real exponent = options_.artificial_stress.exponent;
   const Real* P = corrected_stress_.data()->data();  // P_b(i, j) = P[9 b + i + 3 j]
-#pragma omp parallel for schedule(dynamic, 512)
-  for (Index a = 0; a < n; ++a) {
+  // The pair terms of particle a's row (half: the pairs with b > a, each added to a and taken
+  // from b), returned as a's sum.
+  const auto row_force = [&]<bool half>(Index a) {
     thread_local RowTerms terms;
-    const Index padded = picked_support(list, a, support_mask_.data(), terms);
+    const Index padded = picked_support<half>(list, a, support_mask_.data(), terms);
     const Index* neighbour = terms.neighbour.data();
     const PackCentre centre(centre_.data(), a);
     const Pack volume_a(volume_[a]);
@@ -729,7 +748,7 @@ void SolidFormulation::compute_pair_forces() {
       const PairGeometry g = pair_geometry<Kernel>(centre, centre_.data(), b);
       const Pack factor = g.factor, dx = g.dx, dy = g.dy, dz = g.dz;
       // (P_a + P_b) grad_a W_ab with grad = F x_ab: exactly opposite for the pair (b, a), so
-      // momentum is conserved to round-off although each particle gathers its own sum.
+      // momentum is conserved to round-off also where each particle gathers its own sum.
       const Pack t = volume_a * Pack::gather<1>(volume_.data(), b) * factor;
       // P_b column-major: elements 0-3 and 4-7 as two transposed row loads, element 8 gathered.
       Pack P_low[4], P_high[4];
@@ -740,9 +759,18 @@ void SolidFormulation::compute_pair_forces() {
       Pack Pd[3];
       for (int i = 0; i < 3; ++i) {
         const Pack p0 = P_a[i] + P_b[i], p1 = P_a[i + 3] + P_b[i + 3], p2 = P_a[i + 6] + P_b[i + 6];
-        Pd[i] = fma(p2, dz, fma(p1, dy, p0 * dx));
+        Pd[i] = t * fma(p2, dz, fma(p1, dy, p0 * dx));
       }
-      f_x = fma(t, Pd[0], f_x), f_y = fma(t, Pd[1], f_y), f_z = fma(t, Pd[2], f_z);
+      f_x += Pd[0], f_y += Pd[1], f_z += Pd[2];
+      if constexpr (half) {
+        // The padding (b = a) adds exact zeros (F = 0 at r = 0).
+        alignas(64) Real on_b[3][W];
+        for (int i = 0; i < 3; ++i) Pd[i].store(on_b[i]);
+        for (int lane = 0; lane < W; ++lane) {
+          Vec3& f_b = force_[b[lane]];
+          f_b[0] -= on_b[0][lane], f_b[1] -= on_b[1][lane], f_b[2] -= on_b[2][lane];
+        }
+      }
     }
     Vec3 f(f_x.sum(), f_y.sum(), f_z.sum());
     if (stress_on) {
@@ -755,11 +783,31 @@ void SolidFormulation::compute_pair_forces() {
         const Real dp = Real(0.5) * (spacing_[a] + spacing_[b]);
         const Real ratio = Kernel::value(r, H) / Kernel::value(dp, H);
         const Vec3 grad = Kernel::gradient(x_ab, r, H);
-        f.noalias() += (mass_[a] * mass_[b] * std::pow(ratio, exponent)) *
-                       ((artificial_stress_[a] + artificial_stress_[b]) * grad);
+        const Vec3 f_ab = (mass_[a] * mass_[b] * std::pow(ratio, exponent)) *
+                          ((artificial_stress_[a] + artificial_stress_[b]) * grad);
+        f += f_ab;
+        if constexpr (half) force_[b] -= f_ab;
       }
     }
-    force_[a] = f + viscous_force_[a];  // the viscosity from the rates pass
+    return f;
+  };
+  if (force_blocks_ > 0) {
+    // Each pair once: a block of particles adds to its own and the next block's forces only
+    // (blocks as long as the largest b - a of the list), so the even blocks, then the odd ones,
+    // run side by side without two threads touching one particle, and every force is summed in
+    // one order whatever the thread count.
+#pragma omp parallel for schedule(static)
+    for (Index a = 0; a < n; ++a) force_[a] = viscous_force_[a];  // the viscosity from the rates pass
+    for (Index parity = 0; parity < 2; ++parity) {
+#pragma omp parallel for schedule(dynamic, 1)
+      for (Index block = parity; block < force_blocks_; block += 2) {
+        const Index last = std::min(n, (block + 1) * force_block_length_);
+        for (Index a = block * force_block_length_; a < last; ++a) force_[a] += row_force.template operator()<true>(a);
+      }
+    }
+  } else {
+#pragma omp parallel for schedule(dynamic, 512)
+    for (Index a = 0; a < n; ++a) force_[a] = row_force.template operator()<false>(a) + viscous_force_[a];
   }
 }
 

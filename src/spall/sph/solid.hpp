@@ -128,6 +128,9 @@ class SolidFormulation final : public solver::Formulation {
   std::size_t memory_bytes() const;
   const neighbors::NeighborList& neighbor_list() const { return verlet_.list(); }
   long long neighbor_list_builds() const { return verlet_.builds(); }
+  // Whether the last force pass took each pair once (blocks of particles, compute_pair_forces)
+  // rather than every row whole.
+  bool pairs_taken_once() const { return force_blocks_ > 0; }
   // Categories of the last categorization (particle order), empty when no part asks for them.
   const std::vector<Category>& categories() const { return category_; }
   Index node_of(Index particle) const { return node_[particle]; }
@@ -224,6 +227,9 @@ class SolidFormulation final : public solver::Formulation {
   std::vector<Real> viscous_heating_;  // 1/2 sum_b m_b Pi_ab v_ab . grad_a W_ab
   std::vector<Vec3> viscous_force_;    // -sum_b m_a m_b Pi_ab grad_a W_ab
   std::vector<Vec3> force_;            // total internal force, viscous_force_ included
+  // The force pass's blocks of particles (compute_pair_forces); none when the list spans too much
+  // of the particle order for pair-once blocks, and the pass then gathers every row whole.
+  Index force_blocks_ = 0, force_block_length_ = 0;
 
   neighbors::VerletList verlet_;
   Real time_ = 0;
