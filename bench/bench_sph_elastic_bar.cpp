@@ -56,6 +56,7 @@ void BM_SphElasticBar(benchmark::State& state) {
   state.counters["particles"] = n;
   state.counters["threads"] = threads;
   state.counters["neighbours"] = double(sph.neighbor_list().neighbors.size()) / n;
+  state.counters["passes_per_step"] = 2;  // the rates pass and the force pass
   state.counters["bytes_per_particle"] = bytes / n;
   state.counters["particle_steps_per_s_per_core"] =
       benchmark::Counter(n * (steps + 1) / threads, benchmark::Counter::kIsIterationInvariantRate);

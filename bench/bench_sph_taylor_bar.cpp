@@ -10,6 +10,9 @@
 // processor time of all threads instead of the wall clock (OMP_WAIT_POLICY=passive keeps idle
 // threads from spinning it away): per core, and less disturbed by other programs on the machine.
 // evaluations_per_rebuild: force evaluations per Verlet-list build during the timed runs.
+// passes_per_step: pair passes per force evaluation (the rates pass and the force pass);
+// force_pairs_once: 1 when the force pass took each pair once (SolidFormulation::pairs_taken_once),
+// 0 when it gathered every row whole.
 //
 // The 10^6-particle variant (D0/74, 981 312 particles; about 1 GB, and minutes to run the rod to
 // 5 us past impact) runs too, unless SPALL_BENCH_QUICK is set:
@@ -95,6 +98,8 @@ void BM_SphTaylorBar(benchmark::State& state) {
   state.counters["particles"] = n;
   state.counters["threads"] = threads;
   state.counters["neighbours_in_support"] = neighbours_in_support(problem, sph);
+  state.counters["passes_per_step"] = 2;
+  state.counters["force_pairs_once"] = sph.pairs_taken_once();
   state.counters["verlet_entries"] = double(sph.neighbor_list().neighbors.size()) / n;
   // What the list's storage holds (it is kept from build to build while under 1.25x the need).
   state.counters["verlet_capacity"] = double(sph.neighbor_list().neighbors.capacity()) / n;
