@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <stdexcept>
 #if defined(__AVX2__)
@@ -123,8 +124,13 @@ void FluidFormulation::rebuild_cells(const solver::NodeStore& nodes) {
   permute(previous_rate_, order);
   // Moving particles before each slot, to tell in O(1) whether a slot range holds one.
   std::vector<Index> moving_before(n + 1, 0);
-  for (Index a = 0; a < n; ++a)
-    moving_before[a + 1] = moving_before[a] + (nodes.fixed[node_[a]] != all_translations);
+  // Bits to n + simd_width, and the four bytes that moving_lanes reads from the last one.
+  moving_.assign((n + simd_width) / 8 + 4, 0);
+  for (Index a = 0; a < n; ++a) {
+    const bool moving = nodes.fixed[node_[a]] != all_translations;
+    moving_[a / 8] |= static_cast<std::uint8_t>(moving << (a % 8));
+    moving_before[a + 1] = moving_before[a] + moving;
+  }
   const Index cell_count = cells_.cell_count();
   active_cell_.assign(cell_count, 0);
 #pragma omp parallel
@@ -220,8 +226,16 @@ namespace {
 struct PairInputs {
   const FluidRecord* record;
   const float* mass;
-  float uniform_mass;  // FluidFormulation::uniform_mass_
+  float uniform_mass;           // FluidFormulation::uniform_mass_
+  const std::uint8_t* moving;  // FluidFormulation::moving_
 };
+
+// Bit i set where particle b + i moves, for i < 16 (FluidFormulation::moving_).
+inline unsigned moving_lanes(const PairInputs& in, Index b) {
+  std::uint32_t word;
+  std::memcpy(&word, in.moving + b / 8, sizeof word);
+  return (word >> (b % 8)) & 0xFFFFu;
+}
 
 #if defined(__AVX2__)
 // Unpacks and in-lane shuffles act on each 128-bit lane alike, for 256- and 512-bit registers.
@@ -254,13 +268,13 @@ template <typename V, typename Row>
 #endif
 
 #if defined(SPALL_SIMD_AVX512)
-// Fields k, k + 1 and k + 2 of the sixteen consecutive records r[0..15], lane i from r[i]: eight
+// The positions x, y, z of the sixteen consecutive records r[0..15], lane i from r[i]: eight
 // loads and eleven two-source permutes (the three fields of four records per register, then of
 // eight, then of sixteen). This is what the records cost the screen, which read three contiguous
 // arrays before; the pair terms gain far more (docs/PERFORMANCE.md, session 12).
-[[gnu::always_inline]] inline void load_three(const FluidRecord* r, int k, __m512& first,
-                                              __m512& second, __m512& third) {
-  const float* p = &r->x + k;
+[[gnu::always_inline]] inline void load_positions(const FluidRecord* r, __m512& first, __m512& second,
+                                                  __m512& third) {
+  const float* p = &r->x;
   // Records 4j .. 4j + 3: the fields in lanes 0-3, 4-7 and 8-11 (lanes 12-15 are not used).
   const __m512i of_four = _mm512_setr_epi32(0, 8, 16, 24, 1, 9, 17, 25, 2, 10, 18, 26, 0, 8, 16, 24);
   __m512 four[4];
@@ -329,9 +343,11 @@ struct PairSums {
 };
 
 // Appends to `found` the particles of [begin, end) closer to particle `self` than H, except
-// `self`; returns the new count. With moving_only, also leaves out the particles whose velocity is
-// bitwise that of `self`: their continuity term m_b F v_ab . x_ab is exactly zero (for a wall,
-// the walls around it), and continuity is all a wall's pass sums. The vector paths read simd_width
+// `self`; returns the new count. With moving_only (a wall's pass, which sums continuity only),
+// keeps the moving particles alone, as DualSPHysics' boundary particles see only the fluid: the
+// walls rest (their translations are held), so their terms m_b F v_ab . x_ab with a wall are
+// exactly zero, and a pack of walls only is skipped before its records are read (the walls'
+// screen was 11 % of the dam break's step; +5-7 % for the pass). The vector paths read simd_width
 // records at a time, up to simd_width past `end` (the records are padded),
 // mask the lanes past `end` off and write simd_width entries at a time (found needs simd_width
 // spare slots); they test exactly as the scalar path does (same fused operations), so the pair
@@ -341,14 +357,15 @@ Index screen(const PairInputs& in, float H2, Index begin, Index end, Index self,
              Index count) {
   const FluidRecord& own = in.record[self];
   const float xa = own.x, ya = own.y, za = own.z;
-  const float vxa = own.vx, vya = own.vy, vza = own.vz;
 #if defined(SPALL_SIMD_AVX512)
   const __m512 pxa = _mm512_set1_ps(xa), pya = _mm512_set1_ps(ya), pza = _mm512_set1_ps(za);
   const __m512 vH2 = _mm512_set1_ps(H2);
   const __m512i lane = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
   for (Index b = begin; b < end; b += 16) {
+    const __mmask16 moving = moving_only ? static_cast<__mmask16>(moving_lanes(in, b)) : 0xFFFF;
+    if (moving == 0) continue;  // walls only
     __m512 xb, yb, zb;
-    load_three(in.record + b, 0, xb, yb, zb);
+    load_positions(in.record + b, xb, yb, zb);
     const __m512 dx = _mm512_sub_ps(pxa, xb);
     const __m512 dy = _mm512_sub_ps(pya, yb);
     const __m512 dz = _mm512_sub_ps(pza, zb);
@@ -356,14 +373,7 @@ Index screen(const PairInputs& in, float H2, Index begin, Index end, Index self,
     unsigned in_range = 0xFFFFu >> (16 - std::min<Index>(end - b, 16));
     if (self >= b && self < b + 16) in_range &= ~(1u << (self - b));
     __mmask16 mask = _mm512_mask_cmp_ps_mask(static_cast<__mmask16>(in_range), r2, vH2, _CMP_LT_OQ);
-    if constexpr (moving_only) {
-      __m512 vxb, vyb, vzb;
-      load_three(in.record + b, 3, vxb, vyb, vzb);
-      const auto differs = [&](__m512 vb, float va) {
-        return _mm512_cmp_ps_mask(vb, _mm512_set1_ps(va), _CMP_NEQ_UQ);
-      };
-      mask &= differs(vxb, vxa) | differs(vyb, vya) | differs(vzb, vza);
-    }
+    mask &= moving;
     // Left-pack in a register and store all 16 lanes (found has the spare slots): the compressing
     // store to memory is no faster on Intel cores and microcoded, far slower, on AMD Zen 4.
     const __m512i index = _mm512_maskz_compress_epi32(mask, _mm512_add_epi32(_mm512_set1_epi32(b), lane));
@@ -374,18 +384,15 @@ Index screen(const PairInputs& in, float H2, Index begin, Index end, Index self,
   const __m256 pxa = _mm256_set1_ps(xa), pya = _mm256_set1_ps(ya), pza = _mm256_set1_ps(za);
   const __m256 vH2 = _mm256_set1_ps(H2);
   for (Index b = begin; b < end; b += 8) {
+    const unsigned moving = moving_only ? moving_lanes(in, b) & 0xFFu : 0xFFu;
+    if (moving == 0) continue;  // walls only
     __m256 field[8];
     transpose_records([&](int i) { return _mm256_load_ps(&in.record[b + i].x); }, field);
     const __m256 dx = _mm256_sub_ps(pxa, field[0]);
     const __m256 dy = _mm256_sub_ps(pya, field[1]);
     const __m256 dz = _mm256_sub_ps(pza, field[2]);
     const __m256 r2 = _mm256_fmadd_ps(dz, dz, _mm256_fmadd_ps(dy, dy, _mm256_mul_ps(dx, dx)));
-    unsigned mask = static_cast<unsigned>(_mm256_movemask_ps(_mm256_cmp_ps(r2, vH2, _CMP_LT_OQ)));
-    if constexpr (moving_only) {
-      const auto differs = [&](__m256 vb, float va) { return _mm256_cmp_ps(vb, _mm256_set1_ps(va), _CMP_NEQ_UQ); };
-      mask &= static_cast<unsigned>(_mm256_movemask_ps(
-          _mm256_or_ps(_mm256_or_ps(differs(field[3], vxa), differs(field[4], vya)), differs(field[5], vza))));
-    }
+    unsigned mask = static_cast<unsigned>(_mm256_movemask_ps(_mm256_cmp_ps(r2, vH2, _CMP_LT_OQ))) & moving;
     mask = _bzhi_u32(mask, static_cast<unsigned>(std::min<Index>(end - b, 8)));
     if (self >= b && self < b + 8) mask &= ~(1u << (self - b));
     // Left-pack the lanes whose bit is set: the byte indices of the set bits, by pext.
@@ -400,7 +407,7 @@ Index screen(const PairInputs& in, float H2, Index begin, Index end, Index self,
   for (Index b = begin; b < end; ++b) {
     const FluidRecord& other = in.record[b];
     const float dx = xa - other.x, dy = ya - other.y, dz = za - other.z;
-    const bool moving = !moving_only || other.vx != vxa || other.vy != vya || other.vz != vza;
+    const bool moving = !moving_only || (moving_lanes(in, b) & 1u);
     found[count] = b;
     count += (std::fma(dz, dz, std::fma(dy, dy, dx * dx)) < H2) & (b != self) & moving;
   }
@@ -650,7 +657,7 @@ void FluidFormulation::pair_pass(solver::NodeStore& nodes, Real dt) {
                                 static_cast<float>(av.alpha * m.reference_sound_speed()),
                                 static_cast<float>(av.beta),
                                 static_cast<float>(2 * m.dynamic_viscosity)};
-  const PairInputs in{record_.data(), mass_.data(), uniform_mass_};
+  const PairInputs in{record_.data(), mass_.data(), uniform_mass_, moving_.data()};
   Real max_acceleration = 0, max_mu = 0;
 
 #pragma omp parallel reduction(max : max_acceleration, max_mu)
@@ -786,7 +793,7 @@ void FluidFormulation::add_fields(std::vector<io::output::PointField>& fields,
 std::size_t FluidFormulation::memory_bytes() const {
   std::size_t total = bytes(node_) + bytes(mass_) + bytes(density_) + bytes(rate_) +
                       bytes(previous_rate_) + bytes(record_) + bytes(pressure_force_) +
-                      bytes(viscous_force_) + bytes(active_cell_);
+                      bytes(viscous_force_) + bytes(moving_) + bytes(active_cell_);
   return total + cells_.memory_bytes();
 }
 

@@ -14,7 +14,8 @@
 // Walls: a particle whose three translations are held by SPCs is a dynamic boundary particle
 // (Crespo, Gomez-Gesteira & Dalrymple 2007, CMC 5:173; DualSPHysics): it takes part in continuity
 // and pressure like the fluid but does not move, and its density is kept >= rho0 so that it never
-// pulls fluid in.
+// pulls fluid in. Its continuity sums over the moving particles only (the walls around it rest,
+// so their terms are zero).
 //
 // One pair pass per step, no stored neighbour list (memory: docs/THEORY.md):
 // - The forces at step n need every neighbour's density at step n, which the same pass's
@@ -133,6 +134,9 @@ class FluidFormulation final : public solver::Formulation {
   // The last internal forces, for internal_power: pressure part and viscous part.
   std::vector<float> pressure_force_;  // 3 per particle
   std::vector<float> viscous_force_;   // 3 per particle
+  // One bit a particle, in cell order: 1 moving, 0 a wall. The walls' screen keeps only moving
+  // neighbours.
+  std::vector<std::uint8_t> moving_;
 
   neighbors::CellList cells_;
   // Per cell: 1 when a moving (non-wall) particle is in the 5 x 5 x 5 cells around it. Wall
