@@ -112,10 +112,11 @@ class FluidFormulation final : public solver::Formulation {
   void gather(const solver::NodeStore& nodes, Real dt);
   void pair_pass(solver::NodeStore& nodes, Real dt);
   // Calls visit(a, ranges, range count) for every particle a, in an `omp for` over the cells: the
-  // ranges hold every particle within the support of a. With skip_inactive, the particles of cells
-  // without moving particles around get no ranges.
+  // ranges hold every particle within the support of a. For the pair pass (pair_pass), the
+  // particles of cells without moving particles around get no ranges, and a wall gets its cell's
+  // whole block, untrimmed (its screen skips packs of walls).
   template <typename Visit>
-  void for_each_particle_candidates(bool skip_inactive, Visit&& visit) const;
+  void for_each_particle_candidates(bool pair_pass, Visit&& visit) const;
 
   FluidParameters parameters_;
   Real support_ = 0;  // H = 2h
