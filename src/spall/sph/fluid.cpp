@@ -25,6 +25,13 @@ namespace {
 // All three translations held: a dynamic boundary (wall) particle.
 constexpr std::uint8_t all_translations = 7;
 
+// Bit i set where particle b + i moves, for i < 16, from the bits of FluidFormulation::moving_.
+inline unsigned moving_lanes(const std::uint8_t* moving, Index b) {
+  std::uint32_t word;
+  std::memcpy(&word, moving + b / 8, sizeof word);
+  return (word >> (b % 8)) & 0xFFFFu;
+}
+
 // Time-step factors. Courant: the predictor-corrector density update is stable for w dt < 0.72
 // and the fastest SPH acoustic mode has w ~ 1.04 c / h (cubic spline), so h / (c + |v| + the
 // viscous signal speed) is scaled by 0.4 (w dt ~ 0.42). Force: Monaghan 1992,
@@ -214,7 +221,7 @@ void FluidFormulation::for_each_particle_candidates(bool pair_pass, Visit&& visi
     if (active) stencil.prepare(c);
     int block_count = -1;  // the cell's whole block, once a wall asks for it
     for (Index a = own.begin; a < own.end; ++a) {
-      if (active && pair_pass && !((moving_[a / 8] >> (a % 8)) & 1)) {
+      if (active && pair_pass && !(moving_lanes(moving_.data(), a) & 1u)) {
         // A wall's screen skips the packs of walls by a bit test, which costs less than trimming
         // its runs (25 rows, a square root and two gathers per eight): +1.5 % on the 10^5 dam
         // break's pass, +4 to +8 % on the 10^6 one (docs/PERFORMANCE.md, session 13).
@@ -238,13 +245,6 @@ struct PairInputs {
   float uniform_mass;           // FluidFormulation::uniform_mass_
   const std::uint8_t* moving;  // FluidFormulation::moving_
 };
-
-// Bit i set where particle b + i moves, for i < 16 (FluidFormulation::moving_).
-inline unsigned moving_lanes(const PairInputs& in, Index b) {
-  std::uint32_t word;
-  std::memcpy(&word, in.moving + b / 8, sizeof word);
-  return (word >> (b % 8)) & 0xFFFFu;
-}
 
 #if defined(__AVX2__)
 // Unpacks and in-lane shuffles act on each 128-bit lane alike, for 256- and 512-bit registers.
@@ -371,7 +371,7 @@ Index screen(const PairInputs& in, float H2, Index begin, Index end, Index self,
   const __m512 vH2 = _mm512_set1_ps(H2);
   const __m512i lane = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
   for (Index b = begin; b < end; b += 16) {
-    const __mmask16 moving = moving_only ? static_cast<__mmask16>(moving_lanes(in, b)) : 0xFFFF;
+    const __mmask16 moving = moving_only ? static_cast<__mmask16>(moving_lanes(in.moving, b)) : 0xFFFF;
     if (moving == 0) continue;  // walls only
     __m512 xb, yb, zb;
     load_positions(in.record + b, xb, yb, zb);
@@ -393,7 +393,7 @@ Index screen(const PairInputs& in, float H2, Index begin, Index end, Index self,
   const __m256 pxa = _mm256_set1_ps(xa), pya = _mm256_set1_ps(ya), pza = _mm256_set1_ps(za);
   const __m256 vH2 = _mm256_set1_ps(H2);
   for (Index b = begin; b < end; b += 8) {
-    const unsigned moving = moving_only ? moving_lanes(in, b) & 0xFFu : 0xFFu;
+    const unsigned moving = moving_only ? moving_lanes(in.moving, b) & 0xFFu : 0xFFu;
     if (moving == 0) continue;  // walls only
     __m256 field[8];
     transpose_records([&](int i) { return _mm256_load_ps(&in.record[b + i].x); }, field);
@@ -416,7 +416,7 @@ Index screen(const PairInputs& in, float H2, Index begin, Index end, Index self,
   for (Index b = begin; b < end; ++b) {
     const FluidRecord& other = in.record[b];
     const float dx = xa - other.x, dy = ya - other.y, dz = za - other.z;
-    const bool moving = !moving_only || (moving_lanes(in, b) & 1u);
+    const bool moving = !moving_only || (moving_lanes(in.moving, b) & 1u);
     found[count] = b;
     count += (std::fma(dz, dz, std::fma(dy, dy, dx * dx)) < H2) & (b != self) & moving;
   }
@@ -678,7 +678,7 @@ void FluidFormulation::pair_pass(solver::NodeStore& nodes, Real dt) {
       if (found.size() < static_cast<std::size_t>(candidates + 2 * simd_width))
         found.resize(candidates + 2 * simd_width);
       const Index node = node_[a];
-      const bool wall = nodes.fixed[node] == all_translations;
+      const bool wall = !(moving_lanes(moving_.data(), a) & 1u);  // as for_each_particle_candidates
       Index count = 0;
       for (int r = 0; r < range_count; ++r)
         count = wall ? screen<true>(in, constants.support_squared, ranges[r].begin, ranges[r].end, a,
