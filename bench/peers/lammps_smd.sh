@@ -5,7 +5,7 @@
 #   bash bench/peers/lammps_smd.sh [across] [hfac] [warm] [steps]     (defaults: 35 2.37 200 500)
 # Prints particles, neighbours inside the support and particle-steps per second of the timed run.
 # Adds a deb-src entry for bookworm to apt's sources where none is, and builds under
-# build/peers/lammps (about 15 minutes on 2 cores, once).
+# build/peers/lammps (5 to 15 minutes on 2 cores, once).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/../.." && pwd)
 across=${1:-35} hfac=${2:-2.37} warm=${3:-200} steps=${4:-500}
