@@ -35,7 +35,7 @@ log=$work/taylor_bar_${across}_${hfac}_${ranks}.log
 cd "$work"
 OMP_NUM_THREADS=1 mpirun --allow-run-as-root -np "$ranks" "$lmp" -in "$root/bench/peers/lammps_smd_taylor_bar.in" -log none \
   -var across "$across" -var hfac "$hfac" -var warm "$warm" -var steps "$steps" >"$log" 2>&1 || { tail -5 "$log"; exit 1; }
-# The last "Loop time of T on 1 procs for N steps with M atoms" is the timed run; the neighbours are
+# The last "Loop time of T on P procs for N steps with M atoms" is the timed run; the neighbours are
 # the thermo column c_neighbours at its last line.
 awk -v log_file="$log" '
   /^Loop time of/ { seconds = $4; ranks = $6; steps = $9; atoms = $12 }
