@@ -93,6 +93,21 @@ TEST(control_sph, UnimplementedOptionsStopAtTheirCard) {
   }
 }
 
+// The solid's pair terms are single precision: a smoothing length whose h^-5 or h^4 leaves float's
+// range is refused at its *SECTION_SPH, with the way out named.
+TEST(section_sph, SmoothingLengthOutsideSinglePrecisionRangeIsRefused) {
+  for (const Real sphini : {1e-7, 1e7}) {
+    model::Model block = test_support::elastic_block_model({Vec3(0.1, 0.1, 0.1), 0.025});
+    std::get<model::SectionSph>(block.sections.at(1)).sphini = sphini;
+    const std::string message = input_error_of([&] { solver::build_problem(block); });
+    EXPECT_NE(message.find("*SECTION_SPH: smoothing length"), std::string::npos) << message;
+    EXPECT_NE(message.find("use units"), std::string::npos) << message;
+  }
+  model::Model fine = test_support::elastic_block_model({Vec3(0.1, 0.1, 0.1), 0.025});
+  std::get<model::SectionSph>(fine.sections.at(1)).sphini = 2e-6;  // inside: builds
+  EXPECT_NO_THROW(solver::build_problem(fine));
+}
+
 TEST(spall_sph_keywords, ColourFieldCardsPerPartWithDefaults) {
   DeckFolder folder;
   const auto model = read_deck(folder.write(

@@ -197,3 +197,91 @@ TYPED_TEST(KernelLanes, GradientFactorOfAPackOfPairsIsTheScalarOneAtEachLane) {
     }
   }
 }
+
+// The single-precision pack of the solid's pair loops (simd::Float8: AVX2 where the build has it,
+// else the scalar lanes) against the scalar lanes of floats: every operation exactly, the lane
+// sums in the same order, the double accumulator of widened lanes, and the transposed row loads,
+// compressions and index comparisons on eight lanes.
+TEST(FloatLanes, EveryOperationMatchesTheScalarLanesExactly) {
+  using P = simd::Float8;
+  using S = simd::lanes::Pack<8, float>;
+  const auto floats_of = [](auto v) {
+    std::array<float, 8> out;
+    v.store(out.data());
+    return out;
+  };
+  std::mt19937_64 rng(13);
+  for (int trial = 0; trial < 200; ++trial) {
+    std::array<float, 8> a, b, c;
+    const auto fill = [&](std::array<float, 8>& v) {
+      const auto d = random_lanes<8>(rng);
+      for (int i = 0; i < 8; ++i) v[i] = static_cast<float>(d[i]);
+    };
+    fill(a), fill(b), fill(c);
+    const P va = P::load(a.data()), vb = P::load(b.data()), vc = P::load(c.data());
+    const S sa = S::load(a.data()), sb = S::load(b.data()), sc = S::load(c.data());
+    EXPECT_EQ(floats_of(va + vb), floats_of(sa + sb));
+    EXPECT_EQ(floats_of(va - vb), floats_of(sa - sb));
+    EXPECT_EQ(floats_of(va * vb), floats_of(sa * sb));
+    EXPECT_EQ(floats_of(fma(va, vb, vc)), floats_of(fma(sa, sb, sc)));
+    EXPECT_EQ(floats_of(reciprocal(abs(va))), floats_of(reciprocal(abs(sa))));
+    EXPECT_EQ(floats_of(reciprocal_sqrt(abs(va))), floats_of(reciprocal_sqrt(abs(sa))));
+    EXPECT_EQ(floats_of(select(va < vb, va, vc)), floats_of(select(sa < sb, sa, sc)));
+    EXPECT_EQ((va <= vb).lanes(), (sa <= sb).lanes());
+    EXPECT_EQ(va.sum(), sa.sum());
+    simd::WideSum8 wide;
+    simd::lanes::WideSum<8> wide_lanes;
+    wide.add(va), wide.add(vb), wide_lanes.add(sa), wide_lanes.add(sb);
+    EXPECT_EQ(wide.sum(), wide_lanes.sum());
+    // In double: summed in float the 16 terms (up to 2^8) would be off by up to about 1e-4.
+    Real exact = 0;
+    for (int i = 0; i < 8; ++i) exact += Real(a[i]) + Real(b[i]);
+    EXPECT_NEAR(wide.sum(), exact, 1e-12);
+  }
+  P packs[8];
+  for (int i = 0; i < 8; ++i) {
+    std::array<float, 8> v;
+    for (int j = 0; j < 8; ++j) v[j] = static_cast<float>(std::ldexp(1.0 + 0.1 * j, i - j));
+    packs[i] = P::load(v.data());
+  }
+  Real sums[8];
+  simd::sum_lanes(packs, sums);
+  for (int i = 0; i < 8; ++i) EXPECT_EQ(sums[i], packs[i].sum()) << "pack " << i;
+}
+
+TEST(FloatLanes, TransposedLoadsCompressionAndComparisonsPickTheRightElements) {
+  using P = simd::Float8;
+  // A 12-wide table (the stride of the stress records) whose element (row, column) is 100 row + column.
+  std::vector<float> table(12 * 12);
+  for (int row = 0; row < 12; ++row)
+    for (int column = 0; column < 12; ++column) table[12 * row + column] = float(100 * row + column);
+  const Index rows[8] = {7, 0, 11, 3, 5, 10, 1, 8};
+  const auto floats_of = [](P v) {
+    std::array<float, 8> out;
+    v.store(out.data());
+    return out;
+  };
+  P eight[8], four[4];
+  simd::load_rows<12>(table.data(), rows, 0, eight);
+  simd::load_rows<12>(table.data(), rows, 8, four);
+  for (int i = 0; i < 8; ++i) {
+    for (int j = 0; j < 8; ++j) EXPECT_EQ(floats_of(eight[j])[i], 100 * rows[i] + j);
+    for (int j = 0; j < 4; ++j) EXPECT_EQ(floats_of(four[j])[i], 100 * rows[i] + 8 + j);
+  }
+  Index indices[8];
+  for (int i = 0; i < 8; ++i) indices[i] = 20 + i;
+  for (int mask = 0; mask < 256; ++mask) {
+    Index packed[8];
+    P::compress_indices(indices, mask, packed);
+    int k = 0;
+    for (int lane = 0; lane < 8; ++lane) {
+      if (!(mask & (1 << lane))) continue;
+      EXPECT_EQ(packed[k++], indices[lane]) << "mask " << mask;
+    }
+  }
+  for (Index a : {-1, 0, 3, 7, 8, 11, 12}) {
+    int expected = 0;
+    for (int i = 0; i < 8; ++i) expected |= int(rows[i] > a) << i;
+    EXPECT_EQ(P::indices_above(rows, a), expected) << "a " << a;
+  }
+}

@@ -5,7 +5,9 @@
 // operations lane by lane, so that the pair loops are written once over simd::Pack. Every
 // operation is lane-wise and exactly rounded (fused multiply-adds only where written), so a lane's
 // result does not depend on its neighbours or on the thread count; the sums over lanes go in one
-// fixed order (pairs of neighbouring lanes, then pairs of those, ...).
+// fixed order (pairs of neighbouring lanes, then pairs of those, ...). The solid's pair loops run
+// on eight floats instead (Float8: AVX2 where the build has it, else scalars), with a double
+// accumulator for the sums that must cancel pair by pair (WideSum8).
 #include <cmath>
 #include <cstdint>
 
@@ -44,20 +46,20 @@ struct Mask {
   }
 };
 
-template <int W>
+template <int W, typename T = Real>
 struct Pack {
   static constexpr int width = W;
-  Real v[W];
-  Pack() : Pack(Real(0)) {}
-  Pack(Real value) {
-    for (Real& x : v) x = value;
+  T v[W];
+  Pack() : Pack(T(0)) {}
+  Pack(T value) {
+    for (T& x : v) x = value;
   }
-  static Pack load(const Real* p) { return from([&](int i) { return p[i]; }); }
-  void store(Real* p) const {
+  static Pack load(const T* p) { return from([&](int i) { return p[i]; }); }
+  void store(T* p) const {
     for (int i = 0; i < W; ++i) p[i] = v[i];
   }
   template <int Stride>
-  static Pack gather(const Real* base, const Index* index, int offset = 0) {
+  static Pack gather(const T* base, const Index* index, int offset = 0) {
     return from([&](int i) { return base[Stride * index[i] + offset]; });
   }
   template <typename F>
@@ -80,9 +82,9 @@ struct Pack {
     for (int i = 0; i < W; ++i) m.bit[i] = c(a.v[i], b.v[i]);
     return m;
   }
-  friend Mask<W> operator<(Pack a, Pack b) { return compare(a, b, [](Real x, Real y) { return x < y; }); }
-  friend Mask<W> operator<=(Pack a, Pack b) { return compare(a, b, [](Real x, Real y) { return x <= y; }); }
-  friend Mask<W> operator>(Pack a, Pack b) { return compare(a, b, [](Real x, Real y) { return x > y; }); }
+  friend Mask<W> operator<(Pack a, Pack b) { return compare(a, b, [](T x, T y) { return x < y; }); }
+  friend Mask<W> operator<=(Pack a, Pack b) { return compare(a, b, [](T x, T y) { return x <= y; }); }
+  friend Mask<W> operator>(Pack a, Pack b) { return compare(a, b, [](T x, T y) { return x > y; }); }
   friend Pack fma(Pack b, Pack c, Pack a) { return from([&](int i) { return std::fma(b.v[i], c.v[i], a.v[i]); }); }
   // 1 / sqrt(a) and 1 / a (a > 0): by a square root and a division here (an ulp or two); within
   // a few ulp in the AVX-512 pack.
@@ -102,9 +104,10 @@ struct Pack {
     for (int i = 0; i < W; ++i) lanes |= int(in[i] > a) << i;
     return lanes;
   }
-  // Neighbouring lanes in pairs, then the pairs in pairs, ...: ((l0 + l1) + (l2 + l3)) + ...
+  // Neighbouring lanes in pairs, then the pairs in pairs, ...: ((l0 + l1) + (l2 + l3)) + ..., in
+  // the lanes' precision.
   Real sum() const {
-    Real partial[W];
+    T partial[W];
     for (int i = 0; i < W; ++i) partial[i] = v[i];
     for (int n = W; n > 1; n /= 2)
       for (int i = 0; i < n / 2; ++i) partial[i] = partial[2 * i] + partial[2 * i + 1];
@@ -126,6 +129,24 @@ inline void load_vectors(const Real* v, const Index* index, Pack<W>& x, Pack<W>&
   y = Pack<W>::template gather<3>(v, index, 1);
   z = Pack<W>::template gather<3>(v, index, 2);
 }
+
+// N consecutive floats from each of W rows (base + Stride index[i] + offset), transposed: out[j]
+// holds element j of the W rows.
+template <int Stride, int N, int W>
+inline void load_rows(const float* base, const Index* index, int offset, Pack<W, float> (&out)[N]) {
+  for (int j = 0; j < N; ++j) out[j] = Pack<W, float>::template gather<Stride>(base, index, offset + j);
+}
+
+// W doubles that accumulate packs of floats, each lane widened exactly: the sums of
+// single-precision pair terms that must cancel pair by pair to double round-off (momentum).
+template <int W>
+struct WideSum {
+  Pack<W> lanes;
+  void add(const Pack<W, float>& x) {
+    for (int i = 0; i < W; ++i) lanes.v[i] += x.v[i];
+  }
+  Real sum() const { return lanes.sum(); }
+};
 
 }  // namespace lanes
 
@@ -244,6 +265,154 @@ inline void Real4::compress_indices(const Index* in, int lanes, Index* out) {
   const __m128i lane = _mm_load_si128(reinterpret_cast<const __m128i*>(compress_lanes.lanes[lanes]));
   const __m128 values = _mm_castsi128_ps(_mm_loadu_si128(reinterpret_cast<const __m128i*>(in)));
   _mm_storeu_si128(reinterpret_cast<__m128i*>(out), _mm_castps_si128(_mm_permutevar_ps(values, lane)));
+}
+
+// Eight floats processed as one (the solid's pair loops, sph/solid.cpp): the operations of Real4,
+// exactly rounded, on twice the lanes.
+struct Mask8f {
+  __m256 bits;
+  friend Mask8f operator&(Mask8f a, Mask8f b) { return {_mm256_and_ps(a.bits, b.bits)}; }
+  // Bit i set when lane i is true.
+  int lanes() const { return _mm256_movemask_ps(bits); }
+};
+
+// For each 8-bit lane mask, the numbers of the selected lanes in order, one byte each.
+struct CompressTable8 {
+  std::uint64_t order[256];
+  constexpr CompressTable8() : order{} {
+    for (int mask = 0; mask < 256; ++mask) {
+      int k = 0;
+      for (int lane = 0; lane < 8; ++lane)
+        if (mask & (1 << lane)) order[mask] |= std::uint64_t(lane) << (8 * k++);
+    }
+  }
+};
+inline constexpr CompressTable8 compress_lanes8;
+
+struct Float8 {
+  static constexpr int width = 8;
+  __m256 v;
+  Float8() : v(_mm256_setzero_ps()) {}
+  Float8(__m256 value) : v(value) {}
+  Float8(float value) : v(_mm256_set1_ps(value)) {}
+  static Float8 load(const float* p) { return {_mm256_loadu_ps(p)}; }
+  void store(float* p) const { _mm256_storeu_ps(p, v); }
+  // base[stride * index[i] + offset] for i = 0..7.
+  template <int Stride>
+  static Float8 gather(const float* base, const Index* index, int offset = 0) {
+    __m256i i = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(index));
+    if constexpr (Stride != 1) i = _mm256_mullo_epi32(i, _mm256_set1_epi32(Stride));
+    const __m256 all = _mm256_castsi256_ps(_mm256_set1_epi32(-1));
+    return {_mm256_mask_i32gather_ps(_mm256_setzero_ps(), base + offset, i, all, 4)};
+  }
+  friend Float8 operator+(Float8 a, Float8 b) { return {_mm256_add_ps(a.v, b.v)}; }
+  friend Float8 operator-(Float8 a, Float8 b) { return {_mm256_sub_ps(a.v, b.v)}; }
+  friend Float8 operator*(Float8 a, Float8 b) { return {_mm256_mul_ps(a.v, b.v)}; }
+  friend Float8 operator/(Float8 a, Float8 b) { return {_mm256_div_ps(a.v, b.v)}; }
+  friend Float8 operator-(Float8 a) { return {_mm256_xor_ps(a.v, _mm256_set1_ps(-0.0f))}; }
+  Float8& operator+=(Float8 b) { return *this = *this + b; }
+  Float8& operator-=(Float8 b) { return *this = *this - b; }
+  Float8& operator*=(Float8 b) { return *this = *this * b; }
+  friend Mask8f operator<(Float8 a, Float8 b) { return {_mm256_cmp_ps(a.v, b.v, _CMP_LT_OQ)}; }
+  friend Mask8f operator<=(Float8 a, Float8 b) { return {_mm256_cmp_ps(a.v, b.v, _CMP_LE_OQ)}; }
+  friend Mask8f operator>(Float8 a, Float8 b) { return {_mm256_cmp_ps(a.v, b.v, _CMP_GT_OQ)}; }
+  // a + b c, rounded once.
+  friend Float8 fma(Float8 b, Float8 c, Float8 a) { return {_mm256_fmadd_ps(b.v, c.v, a.v)}; }
+  friend Float8 reciprocal_sqrt(Float8 a) { return {_mm256_div_ps(_mm256_set1_ps(1), _mm256_sqrt_ps(a.v))}; }
+  friend Float8 reciprocal(Float8 a) { return {_mm256_div_ps(_mm256_set1_ps(1), a.v)}; }
+  friend Float8 abs(Float8 a) { return {_mm256_andnot_ps(_mm256_set1_ps(-0.0f), a.v)}; }
+  friend Float8 max(Float8 a, Float8 b) { return {_mm256_max_ps(a.v, b.v)}; }
+  friend Float8 select(Mask8f m, Float8 a, Float8 b) { return {_mm256_blendv_ps(b.v, a.v, m.bits)}; }
+  // Writes the indices in[i] whose bit i is set in `lanes` to out[0..], in order; writes all
+  // eight.
+  static void compress_indices(const Index* in, int lanes, Index* out) {
+    const __m256i order = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(static_cast<long long>(compress_lanes8.order[lanes])));
+    const __m256i all = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(in));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out), _mm256_permutevar8x32_epi32(all, order));
+  }
+  // Bit i set where in[i] > a.
+  static int indices_above(const Index* in, Index a) {
+    const __m256i above = _mm256_cmpgt_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(in)), _mm256_set1_epi32(a));
+    return _mm256_movemask_ps(_mm256_castsi256_ps(above));
+  }
+  // ((l0 + l1) + (l2 + l3)) + ((l4 + l5) + (l6 + l7)) in float, the order of lanes::Pack<8>::sum.
+  Real sum() const {
+    const __m256 pairs = _mm256_hadd_ps(v, v);       // l0 + l1, l2 + l3, ... | l4 + l5, l6 + l7, ...
+    const __m256 quads = _mm256_hadd_ps(pairs, pairs);  // (l0 + l1) + (l2 + l3) | (l4 + l5) + (l6 + l7)
+    return _mm_cvtss_f32(_mm_add_ss(_mm256_castps256_ps128(quads), _mm256_extractf128_ps(quads, 1)));
+  }
+};
+
+// The lane sums of eight packs into out[0..7], out[i] = packs[i].sum() bit for bit: the same
+// additions, with the packs transposed in a tree while they are added (neighbouring lanes of two
+// packs by shuffles, then pairs of pairs, then the 128-bit halves), 15 shuffles and 7 additions
+// where eight sum() take about 50 instructions.
+inline void sum_lanes(const Float8 (&packs)[8], Real* out) {
+  const auto pairs = [&](int i) {  // lanes 2k + 2k+1 of packs i, i + 1: (i: 0, 2, i+1: 0, 2 | i: 4, 6, i+1: 4, 6)
+    const __m256 a = packs[i].v, b = packs[i + 1].v;
+    return _mm256_add_ps(_mm256_shuffle_ps(a, b, _MM_SHUFFLE(2, 0, 2, 0)), _mm256_shuffle_ps(a, b, _MM_SHUFFLE(3, 1, 3, 1)));
+  };
+  const auto quads = [](__m256 x, __m256 y) {  // (l0..l3 of four packs | l4..l7 of the same four)
+    return _mm256_add_ps(_mm256_shuffle_ps(x, y, _MM_SHUFFLE(2, 0, 2, 0)), _mm256_shuffle_ps(x, y, _MM_SHUFFLE(3, 1, 3, 1)));
+  };
+  const __m256 low = quads(pairs(0), pairs(2)), high = quads(pairs(4), pairs(6));
+  const __m256 sums = _mm256_add_ps(_mm256_permute2f128_ps(low, high, 0x20), _mm256_permute2f128_ps(low, high, 0x31));
+  _mm256_storeu_pd(out, _mm256_cvtps_pd(_mm256_castps256_ps128(sums)));
+  _mm256_storeu_pd(out + 4, _mm256_cvtps_pd(_mm256_extractf128_ps(sums, 1)));
+}
+
+// Eight doubles that accumulate Float8s widened exactly (lanes::WideSum).
+struct WideSum8 {
+  __m256d low = _mm256_setzero_pd(), high = _mm256_setzero_pd();
+  void add(Float8 x) {
+    low = _mm256_add_pd(low, _mm256_cvtps_pd(_mm256_castps256_ps128(x.v)));
+    high = _mm256_add_pd(high, _mm256_cvtps_pd(_mm256_extractf128_ps(x.v, 1)));
+  }
+  // ((l0 + l1) + (l2 + l3)) + ((l4 + l5) + (l6 + l7)).
+  Real sum() const {
+    const __m256d pairs = _mm256_hadd_pd(low, high);  // (l0 + l1, l4 + l5, l2 + l3, l6 + l7)
+    const __m128d quads = _mm_add_pd(_mm256_castpd256_pd128(pairs), _mm256_extractf128_pd(pairs, 1));
+    return _mm_cvtsd_f64(_mm_add_sd(quads, _mm_unpackhi_pd(quads, quads)));
+  }
+};
+
+// Four consecutive floats from each of eight rows (base + Stride index[i] + offset), transposed:
+// out[j] holds element j of the eight rows. Rows i and i + 4 share a register, then a 4 x 4
+// transpose within each 128-bit half: eight loads and twelve shuffles.
+template <int Stride>
+[[gnu::always_inline]] inline void load_rows(const float* base, const Index* index, int offset, Float8 (&out)[4]) {
+  const auto pair = [&](int i) {
+    return _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(base + Stride * index[i] + offset)),
+                                _mm_loadu_ps(base + Stride * index[i + 4] + offset), 1);
+  };
+  const __m256 r04 = pair(0), r15 = pair(1), r26 = pair(2), r37 = pair(3);
+  const __m256 t0 = _mm256_unpacklo_ps(r04, r15), t1 = _mm256_unpackhi_ps(r04, r15);
+  const __m256 t2 = _mm256_unpacklo_ps(r26, r37), t3 = _mm256_unpackhi_ps(r26, r37);
+  out[0] = {_mm256_shuffle_ps(t0, t2, _MM_SHUFFLE(1, 0, 1, 0))};
+  out[1] = {_mm256_shuffle_ps(t0, t2, _MM_SHUFFLE(3, 2, 3, 2))};
+  out[2] = {_mm256_shuffle_ps(t1, t3, _MM_SHUFFLE(1, 0, 1, 0))};
+  out[3] = {_mm256_shuffle_ps(t1, t3, _MM_SHUFFLE(3, 2, 3, 2))};
+}
+
+// Eight consecutive floats from each of eight rows, transposed: a 4 x 4 transpose within each
+// 128-bit half of rows 0-3 and of rows 4-7, then the halves exchanged: eight loads and 24 shuffles.
+template <int Stride>
+[[gnu::always_inline]] inline void load_rows(const float* base, const Index* index, int offset, Float8 (&out)[8]) {
+  __m256 s[8];  // s[k], k < 4: element k of rows 0-3 in the low half, element k + 4 in the high
+  for (int g = 0; g < 2; ++g) {
+    const auto row = [&](int i) { return _mm256_loadu_ps(base + Stride * index[4 * g + i] + offset); };
+    const __m256 r0 = row(0), r1 = row(1), r2 = row(2), r3 = row(3);
+    const __m256 t0 = _mm256_unpacklo_ps(r0, r1), t1 = _mm256_unpackhi_ps(r0, r1);
+    const __m256 t2 = _mm256_unpacklo_ps(r2, r3), t3 = _mm256_unpackhi_ps(r2, r3);
+    s[4 * g + 0] = _mm256_shuffle_ps(t0, t2, _MM_SHUFFLE(1, 0, 1, 0));
+    s[4 * g + 1] = _mm256_shuffle_ps(t0, t2, _MM_SHUFFLE(3, 2, 3, 2));
+    s[4 * g + 2] = _mm256_shuffle_ps(t1, t3, _MM_SHUFFLE(1, 0, 1, 0));
+    s[4 * g + 3] = _mm256_shuffle_ps(t1, t3, _MM_SHUFFLE(3, 2, 3, 2));
+  }
+  for (int k = 0; k < 4; ++k) {
+    out[k] = {_mm256_permute2f128_ps(s[k], s[k + 4], 0x20)};
+    out[k + 4] = {_mm256_permute2f128_ps(s[k], s[k + 4], 0x31)};
+  }
 }
 
 }  // namespace avx2
@@ -400,6 +569,19 @@ using Pack = lanes::Pack<4>;
 using PackMask = lanes::Mask<4>;
 using lanes::load_transposed;
 using lanes::load_vectors;
+#endif
+
+// Eight single-precision lanes, the solid's pair loops (sph/solid.cpp), with their double
+// accumulator and transposed row loads: AVX2 where the build has it (also with AVX-512).
+#if defined(SPALL_SIMD_AVX2)
+using Float8 = avx2::Float8;
+using WideSum8 = avx2::WideSum8;
+using avx2::load_rows;
+using avx2::sum_lanes;
+#else
+using Float8 = lanes::Pack<8, float>;
+using WideSum8 = lanes::WideSum<8>;
+using lanes::load_rows;
 #endif
 
 // The lane sums of eight packs into out[0..7], out[i] = packs[i].sum() bit for bit (the same

@@ -198,6 +198,13 @@ class Builder {
       const SphPart& part = parts.at(problem_.part_of_node[p.node]);
       const model::SectionSph& section = *part.section;
       p.smoothing_length = section.sphini > 0 ? section.sphini : section.cslh * part.spacing;
+      // The solid's pair terms are single precision (docs/THEORY.md §3): kernel gradients go as
+      // h^-5 and viscous denominators as h^4, within float's range for these h.
+      if (!(p.smoothing_length >= 1e-6 && p.smoothing_length <= 1e6))
+        fail(section.where, "*SECTION_SPH",
+             fmt::format("smoothing length {:.3g} (CSLH x spacing, or SPHINI) is outside 1e-6 to 1e6: the SPH "
+                         "solid's pair terms are single precision; use units (mm, um) that bring it within",
+                         p.smoothing_length));
       p.h_min_factor = section.hmin;
       p.h_max_factor = section.hmax;
       const auto kind = static_cast<kernels::KernelKind>(section.sphkern);

@@ -85,83 +85,85 @@ bool invert_symmetric(const Mat3& m, Real least, Mat3& inverse) {
 
 }  // namespace
 
+// The pair loops run on eight single-precision lanes, a pair per lane (simd::Float8), from the
+// particles' records (PairRecord, StressRecord): the geometry, the velocity gradient and the pair
+// forces in float, the sums that must cancel pair by pair (forces, viscosity) widened to double.
+// Every pair term is computed by the same operations whichever side computes it, so that (a, b)
+// gets exactly the opposite of (b, a) (docs/THEORY.md §3).
+using simd::Float8;
+constexpr int pair_lanes = Float8::width;
+constexpr int record_stride = sizeof(PairRecord) / sizeof(float);
+constexpr int stress_stride = sizeof(StressRecord) / sizeof(float);
+static_assert(record_stride == 8 && stress_stride == 12);
+
 // The pairs of one Verlet row inside their support (r < H_ab = h_a + h_b), per thread, padded with
 // the particle itself to a multiple of the pack width (a pair at r = 0 has no gradient, so the
 // padding adds exact zeros): neighbour, x_a - x_b, r, H_ab, the gradient factor F = (dW/dr) / r
-// (grad_a W_ab = F (x_a - x_b); 0 at r = 0), 1/r where F is defined (else 0), the neighbour's
-// volume V_b (gathered once for the rates pass's two loops) and a per-pass weight. About a third
-// of a Verlet row lies outside the support (the skin and the reach margin).
+// (grad_a W_ab = F (x_a - x_b); 0 at r = 0), the neighbour's volume V_b, the weight V_b F and
+// v_b - v_a, for the rates pass's later loops, and the viscosity's m_a m_b Pi_ab F and
+// 1/2 m_b Pi_ab F v_ab . x_ab. About a third of a Verlet row lies outside the support (the skin
+// and the reach margin).
 struct RowTerms {
   std::vector<Index> neighbour;  // the pairs kept
-  std::vector<Real> dx, dy, dz, r, support, factor, inverse_r, volume, weight;
+  std::vector<float> dx, dy, dz, r, support, factor, volume, weight, dvx, dvy, dvz, viscous, heating;
   void resize(std::size_t n) {
-    constexpr std::size_t W = simd::Pack::width;
+    constexpr std::size_t W = pair_lanes;
     if (r.size() >= n + W) return;
     neighbour.resize(n + W);
-    for (auto* v : {&dx, &dy, &dz, &r, &support, &factor, &inverse_r, &volume, &weight}) v->resize(n + W);
+    for (auto* v : {&dx, &dy, &dz, &r, &support, &factor, &volume, &weight, &dvx, &dvy, &dvz, &viscous, &heating})
+      v->resize(n + W);
   }
 };
 
-// Particle a's side of its pairs, broadcast over a pack, from the kernel centres (x, y, z, h per
-// particle; SolidFormulation::centre_).
+// Particle a's side of its pairs, broadcast over a pack, from its record.
 struct PackCentre {
-  simd::Pack x, y, z, h;
-  PackCentre(const Real* centres, Index a)
-      : x(centres[4 * a]), y(centres[4 * a + 1]), z(centres[4 * a + 2]), h(centres[4 * a + 3]) {}
+  Float8 x, y, z, h;
+  explicit PackCentre(const PairRecord& r) : x(r.x), y(r.y), z(r.z), h(r.h) {}
 };
 
-// x_a - x_b and h_b of a pack of pairs, by one transposed row load; returns r^2.
-[[gnu::always_inline]] inline simd::Pack pair_difference(const PackCentre& a, const Real* centres, const Index* b,
-                                                         simd::Pack& dx, simd::Pack& dy, simd::Pack& dz,
-                                                         simd::Pack& hb) {
-  simd::Pack c[4];
-  simd::load_transposed<4>(centres, b, 0, c);
-  dx = a.x - c[0], dy = a.y - c[1], dz = a.z - c[2], hb = c[3];
+// x_a - x_b of a pack of pairs from the neighbours' x, y, z, h (c[0..3]); returns r^2.
+[[gnu::always_inline]] inline Float8 pair_difference(const PackCentre& a, const Float8* c, Float8& dx, Float8& dy,
+                                                     Float8& dz) {
+  dx = a.x - c[0], dy = a.y - c[1], dz = a.z - c[2];
   return fma(dz, dz, fma(dy, dy, dx * dx));
 }
 
-// The geometry of a pack of pairs inside their support (or padding, r = 0), by the same
-// operations whichever side computes it, so that (a, b) gets exactly the factor of (b, a) and
-// opposite differences.
+// The geometry of a pack of pairs inside their support (or padding, r = 0).
 struct PairGeometry {
-  simd::Pack dx, dy, dz, r, support, factor, inverse_r;
+  Float8 dx, dy, dz, r, support, factor, inverse_r;
 };
 template <typename Kernel>
-[[gnu::always_inline]] inline PairGeometry pair_geometry(const PackCentre& a, const Real* centres, const Index* b) {
-  using simd::Pack;
+[[gnu::always_inline]] inline PairGeometry pair_geometry(const PackCentre& a, const Float8* c) {
   PairGeometry g;
-  Pack hb;
-  const Pack r2 = pair_difference(a, centres, b, g.dx, g.dy, g.dz, hb);
-  g.support = pair_support(a.h, hb);
-  const simd::PackMask defined = r2 > Pack(0);  // inside the support, by the pick
-  // 1/r and 1/H as reciprocals (simd.hpp: a few ulp, the same for (a, b) and (b, a)).
-  g.inverse_r = select(defined, reciprocal_sqrt(r2), Pack(0));
+  const Float8 r2 = pair_difference(a, c, g.dx, g.dy, g.dz);
+  g.support = pair_support(a.h, c[3]);
+  const auto defined = r2 > Float8(0);  // inside the support, by the pick
+  g.inverse_r = select(defined, reciprocal_sqrt(r2), Float8(0));
   g.r = r2 * g.inverse_r;
-  g.factor = select(defined, Kernel::gradient_factor(g.r, g.inverse_r, reciprocal(g.support)), Pack(0));
+  g.factor = select(defined, Kernel::gradient_factor(g.r, g.inverse_r, reciprocal(g.support)), Float8(0));
   return g;
 }
 
 // m_b of a pack of pairs: the one mass of a lattice broadcast (uniform > 0), else gathered.
-inline simd::Pack pair_mass(const std::vector<Real>& mass, Real uniform, const Index* b) {
-  return uniform > 0 ? simd::Pack(uniform) : simd::Pack::gather<1>(mass.data(), b);
+inline Float8 pair_mass(const std::vector<float>& mass, Real uniform, const Index* b) {
+  return uniform > 0 ? Float8(static_cast<float>(uniform)) : Float8::gather<1>(mass.data(), b);
 }
 
 // The first byte of particle a's support mask: one byte per pack of its Verlet row (bit i: lane i
 // is inside the support), each row starting on a byte of its own so that threads never share one.
 inline std::size_t mask_start(const neighbors::NeighborList& list, Index a) {
-  return static_cast<std::size_t>(list.offsets[a] / simd::Pack::width) + a;
+  return static_cast<std::size_t>(list.offsets[a] / pair_lanes) + a;
 }
 inline std::size_t mask_bytes(const neighbors::NeighborList& list) {
   return mask_start(list, static_cast<Index>(list.offsets.size()) - 1) + 1;
 }
 
 // Keeps the entries of particle a's Verlet row that lanes(b, present) selects, a pack b at a time
-// (simd::Pack: 4 or 8 lanes; `present` masks the lanes past the row's end), in terms.neighbour,
-// padded with a itself to a multiple of the pack width. Returns the padded count.
+// (`present` masks the lanes past the row's end), in terms.neighbour, padded with a itself to a
+// multiple of the pack width. Returns the padded count.
 template <typename Lanes>
 Index keep_row(const neighbors::NeighborList& list, Index a, RowTerms& terms, Lanes&& lanes) {
-  using simd::Pack;
-  constexpr int W = Pack::width;
+  constexpr int W = pair_lanes;
   const Index first = list.offsets[a];
   const Index count = list.offsets[a + 1] - first;
   terms.resize(count + W);
@@ -176,7 +178,7 @@ Index keep_row(const neighbors::NeighborList& list, Index a, RowTerms& terms, La
   Index kept = 0;
   const auto keep = [&](const Index* b, int present) {
     const int selected = lanes(b, present);
-    Pack::compress_indices(b, selected, neighbour + kept);
+    Float8::compress_indices(b, selected, neighbour + kept);
     kept += std::popcount(static_cast<unsigned>(selected));
   };
   for (Index k = 0; k < full; k += W) keep(row + k, (1 << W) - 1);
@@ -188,15 +190,16 @@ Index keep_row(const neighbors::NeighborList& list, Index a, RowTerms& terms, La
 
 // Picks the neighbours of particle a inside their support (keep_row) and records the pick in
 // mask (mask_start).
-Index pick_support(const neighbors::NeighborList& list, Index a, const Real* centres, std::uint8_t* mask,
+Index pick_support(const neighbors::NeighborList& list, Index a, const PairRecord* records, std::uint8_t* mask,
                    RowTerms& terms) {
-  using simd::Pack;
-  const PackCentre centre(centres, a);
+  const PackCentre centre(records[a]);
   mask += mask_start(list, a);
   return keep_row(list, a, terms, [&](const Index* b, int present) {
-    Pack dx, dy, dz, hb;
-    const Pack r2 = pair_difference(centre, centres, b, dx, dy, dz, hb);
-    const Pack H = pair_support(centre.h, hb);
+    Float8 c[4];
+    simd::load_rows<record_stride>(&records->x, b, 0, c);
+    Float8 dx, dy, dz;
+    const Float8 r2 = pair_difference(centre, c, dx, dy, dz);
+    const Float8 H = pair_support(centre.h, c[3]);
     const int inside = (r2 < H * H).lanes() & present;
     *mask++ = static_cast<std::uint8_t>(inside);
     return inside;
@@ -209,33 +212,9 @@ template <bool half>
 Index picked_support(const neighbors::NeighborList& list, Index a, const std::uint8_t* mask, RowTerms& terms) {
   mask += mask_start(list, a);
   return keep_row(list, a, terms, [&](const Index* b, int) {
-    if constexpr (half) return *mask++ & simd::Pack::indices_above(b, a);
+    if constexpr (half) return *mask++ & Float8::indices_above(b, a);
     return int(*mask++);
   });
-}
-
-// pick_support, then the pairs' geometry into terms (for a pass that reads it more than once).
-template <typename Kernel>
-Index row_geometry(const neighbors::NeighborList& list, Index a, const Real* centres, std::uint8_t* mask,
-                   RowTerms& terms) {
-  using simd::Pack;
-  constexpr int W = Pack::width;
-  const Index padded = pick_support(list, a, centres, mask, terms);
-  const PackCentre centre(centres, a);
-  const Index* neighbour = terms.neighbour.data();
-  Real *dx_out = terms.dx.data(), *dy_out = terms.dy.data(), *dz_out = terms.dz.data(), *r_out = terms.r.data(),
-       *support_out = terms.support.data(), *factor_out = terms.factor.data(), *inverse_r_out = terms.inverse_r.data();
-  for (Index k = 0; k < padded; k += W) {
-    const PairGeometry g = pair_geometry<Kernel>(centre, centres, neighbour + k);
-    g.dx.store(dx_out + k);
-    g.dy.store(dy_out + k);
-    g.dz.store(dz_out + k);
-    g.r.store(r_out + k);
-    g.support.store(support_out + k);
-    g.factor.store(factor_out + k);
-    g.inverse_r.store(inverse_r_out + k);
-  }
-  return padded;
 }
 
 SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
@@ -246,7 +225,11 @@ SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
   node_.resize(n);
   material_.resize(n);
   mass_.resize(n);
-  centre_.assign(4 * n, 0);
+  smoothing_length_.resize(n);
+  record_.resize(n);
+  record_sound_speed_.resize(n);
+  record_density_.resize(n);
+  stress_.resize(n);
   list_reach_.resize(n);
   initial_smoothing_length_.resize(n);
   spacing_.resize(n);
@@ -262,7 +245,6 @@ SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
   full_support_gradient_ = kernels::with_kernel(options_.kernel, options_.dimension, [](auto kernel) {
     return kernels::gradient_norm_integral<decltype(kernel)>();
   });
-  corrected_stress_.assign(n, Mat3::Identity());
   if (options_.artificial_stress.enabled) artificial_stress_.assign(n, Mat3::Zero());
   strain_rate_.assign(n, 0);
   viscous_heating_.assign(n, 0);
@@ -292,6 +274,8 @@ SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
     pressure_[a] = materials::eos_pressure(m, m.density, internal_energy_[a]);
     sound_speed_[a] = materials::sound_speed(m, m.density, internal_energy_[a]);
     updated_sound_speed_[a] = sound_speed_[a];
+    stress_[a] = StressRecord{};
+    stress_[a].volume = static_cast<float>(volume_[a]);
   }
   for (const auto& m : materials_)
     if (std::holds_alternative<materials::JohnsonCook>(m.strength)) has_temperature_ = true;
@@ -299,6 +283,8 @@ SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
   // gathering it (masses never change).
   if (n > 0 && std::all_of(mass_.begin(), mass_.end(), [&](Real m) { return m == mass_.front(); }))
     uniform_mass_ = mass_.front();
+  else
+    record_mass_.assign(mass_.begin(), mass_.end());
   bool contiguous = n > 0;
   for (std::size_t a = 1; a < n && contiguous; ++a) contiguous = node_[a] == node_[0] + Index(a);
   first_node_ = contiguous ? node_[0] : -1;
@@ -316,6 +302,7 @@ SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
     category_.assign(n, Category::interior);
     density_rate_.assign(n, 0);
     velocity_gradient_.assign(n, Mat3::Zero());
+    correction_.assign(n, Mat3::Identity());
     full_support_count_.resize(n);
     // Particles of spacing dp in a sphere (circle) of radius 2h, less the particle itself.
     for (std::size_t a = 0; a < n; ++a) {
@@ -348,12 +335,19 @@ void SolidFormulation::gather_kinematics(const solver::NodeStore& nodes) {
   v_ = v_copy_;
 }
 
-// The positions of this step into the kernel centres (their h stays where it is).
-void SolidFormulation::update_centres() {
+// The particles of this step into the records of the pair loops.
+void SolidFormulation::update_records() {
   const Index n = particle_count();
 #pragma omp parallel for schedule(static)
-  for (Index a = 0; a < n; ++a)
-    for (int d = 0; d < 3; ++d) centre_[4 * a + d] = x_[a][d];
+  for (Index a = 0; a < n; ++a) {
+    const Vec3 x = x_[a] - record_origin_;
+    const Vec3& v = v_[a];
+    record_[a] = {static_cast<float>(x[0]), static_cast<float>(x[1]), static_cast<float>(x[2]),
+                  static_cast<float>(smoothing_length(a)), static_cast<float>(v[0]), static_cast<float>(v[1]),
+                  static_cast<float>(v[2]), static_cast<float>(volume_[a])};
+    record_sound_speed_[a] = static_cast<float>(sound_speed_[a]);
+    record_density_[a] = static_cast<float>(density_[a]);
+  }
 }
 
 // The list holds every pair within reach_a + reach_b + skin at the build, reach = cutoff_margin h
@@ -375,6 +369,14 @@ void SolidFormulation::update_neighbour_list() {
   }
   verlet_.build(x_, list_reach_, skin_fraction * cutoff_margin * 2 * h_largest, neighbors::RowOrder::search);
   list_built_ = true;
+  // The records' origin: the middle of the particles' bounding box.
+  if (n > 0) {
+    Real lower[3] = {x_[0][0], x_[0][1], x_[0][2]}, upper[3] = {lower[0], lower[1], lower[2]};
+#pragma omp parallel for reduction(min : lower[:3]) reduction(max : upper[:3]) schedule(static)
+    for (Index a = 0; a < n; ++a)
+      for (int d = 0; d < 3; ++d) lower[d] = std::min(lower[d], x_[a][d]), upper[d] = std::max(upper[d], x_[a][d]);
+    for (int d = 0; d < 3; ++d) record_origin_[d] = Real(0.5) * (lower[d] + upper[d]);
+  }
   // The force pass's blocks (compute_pair_forces): as long as the largest b - a of any pair.
   const auto& list = verlet_.list();
   Index span = 1;
@@ -390,120 +392,132 @@ void SolidFormulation::update_neighbour_list() {
 // pairs at a time; each particle's lanes are summed in one fixed order, whatever the thread count.
 template <typename Kernel>
 void SolidFormulation::compute_rates(Real dt) {
-  using simd::Pack;
-  constexpr int W = Pack::width;
+  constexpr int W = pair_lanes;
   const auto& list = verlet_.list();
   const Index n = particle_count();
   const bool plane = Kernel::dimension == 2;
   const bool colour_on = categorizing();
   // LS-DYNA's step (RULE 1) needs no row sums: the per-pair outer product is skipped.
   const bool row_sums = options_.time_step_rule != TimeStepRule::plain;
-  const Real* velocity = v_.data()->data();
-  const Real alpha = options_.viscosity.alpha, beta = options_.viscosity.beta;
-  const Real eta2 = options_.viscosity.eta * options_.viscosity.eta;
+  const float* records = &record_.data()->x;
+  const float alpha = static_cast<float>(options_.viscosity.alpha), beta = static_cast<float>(options_.viscosity.beta);
+  const float eta2 = static_cast<float>(options_.viscosity.eta * options_.viscosity.eta);
   support_mask_.resize(mask_bytes(list));
   std::uint8_t* mask = support_mask_.data();
 #pragma omp parallel for schedule(dynamic, 512)
   for (Index a = 0; a < n; ++a) {
     thread_local RowTerms terms;
-    const Index padded = row_geometry<Kernel>(list, a, centre_.data(), mask, terms);
+    const Index padded = pick_support(list, a, record_.data(), mask, terms);
     const Index* neighbour = terms.neighbour.data();
-    const Real *dx_k = terms.dx.data(), *dy_k = terms.dy.data(), *dz_k = terms.dz.data(), *factor_k = terms.factor.data(),
-               *inverse_r_k = terms.inverse_r.data(), *r_k = terms.r.data(), *support_k = terms.support.data();
-    Real *volume_k = terms.volume.data(), *weight_k = terms.weight.data();
+    float *dx_k = terms.dx.data(), *dy_k = terms.dy.data(), *dz_k = terms.dz.data(), *factor_k = terms.factor.data(),
+          *r_k = terms.r.data(), *support_k = terms.support.data(), *volume_k = terms.volume.data(),
+          *weight_k = terms.weight.data(), *dvx_k = terms.dvx.data(), *dvy_k = terms.dvy.data(),
+          *dvz_k = terms.dvz.data(), *viscous_k = terms.viscous.data(), *heating_k = terms.heating.data();
+    const PairRecord& own = record_[a];
+    const PackCentre centre(own);
+    const Float8 vax(own.vx), vay(own.vy), vaz(own.vz);
     // With g = V_b grad_a W_ab = V_b F x_ab:
     //   normal n = sum g (seed 000 eq. 9: n = grad c_s)
     //   moment   = -sum g (x) x_ab, = I for a full support (symmetric: 6 sums)
     //   spread   = sum_b V_b grad (x) grad / |grad| = sum V_b |F| / r x_ab (x) x_ab, for the stable step
     //   L        = sum (v_b - v_a) (x) g,  drho = -sum m_b F (v_b - v_a) . x_ab
-    Pack n_x, n_y, n_z, m_xx, m_yy, m_zz, m_xy, m_yz, m_zx, s_xx, s_yy, s_zz, s_xy, s_yz, s_zx;
+    // Three loops over the pairs, each with no more sums than registers: the geometry, the moment
+    // and the spread; then L and the viscosity's pair terms; then the normal and the viscosity's
+    // sums, in double.
+    Float8 m_xx, m_yy, m_zz, m_xy, m_yz, m_zx, s_xx, s_yy, s_zz, s_xy, s_yz, s_zx;
     for (Index k = 0; k < padded; k += W) {
-      const Index* b = neighbour + k;
-      const Pack volume = Pack::gather<1>(volume_.data(), b);
-      const Pack factor = Pack::load(factor_k + k);
-      const Pack dx = Pack::load(dx_k + k), dy = Pack::load(dy_k + k), dz = Pack::load(dz_k + k);
-      const Pack w = volume * factor;
-      volume.store(volume_k + k);
-      w.store(weight_k + k);
-      const Pack gx = w * dx, gy = w * dy, gz = w * dz;
-      n_x += gx, n_y += gy, n_z += gz;
-      m_xx = fma(gx, dx, m_xx), m_yy = fma(gy, dy, m_yy), m_zz = fma(gz, dz, m_zz);
-      m_xy = fma(gx, dy, m_xy), m_yz = fma(gy, dz, m_yz), m_zx = fma(gz, dx, m_zx);
+      Float8 c[8];  // x, y, z, h, vx, vy, vz, V of the neighbours
+      simd::load_rows<record_stride>(records, neighbour + k, 0, c);
+      const PairGeometry g = pair_geometry<Kernel>(centre, c);
+      const Float8 volume = c[7], w = volume * g.factor;
+      g.dx.store(dx_k + k), g.dy.store(dy_k + k), g.dz.store(dz_k + k);
+      g.r.store(r_k + k), g.support.store(support_k + k), g.factor.store(factor_k + k);
+      volume.store(volume_k + k), w.store(weight_k + k);
+      (c[4] - vax).store(dvx_k + k), (c[5] - vay).store(dvy_k + k), (c[6] - vaz).store(dvz_k + k);
+      const Float8 gx = w * g.dx, gy = w * g.dy, gz = w * g.dz;
+      m_xx = fma(gx, g.dx, m_xx), m_yy = fma(gy, g.dy, m_yy), m_zz = fma(gz, g.dz, m_zz);
+      m_xy = fma(gx, g.dy, m_xy), m_yz = fma(gy, g.dz, m_yz), m_zx = fma(gz, g.dx, m_zx);
       if (row_sums) {
-        const Pack spread = volume * abs(factor) * Pack::load(inverse_r_k + k);
-        const Pack sx = spread * dx, sy = spread * dy, sz = spread * dz;
-        s_xx = fma(sx, dx, s_xx), s_yy = fma(sy, dy, s_yy), s_zz = fma(sz, dz, s_zz);
-        s_xy = fma(sx, dy, s_xy), s_yz = fma(sy, dz, s_yz), s_zx = fma(sz, dx, s_zx);
+        const Float8 spread = volume * abs(g.factor) * g.inverse_r;
+        const Float8 sx = spread * g.dx, sy = spread * g.dy, sz = spread * g.dz;
+        s_xx = fma(sx, g.dx, s_xx), s_yy = fma(sy, g.dy, s_yy), s_zz = fma(sz, g.dz, s_zz);
+        s_xy = fma(sx, g.dy, s_xy), s_yz = fma(sy, g.dz, s_yz), s_zx = fma(sz, g.dx, s_zx);
       }
     }
-    Pack L_lanes[9];
-    const Pack vax(velocity[3 * a]), vay(velocity[3 * a + 1]), vaz(velocity[3 * a + 2]);
     // v_b - v_a and x_a - x_b of the pack of pairs at k.
-    const auto pair_kinematics = [&](Index k, Pack& vx, Pack& vy, Pack& vz, Pack& dx, Pack& dy, Pack& dz) {
-      simd::load_vectors(velocity, neighbour + k, vx, vy, vz);
-      vx -= vax, vy -= vay, vz -= vaz;
-      dx = Pack::load(dx_k + k), dy = Pack::load(dy_k + k), dz = Pack::load(dz_k + k);
+    const auto pair_kinematics = [&](Index k, Float8& vx, Float8& vy, Float8& vz, Float8& dx, Float8& dy, Float8& dz) {
+      vx = Float8::load(dvx_k + k), vy = Float8::load(dvy_k + k), vz = Float8::load(dvz_k + k);
+      dx = Float8::load(dx_k + k), dy = Float8::load(dy_k + k), dz = Float8::load(dz_k + k);
     };
     // Monaghan's viscosity, -m_a m_b Pi_ab grad_a W_ab on the pairs approaching each other, here
-    // where v_ab and the pair geometry are at hand, with rho and c of the step start (the
-    // neighbours' volume_ and sound_speed_ until the swap after the update).
-    const Pack m_a(mass_[a]), V_a(volume_[a]), c_a(sound_speed_[a]);
-    Pack visc_x, visc_y, visc_z, heating_lanes;
+    // where v_ab and the pair geometry are at hand, with rho and c of the step start (the records).
+    Float8 L_lanes[9];
+    const Float8 m_a(static_cast<float>(mass_[a])), rho_a(record_density_[a]), c_a(record_sound_speed_[a]);
     for (Index k = 0; k < padded; k += W) {
-      Pack vx, vy, vz, dx, dy, dz;
+      Float8 vx, vy, vz, dx, dy, dz;
       pair_kinematics(k, vx, vy, vz, dx, dy, dz);
-      const Pack w = Pack::load(weight_k + k);
-      const Pack gx = w * dx, gy = w * dy, gz = w * dz;
+      const Float8 w = Float8::load(weight_k + k);
+      const Float8 gx = w * dx, gy = w * dy, gz = w * dz;
       // Column-major like Mat3: L(i, j) = L_lanes[i + 3 j].
       L_lanes[0] = fma(vx, gx, L_lanes[0]), L_lanes[1] = fma(vy, gx, L_lanes[1]), L_lanes[2] = fma(vz, gx, L_lanes[2]);
       L_lanes[3] = fma(vx, gy, L_lanes[3]), L_lanes[4] = fma(vy, gy, L_lanes[4]), L_lanes[5] = fma(vz, gy, L_lanes[5]);
       L_lanes[6] = fma(vx, gz, L_lanes[6]), L_lanes[7] = fma(vy, gz, L_lanes[7]), L_lanes[8] = fma(vz, gz, L_lanes[8]);
       // v_ab . x_ab, bit for bit that of (b, a): v_b - v_a and x_a - x_b change sign exactly.
-      const Pack vr = Pack(0) - fma(vz, dz, fma(vy, dy, vx * dx));
-      const simd::PackMask approaching = vr < Pack(0);
-      if (approaching.lanes() == 0) continue;
+      const Float8 vr = Float8(0) - fma(vz, dz, fma(vy, dy, vx * dx));
+      const auto approaching = vr < Float8(0);
+      if (approaching.lanes() == 0) {
+        Float8(0).store(viscous_k + k), Float8(0).store(heating_k + k);
+        continue;
+      }
       // Pi = (-alpha c mu + beta mu^2) / rho_ab with mu = h v_ab . x_ab / d, d = r^2 + eta^2 h^2, as
-      // (-alpha c d + beta h v.x) h v.x / (d^2 rho_ab) with one reciprocal (simd.hpp), and
-      // rho_ab = (rho_a + rho_b) / 2 = (m_a V_b + m_b V_a) / (2 V_a V_b): every product and sum
-      // is commutative, so that (a, b) and (b, a) get the same Pi.
+      // (-alpha c d + beta h v.x) h v.x / (d^2 rho_ab) with one reciprocal, c and rho the pair's
+      // means: every product and sum is commutative, so that (a, b) and (b, a) get the same Pi.
       const Index* b = neighbour + k;
-      const Pack h_ab = Pack(0.5) * Pack::load(support_k + k);  // mean smoothing length
-      const Pack hv = h_ab * vr;
-      const Pack r = Pack::load(r_k + k);
-      const Pack d = fma(Pack(eta2) * h_ab, h_ab, r * r);
-      const Pack V_b = Pack::load(volume_k + k), m_b = pair_mass(mass_, uniform_mass_, b);
-      const Pack c = Pack(0.5) * (c_a + Pack::gather<1>(sound_speed_.data(), b));
-      const Pack Pi = select(approaching,
-                             fma(Pack(-alpha) * c, d, Pack(beta) * hv) * hv * reciprocal(d * d * (m_a * V_b + m_b * V_a)) *
-                                 (Pack(2) * (V_a * V_b)),
-                             Pack(0));
-      const Pack factor = Pack::load(factor_k + k);
-      const Pack s = m_a * m_b * Pi * factor;
-      visc_x = fma(s, dx, visc_x), visc_y = fma(s, dy, visc_y), visc_z = fma(s, dz, visc_z);
-      heating_lanes = fma(Pack(0.5) * m_b * Pi * factor, vr, heating_lanes);
+      const Float8 h_ab = Float8(0.5f) * Float8::load(support_k + k);  // mean smoothing length
+      const Float8 hv = h_ab * vr;
+      const Float8 r = Float8::load(r_k + k);
+      const Float8 d = fma(Float8(eta2) * h_ab, h_ab, r * r);
+      const Float8 c = Float8(0.5f) * (c_a + Float8::gather<1>(record_sound_speed_.data(), b));
+      const Float8 rho = Float8(0.5f) * (rho_a + Float8::gather<1>(record_density_.data(), b));
+      const Float8 Pi =
+          select(approaching, fma(Float8(-alpha) * c, d, Float8(beta) * hv) * hv * reciprocal(d * d * rho), Float8(0));
+      const Float8 m_b = pair_mass(record_mass_, uniform_mass_, b);
+      const Float8 mPF = m_b * Pi * Float8::load(factor_k + k);
+      (m_a * mPF).store(viscous_k + k);
+      (Float8(0.5f) * mPF * vr).store(heating_k + k);
+    }
+    // The viscosity's sums are widened to double: each side of a pair sums its own terms, and
+    // momentum is conserved to the round-off of those sums.
+    Float8 n_x, n_y, n_z;
+    simd::WideSum8 visc_x, visc_y, visc_z, heating;
+    for (Index k = 0; k < padded; k += W) {
+      const Float8 dx = Float8::load(dx_k + k), dy = Float8::load(dy_k + k), dz = Float8::load(dz_k + k);
+      const Float8 w = Float8::load(weight_k + k), s = Float8::load(viscous_k + k);
+      n_x = fma(w, dx, n_x), n_y = fma(w, dy, n_y), n_z = fma(w, dz, n_z);
+      visc_x.add(s * dx), visc_y.add(s * dy), visc_z.add(s * dz);
+      heating.add(Float8::load(heating_k + k));
     }
     // The continuity sum, for a particle whose velocity gradient is not corrected (with the
     // correction its density follows from tr(L) instead).
     const auto continuity = [&] {
-      Pack drho_lanes;
+      Float8 drho_lanes;
       for (Index k = 0; k < padded; k += W) {
-        Pack vx, vy, vz, dx, dy, dz;
+        Float8 vx, vy, vz, dx, dy, dz;
         pair_kinematics(k, vx, vy, vz, dx, dy, dz);
-        const Pack mass = pair_mass(mass_, uniform_mass_, neighbour + k);
-        drho_lanes -= mass * Pack::load(factor_k + k) * fma(vz, dz, fma(vy, dy, vx * dx));
+        const Float8 mass = pair_mass(record_mass_, uniform_mass_, neighbour + k);
+        drho_lanes -= mass * Float8::load(factor_k + k) * fma(vz, dz, fma(vy, dy, vx * dx));
       }
       return drho_lanes.sum();
     };
-    // The 28 sums eight at a time: L's nine, then the normal, the moment, the spread and the viscosity.
-    const Pack lanes[4][8] = {{L_lanes[0], L_lanes[1], L_lanes[2], L_lanes[3], L_lanes[4], L_lanes[5], L_lanes[6],
-                               L_lanes[7]},
-                              {L_lanes[8], n_x, n_y, n_z, m_xx, m_yy, m_zz, m_xy},
-                              {m_yz, m_zx, s_xx, s_yy, s_zz, s_xy, s_yz, s_zx},
-                              {visc_x, visc_y, visc_z, heating_lanes, Pack(), Pack(), Pack(), Pack()}};
-    Real sums[32];
-    for (int i = 0; i < 4; ++i) simd::sum_lanes(lanes[i], sums + 8 * i);
-    viscous_force_[a] = Vec3(-sums[24], -sums[25], -sums[26]);
-    viscous_heating_[a] = sums[27];
+    // The 24 sums eight at a time: L's nine, then the normal, the moment and the spread.
+    const Float8 lanes[3][8] = {{L_lanes[0], L_lanes[1], L_lanes[2], L_lanes[3], L_lanes[4], L_lanes[5], L_lanes[6],
+                                 L_lanes[7]},
+                                {L_lanes[8], n_x, n_y, n_z, m_xx, m_yy, m_zz, m_xy},
+                                {m_yz, m_zx, s_xx, s_yy, s_zz, s_xy, s_yz, s_zx}};
+    Real sums[24];
+    for (int i = 0; i < 3; ++i) simd::sum_lanes(lanes[i], sums + 8 * i);
+    viscous_force_[a] = Vec3(-visc_x.sum(), -visc_y.sum(), -visc_z.sum());
+    viscous_heating_[a] = heating.sum();
     Real drho;
     Mat3 L;
     for (int i = 0; i < 9; ++i) L.data()[i] = sums[i];
@@ -557,7 +571,7 @@ void SolidFormulation::compute_rates(Real dt) {
     if (colour_on) {
       density_rate_[a] = drho;
       velocity_gradient_[a] = L;
-      corrected_stress_[a] = correction;  // B_a, until update_state turns it into sigma_a B_a^T
+      correction_[a] = correction;
     } else {
       update_particle(a, L, correction, drho, dt);  // its own data only: the neighbours' rates
                                                      // read the step start's volume_
@@ -611,11 +625,10 @@ void SolidFormulation::categorize() {
 void SolidFormulation::update_state(Real dt) {
   const Index n = particle_count();
 #pragma omp parallel for schedule(dynamic, 512)
-  for (Index a = 0; a < n; ++a) update_particle(a, velocity_gradient_[a], corrected_stress_[a], density_rate_[a], dt);
+  for (Index a = 0; a < n; ++a) update_particle(a, velocity_gradient_[a], correction_[a], density_rate_[a], dt);
 }
 
-void SolidFormulation::update_particle(Index a, const Mat3& L, const Mat3& correction_in, Real density_rate, Real dt) {
-  const Mat3 correction = correction_in;  // may be corrected_stress_[a], which is overwritten below
+void SolidFormulation::update_particle(Index a, const Mat3& L, const Mat3& correction, Real density_rate, Real dt) {
   const auto& stress_options = options_.artificial_stress;
   const bool relaxed = !exported_deviator_.empty();
   const auto& m = materials_[material_[a]];
@@ -657,7 +670,10 @@ void SolidFormulation::update_particle(Index a, const Mat3& L, const Mat3& corre
   const Mat3 exported = relaxed ? Mat3(exported_deviator_[a] - pressure_[a] * Mat3::Identity())
                         : treated ? Mat3(-pressure_[a] * Mat3::Identity())
                                   : sigma;
-  corrected_stress_[a] = product_transposed(exported, correction);
+  const Mat3 P = product_transposed(exported, correction);
+  StressRecord& record = stress_[a];
+  for (int k = 0; k < 9; ++k) record.P[k] = static_cast<float>(P.data()[k]);
+  record.volume = static_cast<float>(updated_volume_[a]);
   if (stress_options.enabled) {
     // Monaghan 2000: a repulsive stress -eps sigma_i / rho^2 along each tensile principal axis.
     // From the stress the particle passes on, so that a treated particle's deviator stays out.
@@ -725,46 +741,46 @@ void SolidFormulation::check_state(const solver::NodeStore& nodes) const {
 // the symmetric SPH form of seed 000 eq. 7 with V_a V_b in place of m_a m_b / (rho_a rho_b).
 template <typename Kernel>
 void SolidFormulation::compute_pair_forces() {
-  using simd::Pack;
-  constexpr int W = Pack::width;
+  constexpr int W = pair_lanes;
   const auto& list = verlet_.list();
   const Index n = particle_count();
   const bool stress_on = options_.artificial_stress.enabled;
   const Real exponent = options_.artificial_stress.exponent;
-  const Real* P = corrected_stress_.data()->data();  // P_b(i, j) = P[9 b + i + 3 j]
+  const float* records = &record_.data()->x;
+  const float* P = stress_.data()->P;  // P_b(i, j) = P[stress_stride b + i + 3 j]
   // The pair terms of particle a's row (half: the pairs with b > a, each added to a and taken
   // from b), returned as a's sum.
   const auto row_force = [&]<bool half>(Index a) {
     thread_local RowTerms terms;
     const Index padded = picked_support<half>(list, a, support_mask_.data(), terms);
     const Index* neighbour = terms.neighbour.data();
-    const PackCentre centre(centre_.data(), a);
-    const Pack volume_a(volume_[a]);
-    Pack P_a[9];
-    for (int i = 0; i < 9; ++i) P_a[i] = Pack(P[9 * a + i]);
-    Pack f_x, f_y, f_z;
+    const PackCentre centre(record_[a]);
+    const StressRecord& own = stress_[a];
+    const Float8 volume_a(own.volume);
+    Float8 P_a[9];
+    for (int i = 0; i < 9; ++i) P_a[i] = Float8(own.P[i]);
+    simd::WideSum8 f_x, f_y, f_z;
     for (Index k = 0; k < padded; k += W) {
       const Index* b = neighbour + k;
-      const PairGeometry g = pair_geometry<Kernel>(centre, centre_.data(), b);
-      const Pack factor = g.factor, dx = g.dx, dy = g.dy, dz = g.dz;
+      Float8 c[4];
+      simd::load_rows<record_stride>(records, b, 0, c);
+      const PairGeometry g = pair_geometry<Kernel>(centre, c);
       // (P_a + P_b) grad_a W_ab with grad = F x_ab: exactly opposite for the pair (b, a), so
       // momentum is conserved to round-off also where each particle gathers its own sum.
-      const Pack t = volume_a * Pack::gather<1>(volume_.data(), b) * factor;
-      // P_b column-major: elements 0-3 and 4-7 as two transposed row loads, element 8 gathered.
-      Pack P_low[4], P_high[4];
-      simd::load_transposed<9>(P, b, 0, P_low);
-      simd::load_transposed<9>(P, b, 4, P_high);
-      const Pack P_b[9] = {P_low[0],  P_low[1],  P_low[2],  P_low[3], P_high[0],
-                            P_high[1], P_high[2], P_high[3], Pack::gather<9>(P, b, 8)};
-      Pack Pd[3];
+      Float8 P_b[8], tail[4];  // P_b's elements 0-7; element 8, V_b and two unused
+      simd::load_rows<stress_stride>(P, b, 0, P_b);
+      simd::load_rows<stress_stride>(P, b, 8, tail);
+      const Float8 t = volume_a * tail[1] * g.factor;
+      Float8 Pd[3];
       for (int i = 0; i < 3; ++i) {
-        const Pack p0 = P_a[i] + P_b[i], p1 = P_a[i + 3] + P_b[i + 3], p2 = P_a[i + 6] + P_b[i + 6];
-        Pd[i] = t * fma(p2, dz, fma(p1, dy, p0 * dx));
+        const Float8 p0 = P_a[i] + P_b[i], p1 = P_a[i + 3] + P_b[i + 3];
+        const Float8 p2 = P_a[i + 6] + (i == 2 ? tail[0] : P_b[i + 6]);
+        Pd[i] = t * fma(p2, g.dz, fma(p1, g.dy, p0 * g.dx));
       }
-      f_x += Pd[0], f_y += Pd[1], f_z += Pd[2];
+      f_x.add(Pd[0]), f_y.add(Pd[1]), f_z.add(Pd[2]);
       if constexpr (half) {
         // The padding (b = a) adds exact zeros (F = 0 at r = 0).
-        alignas(64) Real on_b[3][W];
+        alignas(32) float on_b[3][W];
         for (int i = 0; i < 3; ++i) Pd[i].store(on_b[i]);
         for (int lane = 0; lane < W; ++lane) {
           Vec3& f_b = force_[b[lane]];
@@ -820,8 +836,8 @@ void SolidFormulation::compute_forces(solver::NodeStore& nodes, Real dt) {
     return;
   }
   gather_kinematics(nodes);
-  update_centres();
   update_neighbour_list();
+  update_records();
   kernels::with_kernel(options_.kernel, options_.dimension,
                        [&](auto kernel) { compute_rates<decltype(kernel)>(dt); });
   if (categorizing()) {
@@ -954,10 +970,11 @@ std::size_t bytes(const std::vector<T>& v) {
 
 std::size_t SolidFormulation::memory_bytes() const {
   const auto& list = verlet_.list();
-  return bytes(node_) + bytes(material_) + bytes(mass_) + bytes(centre_) + bytes(list_reach_) +
+  return bytes(node_) + bytes(material_) + bytes(mass_) + bytes(smoothing_length_) + bytes(record_) + bytes(record_sound_speed_) +
+         bytes(record_density_) + bytes(record_mass_) + bytes(stress_) + bytes(list_reach_) +
          bytes(initial_smoothing_length_) + bytes(h_bounds_) + bytes(spacing_) +
          bytes(density_) + bytes(volume_) + bytes(updated_volume_) + bytes(pressure_) + bytes(sound_speed_) + bytes(updated_sound_speed_) + bytes(internal_energy_) +
-         bytes(state_) + bytes(gradient_amplification_) + bytes(corrected_stress_) +
+         bytes(state_) + bytes(gradient_amplification_) + bytes(correction_) +
          bytes(artificial_stress_) + bytes(exported_deviator_) + bytes(colour_) + bytes(colour_normal_) +
          bytes(support_count_) + bytes(full_support_count_) + bytes(category_) + bytes(x_copy_) + bytes(v_copy_) + bytes(density_rate_) + bytes(support_mask_) +
          bytes(viscous_heating_) + bytes(velocity_gradient_) + bytes(strain_rate_) + bytes(force_) +

@@ -109,6 +109,18 @@ struct ParticleSetup {
   Real h_min_factor = 0, h_max_factor = 0;
 };
 
+// One particle as the pair loops read it (SolidFormulation::record_): one 256-bit row.
+struct alignas(32) PairRecord {
+  float x, y, z, h, vx, vy, vz, volume;
+};
+// One particle as the force pass reads it (SolidFormulation::stress_): P = sigma B^T
+// column-major, P(i, j) = P[i + 3 j], and the volume after the state update.
+struct alignas(16) StressRecord {
+  float P[9];
+  float volume;
+  float unused[2];
+};
+
 class SolidFormulation final : public solver::Formulation {
  public:
   SolidFormulation(std::vector<materials::Material> materials,
@@ -139,7 +151,7 @@ class SolidFormulation final : public solver::Formulation {
 
  private:
   void gather_kinematics(const solver::NodeStore& nodes);
-  void update_centres();
+  void update_records();
   void update_neighbour_list();
   template <typename Kernel>
   void compute_rates(Real dt);
@@ -170,12 +182,18 @@ class SolidFormulation final : public solver::Formulation {
   std::vector<Index> material_;
   std::vector<Real> mass_;
   Real uniform_mass_ = 0;  // the mass of every particle when all are equal, else 0
-  // Kernel centres: x, y, z and h of each particle, so that the pair loops load a neighbour's
-  // position and smoothing length as one 256-bit row (simd::load_transposed). The positions are
-  // copied in at each step (update_centres); h lives here only.
-  std::vector<Real> centre_;
-  Real smoothing_length(Index a) const { return centre_[4 * static_cast<std::size_t>(a) + 3]; }
-  Real& smoothing_length(Index a) { return centre_[4 * static_cast<std::size_t>(a) + 3]; }
+  std::vector<Real> smoothing_length_;  // h (LS-DYNA's); the kernel support is 2h
+  Real smoothing_length(Index a) const { return smoothing_length_[a]; }
+  Real& smoothing_length(Index a) { return smoothing_length_[a]; }
+  // What the pair loops read of each particle, in single precision, written at the start of each
+  // evaluation (update_records): positions relative to record_origin_ (the middle of the body at
+  // the last list build, so that a float keeps its digits for the differences), h, velocity,
+  // volume, sound speed and density of the step start, and the mass when the masses differ.
+  std::vector<PairRecord> record_;
+  std::vector<float> record_sound_speed_, record_density_, record_mass_;
+  Vec3 record_origin_ = Vec3::Zero();
+  // What the force pass reads: sigma_a B_a^T and the volume after the state update.
+  std::vector<StressRecord> stress_;
   std::vector<Real> list_reach_;  // cutoff_margin h at the last list build
   std::vector<Real> initial_smoothing_length_;
   struct HBounds {
@@ -197,9 +215,8 @@ class SolidFormulation final : public solver::Formulation {
   std::vector<materials::PointState> state_;  // deviatoric stress, plastic strain, temperature, ...
   std::vector<Real> gradient_amplification_;      // s_a of the stable step (stable_time_step)
   Real full_support_gradient_ = 0;                // H sum_b V_b |grad W| of a full support
-  // sigma_a B_a^T, as the pair force uses it. When categorizing, between compute_rates and
-  // update_state it holds B_a itself (identity without correction): one array saves 72 B a particle.
-  std::vector<Mat3> corrected_stress_;
+  // B_a (identity without correction) between compute_rates and update_state, when categorizing.
+  std::vector<Mat3> correction_;
   std::vector<Mat3> artificial_stress_;           // R_a (empty when switched off)
   // The deviator the pair force uses under the relaxed treatment (empty when no part has it):
   // follows the material's increments and relaxes toward 0 (treated) or S (not treated).
