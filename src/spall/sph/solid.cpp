@@ -99,18 +99,17 @@ static_assert(record_stride == 8 && stress_stride == 12);
 // The pairs of one Verlet row inside their support (r < H_ab = h_a + h_b), per thread, padded with
 // the particle itself to a multiple of the pack width (a pair at r = 0 has no gradient, so the
 // padding adds exact zeros): neighbour, x_a - x_b, r, H_ab, the gradient factor F = (dW/dr) / r
-// (grad_a W_ab = F (x_a - x_b); 0 at r = 0), the neighbour's volume V_b, the weight V_b F and
-// v_b - v_a, for the rates pass's later loops, and the viscosity's m_a m_b Pi_ab F and
-// 1/2 m_b Pi_ab F v_ab . x_ab. About a third of a Verlet row lies outside the support (the skin
-// and the reach margin).
+// (grad_a W_ab = F (x_a - x_b); 0 at r = 0), the weight V_b F and v_b - v_a, for the rates
+// pass's later loops, and the viscosity's m_a m_b Pi_ab F and 1/2 m_b Pi_ab F v_ab . x_ab. About
+// a third of a Verlet row lies outside the support (the skin and the reach margin).
 struct RowTerms {
   std::vector<Index> neighbour;  // the pairs kept
-  std::vector<float> dx, dy, dz, r, support, factor, volume, weight, dvx, dvy, dvz, viscous, heating;
+  std::vector<float> dx, dy, dz, r, support, factor, weight, dvx, dvy, dvz, viscous, heating;
   void resize(std::size_t n) {
     constexpr std::size_t W = pair_lanes;
     if (r.size() >= n + W) return;
     neighbour.resize(n + W);
-    for (auto* v : {&dx, &dy, &dz, &r, &support, &factor, &volume, &weight, &dvx, &dvy, &dvz, &viscous, &heating})
+    for (auto* v : {&dx, &dy, &dz, &r, &support, &factor, &weight, &dvx, &dvy, &dvz, &viscous, &heating})
       v->resize(n + W);
   }
 };
@@ -410,7 +409,7 @@ void SolidFormulation::compute_rates(Real dt) {
     const Index padded = pick_support(list, a, record_.data(), mask, terms);
     const Index* neighbour = terms.neighbour.data();
     float *dx_k = terms.dx.data(), *dy_k = terms.dy.data(), *dz_k = terms.dz.data(), *factor_k = terms.factor.data(),
-          *r_k = terms.r.data(), *support_k = terms.support.data(), *volume_k = terms.volume.data(),
+          *r_k = terms.r.data(), *support_k = terms.support.data(),
           *weight_k = terms.weight.data(), *dvx_k = terms.dvx.data(), *dvy_k = terms.dvy.data(),
           *dvz_k = terms.dvz.data(), *viscous_k = terms.viscous.data(), *heating_k = terms.heating.data();
     const PairRecord& own = record_[a];
@@ -432,7 +431,7 @@ void SolidFormulation::compute_rates(Real dt) {
       const Float8 volume = c[7], w = volume * g.factor;
       g.dx.store(dx_k + k), g.dy.store(dy_k + k), g.dz.store(dz_k + k);
       g.r.store(r_k + k), g.support.store(support_k + k), g.factor.store(factor_k + k);
-      volume.store(volume_k + k), w.store(weight_k + k);
+      w.store(weight_k + k);
       (c[4] - vax).store(dvx_k + k), (c[5] - vay).store(dvy_k + k), (c[6] - vaz).store(dvz_k + k);
       const Float8 gx = w * g.dx, gy = w * g.dy, gz = w * g.dz;
       m_xx = fma(gx, g.dx, m_xx), m_yy = fma(gy, g.dy, m_yy), m_zz = fma(gz, g.dz, m_zz);
