@@ -1,8 +1,8 @@
 #pragma once
-// A pack of doubles processed as one: the lanes of the SPH pair loops, which take a particle's
-// neighbours a pack at a time. Eight lanes with AVX-512 (x86-64-v4, chosen by the build where the
+// A pack of doubles processed as one: the lanes of the neighbour search's distance tests and of
+// the kernels' gradient factor. Eight lanes with AVX-512 (x86-64-v4, chosen by the build where the
 // machine has it), four with AVX2 and FMA (x86-64-v3), otherwise four scalars with the same
-// operations lane by lane, so that the pair loops are written once over simd::Pack. Every
+// operations lane by lane, so that a loop is written once over simd::Pack. Every
 // operation is lane-wise and exactly rounded (fused multiply-adds only where written), so a lane's
 // result does not depend on its neighbours or on the thread count; the sums over lanes go in one
 // fixed order (pairs of neighbouring lanes, then pairs of those, ...). The solid's pair loops run
@@ -115,21 +115,6 @@ struct Pack {
   }
 };
 
-// Four consecutive doubles from each of W rows (base + Stride index[i] + offset), transposed:
-// out[j] holds element j of the W rows.
-template <int Stride, int W>
-inline void load_transposed(const Real* base, const Index* index, int offset, Pack<W> (&out)[4]) {
-  for (int j = 0; j < 4; ++j) out[j] = Pack<W>::template gather<Stride>(base, index, offset + j);
-}
-
-// The three components of the vectors v[index[i]] of an array of 3-vectors (x, y, z, x, ...).
-template <int W>
-inline void load_vectors(const Real* v, const Index* index, Pack<W>& x, Pack<W>& y, Pack<W>& z) {
-  x = Pack<W>::template gather<3>(v, index, 0);
-  y = Pack<W>::template gather<3>(v, index, 1);
-  z = Pack<W>::template gather<3>(v, index, 2);
-}
-
 // N consecutive floats from each of W rows (base + Stride index[i] + offset), transposed: out[j]
 // holds element j of the W rows.
 template <int Stride, int N, int W>
@@ -225,41 +210,6 @@ struct Real4 {
     return _mm_cvtsd_f64(_mm_add_sd(pairs, _mm_unpackhi_pd(pairs, pairs)));
   }
 };
-
-// Four consecutive doubles from each of four rows (base + Stride index[i] + offset), transposed:
-// out[j] holds element j of the four rows. Whole 256-bit row loads where gathering would load the
-// same 16 doubles one by one.
-template <int Stride>
-inline void load_transposed(const Real* base, const Index* index, int offset, Real4 (&out)[4]) {
-  const __m256d r0 = _mm256_loadu_pd(base + Stride * index[0] + offset);
-  const __m256d r1 = _mm256_loadu_pd(base + Stride * index[1] + offset);
-  const __m256d r2 = _mm256_loadu_pd(base + Stride * index[2] + offset);
-  const __m256d r3 = _mm256_loadu_pd(base + Stride * index[3] + offset);
-  const __m256d t0 = _mm256_unpacklo_pd(r0, r1), t1 = _mm256_unpackhi_pd(r0, r1);
-  const __m256d t2 = _mm256_unpacklo_pd(r2, r3), t3 = _mm256_unpackhi_pd(r2, r3);
-  out[0] = {_mm256_permute2f128_pd(t0, t2, 0x20)};
-  out[1] = {_mm256_permute2f128_pd(t1, t3, 0x20)};
-  out[2] = {_mm256_permute2f128_pd(t0, t2, 0x31)};
-  out[3] = {_mm256_permute2f128_pd(t1, t3, 0x31)};
-}
-
-// The x and y components of the vectors v[index[i]] of an array of 3-vectors (x, y, z, x, ...),
-// as one 128-bit load a vector, interleaved. Reads only the vectors' own components (a 256-bit
-// load would read past the last vector).
-inline void load_xy(const Real* v, const Index* index, Real4& x, Real4& y) {
-  const __m256d low = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(v + 3 * index[0])),
-                                           _mm_loadu_pd(v + 3 * index[2]), 1);  // x0 y0 x2 y2
-  const __m256d high = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(v + 3 * index[1])),
-                                            _mm_loadu_pd(v + 3 * index[3]), 1);  // x1 y1 x3 y3
-  x = {_mm256_unpacklo_pd(low, high)};
-  y = {_mm256_unpackhi_pd(low, high)};
-}
-
-// All three components: x and y by load_xy, z gathered.
-inline void load_vectors(const Real* v, const Index* index, Real4& x, Real4& y, Real4& z) {
-  load_xy(v, index, x, y);
-  z = Real4::gather<3>(v, index, 2);
-}
 
 inline void Real4::compress_indices(const Index* in, int lanes, Index* out) {
   const __m128i lane = _mm_load_si128(reinterpret_cast<const __m128i*>(compress_lanes.lanes[lanes]));
@@ -503,72 +453,19 @@ struct Real8 {
   }
 };
 
-// Rows i and i + 4 of a transpose in the low and high halves of one register.
-inline __m512d row_pair(__m256d low, __m256d high) {
-  return _mm512_maskz_insertf64x4(all_lanes, _mm512_zextpd256_pd512(low), high, 1);
-}
-
-// Element j of the eight rows packed in t (rows 0, 1 | 4, 5 interleaved by unpack) and u (rows
-// 2, 3 | 6, 7): `even` picks elements 0 and 1 of each 128-bit lane pair, else 2 and 3.
-inline __m512d transposed_column(__m512d t, __m512d u, bool even) {
-  const __m512i low = _mm512_set_epi64(13, 12, 5, 4, 9, 8, 1, 0), high = _mm512_set_epi64(15, 14, 7, 6, 11, 10, 3, 2);
-  return _mm512_permutex2var_pd(t, even ? low : high, u);
-}
-
-// The eight 256-bit rows row(0) .. row(7), transposed: out[j] holds element j of each row. Twelve
-// shuffles: rows i and i + 4 paired in one register, then an unpack and a two-source permute per
-// column. Always inlined, like its callers.
-template <typename Row>
-[[gnu::always_inline]] inline void transpose_rows(const Row& row, __m512d (&out)[4]) {
-  const __m512d r04 = row_pair(row(0), row(4)), r15 = row_pair(row(1), row(5));
-  const __m512d r26 = row_pair(row(2), row(6)), r37 = row_pair(row(3), row(7));
-  const __m512d t0 = _mm512_unpacklo_pd(r04, r15), t1 = _mm512_unpackhi_pd(r04, r15);
-  const __m512d t2 = _mm512_unpacklo_pd(r26, r37), t3 = _mm512_unpackhi_pd(r26, r37);
-  out[0] = transposed_column(t0, t2, true);
-  out[1] = transposed_column(t1, t3, true);
-  out[2] = transposed_column(t0, t2, false);
-  out[3] = transposed_column(t1, t3, false);
-}
-
-// Four consecutive doubles from each of eight rows (base + Stride index[i] + offset), transposed:
-// eight 256-bit loads and transpose_rows, where gathering would load 32 doubles one by one.
-template <int Stride>
-inline void load_transposed(const Real* base, const Index* index, int offset, Real8 (&out)[4]) {
-  __m512d columns[4];
-  transpose_rows([&](int i) { return _mm256_loadu_pd(base + Stride * index[i] + offset); }, columns);
-  for (int j = 0; j < 4; ++j) out[j] = {columns[j]};
-}
-
-// The three components of eight 3-vectors, transposed from 256-bit loads masked to the vector's
-// own three doubles (a masked-off element is not read, so the last vector of an array is safe),
-// with no gather.
-// Always inlined: called through the pair loops' lambdas, GCC 12 otherwise keeps it a call.
-[[gnu::always_inline]] inline void load_vectors(const Real* v, const Index* index, Real8& x, Real8& y,
-                                                Real8& z) {
-  __m512d columns[4];
-  transpose_rows([&](int i) { return _mm256_maskz_loadu_pd(0b0111, v + 3 * index[i]); }, columns);
-  x = {columns[0]}, y = {columns[1]}, z = {columns[2]};
-}
-
 }  // namespace avx512
 #endif
 
-// The pack the pair loops use: the widest the build targets.
+// The double pack of the neighbour search (neighbors/verlet_list.cpp): the widest the build targets.
 #if defined(SPALL_SIMD_AVX512)
 using Pack = avx512::Real8;
 using PackMask = avx512::Mask8;
-using avx512::load_transposed;
-using avx512::load_vectors;
 #elif defined(SPALL_SIMD_AVX2)
 using Pack = avx2::Real4;
 using PackMask = avx2::Mask4;
-using avx2::load_transposed;
-using avx2::load_vectors;
 #else
 using Pack = lanes::Pack<4>;
 using PackMask = lanes::Mask<4>;
-using lanes::load_transposed;
-using lanes::load_vectors;
 #endif
 
 // Eight single-precision lanes, the solid's pair loops (sph/solid.cpp), with their double
@@ -590,28 +487,6 @@ template <typename P>
 inline void sum_lanes(const P (&packs)[8], Real* out) {
   for (int i = 0; i < 8; ++i) out[i] = packs[i].sum();
 }
-#if defined(SPALL_SIMD_AVX512)
-// The eight packs transposed in a tree while they are added: neighbouring lanes of two packs by
-// unpacks, then pairs of pairs and quads of quads by 128-bit shuffles, 21 instructions where eight
-// sum() take 64, two thirds of them shuffles on the one port that does those. (The zero-masked
-// forms with every lane on: see all_lanes.)
-inline void sum_lanes(const avx512::Real8 (&packs)[8], Real* out) {
-  __m512d pairs[4];  // pairs[k] = (a0 + a1, b0 + b1, a2 + a3, b2 + b3, ...) of packs 2k (a), 2k + 1 (b)
-  for (int k = 0; k < 4; ++k) {
-    const __m512d a = packs[2 * k].v, b = packs[2 * k + 1].v;
-    pairs[k] = _mm512_add_pd(_mm512_maskz_unpacklo_pd(avx512::all_lanes, a, b),
-                             _mm512_maskz_unpackhi_pd(avx512::all_lanes, a, b));
-  }
-  // 128-bit lanes 0 and 2 of x, then of y; and lanes 1 and 3: (l0 + l1) + (l2 + l3) of each pack in
-  // the first, (l4 + l5) + (l6 + l7) in the second half of each 128-bit lane's pair.
-  const auto halves = [](__m512d x, __m512d y) {
-    return _mm512_add_pd(_mm512_maskz_shuffle_f64x2(avx512::all_lanes, x, y, 0x88),
-                         _mm512_maskz_shuffle_f64x2(avx512::all_lanes, x, y, 0xDD));
-  };
-  const __m512d quads_low = halves(pairs[0], pairs[1]), quads_high = halves(pairs[2], pairs[3]);
-  _mm512_storeu_pd(out, halves(quads_low, quads_high));
-}
-#endif
 
 // The scalar forms, so that a kernel written with select/max serves both Real and a Pack.
 inline Real select(bool m, Real a, Real b) { return m ? a : b; }
