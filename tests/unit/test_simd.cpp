@@ -182,6 +182,29 @@ TYPED_TEST(KernelLanes, GradientFactorOfAPackOfPairsIsTheScalarOneAtEachLane) {
   }
 }
 
+// The solid's pair loops take the factor over eight floats (simd::Float8): the scalar double one
+// at each lane to single-precision round-off (amplified by the quintic's cancellation near r = 0).
+TYPED_TEST(KernelLanes, GradientFactorOfEightFloatPairsIsTheScalarOneToFloatRoundOff) {
+  using K = TypeParam;
+  using P = simd::Float8;
+  const Real H = 0.37;
+  const Real scale = std::abs(K::gradient_factor(H / 2, 2 / H, 1 / H));
+  for (int i = 1; i + 8 <= 200; i += 8) {
+    float r[8];
+    for (int lane = 0; lane < 8; ++lane) r[lane] = static_cast<float>(H * (i + lane) / 200.0);
+    const P vr = P::load(r);
+    std::array<float, 8> pack;
+    K::gradient_factor(vr, P(1) / vr, P(static_cast<float>(1 / H))).store(pack.data());
+    for (int lane = 0; lane < 8; ++lane) {
+      const Real one = K::gradient_factor(Real(r[lane]), 1 / Real(r[lane]), 1 / H);
+      // Below q = 1/4 the quintic's factor is a difference of terms growing as 1/r, and float
+      // keeps fewer of its digits there; a lattice's nearest neighbour sits at q of about 0.4.
+      const Real tolerance = (r[lane] / H < 0.25 ? 5e-4 : 1e-5) * scale;
+      EXPECT_NEAR(pack[lane], one, tolerance) << "q = " << r[lane] / H;
+    }
+  }
+}
+
 // The single-precision pack of the solid's pair loops (simd::Float8: AVX2 where the build has it,
 // else the scalar lanes) against the scalar lanes of floats: every operation exactly, the lane
 // sums in the same order, the double accumulator of widened lanes, and the transposed row loads,
