@@ -320,6 +320,21 @@ constexpr int lane_order[16] = {0, 1, 2, 3, 8, 9, 10, 11, 4, 5, 6, 7, 12, 13, 14
   }
 }
 #elif defined(__AVX2__)
+// The positions x, y, z of the eight consecutive records r[0..7], lane i from r[i]: the first
+// halves of records i and i + 4 in one register (four loads and inserts), then the 4 x 4
+// transpose within the 128-bit lanes, seven shuffles where the whole 8 x 8 one takes seventeen.
+[[gnu::always_inline]] inline void load_positions(const FluidRecord* r, __m256& x, __m256& y, __m256& z) {
+  const auto rows = [&](int i) {
+    return _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_load_ps(&r[i].x)), _mm_load_ps(&r[i + 4].x), 1);
+  };
+  const __m256 r0 = rows(0), r1 = rows(1), r2 = rows(2), r3 = rows(3);
+  const __m256 xy01 = _mm256_unpacklo_ps(r0, r1), xy23 = _mm256_unpacklo_ps(r2, r3);
+  const __m256 zw01 = _mm256_unpackhi_ps(r0, r1), zw23 = _mm256_unpackhi_ps(r2, r3);
+  x = _mm256_shuffle_ps(xy01, xy23, _MM_SHUFFLE(1, 0, 1, 0));
+  y = _mm256_shuffle_ps(xy01, xy23, _MM_SHUFFLE(3, 2, 3, 2));
+  z = _mm256_shuffle_ps(zw01, zw23, _MM_SHUFFLE(1, 0, 1, 0));
+}
+
 // The 8 x 8 transpose of the eight records row(0) .. row(7): field k of the eight in out[k].
 template <typename Row>
 [[gnu::always_inline]] inline void transpose_records(const Row& row, __m256 (&out)[8]) {
@@ -395,11 +410,11 @@ Index screen(const PairInputs& in, float H2, Index begin, Index end, Index self,
   for (Index b = begin; b < end; b += 8) {
     const unsigned moving = moving_only ? moving_lanes(in.moving, b) & 0xFFu : 0xFFu;
     if (moving == 0) continue;  // walls only
-    __m256 field[8];
-    transpose_records([&](int i) { return _mm256_load_ps(&in.record[b + i].x); }, field);
-    const __m256 dx = _mm256_sub_ps(pxa, field[0]);
-    const __m256 dy = _mm256_sub_ps(pya, field[1]);
-    const __m256 dz = _mm256_sub_ps(pza, field[2]);
+    __m256 xb, yb, zb;
+    load_positions(in.record + b, xb, yb, zb);
+    const __m256 dx = _mm256_sub_ps(pxa, xb);
+    const __m256 dy = _mm256_sub_ps(pya, yb);
+    const __m256 dz = _mm256_sub_ps(pza, zb);
     const __m256 r2 = _mm256_fmadd_ps(dz, dz, _mm256_fmadd_ps(dy, dy, _mm256_mul_ps(dx, dx)));
     unsigned mask = static_cast<unsigned>(_mm256_movemask_ps(_mm256_cmp_ps(r2, vH2, _CMP_LT_OQ))) & moving;
     mask = _bzhi_u32(mask, static_cast<unsigned>(std::min<Index>(end - b, 8)));
@@ -428,11 +443,10 @@ Index screen(const PairInputs& in, float H2, Index begin, Index end, Index self,
 // single precision by one sequence of operations for every pair (x_ba = -x_ab and v_ba = -v_ab
 // bitwise), so the term of (a, b) is exactly minus the term of (b, a); they are summed in double.
 // `count` is a multiple of simd_width, padded with a itself, whose terms are exactly zero
-// (x_aa = 0, v_aa = 0). The AVX2 and scalar paths do the same operations, lane by lane (AVX2
-// blends where the scalar path branches): only the order of the double sums differs between them,
-// which is fixed for each. The AVX-512 path takes 1 / r and 1 / (r^2 + (eta h)^2) from the
-// hardware's estimates refined by a Newton step, where the others divide and take a square root;
-// one build runs one path, so the pair (a, b) and the pair (b, a) always see the same operations.
+// (x_aa = 0, v_aa = 0). The vector paths take 1 / r and 1 / (r^2 + (eta h)^2) from the
+// hardware's estimates refined by a Newton step, where the scalar path divides and takes a square
+// root; one build runs one path, so the pair (a, b) and the pair (b, a) always see the same
+// operations. Within a path, the order of the double sums is fixed.
 template <bool with_force>
 PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const Index* found,
                   Index count) {
@@ -548,11 +562,14 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
     const __m256 dz = _mm256_sub_ps(splat(za), field[2]);
     const __m256 r2 = _mm256_max_ps(
         _mm256_fmadd_ps(dz, dz, _mm256_fmadd_ps(dy, dy, _mm256_mul_ps(dx, dx))), tiny);
-    // One division for both 1 / r and 1 / (r^2 + (eta h)^2).
-    const __m256 r = _mm256_sqrt_ps(r2);
+    // 1 / r and 1 / (r^2 + (eta h)^2) from the 12-bit estimates and one Newton step each, as on
+    // AVX-512: the square root and the division queue on one port (docs/PERFORMANCE.md, s17).
     const __m256 r2e = _mm256_add_ps(r2, splat(c.eta2));
-    const __m256 inverse_product = _mm256_div_ps(one, _mm256_mul_ps(r, r2e));
-    const __m256 inverse_r = _mm256_mul_ps(inverse_product, r2e);
+    const __m256 y = _mm256_rsqrt_ps(r2);  // y (3/2 - r^2/2 y^2)
+    const __m256 inverse_r =
+        _mm256_mul_ps(y, _mm256_fnmadd_ps(_mm256_mul_ps(half, r2), _mm256_mul_ps(y, y), splat(1.5f)));
+    const __m256 z = _mm256_rcp_ps(r2e);  // z + z (1 - r2e z)
+    const __m256 inverse_r2e = _mm256_fmadd_ps(z, _mm256_fnmadd_ps(r2e, z, one), z);
     const __m256 q = _mm256_min_ps(_mm256_mul_ps(_mm256_mul_ps(r2, inverse_r), splat(c.inverse_support)), one);
     const __m256 near = _mm256_sub_ps(_mm256_mul_ps(splat(k18), q), splat(k12));
     const __m256 one_minus_q = _mm256_sub_ps(one, q);
@@ -572,7 +589,6 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
       const __m256 inverse_rho_b = field[6];
       const __m256 radial =
           _mm256_mul_ps(_mm256_mul_ps(_mm256_sub_ps(zero, mm), _mm256_add_ps(splat(P_a), field[7])), F);
-      const __m256 inverse_r2e = _mm256_mul_ps(inverse_product, r);
       const __m256 mu = _mm256_mul_ps(_mm256_mul_ps(splat(c.h), vr), inverse_r2e);
       const __m256 Pi_full = _mm256_mul_ps(
           _mm256_fmadd_ps(splat(c.beta), _mm256_mul_ps(mu, mu), _mm256_mul_ps(splat(-c.alpha_c), mu)),
