@@ -419,9 +419,9 @@ Index screen(const PairInputs& in, float H2, Index begin, Index end, Index self,
     unsigned mask = static_cast<unsigned>(_mm256_movemask_ps(_mm256_cmp_ps(r2, vH2, _CMP_LT_OQ))) & moving;
     mask = _bzhi_u32(mask, static_cast<unsigned>(std::min<Index>(end - b, 8)));
     if (self >= b && self < b + 8) mask &= ~(1u << (self - b));
-    // Left-pack the lanes whose bit is set: the byte indices of the set bits, by pext.
-    const std::uint64_t bytes_of_mask = _pdep_u64(mask, 0x0101010101010101ull) * 0xFF;
-    const std::uint64_t lanes = _pext_u64(0x0706050403020100ull, bytes_of_mask);
+    // Left-pack the lanes whose bit is set: their numbers from the table, one byte each (a load
+    // where pdep, a multiplication and pext made a chain of three).
+    const std::uint64_t lanes = simd::avx2::compress_lanes8.order[mask];
     const __m256i index = _mm256_add_epi32(_mm256_set1_epi32(b),
                                            _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(static_cast<long long>(lanes))));
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(found + count), index);
@@ -547,12 +547,14 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
 #elif defined(__AVX2__)
   const auto splat = [](float v) { return _mm256_set1_ps(v); };
   const __m256 one = splat(1), half = splat(0.5f), tiny = splat(1e-30f), zero = _mm256_setzero_ps();
-  __m256d fp[3][2] = {}, fv[3][2] = {};
+  // One 4-double sum per component, lanes i and i + 4 added first: twelve sums spilled to the
+  // stack with sixteen registers.
+  __m256d fp[3] = {}, fv[3] = {};
   __m256 rate = zero;  // the density rate needs no double sum (momentum does not depend on it)
   __m256 max_mu = zero;
-  const auto accumulate = [](__m256d (&sum)[2], __m256 v) {
-    sum[0] = _mm256_add_pd(sum[0], _mm256_cvtps_pd(_mm256_castps256_ps128(v)));
-    sum[1] = _mm256_add_pd(sum[1], _mm256_cvtps_pd(_mm256_extractf128_ps(v, 1)));
+  const auto accumulate = [](__m256d& sum, __m256 v) {
+    sum = _mm256_add_pd(sum, _mm256_add_pd(_mm256_cvtps_pd(_mm256_castps256_ps128(v)),
+                                           _mm256_cvtps_pd(_mm256_extractf128_ps(v, 1))));
   };
   for (; s < count; s += 8) {
     __m256 field[8];
@@ -608,9 +610,9 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
       }
     }
   }
-  const auto total = [](const __m256d (&sum)[2]) {
+  const auto total = [](__m256d sum) {
     alignas(32) double lanes[4];
-    _mm256_store_pd(lanes, _mm256_add_pd(sum[0], sum[1]));
+    _mm256_store_pd(lanes, sum);
     return (lanes[0] + lanes[1]) + (lanes[2] + lanes[3]);
   };
   {
