@@ -31,8 +31,7 @@ class TrimmedStencil {
  public:
   static constexpr int max_reach = 3;
   static constexpr int max_rows = (2 * max_reach + 1) * (2 * max_reach + 1);
-  // Room trimmed() needs: max_rows rounded up to the eight lanes it works in with AVX-512 (four
-  // with AVX2).
+  // Room trimmed() needs: max_rows rounded up to the eight lanes it works in.
   static constexpr int range_capacity = (max_rows + 7) / 8 * 8;
   using Ranges = std::array<ParticleRange, range_capacity>;
 
@@ -81,8 +80,8 @@ class TrimmedStencil {
   std::array<Index, (2 * max_reach + 2) * range_capacity> start_{};
 };
 
-// Called once per particle: inline, eight rows (AVX-512) or four (AVX2) at a time, without a
-// branch per row; every path does the same operations per row.
+// Called once per particle: inline, eight rows at a time with AVX-512 (double precision) or AVX2
+// (single precision, the reach widened to cover its rounding), without a branch per row.
 int TrimmedStencil::trimmed(const Vec3& offset, Real radius, Ranges& ranges) const {
   // The slabs of the widest block, and one more: the AVX-512 path holds all eight in a register.
   constexpr int slab_count = 2 * max_reach + 2;
@@ -91,7 +90,6 @@ int TrimmedStencil::trimmed(const Vec3& offset, Real radius, Ranges& ranges) con
   // [i, i + 1) x [j, j + 1) x [k, k + 1).
   const Vec3 u = offset * inverse_edge_ - corner_;
   const Real reach = radius * inverse_edge_ * (1 + 1e-9) + slack_;
-  const Real reach_squared = reach * reach;
   // Squared distance from the point to the slab of cells j along y (and along z).
   alignas(64) std::array<Real, slab_count> gap_y, gap_z;
   for (int j = 0; j < slab_count; ++j) {
@@ -105,7 +103,7 @@ int TrimmedStencil::trimmed(const Vec3& offset, Real radius, Ranges& ranges) con
   // first = past_last; min after max keeps a NaN inside the block.
   const Real last_cell = width - 1;
 #if defined(SPALL_SIMD_AVX512)
-  const __m512d ux = _mm512_set1_pd(u.x()), r2 = _mm512_set1_pd(reach_squared);
+  const __m512d ux = _mm512_set1_pd(u.x()), r2 = _mm512_set1_pd(reach * reach);
   const __m512d zero = _mm512_setzero_pd(), one = _mm512_set1_pd(1), last = _mm512_set1_pd(last_cell);
   const __m512d all_gap_y = _mm512_load_pd(gap_y.data()), all_gap_z = _mm512_load_pd(gap_z.data());
   const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
@@ -132,35 +130,46 @@ int TrimmedStencil::trimmed(const Vec3& offset, Real radius, Ranges& ranges) con
                                                                _mm512_castsi256_si512(end)));
   }
 #elif defined(__AVX2__)
-  const __m256d ux = _mm256_set1_pd(u.x()), r2 = _mm256_set1_pd(reach_squared);
-  const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1), last = _mm256_set1_pd(last_cell);
-  const __m128i lane = _mm_setr_epi32(0, 1, 2, 3);
-  for (int r = 0; r < row_count_; r += 4) {
-    // (The masked gathers with every lane on are the plain ones; GCC 12 warns on the plain form.)
-    const __m256d all = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
-    const __m256d gy = _mm256_mask_i32gather_pd(
-        zero, gap_y.data(), _mm_loadu_si128(reinterpret_cast<const __m128i*>(&row_y_[r])), all, 8);
-    const __m256d gz = _mm256_mask_i32gather_pd(
-        zero, gap_z.data(), _mm_loadu_si128(reinterpret_cast<const __m128i*>(&row_z_[r])), all, 8);
-    const __m256d left = _mm256_sub_pd(_mm256_sub_pd(r2, gy), gz);
-    const __m256d half = _mm256_sqrt_pd(_mm256_max_pd(left, zero));
-    const __m256d first = _mm256_min_pd(_mm256_max_pd(_mm256_floor_pd(_mm256_sub_pd(ux, half)), zero), last);
-    __m256d past_last = _mm256_add_pd(
-        _mm256_min_pd(_mm256_max_pd(_mm256_floor_pd(_mm256_add_pd(ux, half)), zero), last), one);
-    past_last = _mm256_blendv_pd(first, past_last, _mm256_cmp_pd(left, zero, _CMP_GE_OQ));
-    // Index of start(k, r) for the four rows.
-    const __m128i row = _mm_add_epi32(_mm_set1_epi32(r), lane);
-    const __m128i stride = _mm_set1_epi32(range_capacity);
-    const __m128i begin = _mm_i32gather_epi32(
-        start_.data(), _mm_add_epi32(_mm_mullo_epi32(_mm256_cvttpd_epi32(first), stride), row), 4);
-    const __m128i end = _mm_i32gather_epi32(
-        start_.data(), _mm_add_epi32(_mm_mullo_epi32(_mm256_cvttpd_epi32(past_last), stride), row), 4);
-    _mm_storeu_si128(reinterpret_cast<__m128i*>(&ranges[r]), _mm_unpacklo_epi32(begin, end));
-    _mm_storeu_si128(reinterpret_cast<__m128i*>(&ranges[r + 2]), _mm_unpackhi_epi32(begin, end));
+  // Eight rows at a time in single precision: the slab gaps of the block (at most eight slabs,
+  // one register) picked by row with a permute, one 8-lane square root where double precision
+  // took two 4-lane ones and four gathers. Single precision errs by about 1e-6 of the cell, so
+  // the reach is widened by 1e-4 of a cell: the runs stay a superset (a particle within 1e-4
+  // of a cell from the ball's edge may add that cell).
+  static_assert(slab_count == 8 && range_capacity % 8 == 0);
+  const float widened = static_cast<float>(reach + 1e-4);
+  const __m256 ux = _mm256_set1_ps(static_cast<float>(u.x())), r2 = _mm256_set1_ps(widened * widened);
+  const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1), last = _mm256_set1_ps(static_cast<float>(last_cell));
+  const auto to_floats = [](const Real* eight) {
+    return _mm256_set_m128(_mm256_cvtpd_ps(_mm256_load_pd(eight + 4)), _mm256_cvtpd_ps(_mm256_load_pd(eight)));
+  };
+  const __m256 all_gap_y = to_floats(gap_y.data()), all_gap_z = to_floats(gap_z.data());
+  const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+  const __m256i stride = _mm256_set1_epi32(range_capacity);
+  for (int r = 0; r < row_count_; r += 8) {
+    const __m256i y = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&row_y_[r]));
+    const __m256i z = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&row_z_[r]));
+    const __m256 left = _mm256_sub_ps(_mm256_sub_ps(r2, _mm256_permutevar8x32_ps(all_gap_y, y)),
+                                      _mm256_permutevar8x32_ps(all_gap_z, z));
+    const __m256 half = _mm256_sqrt_ps(_mm256_max_ps(left, zero));
+    const __m256 first = _mm256_min_ps(_mm256_max_ps(_mm256_floor_ps(_mm256_sub_ps(ux, half)), zero), last);
+    __m256 past_last = _mm256_add_ps(
+        _mm256_min_ps(_mm256_max_ps(_mm256_floor_ps(_mm256_add_ps(ux, half)), zero), last), one);
+    past_last = _mm256_blendv_ps(first, past_last, _mm256_cmp_ps(left, zero, _CMP_GE_OQ));
+    // Index of start(k, r) for the eight rows.
+    const __m256i row = _mm256_add_epi32(_mm256_set1_epi32(r), lane);
+    const __m256i begin = _mm256_i32gather_epi32(
+        start_.data(), _mm256_add_epi32(_mm256_mullo_epi32(_mm256_cvttps_epi32(first), stride), row), 4);
+    const __m256i end = _mm256_i32gather_epi32(
+        start_.data(), _mm256_add_epi32(_mm256_mullo_epi32(_mm256_cvttps_epi32(past_last), stride), row), 4);
+    // (begin, end) pairs of rows r .. r + 7: unpack within the 128-bit lanes gives rows 0, 1, 4, 5
+    // and 2, 3, 6, 7; the lane swap puts them in order.
+    const __m256i low = _mm256_unpacklo_epi32(begin, end), high = _mm256_unpackhi_epi32(begin, end);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(&ranges[r]), _mm256_permute2x128_si256(low, high, 0x20));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(&ranges[r + 4]), _mm256_permute2x128_si256(low, high, 0x31));
   }
 #else
   for (int r = 0; r < row_count_; ++r) {
-    const Real left = reach_squared - gap_y[row_y_[r]] - gap_z[row_z_[r]];
+    const Real left = reach * reach - gap_y[row_y_[r]] - gap_z[row_z_[r]];
     const Real half = std::sqrt(std::fmax(left, Real(0)));
     const Real first = std::fmin(std::fmax(std::floor(u.x() - half), Real(0)), last_cell);
     const Real past_last = left >= 0 ? std::fmin(std::fmax(std::floor(u.x() + half), Real(0)), last_cell) + 1 : first;
