@@ -1,13 +1,13 @@
 #pragma once
-// A pack of doubles processed as one: the lanes of the neighbour search's distance tests and of
-// the kernels' gradient factor. Eight lanes with AVX-512 (x86-64-v4, chosen by the build where the
-// machine has it), four with AVX2 and FMA (x86-64-v3), otherwise four scalars with the same
-// operations lane by lane, so that a loop is written once over simd::Pack. Every
-// operation is lane-wise and exactly rounded (fused multiply-adds only where written), so a lane's
-// result does not depend on its neighbours or on the thread count; the sums over lanes go in one
-// fixed order (pairs of neighbouring lanes, then pairs of those, ...). The solid's pair loops run
-// on eight floats instead (Float8: AVX2 where the build has it, else scalars), with a double
-// accumulator for the sums that must cancel pair by pair (WideSum8).
+// A pack of doubles processed as one (simd::Pack): the lanes of the neighbour search's distance
+// tests, with just the operations that search takes. Eight lanes with AVX-512 (x86-64-v4, chosen
+// by the build where the machine has it), four with AVX2 and FMA (x86-64-v3), otherwise four
+// scalars with the same operations lane by lane, so that a loop is written once. The solid's pair
+// loops and the kernels' gradient factor run on eight floats (Float8: AVX2 where the build has
+// it, else scalars), with a double accumulator for the sums that must cancel pair by pair
+// (WideSum8). Every operation is lane-wise and exactly rounded (fused multiply-adds only where
+// written), so a lane's result does not depend on its neighbours or on the thread count; the sums
+// over lanes go in one fixed order (pairs of neighbouring lanes, then pairs of those, ...).
 #include <cmath>
 #include <cstdint>
 
@@ -155,7 +155,6 @@ inline constexpr CompressTable compress_lanes;
 
 struct Mask4 {
   __m256d bits;
-  friend Mask4 operator&(Mask4 a, Mask4 b) { return {_mm256_and_pd(a.bits, b.bits)}; }
   // Bit i set when lane i is true.
   int lanes() const { return _mm256_movemask_pd(bits); }
 };
@@ -168,47 +167,15 @@ struct Real4 {
   Real4(Real value) : v(_mm256_set1_pd(value)) {}
   static Real4 load(const Real* p) { return {_mm256_loadu_pd(p)}; }
   void store(Real* p) const { _mm256_storeu_pd(p, v); }
-  // base[stride * index[i] + offset] for i = 0..3.
-  template <int Stride>
-  static Real4 gather(const Real* base, const Index* index, int offset = 0) {
-    __m128i i = _mm_loadu_si128(reinterpret_cast<const __m128i*>(index));
-    if constexpr (Stride != 1) i = _mm_mullo_epi32(i, _mm_set1_epi32(Stride));
-    // The masked form: GCC 12 warns that the plain one reads an uninitialized source.
-    const __m256d all = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
-    return {_mm256_mask_i32gather_pd(_mm256_setzero_pd(), base + offset, i, all, 8)};
-  }
   friend Real4 operator+(Real4 a, Real4 b) { return {_mm256_add_pd(a.v, b.v)}; }
   friend Real4 operator-(Real4 a, Real4 b) { return {_mm256_sub_pd(a.v, b.v)}; }
   friend Real4 operator*(Real4 a, Real4 b) { return {_mm256_mul_pd(a.v, b.v)}; }
-  friend Real4 operator/(Real4 a, Real4 b) { return {_mm256_div_pd(a.v, b.v)}; }
-  friend Real4 operator-(Real4 a) { return {_mm256_xor_pd(a.v, _mm256_set1_pd(-0.0))}; }
-  Real4& operator+=(Real4 b) { return *this = *this + b; }
-  Real4& operator-=(Real4 b) { return *this = *this - b; }
-  Real4& operator*=(Real4 b) { return *this = *this * b; }
   friend Mask4 operator<(Real4 a, Real4 b) { return {_mm256_cmp_pd(a.v, b.v, _CMP_LT_OQ)}; }
-  friend Mask4 operator<=(Real4 a, Real4 b) { return {_mm256_cmp_pd(a.v, b.v, _CMP_LE_OQ)}; }
-  friend Mask4 operator>(Real4 a, Real4 b) { return {_mm256_cmp_pd(a.v, b.v, _CMP_GT_OQ)}; }
   // a + b c, rounded once.
   friend Real4 fma(Real4 b, Real4 c, Real4 a) { return {_mm256_fmadd_pd(b.v, c.v, a.v)}; }
-  friend Real4 reciprocal_sqrt(Real4 a) { return {_mm256_div_pd(_mm256_set1_pd(1), _mm256_sqrt_pd(a.v))}; }
-  friend Real4 reciprocal(Real4 a) { return {_mm256_div_pd(_mm256_set1_pd(1), a.v)}; }
-  friend Real4 abs(Real4 a) { return {_mm256_andnot_pd(_mm256_set1_pd(-0.0), a.v)}; }
-  friend Real4 max(Real4 a, Real4 b) { return {_mm256_max_pd(a.v, b.v)}; }
-  friend Real4 select(Mask4 m, Real4 a, Real4 b) { return {_mm256_blendv_pd(b.v, a.v, m.bits)}; }
   // Writes the indices in[i] whose bit i is set in `lanes` to out[0..], in order; may write all
   // four.
   static void compress_indices(const Index* in, int lanes, Index* out);
-  // Bit i set where in[i] > a.
-  static int indices_above(const Index* in, Index a) {
-    const __m128i above = _mm_cmpgt_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(in)), _mm_set1_epi32(a));
-    return _mm_movemask_ps(_mm_castsi128_ps(above));
-  }
-  // (l0 + l1) + (l2 + l3): one fixed order.
-  Real sum() const {
-    const __m128d low = _mm256_castpd256_pd128(v), high = _mm256_extractf128_pd(v, 1);
-    const __m128d pairs = _mm_hadd_pd(low, high);  // (l0 + l1, l2 + l3)
-    return _mm_cvtsd_f64(_mm_add_sd(pairs, _mm_unpackhi_pd(pairs, pairs)));
-  }
 };
 
 inline void Real4::compress_indices(const Index* in, int lanes, Index* out) {
@@ -217,8 +184,8 @@ inline void Real4::compress_indices(const Index* in, int lanes, Index* out) {
   _mm_storeu_si128(reinterpret_cast<__m128i*>(out), _mm_castps_si128(_mm_permutevar_ps(values, lane)));
 }
 
-// Eight floats processed as one (the solid's pair loops, sph/solid.cpp): the operations of Real4,
-// exactly rounded, on twice the lanes.
+// Eight floats processed as one (the solid's pair loops, sph/solid.cpp), every operation exactly
+// rounded.
 struct Mask8f {
   __m256 bits;
   friend Mask8f operator&(Mask8f a, Mask8f b) { return {_mm256_and_ps(a.bits, b.bits)}; }
@@ -371,14 +338,8 @@ template <int Stride>
 #if defined(SPALL_SIMD_AVX512)
 namespace avx512 {
 
-// GCC 12 warns that the unmasked forms of some AVX-512 intrinsics (max, the reciprocal estimates,
-// the 256-bit halves' inserts, extracts and casts) read an undefined source; their zero-masked
-// forms with every lane on compile to the same instructions without the warning.
-constexpr __mmask8 all_lanes = 0xFF;
-
 struct Mask8 {
   __mmask8 bits;
-  friend Mask8 operator&(Mask8 a, Mask8 b) { return {static_cast<__mmask8>(a.bits & b.bits)}; }
   // Bit i set when lane i is true.
   int lanes() const { return bits; }
 };
@@ -391,65 +352,18 @@ struct Real8 {
   Real8(Real value) : v(_mm512_set1_pd(value)) {}
   static Real8 load(const Real* p) { return {_mm512_loadu_pd(p)}; }
   void store(Real* p) const { _mm512_storeu_pd(p, v); }
-  // base[stride * index[i] + offset] for i = 0..7.
-  template <int Stride>
-  static Real8 gather(const Real* base, const Index* index, int offset = 0) {
-    __m256i i = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(index));
-    if constexpr (Stride != 1) i = _mm256_mullo_epi32(i, _mm256_set1_epi32(Stride));
-    return {_mm512_mask_i32gather_pd(_mm512_setzero_pd(), all_lanes, i, base + offset, 8)};
-  }
   friend Real8 operator+(Real8 a, Real8 b) { return {_mm512_add_pd(a.v, b.v)}; }
   friend Real8 operator-(Real8 a, Real8 b) { return {_mm512_sub_pd(a.v, b.v)}; }
   friend Real8 operator*(Real8 a, Real8 b) { return {_mm512_mul_pd(a.v, b.v)}; }
-  friend Real8 operator/(Real8 a, Real8 b) { return {_mm512_div_pd(a.v, b.v)}; }
-  friend Real8 operator-(Real8 a) { return {_mm512_xor_pd(a.v, _mm512_set1_pd(-0.0))}; }
-  Real8& operator+=(Real8 b) { return *this = *this + b; }
-  Real8& operator-=(Real8 b) { return *this = *this - b; }
-  Real8& operator*=(Real8 b) { return *this = *this * b; }
   friend Mask8 operator<(Real8 a, Real8 b) { return {_mm512_cmp_pd_mask(a.v, b.v, _CMP_LT_OQ)}; }
-  friend Mask8 operator<=(Real8 a, Real8 b) { return {_mm512_cmp_pd_mask(a.v, b.v, _CMP_LE_OQ)}; }
-  friend Mask8 operator>(Real8 a, Real8 b) { return {_mm512_cmp_pd_mask(a.v, b.v, _CMP_GT_OQ)}; }
   // a + b c, rounded once.
   friend Real8 fma(Real8 b, Real8 c, Real8 a) { return {_mm512_fmadd_pd(b.v, c.v, a.v)}; }
-  // 1 / sqrt(a) and 1 / a for a > 0 (normal), to within a few ulp: the 14-bit estimates refined by
-  // two Newton steps (each doubles the bits), multiplications and FMAs on two ports where a square
-  // root and a division would queue on the one port that does those.
-  friend Real8 reciprocal_sqrt(Real8 a) {
-    const __m512d y0 = _mm512_maskz_rsqrt14_pd(all_lanes, a.v), half_a = _mm512_mul_pd(_mm512_set1_pd(0.5), a.v);
-    const auto step = [&](__m512d y) {  // y (3/2 - a/2 y^2)
-      return _mm512_mul_pd(y, _mm512_fnmadd_pd(half_a, _mm512_mul_pd(y, y), _mm512_set1_pd(1.5)));
-    };
-    return {step(step(y0))};
-  }
-  friend Real8 reciprocal(Real8 a) {
-    const __m512d y0 = _mm512_maskz_rcp14_pd(all_lanes, a.v);
-    const auto step = [&](__m512d y) {  // y + y (1 - a y)
-      return _mm512_fmadd_pd(y, _mm512_fnmadd_pd(a.v, y, _mm512_set1_pd(1)), y);
-    };
-    return {step(step(y0))};
-  }
-  friend Real8 abs(Real8 a) { return {_mm512_abs_pd(a.v)}; }
-  friend Real8 max(Real8 a, Real8 b) { return {_mm512_maskz_max_pd(all_lanes, a.v, b.v)}; }
-  friend Real8 select(Mask8 m, Real8 a, Real8 b) { return {_mm512_mask_blend_pd(m.bits, b.v, a.v)}; }
   // Writes the indices in[i] whose bit i is set in `lanes` to out[0..], in order; writes all
   // eight. Compressed in a register and stored whole: a compressing store to memory is several
   // times slower on the processors measured (docs/PERFORMANCE.md).
   static void compress_indices(const Index* in, int lanes, Index* out) {
     const __m256i all = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(in));
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(out), _mm256_maskz_compress_epi32(static_cast<__mmask8>(lanes), all));
-  }
-  // Bit i set where in[i] > a.
-  static int indices_above(const Index* in, Index a) {
-    return _mm256_cmpgt_epi32_mask(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(in)), _mm256_set1_epi32(a));
-  }
-  // ((l0 + l1) + (l2 + l3)) + ((l4 + l5) + (l6 + l7)), the order of lanes::Pack<8>::sum.
-  Real sum() const {
-    const __m256d low = _mm512_maskz_extractf64x4_pd(all_lanes, v, 0);
-    const __m256d high = _mm512_maskz_extractf64x4_pd(all_lanes, v, 1);
-    const __m256d pairs = _mm256_hadd_pd(low, high);
-    // pairs = (l0 + l1, l4 + l5, l2 + l3, l6 + l7)
-    const __m128d quads = _mm_add_pd(_mm256_castpd256_pd128(pairs), _mm256_extractf128_pd(pairs, 1));
-    return _mm_cvtsd_f64(_mm_add_sd(quads, _mm_unpackhi_pd(quads, quads)));
   }
 };
 
