@@ -359,10 +359,12 @@ struct PairConstants {
   float two_mu;           // mu_a + mu_b
 };
 
+// The force is summed in double (momentum cancels pair by pair); its viscous part, which only
+// splits the energy balance into stored and dissipated, may be summed in single precision.
 struct PairSums {
   Real rate = 0;
-  Real fpx = 0, fpy = 0, fpz = 0;  // pressure force
-  Real fvx = 0, fvy = 0, fvz = 0;  // viscous force
+  Real fx = 0, fy = 0, fz = 0;     // pressure + viscous force
+  Real fvx = 0, fvy = 0, fvz = 0;  // its viscous part
   float max_mu = 0;                // largest -mu_ab of an approaching pair (Monaghan's time step)
 };
 
@@ -538,8 +540,8 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
     for (float lane : lanes) sums.rate += Real(lane);
   }
   if constexpr (with_force) {
-    sums.fpx = total(fp[0]), sums.fpy = total(fp[1]), sums.fpz = total(fp[2]);
     sums.fvx = total(fv[0]), sums.fvy = total(fv[1]), sums.fvz = total(fv[2]);
+    sums.fx = total(fp[0]) + sums.fvx, sums.fy = total(fp[1]) + sums.fvy, sums.fz = total(fp[2]) + sums.fvz;
     alignas(64) float lanes[16];
     _mm512_store_ps(lanes, max_mu);
     sums.max_mu = *std::max_element(lanes, lanes + 16);
@@ -547,9 +549,11 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
 #elif defined(__AVX2__)
   const auto splat = [](float v) { return _mm256_set1_ps(v); };
   const __m256 one = splat(1), half = splat(0.5f), tiny = splat(1e-30f), zero = _mm256_setzero_ps();
-  // One 4-double sum per component, lanes i and i + 4 added first: twelve sums spilled to the
-  // stack with sixteen registers.
-  __m256d fp[3] = {}, fv[3] = {};
+  // The force in one 4-double sum per component, lanes i and i + 4 added first (twelve sums of
+  // pressure and viscous parts apart spilled to the stack with sixteen registers); the viscous
+  // part in floats.
+  __m256d f[3] = {};
+  __m256 fv[3] = {zero, zero, zero};
   __m256 rate = zero;  // the density rate needs no double sum (momentum does not depend on it)
   __m256 max_mu = zero;
   const auto accumulate = [](__m256d& sum, __m256 v) {
@@ -603,10 +607,12 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
           _mm256_mul_ps(_mm256_mul_ps(mm, splat(c.two_mu)),
                         _mm256_mul_ps(splat(inverse_rho_a), inverse_rho_b)),
           _mm256_mul_ps(_mm256_mul_ps(F, r2), inverse_r2e));
+      const __m256 both_radial = _mm256_add_ps(radial, viscous_radial);
       const __m256 d[3] = {dx, dy, dz}, dv[3] = {dvx, dvy, dvz};
       for (int i = 0; i < 3; ++i) {
-        accumulate(fp[i], _mm256_mul_ps(radial, d[i]));
-        accumulate(fv[i], _mm256_fmadd_ps(viscous_radial, d[i], _mm256_mul_ps(laminar, dv[i])));
+        const __m256 along_dv = _mm256_mul_ps(laminar, dv[i]);
+        accumulate(f[i], _mm256_fmadd_ps(both_radial, d[i], along_dv));
+        fv[i] = _mm256_add_ps(fv[i], _mm256_fmadd_ps(viscous_radial, d[i], along_dv));
       }
     }
   }
@@ -621,8 +627,14 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
     for (float lane : lanes) sums.rate += Real(lane);
   }
   if constexpr (with_force) {
-    sums.fpx = total(fp[0]), sums.fpy = total(fp[1]), sums.fpz = total(fp[2]);
-    sums.fvx = total(fv[0]), sums.fvy = total(fv[1]), sums.fvz = total(fv[2]);
+    sums.fx = total(f[0]), sums.fy = total(f[1]), sums.fz = total(f[2]);
+    for (int i = 0; i < 3; ++i) {
+      alignas(32) float lanes[8];
+      _mm256_store_ps(lanes, fv[i]);
+      Real sum = 0;
+      for (float lane : lanes) sum += Real(lane);
+      (i == 0 ? sums.fvx : i == 1 ? sums.fvy : sums.fvz) = sum;
+    }
     alignas(32) float lanes[8];
     _mm256_store_ps(lanes, max_mu);
     sums.max_mu = *std::max_element(lanes, lanes + 8);
@@ -653,9 +665,10 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
       if (vr < 0) sums.max_mu = std::max(sums.max_mu, -mu);
       const float viscous_radial = (-mm * Pi) * F;
       const float laminar = ((mm * c.two_mu) * (inverse_rho_a * inverse_rho_b)) * ((F * r2) * inverse_r2e);
-      sums.fpx += Real(radial * dx);
-      sums.fpy += Real(radial * dy);
-      sums.fpz += Real(radial * dz);
+      const float both_radial = radial + viscous_radial;
+      sums.fx += Real(std::fma(both_radial, dx, laminar * dvx));
+      sums.fy += Real(std::fma(both_radial, dy, laminar * dvy));
+      sums.fz += Real(std::fma(both_radial, dz, laminar * dvz));
       sums.fvx += Real(std::fma(viscous_radial, dx, laminar * dvx));
       sums.fvy += Real(std::fma(viscous_radial, dy, laminar * dvy));
       sums.fvz += Real(std::fma(viscous_radial, dz, laminar * dvz));
@@ -706,14 +719,14 @@ void FluidFormulation::pair_pass(solver::NodeStore& nodes, Real dt) {
       while (count % simd_width != 0) found[count++] = a;
       const PairSums sums = wall ? interact<false>(in, constants, a, found.data(), count)
                                  : interact<true>(in, constants, a, found.data(), count);
-      const Vec3 fp(sums.fpx, sums.fpy, sums.fpz), fv(sums.fvx, sums.fvy, sums.fvz);
-      nodes.f[node] += fp + fv;
+      const Vec3 f(sums.fx, sums.fy, sums.fz), fv(sums.fvx, sums.fvy, sums.fvz);
+      nodes.f[node] += f;
       for (int d = 0; d < 3; ++d) {
-        pressure_force_[3 * a + d] = static_cast<float>(fp[d]);
+        pressure_force_[3 * a + d] = static_cast<float>(f[d] - fv[d]);
         viscous_force_[3 * a + d] = static_cast<float>(fv[d]);
       }
       if (!wall) {
-        max_acceleration = std::max(max_acceleration, (fp + fv).norm() / Real(mass_[a]));
+        max_acceleration = std::max(max_acceleration, f.norm() / Real(mass_[a]));
         max_mu = std::max(max_mu, Real(sums.max_mu));
       }
       // rho^n = rho^{n-1} + dt rho'^n; walls never go below rho0.

@@ -32,7 +32,8 @@
 //   no reference positions are stored.
 // - Positions and velocities are copied each step into single-precision records in cell order;
 //   the pair terms are evaluated in single precision by one sequence of operations for every pair,
-//   so the term of (a, b) is bitwise minus that of (b, a), and summed in double.
+//   so the term of (a, b) is bitwise minus that of (b, a), and summed in double (the viscous
+//   part alone, kept only to split the energy balance, in single precision).
 #include <limits>
 #include <vector>
 
