@@ -443,7 +443,8 @@ Index screen(const PairInputs& in, float H2, Index begin, Index end, Index self,
 
 // The pair sums of particle a over its neighbours found[0, count). The terms are evaluated in
 // single precision by one sequence of operations for every pair (x_ba = -x_ab and v_ba = -v_ab
-// bitwise), so the term of (a, b) is exactly minus the term of (b, a); they are summed in double.
+// bitwise), so the term of (a, b) is exactly minus the term of (b, a); the force is summed in
+// double (PairSums).
 // `count` is a multiple of simd_width, padded with a itself, whose terms are exactly zero
 // (x_aa = 0, v_aa = 0). The vector paths take 1 / r and 1 / (r^2 + (eta h)^2) from the
 // hardware's estimates refined by a Newton step, where the scalar path divides and takes a square
@@ -621,20 +622,17 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
     _mm256_store_pd(lanes, sum);
     return (lanes[0] + lanes[1]) + (lanes[2] + lanes[3]);
   };
-  {
+  const auto float_total = [](__m256 sum) {  // the lanes in order, added in double
     alignas(32) float lanes[8];
-    _mm256_store_ps(lanes, rate);
-    for (float lane : lanes) sums.rate += Real(lane);
-  }
+    _mm256_store_ps(lanes, sum);
+    Real total = 0;
+    for (float lane : lanes) total += Real(lane);
+    return total;
+  };
+  sums.rate = float_total(rate);
   if constexpr (with_force) {
     sums.fx = total(f[0]), sums.fy = total(f[1]), sums.fz = total(f[2]);
-    for (int i = 0; i < 3; ++i) {
-      alignas(32) float lanes[8];
-      _mm256_store_ps(lanes, fv[i]);
-      Real sum = 0;
-      for (float lane : lanes) sum += Real(lane);
-      (i == 0 ? sums.fvx : i == 1 ? sums.fvy : sums.fvz) = sum;
-    }
+    sums.fvx = float_total(fv[0]), sums.fvy = float_total(fv[1]), sums.fvz = float_total(fv[2]);
     alignas(32) float lanes[8];
     _mm256_store_ps(lanes, max_mu);
     sums.max_mu = *std::max_element(lanes, lanes + 8);
