@@ -33,11 +33,6 @@ namespace lanes {
 template <int W>
 struct Mask {
   bool bit[W];
-  friend Mask operator&(Mask a, Mask b) {
-    Mask m;
-    for (int i = 0; i < W; ++i) m.bit[i] = a.bit[i] && b.bit[i];
-    return m;
-  }
   // Bit i set when lane i is true.
   int lanes() const {
     int bits = 0;
@@ -188,7 +183,6 @@ inline void Real4::compress_indices(const Index* in, int lanes, Index* out) {
 // rounded.
 struct Mask8f {
   __m256 bits;
-  friend Mask8f operator&(Mask8f a, Mask8f b) { return {_mm256_and_ps(a.bits, b.bits)}; }
   // Bit i set when lane i is true.
   int lanes() const { return _mm256_movemask_ps(bits); }
 };
