@@ -32,6 +32,36 @@ inline unsigned moving_lanes(const std::uint8_t* moving, Index b) {
   return (word >> (b % 8)) & 0xFFFFu;
 }
 
+// Shrinks each range to the span from its first to its last moving particle, dropping the ranges
+// without one, in place; returns how many are left. The bits past a range's end are masked.
+template <typename Ranges>
+int moving_spans(const std::uint8_t* moving, Ranges& ranges, int count) {
+  int kept = 0;
+  for (int r = 0; r < count; ++r) {
+    Index begin = ranges[r].begin, end = ranges[r].end;
+    while (begin < end) {  // the first moving particle, sixteen slots at a time
+      const unsigned bits = moving_lanes(moving, begin) & (0xFFFFu >> (16 - std::min<Index>(end - begin, 16)));
+      if (bits) {
+        begin += std::countr_zero(bits);
+        break;
+      }
+      begin += 16;
+    }
+    if (begin >= end) continue;
+    while (true) {  // past the last one, from the end (begin moves, so this stops there)
+      const Index from = std::max(begin, end - 16);
+      const unsigned bits = moving_lanes(moving, from) & (0xFFFFu >> (16 - (end - from)));
+      if (bits) {
+        end = from + 32 - std::countl_zero(bits);
+        break;
+      }
+      end = from;
+    }
+    ranges[kept++] = {begin, end};
+  }
+  return kept;
+}
+
 // Time-step factors. Courant: the predictor-corrector density update is stable for w dt < 0.72
 // and the fastest SPH acoustic mode has w ~ 1.04 c / h (cubic spline), so h / (c + |v| + the
 // viscous signal speed) is scaled by 0.4 (w dt ~ 0.42). Force: Monaghan 1992,
@@ -222,10 +252,10 @@ void FluidFormulation::for_each_particle_candidates(bool pair_pass, Visit&& visi
     int block_count = -1;  // the cell's whole block, once a wall asks for it
     for (Index a = own.begin; a < own.end; ++a) {
       if (active && pair_pass && !(moving_lanes(moving_.data(), a) & 1u)) {
-        // A wall's screen skips the packs of walls by a bit test, which costs less than trimming
-        // its runs (25 rows, a square root and two gathers per eight): +1.5 % on the 10^5 dam
-        // break's pass, +4 to +8 % on the 10^6 one (docs/PERFORMANCE.md, session 13).
-        if (block_count < 0) block_count = stencil.block(block_ranges);
+        // A wall screens its cell's whole block, each run cut to the span from its first to its
+        // last moving particle, and skips the packs of walls within by a bit test: cheaper than
+        // trimming its runs per particle (docs/PERFORMANCE.md, sessions 13 and 18).
+        if (block_count < 0) block_count = moving_spans(moving_.data(), block_ranges, stencil.block(block_ranges));
         visit(a, block_ranges, block_count);
         continue;
       }
