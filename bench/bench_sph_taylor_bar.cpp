@@ -14,6 +14,10 @@
 // force_pairs_once: 1 when the force pass took each pair once (SolidFormulation::pairs_taken_once),
 // 0 when it gathered every row whole.
 //
+// BM_SphTaylorBarPeerPhysics runs the same rod with the physics of LAMMPS SMD's input
+// (bench/peers/lammps_smd_taylor_bar.in, TaylorBar::peer_physics) and its time step, so that
+// both codes do the same work per step; step_ns reports the step each variant takes.
+//
 // The 10^6-particle variant (D0/74, 981 312 particles; about 1 GB, and minutes to run the rod to
 // 5 us past impact) runs too, unless SPALL_BENCH_QUICK is set:
 //   SPALL_BENCH_QUICK=1 build/release/bin/spall_bench --benchmark_filter=TaylorBar
@@ -37,19 +41,28 @@ namespace {
 
 constexpr long long steps_per_iteration = 20;
 
-// One rod per resolution, run to 5 us past impact once and then shared by the thread counts.
-solver::Problem& impacted_rod(int particles_across) {
-  static std::map<int, std::unique_ptr<solver::Problem>> rods;
-  auto& rod = rods[particles_across];
+// One rod per resolution and physics, run to 5 us past impact once and then shared by the thread
+// counts.
+solver::Problem& impacted_rod(int particles_across, bool peer_physics) {
+  static std::map<std::pair<int, bool>, std::unique_ptr<solver::Problem>> rods;
+  auto& rod = rods[{particles_across, peer_physics}];
   if (!rod) {
     test_support::TaylorBar bar;
     bar.particles_across = particles_across;
+    bar.peer_physics = peer_physics;
     bar.end_time = 5e-6;
     rod = std::make_unique<solver::Problem>(solver::build_problem(test_support::taylor_bar_model(bar)));
     rod->controls.glstat_dt = 1.0;  // histories are not what is measured
     solver::run(*rod, {});
     rod->controls.end_time = 1.0;  // from here on the cycle limit ends each run
     rod->controls.end_cycle = steps_per_iteration;
+    // LAMMPS' input takes steps of 0.1 h / (c + |v|) (fix smd/adjust_dt 0.1): 10.9 ns at D0/35
+    // (its log), where Spall's TSSFAC 0.9 takes 46 ns with this physics. The same step gives the
+    // same neighbour-list reuse (a list lasts for a distance, not a number of steps).
+    if (peer_physics) {
+      const Real lammps_step = 10.9e-9 * 35 / particles_across;
+      rod->controls.tssfac = lammps_step / rod->formulations.front()->stable_time_step(rod->nodes);
+    }
   }
   return *rod;
 }
@@ -76,11 +89,11 @@ double neighbours_in_support(const solver::Problem& problem, const sph::SolidFor
   return double(inside) / double(sph.particle_count());
 }
 
-void BM_SphTaylorBar(benchmark::State& state) {
+void run_taylor_bar(benchmark::State& state, bool peer_physics) {
   log::set_quiet(true);
   const int particles_across = static_cast<int>(state.range(0));
   const int threads = static_cast<int>(state.range(1));
-  solver::Problem& problem = impacted_rod(particles_across);
+  solver::Problem& problem = impacted_rod(particles_across, peer_physics);
   omp_set_num_threads(threads);
   const auto& sph = dynamic_cast<const sph::SolidFormulation&>(*problem.formulations.front());
   const double n = sph.particle_count();
@@ -96,6 +109,8 @@ void BM_SphTaylorBar(benchmark::State& state) {
   const double evaluations = steps_per_iteration + 1;
   state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * n * evaluations));
   state.counters["particles"] = n;
+  // The time step the run has reached (the physical time each of these steps advances).
+  state.counters["step_ns"] = 1e9 * problem.controls.tssfac * sph.stable_time_step(problem.nodes);
   state.counters["threads"] = threads;
   state.counters["neighbours_in_support"] = neighbours_in_support(problem, sph);
   state.counters["passes_per_step"] = 2;
@@ -111,9 +126,21 @@ void BM_SphTaylorBar(benchmark::State& state) {
   state.counters["particle_steps_per_cpu_s"] = double(state.iterations()) * n * evaluations / cpu_seconds;
 }
 
+void BM_SphTaylorBar(benchmark::State& state) { run_taylor_bar(state, false); }
+// The same rod with LAMMPS SMD's physics (TaylorBar::peer_physics): the work per step that
+// bench/peers/lammps_smd.sh times.
+void BM_SphTaylorBarPeerPhysics(benchmark::State& state) { run_taylor_bar(state, true); }
+
 }  // namespace
 
 BENCHMARK(BM_SphTaylorBar)
+    ->ArgNames({"across", "threads"})
+    ->Args({35, 1})
+    ->Args({35, 2})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime()
+    ->MinTime(2.0);
+BENCHMARK(BM_SphTaylorBarPeerPhysics)
     ->ArgNames({"across", "threads"})
     ->Args({35, 1})
     ->Args({35, 2})

@@ -16,6 +16,12 @@ struct TaylorBar {
   int particles_across = 10;  // lattice spacing D0 / particles_across
   Real end_time = 80e-6;
   Real cslh = 1.2;
+  // The physics of bench/peers/lammps_smd_taylor_bar.in (LAMMPS SMD's smd/ulsph), for a speed
+  // comparison that does the same work per pair and particle: plain SPH (*CONTROL_SPH FORM 0, no
+  // gradient correction) and J2 plasticity with linear hardening (*MAT_PLASTIC_KINEMATIC: G 46 GPa,
+  // K = rho c0^2 with c0 3940 m/s, yield 90 MPa, hardening modulus 0.3 GPa) in place of
+  // Johnson-Cook. Not the Wilkins & Guinan test: the verification test leaves it off.
+  bool peer_physics = false;
 };
 
 inline model::Model taylor_bar_model(const TaylorBar& bar) {
@@ -45,6 +51,21 @@ inline model::Model taylor_bar_model(const TaylorBar& bar) {
   mat.id = 1;
   mat.keyword = "*MAT_JOHNSON_COOK";
   mat.params = jc;
+  if (bar.peer_physics) {
+    const Real G = 46e9, K = jc.ro * 3940.0 * 3940.0, hardening = 0.3e9;
+    model::MatPlasticKinematic pk;
+    pk.ro = jc.ro;
+    pk.e = 9 * K * G / (3 * K + G);
+    pk.pr = (3 * K - 2 * G) / (2 * (3 * K + G));
+    pk.sigy = 90e6;
+    pk.etan = pk.e * hardening / (pk.e + hardening);  // hardening = E Etan / (E - Etan)
+    pk.beta = 1;                                      // isotropic
+    mat.keyword = "*MAT_PLASTIC_KINEMATIC";
+    mat.params = pk;
+    model::ControlSph control;
+    control.form = 0;
+    m.control_sph = control;
+  }
   m.materials[1] = mat;
 
   const Real dx = bar.diameter / bar.particles_across;
