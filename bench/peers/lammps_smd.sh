@@ -33,7 +33,11 @@ if [ ! -x "$lmp" ]; then
 fi
 log=$work/taylor_bar_${across}_${hfac}_${ranks}.log
 cd "$work"
-OMP_NUM_THREADS=1 mpirun --allow-run-as-root -np "$ranks" "$lmp" -in "$root/bench/peers/lammps_smd_taylor_bar.in" -log none \
+# One rank is not bound to a core, so that `taskset -c 1 bash bench/peers/lammps_smd.sh` runs it
+# beside a Spall run pinned to core 0 (mpirun would bind it to core 0 as well: half the speed).
+bind=""
+[ "$ranks" -eq 1 ] && bind="--bind-to none"
+OMP_NUM_THREADS=1 mpirun --allow-run-as-root $bind -np "$ranks" "$lmp" -in "$root/bench/peers/lammps_smd_taylor_bar.in" -log none \
   -var across "$across" -var hfac "$hfac" -var warm "$warm" -var steps "$steps" >"$log" 2>&1 || { tail -5 "$log"; exit 1; }
 # The last "Loop time of T on P procs for N steps with M atoms" is the timed run; the neighbours are
 # the thermo column c_neighbours at its last line.
