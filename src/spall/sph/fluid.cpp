@@ -81,6 +81,8 @@ constexpr Index simd_width = 16;
 #else
 constexpr Index simd_width = 8;
 #endif
+// Walls whose continuity sums run side by side, one per single-precision lane (wall_rates).
+constexpr int wall_group = 8;
 
 template <typename T>
 void permute(std::vector<T>& values, std::span<const Index> order) {
@@ -234,8 +236,8 @@ void FluidFormulation::gather(const solver::NodeStore& nodes, Real dt) {
   max_sound_speed_ = m.sound_speed_at(max_density);
 }
 
-template <typename Visit>
-void FluidFormulation::for_each_particle_candidates(bool pair_pass, Visit&& visit) const {
+template <typename Visit, typename VisitWalls>
+void FluidFormulation::for_each_particle_candidates(bool pair_pass, Visit&& visit, VisitWalls&& visit_walls) const {
   neighbors::TrimmedStencil stencil(cells_, stencil_reach);
   neighbors::TrimmedStencil::Ranges ranges, block_ranges;
   // A neighbour within the support now was binned within support + travelled_ of this
@@ -250,19 +252,24 @@ void FluidFormulation::for_each_particle_candidates(bool pair_pass, Visit&& visi
     const bool active = !pair_pass || active_cell_[c];
     if (active) stencil.prepare(c);
     int block_count = -1;  // the cell's whole block, once a wall asks for it
+    Index walls[wall_group];
+    int wall_count = 0;
     for (Index a = own.begin; a < own.end; ++a) {
-      if (active && pair_pass && !(moving_lanes(moving_.data(), a) & 1u)) {
-        // A wall screens its cell's whole block, each run cut to the span from its first to its
-        // last moving particle, and skips the packs of walls within by a bit test: cheaper than
-        // trimming its runs per particle (docs/PERFORMANCE.md, sessions 13 and 18).
-        if (block_count < 0) block_count = moving_spans(moving_.data(), block_ranges, stencil.block(block_ranges));
-        visit(a, block_ranges, block_count);
+      if (pair_pass && !(moving_lanes(moving_.data(), a) & 1u)) {
+        // The walls of a cell share its whole block, each run cut to the span from its first to
+        // its last moving particle: cheaper than trimming runs per wall (docs/PERFORMANCE.md,
+        // sessions 13, 18 and 19). Inactive cells have no moving particle within reach.
+        if (block_count < 0)
+          block_count = active ? moving_spans(moving_.data(), block_ranges, stencil.block(block_ranges)) : 0;
+        walls[wall_count++] = a;
+        if (wall_count == wall_group) visit_walls(walls, wall_count, block_ranges, block_count), wall_count = 0;
         continue;
       }
       const FluidRecord& r = record_[a];
       const int range_count = active ? stencil.trimmed(Vec3(r.x, r.y, r.z), radius, ranges) : 0;
       visit(a, ranges, range_count);
     }
+    if (wall_count > 0) visit_walls(walls, wall_count, block_ranges, block_count);
   }
 }
 
@@ -389,6 +396,34 @@ struct PairConstants {
   float two_mu;           // mu_a + mu_b
 };
 
+// F = (dW/dr) / r of the cubic spline (seed 000 eq. 3 differentiated) from r^2 and 1 / r:
+// k (18 q - 12) for q = r / H <= 1/2, -6 k (1 - q)^2 / q beyond, with 1 / q = H / r.
+inline float gradient_factor(float r2, float inverse_r, const PairConstants& c) {
+  const float q = std::min(r2 * inverse_r * c.inverse_support, 1.0f);
+  return q <= 0.5f ? 18 * c.kernel * q - 12 * c.kernel
+                   : -(6 * c.kernel / c.inverse_support) * ((1 - q) * (1 - q)) * inverse_r;
+}
+#if defined(__AVX2__)
+// 1 / r of eight pairs from the 12-bit estimate and one Newton step, y (3/2 - r^2/2 y^2): the
+// square root and the division queue on one port (docs/PERFORMANCE.md, session 17).
+[[gnu::always_inline]] inline __m256 inverse_sqrt(__m256 r2) {
+  const __m256 y = _mm256_rsqrt_ps(r2);
+  return _mm256_mul_ps(y, _mm256_fnmadd_ps(_mm256_mul_ps(_mm256_set1_ps(0.5f), r2), _mm256_mul_ps(y, y),
+                                           _mm256_set1_ps(1.5f)));
+}
+// gradient_factor of eight pairs, by the same operations.
+[[gnu::always_inline]] inline __m256 gradient_factor(__m256 r2, __m256 inverse_r, const PairConstants& c) {
+  const __m256 one = _mm256_set1_ps(1), half = _mm256_set1_ps(0.5f);
+  const __m256 q = _mm256_min_ps(_mm256_mul_ps(_mm256_mul_ps(r2, inverse_r), _mm256_set1_ps(c.inverse_support)), one);
+  const __m256 near = _mm256_sub_ps(_mm256_mul_ps(_mm256_set1_ps(18 * c.kernel), q), _mm256_set1_ps(12 * c.kernel));
+  const __m256 one_minus_q = _mm256_sub_ps(one, q);
+  const __m256 far = _mm256_mul_ps(
+      _mm256_mul_ps(_mm256_set1_ps(-(6 * c.kernel / c.inverse_support)), _mm256_mul_ps(one_minus_q, one_minus_q)),
+      inverse_r);
+  return _mm256_blendv_ps(far, near, _mm256_cmp_ps(q, half, _CMP_LE_OQ));
+}
+#endif
+
 // The force is summed in double (momentum cancels pair by pair); its viscous part, which only
 // splits the energy balance into stored and dissipated, may be summed in single precision.
 struct PairSums {
@@ -399,16 +434,11 @@ struct PairSums {
 };
 
 // Appends to `found` the particles of [begin, end) closer to particle `self` than H, except
-// `self`; returns the new count. With moving_only (a wall's pass, which sums continuity only),
-// keeps the moving particles alone, as DualSPHysics' boundary particles see only the fluid: the
-// walls rest (their translations are held), so their terms m_b F v_ab . x_ab with a wall are
-// exactly zero, and a pack of walls only is skipped before its records are read (the walls'
-// screen was 11 % of the dam break's step; +5-7 % for the pass). The vector paths read simd_width
-// records at a time, up to simd_width past `end` (the records are padded),
-// mask the lanes past `end` off and write simd_width entries at a time (found needs simd_width
-// spare slots); they test exactly as the scalar path does (same fused operations), so the pair
-// (a, b) of two moving particles is found from both sides or from neither.
-template <bool moving_only>
+// `self`; returns the new count. The vector paths read simd_width records at a time, up to
+// simd_width past `end` (the records are padded), mask the lanes past `end` off and write
+// simd_width entries at a time (found needs simd_width spare slots); they test exactly as the
+// scalar path does (same fused operations), so the pair (a, b) of two moving particles is found
+// from both sides or from neither.
 Index screen(const PairInputs& in, float H2, Index begin, Index end, Index self, Index* found,
              Index count) {
   const FluidRecord& own = in.record[self];
@@ -418,8 +448,6 @@ Index screen(const PairInputs& in, float H2, Index begin, Index end, Index self,
   const __m512 vH2 = _mm512_set1_ps(H2);
   const __m512i lane = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
   for (Index b = begin; b < end; b += 16) {
-    const __mmask16 moving = moving_only ? static_cast<__mmask16>(moving_lanes(in.moving, b)) : 0xFFFF;
-    if (moving == 0) continue;  // walls only
     __m512 xb, yb, zb;
     load_positions(in.record + b, xb, yb, zb);
     const __m512 dx = _mm512_sub_ps(pxa, xb);
@@ -429,7 +457,6 @@ Index screen(const PairInputs& in, float H2, Index begin, Index end, Index self,
     unsigned in_range = 0xFFFFu >> (16 - std::min<Index>(end - b, 16));
     if (self >= b && self < b + 16) in_range &= ~(1u << (self - b));
     __mmask16 mask = _mm512_mask_cmp_ps_mask(static_cast<__mmask16>(in_range), r2, vH2, _CMP_LT_OQ);
-    mask &= moving;
     // Left-pack in a register and store all 16 lanes (found has the spare slots): the compressing
     // store to memory is no faster on Intel cores and microcoded, far slower, on AMD Zen 4.
     const __m512i index = _mm512_maskz_compress_epi32(mask, _mm512_add_epi32(_mm512_set1_epi32(b), lane));
@@ -440,15 +467,13 @@ Index screen(const PairInputs& in, float H2, Index begin, Index end, Index self,
   const __m256 pxa = _mm256_set1_ps(xa), pya = _mm256_set1_ps(ya), pza = _mm256_set1_ps(za);
   const __m256 vH2 = _mm256_set1_ps(H2);
   for (Index b = begin; b < end; b += 8) {
-    const unsigned moving = moving_only ? moving_lanes(in.moving, b) & 0xFFu : 0xFFu;
-    if (moving == 0) continue;  // walls only
     __m256 xb, yb, zb;
     load_positions(in.record + b, xb, yb, zb);
     const __m256 dx = _mm256_sub_ps(pxa, xb);
     const __m256 dy = _mm256_sub_ps(pya, yb);
     const __m256 dz = _mm256_sub_ps(pza, zb);
     const __m256 r2 = _mm256_fmadd_ps(dz, dz, _mm256_fmadd_ps(dy, dy, _mm256_mul_ps(dx, dx)));
-    unsigned mask = static_cast<unsigned>(_mm256_movemask_ps(_mm256_cmp_ps(r2, vH2, _CMP_LT_OQ))) & moving;
+    unsigned mask = static_cast<unsigned>(_mm256_movemask_ps(_mm256_cmp_ps(r2, vH2, _CMP_LT_OQ)));
     mask = _bzhi_u32(mask, static_cast<unsigned>(std::min<Index>(end - b, 8)));
     if (self >= b && self < b + 8) mask &= ~(1u << (self - b));
     // Left-pack the lanes whose bit is set: their numbers from the table, one byte each (a load
@@ -463,9 +488,8 @@ Index screen(const PairInputs& in, float H2, Index begin, Index end, Index self,
   for (Index b = begin; b < end; ++b) {
     const FluidRecord& other = in.record[b];
     const float dx = xa - other.x, dy = ya - other.y, dz = za - other.z;
-    const bool moving = !moving_only || (moving_lanes(in.moving, b) & 1u);
     found[count] = b;
-    count += (std::fma(dz, dz, std::fma(dy, dy, dx * dx)) < H2) & (b != self) & moving;
+    count += (std::fma(dz, dz, std::fma(dy, dy, dx * dx)) < H2) & (b != self);
   }
 #endif
   return count;
@@ -479,19 +503,20 @@ Index screen(const PairInputs& in, float H2, Index begin, Index end, Index self,
 // (x_aa = 0, v_aa = 0). The vector paths take 1 / r and 1 / (r^2 + (eta h)^2) from the
 // hardware's estimates refined by a Newton step, where the scalar path divides and takes a square
 // root; one build runs one path, so the pair (a, b) and the pair (b, a) always see the same
-// operations. Within a path, the order of the double sums is fixed.
-template <bool with_force>
+// operations. Within a path, the order of the double sums is fixed. uniform_mass: every particle
+// has the mass in.uniform_mass, so that m_b and the products with m_a m_b are loop constants.
+template <bool uniform_mass>
 PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const Index* found,
                   Index count) {
   const FluidRecord& own = in.record[a];
   const float xa = own.x, ya = own.y, za = own.z;
   const float vxa = own.vx, vya = own.vy, vza = own.vz;
   const float m_a = in.mass[a], inverse_rho_a = own.inverse_density, P_a = own.pressure_term;
-  // F = k (18 q - 12) for q <= 1/2, -6 k (1 - q)^2 / q beyond, with 1 / q = H / r.
-  const float k18 = 18 * c.kernel, k12 = 12 * c.kernel, k6H = 6 * c.kernel / c.inverse_support;
   PairSums sums;
   Index s = 0;
 #if defined(SPALL_SIMD_AVX512)
+  // gradient_factor's constants.
+  const float k18 = 18 * c.kernel, k12 = 12 * c.kernel, k6H = 6 * c.kernel / c.inverse_support;
   const auto splat = [](float v) { return _mm512_set1_ps(v); };
   const __m512 one = splat(1), half = splat(0.5f), tiny = splat(1e-30f), zero = _mm512_setzero_ps();
   // (The zero-masked estimates with every lane on: GCC 12 warns on the unmasked forms, simd.hpp.)
@@ -532,32 +557,30 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
     const __m512 dvz = _mm512_sub_ps(splat(vza), field[5]);
     const __m512 vr = _mm512_fmadd_ps(dvz, dz, _mm512_fmadd_ps(dvy, dy, _mm512_mul_ps(dvx, dx)));
     const __m512 m_b =
-        in.uniform_mass > 0
+        uniform_mass
             ? splat(in.uniform_mass)
             : _mm512_i32gather_ps(_mm512_permutexvar_epi32(lanes_of_records, _mm512_loadu_si512(found + s)), in.mass, 4);
     rate = _mm512_fmadd_ps(_mm512_mul_ps(m_b, F), vr, rate);
-    if constexpr (with_force) {
-      const __m512 mm = _mm512_mul_ps(splat(m_a), m_b);
-      const __m512 inverse_rho_b = field[6];
-      const __m512 radial =
-          _mm512_mul_ps(_mm512_mul_ps(_mm512_sub_ps(zero, mm), _mm512_add_ps(splat(P_a), field[7])), F);
-      const __m512 mu = _mm512_mul_ps(_mm512_mul_ps(splat(c.h), vr), inverse_r2e);
-      const __mmask16 approaching = _mm512_cmp_ps_mask(vr, zero, _CMP_LT_OQ);
-      const __m512 Pi = _mm512_maskz_mul_ps(
-          approaching,
-          _mm512_fmadd_ps(splat(c.beta), _mm512_mul_ps(mu, mu), _mm512_mul_ps(splat(-c.alpha_c), mu)),
-          _mm512_mul_ps(half, _mm512_add_ps(splat(inverse_rho_a), inverse_rho_b)));
-      max_mu = _mm512_mask_max_ps(max_mu, approaching, _mm512_sub_ps(zero, mu), max_mu);
-      const __m512 viscous_radial = _mm512_mul_ps(_mm512_mul_ps(_mm512_sub_ps(zero, mm), Pi), F);
-      const __m512 laminar = _mm512_mul_ps(
-          _mm512_mul_ps(_mm512_mul_ps(mm, splat(c.two_mu)),
-                        _mm512_mul_ps(splat(inverse_rho_a), inverse_rho_b)),
-          _mm512_mul_ps(_mm512_mul_ps(F, r2), inverse_r2e));
-      const __m512 d[3] = {dx, dy, dz}, dv[3] = {dvx, dvy, dvz};
-      for (int i = 0; i < 3; ++i) {
-        accumulate(fp[i], _mm512_mul_ps(radial, d[i]));
-        accumulate(fv[i], _mm512_fmadd_ps(viscous_radial, d[i], _mm512_mul_ps(laminar, dv[i])));
-      }
+    const __m512 mm = _mm512_mul_ps(splat(m_a), m_b);
+    const __m512 inverse_rho_b = field[6];
+    const __m512 radial =
+        _mm512_mul_ps(_mm512_mul_ps(_mm512_sub_ps(zero, mm), _mm512_add_ps(splat(P_a), field[7])), F);
+    const __m512 mu = _mm512_mul_ps(_mm512_mul_ps(splat(c.h), vr), inverse_r2e);
+    const __mmask16 approaching = _mm512_cmp_ps_mask(vr, zero, _CMP_LT_OQ);
+    const __m512 Pi = _mm512_maskz_mul_ps(
+        approaching,
+        _mm512_fmadd_ps(splat(c.beta), _mm512_mul_ps(mu, mu), _mm512_mul_ps(splat(-c.alpha_c), mu)),
+        _mm512_mul_ps(half, _mm512_add_ps(splat(inverse_rho_a), inverse_rho_b)));
+    max_mu = _mm512_mask_max_ps(max_mu, approaching, _mm512_sub_ps(zero, mu), max_mu);
+    const __m512 viscous_radial = _mm512_mul_ps(_mm512_mul_ps(_mm512_sub_ps(zero, mm), Pi), F);
+    const __m512 laminar = _mm512_mul_ps(
+        _mm512_mul_ps(_mm512_mul_ps(mm, splat(c.two_mu)),
+                      _mm512_mul_ps(splat(inverse_rho_a), inverse_rho_b)),
+        _mm512_mul_ps(_mm512_mul_ps(F, r2), inverse_r2e));
+    const __m512 d[3] = {dx, dy, dz}, dv[3] = {dvx, dvy, dvz};
+    for (int i = 0; i < 3; ++i) {
+      accumulate(fp[i], _mm512_mul_ps(radial, d[i]));
+      accumulate(fv[i], _mm512_fmadd_ps(viscous_radial, d[i], _mm512_mul_ps(laminar, dv[i])));
     }
   }
   const auto total = [](const __m512d (&sum)[2]) {
@@ -570,13 +593,11 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
     _mm512_store_ps(lanes, rate);
     for (float lane : lanes) sums.rate += Real(lane);
   }
-  if constexpr (with_force) {
-    sums.fvx = total(fv[0]), sums.fvy = total(fv[1]), sums.fvz = total(fv[2]);
-    sums.fx = total(fp[0]) + sums.fvx, sums.fy = total(fp[1]) + sums.fvy, sums.fz = total(fp[2]) + sums.fvz;
-    alignas(64) float lanes[16];
-    _mm512_store_ps(lanes, max_mu);
-    sums.max_mu = *std::max_element(lanes, lanes + 16);
-  }
+  sums.fvx = total(fv[0]), sums.fvy = total(fv[1]), sums.fvz = total(fv[2]);
+  sums.fx = total(fp[0]) + sums.fvx, sums.fy = total(fp[1]) + sums.fvy, sums.fz = total(fp[2]) + sums.fvz;
+  alignas(64) float lanes[16];
+  _mm512_store_ps(lanes, max_mu);
+  sums.max_mu = *std::max_element(lanes, lanes + 16);
 #elif defined(__AVX2__)
   const auto splat = [](float v) { return _mm256_set1_ps(v); };
   const __m256 one = splat(1), half = splat(0.5f), tiny = splat(1e-30f), zero = _mm256_setzero_ps();
@@ -586,7 +607,12 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
   __m256d f[3] = {};
   __m256 fv[3] = {zero, zero, zero};
   __m256 rate = zero;  // the density rate needs no double sum (momentum does not depend on it)
-  __m256 max_mu = zero;
+  // The most negative mu of an approaching pair (0 if none): mu < 0 exactly where v_ab . x_ab < 0.
+  __m256 min_mu = zero;
+  // m_b, m_a m_b, -m_a m_b and m_a m_b (mu_a + mu_b) of every pair, when all masses are one.
+  const float mm_uniform = m_a * in.uniform_mass;
+  const __m256 uniform_mb = splat(in.uniform_mass), uniform_mm = splat(mm_uniform),
+               uniform_minus_mm = splat(-mm_uniform), uniform_mm_mu = splat(mm_uniform * c.two_mu);
   const auto accumulate = [](__m256d& sum, __m256 v) {
     sum = _mm256_add_pd(sum, _mm256_add_pd(_mm256_cvtps_pd(_mm256_castps256_ps128(v)),
                                            _mm256_cvtps_pd(_mm256_extractf128_ps(v, 1))));
@@ -600,51 +626,40 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
     const __m256 r2 = _mm256_max_ps(
         _mm256_fmadd_ps(dz, dz, _mm256_fmadd_ps(dy, dy, _mm256_mul_ps(dx, dx))), tiny);
     // 1 / r and 1 / (r^2 + (eta h)^2) from the 12-bit estimates and one Newton step each, as on
-    // AVX-512: the square root and the division queue on one port (docs/PERFORMANCE.md, s17).
+    // AVX-512.
     const __m256 r2e = _mm256_add_ps(r2, splat(c.eta2));
-    const __m256 y = _mm256_rsqrt_ps(r2);  // y (3/2 - r^2/2 y^2)
-    const __m256 inverse_r =
-        _mm256_mul_ps(y, _mm256_fnmadd_ps(_mm256_mul_ps(half, r2), _mm256_mul_ps(y, y), splat(1.5f)));
+    const __m256 inverse_r = inverse_sqrt(r2);
     const __m256 z = _mm256_rcp_ps(r2e);  // z + z (1 - r2e z)
     const __m256 inverse_r2e = _mm256_fmadd_ps(z, _mm256_fnmadd_ps(r2e, z, one), z);
-    const __m256 q = _mm256_min_ps(_mm256_mul_ps(_mm256_mul_ps(r2, inverse_r), splat(c.inverse_support)), one);
-    const __m256 near = _mm256_sub_ps(_mm256_mul_ps(splat(k18), q), splat(k12));
-    const __m256 one_minus_q = _mm256_sub_ps(one, q);
-    const __m256 far = _mm256_mul_ps(_mm256_mul_ps(splat(-k6H), _mm256_mul_ps(one_minus_q, one_minus_q)), inverse_r);
-    const __m256 F = _mm256_blendv_ps(far, near, _mm256_cmp_ps(q, half, _CMP_LE_OQ));
+    const __m256 F = gradient_factor(r2, inverse_r, c);
     const __m256 dvx = _mm256_sub_ps(splat(vxa), field[3]);
     const __m256 dvy = _mm256_sub_ps(splat(vya), field[4]);
     const __m256 dvz = _mm256_sub_ps(splat(vza), field[5]);
     const __m256 vr = _mm256_fmadd_ps(dvz, dz, _mm256_fmadd_ps(dvy, dy, _mm256_mul_ps(dvx, dx)));
     const __m256 m_b =
-        in.uniform_mass > 0
-            ? splat(in.uniform_mass)
-            : _mm256_i32gather_ps(in.mass, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(found + s)), 4);
+        uniform_mass ? uniform_mb
+                     : _mm256_i32gather_ps(in.mass, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(found + s)), 4);
     rate = _mm256_fmadd_ps(_mm256_mul_ps(m_b, F), vr, rate);
-    if constexpr (with_force) {
-      const __m256 mm = _mm256_mul_ps(splat(m_a), m_b);
-      const __m256 inverse_rho_b = field[6];
-      const __m256 radial =
-          _mm256_mul_ps(_mm256_mul_ps(_mm256_sub_ps(zero, mm), _mm256_add_ps(splat(P_a), field[7])), F);
-      const __m256 mu = _mm256_mul_ps(_mm256_mul_ps(splat(c.h), vr), inverse_r2e);
-      const __m256 Pi_full = _mm256_mul_ps(
-          _mm256_fmadd_ps(splat(c.beta), _mm256_mul_ps(mu, mu), _mm256_mul_ps(splat(-c.alpha_c), mu)),
-          _mm256_mul_ps(half, _mm256_add_ps(splat(inverse_rho_a), inverse_rho_b)));
-      const __m256 approaching = _mm256_cmp_ps(vr, zero, _CMP_LT_OQ);
-      const __m256 Pi = _mm256_blendv_ps(zero, Pi_full, approaching);
-      max_mu = _mm256_max_ps(max_mu, _mm256_blendv_ps(zero, _mm256_sub_ps(zero, mu), approaching));
-      const __m256 viscous_radial = _mm256_mul_ps(_mm256_mul_ps(_mm256_sub_ps(zero, mm), Pi), F);
-      const __m256 laminar = _mm256_mul_ps(
-          _mm256_mul_ps(_mm256_mul_ps(mm, splat(c.two_mu)),
-                        _mm256_mul_ps(splat(inverse_rho_a), inverse_rho_b)),
-          _mm256_mul_ps(_mm256_mul_ps(F, r2), inverse_r2e));
-      const __m256 both_radial = _mm256_add_ps(radial, viscous_radial);
-      const __m256 d[3] = {dx, dy, dz}, dv[3] = {dvx, dvy, dvz};
-      for (int i = 0; i < 3; ++i) {
-        const __m256 along_dv = _mm256_mul_ps(laminar, dv[i]);
-        accumulate(f[i], _mm256_fmadd_ps(both_radial, d[i], along_dv));
-        fv[i] = _mm256_add_ps(fv[i], _mm256_fmadd_ps(viscous_radial, d[i], along_dv));
-      }
+    const __m256 mm = uniform_mass ? uniform_mm : _mm256_mul_ps(splat(m_a), m_b);
+    const __m256 minus_mm = uniform_mass ? uniform_minus_mm : _mm256_sub_ps(zero, mm);
+    const __m256 mm_mu = uniform_mass ? uniform_mm_mu : _mm256_mul_ps(mm, splat(c.two_mu));
+    const __m256 inverse_rho_b = field[6];
+    const __m256 radial = _mm256_mul_ps(_mm256_mul_ps(minus_mm, _mm256_add_ps(splat(P_a), field[7])), F);
+    // mu of an approaching pair, else 0, which makes Pi exactly 0 (+0, as a blend would).
+    const __m256 mu = _mm256_min_ps(_mm256_mul_ps(_mm256_mul_ps(splat(c.h), vr), inverse_r2e), zero);
+    const __m256 Pi = _mm256_mul_ps(
+        _mm256_fmadd_ps(splat(c.beta), _mm256_mul_ps(mu, mu), _mm256_mul_ps(splat(-c.alpha_c), mu)),
+        _mm256_mul_ps(half, _mm256_add_ps(splat(inverse_rho_a), inverse_rho_b)));
+    min_mu = _mm256_min_ps(min_mu, mu);
+    const __m256 viscous_radial = _mm256_mul_ps(_mm256_mul_ps(minus_mm, Pi), F);
+    const __m256 laminar = _mm256_mul_ps(_mm256_mul_ps(mm_mu, _mm256_mul_ps(splat(inverse_rho_a), inverse_rho_b)),
+                                         _mm256_mul_ps(_mm256_mul_ps(F, r2), inverse_r2e));
+    const __m256 both_radial = _mm256_add_ps(radial, viscous_radial);
+    const __m256 d[3] = {dx, dy, dz}, dv[3] = {dvx, dvy, dvz};
+    for (int i = 0; i < 3; ++i) {
+      const __m256 along_dv = _mm256_mul_ps(laminar, dv[i]);
+      accumulate(f[i], _mm256_fmadd_ps(both_radial, d[i], along_dv));
+      fv[i] = _mm256_add_ps(fv[i], _mm256_fmadd_ps(viscous_radial, d[i], along_dv));
     }
   }
   const auto total = [](__m256d sum) {
@@ -660,13 +675,11 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
     return total;
   };
   sums.rate = float_total(rate);
-  if constexpr (with_force) {
-    sums.fx = total(f[0]), sums.fy = total(f[1]), sums.fz = total(f[2]);
-    sums.fvx = float_total(fv[0]), sums.fvy = float_total(fv[1]), sums.fvz = float_total(fv[2]);
-    alignas(32) float lanes[8];
-    _mm256_store_ps(lanes, max_mu);
-    sums.max_mu = *std::max_element(lanes, lanes + 8);
-  }
+  sums.fx = total(f[0]), sums.fy = total(f[1]), sums.fz = total(f[2]);
+  sums.fvx = float_total(fv[0]), sums.fvy = float_total(fv[1]), sums.fvz = float_total(fv[2]);
+  alignas(32) float lanes[8];
+  _mm256_store_ps(lanes, min_mu);
+  sums.max_mu = -*std::min_element(lanes, lanes + 8);
 #endif
   for (; s < count; ++s) {
     const Index b = found[s];
@@ -676,33 +689,100 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
     const float r = std::sqrt(r2);
     const float r2e = r2 + c.eta2;
     const float inverse_product = 1.0f / (r * r2e);
-    const float inverse_r = inverse_product * r2e;
-    const float q = std::min(r2 * inverse_r * c.inverse_support, 1.0f);
-    const float F = q <= 0.5f ? k18 * q - k12 : -k6H * ((1 - q) * (1 - q)) * inverse_r;
+    const float F = gradient_factor(r2, inverse_product * r2e, c);
     const float dvx = vxa - other.vx, dvy = vya - other.vy, dvz = vza - other.vz;
     const float vr = std::fma(dvz, dz, std::fma(dvy, dy, dvx * dx));
     const float m_b = in.mass[b];
     sums.rate += Real(m_b * F * vr);
-    if constexpr (with_force) {
-      const float mm = m_a * m_b;
-      const float inverse_rho_b = other.inverse_density;
-      const float radial = (-mm * (P_a + other.pressure_term)) * F;
-      const float inverse_r2e = inverse_product * r;
-      const float mu = (c.h * vr) * inverse_r2e;
-      const float Pi = vr < 0 ? std::fma(c.beta, mu * mu, -c.alpha_c * mu) * (0.5f * (inverse_rho_a + inverse_rho_b)) : 0.0f;
-      if (vr < 0) sums.max_mu = std::max(sums.max_mu, -mu);
-      const float viscous_radial = (-mm * Pi) * F;
-      const float laminar = ((mm * c.two_mu) * (inverse_rho_a * inverse_rho_b)) * ((F * r2) * inverse_r2e);
-      const float both_radial = radial + viscous_radial;
-      sums.fx += Real(std::fma(both_radial, dx, laminar * dvx));
-      sums.fy += Real(std::fma(both_radial, dy, laminar * dvy));
-      sums.fz += Real(std::fma(both_radial, dz, laminar * dvz));
-      sums.fvx += Real(std::fma(viscous_radial, dx, laminar * dvx));
-      sums.fvy += Real(std::fma(viscous_radial, dy, laminar * dvy));
-      sums.fvz += Real(std::fma(viscous_radial, dz, laminar * dvz));
-    }
+    const float mm = m_a * m_b;
+    const float inverse_rho_b = other.inverse_density;
+    const float radial = (-mm * (P_a + other.pressure_term)) * F;
+    const float inverse_r2e = inverse_product * r;
+    const float mu = (c.h * vr) * inverse_r2e;
+    const float Pi = vr < 0 ? std::fma(c.beta, mu * mu, -c.alpha_c * mu) * (0.5f * (inverse_rho_a + inverse_rho_b)) : 0.0f;
+    if (vr < 0) sums.max_mu = std::max(sums.max_mu, -mu);
+    const float viscous_radial = (-mm * Pi) * F;
+    const float laminar = ((mm * c.two_mu) * (inverse_rho_a * inverse_rho_b)) * ((F * r2) * inverse_r2e);
+    const float both_radial = radial + viscous_radial;
+    sums.fx += Real(std::fma(both_radial, dx, laminar * dvx));
+    sums.fy += Real(std::fma(both_radial, dy, laminar * dvy));
+    sums.fz += Real(std::fma(both_radial, dz, laminar * dvz));
+    sums.fvx += Real(std::fma(viscous_radial, dx, laminar * dvx));
+    sums.fvy += Real(std::fma(viscous_radial, dy, laminar * dvy));
+    sums.fvz += Real(std::fma(viscous_radial, dz, laminar * dvz));
   }
   return sums;
+}
+
+// The continuity rates of the walls w[0, count) (count <= wall_group) of one cell, from the moving
+// particles of the runs `spans` (their block, cut to moving spans): rate_w = sum_b m_b F_wb
+// v_wb . x_wb over the moving b with r_wb < H, each pair's term by the operations interact uses,
+// into rates[0, count). Walls see only moving particles, as DualSPHysics' boundary particles see
+// only the fluid: walls rest (their translations are held), so a term with another wall is
+// exactly zero. The walls take lanes and each moving neighbour is broadcast to all of
+// them, so that a cell's walls read the spans once where each screened them on its own, about
+// half the walls' cost (docs/PERFORMANCE.md, session 19). A wall's sum runs in single precision
+// in span order: the walls' density needs no exact cancellation.
+template <typename Ranges>
+void wall_rates(const PairInputs& in, const PairConstants& c, const Index* w, int count, const Ranges& spans,
+                int span_count, Real* rates) {
+#if defined(__AVX2__)
+  alignas(32) float lanes[7][wall_group];
+  for (int k = 0; k < wall_group; ++k) {  // lanes past count repeat the last wall
+    const FluidRecord& own = in.record[w[std::min(k, count - 1)]];
+    lanes[0][k] = own.x, lanes[1][k] = own.y, lanes[2][k] = own.z;
+    lanes[3][k] = own.vx, lanes[4][k] = own.vy, lanes[5][k] = own.vz;
+  }
+  const auto splat = [](float v) { return _mm256_set1_ps(v); };
+  const __m256 xa = _mm256_load_ps(lanes[0]), ya = _mm256_load_ps(lanes[1]), za = _mm256_load_ps(lanes[2]);
+  const __m256 vxa = _mm256_load_ps(lanes[3]), vya = _mm256_load_ps(lanes[4]), vza = _mm256_load_ps(lanes[5]);
+  const __m256 tiny = splat(1e-30f), H2 = splat(c.support_squared);
+  __m256 rate = _mm256_setzero_ps();
+  for (int r = 0; r < span_count; ++r) {
+    const Index end = spans[r].end;
+    for (Index first = spans[r].begin; first < end; first += 16) {
+      unsigned moving = moving_lanes(in.moving, first) & (0xFFFFu >> (16 - std::min<Index>(end - first, 16)));
+      for (; moving != 0; moving &= moving - 1) {
+        const Index b = first + std::countr_zero(moving);
+        const FluidRecord& other = in.record[b];
+        const __m256 dx = _mm256_sub_ps(xa, splat(other.x));
+        const __m256 dy = _mm256_sub_ps(ya, splat(other.y));
+        const __m256 dz = _mm256_sub_ps(za, splat(other.z));
+        const __m256 r2_exact = _mm256_fmadd_ps(dz, dz, _mm256_fmadd_ps(dy, dy, _mm256_mul_ps(dx, dx)));
+        const __m256 inside = _mm256_cmp_ps(r2_exact, H2, _CMP_LT_OQ);
+        const __m256 r2 = _mm256_max_ps(r2_exact, tiny);
+        const __m256 F = gradient_factor(r2, inverse_sqrt(r2), c);
+        const __m256 dvx = _mm256_sub_ps(vxa, splat(other.vx));
+        const __m256 dvy = _mm256_sub_ps(vya, splat(other.vy));
+        const __m256 dvz = _mm256_sub_ps(vza, splat(other.vz));
+        const __m256 vr = _mm256_fmadd_ps(dvz, dz, _mm256_fmadd_ps(dvy, dy, _mm256_mul_ps(dvx, dx)));
+        const float m_b = in.uniform_mass > 0 ? in.uniform_mass : in.mass[b];
+        rate = _mm256_add_ps(rate, _mm256_and_ps(inside, _mm256_mul_ps(_mm256_mul_ps(splat(m_b), F), vr)));
+      }
+    }
+  }
+  _mm256_store_ps(lanes[6], rate);
+  for (int k = 0; k < count; ++k) rates[k] = Real(lanes[6][k]);
+#else
+  for (int k = 0; k < count; ++k) {
+    const FluidRecord& own = in.record[w[k]];
+    float rate = 0;
+    for (int r = 0; r < span_count; ++r)
+      for (Index b = spans[r].begin; b < spans[r].end; ++b) {
+        if (!(moving_lanes(in.moving, b) & 1u)) continue;
+        const FluidRecord& other = in.record[b];
+        const float dx = own.x - other.x, dy = own.y - other.y, dz = own.z - other.z;
+        const float r2_exact = std::fma(dz, dz, std::fma(dy, dy, dx * dx));
+        if (!(r2_exact < c.support_squared)) continue;
+        const float r2 = std::max(r2_exact, 1e-30f);
+        const float r = std::sqrt(r2);
+        const float F = gradient_factor(r2, (1.0f / (r * (r2 + c.eta2))) * (r2 + c.eta2), c);  // as interact
+        const float vr = std::fma(own.vz - other.vz, dz, std::fma(own.vy - other.vy, dy, (own.vx - other.vx) * dx));
+        rate += in.mass[b] * F * vr;
+      }
+    rates[k] = Real(rate);
+  }
+#endif
 }
 
 }  // namespace
@@ -731,39 +811,45 @@ void FluidFormulation::pair_pass(solver::NodeStore& nodes, Real dt) {
 #pragma omp parallel reduction(max : max_acceleration, max_mu)
   {
     std::vector<Index> found;
-    for_each_particle_candidates(true, [&](Index a, const auto& ranges, int range_count) {
+    // rho^n = rho^{n-1} + dt rho'^n.
+    const auto update_density = [&](Index a, Real rate) {
+      density_[a] += dt * rate;
+      previous_rate_[a] = first_pass_ ? static_cast<float>(rate) : rate_[a];
+      rate_[a] = static_cast<float>(rate);
+    };
+    const auto moving_particle = [&](Index a, const auto& ranges, int range_count) {
       Index candidates = 0;
       for (int r = 0; r < range_count; ++r) candidates += ranges[r].end - ranges[r].begin;
       if (found.size() < static_cast<std::size_t>(candidates + 2 * simd_width))
         found.resize(candidates + 2 * simd_width);
-      const Index node = node_[a];
-      const bool wall = !(moving_lanes(moving_.data(), a) & 1u);  // as for_each_particle_candidates
       Index count = 0;
       for (int r = 0; r < range_count; ++r)
-        count = wall ? screen<true>(in, constants.support_squared, ranges[r].begin, ranges[r].end, a,
-                                    found.data(), count)
-                     : screen<false>(in, constants.support_squared, ranges[r].begin, ranges[r].end, a,
-                                     found.data(), count);
+        count = screen(in, constants.support_squared, ranges[r].begin, ranges[r].end, a, found.data(), count);
       while (count % simd_width != 0) found[count++] = a;
-      const PairSums sums = wall ? interact<false>(in, constants, a, found.data(), count)
-                                 : interact<true>(in, constants, a, found.data(), count);
+      const PairSums sums = uniform_mass_ > 0 ? interact<true>(in, constants, a, found.data(), count)
+                                              : interact<false>(in, constants, a, found.data(), count);
       const Vec3 f(sums.fx, sums.fy, sums.fz), fv(sums.fvx, sums.fvy, sums.fvz);
-      nodes.f[node] += f;
+      nodes.f[node_[a]] += f;
       for (int d = 0; d < 3; ++d) {
         pressure_force_[3 * a + d] = static_cast<float>(f[d] - fv[d]);
         viscous_force_[3 * a + d] = static_cast<float>(fv[d]);
       }
-      if (!wall) {
-        max_acceleration = std::max(max_acceleration, f.norm() / Real(mass_[a]));
-        max_mu = std::max(max_mu, Real(sums.max_mu));
+      max_acceleration = std::max(max_acceleration, f.norm() / Real(mass_[a]));
+      max_mu = std::max(max_mu, Real(sums.max_mu));
+      update_density(a, sums.rate);
+    };
+    // Walls rest and feel no force; their density follows continuity and never goes below rho0.
+    const auto walls = [&](const Index* w, int count, const auto& spans, int span_count) {
+      Real rates[wall_group];
+      wall_rates(in, constants, w, count, spans, span_count, rates);
+      for (int k = 0; k < count; ++k) {
+        const Index a = w[k];
+        for (int d = 0; d < 3; ++d) pressure_force_[3 * a + d] = viscous_force_[3 * a + d] = 0;
+        update_density(a, rates[k]);
+        density_[a] = std::max(density_[a], m.density);
       }
-      // rho^n = rho^{n-1} + dt rho'^n; walls never go below rho0.
-      Real rho = density_[a] + dt * sums.rate;
-      if (wall) rho = std::max(rho, m.density);
-      density_[a] = rho;
-      previous_rate_[a] = first_pass_ ? static_cast<float>(sums.rate) : rate_[a];
-      rate_[a] = static_cast<float>(sums.rate);
-    });
+    };
+    for_each_particle_candidates(true, moving_particle, walls);
   }
   max_acceleration_ = max_acceleration;
   max_mu_ = max_mu;
@@ -822,6 +908,7 @@ std::vector<Index> FluidFormulation::neighbour_counts() const {
   std::vector<Index> counts(particle_count(), 0);
   if (!cells_built_) return counts;
   const float H2 = static_cast<float>(support_ * support_);
+  const auto no_walls = [](const Index*, int, const auto&, int) {};  // pair_pass false: none
 #pragma omp parallel
   for_each_particle_candidates(false, [&](Index a, const auto& ranges, int range_count) {
     Index count = 0;
@@ -832,7 +919,7 @@ std::vector<Index> FluidFormulation::neighbour_counts() const {
         count += (dx * dx + dy * dy + dz * dz < H2) & (b != a);
       }
     counts[a] = count;
-  });
+  }, no_walls);
   return counts;
 }
 

@@ -114,10 +114,11 @@ class FluidFormulation final : public solver::Formulation {
   void pair_pass(solver::NodeStore& nodes, Real dt);
   // Calls visit(a, ranges, range count) for every particle a, in an `omp for` over the cells: the
   // ranges hold every particle within the support of a. For the pair pass (pair_pass), the
-  // particles of cells without moving particles around get no ranges, and a wall gets its cell's
-  // whole block, untrimmed (its screen skips packs of walls).
-  template <typename Visit>
-  void for_each_particle_candidates(bool pair_pass, Visit&& visit) const;
+  // particles of cells without moving particles around get no ranges, and the walls of a cell
+  // come in groups of up to wall_group (fluid.cpp) to visit_walls(walls, count, spans, span
+  // count) instead, with the cell's whole block cut to its moving spans.
+  template <typename Visit, typename VisitWalls>
+  void for_each_particle_candidates(bool pair_pass, Visit&& visit, VisitWalls&& visit_walls) const;
 
   FluidParameters parameters_;
   Real support_ = 0;  // H = 2h
