@@ -18,9 +18,11 @@ struct TaylorBar {
   Real cslh = 1.2;
   // The physics of bench/peers/lammps_smd_taylor_bar.in (LAMMPS SMD's smd/ulsph), for a speed
   // comparison that does the same work per pair and particle: plain SPH (*CONTROL_SPH FORM 0, no
-  // gradient correction) and J2 plasticity with linear hardening (*MAT_PLASTIC_KINEMATIC: G 46 GPa,
+  // gradient correction), J2 plasticity with linear hardening (*MAT_PLASTIC_KINEMATIC: G 46 GPa,
   // K = rho c0^2 with c0 3940 m/s, yield 90 MPa, hardening modulus 0.3 GPa) in place of
-  // Johnson-Cook. Not the Wilkins & Guinan test: the verification test leaves it off.
+  // Johnson-Cook, and the plain step h / (c + |v|) that LAMMPS' smd/adjust_dt scales
+  // (*SPALL_SPH_TIMESTEP RULE 1, which needs no row sums of the gradient operator). Not the
+  // Wilkins & Guinan test: the verification test leaves it off.
   bool peer_physics = false;
 };
 
@@ -65,6 +67,9 @@ inline model::Model taylor_bar_model(const TaylorBar& bar) {
     model::ControlSph control;
     control.form = 0;
     m.control_sph = control;
+    model::SphTimestep step;
+    step.rule = 1;
+    m.sph_timestep = step;
   }
   m.materials[1] = mat;
 
