@@ -609,7 +609,7 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
   __m256 rate = zero;  // the density rate needs no double sum (momentum does not depend on it)
   // The most negative mu of an approaching pair (0 if none): mu < 0 exactly where v_ab . x_ab < 0.
   __m256 min_mu = zero;
-  // m_b, m_a m_b, -m_a m_b and m_a m_b (mu_a + mu_b) of every pair, when all masses are one.
+  // m_b, m_a m_b, -m_a m_b and m_a m_b (mu_a + mu_b) of every pair, when all masses are equal.
   const float mm_uniform = m_a * in.uniform_mass;
   const __m256 uniform_mb = splat(in.uniform_mass), uniform_mm = splat(mm_uniform),
                uniform_minus_mm = splat(-mm_uniform), uniform_mm_mu = splat(mm_uniform * c.two_mu);
