@@ -31,16 +31,20 @@ inline unsigned moving_lanes(const std::uint8_t* moving, Index b) {
   std::memcpy(&word, moving + b / 8, sizeof word);
   return (word >> (b % 8)) & 0xFFFFu;
 }
+// The same, for the slots b .. min(b + 16, end) only (end > b).
+inline unsigned moving_lanes(const std::uint8_t* moving, Index b, Index end) {
+  return moving_lanes(moving, b) & (0xFFFFu >> (16 - std::min<Index>(end - b, 16)));
+}
 
 // Shrinks each range to the span from its first to its last moving particle, dropping the ranges
-// without one, in place; returns how many are left. The bits past a range's end are masked.
+// without one, in place; returns how many are left.
 template <typename Ranges>
 int moving_spans(const std::uint8_t* moving, Ranges& ranges, int count) {
   int kept = 0;
   for (int r = 0; r < count; ++r) {
     Index begin = ranges[r].begin, end = ranges[r].end;
     while (begin < end) {  // the first moving particle, sixteen slots at a time
-      const unsigned bits = moving_lanes(moving, begin) & (0xFFFFu >> (16 - std::min<Index>(end - begin, 16)));
+      const unsigned bits = moving_lanes(moving, begin, end);
       if (bits) {
         begin += std::countr_zero(bits);
         break;
@@ -50,7 +54,7 @@ int moving_spans(const std::uint8_t* moving, Ranges& ranges, int count) {
     if (begin >= end) continue;
     while (true) {  // past the last one, from the end (begin moves, so this stops there)
       const Index from = std::max(begin, end - 16);
-      const unsigned bits = moving_lanes(moving, from) & (0xFFFFu >> (16 - (end - from)));
+      const unsigned bits = moving_lanes(moving, from, end);
       if (bits) {
         end = from + 32 - std::countl_zero(bits);
         break;
@@ -741,7 +745,7 @@ void wall_rates(const PairInputs& in, const PairConstants& c, const Index* w, in
   for (int r = 0; r < span_count; ++r) {
     const Index end = spans[r].end;
     for (Index first = spans[r].begin; first < end; first += 16) {
-      unsigned moving = moving_lanes(in.moving, first) & (0xFFFFu >> (16 - std::min<Index>(end - first, 16)));
+      unsigned moving = moving_lanes(in.moving, first, end);
       for (; moving != 0; moving &= moving - 1) {
         const Index b = first + std::countr_zero(moving);
         const FluidRecord& other = in.record[b];
