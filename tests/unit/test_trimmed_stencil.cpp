@@ -165,6 +165,24 @@ TEST(trimmed_stencil, SlidingAlongARowGivesTheSameTableAsPreparingAfresh) {
   }
 }
 
+// The search that starts the stencil's rows: from any hint, the first occupied cell at or after a
+// key, as a bisection of the whole list finds it (keys between, on and past the occupied ones).
+TEST(trimmed_stencil, CellSearchFromAnyHintFindsTheFirstCellAtOrAfterAKey) {
+  CellList cells;
+  cells.build(random_cloud(300, Vec3(10, 6, 4), 7), 0.7);  // sparse: many empty cells
+  const Index count = cells.cell_count();
+  ASSERT_GT(count, 100);
+  std::vector<CellKey> keys;
+  for (Index c = 0; c < count; ++c) keys.push_back(cells.cell_key(c));
+  std::vector<CellKey> asked = {CellKey(0), keys.back() + 1};
+  for (CellKey k : keys) asked.insert(asked.end(), {k, k + 1, k > 0 ? k - 1 : k});
+  for (CellKey k : asked) {
+    const Index expected = static_cast<Index>(std::lower_bound(keys.begin(), keys.end(), k) - keys.begin());
+    for (Index hint = 0; hint <= count; hint += 7) EXPECT_EQ(cells.first_cell_near(k, hint), expected);
+    EXPECT_EQ(cells.first_cell_near(k, count), expected);
+  }
+}
+
 TEST(trimmed_stencil, RejectsAReachOutsideOneToThree) {
   CellList cells;
   cells.build(unit_lattice(2), 1.0);

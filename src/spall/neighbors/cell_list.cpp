@@ -132,9 +132,31 @@ void CellList::build(std::span<const Vec3> x, Real cell_size) {
   cell_start_.push_back(static_cast<Index>(n));
 }
 
-Index CellList::first_cell_from(CellKey k, Index from) const {
-  return static_cast<Index>(std::lower_bound(cell_key_.begin() + from, cell_key_.end() - 1, k) -
-                            cell_key_.begin());
+// Steps that double away from the hint bracket the answer, then bisection finds it: the cost grows
+// with the log of its distance from the hint, where a bisection of the whole list costs log2 of
+// the cells and as many cache misses (docs/PERFORMANCE.md, session 20).
+Index CellList::first_cell_near(CellKey k, Index hint) const {
+  const Index count = cell_count();
+  const auto first = cell_key_.begin();
+  hint = std::clamp<Index>(hint, 0, count);
+  if (cell_key_[hint] >= k) {  // at or before the hint: key[low - 1] < k <= key[high]
+    Index high = hint;
+    for (Index step = 1;; step *= 2) {
+      const Index probe = high - step;
+      if (probe < 0 || cell_key_[probe] < k) {
+        const Index low = std::max<Index>(probe + 1, 0);
+        return static_cast<Index>(std::lower_bound(first + low, first + high, k) - first);
+      }
+      high = probe;
+    }
+  }
+  // After the hint: key[low - 1] < k <= key[probe]; the sentinel key[count] exceeds every key.
+  Index low = hint + 1;
+  for (Index step = 1;; step *= 2) {
+    const Index probe = std::min(low - 1 + step, count);
+    if (cell_key_[probe] >= k) return static_cast<Index>(std::lower_bound(first + low, first + probe, k) - first);
+    low = probe + 1;
+  }
 }
 
 std::array<std::int64_t, 3> CellList::coordinates(Index c) const {

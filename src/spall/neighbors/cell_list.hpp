@@ -58,8 +58,9 @@ class CellList {
   CellKey key(std::int64_t ix, std::int64_t iy, std::int64_t iz) const {
     return (CellKey(iz) * CellKey(cells_[1]) + CellKey(iy)) * CellKey(cells_[0]) + CellKey(ix);
   }
-  // First occupied cell with key >= k (cell_count() when none), searched from cell `from` on.
-  Index first_cell_from(CellKey k, Index from = 0) const;
+  // First occupied cell with key >= k (cell_count() when none), searched outwards from cell
+  // `hint` (any cell): a few comparisons when the answer lies near it.
+  Index first_cell_near(CellKey k, Index hint = 0) const;
   // Edge of the cells actually used: the one asked for, or larger when the box is more than 2^42
   // cells wide.
   Real cell_size() const { return cell_size_; }

@@ -41,6 +41,7 @@ void TrimmedStencil::prepare(Index c) {
       for (int r = 0; r < row_count_; ++r) step(k, r);
     return;
   }
+  const Index first_row_hint = prepared_ && row_count_ > 0 ? next_cell_[0] : 0;
   prepared_ = true;
   ix_ = ix, iy_ = iy, iz_ = iz;
   corner_ = Vec3(static_cast<Real>(ix - reach_), static_cast<Real>(iy - reach_),
@@ -57,9 +58,10 @@ void TrimmedStencil::prepare(Index c) {
       row_y_[r] = jy;
       row_z_[r] = jz;
       row_key_[r] = cells_.key(0, y, z);
-      // Rows come in key order, so each search starts where the previous row's ended.
-      const Index from = r > 0 ? next_cell_[r - 1] : 0;
-      next_cell_[r] = cells_.first_cell_from(row_key_[r] + CellKey(std::max<std::int64_t>(ix - reach_, 0)), from);
+      // Rows come in key order, so each search starts where the previous row's ended; the first
+      // where the last block's first row did (the thread's previous cell is mostly nearby).
+      const Index hint = r > 0 ? next_cell_[r - 1] : first_row_hint;
+      next_cell_[r] = cells_.first_cell_near(row_key_[r] + CellKey(std::max<std::int64_t>(ix - reach_, 0)), hint);
       start(0, r) = cells_.cell_start(next_cell_[r]);
       for (int k = 1; k < columns; ++k) step(k, r);
     }

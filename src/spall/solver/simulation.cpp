@@ -32,13 +32,19 @@ Vec3 base_acceleration(const Problem& problem, Real time) {
 struct RunawayCheck {
   Real speed_limit = std::numeric_limits<Real>::infinity();
 
+  // Whether node i has run away (the time loop counts these in its pass over the energies).
+  bool runaway(const NodeStore& nodes, Index i) const {
+    const Real s = nodes.v[i].norm();
+    return !std::isfinite(s) || !nodes.x[i].allFinite() || s > speed_limit;
+  }
+
+  // Throws for the lowest-numbered node that has run away, if one has.
   void check(const NodeStore& nodes, const StepInfo& step) const {
     const Index n = nodes.size();
     Index worst = -1;
 #pragma omp parallel for schedule(static)
     for (Index i = 0; i < n; ++i) {
-      const Real s = nodes.v[i].norm();
-      if (!std::isfinite(s) || !nodes.x[i].allFinite() || s > speed_limit) {
+      if (runaway(nodes, i)) {
 #pragma omp critical
         if (worst < 0 || i < worst) worst = i;  // the lowest index: the same for any thread count
       }
@@ -99,6 +105,7 @@ RunSummary run(Problem& problem, const Observer& observer) {
 
   for (;;) {
     // 1. internal forces at x^n
+#pragma omp parallel for schedule(static)
     for (Index i = 0; i < n; ++i) nodes.f[i] = Vec3::Zero();
     try {
       for (auto& f : problem.formulations) f->compute_forces(nodes, dt_previous);
@@ -166,33 +173,32 @@ RunSummary run(Problem& problem, const Observer& observer) {
     // on it, a motion that starts at once) acts as an impulse at t^0, whose work is
     // m/2 (v^{1/2}² - v^0²).
     const Real reaction_weight = step.step == 0 ? Real(0.5) : velocity_weight;
-    // (load power, reaction power), summed in an order independent of the thread count.
-    const Eigen::Vector2d powers = ordered_sum(
-        n,
-        [&](Index i) -> Eigen::Vector2d {
-          if (nodes.mass[i] <= 0) return Eigen::Vector2d::Zero();
-          const Vec3 dv = nodes.v[i] - v_old[i];
-          const Vec3 f_load = -nodes.mass[i] * (g + damping.cwiseProduct(v_old[i]));
-          const Real load = f_load.dot(v_old[i] + velocity_weight * dv);
-          if (dt_mid <= 0) return {load, 0};
-          const Vec3 reaction = nodes.mass[i] * dv / dt_mid - nodes.f[i];
-          return {load, reaction.dot(v_old[i] + reaction_weight * dv)};
-        },
-        Eigen::Vector2d::Zero().eval());
-    const Real external_power = powers[0], reaction_power = powers[1];
-
     // 4. energies at t^n from the velocities at t^n: v^n = v^{n-1/2} + a^n dt^{n-1/2} / 2, i.e.
     // the point dt^{n-1/2} / (dt^{n-1/2} + dt^{n+1/2}) of the way from v^{n-1/2} to v^{n+1/2}
     // (the mean of the two only when the steps are equal; v^0 at the start, v^{n+1/2} at the
     // shortened last step).
+    // One pass over the nodes sums (load power, reaction power, kinetic energy, runaway nodes),
+    // each in an order independent of the thread count; v_old becomes v^n on the way.
     std::vector<Vec3>& v_mid = v_old;
-    const Real kinetic = ordered_sum(
+    const Eigen::Vector4d sums = ordered_sum(
         n,
-        [&](Index i) {
-          v_mid[i] += velocity_weight * (nodes.v[i] - v_mid[i]);
-          return Real(0.5) * nodes.mass[i] * v_mid[i].squaredNorm();
+        [&](Index i) -> Eigen::Vector4d {
+          Eigen::Vector4d term = Eigen::Vector4d::Zero();
+          term[3] = runaway.runaway(nodes, i);
+          const Vec3 v_start = v_old[i], dv = nodes.v[i] - v_start;
+          v_mid[i] += velocity_weight * dv;
+          term[2] = Real(0.5) * nodes.mass[i] * v_mid[i].squaredNorm();
+          if (nodes.mass[i] <= 0) return term;
+          const Vec3 f_load = -nodes.mass[i] * (g + damping.cwiseProduct(v_start));
+          term[0] = f_load.dot(v_start + velocity_weight * dv);
+          if (dt_mid > 0) {
+            const Vec3 reaction = nodes.mass[i] * dv / dt_mid - nodes.f[i];
+            term[1] = reaction.dot(v_start + reaction_weight * dv);
+          }
+          return term;
         },
-        Real(0));
+        Eigen::Vector4d::Zero().eval());
+    const Real external_power = sums[0], reaction_power = sums[1], kinetic = sums[2];
     for (const auto& f : problem.formulations) {
       const auto p = f->internal_power(v_mid);
       energies.internal += dt_mid * p.stored;
@@ -202,7 +208,7 @@ RunSummary run(Problem& problem, const Observer& observer) {
     energies.kinetic = kinetic;
     if (step.step == 0) energies.initial_total = energies.total();
 
-    runaway.check(nodes, step);
+    if (sums[3] > 0) runaway.check(nodes, step);
 
     const bool last = step.time >= controls.end_time ||
                       (controls.end_cycle > 0 && step.step >= controls.end_cycle);
