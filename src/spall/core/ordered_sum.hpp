@@ -10,7 +10,21 @@
 
 namespace spall {
 
-// sum_{i < n} term(i); T is Real or a fixed-size Eigen vector (several sums in one pass).
+// N sums taken in one pass, as plain scalars. A term built entry by entry in an Eigen vector is
+// stored to the stack one lane at a time and reloaded whole for the sum, which stalls store
+// forwarding (most of the time loop's energy pass; docs/PERFORMANCE.md, session 20).
+template <int N>
+struct Sums {
+  Real value[N] = {};
+  Real& operator[](int i) { return value[i]; }
+  Real operator[](int i) const { return value[i]; }
+  Sums& operator+=(const Sums& other) {
+    for (int i = 0; i < N; ++i) value[i] += other.value[i];
+    return *this;
+  }
+};
+
+// sum_{i < n} term(i); T is Real or Sums<N> (several sums in one pass).
 template <typename T, typename Term>
 T ordered_sum(Index n, Term&& term, T zero) {
   constexpr Index block = 4096;

@@ -32,10 +32,12 @@ Vec3 base_acceleration(const Problem& problem, Real time) {
 struct RunawayCheck {
   Real speed_limit = std::numeric_limits<Real>::infinity();
 
-  // Whether node i has run away (the time loop counts these in its pass over the energies).
+  // Whether node i has run away (the time loop counts these in its pass over the energies): a
+  // speed that is not finite or above the limit, compared squared (a NaN fails the comparison;
+  // without a limit, the largest double stands for it).
   bool runaway(const NodeStore& nodes, Index i) const {
-    const Real s = nodes.v[i].norm();
-    return !std::isfinite(s) || !nodes.x[i].allFinite() || s > speed_limit;
+    const Real bound = std::isfinite(speed_limit) ? speed_limit * speed_limit : std::numeric_limits<Real>::max();
+    return !(nodes.v[i].squaredNorm() <= bound) || !nodes.x[i].allFinite();
   }
 
   // Throws for the lowest-numbered node that has run away, if one has.
@@ -180,10 +182,10 @@ RunSummary run(Problem& problem, const Observer& observer) {
     // One pass over the nodes sums (load power, reaction power, kinetic energy, runaway nodes),
     // each in an order independent of the thread count; v_old becomes v^n on the way.
     std::vector<Vec3>& v_mid = v_old;
-    const Eigen::Vector4d sums = ordered_sum(
+    const Sums<4> sums = ordered_sum(
         n,
-        [&](Index i) -> Eigen::Vector4d {
-          Eigen::Vector4d term = Eigen::Vector4d::Zero();
+        [&](Index i) {
+          Sums<4> term;
           term[3] = runaway.runaway(nodes, i);
           const Vec3 v_start = v_old[i], dv = nodes.v[i] - v_start;
           v_mid[i] += velocity_weight * dv;
@@ -197,7 +199,7 @@ RunSummary run(Problem& problem, const Observer& observer) {
           }
           return term;
         },
-        Eigen::Vector4d::Zero().eval());
+        Sums<4>{});
     const Real external_power = sums[0], reaction_power = sums[1], kinetic = sums[2];
     for (const auto& f : problem.formulations) {
       const auto p = f->internal_power(v_mid);

@@ -200,33 +200,40 @@ void FluidFormulation::rebuild_cells(const solver::NodeStore& nodes) {
 }
 
 // Copies positions and velocities in cell order, predicts the densities and evaluates the
-// equation of state once per particle.
+// equation of state once per particle. The density terms only in the active cells: the walls of
+// a cell without a moving particle in its block (far from the fluid) are read by no pair until
+// the next rebuild (for_each_particle_candidates), and their density does not change.
 void FluidFormulation::gather(const solver::NodeStore& nodes, Real dt) {
   const Index n = particle_count();
   const auto& m = parameters_.material;
   Real max_speed = 0, max_density = m.density;
   Index first_empty = n;  // the first particle whose density is no longer positive
+  const Index cell_count = cells_.cell_count();
 #pragma omp parallel for schedule(static) reduction(max : max_speed, max_density) \
     reduction(min : first_empty)
-  for (Index a = 0; a < n; ++a) {
-    const Index i = node_[a];
-    const Vec3 p = nodes.x[i] - origin_;
-    const Vec3& v = nodes.v[i];
-    FluidRecord& record = record_[a];
-    record.x = static_cast<float>(p.x());
-    record.y = static_cast<float>(p.y());
-    record.z = static_cast<float>(p.z());
-    record.vx = static_cast<float>(v.x());
-    record.vy = static_cast<float>(v.y());
-    record.vz = static_cast<float>(v.z());
-    max_speed = std::max(max_speed, v.norm());
-    // rho~^n = rho^{n-1} + dt (2 rho'^{n-1} - rho'^{n-2})
-    Real rho = density_[a] + dt * (2 * Real(rate_[a]) - Real(previous_rate_[a]));
-    if (nodes.fixed[i] == all_translations) rho = std::max(rho, m.density);
-    if (!(rho > 0)) first_empty = std::min(first_empty, a);
-    record.inverse_density = static_cast<float>(1 / rho);
-    record.pressure_term = static_cast<float>(m.pressure(rho) / (rho * rho));
-    max_density = std::max(max_density, rho);
+  for (Index c = 0; c < cell_count; ++c) {
+    const bool active = active_cell_[c];
+    for (Index a = cells_.cell(c).begin; a < cells_.cell(c).end; ++a) {
+      const Index i = node_[a];
+      const Vec3 p = nodes.x[i] - origin_;
+      const Vec3& v = nodes.v[i];
+      FluidRecord& record = record_[a];
+      record.x = static_cast<float>(p.x());
+      record.y = static_cast<float>(p.y());
+      record.z = static_cast<float>(p.z());
+      record.vx = static_cast<float>(v.x());
+      record.vy = static_cast<float>(v.y());
+      record.vz = static_cast<float>(v.z());
+      max_speed = std::max(max_speed, v.norm());
+      if (!active) continue;
+      // rho~^n = rho^{n-1} + dt (2 rho'^{n-1} - rho'^{n-2})
+      Real rho = density_[a] + dt * (2 * Real(rate_[a]) - Real(previous_rate_[a]));
+      if (nodes.fixed[i] == all_translations) rho = std::max(rho, m.density);
+      if (!(rho > 0)) first_empty = std::min(first_empty, a);
+      record.inverse_density = static_cast<float>(1 / rho);
+      record.pressure_term = static_cast<float>(m.pressure(rho) / (rho * rho));
+      max_density = std::max(max_density, rho);
+    }
   }
   // Continuity can empty a particle that a splash tears from its neighbours under tension; its
   // pressure and volume then mean nothing, so the run stops rather than carry on.
@@ -890,18 +897,18 @@ Real FluidFormulation::stable_time_step(const solver::NodeStore&) const {
 solver::Formulation::Power FluidFormulation::internal_power(std::span<const Vec3> v) const {
   // Stored (compression) energy grows by -f_pressure . v; viscosity dissipates -f_viscous . v.
   // In an order independent of the thread count.
-  const Eigen::Vector2d sums = ordered_sum(
+  const Sums<2> sums = ordered_sum(
       particle_count(),
-      [&](Index a) -> Eigen::Vector2d {
+      [&](Index a) {
         const Vec3& va = v[node_[a]];
-        Eigen::Vector2d term = Eigen::Vector2d::Zero();
+        Sums<2> term;
         for (int d = 0; d < 3; ++d) {
           term[0] += Real(pressure_force_[3 * a + d]) * va[d];
           term[1] += Real(viscous_force_[3 * a + d]) * va[d];
         }
         return term;
       },
-      Eigen::Vector2d::Zero().eval());
+      Sums<2>{});
   Power p;
   p.stored = -sums[0];
   p.dissipated = -sums[1];

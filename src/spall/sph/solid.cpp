@@ -887,13 +887,13 @@ Real SolidFormulation::stable_time_step(const solver::NodeStore& nodes) const {
 solver::Formulation::Power SolidFormulation::internal_power(std::span<const Vec3> v) const {
   // Work of the internal forces on the nodes: strain energy grows by -f_stress . v, and the
   // artificial viscosity dissipates -f_visc . v >= 0. In an order independent of the thread count.
-  const Eigen::Vector2d sums = ordered_sum(
+  const Sums<2> sums = ordered_sum(
       particle_count(),
-      [&](Index a) -> Eigen::Vector2d {
+      [&](Index a) {
         const Vec3& va = v[node_[a]];
-        return {(force_[a] - viscous_force_[a]).dot(va), viscous_force_[a].dot(va)};
+        return Sums<2>{{(force_[a] - viscous_force_[a]).dot(va), viscous_force_[a].dot(va)}};
       },
-      Eigen::Vector2d::Zero().eval());
+      Sums<2>{});
   Power p;
   p.stored = -sums[0];
   p.dissipated = -sums[1];
