@@ -6,8 +6,9 @@
 // loops and the kernels' gradient factor run on eight floats (Float8: AVX2 where the build has
 // it, else scalars), with a double accumulator for the sums that must cancel pair by pair
 // (WideSum8). Every operation is lane-wise and exactly rounded (fused multiply-adds only where
-// written), so a lane's result does not depend on its neighbours or on the thread count; the sums
-// over lanes go in one fixed order (pairs of neighbouring lanes, then pairs of those, ...).
+// written; the vector packs' reciprocals are estimates refined to a few ulp), so a lane's result
+// does not depend on its neighbours or on the thread count; the sums over lanes go in one fixed
+// order (pairs of neighbouring lanes, then pairs of those, ...).
 #include <cmath>
 #include <cstdint>
 
@@ -82,7 +83,7 @@ struct Pack {
   friend Mask<W> operator>(Pack a, Pack b) { return compare(a, b, [](T x, T y) { return x > y; }); }
   friend Pack fma(Pack b, Pack c, Pack a) { return from([&](int i) { return std::fma(b.v[i], c.v[i], a.v[i]); }); }
   // 1 / sqrt(a) and 1 / a (a > 0): by a square root and a division here (an ulp or two); within
-  // a few ulp in the AVX-512 pack.
+  // a few ulp in the AVX-512 pack and the AVX2 floats.
   friend Pack reciprocal_sqrt(Pack a) { return from([&](int i) { return 1 / std::sqrt(a.v[i]); }); }
   friend Pack reciprocal(Pack a) { return from([&](int i) { return 1 / a.v[i]; }); }
   friend Pack abs(Pack a) { return from([&](int i) { return std::abs(a.v[i]); }); }
@@ -229,8 +230,19 @@ struct Float8 {
   friend Mask8f operator>(Float8 a, Float8 b) { return {_mm256_cmp_ps(a.v, b.v, _CMP_GT_OQ)}; }
   // a + b c, rounded once.
   friend Float8 fma(Float8 b, Float8 c, Float8 a) { return {_mm256_fmadd_ps(b.v, c.v, a.v)}; }
-  friend Float8 reciprocal_sqrt(Float8 a) { return {_mm256_div_ps(_mm256_set1_ps(1), _mm256_sqrt_ps(a.v))}; }
-  friend Float8 reciprocal(Float8 a) { return {_mm256_div_ps(_mm256_set1_ps(1), a.v)}; }
+  // 1 / sqrt(a) and 1 / a (a > 0) from the 12-bit estimates and one Newton step each, within a
+  // few ulp: y (3/2 - a/2 y^2) and z + z (1 - a z). A square root and a division share one unit,
+  // which the pair loops kept busy (docs/PERFORMANCE.md, sessions 17 and 20). The estimates are
+  // the processor's own, so the last bits may differ between makers.
+  friend Float8 reciprocal_sqrt(Float8 a) {
+    const __m256 y = _mm256_rsqrt_ps(a.v);
+    return {_mm256_mul_ps(y, _mm256_fnmadd_ps(_mm256_mul_ps(_mm256_set1_ps(0.5f), a.v), _mm256_mul_ps(y, y),
+                                              _mm256_set1_ps(1.5f)))};
+  }
+  friend Float8 reciprocal(Float8 a) {
+    const __m256 z = _mm256_rcp_ps(a.v);
+    return {_mm256_fmadd_ps(z, _mm256_fnmadd_ps(a.v, z, _mm256_set1_ps(1)), z)};
+  }
   friend Float8 abs(Float8 a) { return {_mm256_andnot_ps(_mm256_set1_ps(-0.0f), a.v)}; }
   friend Float8 max(Float8 a, Float8 b) { return {_mm256_max_ps(a.v, b.v)}; }
   friend Float8 select(Mask8f m, Float8 a, Float8 b) { return {_mm256_blendv_ps(b.v, a.v, m.bits)}; }

@@ -415,13 +415,10 @@ inline float gradient_factor(float r2, float inverse_r, const PairConstants& c) 
                    : -(6 * c.kernel / c.inverse_support) * ((1 - q) * (1 - q)) * inverse_r;
 }
 #if defined(__AVX2__)
-// 1 / r of eight pairs from the 12-bit estimate and one Newton step, y (3/2 - r^2/2 y^2): the
+// 1 / r and 1 / x of eight pairs from the estimates and one Newton step (simd::Float8): the
 // square root and the division queue on one port (docs/PERFORMANCE.md, session 17).
-[[gnu::always_inline]] inline __m256 inverse_sqrt(__m256 r2) {
-  const __m256 y = _mm256_rsqrt_ps(r2);
-  return _mm256_mul_ps(y, _mm256_fnmadd_ps(_mm256_mul_ps(_mm256_set1_ps(0.5f), r2), _mm256_mul_ps(y, y),
-                                           _mm256_set1_ps(1.5f)));
-}
+[[gnu::always_inline]] inline __m256 inverse_sqrt(__m256 r2) { return reciprocal_sqrt(simd::Float8(r2)).v; }
+[[gnu::always_inline]] inline __m256 inverse(__m256 x) { return reciprocal(simd::Float8(x)).v; }
 // gradient_factor of eight pairs, by the same operations.
 [[gnu::always_inline]] inline __m256 gradient_factor(__m256 r2, __m256 inverse_r, const PairConstants& c) {
   const __m256 one = _mm256_set1_ps(1), half = _mm256_set1_ps(0.5f);
@@ -611,7 +608,7 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
   sums.max_mu = *std::max_element(lanes, lanes + 16);
 #elif defined(__AVX2__)
   const auto splat = [](float v) { return _mm256_set1_ps(v); };
-  const __m256 one = splat(1), half = splat(0.5f), tiny = splat(1e-30f), zero = _mm256_setzero_ps();
+  const __m256 half = splat(0.5f), tiny = splat(1e-30f), zero = _mm256_setzero_ps();
   // The force in one 4-double sum per component, lanes i and i + 4 added first (twelve sums of
   // pressure and viscous parts apart spilled to the stack with sixteen registers); the viscous
   // part in floats.
@@ -640,8 +637,7 @@ PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const I
     // AVX-512.
     const __m256 r2e = _mm256_add_ps(r2, splat(c.eta2));
     const __m256 inverse_r = inverse_sqrt(r2);
-    const __m256 z = _mm256_rcp_ps(r2e);  // z + z (1 - r2e z)
-    const __m256 inverse_r2e = _mm256_fmadd_ps(z, _mm256_fnmadd_ps(r2e, z, one), z);
+    const __m256 inverse_r2e = inverse(r2e);
     const __m256 F = gradient_factor(r2, inverse_r, c);
     const __m256 dvx = _mm256_sub_ps(splat(vxa), field[3]);
     const __m256 dvy = _mm256_sub_ps(splat(vya), field[4]);
