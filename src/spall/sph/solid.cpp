@@ -143,6 +143,38 @@ template <typename Kernel>
   return g;
 }
 
+// (v, 0), a row of SolidFormulation::force_.
+inline Eigen::Vector4d padded(const Vec3& v) { return {v.x(), v.y(), v.z(), 0}; }
+
+// rows[b[i]] -= (d[0][i], d[1][i], d[2][i], 0) in double for the eight lanes i, in lane order
+// (lanes may share a row). With AVX2 the three packs are transposed into the lanes' rows of four
+// floats, each widened and subtracted from its row at once: about a third of the instructions of
+// 24 scalar read-modify-writes (docs/PERFORMANCE.md, session 20).
+[[gnu::always_inline]] inline void subtract_from_rows(const Float8 (&d)[3], const Index* b, Eigen::Vector4d* rows) {
+#if defined(SPALL_SIMD_AVX2)
+  const __m256 zero = _mm256_setzero_ps();
+  const __m256 xy_0145 = _mm256_unpacklo_ps(d[0].v, d[1].v), xy_2367 = _mm256_unpackhi_ps(d[0].v, d[1].v);
+  const __m256 z_0145 = _mm256_unpacklo_ps(d[2].v, zero), z_2367 = _mm256_unpackhi_ps(d[2].v, zero);
+  // Lane i's row (x, y, z, 0) in the low half of rows_of[i % 4], lane i + 4's in the high half.
+  const __m256 rows_of[4] = {_mm256_shuffle_ps(xy_0145, z_0145, _MM_SHUFFLE(1, 0, 1, 0)),
+                             _mm256_shuffle_ps(xy_0145, z_0145, _MM_SHUFFLE(3, 2, 3, 2)),
+                             _mm256_shuffle_ps(xy_2367, z_2367, _MM_SHUFFLE(1, 0, 1, 0)),
+                             _mm256_shuffle_ps(xy_2367, z_2367, _MM_SHUFFLE(3, 2, 3, 2))};
+  for (int lane = 0; lane < 8; ++lane) {
+    const __m128 row = lane < 4 ? _mm256_castps256_ps128(rows_of[lane]) : _mm256_extractf128_ps(rows_of[lane - 4], 1);
+    double* f = rows[b[lane]].data();
+    _mm256_storeu_pd(f, _mm256_sub_pd(_mm256_loadu_pd(f), _mm256_cvtps_pd(row)));
+  }
+#else
+  alignas(32) float on_b[3][Float8::width];
+  for (int i = 0; i < 3; ++i) d[i].store(on_b[i]);
+  for (int lane = 0; lane < Float8::width; ++lane) {
+    Eigen::Vector4d& f_b = rows[b[lane]];
+    f_b[0] -= on_b[0][lane], f_b[1] -= on_b[1][lane], f_b[2] -= on_b[2][lane];
+  }
+#endif
+}
+
 // m_b of a pack of pairs: the one mass of a lattice broadcast (uniform > 0), else gathered.
 inline Float8 pair_mass(const std::vector<float>& mass, Real uniform, const Index* b) {
   return uniform > 0 ? Float8(static_cast<float>(uniform)) : Float8::gather<1>(mass.data(), b);
@@ -247,7 +279,7 @@ SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
   if (options_.artificial_stress.enabled) artificial_stress_.assign(n, Mat3::Zero());
   strain_rate_.assign(n, 0);
   viscous_heating_.assign(n, 0);
-  force_.assign(n, Vec3::Zero());
+  force_.assign(n, Eigen::Vector4d::Zero());
   viscous_force_.assign(n, Vec3::Zero());
   // Particles in node order: the node store is in cell order, so that neighbours are close in
   // memory, and a formulation owning a contiguous run of nodes reads their x and v in place.
@@ -777,15 +809,8 @@ void SolidFormulation::compute_pair_forces() {
         Pd[i] = t * fma(p2, g.dz, fma(p1, g.dy, p0 * g.dx));
       }
       f_x.add(Pd[0]), f_y.add(Pd[1]), f_z.add(Pd[2]);
-      if constexpr (half) {
-        // The padding (b = a) adds exact zeros (F = 0 at r = 0).
-        alignas(32) float on_b[3][W];
-        for (int i = 0; i < 3; ++i) Pd[i].store(on_b[i]);
-        for (int lane = 0; lane < W; ++lane) {
-          Vec3& f_b = force_[b[lane]];
-          f_b[0] -= on_b[0][lane], f_b[1] -= on_b[1][lane], f_b[2] -= on_b[2][lane];
-        }
-      }
+      // The padding (b = a) adds exact zeros (F = 0 at r = 0).
+      if constexpr (half) subtract_from_rows(Pd, b, force_.data());
     }
     Vec3 f(f_x.sum(), f_y.sum(), f_z.sum());
     if (stress_on) {
@@ -801,7 +826,7 @@ void SolidFormulation::compute_pair_forces() {
         const Vec3 f_ab = (mass_[a] * mass_[b] * std::pow(ratio, exponent)) *
                           ((artificial_stress_[a] + artificial_stress_[b]) * grad);
         f += f_ab;
-        if constexpr (half) force_[b] -= f_ab;
+        if constexpr (half) force_[b].head<3>() -= f_ab;
       }
     }
     return f;
@@ -812,17 +837,18 @@ void SolidFormulation::compute_pair_forces() {
     // run side by side without two threads touching one particle, and every force is summed in
     // one order whatever the thread count.
 #pragma omp parallel for schedule(static)
-    for (Index a = 0; a < n; ++a) force_[a] = viscous_force_[a];  // the viscosity from the rates pass
+    for (Index a = 0; a < n; ++a) force_[a] = padded(viscous_force_[a]);  // the viscosity from the rates pass
     for (Index parity = 0; parity < 2; ++parity) {
 #pragma omp parallel for schedule(dynamic, 1)
       for (Index block = parity; block < force_blocks_; block += 2) {
         const Index last = std::min(n, (block + 1) * force_block_length_);
-        for (Index a = block * force_block_length_; a < last; ++a) force_[a] += row_force.template operator()<true>(a);
+        for (Index a = block * force_block_length_; a < last; ++a)
+          force_[a].head<3>() += row_force.template operator()<true>(a);
       }
     }
   } else {
 #pragma omp parallel for schedule(dynamic, 512)
-    for (Index a = 0; a < n; ++a) force_[a] = row_force.template operator()<false>(a) + viscous_force_[a];
+    for (Index a = 0; a < n; ++a) force_[a] = padded(row_force.template operator()<false>(a) + viscous_force_[a]);
   }
 }
 
@@ -830,7 +856,7 @@ void SolidFormulation::compute_forces(solver::NodeStore& nodes, Real dt) {
   time_ += dt;
   const Index n = particle_count();
   if (!active(time_)) {
-    std::fill(force_.begin(), force_.end(), Vec3::Zero());
+    std::fill(force_.begin(), force_.end(), Eigen::Vector4d::Zero());
     std::fill(viscous_force_.begin(), viscous_force_.end(), Vec3::Zero());
     return;
   }
@@ -856,7 +882,7 @@ void SolidFormulation::compute_forces(solver::NodeStore& nodes, Real dt) {
   // pass takes the rates pass's pick, and its force is exactly dual to the velocity gradient.
 #pragma omp parallel for schedule(static)
   for (Index a = 0; a < n; ++a) {
-    nodes.f[node_[a]] += force_[a];
+    nodes.f[node_[a]] += force_[a].head<3>();
     if (dt > 0) {
       const Real compression = materials_[material_[a]].density / density_[a];
       const Real scale = options_.dimension == 3 ? std::cbrt(compression) : std::sqrt(compression);
@@ -891,7 +917,7 @@ solver::Formulation::Power SolidFormulation::internal_power(std::span<const Vec3
       particle_count(),
       [&](Index a) {
         const Vec3& va = v[node_[a]];
-        return Sums<2>{{(force_[a] - viscous_force_[a]).dot(va), viscous_force_[a].dot(va)}};
+        return Sums<2>{{(force_[a].head<3>() - viscous_force_[a]).dot(va), viscous_force_[a].dot(va)}};
       },
       Sums<2>{});
   Power p;

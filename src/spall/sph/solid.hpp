@@ -243,7 +243,9 @@ class SolidFormulation final : public solver::Formulation {
   // The artificial viscosity of the step, from the rates pass (compute_rates).
   std::vector<Real> viscous_heating_;  // 1/2 sum_b m_b Pi_ab v_ab . grad_a W_ab
   std::vector<Vec3> viscous_force_;    // -sum_b m_a m_b Pi_ab grad_a W_ab
-  std::vector<Vec3> force_;            // total internal force, viscous_force_ included
+  // Total internal force, viscous_force_ included, as (x, y, z, 0): one 256-bit row a particle,
+  // which the force pass's pair-once subtraction updates whole.
+  std::vector<Eigen::Vector4d> force_;
   // The force pass's blocks of particles (compute_pair_forces); none when the list spans too much
   // of the particle order for pair-once blocks, and the pass then gathers every row whole.
   Index force_blocks_ = 0, force_block_length_ = 0;
