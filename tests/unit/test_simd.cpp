@@ -119,9 +119,8 @@ TYPED_TEST(KernelLanes, GradientFactorOfEightFloatPairsIsTheScalarOneToFloatRoun
 
 // The single-precision pack of the solid's pair loops (simd::Float8: AVX2 where the build has it,
 // else the scalar lanes) against the scalar lanes of floats: every operation exactly (the
-// reciprocals to a few ulp), the lane
-// sums in the same order, the double accumulator of widened lanes, and the transposed row loads,
-// compressions and index comparisons on eight lanes.
+// reciprocals to a few ulp), the lane sums in the same order, the double accumulator of widened
+// lanes, and the transposed row loads, compressions and index comparisons on eight lanes.
 TEST(FloatLanes, EveryOperationMatchesTheScalarLanesExactly) {
   using P = simd::Float8;
   using S = simd::lanes::Pack<8, float>;

@@ -206,14 +206,14 @@ void FluidFormulation::rebuild_cells(const solver::NodeStore& nodes) {
 void FluidFormulation::gather(const solver::NodeStore& nodes, Real dt) {
   const Index n = particle_count();
   const auto& m = parameters_.material;
-  Real max_speed = 0, max_density = m.density;
+  Real max_density = m.density;
   Index first_empty = n;  // the first particle whose density is no longer positive
   const Index cell_count = cells_.cell_count();
-#pragma omp parallel for schedule(static) reduction(max : max_speed, max_density) \
-    reduction(min : first_empty)
+#pragma omp parallel for schedule(static) reduction(max : max_density) reduction(min : first_empty)
   for (Index c = 0; c < cell_count; ++c) {
     const bool active = active_cell_[c];
-    for (Index a = cells_.cell(c).begin; a < cells_.cell(c).end; ++a) {
+    const neighbors::ParticleRange own = cells_.cell(c);
+    for (Index a = own.begin; a < own.end; ++a) {
       const Index i = node_[a];
       const Vec3 p = nodes.x[i] - origin_;
       const Vec3& v = nodes.v[i];
@@ -224,7 +224,6 @@ void FluidFormulation::gather(const solver::NodeStore& nodes, Real dt) {
       record.vx = static_cast<float>(v.x());
       record.vy = static_cast<float>(v.y());
       record.vz = static_cast<float>(v.z());
-      max_speed = std::max(max_speed, v.norm());
       if (!active) continue;
       // rho~^n = rho^{n-1} + dt (2 rho'^{n-1} - rho'^{n-2})
       Real rho = density_[a] + dt * (2 * Real(rate_[a]) - Real(previous_rate_[a]));
@@ -243,7 +242,6 @@ void FluidFormulation::gather(const solver::NodeStore& nodes, Real dt) {
         "(a pressure cutoff PC on the *MAT_NULL, e.g. 0, keeps a liquid from taking tension)",
         nodes.id[node_[first_empty]],
         density_[first_empty] + dt * (2 * Real(rate_[first_empty]) - Real(previous_rate_[first_empty]))));
-  max_speed_ = max_speed;
   max_sound_speed_ = m.sound_speed_at(max_density);
 }
 
@@ -869,6 +867,7 @@ void FluidFormulation::compute_forces(solver::NodeStore& nodes, Real dt) {
   const Index n = particle_count();
 #pragma omp parallel for schedule(static) reduction(max : max_speed)
   for (Index a = 0; a < n; ++a) max_speed = std::max(max_speed, nodes.v[node_[a]].norm());
+  max_speed_ = max_speed;
   travelled_ += dt * max_speed;
   // Two particles approach each other by at most twice the bound; the search also widens by the
   // rounding margin, and all of it must stay within the skin (see for_each_particle_candidates).
