@@ -1,7 +1,7 @@
 // Whole-scene throughput of the SPH fluid: the 3D dam break of examples/dam_break (water column
 // L x 1.5L x 2L in a tank 4L long between side walls), cubic spline with h = 1.73 spacings (about
 // 170 neighbours inside the support of an interior particle), 20 steps per iteration from rest, at
-// 1 and 2 OpenMP threads. One pair pass per step. Reports:
+// 1 and 2 OpenMP threads (SPALL_BENCH_THREADS: thread_counts.hpp). One pair pass per step. Reports:
 //   fluid_steps_per_s           fluid particle-steps per second of wall time
 //   fluid_steps_per_core_s      the same per second of process CPU time (all threads)
 //   neighbours                  mean number of particles inside the support, over fluid particles
@@ -22,6 +22,7 @@
 #include "spall/core/log.hpp"
 #include "spall/solver/simulation.hpp"
 #include "support/fluid_tank.hpp"
+#include "thread_counts.hpp"
 
 using namespace spall;
 
@@ -152,7 +153,7 @@ void BM_SphFluidBlock(benchmark::State& state) {
 }
 
 void register_benchmarks() {
-  for (int threads : {1, 2})
+  for (int threads : bench::thread_counts())
     benchmark::RegisterBenchmark("BM_SphFluidBlock", BM_SphFluidBlock)
         ->Args({46, threads})  // 97 336 particles
         ->Unit(benchmark::kMillisecond)
@@ -163,7 +164,7 @@ void register_benchmarks() {
   // n = 70: 70 x 105 x 140 = 1 029 000 water particles.
   if (std::getenv("SPALL_BENCH_QUICK") == nullptr) sizes.push_back(70);
   for (int n : sizes)
-    for (int threads : {1, 2})
+    for (int threads : bench::thread_counts())
       benchmark::RegisterBenchmark("BM_SphFluidDamBreak", BM_SphFluidDamBreak)
           ->Args({n, threads})
           ->Unit(benchmark::kMillisecond)

@@ -1,8 +1,9 @@
 // Whole-scene throughput of the elastoplastic SPH solid: the Taylor bar of examples/taylor_bar
 // (OFHC copper, Johnson-Cook, rigid wall; tests/support/taylor_bar.hpp) at D0/35, 105 084
-// particles, at 1 and 2 OpenMP threads. The rod is first run 5 us past impact (set-up, not
-// timed), so that the timed steps see a plastic foot on the wall; each iteration then continues
-// it by 20 steps (21 force evaluations; the first of each run does not advance the material).
+// particles, at 1 and 2 OpenMP threads (others by SPALL_BENCH_THREADS: thread_counts.hpp). The
+// rod is first run 5 us past impact (set-up, not timed), so that the timed steps see a plastic
+// foot on the wall; each iteration then continues it by 20 steps (21 force evaluations; the first
+// of each run does not advance the material).
 // Reports particle-steps per second (items_per_second) and per core, the mean number of
 // neighbours inside the support (|x_a - x_b| < h_a + h_b) and of Verlet-list entries (1.05 (h_a +
 // h_b) plus a skin of 10 % of 2.1 x the largest h), and the bytes per particle of the SPH arrays and neighbour list
@@ -34,6 +35,7 @@
 #include "spall/solver/simulation.hpp"
 #include "spall/sph/solid.hpp"
 #include "support/taylor_bar.hpp"
+#include "thread_counts.hpp"
 
 using namespace spall;
 
@@ -131,9 +133,10 @@ void BM_SphTaylorBar(benchmark::State& state) { run_taylor_bar(state, false); }
 // bench/peers/lammps_smd.sh times.
 void BM_SphTaylorBarPeerPhysics(benchmark::State& state) { run_taylor_bar(state, true); }
 
-// D0/35 (105 084 particles) at 1 and 2 threads.
+// D0/35 (105 084 particles) at 1 and 2 threads (or SPALL_BENCH_THREADS).
 void rod_of_35_across(benchmark::internal::Benchmark* b) {
-  b->ArgNames({"across", "threads"})->Args({35, 1})->Args({35, 2});
+  b->ArgNames({"across", "threads"});
+  for (int threads : bench::thread_counts()) b->Args({35, threads});
   b->Unit(benchmark::kMillisecond)->UseRealTime()->MinTime(2.0);
 }
 
@@ -147,8 +150,9 @@ BENCHMARK(BM_SphTaylorBarPeerPhysics)->Apply(rod_of_35_across);
   if (std::getenv("SPALL_BENCH_QUICK") != nullptr) return false;
   benchmark::RegisterBenchmark("BM_SphTaylorBar/million", BM_SphTaylorBar)
       ->ArgNames({"across", "threads"})
-      ->Args({74, 1})
-      ->Args({74, 2})
+      ->Apply([](benchmark::internal::Benchmark* b) {
+        for (int threads : bench::thread_counts()) b->Args({74, threads});
+      })
       ->Unit(benchmark::kMillisecond)
       ->UseRealTime()
       ->MinTime(5.0);
