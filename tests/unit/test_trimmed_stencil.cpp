@@ -141,6 +141,46 @@ TEST(trimmed_stencil, TrimsALatticeCornerToTheCellsItsBallMeets) {
   FAIL() << "no cell holds the centre particle";
 }
 
+TEST(trimmed_stencil, ABoxsRunsHoldTheRunsOfEachOfItsPoints) {
+  // The SPH fluid screens a cell's particles together, over the runs of their bounding box: in
+  // each row, the box's run must hold the run of every particle of the box, and so every particle
+  // within the radius of any of them.
+  const Real radius = 0.3;
+  const std::vector<Vec3> x = random_cloud(1500, Vec3(3, 2, 1.5), 5);
+  for (int reach = 1; reach <= TrimmedStencil::max_reach; ++reach) {
+    CellList cells;
+    cells.build(x, radius / reach);
+    TrimmedStencil stencil(cells, reach);
+    TrimmedStencil::Ranges box, point, block;
+    Index box_candidates = 0, block_candidates = 0;
+    for (Index c = 0; c < cells.cell_count(); ++c) {
+      stencil.prepare(c);
+      const ParticleRange own = cells.cell(c);
+      Vec3 lower = x[cells.order()[own.begin]] - cells.lower(), upper = lower;
+      for (Index k = own.begin; k < own.end; ++k) {
+        lower = lower.cwiseMin(x[cells.order()[k]] - cells.lower());
+        upper = upper.cwiseMax(x[cells.order()[k]] - cells.lower());
+      }
+      const int count = stencil.trimmed(lower, upper, radius, box);
+      stencil.block(block);
+      for (int r = 0; r < count; ++r) {
+        box_candidates += box[r].end - box[r].begin;
+        block_candidates += block[r].end - block[r].begin;
+      }
+      for (Index k = own.begin; k < own.end; ++k) {
+        ASSERT_EQ(stencil.trimmed(x[cells.order()[k]] - cells.lower(), radius, point), count);
+        for (int r = 0; r < count; ++r) {
+          if (point[r].begin == point[r].end) continue;
+          EXPECT_LE(box[r].begin, point[r].begin) << "reach " << reach << ", cell " << c << ", row " << r;
+          EXPECT_GE(box[r].end, point[r].end) << "reach " << reach << ", cell " << c << ", row " << r;
+        }
+      }
+    }
+    // The box still trims: fewer candidates than the cells' whole blocks.
+    EXPECT_LT(box_candidates, block_candidates) << "reach " << reach;
+  }
+}
+
 TEST(trimmed_stencil, SlidingAlongARowGivesTheSameTableAsPreparingAfresh) {
   // prepare() shifts the table when the next cell follows along its row of cells: each cell's
   // trimmed ranges must equal those of a stencil prepared for that cell alone.

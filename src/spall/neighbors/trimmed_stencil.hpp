@@ -51,7 +51,11 @@ class TrimmedStencil {
   // out of reach), in ascending order; returns how many were written. The particles are taken
   // where they were binned: a caller whose particles have since moved widens the radius by the
   // largest move. The point may lie outside the prepared cell (it too may have moved).
-  inline int trimmed(const Vec3& offset, Real radius, Ranges& ranges) const;
+  int trimmed(const Vec3& offset, Real radius, Ranges& ranges) const { return trimmed(offset, offset, radius, ranges); }
+  // The same for every point of the box [lower, upper] (offsets as above): a superset of the
+  // particles closer than `radius` to any point of the box, each row's run covering the runs of
+  // all of its points.
+  inline int trimmed(const Vec3& lower, const Vec3& upper, Real radius, Ranges& ranges) const;
 
  private:
   // start_[k * range_capacity + r]: the first particle of the cells x >= ix - reach + k of row r,
@@ -80,30 +84,30 @@ class TrimmedStencil {
   std::array<Index, (2 * max_reach + 2) * range_capacity> start_{};
 };
 
-// Called once per particle: inline, eight rows at a time with AVX-512 (double precision) or AVX2
-// (single precision, the reach widened to cover its rounding), without a branch per row.
-int TrimmedStencil::trimmed(const Vec3& offset, Real radius, Ranges& ranges) const {
+// Called once per particle or box: inline, eight rows at a time with AVX-512 (double precision)
+// or AVX2 (single precision, the reach widened to cover its rounding), without a branch per row.
+int TrimmedStencil::trimmed(const Vec3& lower, const Vec3& upper, Real radius, Ranges& ranges) const {
   // The slabs of the widest block, and one more: the AVX-512 path holds all eight in a register.
   constexpr int slab_count = 2 * max_reach + 2;
   const int width = 2 * reach_ + 1;
-  // The point relative to the block corner, in cell units: cell (i, j, k) of the block covers
+  // The box relative to the block corner, in cell units: cell (i, j, k) of the block covers
   // [i, i + 1) x [j, j + 1) x [k, k + 1).
-  const Vec3 u = offset * inverse_edge_ - corner_;
+  const Vec3 lo = lower * inverse_edge_ - corner_, hi = upper * inverse_edge_ - corner_;
   const Real reach = radius * inverse_edge_ * (1 + 1e-9) + slack_;
-  // Squared distance from the point to the slab of cells j along y (and along z).
+  // Squared distance from the box to the slab of cells j along y (and along z).
   alignas(64) std::array<Real, slab_count> gap_y, gap_z;
   for (int j = 0; j < slab_count; ++j) {
-    const Real y = std::max({Real(0), j - u.y(), u.y() - (j + 1)});
-    const Real z = std::max({Real(0), j - u.z(), u.z() - (j + 1)});
+    const Real y = std::max({Real(0), j - hi.y(), lo.y() - (j + 1)});
+    const Real z = std::max({Real(0), j - hi.z(), lo.z() - (j + 1)});
     gap_y[j] = y * y;
     gap_z[j] = z * z;
   }
   // Row r reaches when left = reach^2 - gap_y^2 - gap_z^2 >= 0; its cells i in reach are those
-  // with [i, i + 1] meeting [u.x - sqrt(left), u.x + sqrt(left)]. A row out of reach gets
+  // with [i, i + 1] meeting [lo.x - sqrt(left), hi.x + sqrt(left)]. A row out of reach gets
   // first = past_last; min after max keeps a NaN inside the block.
   const Real last_cell = width - 1;
 #if defined(SPALL_SIMD_AVX512)
-  const __m512d ux = _mm512_set1_pd(u.x()), r2 = _mm512_set1_pd(reach * reach);
+  const __m512d lx = _mm512_set1_pd(lo.x()), hx = _mm512_set1_pd(hi.x()), r2 = _mm512_set1_pd(reach * reach);
   const __m512d zero = _mm512_setzero_pd(), one = _mm512_set1_pd(1), last = _mm512_set1_pd(last_cell);
   const __m512d all_gap_y = _mm512_load_pd(gap_y.data()), all_gap_z = _mm512_load_pd(gap_z.data());
   const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
@@ -116,10 +120,10 @@ int TrimmedStencil::trimmed(const Vec3& offset, Real radius, Ranges& ranges) con
     const __m512d left = _mm512_sub_pd(_mm512_sub_pd(r2, _mm512_permutexvar_pd(y, all_gap_y)),
                                        _mm512_permutexvar_pd(z, all_gap_z));
     const __m512d half = _mm512_sqrt_pd(_mm512_max_pd(left, zero));
-    const __m512d first = _mm512_min_pd(_mm512_max_pd(_mm512_floor_pd(_mm512_sub_pd(ux, half)), zero), last);
+    const __m512d first = _mm512_min_pd(_mm512_max_pd(_mm512_floor_pd(_mm512_sub_pd(lx, half)), zero), last);
     const __m512d past_last = _mm512_mask_add_pd(
         first, _mm512_cmp_pd_mask(left, zero, _CMP_GE_OQ),
-        _mm512_min_pd(_mm512_max_pd(_mm512_floor_pd(_mm512_add_pd(ux, half)), zero), last), one);
+        _mm512_min_pd(_mm512_max_pd(_mm512_floor_pd(_mm512_add_pd(hx, half)), zero), last), one);
     // Index of start(k, r) for the eight rows.
     const __m256i row = _mm256_add_epi32(_mm256_set1_epi32(r), lane);
     const __m256i begin = _mm256_i32gather_epi32(
@@ -137,7 +141,8 @@ int TrimmedStencil::trimmed(const Vec3& offset, Real radius, Ranges& ranges) con
   // of a cell from the ball's edge may add that cell).
   static_assert(slab_count == 8 && range_capacity % 8 == 0);
   const float widened = static_cast<float>(reach + 1e-4);
-  const __m256 ux = _mm256_set1_ps(static_cast<float>(u.x())), r2 = _mm256_set1_ps(widened * widened);
+  const __m256 lx = _mm256_set1_ps(static_cast<float>(lo.x())), hx = _mm256_set1_ps(static_cast<float>(hi.x()));
+  const __m256 r2 = _mm256_set1_ps(widened * widened);
   const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1), last = _mm256_set1_ps(static_cast<float>(last_cell));
   const auto to_floats = [](const Real* eight) {
     return _mm256_set_m128(_mm256_cvtpd_ps(_mm256_load_pd(eight + 4)), _mm256_cvtpd_ps(_mm256_load_pd(eight)));
@@ -151,9 +156,9 @@ int TrimmedStencil::trimmed(const Vec3& offset, Real radius, Ranges& ranges) con
     const __m256 left = _mm256_sub_ps(_mm256_sub_ps(r2, _mm256_permutevar8x32_ps(all_gap_y, y)),
                                       _mm256_permutevar8x32_ps(all_gap_z, z));
     const __m256 half = _mm256_sqrt_ps(_mm256_max_ps(left, zero));
-    const __m256 first = _mm256_min_ps(_mm256_max_ps(_mm256_floor_ps(_mm256_sub_ps(ux, half)), zero), last);
+    const __m256 first = _mm256_min_ps(_mm256_max_ps(_mm256_floor_ps(_mm256_sub_ps(lx, half)), zero), last);
     __m256 past_last = _mm256_add_ps(
-        _mm256_min_ps(_mm256_max_ps(_mm256_floor_ps(_mm256_add_ps(ux, half)), zero), last), one);
+        _mm256_min_ps(_mm256_max_ps(_mm256_floor_ps(_mm256_add_ps(hx, half)), zero), last), one);
     past_last = _mm256_blendv_ps(first, past_last, _mm256_cmp_ps(left, zero, _CMP_GE_OQ));
     // Index of start(k, r) for the eight rows.
     const __m256i row = _mm256_add_epi32(_mm256_set1_epi32(r), lane);
@@ -171,8 +176,8 @@ int TrimmedStencil::trimmed(const Vec3& offset, Real radius, Ranges& ranges) con
   for (int r = 0; r < row_count_; ++r) {
     const Real left = reach * reach - gap_y[row_y_[r]] - gap_z[row_z_[r]];
     const Real half = std::sqrt(std::fmax(left, Real(0)));
-    const Real first = std::fmin(std::fmax(std::floor(u.x() - half), Real(0)), last_cell);
-    const Real past_last = left >= 0 ? std::fmin(std::fmax(std::floor(u.x() + half), Real(0)), last_cell) + 1 : first;
+    const Real first = std::fmin(std::fmax(std::floor(lo.x() - half), Real(0)), last_cell);
+    const Real past_last = left >= 0 ? std::fmin(std::fmax(std::floor(hi.x() + half), Real(0)), last_cell) + 1 : first;
     ranges[r] = {start(static_cast<int>(first), r), start(static_cast<int>(past_last), r)};
   }
 #endif

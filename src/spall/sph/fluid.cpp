@@ -245,10 +245,12 @@ void FluidFormulation::gather(const solver::NodeStore& nodes, Real dt) {
   max_sound_speed_ = m.sound_speed_at(max_density);
 }
 
-template <typename Visit, typename VisitWalls>
-void FluidFormulation::for_each_particle_candidates(bool pair_pass, Visit&& visit, VisitWalls&& visit_walls) const {
+template <bool pair_pass, typename Visit, typename VisitWalls>
+void FluidFormulation::for_each_particle_candidates(Visit&& visit, VisitWalls&& visit_walls) const {
   neighbors::TrimmedStencil stencil(cells_, stencil_reach);
   neighbors::TrimmedStencil::Ranges ranges, block_ranges;
+  std::vector<Index> cluster;
+  Vec3 lower, upper;
   // A neighbour within the support now was binned within support + travelled_ of this
   // particle's position now, which is within travelled_ of its own cell: the 5 x 5 x 5 cells of
   // edge (support + skin) / 2 hold it while 2 travelled_ + margin <= skin support (compute_forces).
@@ -263,6 +265,7 @@ void FluidFormulation::for_each_particle_candidates(bool pair_pass, Visit&& visi
     int block_count = -1;  // the cell's whole block, once a wall asks for it
     Index walls[wall_group];
     int wall_count = 0;
+    int cluster_count = 0;
     for (Index a = own.begin; a < own.end; ++a) {
       if (pair_pass && !(moving_lanes(moving_.data(), a) & 1u)) {
         // The walls of a cell share its whole block, each run cut to the span from its first to
@@ -275,9 +278,20 @@ void FluidFormulation::for_each_particle_candidates(bool pair_pass, Visit&& visi
         continue;
       }
       const FluidRecord& r = record_[a];
-      const int range_count = active ? stencil.trimmed(Vec3(r.x, r.y, r.z), radius, ranges) : 0;
-      visit(a, ranges, range_count);
+      if constexpr (!pair_pass) {
+        visit(a, ranges, stencil.trimmed(Vec3(r.x, r.y, r.z), radius, ranges));
+        continue;
+      }
+      // The cell's moving particles and their bounding box.
+      const Vec3 x(r.x, r.y, r.z);
+      lower = cluster_count == 0 ? x : lower.cwiseMin(x);
+      upper = cluster_count == 0 ? x : upper.cwiseMax(x);
+      if (static_cast<int>(cluster.size()) <= cluster_count) cluster.resize(cluster_count + 1);
+      cluster[cluster_count++] = a;
     }
+    if constexpr (pair_pass)
+      if (cluster_count > 0)
+        visit(cluster.data(), cluster_count, ranges, active ? stencil.trimmed(lower, upper, radius, ranges) : 0);
     if (wall_count > 0) visit_walls(walls, wall_count, block_ranges, block_count);
   }
 }
@@ -499,6 +513,85 @@ Index screen(const PairInputs& in, float H2, Index begin, Index end, Index self,
   }
 #endif
   return count;
+}
+
+// screen() for the moving particles cluster[0, k) of one cell at once, over runs that hold each
+// one's trimmed runs (those of the cluster's bounding box): each pack of candidates is loaded
+// once and tested against every particle of the cluster, where screen() loaded the same packs
+// once per particle, and the runs are trimmed once per cell (docs/PERFORMANCE.md, session 21).
+// Particle cluster[i]'s neighbours go to found + i * stride, count[i] of them, exactly as
+// screen() would find them from its own runs: the rows are the same and in the same order, a
+// candidate outside the particle's own runs lies beyond its support, and the test is screen()'s.
+// found needs simd_width spare slots after each list.
+template <typename Ranges>
+void screen_cluster(const PairInputs& in, float H2, const Index* cluster, int k, const Ranges& ranges,
+                    int range_count, Index* found, Index stride, Index* count) {
+  for (int i = 0; i < k; ++i) count[i] = 0;
+#if defined(SPALL_SIMD_AVX512) || (defined(__AVX2__) && defined(__BMI2__))
+  // The cluster's positions, each broadcast from here (a cell of the usual lattice holds 5-10).
+  constexpr int max_cluster = 64;
+  if (k <= max_cluster) {
+    alignas(64) float own[3][max_cluster];
+    for (int i = 0; i < k; ++i) {
+      const FluidRecord& r = in.record[cluster[i]];
+      own[0][i] = r.x, own[1][i] = r.y, own[2][i] = r.z;
+    }
+#if defined(SPALL_SIMD_AVX512)
+    const __m512 vH2 = _mm512_set1_ps(H2);
+    const __m512i lane = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+    for (int r = 0; r < range_count; ++r) {
+      const Index end = ranges[r].end;
+      for (Index b = ranges[r].begin; b < end; b += 16) {
+        __m512 xb, yb, zb;
+        load_positions(in.record + b, xb, yb, zb);
+        const unsigned in_range = 0xFFFFu >> (16 - std::min<Index>(end - b, 16));
+        const __m512i index = _mm512_add_epi32(_mm512_set1_epi32(b), lane);
+        for (int i = 0; i < k; ++i) {
+          const __m512 dx = _mm512_sub_ps(_mm512_set1_ps(own[0][i]), xb);
+          const __m512 dy = _mm512_sub_ps(_mm512_set1_ps(own[1][i]), yb);
+          const __m512 dz = _mm512_sub_ps(_mm512_set1_ps(own[2][i]), zb);
+          const __m512 r2 = _mm512_fmadd_ps(dz, dz, _mm512_fmadd_ps(dy, dy, _mm512_mul_ps(dx, dx)));
+          unsigned lanes = in_range;
+          const Index self = cluster[i];
+          if (self >= b && self < b + 16) lanes &= ~(1u << (self - b));
+          const __mmask16 mask = _mm512_mask_cmp_ps_mask(static_cast<__mmask16>(lanes), r2, vH2, _CMP_LT_OQ);
+          _mm512_storeu_si512(found + i * stride + count[i], _mm512_maskz_compress_epi32(mask, index));
+          count[i] += std::popcount(static_cast<unsigned>(mask));
+        }
+      }
+    }
+#else
+    const __m256 vH2 = _mm256_set1_ps(H2);
+    for (int r = 0; r < range_count; ++r) {
+      const Index end = ranges[r].end;
+      for (Index b = ranges[r].begin; b < end; b += 8) {
+        __m256 xb, yb, zb;
+        load_positions(in.record + b, xb, yb, zb);
+        const unsigned valid = static_cast<unsigned>(std::min<Index>(end - b, 8));
+        const __m256i base = _mm256_set1_epi32(b);
+        for (int i = 0; i < k; ++i) {
+          const __m256 dx = _mm256_sub_ps(_mm256_broadcast_ss(&own[0][i]), xb);
+          const __m256 dy = _mm256_sub_ps(_mm256_broadcast_ss(&own[1][i]), yb);
+          const __m256 dz = _mm256_sub_ps(_mm256_broadcast_ss(&own[2][i]), zb);
+          const __m256 r2 = _mm256_fmadd_ps(dz, dz, _mm256_fmadd_ps(dy, dy, _mm256_mul_ps(dx, dx)));
+          unsigned mask = _bzhi_u32(static_cast<unsigned>(_mm256_movemask_ps(_mm256_cmp_ps(r2, vH2, _CMP_LT_OQ))), valid);
+          const Index self = cluster[i];
+          if (self >= b && self < b + 8) mask &= ~(1u << (self - b));
+          // Left-pack as screen() does.
+          const std::uint64_t lanes = simd::avx2::compress_lanes8.order[mask];
+          const __m256i index = _mm256_add_epi32(base, _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(static_cast<long long>(lanes))));
+          _mm256_storeu_si256(reinterpret_cast<__m256i*>(found + i * stride + count[i]), index);
+          count[i] += std::popcount(mask);
+        }
+      }
+    }
+#endif
+    return;
+  }
+#endif
+  for (int i = 0; i < k; ++i)
+    for (int r = 0; r < range_count; ++r)
+      count[i] = screen(in, H2, ranges[r].begin, ranges[r].end, cluster[i], found + i * stride, count[i]);
 }
 
 // The pair sums of particle a over its neighbours found[0, count). The terms are evaluated in
@@ -822,17 +915,10 @@ void FluidFormulation::pair_pass(solver::NodeStore& nodes, Real dt) {
       previous_rate_[a] = first_pass_ ? static_cast<float>(rate) : rate_[a];
       rate_[a] = static_cast<float>(rate);
     };
-    const auto moving_particle = [&](Index a, const auto& ranges, int range_count) {
-      Index candidates = 0;
-      for (int r = 0; r < range_count; ++r) candidates += ranges[r].end - ranges[r].begin;
-      if (found.size() < static_cast<std::size_t>(candidates + 2 * simd_width))
-        found.resize(candidates + 2 * simd_width);
-      Index count = 0;
-      for (int r = 0; r < range_count; ++r)
-        count = screen(in, constants.support_squared, ranges[r].begin, ranges[r].end, a, found.data(), count);
-      while (count % simd_width != 0) found[count++] = a;
-      const PairSums sums = uniform_mass_ > 0 ? interact<true>(in, constants, a, found.data(), count)
-                                              : interact<false>(in, constants, a, found.data(), count);
+    const auto moving_particle = [&](Index a, Index* neighbours, Index count) {
+      while (count % simd_width != 0) neighbours[count++] = a;
+      const PairSums sums = uniform_mass_ > 0 ? interact<true>(in, constants, a, neighbours, count)
+                                              : interact<false>(in, constants, a, neighbours, count);
       const Vec3 f(sums.fx, sums.fy, sums.fz), fv(sums.fvx, sums.fvy, sums.fvz);
       nodes.f[node_[a]] += f;
       for (int d = 0; d < 3; ++d) {
@@ -843,6 +929,17 @@ void FluidFormulation::pair_pass(solver::NodeStore& nodes, Real dt) {
       max_mu = std::max(max_mu, Real(sums.max_mu));
       update_density(a, sums.rate);
     };
+    std::vector<Index> counts;
+    const auto moving_cluster = [&](const Index* cluster, int k, const auto& ranges, int range_count) {
+      Index candidates = 0;
+      for (int r = 0; r < range_count; ++r) candidates += ranges[r].end - ranges[r].begin;
+      const Index stride = candidates + 2 * simd_width;
+      if (found.size() < static_cast<std::size_t>(stride) * k) found.resize(static_cast<std::size_t>(stride) * k);
+      if (counts.size() < static_cast<std::size_t>(k)) counts.resize(k);
+      screen_cluster(in, constants.support_squared, cluster, k, ranges, range_count, found.data(), stride, counts.data());
+      for (int i = 0; i < k; ++i) moving_particle(cluster[i], found.data() + i * stride, counts[i]);
+    };
+
     // Walls rest and feel no force; their density follows continuity and never goes below rho0.
     const auto walls = [&](const Index* w, int count, const auto& spans, int span_count) {
       Real rates[wall_group];
@@ -854,7 +951,7 @@ void FluidFormulation::pair_pass(solver::NodeStore& nodes, Real dt) {
         density_[a] = std::max(density_[a], m.density);
       }
     };
-    for_each_particle_candidates(true, moving_particle, walls);
+    for_each_particle_candidates<true>(moving_cluster, walls);
   }
   max_acceleration_ = max_acceleration;
   max_mu_ = max_mu;
@@ -916,7 +1013,7 @@ std::vector<Index> FluidFormulation::neighbour_counts() const {
   const float H2 = static_cast<float>(support_ * support_);
   const auto no_walls = [](const Index*, int, const auto&, int) {};  // pair_pass false: none
 #pragma omp parallel
-  for_each_particle_candidates(false, [&](Index a, const auto& ranges, int range_count) {
+  for_each_particle_candidates<false>([&](Index a, const auto& ranges, int range_count) {
     Index count = 0;
     for (int r = 0; r < range_count; ++r)
       for (Index b = ranges[r].begin; b < ranges[r].end; ++b) {

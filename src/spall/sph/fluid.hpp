@@ -24,10 +24,11 @@
 //   rho^n = rho^{n-1} + dt rho'^n. For an acoustic mode of frequency w this predictor-corrector is
 //   stable for w dt < 0.72 (and damps the highest modes slightly); the lagged update
 //   rho^n = rho^{n-1} + dt rho'^{n-1} alone is unstable for every dt.
-// - Particles are kept in cell order; each one screens the particles of the cells that can reach
-//   its support (cells of edge (support + skin) / 2, the runs of the 5 x 5 x 5 block around its
-//   cell trimmed to its position: neighbors/trimmed_stencil.hpp) and interacts with those inside
-//   the support. Cells are rebuilt, and the particles re-sorted, when the particles may have moved
+// - Particles are kept in cell order; the moving particles of a cell screen together the
+//   particles of the cells that can reach their supports (cells of edge (support + skin) / 2, the
+//   runs of the 5 x 5 x 5 block around their cell trimmed to their bounding box:
+//   neighbors/trimmed_stencil.hpp), each pack of candidates tested against all of them, and each
+//   interacts with those inside its support. Cells are rebuilt, and the particles re-sorted, when the particles may have moved
 //   more than skin / 2 since the last rebuild: the bound is the sum over steps of dt max |v|, so
 //   no reference positions are stored.
 // - Positions and velocities are copied each step into single-precision records in cell order;
@@ -114,11 +115,13 @@ class FluidFormulation final : public solver::Formulation {
   void pair_pass(solver::NodeStore& nodes, Real dt);
   // Calls visit(a, ranges, range count) for every particle a, in an `omp for` over the cells: the
   // ranges hold every particle within the support of a. For the pair pass (pair_pass), the
-  // particles of cells without moving particles around get no ranges, and the walls of a cell
-  // come in groups of up to wall_group (fluid.cpp) to visit_walls(walls, count, spans, span
-  // count) instead, with the cell's whole block cut to its moving spans.
-  template <typename Visit, typename VisitWalls>
-  void for_each_particle_candidates(bool pair_pass, Visit&& visit, VisitWalls&& visit_walls) const;
+  // moving particles of a cell come together instead, to visit(cluster, count, ranges, range
+  // count) with ranges that hold every particle within the support of any of them, and the walls
+  // of a cell in groups of up to wall_group (fluid.cpp) to visit_walls(walls, count, spans, span
+  // count), with the cell's whole block cut to its moving spans (none in a cell without moving
+  // particles around).
+  template <bool pair_pass, typename Visit, typename VisitWalls>
+  void for_each_particle_candidates(Visit&& visit, VisitWalls&& visit_walls) const;
 
   FluidParameters parameters_;
   Real support_ = 0;  // H = 2h
