@@ -248,9 +248,8 @@ void FluidFormulation::gather(const solver::NodeStore& nodes, Real dt) {
 template <bool pair_pass, typename Visit, typename VisitWalls>
 void FluidFormulation::for_each_particle_candidates(Visit&& visit, VisitWalls&& visit_walls) const {
   neighbors::TrimmedStencil stencil(cells_, stencil_reach);
-  neighbors::TrimmedStencil::Ranges ranges, block_ranges;
-  std::vector<Index> cluster;
-  Vec3 lower, upper;
+  neighbors::TrimmedStencil::Ranges ranges, spans;
+  std::vector<Index> cluster, walls;
   // A neighbour within the support now was binned within support + travelled_ of this
   // particle's position now, which is within travelled_ of its own cell: the 5 x 5 x 5 cells of
   // edge (support + skin) / 2 hold it while 2 travelled_ + margin <= skin support (compute_forces).
@@ -260,39 +259,38 @@ void FluidFormulation::for_each_particle_candidates(Visit&& visit, VisitWalls&& 
 #pragma omp for schedule(dynamic, 16)
   for (Index c = 0; c < cell_count; ++c) {
     const neighbors::ParticleRange own = cells_.cell(c);
-    const bool active = !pair_pass || active_cell_[c];
-    if (active) stencil.prepare(c);
-    int block_count = -1;  // the cell's whole block, once a wall asks for it
-    Index walls[wall_group];
-    int wall_count = 0;
-    int cluster_count = 0;
-    for (Index a = own.begin; a < own.end; ++a) {
-      if (pair_pass && !(moving_lanes(moving_.data(), a) & 1u)) {
-        // The walls of a cell share its whole block, each run cut to the span from its first to
-        // its last moving particle: cheaper than trimming runs per wall (docs/PERFORMANCE.md,
-        // sessions 13, 18 and 19). Inactive cells have no moving particle within reach.
-        if (block_count < 0)
-          block_count = active ? moving_spans(moving_.data(), block_ranges, stencil.block(block_ranges)) : 0;
-        walls[wall_count++] = a;
-        if (wall_count == wall_group) visit_walls(walls, wall_count, block_ranges, block_count), wall_count = 0;
-        continue;
-      }
-      const FluidRecord& r = record_[a];
-      if constexpr (!pair_pass) {
+    if constexpr (!pair_pass) {
+      stencil.prepare(c);
+      for (Index a = own.begin; a < own.end; ++a) {
+        const FluidRecord& r = record_[a];
         visit(a, ranges, stencil.trimmed(Vec3(r.x, r.y, r.z), radius, ranges));
-        continue;
       }
-      // The cell's moving particles and their bounding box.
-      const Vec3 x(r.x, r.y, r.z);
-      lower = cluster_count == 0 ? x : lower.cwiseMin(x);
-      upper = cluster_count == 0 ? x : upper.cwiseMax(x);
-      if (static_cast<int>(cluster.size()) <= cluster_count) cluster.resize(cluster_count + 1);
-      cluster[cluster_count++] = a;
+    } else {
+      // The cell's moving particles (the cluster), its walls, and the bounding box of them all.
+      cluster.clear(), walls.clear();
+      Vec3 lower = Vec3::Constant(std::numeric_limits<Real>::infinity()), upper = -lower;
+      for (Index a = own.begin; a < own.end; ++a) {
+        (moving_lanes(moving_.data(), a) & 1u ? cluster : walls).push_back(a);
+        const FluidRecord& r = record_[a];
+        lower = lower.cwiseMin(Vec3(r.x, r.y, r.z)), upper = upper.cwiseMax(Vec3(r.x, r.y, r.z));
+      }
+      // Inactive cells (walls only) have no moving particle within reach.
+      int range_count = 0;
+      if (active_cell_[c]) {
+        stencil.prepare(c);
+        range_count = stencil.trimmed(lower, upper, radius, ranges);
+      }
+      if (!cluster.empty()) visit(cluster.data(), static_cast<int>(cluster.size()), ranges, range_count);
+      if (walls.empty()) continue;
+      // The walls share the cell's runs, each cut to the span from its first to its last moving
+      // particle, and come wall_group at a time: cheaper than trimming runs per wall
+      // (docs/PERFORMANCE.md, sessions 13, 18 and 19).
+      for (int r = 0; r < range_count; ++r) spans[r] = ranges[r];
+      const int span_count = moving_spans(moving_.data(), spans, range_count);
+      for (std::size_t w = 0; w < walls.size(); w += wall_group)
+        visit_walls(walls.data() + w, static_cast<int>(std::min<std::size_t>(wall_group, walls.size() - w)), spans,
+                    span_count);
     }
-    if constexpr (pair_pass)
-      if (cluster_count > 0)
-        visit(cluster.data(), cluster_count, ranges, active ? stencil.trimmed(lower, upper, radius, ranges) : 0);
-    if (wall_count > 0) visit_walls(walls, wall_count, block_ranges, block_count);
   }
 }
 

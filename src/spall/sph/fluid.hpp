@@ -116,10 +116,10 @@ class FluidFormulation final : public solver::Formulation {
   // Calls visit(a, ranges, range count) for every particle a, in an `omp for` over the cells: the
   // ranges hold every particle within the support of a. For the pair pass (pair_pass), the
   // moving particles of a cell come together instead, to visit(cluster, count, ranges, range
-  // count) with ranges that hold every particle within the support of any of them, and the walls
-  // of a cell in groups of up to wall_group (fluid.cpp) to visit_walls(walls, count, spans, span
-  // count), with the cell's whole block cut to its moving spans (none in a cell without moving
-  // particles around).
+  // count) with the runs of the bounding box of the cell's particles, which hold every particle
+  // within the support of any of them, and the walls of the cell in groups of up to wall_group
+  // (fluid.cpp) to visit_walls(walls, count, spans, span count), the same runs cut to their
+  // moving spans (none in a cell without moving particles around).
   template <bool pair_pass, typename Visit, typename VisitWalls>
   void for_each_particle_candidates(Visit&& visit, VisitWalls&& visit_walls) const;
 
