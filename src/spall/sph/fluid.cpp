@@ -6,6 +6,7 @@
 #include <cstring>
 #include <functional>
 #include <stdexcept>
+#include <type_traits>
 #if defined(__AVX2__)
 #include <immintrin.h>
 #endif
@@ -537,50 +538,66 @@ void screen_cluster(const PairInputs& in, float H2, const Index* cluster, int k,
 #if defined(SPALL_SIMD_AVX512)
     const __m512 vH2 = _mm512_set1_ps(H2);
     const __m512i lane = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
+    // Only the packs that overlap the cluster's own slots hold a particle of it.
+    const Index first_own = cluster[0], past_own = cluster[k - 1] + 1;
+    const auto test = [&](Index b, unsigned in_range, auto may_hold_self) {
+      __m512 xb, yb, zb;
+      load_positions(in.record + b, xb, yb, zb);
+      const __m512i index = _mm512_add_epi32(_mm512_set1_epi32(b), lane);
+      for (int i = 0; i < k; ++i) {
+        const __m512 dx = _mm512_sub_ps(_mm512_set1_ps(own[0][i]), xb);
+        const __m512 dy = _mm512_sub_ps(_mm512_set1_ps(own[1][i]), yb);
+        const __m512 dz = _mm512_sub_ps(_mm512_set1_ps(own[2][i]), zb);
+        const __m512 r2 = _mm512_fmadd_ps(dz, dz, _mm512_fmadd_ps(dy, dy, _mm512_mul_ps(dx, dx)));
+        unsigned lanes = in_range;
+        if constexpr (decltype(may_hold_self)::value) {
+          const Index self = cluster[i];
+          if (self >= b && self < b + 16) lanes &= ~(1u << (self - b));
+        }
+        const __mmask16 mask = _mm512_mask_cmp_ps_mask(static_cast<__mmask16>(lanes), r2, vH2, _CMP_LT_OQ);
+        _mm512_storeu_si512(found + i * stride + count[i], _mm512_maskz_compress_epi32(mask, index));
+        count[i] += std::popcount(static_cast<unsigned>(mask));
+      }
+    };
     for (int r = 0; r < range_count; ++r) {
       const Index end = ranges[r].end;
       for (Index b = ranges[r].begin; b < end; b += 16) {
-        __m512 xb, yb, zb;
-        load_positions(in.record + b, xb, yb, zb);
         const unsigned in_range = 0xFFFFu >> (16 - std::min<Index>(end - b, 16));
-        const __m512i index = _mm512_add_epi32(_mm512_set1_epi32(b), lane);
-        for (int i = 0; i < k; ++i) {
-          const __m512 dx = _mm512_sub_ps(_mm512_set1_ps(own[0][i]), xb);
-          const __m512 dy = _mm512_sub_ps(_mm512_set1_ps(own[1][i]), yb);
-          const __m512 dz = _mm512_sub_ps(_mm512_set1_ps(own[2][i]), zb);
-          const __m512 r2 = _mm512_fmadd_ps(dz, dz, _mm512_fmadd_ps(dy, dy, _mm512_mul_ps(dx, dx)));
-          unsigned lanes = in_range;
-          const Index self = cluster[i];
-          if (self >= b && self < b + 16) lanes &= ~(1u << (self - b));
-          const __mmask16 mask = _mm512_mask_cmp_ps_mask(static_cast<__mmask16>(lanes), r2, vH2, _CMP_LT_OQ);
-          _mm512_storeu_si512(found + i * stride + count[i], _mm512_maskz_compress_epi32(mask, index));
-          count[i] += std::popcount(static_cast<unsigned>(mask));
-        }
+        if (b < past_own && b + 16 > first_own) test(b, in_range, std::true_type{});
+        else test(b, in_range, std::false_type{});
       }
     }
 #else
     const __m256 vH2 = _mm256_set1_ps(H2);
+    // Only the packs that overlap the cluster's own slots hold a particle of it.
+    const Index first_own = cluster[0], past_own = cluster[k - 1] + 1;
+    const auto test = [&](Index b, unsigned valid, auto may_hold_self) {
+      __m256 xb, yb, zb;
+      load_positions(in.record + b, xb, yb, zb);
+      const __m256i base = _mm256_set1_epi32(b);
+      for (int i = 0; i < k; ++i) {
+        const __m256 dx = _mm256_sub_ps(_mm256_broadcast_ss(&own[0][i]), xb);
+        const __m256 dy = _mm256_sub_ps(_mm256_broadcast_ss(&own[1][i]), yb);
+        const __m256 dz = _mm256_sub_ps(_mm256_broadcast_ss(&own[2][i]), zb);
+        const __m256 r2 = _mm256_fmadd_ps(dz, dz, _mm256_fmadd_ps(dy, dy, _mm256_mul_ps(dx, dx)));
+        unsigned mask = _bzhi_u32(static_cast<unsigned>(_mm256_movemask_ps(_mm256_cmp_ps(r2, vH2, _CMP_LT_OQ))), valid);
+        if constexpr (decltype(may_hold_self)::value) {
+          const Index self = cluster[i];
+          if (self >= b && self < b + 8) mask &= ~(1u << (self - b));
+        }
+        // Left-pack as screen() does.
+        const std::uint64_t lanes = simd::avx2::compress_lanes8.order[mask];
+        const __m256i index = _mm256_add_epi32(base, _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(static_cast<long long>(lanes))));
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(found + i * stride + count[i]), index);
+        count[i] += std::popcount(mask);
+      }
+    };
     for (int r = 0; r < range_count; ++r) {
       const Index end = ranges[r].end;
       for (Index b = ranges[r].begin; b < end; b += 8) {
-        __m256 xb, yb, zb;
-        load_positions(in.record + b, xb, yb, zb);
         const unsigned valid = static_cast<unsigned>(std::min<Index>(end - b, 8));
-        const __m256i base = _mm256_set1_epi32(b);
-        for (int i = 0; i < k; ++i) {
-          const __m256 dx = _mm256_sub_ps(_mm256_broadcast_ss(&own[0][i]), xb);
-          const __m256 dy = _mm256_sub_ps(_mm256_broadcast_ss(&own[1][i]), yb);
-          const __m256 dz = _mm256_sub_ps(_mm256_broadcast_ss(&own[2][i]), zb);
-          const __m256 r2 = _mm256_fmadd_ps(dz, dz, _mm256_fmadd_ps(dy, dy, _mm256_mul_ps(dx, dx)));
-          unsigned mask = _bzhi_u32(static_cast<unsigned>(_mm256_movemask_ps(_mm256_cmp_ps(r2, vH2, _CMP_LT_OQ))), valid);
-          const Index self = cluster[i];
-          if (self >= b && self < b + 8) mask &= ~(1u << (self - b));
-          // Left-pack as screen() does.
-          const std::uint64_t lanes = simd::avx2::compress_lanes8.order[mask];
-          const __m256i index = _mm256_add_epi32(base, _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(static_cast<long long>(lanes))));
-          _mm256_storeu_si256(reinterpret_cast<__m256i*>(found + i * stride + count[i]), index);
-          count[i] += std::popcount(mask);
-        }
+        if (b < past_own && b + 8 > first_own) test(b, valid, std::true_type{});
+        else test(b, valid, std::false_type{});
       }
     }
 #endif
