@@ -452,111 +452,58 @@ struct PairSums {
   float max_mu = 0;                // largest -mu_ab of an approaching pair (Monaghan's time step)
 };
 
-// Appends to `found` the particles of [begin, end) closer to particle `self` than H, except
-// `self`; returns the new count. The vector paths read simd_width records at a time, up to
-// simd_width past `end` (the records are padded), mask the lanes past `end` off and write
-// simd_width entries at a time (found needs simd_width spare slots); they test exactly as the
-// scalar path does (same fused operations), so the pair (a, b) of two moving particles is found
-// from both sides or from neither.
-Index screen(const PairInputs& in, float H2, Index begin, Index end, Index self, Index* found,
-             Index count) {
-  const FluidRecord& own = in.record[self];
-  const float xa = own.x, ya = own.y, za = own.z;
-#if defined(SPALL_SIMD_AVX512)
-  const __m512 pxa = _mm512_set1_ps(xa), pya = _mm512_set1_ps(ya), pza = _mm512_set1_ps(za);
-  const __m512 vH2 = _mm512_set1_ps(H2);
-  const __m512i lane = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
-  for (Index b = begin; b < end; b += 16) {
-    __m512 xb, yb, zb;
-    load_positions(in.record + b, xb, yb, zb);
-    const __m512 dx = _mm512_sub_ps(pxa, xb);
-    const __m512 dy = _mm512_sub_ps(pya, yb);
-    const __m512 dz = _mm512_sub_ps(pza, zb);
-    const __m512 r2 = _mm512_fmadd_ps(dz, dz, _mm512_fmadd_ps(dy, dy, _mm512_mul_ps(dx, dx)));
-    unsigned in_range = 0xFFFFu >> (16 - std::min<Index>(end - b, 16));
-    if (self >= b && self < b + 16) in_range &= ~(1u << (self - b));
-    __mmask16 mask = _mm512_mask_cmp_ps_mask(static_cast<__mmask16>(in_range), r2, vH2, _CMP_LT_OQ);
-    // Left-pack in a register and store all 16 lanes (found has the spare slots): the compressing
-    // store to memory is no faster on Intel cores and microcoded, far slower, on AMD Zen 4.
-    const __m512i index = _mm512_maskz_compress_epi32(mask, _mm512_add_epi32(_mm512_set1_epi32(b), lane));
-    _mm512_storeu_si512(found + count, index);
-    count += std::popcount(static_cast<unsigned>(mask));
-  }
-#elif defined(__AVX2__) && defined(__BMI2__)
-  const __m256 pxa = _mm256_set1_ps(xa), pya = _mm256_set1_ps(ya), pza = _mm256_set1_ps(za);
-  const __m256 vH2 = _mm256_set1_ps(H2);
-  for (Index b = begin; b < end; b += 8) {
-    __m256 xb, yb, zb;
-    load_positions(in.record + b, xb, yb, zb);
-    const __m256 dx = _mm256_sub_ps(pxa, xb);
-    const __m256 dy = _mm256_sub_ps(pya, yb);
-    const __m256 dz = _mm256_sub_ps(pza, zb);
-    const __m256 r2 = _mm256_fmadd_ps(dz, dz, _mm256_fmadd_ps(dy, dy, _mm256_mul_ps(dx, dx)));
-    unsigned mask = static_cast<unsigned>(_mm256_movemask_ps(_mm256_cmp_ps(r2, vH2, _CMP_LT_OQ)));
-    mask = _bzhi_u32(mask, static_cast<unsigned>(std::min<Index>(end - b, 8)));
-    if (self >= b && self < b + 8) mask &= ~(1u << (self - b));
-    // Left-pack the lanes whose bit is set: their numbers from the table, one byte each (a load
-    // where pdep, a multiplication and pext made a chain of three).
-    const std::uint64_t lanes = simd::avx2::compress_lanes8.order[mask];
-    const __m256i index = _mm256_add_epi32(_mm256_set1_epi32(b),
-                                           _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(static_cast<long long>(lanes))));
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(found + count), index);
-    count += std::popcount(mask);
-  }
-#else
-  for (Index b = begin; b < end; ++b) {
-    const FluidRecord& other = in.record[b];
-    const float dx = xa - other.x, dy = ya - other.y, dz = za - other.z;
-    found[count] = b;
-    count += (std::fma(dz, dz, std::fma(dy, dy, dx * dx)) < H2) & (b != self);
-  }
-#endif
-  return count;
-}
-
-// screen() for the moving particles cluster[0, k) of one cell at once, over runs that hold each
-// one's trimmed runs (those of the cluster's bounding box): each pack of candidates is loaded
-// once and tested against every particle of the cluster, where screen() loaded the same packs
-// once per particle, and the runs are trimmed once per cell (docs/PERFORMANCE.md, session 21).
-// Particle cluster[i]'s neighbours go to found + i * stride, count[i] of them, exactly as
-// screen() would find them from its own runs: the rows are the same and in the same order, a
-// candidate outside the particle's own runs lies beyond its support, and the test is screen()'s.
-// found needs simd_width spare slots after each list.
+// The particles within H of each moving particle cluster[0, k) of one cell (except itself), over
+// runs that hold each one's trimmed runs (those of the cell's bounding box). The vector paths load
+// each pack of simd_width candidates once (up to simd_width past a run's end: the records are
+// padded, and those lanes are masked off) and test it against every particle of the cluster, up
+// to max_cluster at a time; the runs are trimmed once per cell (docs/PERFORMANCE.md, session 21).
+// Particle cluster[i]'s neighbours go to found + i * stride, count[i] of them, as its own runs
+// alone would give them: the rows are the same and in the same order, and a candidate outside the
+// particle's own runs lies beyond its support. Every path tests by the same fused operations, so
+// the pair (a, b) of two moving particles is found from both sides or from neither. Each list
+// needs simd_width spare slots after it (the vector paths write simd_width entries at a time).
 template <typename Ranges>
 void screen_cluster(const PairInputs& in, float H2, const Index* cluster, int k, const Ranges& ranges,
                     int range_count, Index* found, Index stride, Index* count) {
-  for (int i = 0; i < k; ++i) count[i] = 0;
 #if defined(SPALL_SIMD_AVX512) || (defined(__AVX2__) && defined(__BMI2__))
   // The cluster's positions, each broadcast from here (a cell of the usual lattice holds 5-10).
   constexpr int max_cluster = 64;
-  if (k <= max_cluster) {
-    alignas(64) float own[3][max_cluster];
-    for (int i = 0; i < k; ++i) {
-      const FluidRecord& r = in.record[cluster[i]];
+  alignas(64) float own[3][max_cluster];
+  for (int from = 0; from < k; from += max_cluster) {
+    const Index* chunk = cluster + from;
+    Index* chunk_found = found + from * stride;
+    Index* chunk_count = count + from;
+    const int size = std::min(k - from, max_cluster);
+    for (int i = 0; i < size; ++i) {
+      const FluidRecord& r = in.record[chunk[i]];
       own[0][i] = r.x, own[1][i] = r.y, own[2][i] = r.z;
+      chunk_count[i] = 0;
     }
 #if defined(SPALL_SIMD_AVX512)
     const __m512 vH2 = _mm512_set1_ps(H2);
     const __m512i lane = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
     // Only the packs that overlap the cluster's own slots hold a particle of it.
-    const Index first_own = cluster[0], past_own = cluster[k - 1] + 1;
+    const Index first_own = chunk[0], past_own = chunk[size - 1] + 1;
     const auto test = [&](Index b, unsigned in_range, auto may_hold_self) {
       __m512 xb, yb, zb;
       load_positions(in.record + b, xb, yb, zb);
       const __m512i index = _mm512_add_epi32(_mm512_set1_epi32(b), lane);
-      for (int i = 0; i < k; ++i) {
+      for (int i = 0; i < size; ++i) {
         const __m512 dx = _mm512_sub_ps(_mm512_set1_ps(own[0][i]), xb);
         const __m512 dy = _mm512_sub_ps(_mm512_set1_ps(own[1][i]), yb);
         const __m512 dz = _mm512_sub_ps(_mm512_set1_ps(own[2][i]), zb);
         const __m512 r2 = _mm512_fmadd_ps(dz, dz, _mm512_fmadd_ps(dy, dy, _mm512_mul_ps(dx, dx)));
         unsigned lanes = in_range;
         if constexpr (decltype(may_hold_self)::value) {
-          const Index self = cluster[i];
+          const Index self = chunk[i];
           if (self >= b && self < b + 16) lanes &= ~(1u << (self - b));
         }
         const __mmask16 mask = _mm512_mask_cmp_ps_mask(static_cast<__mmask16>(lanes), r2, vH2, _CMP_LT_OQ);
-        _mm512_storeu_si512(found + i * stride + count[i], _mm512_maskz_compress_epi32(mask, index));
-        count[i] += std::popcount(static_cast<unsigned>(mask));
+        // Left-pack in a register and store all 16 lanes (the list has the spare slots): the
+        // compressing store to memory is no faster on Intel cores and microcoded, far slower, on
+        // AMD Zen 4.
+        _mm512_storeu_si512(chunk_found + i * stride + chunk_count[i], _mm512_maskz_compress_epi32(mask, index));
+        chunk_count[i] += std::popcount(static_cast<unsigned>(mask));
       }
     };
     for (int r = 0; r < range_count; ++r) {
@@ -570,26 +517,27 @@ void screen_cluster(const PairInputs& in, float H2, const Index* cluster, int k,
 #else
     const __m256 vH2 = _mm256_set1_ps(H2);
     // Only the packs that overlap the cluster's own slots hold a particle of it.
-    const Index first_own = cluster[0], past_own = cluster[k - 1] + 1;
+    const Index first_own = chunk[0], past_own = chunk[size - 1] + 1;
     const auto test = [&](Index b, unsigned valid, auto may_hold_self) {
       __m256 xb, yb, zb;
       load_positions(in.record + b, xb, yb, zb);
       const __m256i base = _mm256_set1_epi32(b);
-      for (int i = 0; i < k; ++i) {
+      for (int i = 0; i < size; ++i) {
         const __m256 dx = _mm256_sub_ps(_mm256_broadcast_ss(&own[0][i]), xb);
         const __m256 dy = _mm256_sub_ps(_mm256_broadcast_ss(&own[1][i]), yb);
         const __m256 dz = _mm256_sub_ps(_mm256_broadcast_ss(&own[2][i]), zb);
         const __m256 r2 = _mm256_fmadd_ps(dz, dz, _mm256_fmadd_ps(dy, dy, _mm256_mul_ps(dx, dx)));
         unsigned mask = _bzhi_u32(static_cast<unsigned>(_mm256_movemask_ps(_mm256_cmp_ps(r2, vH2, _CMP_LT_OQ))), valid);
         if constexpr (decltype(may_hold_self)::value) {
-          const Index self = cluster[i];
+          const Index self = chunk[i];
           if (self >= b && self < b + 8) mask &= ~(1u << (self - b));
         }
-        // Left-pack as screen() does.
+        // Left-pack the lanes whose bit is set: their numbers from the table, one byte each (a load
+        // where pdep, a multiplication and pext made a chain of three).
         const std::uint64_t lanes = simd::avx2::compress_lanes8.order[mask];
         const __m256i index = _mm256_add_epi32(base, _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(static_cast<long long>(lanes))));
-        _mm256_storeu_si256(reinterpret_cast<__m256i*>(found + i * stride + count[i]), index);
-        count[i] += std::popcount(mask);
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(chunk_found + i * stride + chunk_count[i]), index);
+        chunk_count[i] += std::popcount(mask);
       }
     };
     for (int r = 0; r < range_count; ++r) {
@@ -601,12 +549,22 @@ void screen_cluster(const PairInputs& in, float H2, const Index* cluster, int k,
       }
     }
 #endif
-    return;
+  }
+#else
+  for (int i = 0; i < k; ++i) {
+    const Index self = cluster[i];
+    const FluidRecord& own = in.record[self];
+    Index* list = found + i * stride;
+    count[i] = 0;
+    for (int r = 0; r < range_count; ++r)
+      for (Index b = ranges[r].begin; b < ranges[r].end; ++b) {
+        const FluidRecord& other = in.record[b];
+        const float dx = own.x - other.x, dy = own.y - other.y, dz = own.z - other.z;
+        list[count[i]] = b;
+        count[i] += (std::fma(dz, dz, std::fma(dy, dy, dx * dx)) < H2) & (b != self);
+      }
   }
 #endif
-  for (int i = 0; i < k; ++i)
-    for (int r = 0; r < range_count; ++r)
-      count[i] = screen(in, H2, ranges[r].begin, ranges[r].end, cluster[i], found + i * stride, count[i]);
 }
 
 // The pair sums of particle a over its neighbours found[0, count). The terms are evaluated in
