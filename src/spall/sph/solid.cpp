@@ -94,7 +94,8 @@ using simd::Float8;
 constexpr int pair_lanes = Float8::width;
 constexpr int record_stride = sizeof(PairRecord) / sizeof(float);
 constexpr int stress_stride = sizeof(StressRecord) / sizeof(float);
-static_assert(record_stride == 8 && stress_stride == 12);
+constexpr int plain_stress_stride = sizeof(PlainStressRecord) / sizeof(float);
+static_assert(record_stride == 8 && stress_stride == 12 && plain_stress_stride == 8);
 
 // The pairs of one Verlet row inside their support (r < H_ab = h_a + h_b), per thread, padded with
 // the particle itself to a multiple of the pack width (a pair at r = 0 has no gradient, so the
@@ -260,7 +261,10 @@ SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
   record_.resize(n);
   record_sound_speed_.resize(n);
   record_density_.resize(n);
-  stress_.resize(n);
+  if (options_.gradient_correction)
+    stress_.resize(n);
+  else
+    plain_stress_.resize(n);
   list_reach_.resize(n);
   initial_smoothing_length_.resize(n);
   spacing_.resize(n);
@@ -305,8 +309,7 @@ SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
     pressure_[a] = materials::eos_pressure(m, m.density, internal_energy_[a]);
     sound_speed_[a] = materials::sound_speed(m, m.density, internal_energy_[a]);
     updated_sound_speed_[a] = sound_speed_[a];
-    stress_[a] = StressRecord{};
-    stress_[a].volume = static_cast<float>(volume_[a]);
+    record_stress(a, Mat3::Zero(), Mat3::Identity());
   }
   for (const auto& m : materials_)
     if (std::holds_alternative<materials::JohnsonCook>(m.strength)) has_temperature_ = true;
@@ -421,7 +424,7 @@ void SolidFormulation::update_neighbour_list() {
 
 // Continuity and velocity gradient, gathered per particle over its full neighbour row, a pack of
 // pairs at a time; each particle's lanes are summed in one fixed order, whatever the thread count.
-template <typename Kernel>
+template <typename Kernel, bool corrected>
 void SolidFormulation::compute_rates(Real dt) {
   constexpr int W = pair_lanes;
   const auto& list = verlet_.list();
@@ -465,9 +468,11 @@ void SolidFormulation::compute_rates(Real dt) {
       g.r.store(r_k + k), g.support.store(support_k + k), g.factor.store(factor_k + k);
       w.store(weight_k + k);
       (c[4] - vax).store(dvx_k + k), (c[5] - vay).store(dvy_k + k), (c[6] - vaz).store(dvz_k + k);
-      const Float8 gx = w * g.dx, gy = w * g.dy, gz = w * g.dz;
-      m_xx = fma(gx, g.dx, m_xx), m_yy = fma(gy, g.dy, m_yy), m_zz = fma(gz, g.dz, m_zz);
-      m_xy = fma(gx, g.dy, m_xy), m_yz = fma(gy, g.dz, m_yz), m_zx = fma(gz, g.dx, m_zx);
+      if constexpr (corrected) {  // plain SPH needs no moment (its lanes stay zero)
+        const Float8 gx = w * g.dx, gy = w * g.dy, gz = w * g.dz;
+        m_xx = fma(gx, g.dx, m_xx), m_yy = fma(gy, g.dy, m_yy), m_zz = fma(gz, g.dz, m_zz);
+        m_xy = fma(gx, g.dy, m_xy), m_yz = fma(gy, g.dz, m_yz), m_zx = fma(gz, g.dx, m_zx);
+      }
       if (row_sums) {
         const Float8 spread = volume * abs(g.factor) * g.inverse_r;
         const Float8 sx = spread * g.dx, sy = spread * g.dy, sz = spread * g.dz;
@@ -572,7 +577,7 @@ void SolidFormulation::compute_rates(Real dt) {
     Mat3 correction = Mat3::Identity();
     // Randles & Libersky 1996: L B with B = moment^{-1} is exact for linear velocity fields,
     // also where the support is cut by a free surface; the density follows from tr(L).
-    if (options_.gradient_correction && invert_symmetric(moment, min_moment_determinant, correction)) {
+    if (corrected && invert_symmetric(moment, min_moment_determinant, correction)) {
       L = product(L, correction);
       drho = -density_[a] * L.trace();
     } else {
@@ -701,10 +706,7 @@ void SolidFormulation::update_particle(Index a, const Mat3& L, const Mat3& corre
   const Mat3 exported = relaxed ? Mat3(exported_deviator_[a] - pressure_[a] * Mat3::Identity())
                         : treated ? Mat3(-pressure_[a] * Mat3::Identity())
                                   : sigma;
-  const Mat3 P = product_transposed(exported, correction);
-  StressRecord& record = stress_[a];
-  for (int k = 0; k < 9; ++k) record.P[k] = static_cast<float>(P.data()[k]);
-  record.volume = static_cast<float>(updated_volume_[a]);
+  record_stress(a, exported, correction);
   if (stress_options.enabled) {
     // Monaghan 2000: a repulsive stress -eps sigma_i / rho^2 along each tensile principal axis.
     // From the stress the particle passes on, so that a treated particle's deviator stays out.
@@ -715,6 +717,22 @@ void SolidFormulation::update_particle(Index a, const Mat3& L, const Mat3& corre
         r[i] = -stress_options.epsilon * principal.eigenvalues()[i] / (density_[a] * density_[a]);
     artificial_stress_[a] = principal.eigenvectors() * r.asDiagonal() * principal.eigenvectors().transpose();
   }
+}
+
+void SolidFormulation::record_stress(Index a, const Mat3& exported, const Mat3& correction) {
+  const auto volume = static_cast<float>(updated_volume_[a]);
+  if (stress_.empty()) {  // plain SPH: B = I, P = sigma
+    PlainStressRecord& record = plain_stress_[a];
+    const Real components[6] = {exported(0, 0), exported(1, 1), exported(2, 2),
+                                exported(0, 1), exported(1, 2), exported(2, 0)};
+    for (int k = 0; k < 6; ++k) record.sigma[k] = static_cast<float>(components[k]);
+    record.volume = volume;
+    return;
+  }
+  const Mat3 P = product_transposed(exported, correction);
+  StressRecord& record = stress_[a];
+  for (int k = 0; k < 9; ++k) record.P[k] = static_cast<float>(P.data()[k]);
+  record.volume = volume;
 }
 
 // Relaxed treatment (TFORM 1): the exported deviator S* is a Maxwell element with the material's
@@ -770,7 +788,7 @@ void SolidFormulation::check_state(const solver::NodeStore& nodes) const {
 // Stress power sum_a V_a sigma_a : L_a equals -sum_a f_a . v_a exactly, and the pair term is
 // antisymmetric, so linear momentum is conserved to round-off. Without correction (B = I) this is
 // the symmetric SPH form of seed 000 eq. 7 with V_a V_b in place of m_a m_b / (rho_a rho_b).
-template <typename Kernel>
+template <typename Kernel, bool plain>
 void SolidFormulation::compute_pair_forces() {
   constexpr int W = pair_lanes;
   const auto& list = verlet_.list();
@@ -778,7 +796,8 @@ void SolidFormulation::compute_pair_forces() {
   const bool stress_on = options_.artificial_stress.enabled;
   const Real exponent = options_.artificial_stress.exponent;
   const float* records = &record_.data()->x;
-  const float* P = stress_.data()->P;  // P_b(i, j) = P[stress_stride b + i + 3 j]
+  // P_b(i, j) = P[stress_stride b + i + 3 j]; plain: sigma_b's components at plain_stress_stride b.
+  const float* P = plain ? plain_stress_.data()->sigma : stress_.data()->P;
   // The pair terms of particle a's row (half: the pairs with b > a, each added to a and taken
   // from b), returned as a's sum.
   const auto row_force = [&]<bool half>(Index a) {
@@ -786,10 +805,17 @@ void SolidFormulation::compute_pair_forces() {
     const Index padded = picked_support<half>(list, a, support_mask_.data(), terms);
     const Index* neighbour = terms.neighbour.data();
     const PackCentre centre(record_[a]);
-    const StressRecord& own = stress_[a];
-    const Float8 volume_a(own.volume);
+    // P_a column-major (plain: sigma_a's six components), and V_a.
     Float8 P_a[9];
-    for (int i = 0; i < 9; ++i) P_a[i] = Float8(own.P[i]);
+    float own_volume;
+    if constexpr (plain) {
+      for (int i = 0; i < 6; ++i) P_a[i] = Float8(plain_stress_[a].sigma[i]);
+      own_volume = plain_stress_[a].volume;
+    } else {
+      for (int i = 0; i < 9; ++i) P_a[i] = Float8(stress_[a].P[i]);
+      own_volume = stress_[a].volume;
+    }
+    const Float8 volume_a(own_volume);
     simd::WideSum8 f_x, f_y, f_z;
     for (Index k = 0; k < padded; k += W) {
       const Index* b = neighbour + k;
@@ -798,15 +824,26 @@ void SolidFormulation::compute_pair_forces() {
       const PairGeometry g = pair_geometry<Kernel>(centre, c);
       // (P_a + P_b) grad_a W_ab with grad = F x_ab: exactly opposite for the pair (b, a), so
       // momentum is conserved to round-off also where each particle gathers its own sum.
-      Float8 P_b[8], tail[4];  // P_b's elements 0-7; element 8, V_b and two unused
-      simd::load_rows<stress_stride>(P, b, 0, P_b);
-      simd::load_rows<stress_stride>(P, b, 8, tail);
-      const Float8 t = volume_a * tail[1] * g.factor;
       Float8 Pd[3];
-      for (int i = 0; i < 3; ++i) {
-        const Float8 p0 = P_a[i] + P_b[i], p1 = P_a[i + 3] + P_b[i + 3];
-        const Float8 p2 = P_a[i + 6] + (i == 2 ? tail[0] : P_b[i + 6]);
-        Pd[i] = t * fma(p2, g.dz, fma(p1, g.dy, p0 * g.dx));
+      if constexpr (plain) {
+        Float8 S[8];  // sigma_b's xx, yy, zz, xy, yz, zx, V_b and an unused lane
+        simd::load_rows<plain_stress_stride>(P, b, 0, S);
+        const Float8 t = volume_a * S[6] * g.factor;
+        const Float8 xx = P_a[0] + S[0], yy = P_a[1] + S[1], zz = P_a[2] + S[2];
+        const Float8 xy = P_a[3] + S[3], yz = P_a[4] + S[4], zx = P_a[5] + S[5];
+        Pd[0] = t * fma(zx, g.dz, fma(xy, g.dy, xx * g.dx));
+        Pd[1] = t * fma(yz, g.dz, fma(yy, g.dy, xy * g.dx));
+        Pd[2] = t * fma(zz, g.dz, fma(yz, g.dy, zx * g.dx));
+      } else {
+        Float8 P_b[8], tail[4];  // P_b's elements 0-7; element 8, V_b and two unused
+        simd::load_rows<stress_stride>(P, b, 0, P_b);
+        simd::load_rows<stress_stride>(P, b, 8, tail);
+        const Float8 t = volume_a * tail[1] * g.factor;
+        for (int i = 0; i < 3; ++i) {
+          const Float8 p0 = P_a[i] + P_b[i], p1 = P_a[i + 3] + P_b[i + 3];
+          const Float8 p2 = P_a[i + 6] + (i == 2 ? tail[0] : P_b[i + 6]);
+          Pd[i] = t * fma(p2, g.dz, fma(p1, g.dy, p0 * g.dx));
+        }
       }
       f_x.add(Pd[0]), f_y.add(Pd[1]), f_z.add(Pd[2]);
       // The padding (b = a) adds exact zeros (F = 0 at r = 0).
@@ -863,8 +900,12 @@ void SolidFormulation::compute_forces(solver::NodeStore& nodes, Real dt) {
   gather_kinematics(nodes);
   update_neighbour_list();
   update_records();
-  kernels::with_kernel(options_.kernel, options_.dimension,
-                       [&](auto kernel) { compute_rates<decltype(kernel)>(dt); });
+  kernels::with_kernel(options_.kernel, options_.dimension, [&](auto kernel) {
+    if (options_.gradient_correction)
+      compute_rates<decltype(kernel), true>(dt);
+    else
+      compute_rates<decltype(kernel), false>(dt);
+  });
   if (categorizing()) {
     int interval = 1 << 30;
     for (const ColourField& c : options_.colour_field)
@@ -876,8 +917,12 @@ void SolidFormulation::compute_forces(solver::NodeStore& nodes, Real dt) {
   sound_speed_.swap(updated_sound_speed_);
   ++step_;
   check_state(nodes);
-  kernels::with_kernel(options_.kernel, options_.dimension,
-                       [&](auto kernel) { compute_pair_forces<decltype(kernel)>(); });
+  kernels::with_kernel(options_.kernel, options_.dimension, [&](auto kernel) {
+    if (options_.gradient_correction)
+      compute_pair_forces<decltype(kernel), false>();
+    else
+      compute_pair_forces<decltype(kernel), true>();
+  });
   // h follows the density only now, so that both pair passes of a step use one kernel: the force
   // pass takes the rates pass's pick, and its force is exactly dual to the velocity gradient.
 #pragma omp parallel for schedule(static)
@@ -996,7 +1041,7 @@ std::size_t bytes(const std::vector<T>& v) {
 std::size_t SolidFormulation::memory_bytes() const {
   const auto& list = verlet_.list();
   return bytes(node_) + bytes(material_) + bytes(mass_) + bytes(smoothing_length_) + bytes(record_) + bytes(record_sound_speed_) +
-         bytes(record_density_) + bytes(record_mass_) + bytes(stress_) + bytes(list_reach_) +
+         bytes(record_density_) + bytes(record_mass_) + bytes(stress_) + bytes(plain_stress_) + bytes(list_reach_) +
          bytes(initial_smoothing_length_) + bytes(h_bounds_) + bytes(spacing_) +
          bytes(density_) + bytes(volume_) + bytes(updated_volume_) + bytes(pressure_) + bytes(sound_speed_) + bytes(updated_sound_speed_) + bytes(internal_energy_) +
          bytes(state_) + bytes(gradient_amplification_) + bytes(correction_) +

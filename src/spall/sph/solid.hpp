@@ -120,6 +120,13 @@ struct alignas(16) StressRecord {
   float volume;
   float unused[2];
 };
+// The same for plain SPH (no correction, B = I): P = sigma is symmetric, and its six components
+// xx, yy, zz, xy, yz, zx and the volume fit one 256-bit row (SolidFormulation::plain_stress_).
+struct alignas(32) PlainStressRecord {
+  float sigma[6];
+  float volume;
+  float unused;
+};
 
 class SolidFormulation final : public solver::Formulation {
  public:
@@ -153,7 +160,8 @@ class SolidFormulation final : public solver::Formulation {
   void gather_kinematics(const solver::NodeStore& nodes);
   void update_records();
   void update_neighbour_list();
-  template <typename Kernel>
+  // corrected: *CONTROL_SPH FORM 1 (the moment and its inverse B), else plain SPH.
+  template <typename Kernel, bool corrected>
   void compute_rates(Real dt);
   void categorize();
   // The state update of every particle, after the categorization (colour field on); without it
@@ -170,7 +178,8 @@ class SolidFormulation final : public solver::Formulation {
   void check_state(const solver::NodeStore& nodes) const;
   void relax_exported_deviator(Index a, const Mat3& W, const Mat3& D_dev, bool treated,
                                Real relaxation, Real dt);
-  template <typename Kernel>
+  // plain: the records of plain SPH (plain_stress_), else those of the corrected (stress_).
+  template <typename Kernel, bool plain>
   void compute_pair_forces();
   bool active(Real time) const;
 
@@ -192,8 +201,12 @@ class SolidFormulation final : public solver::Formulation {
   std::vector<PairRecord> record_;
   std::vector<float> record_sound_speed_, record_density_, record_mass_;
   Vec3 record_origin_ = Vec3::Zero();
-  // What the force pass reads: sigma_a B_a^T and the volume after the state update.
+  // What the force pass reads: sigma_a B_a^T and the volume after the state update, with the
+  // gradient correction (stress_), else sigma_a and the volume (plain_stress_); the other is empty.
   std::vector<StressRecord> stress_;
+  std::vector<PlainStressRecord> plain_stress_;
+  // The stress as the force pass reads it, P = sigma B^T, and the volume after the update.
+  void record_stress(Index a, const Mat3& exported, const Mat3& correction);
   std::vector<Real> list_reach_;  // cutoff_margin h at the last list build
   std::vector<Real> initial_smoothing_length_;
   struct HBounds {
