@@ -221,4 +221,10 @@ TEST(FloatLanes, TransposedLoadsGathersCompressionAndComparisonsPickTheRightElem
     for (int i = 0; i < 8; ++i) expected |= int(rows[i] > a) << i;
     EXPECT_EQ(P::indices_above(rows, a), expected) << "a " << a;
   }
+  // The last, partial pack of a row, padded: only the row's entries are taken.
+  for (int count = 0; count < 8; ++count) {
+    Index padded[8];
+    P::padded_indices(rows, count, -1, padded);
+    for (int i = 0; i < 8; ++i) EXPECT_EQ(padded[i], i < count ? rows[i] : -1) << "count " << count << " lane " << i;
+  }
 }

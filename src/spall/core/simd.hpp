@@ -94,6 +94,10 @@ struct Pack {
     for (int i = 0; i < W; ++i)
       if (lanes & (1 << i)) *out++ = in[i];
   }
+  // out[i] = in[i] for i < count, else fill (0 <= count < W); reads in[0 .. count) only.
+  static void padded_indices(const Index* in, int count, Index fill, Index* out) {
+    for (int i = 0; i < W; ++i) out[i] = i < count ? in[i] : fill;
+  }
   // Bit i set where in[i] > a.
   static int indices_above(const Index* in, Index a) {
     int lanes = 0;
@@ -252,6 +256,14 @@ struct Float8 {
     const __m256i order = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(static_cast<long long>(compress_lanes8.order[lanes])));
     const __m256i all = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(in));
     _mm256_storeu_si256(reinterpret_cast<__m256i*>(out), _mm256_permutevar8x32_epi32(all, order));
+  }
+  // out[i] = in[i] for i < count, else fill (0 <= count < 8); reads in[0 .. count) only (a
+  // masked load, which does not fault past the end of an array).
+  static void padded_indices(const Index* in, int count, Index fill, Index* out) {
+    const __m256i present = _mm256_cmpgt_epi32(_mm256_set1_epi32(count), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+    const __m256i values = _mm256_maskload_epi32(in, present);
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out),
+                        _mm256_blendv_epi8(_mm256_set1_epi32(fill), values, present));
   }
   // Bit i set where in[i] > a.
   static int indices_above(const Index* in, Index a) {

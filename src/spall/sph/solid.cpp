@@ -202,11 +202,10 @@ Index keep_row(const neighbors::NeighborList& list, Index a, RowTerms& terms, La
   const Index* row = list.neighbors.data() + first;
   // A raw pointer: the vector's own would be reloaded at every store, which may alias anything.
   Index* neighbour = terms.neighbour.data();
-  // The row's last, partial pack, padded with the particle itself (a fixed-length loop: std::copy
-  // of a few entries is a call to memmove, 2 % of the step).
+  // The row's last, partial pack, padded with the particle itself.
   Index tail[W];
   const Index full = count / W * W;
-  for (int i = 0; i < W; ++i) tail[i] = full + i < count ? row[full + i] : a;
+  Float8::padded_indices(row + full, static_cast<int>(count - full), a, tail);
   Index kept = 0;
   const auto keep = [&](const Index* b, int present) {
     const int selected = lanes(b, present);
