@@ -432,6 +432,8 @@ void SolidFormulation::compute_rates(Real dt) {
   const bool colour_on = categorizing();
   // LS-DYNA's step (RULE 1) needs no row sums: the per-pair outer product is skipped.
   const bool row_sums = options_.time_step_rule != TimeStepRule::plain;
+  // The colour-field normal serves the categorization and the row sums only.
+  const bool normal_on = colour_on || row_sums;
   const float* records = &record_.data()->x;
   const float alpha = static_cast<float>(options_.viscosity.alpha), beta = static_cast<float>(options_.viscosity.beta);
   const float eta2 = static_cast<float>(options_.viscosity.eta * options_.viscosity.eta);
@@ -527,8 +529,11 @@ void SolidFormulation::compute_rates(Real dt) {
     simd::WideSum8 visc_x, visc_y, visc_z, heating;
     for (Index k = 0; k < padded; k += W) {
       const Float8 dx = Float8::load(dx_k + k), dy = Float8::load(dy_k + k), dz = Float8::load(dz_k + k);
-      const Float8 w = Float8::load(weight_k + k), s = Float8::load(viscous_k + k);
-      n_x = fma(w, dx, n_x), n_y = fma(w, dy, n_y), n_z = fma(w, dz, n_z);
+      if (normal_on) {
+        const Float8 w = Float8::load(weight_k + k);
+        n_x = fma(w, dx, n_x), n_y = fma(w, dy, n_y), n_z = fma(w, dz, n_z);
+      }
+      const Float8 s = Float8::load(viscous_k + k);
       visc_x.add(s * dx), visc_y.add(s * dy), visc_z.add(s * dz);
       heating.add(Float8::load(heating_k + k));
     }
