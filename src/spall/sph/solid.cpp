@@ -5,6 +5,7 @@
 #include <bit>
 #include <cmath>
 #include <numeric>
+#include <type_traits>
 
 #include <fmt/core.h>
 
@@ -725,7 +726,7 @@ void SolidFormulation::update_particle(Index a, const Mat3& L, const Mat3& corre
 
 void SolidFormulation::record_stress(Index a, const Mat3& exported, const Mat3& correction) {
   const auto volume = static_cast<float>(updated_volume_[a]);
-  if (stress_.empty()) {  // plain SPH: B = I, P = sigma
+  if (!options_.gradient_correction) {  // plain SPH: B = I, P = sigma
     PlainStressRecord& record = plain_stress_[a];
     const Real components[6] = {exported(0, 0), exported(1, 1), exported(2, 2),
                                 exported(0, 1), exported(1, 2), exported(2, 0)};
@@ -792,7 +793,7 @@ void SolidFormulation::check_state(const solver::NodeStore& nodes) const {
 // Stress power sum_a V_a sigma_a : L_a equals -sum_a f_a . v_a exactly, and the pair term is
 // antisymmetric, so linear momentum is conserved to round-off. Without correction (B = I) this is
 // the symmetric SPH form of seed 000 eq. 7 with V_a V_b in place of m_a m_b / (rho_a rho_b).
-template <typename Kernel, bool plain>
+template <typename Kernel, bool corrected>
 void SolidFormulation::compute_pair_forces() {
   constexpr int W = pair_lanes;
   const auto& list = verlet_.list();
@@ -800,8 +801,9 @@ void SolidFormulation::compute_pair_forces() {
   const bool stress_on = options_.artificial_stress.enabled;
   const Real exponent = options_.artificial_stress.exponent;
   const float* records = &record_.data()->x;
-  // P_b(i, j) = P[stress_stride b + i + 3 j]; plain: sigma_b's components at plain_stress_stride b.
-  const float* P = plain ? plain_stress_.data()->sigma : stress_.data()->P;
+  // P_b(i, j) = P[stress_stride b + i + 3 j]; plain SPH: sigma_b's components at
+  // plain_stress_stride b.
+  const float* P = corrected ? stress_.data()->P : plain_stress_.data()->sigma;
   // The pair terms of particle a's row (half: the pairs with b > a, each added to a and taken
   // from b), returned as a's sum.
   const auto row_force = [&]<bool half>(Index a) {
@@ -812,12 +814,12 @@ void SolidFormulation::compute_pair_forces() {
     // P_a column-major (plain: sigma_a's six components), and V_a.
     Float8 P_a[9];
     float own_volume;
-    if constexpr (plain) {
-      for (int i = 0; i < 6; ++i) P_a[i] = Float8(plain_stress_[a].sigma[i]);
-      own_volume = plain_stress_[a].volume;
-    } else {
+    if constexpr (corrected) {
       for (int i = 0; i < 9; ++i) P_a[i] = Float8(stress_[a].P[i]);
       own_volume = stress_[a].volume;
+    } else {
+      for (int i = 0; i < 6; ++i) P_a[i] = Float8(plain_stress_[a].sigma[i]);
+      own_volume = plain_stress_[a].volume;
     }
     const Float8 volume_a(own_volume);
     simd::WideSum8 f_x, f_y, f_z;
@@ -829,7 +831,7 @@ void SolidFormulation::compute_pair_forces() {
       // (P_a + P_b) grad_a W_ab with grad = F x_ab: exactly opposite for the pair (b, a), so
       // momentum is conserved to round-off also where each particle gathers its own sum.
       Float8 Pd[3];
-      if constexpr (plain) {
+      if constexpr (!corrected) {
         Float8 S[8];  // sigma_b's xx, yy, zz, xy, yz, zx, V_b and an unused lane
         simd::load_rows<plain_stress_stride>(P, b, 0, S);
         const Float8 t = volume_a * S[6] * g.factor;
@@ -893,6 +895,16 @@ void SolidFormulation::compute_pair_forces() {
   }
 }
 
+template <typename F>
+void SolidFormulation::with_discretization(F&& f) {
+  kernels::with_kernel(options_.kernel, options_.dimension, [&](auto kernel) {
+    if (options_.gradient_correction)
+      f(kernel, std::true_type{});
+    else
+      f(kernel, std::false_type{});
+  });
+}
+
 void SolidFormulation::compute_forces(solver::NodeStore& nodes, Real dt) {
   time_ += dt;
   const Index n = particle_count();
@@ -904,12 +916,7 @@ void SolidFormulation::compute_forces(solver::NodeStore& nodes, Real dt) {
   gather_kinematics(nodes);
   update_neighbour_list();
   update_records();
-  kernels::with_kernel(options_.kernel, options_.dimension, [&](auto kernel) {
-    if (options_.gradient_correction)
-      compute_rates<decltype(kernel), true>(dt);
-    else
-      compute_rates<decltype(kernel), false>(dt);
-  });
+  with_discretization([&](auto kernel, auto corrected) { compute_rates<decltype(kernel), corrected>(dt); });
   if (categorizing()) {
     int interval = 1 << 30;
     for (const ColourField& c : options_.colour_field)
@@ -921,12 +928,7 @@ void SolidFormulation::compute_forces(solver::NodeStore& nodes, Real dt) {
   sound_speed_.swap(updated_sound_speed_);
   ++step_;
   check_state(nodes);
-  kernels::with_kernel(options_.kernel, options_.dimension, [&](auto kernel) {
-    if (options_.gradient_correction)
-      compute_pair_forces<decltype(kernel), false>();
-    else
-      compute_pair_forces<decltype(kernel), true>();
-  });
+  with_discretization([&](auto kernel, auto corrected) { compute_pair_forces<decltype(kernel), corrected>(); });
   // h follows the density only now, so that both pair passes of a step use one kernel: the force
   // pass takes the rates pass's pick, and its force is exactly dual to the velocity gradient.
 #pragma omp parallel for schedule(static)

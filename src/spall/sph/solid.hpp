@@ -178,9 +178,13 @@ class SolidFormulation final : public solver::Formulation {
   void check_state(const solver::NodeStore& nodes) const;
   void relax_exported_deviator(Index a, const Mat3& W, const Mat3& D_dev, bool treated,
                                Real relaxation, Real dt);
-  // plain: the records of plain SPH (plain_stress_), else those of the corrected (stress_).
-  template <typename Kernel, bool plain>
+  // corrected: the records of FORM 1 (stress_), else those of plain SPH (plain_stress_).
+  template <typename Kernel, bool corrected>
   void compute_pair_forces();
+  // Calls f(kernel, corrected) with the kernel (kernels::with_kernel) and whether the gradient
+  // is corrected (std::true_type or std::false_type), both known at compile time.
+  template <typename F>
+  void with_discretization(F&& f);
   bool active(Real time) const;
 
   std::vector<materials::Material> materials_;
