@@ -249,7 +249,7 @@ void FluidFormulation::gather(const solver::NodeStore& nodes, Real dt) {
 template <bool pair_pass, typename Visit, typename VisitWalls>
 void FluidFormulation::for_each_particle_candidates(Visit&& visit, VisitWalls&& visit_walls) const {
   neighbors::TrimmedStencil stencil(cells_, stencil_reach);
-  neighbors::TrimmedStencil::Ranges ranges, spans;
+  neighbors::TrimmedStencil::Ranges ranges;
   std::vector<Index> cluster, walls;
   // A neighbour within the support now was binned within support + travelled_ of this
   // particle's position now, which is within travelled_ of its own cell: the 5 x 5 x 5 cells of
@@ -283,13 +283,12 @@ void FluidFormulation::for_each_particle_candidates(Visit&& visit, VisitWalls&& 
       }
       if (!cluster.empty()) visit(cluster.data(), static_cast<int>(cluster.size()), ranges, range_count);
       if (walls.empty()) continue;
-      // The walls share the cell's runs, each cut to the span from its first to its last moving
-      // particle, and come wall_group at a time: cheaper than trimming runs per wall
-      // (docs/PERFORMANCE.md, sessions 13, 18 and 19).
-      for (int r = 0; r < range_count; ++r) spans[r] = ranges[r];
-      const int span_count = moving_spans(moving_.data(), spans, range_count);
+      // The walls share the cell's runs (the moving particles are done with them), each cut in
+      // place to the span from its first to its last moving particle, and come wall_group at a
+      // time: cheaper than trimming runs per wall (docs/PERFORMANCE.md, sessions 13, 18 and 19).
+      const int span_count = moving_spans(moving_.data(), ranges, range_count);
       for (std::size_t w = 0; w < walls.size(); w += wall_group)
-        visit_walls(walls.data() + w, static_cast<int>(std::min<std::size_t>(wall_group, walls.size() - w)), spans,
+        visit_walls(walls.data() + w, static_cast<int>(std::min<std::size_t>(wall_group, walls.size() - w)), ranges,
                     span_count);
     }
   }
@@ -479,15 +478,17 @@ void screen_cluster(const PairInputs& in, float H2, const Index* cluster, int k,
       own[0][i] = r.x, own[1][i] = r.y, own[2][i] = r.z;
       chunk_count[i] = 0;
     }
+    // test(b, valid, may_hold_self) screens the pack of candidates b .. b + pack, the first valid
+    // of them in the run, against the cluster; may_hold_self: whether the pack overlaps its slots.
 #if defined(SPALL_SIMD_AVX512)
+    constexpr Index pack = 16;
     const __m512 vH2 = _mm512_set1_ps(H2);
     const __m512i lane = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
-    // Only the packs that overlap the cluster's own slots hold a particle of it.
-    const Index first_own = chunk[0], past_own = chunk[size - 1] + 1;
-    const auto test = [&](Index b, unsigned in_range, auto may_hold_self) {
+    const auto test = [&](Index b, Index valid, auto may_hold_self) {
       __m512 xb, yb, zb;
       load_positions(in.record + b, xb, yb, zb);
       const __m512i index = _mm512_add_epi32(_mm512_set1_epi32(b), lane);
+      const unsigned in_range = 0xFFFFu >> (16 - valid);
       for (int i = 0; i < size; ++i) {
         const __m512 dx = _mm512_sub_ps(_mm512_set1_ps(own[0][i]), xb);
         const __m512 dy = _mm512_sub_ps(_mm512_set1_ps(own[1][i]), yb);
@@ -496,7 +497,7 @@ void screen_cluster(const PairInputs& in, float H2, const Index* cluster, int k,
         unsigned lanes = in_range;
         if constexpr (decltype(may_hold_self)::value) {
           const Index self = chunk[i];
-          if (self >= b && self < b + 16) lanes &= ~(1u << (self - b));
+          if (self >= b && self < b + pack) lanes &= ~(1u << (self - b));
         }
         const __mmask16 mask = _mm512_mask_cmp_ps_mask(static_cast<__mmask16>(lanes), r2, vH2, _CMP_LT_OQ);
         // Left-pack in a register and store all 16 lanes (the list has the spare slots): the
@@ -506,19 +507,10 @@ void screen_cluster(const PairInputs& in, float H2, const Index* cluster, int k,
         chunk_count[i] += std::popcount(static_cast<unsigned>(mask));
       }
     };
-    for (int r = 0; r < range_count; ++r) {
-      const Index end = ranges[r].end;
-      for (Index b = ranges[r].begin; b < end; b += 16) {
-        const unsigned in_range = 0xFFFFu >> (16 - std::min<Index>(end - b, 16));
-        if (b < past_own && b + 16 > first_own) test(b, in_range, std::true_type{});
-        else test(b, in_range, std::false_type{});
-      }
-    }
 #else
+    constexpr Index pack = 8;
     const __m256 vH2 = _mm256_set1_ps(H2);
-    // Only the packs that overlap the cluster's own slots hold a particle of it.
-    const Index first_own = chunk[0], past_own = chunk[size - 1] + 1;
-    const auto test = [&](Index b, unsigned valid, auto may_hold_self) {
+    const auto test = [&](Index b, Index valid, auto may_hold_self) {
       __m256 xb, yb, zb;
       load_positions(in.record + b, xb, yb, zb);
       const __m256i base = _mm256_set1_epi32(b);
@@ -527,10 +519,11 @@ void screen_cluster(const PairInputs& in, float H2, const Index* cluster, int k,
         const __m256 dy = _mm256_sub_ps(_mm256_broadcast_ss(&own[1][i]), yb);
         const __m256 dz = _mm256_sub_ps(_mm256_broadcast_ss(&own[2][i]), zb);
         const __m256 r2 = _mm256_fmadd_ps(dz, dz, _mm256_fmadd_ps(dy, dy, _mm256_mul_ps(dx, dx)));
-        unsigned mask = _bzhi_u32(static_cast<unsigned>(_mm256_movemask_ps(_mm256_cmp_ps(r2, vH2, _CMP_LT_OQ))), valid);
+        unsigned mask = _bzhi_u32(static_cast<unsigned>(_mm256_movemask_ps(_mm256_cmp_ps(r2, vH2, _CMP_LT_OQ))),
+                                  static_cast<unsigned>(valid));
         if constexpr (decltype(may_hold_self)::value) {
           const Index self = chunk[i];
-          if (self >= b && self < b + 8) mask &= ~(1u << (self - b));
+          if (self >= b && self < b + pack) mask &= ~(1u << (self - b));
         }
         // Left-pack the lanes whose bit is set: their numbers from the table, one byte each (a load
         // where pdep, a multiplication and pext made a chain of three).
@@ -540,15 +533,17 @@ void screen_cluster(const PairInputs& in, float H2, const Index* cluster, int k,
         chunk_count[i] += std::popcount(mask);
       }
     };
+#endif
+    // Only the packs that overlap the cluster's own slots hold a particle of it.
+    const Index first_own = chunk[0], past_own = chunk[size - 1] + 1;
     for (int r = 0; r < range_count; ++r) {
       const Index end = ranges[r].end;
-      for (Index b = ranges[r].begin; b < end; b += 8) {
-        const unsigned valid = static_cast<unsigned>(std::min<Index>(end - b, 8));
-        if (b < past_own && b + 8 > first_own) test(b, valid, std::true_type{});
+      for (Index b = ranges[r].begin; b < end; b += pack) {
+        const Index valid = std::min<Index>(end - b, pack);
+        if (b < past_own && b + pack > first_own) test(b, valid, std::true_type{});
         else test(b, valid, std::false_type{});
       }
     }
-#endif
   }
 #else
   for (int i = 0; i < k; ++i) {

@@ -28,9 +28,9 @@
 //   particles of the cells that can reach their supports (cells of edge (support + skin) / 2, the
 //   runs of the 5 x 5 x 5 block around their cell trimmed to their bounding box:
 //   neighbors/trimmed_stencil.hpp), each pack of candidates tested against all of them, and each
-//   interacts with those inside its support. Cells are rebuilt, and the particles re-sorted, when the particles may have moved
-//   more than skin / 2 since the last rebuild: the bound is the sum over steps of dt max |v|, so
-//   no reference positions are stored.
+//   interacts with those inside its support. Cells are rebuilt, and the particles re-sorted, when
+//   the particles may have moved more than skin / 2 since the last rebuild: the bound is the sum
+//   over steps of dt max |v|, so no reference positions are stored.
 // - Positions and velocities are copied each step into single-precision records in cell order;
 //   the pair terms are evaluated in single precision by one sequence of operations for every pair,
 //   so the term of (a, b) is bitwise minus that of (b, a), and summed in double (the viscous
