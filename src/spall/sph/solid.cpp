@@ -9,6 +9,7 @@
 
 #include <fmt/core.h>
 
+#include "spall/core/cube_root.hpp"
 #include "spall/core/error.hpp"
 #include "spall/core/ordered_sum.hpp"
 #include "spall/core/simd.hpp"
@@ -936,7 +937,7 @@ void SolidFormulation::compute_forces(solver::NodeStore& nodes, Real dt) {
     nodes.f[node_[a]] += force_[a].head<3>();
     if (dt > 0) {
       const Real compression = materials_[material_[a]].density / density_[a];
-      const Real scale = options_.dimension == 3 ? std::cbrt(compression) : std::sqrt(compression);
+      const Real scale = options_.dimension == 3 ? cube_root(compression) : std::sqrt(compression);
       const HBounds& bounds = h_bounds_[material_[a]];
       const Real h0 = initial_smoothing_length_[a];
       smoothing_length(a) = std::clamp(h0 * scale, h0 * bounds.lower, h0 * bounds.upper);
