@@ -108,12 +108,16 @@ static_assert(record_stride == 8 && stress_stride == 12 && plain_stress_stride =
 struct RowTerms {
   std::vector<Index> neighbour;  // the pairs kept
   std::vector<float> dx, dy, dz, r, support, factor, weight, dvx, dvy, dvz, viscous, heating;
+  // Room for n pairs and a pack past them; taken at every row, so the test is inlined and the
+  // growth, rare after the first rows, is not.
   void resize(std::size_t n) {
-    constexpr std::size_t W = pair_lanes;
-    if (r.size() >= n + W) return;
-    neighbour.resize(n + W);
+    if (r.size() < n + pair_lanes) [[unlikely]]
+      grow(n + pair_lanes);
+  }
+  [[gnu::noinline]] void grow(std::size_t size) {
+    neighbour.resize(size);
     for (auto* v : {&dx, &dy, &dz, &r, &support, &factor, &weight, &dvx, &dvy, &dvz, &viscous, &heating})
-      v->resize(n + W);
+      v->resize(size);
   }
 };
 
