@@ -4,6 +4,7 @@
 // outside the range it computes itself.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
