@@ -21,7 +21,8 @@ class Formulation {
   // nodes.f.
   virtual void compute_forces(NodeStore& nodes, Real dt) = 0;
 
-  // The largest stable step for the current state, before TSSFAC.
+  // The largest stable step, before TSSFAC, for the state of the last compute_forces (a
+  // formulation may find it there; the time loop asks right after, with the same nodes).
   virtual Real stable_time_step(const NodeStore& nodes) const = 0;
 
   // Power of the last internal forces at the node velocities v (mid-step velocities): the rate

@@ -105,10 +105,10 @@ RunSummary run(Problem& problem, const Observer& observer) {
     return controls.rwforc_dt_curve ? controls.rwforc_dt_curve->value(t) : controls.rwforc_dt;
   };
 
-  for (;;) {
-    // 1. internal forces at x^n
 #pragma omp parallel for schedule(static)
-    for (Index i = 0; i < n; ++i) nodes.f[i] = Vec3::Zero();
+  for (Index i = 0; i < n; ++i) nodes.f[i] = Vec3::Zero();
+  for (;;) {
+    // 1. internal forces at x^n (f was zeroed with the last position update)
     try {
       for (auto& f : problem.formulations) f->compute_forces(nodes, dt_previous);
     } catch (const InstabilityError& e) {
@@ -232,9 +232,12 @@ RunSummary run(Problem& problem, const Observer& observer) {
     // ENDENG is a percentage change of the energy ratio.
     if (controls.end_energy > 0 && 100 * std::abs(energies.ratio() - 1) > controls.end_energy) break;
 
-    // x^{n+1} = x^n + dt v^{n+1/2}
+    // x^{n+1} = x^n + dt v^{n+1/2}, and f cleared for the next step's forces
 #pragma omp parallel for schedule(static)
-    for (Index i = 0; i < n; ++i) nodes.x[i] += dt * nodes.v[i];
+    for (Index i = 0; i < n; ++i) {
+      nodes.x[i] += dt * nodes.v[i];
+      nodes.f[i] = Vec3::Zero();
+    }
     for (auto& wall : problem.rigid_walls) wall.advance(dt);
     step.time += dt;
     if (controls.end_time - step.time < tolerance) step.time = controls.end_time;

@@ -151,7 +151,7 @@ template <typename Kernel>
 }
 
 // (v, 0), a row of SolidFormulation::force_.
-inline Eigen::Vector4d padded(const Vec3& v) { return {v.x(), v.y(), v.z(), 0}; }
+inline Eigen::Vector4d force_row(const Vec3& v) { return {v.x(), v.y(), v.z(), 0}; }
 
 // rows[b[i]] -= (d[0][i], d[1][i], d[2][i], 0) in double for the eight lanes i, in lane order
 // (lanes may share a row). With AVX2 the three packs are transposed into the lanes' rows of four
@@ -396,10 +396,7 @@ void SolidFormulation::update_records() {
 // (the rim of a splashing foot) expand.
 void SolidFormulation::update_neighbour_list() {
   const Index n = particle_count();
-  bool outgrown = !list_built_;
-#pragma omp parallel for reduction(|| : outgrown) schedule(static)
-  for (Index a = 0; a < n; ++a) outgrown = outgrown || smoothing_length(a) > list_reach_[a];
-  if (!outgrown && !verlet_.needs_rebuild(x_)) return;
+  if (list_built_ && !h_outgrown_ && !verlet_.needs_rebuild(x_)) return;
   Real h_largest = 0;
 #pragma omp parallel for reduction(max : h_largest) schedule(static)
   for (Index a = 0; a < n; ++a) {
@@ -430,7 +427,7 @@ void SolidFormulation::update_neighbour_list() {
 // Continuity and velocity gradient, gathered per particle over its full neighbour row, a pack of
 // pairs at a time; each particle's lanes are summed in one fixed order, whatever the thread count.
 template <typename Kernel, bool corrected>
-void SolidFormulation::compute_rates(Real dt) {
+Index SolidFormulation::compute_rates(Real dt) {
   constexpr int W = pair_lanes;
   const auto& list = verlet_.list();
   const Index n = particle_count();
@@ -445,7 +442,8 @@ void SolidFormulation::compute_rates(Real dt) {
   const float eta2 = static_cast<float>(options_.viscosity.eta * options_.viscosity.eta);
   support_mask_.resize(mask_bytes(list));
   std::uint8_t* mask = support_mask_.data();
-#pragma omp parallel for schedule(dynamic, 512)
+  Index first_unsound = n;
+#pragma omp parallel for schedule(dynamic, 512) reduction(min : first_unsound)
   for (Index a = 0; a < n; ++a) {
     thread_local RowTerms terms;
     const Index padded = pick_support(list, a, record_.data(), mask, terms);
@@ -563,6 +561,7 @@ void SolidFormulation::compute_rates(Real dt) {
     Real sums[24];
     for (int i = 0; i < 3; ++i) simd::sum_lanes(lanes[i], sums + 8 * i);
     viscous_force_[a] = Vec3(-visc_x.sum(), -visc_y.sum(), -visc_z.sum());
+    force_[a] = force_row(viscous_force_[a]);  // the force pass adds the stress's pair terms
     viscous_heating_[a] = heating.sum();
     Real drho;
     Mat3 L;
@@ -621,8 +620,10 @@ void SolidFormulation::compute_rates(Real dt) {
     } else {
       update_particle(a, L, correction, drho, dt);  // its own data only: the neighbours' rates
                                                      // read the step start's volume_
+      if (!sound(a)) first_unsound = std::min(first_unsound, a);
     }
   }
+  return first_unsound;
 }
 
 // Seed 000 §4: a particle is on the surface when it has fewer neighbours than a fraction of a full
@@ -668,10 +669,15 @@ void SolidFormulation::categorize() {
   }
 }
 
-void SolidFormulation::update_state(Real dt) {
+Index SolidFormulation::update_state(Real dt) {
   const Index n = particle_count();
-#pragma omp parallel for schedule(dynamic, 512)
-  for (Index a = 0; a < n; ++a) update_particle(a, velocity_gradient_[a], correction_[a], density_rate_[a], dt);
+  Index first_unsound = n;
+#pragma omp parallel for schedule(dynamic, 512) reduction(min : first_unsound)
+  for (Index a = 0; a < n; ++a) {
+    update_particle(a, velocity_gradient_[a], correction_[a], density_rate_[a], dt);
+    if (!sound(a)) first_unsound = std::min(first_unsound, a);
+  }
+  return first_unsound;
 }
 
 void SolidFormulation::update_particle(Index a, const Mat3& L, const Mat3& correction, Real density_rate, Real dt) {
@@ -771,18 +777,13 @@ void SolidFormulation::relax_exported_deviator(Index a, const Mat3& W, const Mat
   if (size > bound) exported *= bound / size;
 }
 
-void SolidFormulation::check_state(const solver::NodeStore& nodes) const {
-  const Index n = particle_count();
-  const auto sound = [&](Index a) {
-    return density_[a] > 0 && std::isfinite(density_[a]) && std::isfinite(smoothing_length(a));
-  };
-  // The first particle that is not, whatever the thread count.
-  Index first = n;
-#pragma omp parallel for reduction(min : first) schedule(static)
-  for (Index a = 0; a < n; ++a)
-    if (!sound(a)) first = std::min(first, a);
-  if (first < n) {
-    const Index a = first;
+bool SolidFormulation::sound(Index a) const {
+  return density_[a] > 0 && std::isfinite(density_[a]) && std::isfinite(smoothing_length(a));
+}
+
+void SolidFormulation::check_state(const solver::NodeStore& nodes, Index first_unsound) const {
+  if (first_unsound < particle_count()) {
+    const Index a = first_unsound;
     throw InstabilityError(fmt::format(
         "SPH solid: node {} has density {:.6g} and smoothing length {:.6g}: its particle's "
         "neighbourhood has collapsed or torn apart (a smaller TSSFAC, or the artificial stress "
@@ -887,8 +888,6 @@ void SolidFormulation::compute_pair_forces() {
     // even block's terms first) whatever the thread count. A task per block with those
     // dependences, not a sweep of the even blocks and then one of the odd: with about ten blocks
     // a sweep, the sweeps' ends left a thread idle for a block (3 % of the Taylor bar's step).
-#pragma omp parallel for schedule(static)
-    for (Index a = 0; a < n; ++a) force_[a] = padded(viscous_force_[a]);  // the viscosity from the rates pass
     std::vector<char> finished(force_blocks_ + 2);  // a dependence token per block, from block -1
     char* const token = finished.data() + 1;
 #pragma omp parallel
@@ -904,7 +903,7 @@ void SolidFormulation::compute_pair_forces() {
       }
   } else {
 #pragma omp parallel for schedule(dynamic, 512)
-    for (Index a = 0; a < n; ++a) force_[a] = padded(row_force.template operator()<false>(a) + viscous_force_[a]);
+    for (Index a = 0; a < n; ++a) force_[a].head<3>() += row_force.template operator()<false>(a);
   }
 }
 
@@ -924,27 +923,34 @@ void SolidFormulation::compute_forces(solver::NodeStore& nodes, Real dt) {
   if (!active(time_)) {
     std::fill(force_.begin(), force_.end(), Eigen::Vector4d::Zero());
     std::fill(viscous_force_.begin(), viscous_force_.end(), Vec3::Zero());
+    stable_step_.reset();
     return;
   }
   gather_kinematics(nodes);
   update_neighbour_list();
   update_records();
-  with_discretization([&](auto kernel, auto corrected) { compute_rates<decltype(kernel), corrected>(dt); });
+  Index first_unsound = n;
+  with_discretization([&](auto kernel, auto corrected) {
+    first_unsound = compute_rates<decltype(kernel), corrected>(dt);
+  });
   if (categorizing()) {
     int interval = 1 << 30;
     for (const ColourField& c : options_.colour_field)
       if (c.enabled) interval = std::min(interval, c.interval);
     if (step_ % interval == 0) categorize();
-    update_state(dt);
+    first_unsound = update_state(dt);
   }
   volume_.swap(updated_volume_);
   sound_speed_.swap(updated_sound_speed_);
   ++step_;
-  check_state(nodes);
+  check_state(nodes, first_unsound);
   with_discretization([&](auto kernel, auto corrected) { compute_pair_forces<decltype(kernel), corrected>(); });
   // h follows the density only now, so that both pair passes of a step use one kernel: the force
   // pass takes the rates pass's pick, and its force is exactly dual to the velocity gradient.
-#pragma omp parallel for schedule(static)
+  // The same pass finds the next step's limit and whether an h has outgrown its list reach.
+  bool outgrown = false;
+  Real step = std::numeric_limits<Real>::infinity();
+#pragma omp parallel for reduction(|| : outgrown) reduction(min : step) schedule(static)
   for (Index a = 0; a < n; ++a) {
     nodes.f[node_[a]] += force_[a].head<3>();
     if (dt > 0) {
@@ -954,7 +960,11 @@ void SolidFormulation::compute_forces(solver::NodeStore& nodes, Real dt) {
       const Real h0 = initial_smoothing_length_[a];
       smoothing_length(a) = std::clamp(h0 * scale, h0 * bounds.lower, h0 * bounds.upper);
     }
+    outgrown = outgrown || smoothing_length(a) > list_reach_[a];
+    step = std::min(step, stable_step_of(a, nodes.v[node_[a]]));
   }
+  h_outgrown_ = outgrown;
+  stable_step_ = step;
 }
 
 // CFL condition dt <= h / (c s + |v|) per particle (docs/THEORY.md §3): the highest frequency of
@@ -962,15 +972,18 @@ void SolidFormulation::compute_forces(solver::NodeStore& nodes, Real dt) {
 // times G's row sums (Gershgorin), so s = max(1, row sum of G at a / that of a full plain support)
 // keeps the margin that LS-DYNA's h / (c + |v|) has for plain SPH on a lattice, also where the
 // correction B or a cut or disordered support makes G larger. RULE 1 of *SPALL_SPH_TIMESTEP: s = 1.
+Real SolidFormulation::stable_step_of(Index a, const Vec3& v) const {
+  const Real s = options_.time_step_rule == TimeStepRule::plain ? Real(1)
+                                                                 : std::max(Real(1), gradient_amplification_[a]);
+  return smoothing_length(a) / (sound_speed_[a] * s + v.norm());
+}
+
 Real SolidFormulation::stable_time_step(const solver::NodeStore& nodes) const {
+  if (stable_step_) return *stable_step_;  // found by the last compute_forces
   const Index n = particle_count();
-  const bool plain = options_.time_step_rule == TimeStepRule::plain;
   Real dt = std::numeric_limits<Real>::infinity();
 #pragma omp parallel for reduction(min : dt) schedule(static)
-  for (Index a = 0; a < n; ++a) {
-    const Real s = plain ? Real(1) : std::max(Real(1), gradient_amplification_[a]);
-    dt = std::min(dt, smoothing_length(a) / (sound_speed_[a] * s + nodes.v[node_[a]].norm()));
-  }
+  for (Index a = 0; a < n; ++a) dt = std::min(dt, stable_step_of(a, nodes.v[node_[a]]));
   return dt;
 }
 

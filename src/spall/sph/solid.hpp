@@ -27,6 +27,7 @@
 // One SPH formulation owns every SPH part; particles of different parts interact through the
 // kernel, with each particle's own material.
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -161,21 +162,28 @@ class SolidFormulation final : public solver::Formulation {
   void update_records();
   void update_neighbour_list();
   // corrected: *CONTROL_SPH FORM 1 (the moment and its inverse B), else plain SPH.
+  // Returns the first particle whose state update left it unsound (sound()), else
+  // particle_count(); none is updated while categorizing.
   template <typename Kernel, bool corrected>
-  void compute_rates(Real dt);
+  Index compute_rates(Real dt);
   void categorize();
   // The state update of every particle, after the categorization (colour field on); without it
   // compute_rates updates each particle as soon as its rates are known (update_particle).
-  void update_state(Real dt);
+  // Returns as compute_rates does.
+  Index update_state(Real dt);
   // Particle a's material state, density and exported stress sigma_a B_a^T over dt, from its
   // velocity gradient L (corrected), correction B and density rate.
   void update_particle(Index a, const Mat3& L, const Mat3& correction, Real density_rate, Real dt);
   // Whether the categorization, which needs every particle's rates, separates the rates pass
   // from the state update.
   bool categorizing() const { return !category_.empty(); }
-  // Stops the run (InstabilityError) at the first particle whose density or smoothing length is
-  // no longer a positive number, before the neighbour search or the materials see it.
-  void check_state(const solver::NodeStore& nodes) const;
+  // Whether particle a's density and smoothing length are still positive numbers.
+  bool sound(Index a) const;
+  // Stops the run (InstabilityError) at the first particle that is not sound (first_unsound <
+  // particle_count()), before the force pass, the neighbour search or the materials see it.
+  void check_state(const solver::NodeStore& nodes, Index first_unsound) const;
+  // Particle a's limit on the step at node velocity v (stable_time_step).
+  Real stable_step_of(Index a, const Vec3& v) const;
   void relax_exported_deviator(Index a, const Mat3& W, const Mat3& D_dev, bool treated,
                                Real relaxation, Real dt);
   // corrected: the records of FORM 1 (stress_), else those of plain SPH (plain_stress_).
@@ -271,6 +279,10 @@ class SolidFormulation final : public solver::Formulation {
   Real time_ = 0;
   long long step_ = 0;
   bool list_built_ = false;
+  bool h_outgrown_ = false;  // some h_a exceeded its list reach at the last h update
+  // The stable step at the state of the last compute_forces, found in its last pass (none while
+  // inactive or before the first call).
+  std::optional<Real> stable_step_;
   bool has_temperature_ = false;  // some material heats (Johnson-Cook): output the temperature
 };
 
