@@ -35,6 +35,37 @@ TEST(Elastic, RigidRotationRotatesTheStressWithoutStraining) {
   EXPECT_GT(rate.norm(), 0.1);
 }
 
+TEST(Elastic, JaumannRotationOfPrincipalStressesUnderASpin) {
+  // A spin omega about z turns principal stresses s1, s2 on x and y: (W S - S W)_xy =
+  // omega (s1 - s2), the diagonal unchanged (the rate of a tensor carried by a rigid rotation,
+  // Belytschko, Liu & Moran, Nonlinear Finite Elements, §3.7).
+  const Real omega = 3, s1 = 5, s2 = -2;
+  Mat3 L = Mat3::Zero();
+  L(1, 0) = omega;  // v = omega e_z x x: v_y = omega x
+  L(0, 1) = -omega;
+  const Mat3 S = Vec3(s1, s2, 0).asDiagonal();
+  const Mat3 R = materials::jaumann_rotation(L, S);
+  EXPECT_DOUBLE_EQ(R(0, 1), omega * (s1 - s2));
+  EXPECT_DOUBLE_EQ(R(1, 0), omega * (s1 - s2));
+  EXPECT_EQ(R.diagonal(), Vec3::Zero());
+  EXPECT_EQ(R(0, 2), 0);
+  EXPECT_EQ(R(1, 2), 0);
+}
+
+TEST(Elastic, JaumannRotationIsTheCommutatorOfSpinAndStress) {
+  // Its six entries written out against the two matrix products W S - S W, for a general L
+  // (stretch and spin) and symmetric S, to round-off.
+  Mat3 L;
+  L << 0.3, -1.2, 0.7, 2.1, -0.4, -0.9, 0.2, 1.6, 0.1;
+  Mat3 S;
+  S << 4, -1, 2, -1, -3, 0.5, 2, 0.5, -1;
+  const Mat3 W = Real(0.5) * (L - L.transpose());
+  const Mat3 expected = W * S - S * W;
+  const Mat3 R = materials::jaumann_rotation(L, S);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) EXPECT_NEAR(R(i, j), expected(i, j), 1e-14) << i << ", " << j;
+}
+
 TEST(Elastic, UniaxialStrainPressureAndVonMises) {
   const auto c = materials::ElasticConstants::from_young_poisson(1000, 1e9, 0.25);
   EXPECT_NEAR(materials::elastic_pressure(c, 1010), c.bulk_modulus * 0.01, 1e-3);

@@ -695,21 +695,15 @@ void SolidFormulation::update_particle(Index a, const Mat3& L, const Mat3& corre
     density_[a] += dt * density_rate;
     updated_volume_[a] = mass_[a] / density_[a];
     // Objective (Jaumann) rotation of the stress deviator and back stress, then the material.
-    const Mat3 W = Real(0.5) * (L - L.transpose());
-    // W S - S W = W S + (W S)^T for symmetric S and skew W: one product.
-    const Mat3 WS = product(W, state.deviatoric_stress);
-    state.deviatoric_stress += dt * (WS + WS.transpose());
+    state.deviatoric_stress += dt * materials::jaumann_rotation(L, state.deviatoric_stress);
     // Only kinematic hardening (MAT_003 BETA < 1) moves the back stress away from zero.
-    if (!state.back_stress.isZero(0)) {
-      const Mat3 Wa = product(W, state.back_stress);
-      state.back_stress += dt * (Wa + Wa.transpose());
-    }
+    if (!state.back_stress.isZero(0)) state.back_stress += dt * materials::jaumann_rotation(L, state.back_stress);
     const Mat3 D = Real(0.5) * (L + L.transpose());
     const Mat3 D_dev = materials::deviator(D);
     strain_rate_[a] = materials::effective_strain_rate(D_dev);  // for residual_stress
     const materials::StressUpdate update = materials::update_stress(m, state, D, dt, density_[a], internal_energy_[a]);
     pressure_[a] = update.pressure;
-    if (relaxed) relax_exported_deviator(a, W, D_dev, treated, colour.relaxation, dt);  // with the c of the step start
+    if (relaxed) relax_exported_deviator(a, L, D_dev, treated, colour.relaxation, dt);  // with the c of the step start
     updated_sound_speed_[a] = update.sound_speed;
   } else {
     updated_volume_[a] = volume_[a];
@@ -759,7 +753,7 @@ void SolidFormulation::record_stress(Index a, const Mat3& exported, const Mat3& 
 // strain rate above sigma_y / (2 G tau); a stress that persists at a lower rate (residual stress)
 // is not passed on after a few tau, while the material's own S stays in the output. A failed
 // particle exports no deviator.
-void SolidFormulation::relax_exported_deviator(Index a, const Mat3& W, const Mat3& D_dev, bool treated,
+void SolidFormulation::relax_exported_deviator(Index a, const Mat3& L, const Mat3& D_dev, bool treated,
                                                Real relaxation, Real dt) {
   const auto& m = materials_[material_[a]];
   const materials::PointState& state = state_[a];
@@ -768,7 +762,7 @@ void SolidFormulation::relax_exported_deviator(Index a, const Mat3& W, const Mat
     exported = state.deviatoric_stress;
     return;
   }
-  exported += dt * (W * exported - exported * W + 2 * m.shear_modulus * D_dev);
+  exported += dt * (materials::jaumann_rotation(L, exported) + 2 * m.shear_modulus * D_dev);
   const Mat3 target = treated ? Mat3::Zero() : state.deviatoric_stress;
   const Real tau = relaxation * smoothing_length(a) / sound_speed_[a];
   exported = target + std::exp(-dt / tau) * (exported - target);  // exact decay over the step

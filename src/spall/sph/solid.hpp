@@ -184,7 +184,7 @@ class SolidFormulation final : public solver::Formulation {
   void check_state(const solver::NodeStore& nodes, Index first_unsound) const;
   // Particle a's limit on the step at node velocity v (stable_time_step).
   Real stable_step_of(Index a, const Vec3& v) const;
-  void relax_exported_deviator(Index a, const Mat3& W, const Mat3& D_dev, bool treated,
+  void relax_exported_deviator(Index a, const Mat3& L, const Mat3& D_dev, bool treated,
                                Real relaxation, Real dt);
   // corrected: the records of FORM 1 (stress_), else those of plain SPH (plain_stress_).
   template <typename Kernel, bool corrected>
