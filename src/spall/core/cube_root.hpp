@@ -1,8 +1,9 @@
 #pragma once
-// x^(1/3) for the smoothing length's update h = h0 (rho0 / rho)^(1/3), in multiplications and
-// fused multiply-adds only. glibc's cbrt takes about 125 instructions with three calls
-// (frexp, ldexp, scalbn) and is up to 3 ulp off the correctly rounded cube root; this one takes
-// about 35 and is within 1 ulp (tests/unit/test_cube_root.cpp).
+// x^(1/3) for the length scales updated at every step (the SPH smoothing length
+// h = h0 (rho0 / rho)^(1/3), SPG's spacing l = l0 (V / V0)^(1/3)), in multiplications and fused
+// multiply-adds only. glibc's cbrt takes about 125 instructions with three calls (frexp, ldexp,
+// scalbn) and is up to 3 ulp off the correctly rounded cube root; this one takes about 35 and is
+// within 1 ulp (tests/unit/test_cube_root.cpp).
 #include <bit>
 #include <cmath>
 #include <cstdint>

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 #include <limits>
 
+#include "spall/core/cube_root.hpp"
 #include "spall/spg/parallel.hpp"
 #include "spall/spg/rk_shape.hpp"
 
@@ -307,7 +308,7 @@ void Part::deformation(std::span<const Vec3> x, std::span<const Vec3> v, Real dt
     // volume shrinks, with l the particle spacing followed through the volume change.
     const Real volume_rate = D.trace();
     const Real volume = volume_ref_[j] * det;
-    const Real length = mean_spacing_[j] * std::cbrt(volume / volume0_[j]);
+    const Real length = mean_spacing_[j] * cube_root(volume / volume0_[j]);
     const Real q = volume_rate < 0 ? rho * length *
                                          (settings_.bulk_viscosity_quadratic * length * volume_rate * volume_rate -
                                           settings_.bulk_viscosity_linear * sound_speed_[j] * volume_rate)
@@ -488,7 +489,7 @@ Real Part::stable_time_step(const solver::NodeStore& nodes) const {
 #pragma omp parallel for reduction(min : dt) schedule(static) if (n > parallel_threshold)
   for (Index i = 0; i < n; ++i) {
     const Real volume_ratio = volume_ref_[i] * F_[i].determinant() / volume0_[i];
-    const Real length = spacing_[i] * std::cbrt(volume_ratio);
+    const Real length = spacing_[i] * cube_root(volume_ratio);
     dt = std::min(dt, courant_factor * length / (sound_speed_[i] + nodes.v[node_[i]].norm()));
   }
   return dt;
