@@ -4,7 +4,9 @@
 #include <bit>
 #include <cmath>
 #include <stdexcept>
+#include <memory>
 #include <string>
+#include <vector>
 
 #include <omp.h>
 
@@ -24,6 +26,22 @@ constexpr int stencil_reach = 2;
 
 // Candidates tested at once (for_each_within): a simd::Pack of them.
 constexpr int search_lanes = simd::Pack::width;
+
+// A vector whose resize leaves new entries as they are: the search's row buffers grow ahead of the
+// compressed stores that fill them, and zeroing them first was a pass over a second copy of the
+// list at every build (memset: half a per cent of the Taylor bar's step, perf).
+template <typename T>
+struct UninitializedAllocator : std::allocator<T> {
+  template <typename U>
+  struct rebind {
+    using other = UninitializedAllocator<U>;
+  };
+  template <typename U>
+  void construct(U* p) noexcept {
+    ::new (static_cast<void*>(p)) U;
+  }
+};
+using RowBuffer = std::vector<Index, UninitializedAllocator<Index>>;
 
 // Positions in cell order, one array per coordinate, and the particle at each position: the
 // candidates of a particle are contiguous runs of these arrays, read front to back, search_lanes
@@ -188,7 +206,8 @@ void VerletList::build_rows(std::span<const Vec3> x, Real radius, const MakeRadi
   // particle and length; once the lengths give the offsets, each thread copies its rows into
   // place. Every row is written by one thread and holds what the search found, so the list is the
   // same for any thread count. The buffers hold the list once more while the build runs.
-  std::vector<std::vector<Index>> found_rows, found_particles;
+  std::vector<RowBuffer> found_rows;
+  std::vector<std::vector<Index>> found_particles;
   // The last list's length (the list is rebuilt every few tens of steps and changes slowly).
   const std::size_t last_total = list_.neighbors.size();
 #pragma omp parallel
@@ -201,7 +220,7 @@ void VerletList::build_rows(std::span<const Vec3> x, Real radius, const MakeRadi
     // found has room for search_lanes entries past the candidates, which compress_indices may write
     // before the count moves past them. Candidates are gathered search_lanes at a time without a
     // branch per candidate (about one in three is a neighbour, so a branch would mispredict often).
-    std::vector<Index>& found = found_rows[omp_get_thread_num()];
+    RowBuffer& found = found_rows[omp_get_thread_num()];
     std::vector<Index>& particles = found_particles[omp_get_thread_num()];
     // The thread's share of the last list with 1/8 to spare: a buffer grown from empty by doubling
     // copies itself over as it goes (memmove was a quarter of the Taylor bar's builds).
