@@ -169,7 +169,8 @@ inline Eigen::Vector4d force_row(const Vec3& v) { return {v.x(), v.y(), v.z(), 0
                              _mm256_shuffle_ps(xy_2367, z_2367, _MM_SHUFFLE(3, 2, 3, 2))};
   for (int lane = 0; lane < 8; ++lane) {
     const __m128 row = lane < 4 ? _mm256_castps256_ps128(rows_of[lane]) : _mm256_extractf128_ps(rows_of[lane - 4], 1);
-    double* f = rows[b[lane]].data();
+    // The index taken as unsigned: scaled without a sign extension first (simd::avx2::row_of).
+    double* f = rows[static_cast<std::uint32_t>(b[lane])].data();
     _mm256_storeu_pd(f, _mm256_sub_pd(_mm256_loadu_pd(f), _mm256_cvtps_pd(row)));
   }
 #else
