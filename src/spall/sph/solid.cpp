@@ -201,7 +201,8 @@ inline std::size_t mask_bytes(const neighbors::NeighborList& list) {
 // (`present` masks the lanes past the row's end), in terms.neighbour, padded with a itself to a
 // multiple of the pack width. Returns the padded count.
 template <typename Lanes>
-Index keep_row(const neighbors::NeighborList& list, Index a, RowTerms& terms, Lanes&& lanes) {
+[[gnu::always_inline]] inline Index keep_row(const neighbors::NeighborList& list, Index a, RowTerms& terms,
+                                             Lanes&& lanes) {
   constexpr int W = pair_lanes;
   const Index first = list.offsets[a];
   const Index count = list.offsets[a + 1] - first;
