@@ -319,6 +319,22 @@ template <int Stride>
   return base + static_cast<std::size_t>(static_cast<std::uint32_t>(index)) * Stride;
 }
 
+// Two consecutive floats from each of eight rows (base + Stride index[i] + offset), transposed:
+// out[0] holds element 0 of the eight rows, out[1] element 1. Eight 64-bit loads and four
+// shuffles, where two gathers of eight floats (a gather costs a load per lane and more) took an
+// eighth of the rates pass (docs/PERFORMANCE.md, session 25).
+template <int Stride>
+[[gnu::always_inline]] inline void load_rows(const float* base, const Index* index, int offset, Float8 (&out)[2]) {
+  const auto pair = [&](int i, int j) {  // (element 0, 1 of row i, element 0, 1 of row j)
+    const __m128i low = _mm_loadl_epi64(reinterpret_cast<const __m128i*>(row_of<Stride>(base, index[i]) + offset));
+    return _mm_loadh_pi(_mm_castsi128_ps(low), reinterpret_cast<const __m64*>(row_of<Stride>(base, index[j]) + offset));
+  };
+  const __m256 rows0145 = _mm256_insertf128_ps(_mm256_castps128_ps256(pair(0, 1)), pair(4, 5), 1);
+  const __m256 rows2367 = _mm256_insertf128_ps(_mm256_castps128_ps256(pair(2, 3)), pair(6, 7), 1);
+  out[0] = {_mm256_shuffle_ps(rows0145, rows2367, _MM_SHUFFLE(2, 0, 2, 0))};
+  out[1] = {_mm256_shuffle_ps(rows0145, rows2367, _MM_SHUFFLE(3, 1, 3, 1))};
+}
+
 // Four consecutive floats from each of eight rows (base + Stride index[i] + offset), transposed:
 // out[j] holds element j of the eight rows. Rows i and i + 4 share a register, then a 4 x 4
 // transpose within each 128-bit half: eight loads and twelve shuffles.

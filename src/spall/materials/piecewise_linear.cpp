@@ -25,9 +25,10 @@ Real update_piecewise_linear(const PiecewiseLinear& model, Real shear_modulus, P
                              const Mat3& strain_rate, Real dt) {
   const Mat3 trial = state.deviatoric_stress + 2 * shear_modulus * dt * deviator(strain_rate);
   const Real q = von_mises(trial);
-  const Real rate =
-      effective_strain_rate(model.deviatoric_rate ? deviator(strain_rate) : strain_rate);
-  const Real rate_factor = model.rate.factor(rate);
+  const Real rate_factor =
+      model.rate.active()
+          ? model.rate.factor(effective_strain_rate(model.deviatoric_rate ? deviator(strain_rate) : strain_rate))
+          : Real(1);
   const auto yield = [&](Real dp) {
     const YieldValue y = model.curve.at(state.plastic_strain + dp);
     // A softening curve extrapolated below zero has lost all strength there.

@@ -10,7 +10,7 @@ Real update_plastic_kinematic(const PlasticKinematic& model, Real shear_modulus,
   const Mat3 trial = state.deviatoric_stress + 2 * shear_modulus * dt * deviator(strain_rate);
   const Mat3 relative = trial - state.back_stress;
   const Real q = von_mises(relative);
-  const Real rate_factor = model.rate.factor(effective_strain_rate(strain_rate));
+  const Real rate_factor = model.rate.active() ? model.rate.factor(effective_strain_rate(strain_rate)) : Real(1);
   const Real isotropic_modulus = model.beta * model.hardening_modulus;
   const Real kinematic_modulus = (1 - model.beta) * model.hardening_modulus;
   const auto yield = [&](Real dp) {

@@ -24,10 +24,11 @@ struct YieldValue {
 // Deviatoric part of a symmetric tensor.
 inline Mat3 deviator(const Mat3& a) { return a - (a.trace() / 3) * Mat3::Identity(); }
 
+// The square 2/3 D:D of the effective strain rate of a rate of deformation D.
+inline Real effective_strain_rate_squared(const Mat3& d) { return Real(2) / 3 * d.cwiseProduct(d).sum(); }
+
 // Effective strain rate sqrt(2/3 D:D) of a rate of deformation D.
-inline Real effective_strain_rate(const Mat3& d) {
-  return std::sqrt(Real(2) / 3 * d.cwiseProduct(d).sum());
-}
+inline Real effective_strain_rate(const Mat3& d) { return std::sqrt(effective_strain_rate_squared(d)); }
 
 // The root dp of g above, by Halley's method where yield(dp) gives a curvature and Newton's
 // otherwise, kept inside the bracket. Halley's step converges cubically: from the first guess of

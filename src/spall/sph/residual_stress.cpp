@@ -23,7 +23,8 @@ Real percentile95(std::vector<Real> values) {
 std::vector<ResidualStressRow> SolidFormulation::residual_stress(
     const ResidualStressCriterion& criterion) const {
   const Index n = particle_count();
-  const std::vector<Real>& rate = strain_rate_;
+  std::vector<Real> rate(static_cast<std::size_t>(n));  // effective strain rates of the last step
+  for (Index a = 0; a < n; ++a) rate[a] = std::sqrt(strain_rate_squared_[a]);
   const Real largest_rate = n > 0 ? *std::max_element(rate.begin(), rate.end()) : 0;
   const Real rate_limit = criterion.strain_rate > 0 ? criterion.strain_rate : 0.01 * largest_rate;
 

@@ -95,9 +95,10 @@ bool invert_symmetric(const Mat3& m, Real least, Mat3& inverse) {
 using simd::Float8;
 constexpr int pair_lanes = Float8::width;
 constexpr int record_stride = sizeof(PairRecord) / sizeof(float);
+constexpr int viscosity_stride = sizeof(ViscosityRecord) / sizeof(float);
 constexpr int stress_stride = sizeof(StressRecord) / sizeof(float);
 constexpr int plain_stress_stride = sizeof(PlainStressRecord) / sizeof(float);
-static_assert(record_stride == 8 && stress_stride == 12 && plain_stress_stride == 8);
+static_assert(record_stride == 8 && viscosity_stride == 2 && stress_stride == 12 && plain_stress_stride == 8);
 
 // The pairs of one Verlet row inside their support (r < H_ab = h_a + h_b), per thread, padded with
 // the particle itself to a multiple of the pack width (a pair at r = 0 has no gradient, so the
@@ -266,8 +267,7 @@ SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
   mass_.resize(n);
   smoothing_length_.resize(n);
   record_.resize(n);
-  record_sound_speed_.resize(n);
-  record_density_.resize(n);
+  viscosity_record_.resize(n);
   if (options_.gradient_correction)
     stress_.resize(n);
   else
@@ -288,7 +288,7 @@ SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
     return kernels::gradient_norm_integral<decltype(kernel)>();
   });
   if (options_.artificial_stress.enabled) artificial_stress_.assign(n, Mat3::Zero());
-  strain_rate_.assign(n, 0);
+  strain_rate_squared_.assign(n, 0);
   viscous_heating_.assign(n, 0);
   force_.assign(n, Eigen::Vector4d::Zero());
   viscous_force_.assign(n, Vec3::Zero());
@@ -386,8 +386,7 @@ void SolidFormulation::update_records() {
     record_[a] = {static_cast<float>(x[0]), static_cast<float>(x[1]), static_cast<float>(x[2]),
                   static_cast<float>(smoothing_length(a)), static_cast<float>(v[0]), static_cast<float>(v[1]),
                   static_cast<float>(v[2]), static_cast<float>(volume_[a])};
-    record_sound_speed_[a] = static_cast<float>(sound_speed_[a]);
-    record_density_[a] = static_cast<float>(density_[a]);
+    viscosity_record_[a] = {static_cast<float>(sound_speed_[a]), static_cast<float>(density_[a])};
   }
 }
 
@@ -495,7 +494,8 @@ Index SolidFormulation::compute_rates(Real dt) {
     // Monaghan's viscosity, -m_a m_b Pi_ab grad_a W_ab on the pairs approaching each other, here
     // where v_ab and the pair geometry are at hand, with rho and c of the step start (the records).
     Float8 L_lanes[9];
-    const Float8 m_a(static_cast<float>(mass_[a])), rho_a(record_density_[a]), c_a(record_sound_speed_[a]);
+    const Float8 m_a(static_cast<float>(mass_[a])), rho_a(viscosity_record_[a].density),
+        c_a(viscosity_record_[a].sound_speed);
     for (Index k = 0; k < padded; k += W) {
       Float8 vx, vy, vz, dx, dy, dz;
       pair_kinematics(k, vx, vy, vz, dx, dy, dz);
@@ -520,8 +520,10 @@ Index SolidFormulation::compute_rates(Real dt) {
       const Float8 hv = h_ab * vr;
       const Float8 r = Float8::load(r_k + k);
       const Float8 d = fma(Float8(eta2) * h_ab, h_ab, r * r);
-      const Float8 c = Float8(0.5f) * (c_a + Float8::gather<1>(record_sound_speed_.data(), b));
-      const Float8 rho = Float8(0.5f) * (rho_a + Float8::gather<1>(record_density_.data(), b));
+      Float8 c_rho[2];  // c_b, rho_b
+      simd::load_rows<viscosity_stride>(&viscosity_record_.data()->sound_speed, b, 0, c_rho);
+      const Float8 c = Float8(0.5f) * (c_a + c_rho[0]);
+      const Float8 rho = Float8(0.5f) * (rho_a + c_rho[1]);
       const Float8 Pi =
           select(approaching, fma(Float8(-alpha) * c, d, Float8(beta) * hv) * hv * reciprocal(d * d * rho), Float8(0));
       const Float8 m_b = pair_mass(record_mass_, uniform_mass_, b);
@@ -702,7 +704,8 @@ void SolidFormulation::update_particle(Index a, const Mat3& L, const Mat3& corre
     if (!state.back_stress.isZero(0)) state.back_stress += dt * materials::jaumann_rotation(L, state.back_stress);
     const Mat3 D = Real(0.5) * (L + L.transpose());
     const Mat3 D_dev = materials::deviator(D);
-    strain_rate_[a] = materials::effective_strain_rate(D_dev);  // for residual_stress
+    // For residual_stress, squared: its square root is taken there, not at every step.
+    strain_rate_squared_[a] = materials::effective_strain_rate_squared(D_dev);
     const materials::StressUpdate update = materials::update_stress(m, state, D, dt, density_[a], internal_energy_[a]);
     pressure_[a] = update.pressure;
     if (relaxed) relax_exported_deviator(a, L, D_dev, treated, colour.relaxation, dt);  // with the c of the step start
@@ -1068,14 +1071,14 @@ std::size_t bytes(const std::vector<T>& v) {
 
 std::size_t SolidFormulation::memory_bytes() const {
   const auto& list = verlet_.list();
-  return bytes(node_) + bytes(material_) + bytes(mass_) + bytes(smoothing_length_) + bytes(record_) + bytes(record_sound_speed_) +
-         bytes(record_density_) + bytes(record_mass_) + bytes(stress_) + bytes(plain_stress_) + bytes(list_reach_) +
+  return bytes(node_) + bytes(material_) + bytes(mass_) + bytes(smoothing_length_) + bytes(record_) + bytes(viscosity_record_) +
+         bytes(record_mass_) + bytes(stress_) + bytes(plain_stress_) + bytes(list_reach_) +
          bytes(initial_smoothing_length_) + bytes(h_bounds_) + bytes(spacing_) +
          bytes(density_) + bytes(volume_) + bytes(updated_volume_) + bytes(pressure_) + bytes(sound_speed_) + bytes(updated_sound_speed_) + bytes(internal_energy_) +
          bytes(state_) + bytes(gradient_amplification_) + bytes(correction_) +
          bytes(artificial_stress_) + bytes(exported_deviator_) + bytes(colour_) + bytes(colour_normal_) +
          bytes(support_count_) + bytes(full_support_count_) + bytes(category_) + bytes(x_copy_) + bytes(v_copy_) + bytes(density_rate_) + bytes(support_mask_) +
-         bytes(viscous_heating_) + bytes(velocity_gradient_) + bytes(strain_rate_) + bytes(force_) +
+         bytes(viscous_heating_) + bytes(velocity_gradient_) + bytes(strain_rate_squared_) + bytes(force_) +
          bytes(viscous_force_) + bytes(list.offsets) + bytes(list.neighbors) +
          verlet_.reference_positions_bytes();
 }

@@ -114,6 +114,11 @@ struct ParticleSetup {
 struct alignas(32) PairRecord {
   float x, y, z, h, vx, vy, vz, volume;
 };
+// What the viscosity reads of each neighbour besides its PairRecord (SolidFormulation::
+// viscosity_record_): sound speed and density of the step start, one 64-bit row.
+struct alignas(8) ViscosityRecord {
+  float sound_speed, density;
+};
 // One particle as the force pass reads it (SolidFormulation::stress_): P = sigma B^T
 // column-major, P(i, j) = P[i + 3 j], and the volume after the state update.
 struct alignas(16) StressRecord {
@@ -211,7 +216,8 @@ class SolidFormulation final : public solver::Formulation {
   // the last list build, so that a float keeps its digits for the differences), h, velocity,
   // volume, sound speed and density of the step start, and the mass when the masses differ.
   std::vector<PairRecord> record_;
-  std::vector<float> record_sound_speed_, record_density_, record_mass_;
+  std::vector<ViscosityRecord> viscosity_record_;
+  std::vector<float> record_mass_;
   Vec3 record_origin_ = Vec3::Zero();
   // What the force pass reads: sigma_a B_a^T and the volume after the state update, with the
   // gradient correction (stress_), else sigma_a and the volume (plain_stress_); the other is empty.
@@ -261,7 +267,7 @@ class SolidFormulation final : public solver::Formulation {
   // The rates that wait for the categorization (empty when not categorizing).
   std::vector<Real> density_rate_;
   std::vector<Mat3> velocity_gradient_;
-  std::vector<Real> strain_rate_;  // effective strain rate sqrt(2/3 D':D') of the last step
+  std::vector<Real> strain_rate_squared_;  // 2/3 D':D' of the last step, the effective strain rate squared
   // Which entries of each Verlet row the rates pass found inside the support (one byte per pack;
   // solid.cpp, mask_start): the force pass, at the same h, takes the same pairs.
   std::vector<std::uint8_t> support_mask_;
