@@ -193,15 +193,17 @@ TEST(FloatLanes, TransposedLoadsGathersCompressionAndComparisonsPickTheRightElem
     v.store(out.data());
     return out;
   };
-  P eight[8], four[4];
+  P eight[8], four[4], two[2];
   simd::load_rows<12>(table.data(), rows, 0, eight);
   simd::load_rows<12>(table.data(), rows, 8, four);
+  simd::load_rows<12>(table.data(), rows, 10, two);  // as the viscosity's (c, rho) rows
   // The gather of the solid's non-uniform masses (stride 1) and a strided one.
   const auto column_one = floats_of(P::gather<12>(table.data(), rows, 1));
   const auto by_index = floats_of(P::gather<1>(table.data(), rows));
   for (int i = 0; i < 8; ++i) {
     for (int j = 0; j < 8; ++j) EXPECT_EQ(floats_of(eight[j])[i], 100 * rows[i] + j);
     for (int j = 0; j < 4; ++j) EXPECT_EQ(floats_of(four[j])[i], 100 * rows[i] + 8 + j);
+    for (int j = 0; j < 2; ++j) EXPECT_EQ(floats_of(two[j])[i], 100 * rows[i] + 10 + j);
     EXPECT_EQ(column_one[i], 100 * rows[i] + 1);
     EXPECT_EQ(by_index[i], table[rows[i]]);
   }
