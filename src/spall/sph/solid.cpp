@@ -233,7 +233,8 @@ template <typename Lanes>
 // bytes) once a step, too large for the caches, and the processor's own prefetch missed it: the
 // loads of each row's first pack and of its last, partial pack (which comes first) waited on
 // memory, a quarter of the pick's time (perf). Six or twelve rows ahead measured the same within
-// the noise; every line to the row's exact end, or the force pass's pick too, 1-1.5 % slower.
+// the noise, every line to the row's exact end 1.3 % slower, and the force pass's pick gained
+// nothing from it (docs/PERFORMANCE.md, session 25).
 constexpr std::size_t row_lead = 3;
 [[gnu::always_inline]] inline void prefetch_row_ahead(const neighbors::NeighborList& list, Index a) {
   constexpr Index line = 64 / sizeof(Index);
