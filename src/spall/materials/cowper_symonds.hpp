@@ -15,7 +15,7 @@ struct CowperSymonds {
   // Whether the rate scales the yield stress at all (a caller can then skip the rate).
   bool active() const { return c > 0; }
   Real factor(Real strain_rate) const {
-    return c > 0 ? 1 + std::pow(strain_rate / c, 1 / p) : Real(1);
+    return active() ? 1 + std::pow(strain_rate / c, 1 / p) : Real(1);
   }
 };
 
