@@ -71,10 +71,10 @@ solver::Problem& impacted_rod(int particles_across, bool peer_physics) {
 
 // Neighbours inside the pair support h_a + h_b, per particle: the pairs the force loops use.
 double neighbours_in_support(const solver::Problem& problem, const sph::SolidFormulation& sph) {
-  std::vector<io::output::PointField> fields;
-  sph.add_fields(fields, problem.nodes);
+  discretization::FieldSet fields(problem.nodes.size());
+  sph.write_fields(fields, problem.nodes);
   std::vector<double> h;
-  for (auto& field : fields)
+  for (auto& field : fields.node_fields())
     if (field.name == "smoothing_length") h = std::get<std::vector<double>>(field.values);
   const auto& x = problem.nodes.x;
   Real h_largest = 0;

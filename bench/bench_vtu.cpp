@@ -9,7 +9,7 @@
 namespace {
 
 using spall::Vec3;
-using spall::io::output::PointField;
+using spall::discretization::Field;
 
 void BM_WriteVtu(benchmark::State& state) {
   const auto n = static_cast<std::size_t>(state.range(0));
@@ -21,9 +21,9 @@ void BM_WriteVtu(benchmark::State& state) {
     pressure[i] = double(i);
     category[i] = std::int64_t(i % 3);
   }
-  const std::vector<PointField> fields{
+  const std::vector<Field> fields{
       {"velocity", 3, velocity},
-      {"stress", 6, stress, spall::io::output::symmetric_tensor_components},
+      {"stress", 6, stress, spall::discretization::symmetric_tensor_components},
       {"pressure", 1, pressure},
       {"category", 1, category}};
   const auto path = std::filesystem::temp_directory_path() /

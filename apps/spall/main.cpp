@@ -2,15 +2,16 @@
 // Exit codes: 0 success, 2 bad input, 3 numerical instability.
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
-#include <omp.h>
 
 #include "run_command.hpp"
 #include "surface_command.hpp"
 #include "spall/core/error.hpp"
 #include "spall/core/log.hpp"
+#include "spall/core/parallel.hpp"
 #include "spall/core/version.hpp"
 
 int main(int argc, char** argv) {
+  spall::parallel::wait_politely(argv);
   CLI::App app{"Spall: meshfree explicit dynamics for solids and fluids (LS-DYNA keyword input)"};
   app.set_version_flag("--version", std::string("spall ") + spall::version);
   app.require_subcommand(1);
@@ -61,8 +62,8 @@ int main(int argc, char** argv) {
     return spall::exit_bad_input;
   }
 
-  if (options.threads > 0) omp_set_num_threads(options.threads);
-  if (surface_threads > 0) omp_set_num_threads(surface_threads);
+  if (options.threads > 0) spall::parallel::set_thread_count(options.threads);
+  if (surface_threads > 0) spall::parallel::set_thread_count(surface_threads);
   try {
     if (*check) return spall::cli::check_deck(check_deck);
     if (*surface) return spall::cli::reconstruct_surface(surface_options);

@@ -6,11 +6,11 @@
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
-#include <omp.h>
 #include <tbb/global_control.h>
 
 #include "spall/core/error.hpp"
 #include "spall/core/log.hpp"
+#include "spall/core/parallel.hpp"
 #include "spall/io/input/vtu_read.hpp"
 #include "spall/io/output/ply.hpp"
 #include "spall/io/output/vtp.hpp"
@@ -51,8 +51,8 @@ const std::vector<double>& real_field(const io::input::VtuSnapshot& snap, const 
 }
 
 // The values of `field` at the points `keep` selects, in order.
-io::output::PointField gathered(const io::output::PointField& field, const std::vector<Index>& keep) {
-  io::output::PointField out{field.name, field.components, {}, field.component_names};
+discretization::Field gathered(const discretization::Field& field, const std::vector<Index>& keep) {
+  discretization::Field out{field.name, field.components, {}, field.component_names};
   std::visit(
       [&](const auto& values) {
         std::decay_t<decltype(values)> kept;
@@ -127,7 +127,7 @@ int reconstruct_surface(const SurfaceOptions& options) {
                                  "2D run is a curve, which `spall surface` does not extract",
                                  vtu.string(), z_low));
 
-  std::vector<io::output::PointField> particle_fields;
+  std::vector<discretization::Field> particle_fields;
   if (options.fields.empty()) {
     for (const auto& f : snap.fields) particle_fields.push_back(gathered(f, sph));
   } else {
@@ -140,7 +140,7 @@ int reconstruct_surface(const SurfaceOptions& options) {
 
   // OpenVDB's mesher runs on TBB: as many threads as OpenMP gets (--threads).
   const tbb::global_control threads(tbb::global_control::max_allowed_parallelism,
-                                    static_cast<std::size_t>(omp_get_max_threads()));
+                                    static_cast<std::size_t>(parallel::thread_count()));
   const surface::SurfaceParticles particles{x, volume, h};
   const surface::SurfaceSettings settings{.iso = options.iso, .cell = options.cell};
   const Real cell = options.cell > 0 ? options.cell : surface::default_cell(h);

@@ -35,7 +35,7 @@ head -n 1 "$work/out/glstat.csv" | grep -q '^time \[time\],dt \[time\],kinetic_e
 grep -q '"status": "completed"' "$work/out/run.json" || fail "run.json"
 cmp -s "$work/bar.k" "$work/out/deck/bar.k" || fail "deck copy"
 # The energies do not depend on the thread count either (sums in a fixed order; a bar of more
-# than two of ordered_sum's blocks of 4096 nodes).
+# than two of parallel::ordered_sum's blocks of 4096 nodes).
 python3 "$source_dir/tools/make_bar_deck.py" --spacing 0.01 --width 0.1 --periods 0.02 >"$work/bar_threads.k"
 "$cli" run "$work/bar_threads.k" -o "$work/threads1" --threads 1 2>/dev/null || fail "1-thread run"
 "$cli" run "$work/bar_threads.k" -o "$work/threads2" --threads 2 2>/dev/null || fail "2-thread run"

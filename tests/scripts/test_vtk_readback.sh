@@ -51,6 +51,29 @@ datasets = [(d.get("timestep"), d.get("file")) for d in root.iter("DataSet")]
 assert root.get("type") == "Collection" and datasets == [("0.10000000000000001", "sample.vtu")], datasets
 END
 
+# Cells: 8 vertex cells and one hexahedron of volume 1 (VTK computes it from our node order); the
+# cell fields are NaN / -1 on the vertex cells and the block's values on the hexahedron.
+/usr/bin/python3 - "$work/hexahedron.vtu" <<'END'
+import math, sys
+import vtk
+reader = vtk.vtkXMLUnstructuredGridReader()
+reader.SetFileName(sys.argv[1])
+reader.Update()
+grid = reader.GetOutput()
+assert grid.GetNumberOfPoints() == 8 and grid.GetNumberOfCells() == 9, (grid.GetNumberOfPoints(), grid.GetNumberOfCells())
+assert [grid.GetCellType(i) for i in range(9)] == [vtk.VTK_VERTEX] * 8 + [vtk.VTK_HEXAHEDRON]
+quality = vtk.vtkMeshQuality()
+quality.SetInputData(grid)
+quality.SetHexQualityMeasureToVolume()
+quality.Update()
+volume = quality.GetOutput().GetCellData().GetArray("Quality").GetValue(8)
+assert abs(volume - 1.0) < 1e-12, volume
+ids = grid.GetCellData().GetArray("element_id")
+strain = grid.GetCellData().GetArray("plastic_strain")
+assert [ids.GetValue(i) for i in range(9)] == [-1] * 8 + [42]
+assert all(math.isnan(strain.GetValue(i)) for i in range(8)) and strain.GetValue(8) == 0.25
+END
+
 if "${read_vtu[@]}" "$work/sample.vtu" --field no_such_field >/dev/null 2>&1; then
   echo "read_vtu.py accepted a missing field" >&2
   exit 1

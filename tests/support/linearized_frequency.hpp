@@ -26,7 +26,7 @@ struct Frequency {
 // correction and the categories it depends on.
 inline Real stable_step_at_rest(const solver::Problem& problem) {
   const auto& solid = dynamic_cast<const sph::SolidFormulation&>(*problem.formulations.at(0));
-  solver::NodeStore nodes = problem.nodes;
+  discretization::NodeStore nodes = problem.nodes;
   std::fill(nodes.v.begin(), nodes.v.end(), Vec3::Zero());
   sph::SolidFormulation primed = solid;
   primed.compute_forces(nodes, 0);
@@ -35,7 +35,7 @@ inline Real stable_step_at_rest(const solver::Problem& problem) {
 
 inline Frequency largest_frequency(const solver::Problem& problem, int iterations = 200) {
   const auto& solid = dynamic_cast<const sph::SolidFormulation&>(*problem.formulations.at(0));
-  solver::NodeStore nodes = problem.nodes;
+  discretization::NodeStore nodes = problem.nodes;
   const Index n = nodes.size();
   const auto held = [&](Index i, int d) { return (nodes.fixed[i] >> d) & 1; };
   std::mt19937 random(7);

@@ -111,7 +111,7 @@ inline std::vector<Real> tip_zero_crossings(const OscillatingPlate& p) {
   std::vector<Real> crossings;
   Real previous_t = 0, previous_u = 0;
   solver::Observer observer;
-  observer.on_history = [&](const solver::StepInfo& s, const solver::Energies&) {
+  observer.on_history = [&](const solver::StepInfo& s, const discretization::EnergyLedger&) {
     const Real u = problem.nodes.x[tip_index].y() - problem.nodes.x0[tip_index].y();
     if (s.step > 0 && previous_u * u < 0)
       crossings.push_back(previous_t + (s.time - previous_t) * previous_u / (previous_u - u));

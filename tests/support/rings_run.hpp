@@ -53,7 +53,7 @@ inline RingsRun run_rubber_rings(const RubberRings& rings) {
   for (Index i = 0; i < n; ++i) run.momentum_scale += nodes.mass[i] * nodes.v[i].norm();
   problem.controls.glstat_dt = 1e-30;  // every step
   solver::Observer observer;
-  observer.on_history = [&](const solver::StepInfo&, const solver::Energies& e) {
+  observer.on_history = [&](const solver::StepInfo&, const discretization::EnergyLedger& e) {
     for (const auto& [a, b] : pairs) {
       const Real d = (nodes.x[a] - nodes.x[b]).norm();
       run.largest_stretch = std::max(run.largest_stretch, d);

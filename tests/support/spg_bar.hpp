@@ -39,9 +39,9 @@ inline BarHistory run_spg_bar(SpgBlock b, Real end_time, Real tssfac = 0.9) {
   problem.controls.glstat_dt = 1e-30;  // every step
   BarHistory h;
   solver::Observer observer;
-  observer.on_history = [&](const solver::StepInfo& s, const solver::Energies& e) {
+  observer.on_history = [&](const solver::StepInfo& s, const discretization::EnergyLedger& e) {
     h.time.push_back(s.time);
-    h.kinetic.push_back(e.kinetic);
+    h.kinetic.push_back(e.kinetic());
   };
   h.summary = solver::run(problem, observer);
   return h;

@@ -113,7 +113,7 @@ struct TaylorShape {
 // Length from the wall to the far end, and the largest radius (the foot's: the mushroom is widest
 // there); each particle stands for a cell of one spacing, so half a spacing is added beyond the
 // centres.
-inline std::pair<Real, Real> rod_extent(const solver::NodeStore& nodes, Real dx) {
+inline std::pair<Real, Real> rod_extent(const discretization::NodeStore& nodes, Real dx) {
   Real length = 0, radius = 0;
   for (Index i = 0; i < nodes.size(); ++i) {
     length = std::max(length, nodes.x[i].z() + dx / 2);
@@ -132,10 +132,10 @@ inline TaylorShape run_taylor_bar(const TaylorBar& bar) {
   const auto [length0, radius0] = rod_extent(problem.nodes, dx);
   solver::Observer observer;
   problem.controls.glstat_dt = 10e-6;
-  observer.on_history = [&](const solver::StepInfo& step, const solver::Energies& e) {
+  observer.on_history = [&](const solver::StepInfo& step, const discretization::EnergyLedger& e) {
     const auto [length, radius] = rod_extent(problem.nodes, dx);
     std::printf("t %.1f us: L/L0 %.4f  R/R0 %.4f  KE %.4g J  ratio %.4f\n", step.time * 1e6,
-                length / length0, radius / radius0, e.kinetic, e.ratio());
+                length / length0, radius / radius0, e.kinetic(), e.ratio());
   };
   solver::run(problem, observer);
   const auto [length, radius] = rod_extent(problem.nodes, dx);

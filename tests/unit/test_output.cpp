@@ -23,6 +23,8 @@ namespace {
 namespace fs = std::filesystem;
 using namespace spall::io::output;
 using spall::Vec3;
+using spall::discretization::Field;
+using spall::discretization::symmetric_tensor_components;
 
 std::string read_file(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -107,7 +109,7 @@ const std::vector<Vec3> awkward_points = {
     {-7.0, std::numeric_limits<double>::min(), 6.02214076e23}};
 
 TEST_F(OutputTest, VtuAppendedBlocksAddUpToTheFileSize) {
-  const std::vector<PointField> fields{
+  const std::vector<Field> fields{
       {"velocity", 3, std::vector<double>(9, 1.0)},
       {"stress", 6, std::vector<double>(18, 2.0), symmetric_tensor_components},
       {"category", 1, std::vector<std::int64_t>{0, 1, 2}}};
@@ -280,6 +282,7 @@ TEST_F(OutputTest, RunJsonEscapesStrings) {
   info.wall_seconds = std::numeric_limits<double>::quiet_NaN();
   info.particles = 1000;
   info.status = "completed";
+  info.phases = {{"internal_forces", 1.5}, {"output", 0.25}};
   write_run_json(path, info);
   EXPECT_EQ(read_file(path),
             "{\n"
@@ -291,6 +294,7 @@ TEST_F(OutputTest, RunJsonEscapesStrings) {
             "  \"end_time\": 0.10000000000000001,\n"
             "  \"wall_seconds\": null,\n"
             "  \"particles\": 1000,\n"
+            "  \"phases\": {\"internal_forces\": 1.5, \"output\": 0.25},\n"
             "  \"status\": \"completed\"\n"
             "}\n");
 }
@@ -301,7 +305,7 @@ TEST(VtuSample, WritesTheSampleForTheVtkReadbackScript) {
   const char* sample_directory = std::getenv("SPALL_VTU_SAMPLE_DIR");
   const fs::path directory = sample_directory ? fs::path(sample_directory) : fs::path(::testing::TempDir());
   const std::vector<Vec3> points{{0, 0, 0}, {0.1, -2.5, 3}, {1e-310, 7, -0.0}, {4, 5, 6}};
-  const std::vector<PointField> fields{
+  const std::vector<Field> fields{
       {"velocity", 3, std::vector<double>{1.5, -2, 0.1, 0, 0, 0, -3.25, 4, 1e-3, 7, 8, 9}},
       {"category", 1, std::vector<std::int64_t>{0, 2, -1, 9'007'199'254'740'993}},
       {"stress", 6, std::vector<double>(24, -1e6), symmetric_tensor_components}};
@@ -314,6 +318,33 @@ TEST(VtuSample, WritesTheSampleForTheVtkReadbackScript) {
     fs::remove(path);
     fs::remove(directory / "sample.pvd");
   }
+}
+
+// A unit cube as 8 points and one hexahedron (VTK's node order: the bottom face counter-clockwise
+// seen from above, then the top face), with a point field and a cell field that only the
+// hexahedron has: the vertex cells hold the fill value. test_vtk_readback.sh reads it with VTK.
+TEST(VtuSample, WritesTheHexahedronSampleForTheVtkReadbackScript) {
+  const char* sample_directory = std::getenv("SPALL_VTU_SAMPLE_DIR");
+  const fs::path directory = sample_directory ? fs::path(sample_directory) : fs::path(::testing::TempDir());
+  const std::vector<Vec3> points{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
+                                 {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+  const std::vector<Field> fields{{"node_id", 1, std::vector<std::int64_t>{1, 2, 3, 4, 5, 6, 7, 8}}};
+  spall::discretization::CellBlock hexahedra;
+  hexahedra.connectivity = {0, 1, 2, 3, 4, 5, 6, 7};
+  hexahedra.fields.push_back({"element_id", 1, std::vector<std::int64_t>{42}});
+  hexahedra.fields.push_back({"plastic_strain", 1, std::vector<double>{0.25}});
+  const fs::path path = directory / "hexahedron.vtu";
+  write_vtu(path, points, fields, {hexahedra});
+  const ParsedVtu vtu = parse_vtu(read_file(path));
+  EXPECT_NE(vtu.xml.find(R"(<Piece NumberOfPoints="8" NumberOfCells="9">)"), std::string::npos);
+  EXPECT_NE(vtu.xml.find("<CellData>"), std::string::npos);
+  if (!sample_directory) fs::remove(path);
+}
+
+TEST(VtuSample, CellBlockWithANodeOutsideThePointsIsRefused) {
+  spall::discretization::CellBlock tetrahedra{spall::discretization::CellShape::tetrahedron, {0, 1, 2, 9}, {}};
+  const std::vector<Vec3> points(4, Vec3::Zero());
+  EXPECT_THROW(write_vtu(fs::path(::testing::TempDir()) / "bad.vtu", points, {}, {tetrahedra}), std::invalid_argument);
 }
 
 }  // namespace

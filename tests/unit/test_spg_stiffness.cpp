@@ -66,7 +66,7 @@ Spectrum spectrum(const Block& block) {
   const Real dt = 1e-3, delta = 1e-7;
   Eigen::MatrixXd K(3 * n, 3 * n);
   for (Index c = 0; c < 3 * n; ++c) {
-    solver::NodeStore nodes = base.nodes;
+    discretization::NodeStore nodes = base.nodes;
     spg::Part part(setups[0].settings, setups[0].particles, nodes);
     nodes.x[c / 3][c % 3] += delta;
     nodes.v[c / 3][c % 3] = delta / dt;

@@ -30,9 +30,10 @@ Categorized categorize(model::Model model, int kernel = 0) {
   solver::Problem problem = solver::build_problem(model);
   problem.formulations[0]->compute_forces(problem.nodes, 0);
   const auto& sph = dynamic_cast<const sph::SolidFormulation&>(*problem.formulations[0]);
-  std::vector<io::output::PointField> fields;
-  sph.add_fields(fields, problem.nodes);
-  auto field = [&](const std::string& name) -> const io::output::PointField& {
+  discretization::FieldSet field_set(problem.nodes.size());
+  sph.write_fields(field_set, problem.nodes);
+  const auto& fields = field_set.node_fields();
+  auto field = [&](const std::string& name) -> const discretization::Field& {
     return *std::find_if(fields.begin(), fields.end(), [&](const auto& f) { return f.name == name; });
   };
   const auto& normal = std::get<std::vector<double>>(field("colour_normal").values);

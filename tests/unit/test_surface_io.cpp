@@ -21,7 +21,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using namespace spall;
-using io::output::PointField;
+using discretization::Field;
 
 std::string read_file(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -65,10 +65,10 @@ std::string input_error(F f) {
 }  // namespace
 
 TEST_F(SurfaceIoTest, VtuReadsBackBitExactly) {
-  const std::vector<PointField> fields = {
+  const std::vector<discretization::Field> fields = {
       {"velocity", 3, std::vector<double>{1.5, -2, 0.1, 7, 8, 9, -3.25, 0, 1e-300}},
       {"part_id", 1, std::vector<std::int64_t>{1, std::numeric_limits<std::int64_t>::max(), -4}},
-      {"stress", 6, std::vector<double>(18, 0.25), io::output::symmetric_tensor_components},
+      {"stress", 6, std::vector<double>(18, 0.25), discretization::symmetric_tensor_components},
       {"a&b <\"odd\">", 1, std::vector<double>{1, 2, 3}}};
   io::output::write_vtu(dir_ / "d.vtu", points, fields);
   const auto snap = io::input::read_vtu(dir_ / "d.vtu");

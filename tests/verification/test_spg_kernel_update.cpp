@@ -84,13 +84,14 @@ TEST(SpgKernelUpdate, SpinningBlockStaysStressFree) {
     solver::Problem p = solver::build_problem(m);
     Real kinetic0 = -1, kinetic_end = 0;
     solver::Observer o;
-    o.on_history = [&](const solver::StepInfo&, const solver::Energies& e) {
-      if (kinetic0 < 0) kinetic0 = e.kinetic;
-      kinetic_end = e.kinetic;
+    o.on_history = [&](const solver::StepInfo&, const discretization::EnergyLedger& e) {
+      if (kinetic0 < 0) kinetic0 = e.kinetic();
+      kinetic_end = e.kinetic();
     };
     const auto summary = solver::run(p, o);
-    std::vector<io::output::PointField> fields;
-    p.formulations[0]->add_fields(fields, p.nodes);
+    discretization::FieldSet field_set(p.nodes.size());
+    p.formulations[0]->write_fields(field_set, p.nodes);
+    const auto& fields = field_set.node_fields();
     const auto& vm = std::get<std::vector<double>>(
         std::find_if(fields.begin(), fields.end(), [](const auto& f) { return f.name == "von_mises"; })->values);
     const Real largest = *std::max_element(vm.begin(), vm.end());

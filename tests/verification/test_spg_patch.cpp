@@ -70,8 +70,9 @@ PatchResult patch_test(const Patch& patch) {
   const Mat3 sigma = S - pressure * Mat3::Identity();
   const double exact[6] = {sigma(0, 0), sigma(1, 1), sigma(2, 2), sigma(0, 1), sigma(1, 2), sigma(2, 0)};
 
-  std::vector<io::output::PointField> fields;
-  spg.add_fields(fields, nodes);
+  discretization::FieldSet field_set(nodes.size());
+  spg.write_fields(field_set, nodes);
+  const auto& fields = field_set.node_fields();
   const auto stress = std::find_if(fields.begin(), fields.end(), [](const auto& f) { return f.name == "stress"; });
   const auto& values = std::get<std::vector<double>>(stress->values);
   const Real h = 0.1;

@@ -71,8 +71,9 @@ TEST(SpgTension, JohnsonCookBarNecksAndSeparates) {
   solver::Problem p = solver::build_problem(m);
   const auto summary = solver::run(p, {});
   const auto& spg = dynamic_cast<const spg::SpgFormulation&>(*p.formulations[0]);
-  std::vector<io::output::PointField> fields;
-  spg.add_fields(fields, p.nodes);
+  discretization::FieldSet field_set(p.nodes.size());
+  spg.write_fields(field_set, p.nodes);
+  const auto& fields = field_set.node_fields();
   const auto& eps = std::get<std::vector<double>>(
       std::find_if(fields.begin(), fields.end(), [](const auto& f) { return f.name == "effective_plastic_strain"; })->values);
 

@@ -97,8 +97,9 @@ Outcome break_bar(Real stress_ratio, Real end_time) {
   solver::Problem problem = solver::build_problem(model);
   solver::run(problem, {});
   const auto& sph = dynamic_cast<const sph::SolidFormulation&>(*problem.formulations.front());
-  std::vector<io::output::PointField> fields;
-  sph.add_fields(fields, problem.nodes);
+  discretization::FieldSet field_set(problem.nodes.size());
+  sph.write_fields(field_set, problem.nodes);
+  const auto& fields = field_set.node_fields();
   const auto& failed = std::get<std::vector<std::int64_t>>(
       std::find_if(fields.begin(), fields.end(), [](const auto& f) { return f.name == "failed"; })->values);
 

@@ -75,19 +75,21 @@ Outcome squeeze(int form) {
     sum += ratio;
     ++samples;
   };
-  observer.on_history = [&](const solver::StepInfo&, const solver::Energies& e) {
-    force_work = e.internal + e.artificial_viscosity;
+  observer.on_history = [&](const solver::StepInfo&, const discretization::EnergyLedger& e) {
+    force_work = e.internal() + e.artificial_viscosity();
   };
   solver::run(problem, observer);
   out.force_ratio_mean = sum / samples;
   const auto& sph = dynamic_cast<const sph::SolidFormulation&>(*problem.formulations.front());
-  std::vector<io::output::PointField> fields;
-  sph.add_fields(fields, problem.nodes);
+  discretization::FieldSet field_set(problem.nodes.size());
+  sph.write_fields(field_set, problem.nodes);
+  const auto& fields = field_set.node_fields();
   const auto field = [&](const char* name) {
     return std::get<std::vector<double>>(
         std::find_if(fields.begin(), fields.end(), [&](const auto& f) { return f.name == name; })->values);
   };
-  const auto mass = field("mass"), energy = field("internal_energy");
+  const auto& mass = problem.nodes.mass;
+  const auto energy = field("internal_energy");
   Real stored = 0;
   for (std::size_t i = 0; i < mass.size(); ++i) stored += mass[i] * energy[i];
   out.energy_ratio = stored / force_work;

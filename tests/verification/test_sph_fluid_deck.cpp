@@ -83,8 +83,9 @@ TEST(SphFluidDeck, SettledColumnPressureIsRhoGD) {
   ASSERT_EQ(water.size(), 200u);
 
   solver::run(problem, {});
-  std::vector<io::output::PointField> fields;
-  fluid.add_fields(fields, problem.nodes);
+  discretization::FieldSet field_set(problem.nodes.size());
+  fluid.write_fields(field_set, problem.nodes);
+  const auto& fields = field_set.node_fields();
   ASSERT_EQ(fields.front().name, "pressure");
   const auto& pressure = std::get<std::vector<double>>(fields.front().values);
   for (Real depth : {0.25 * D, 0.5 * D, 0.75 * D, D - dp}) {

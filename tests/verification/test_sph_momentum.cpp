@@ -17,7 +17,7 @@ using namespace spall;
 
 namespace {
 
-Vec3 total_momentum(const solver::NodeStore& nodes) {
+Vec3 total_momentum(const discretization::NodeStore& nodes) {
   Vec3 p = Vec3::Zero();
   for (Index i = 0; i < nodes.size(); ++i) p += nodes.mass[i] * nodes.v[i];
   return p;

@@ -144,7 +144,7 @@ TEST(SphStableStep, DisorderedCorrectedPlateConservesEnergyWhereTheCflStepBlowsU
     problem.controls.glstat_dt = 1e-30;  // every step
     Real worst = 0;
     solver::Observer observer;
-    observer.on_history = [&](const solver::StepInfo&, const solver::Energies& e) {
+    observer.on_history = [&](const solver::StepInfo&, const discretization::EnergyLedger& e) {
       worst = std::max(worst, std::abs(e.ratio() - 1));
     };
     solver::run(problem, observer);

@@ -143,7 +143,7 @@ Line fit(const std::vector<Sample> &samples) {
   return {slope, (sy - slope * sx) / n};
 }
 
-const std::vector<double> &field(const std::vector<io::output::PointField> &fields,
+const std::vector<double> &field(const std::vector<discretization::Field> &fields,
                                  const std::string &name) {
   for (const auto &f : fields)
     if (f.name == name) return std::get<std::vector<double>>(f.values);
@@ -163,9 +163,10 @@ void check_uniaxial_strain_path(bool piecewise_linear) {
   std::vector<Real> previous_plastic_strain(probes.size(), 0);
   problem.controls.glstat_dt = 1e-30;  // every step
   solver::Observer observer;
-  observer.on_history = [&](const solver::StepInfo &, const solver::Energies &) {
-    std::vector<io::output::PointField> fields;
-    problem.formulations.front()->add_fields(fields, problem.nodes);
+  observer.on_history = [&](const solver::StepInfo &, const discretization::EnergyLedger &) {
+    discretization::FieldSet field_set(problem.nodes.size());
+    problem.formulations.front()->write_fields(field_set, problem.nodes);
+    const auto& fields = field_set.node_fields();
     const auto &stress = field(fields, "stress");
     const auto &plastic = field(fields, "effective_plastic_strain");
     for (std::size_t p = 0; p < probes.size(); ++p) {

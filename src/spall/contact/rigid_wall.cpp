@@ -36,7 +36,7 @@ bool RigidWall::inside(const Vec3& p) const {
   return true;
 }
 
-void RigidWall::enforce(solver::NodeStore& nodes, Real t_mid, Real dt, Real dt_mid) {
+void RigidWall::enforce(discretization::NodeStore& nodes, Real t_mid, Real dt, Real dt_mid) {
   force_.setZero();
   normal_force_ = 0;
   active_.clear();
@@ -117,7 +117,7 @@ void RigidWall::enforce(solver::NodeStore& nodes, Real t_mid, Real dt, Real dt_m
   }
 }
 
-Real RigidWall::solve_wall_velocity(const solver::NodeStore& nodes) {
+Real RigidWall::solve_wall_velocity(const discretization::NodeStore& nodes) {
   const Index count = static_cast<Index>(nodes_.size());
   auto push = [&](Index k) {
     candidate_[k] = pushed_now;

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "spall/core/types.hpp"
-#include "spall/solver/node_store.hpp"
+#include "spall/discretization/node_store.hpp"
 
 namespace spall::contact {
 
@@ -45,7 +45,7 @@ class RigidWall {
   // Corrects the velocities v^{n+1/2} of nodes that would pass the wall over [t^n, t^n + dt]
   // (t_mid = t^n + dt/2 decides birth and death); dt_mid is the step of that velocity update,
   // over which the impulses become forces.
-  void enforce(solver::NodeStore& nodes, Real t_mid, Real dt, Real dt_mid);
+  void enforce(discretization::NodeStore& nodes, Real t_mid, Real dt, Real dt_mid);
   // Moves a moving wall on to t^{n+1} with its new velocity.
   void advance(Real dt);
 
@@ -65,7 +65,7 @@ class RigidWall {
 
   bool inside(const Vec3& p) const;  // within the finite extent (point relative to the origin)
   // The wall's velocity after the impulses, and which candidates are pushed (`active_`).
-  Real solve_wall_velocity(const solver::NodeStore& nodes);
+  Real solve_wall_velocity(const discretization::NodeStore& nodes);
 
   Definition definition_;
   std::vector<Index> nodes_;

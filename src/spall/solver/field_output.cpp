@@ -6,10 +6,10 @@ namespace spall::solver {
 
 namespace {
 template <typename T>
-std::vector<T> gather(const std::vector<T>& node_values, const std::vector<Index>& active, int components) {
+std::vector<T> gather(const std::vector<T>& node_values, const std::vector<Index>& written, int components) {
   std::vector<T> out;
-  out.reserve(active.size() * components);
-  for (Index i : active)
+  out.reserve(written.size() * components);
+  for (Index i : written)
     for (int c = 0; c < components; ++c) out.push_back(node_values[i * components + c]);
   return out;
 }
@@ -17,32 +17,38 @@ std::vector<T> gather(const std::vector<T>& node_values, const std::vector<Index
 
 FieldSnapshot snapshot_fields(const Problem& problem) {
   const auto& nodes = problem.nodes;
-  std::vector<Index> active;
-  for (Index i = 0; i < nodes.size(); ++i)
-    if (nodes.mass[i] > 0) active.push_back(i);
-
-  FieldSnapshot snap;
-  std::vector<double> velocity, displacement;
-  std::vector<std::int64_t> part_id, node_id;
-  for (Index i : active) {
-    snap.points.push_back(nodes.x[i]);
+  discretization::FieldSet set(nodes.size());
+  const auto velocity = set.node_real("velocity", 3), displacement = set.node_real("displacement", 3);
+  // With density, a particle's volume m / rho: what `spall surface` needs for the colour field.
+  const auto mass = set.node_real("mass");
+  const auto part_id = set.node_integer("part_id"), node_id = set.node_integer("node_id");
+  for (Index i = 0; i < nodes.size(); ++i) {
     for (int d = 0; d < 3; ++d) {
-      velocity.push_back(nodes.v[i][d]);
-      displacement.push_back(nodes.x[i][d] - nodes.x0[i][d]);
+      velocity[3 * i + d] = nodes.v[i][d];
+      displacement[3 * i + d] = nodes.x[i][d] - nodes.x0[i][d];
     }
-    part_id.push_back(problem.part_of_node[i]);
-    node_id.push_back(nodes.id[i]);
+    mass[i] = nodes.mass[i];
+    part_id[i] = problem.part_of_node[i];
+    node_id[i] = nodes.id[i];
   }
-  snap.fields.push_back({"velocity", 3, std::move(velocity)});
-  snap.fields.push_back({"displacement", 3, std::move(displacement)});
-  std::vector<io::output::PointField> node_fields;
-  for (const auto& f : problem.formulations) f->add_fields(node_fields, nodes);
-  for (auto& field : node_fields) {
-    std::visit([&](auto& values) { values = gather(values, active, field.components); }, field.values);
+  for (const auto& f : problem.formulations) f->write_fields(set, nodes);
+
+  std::vector<Index> written, point_of_node(nodes.size(), -1);
+  for (Index i = 0; i < nodes.size(); ++i)
+    if (nodes.mass[i] > 0) {
+      point_of_node[i] = static_cast<Index>(written.size());
+      written.push_back(i);
+    }
+  FieldSnapshot snap;
+  for (Index i : written) snap.points.push_back(nodes.x[i]);
+  for (auto& field : set.node_fields()) {
+    std::visit([&](auto& values) { values = gather(values, written, field.components); }, field.values);
     snap.fields.push_back(std::move(field));
   }
-  snap.fields.push_back({"part_id", 1, std::move(part_id)});
-  snap.fields.push_back({"node_id", 1, std::move(node_id)});
+  for (const auto& block : set.cell_blocks()) {
+    auto& out = snap.cell_blocks.emplace_back(block);
+    for (Index& node : out.connectivity) node = point_of_node[node];
+  }
   return snap;
 }
 

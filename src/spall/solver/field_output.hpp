@@ -1,16 +1,17 @@
 #pragma once
-// The point fields written at each output time: kinematics from the node store, then every
-// formulation's own fields (pressure, von Mises stress, density, ...).
+// The fields written at each output time: the node store's own (velocity, displacement, mass,
+// part and node ID), then every formulation's, merged by name (discretization/field_set.hpp).
 #include <vector>
 
-#include "spall/io/output/vtu.hpp"
+#include "spall/discretization/field_set.hpp"
 #include "spall/solver/problem.hpp"
 
 namespace spall::solver {
 
 struct FieldSnapshot {
   std::vector<Vec3> points;
-  std::vector<io::output::PointField> fields;
+  std::vector<discretization::Field> fields;
+  std::vector<discretization::CellBlock> cell_blocks;  // connectivity in indices of `points`
 };
 
 // Nodes without mass (used by no formulation) are left out.

@@ -85,7 +85,7 @@ bool is_fluid_part(const model::Model& model, Id pid) {
 std::unique_ptr<sph::FluidFormulation> build_fluid(const model::Model& model,
                                                    const std::vector<FluidParticle>& particles,
                                                    const sph::ArtificialViscosity& viscosity,
-                                                   int dimension, NodeStore& nodes,
+                                                   int dimension, discretization::NodeStore& nodes,
                                                    std::vector<Id>& part_of_node) {
   if (const auto& c = model.control_sph; c && (c->start > 0 || c->dt < 1e20))
     fail(c->card_where[0], "*CONTROL_SPH",

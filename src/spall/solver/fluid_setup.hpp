@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "spall/model/model.hpp"
-#include "spall/solver/node_store.hpp"
+#include "spall/discretization/node_store.hpp"
 #include "spall/sph/fluid.hpp"
 
 namespace spall::solver {
@@ -23,7 +23,7 @@ struct FluidParticle {
 std::unique_ptr<sph::FluidFormulation> build_fluid(const model::Model& model,
                                                    const std::vector<FluidParticle>& particles,
                                                    const sph::ArtificialViscosity& viscosity,
-                                                   int dimension, NodeStore& nodes,
+                                                   int dimension, discretization::NodeStore& nodes,
                                                    std::vector<Id>& part_of_node);
 
 }  // namespace spall::solver

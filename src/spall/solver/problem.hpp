@@ -7,8 +7,8 @@
 
 #include "spall/contact/rigid_wall.hpp"
 #include "spall/model/model.hpp"
-#include "spall/solver/formulation.hpp"
-#include "spall/solver/node_store.hpp"
+#include "spall/discretization/formulation.hpp"
+#include "spall/discretization/node_store.hpp"
 
 namespace spall::solver {
 
@@ -49,8 +49,8 @@ struct RunControls {
 };
 
 struct Problem {
-  NodeStore nodes;
-  std::vector<std::unique_ptr<Formulation>> formulations;
+  discretization::NodeStore nodes;
+  std::vector<std::unique_ptr<discretization::Formulation>> formulations;
   std::vector<NodalMotion> motions;
   std::vector<BaseAcceleration> base_accelerations;
   std::vector<contact::RigidWall> rigid_walls;

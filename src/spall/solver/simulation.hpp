@@ -1,35 +1,18 @@
 #pragma once
-// The explicit time loop (central difference), as DESIGN draws it:
-//   1. each formulation advances its state and adds internal forces at x^n
-//   2. loads (base accelerations)
-//   3. v^{n+1/2} = v^{n-1/2} + a^n (dt^{n-1/2} + dt^{n+1/2}) / 2, then SPCs and prescribed motion,
-//      then rigid walls
-//   4. energies and output at t^n, then x^{n+1} = x^n + v^{n+1/2} dt^{n+1/2}
-//   5. dt = TSSFAC * min(stable step of every formulation)
-#include <filesystem>
+// The explicit time loop (central difference) as one step of named phases (docs/ARCHITECTURE.md):
+//   halo -> internal forces -> contact -> loads -> stable step -> velocity update (with SPCs)
+//   -> constraints (prescribed motion, rigid walls) -> energies -> output -> position update
+// The stable step comes before the velocity update because the central difference with a varying
+// step needs dt^{n+1/2} for v^{n+1/2} = v^{n-1/2} + a^n (dt^{n-1/2} + dt^{n+1/2}) / 2.
+#include <array>
 #include <functional>
-#include <optional>
+#include <memory>
+#include <string_view>
 
+#include "spall/discretization/energy_ledger.hpp"
 #include "spall/solver/problem.hpp"
 
 namespace spall::solver {
-
-// The global energy balance at t^n, as LS-DYNA's glstat: kinetic energy from the mid-step
-// velocities, internal (strain) energy and artificial-viscosity dissipation integrated from the
-// power of the internal forces, external work of loads and constraints.
-struct Energies {
-  Real kinetic = 0;
-  Real internal = 0;
-  Real artificial_viscosity = 0;
-  Real external_work = 0;
-  Real initial_total = 0;
-  Real total() const { return kinetic + internal + artificial_viscosity; }
-  // total / (initial + external work): 1 for a perfectly conserving run.
-  Real ratio() const {
-    const Real reference = initial_total + external_work;
-    return reference != 0 ? total() / reference : 1;
-  }
-};
 
 struct StepInfo {
   long long step = 0;
@@ -37,12 +20,25 @@ struct StepInfo {
   Real dt = 0;
 };
 
+// The phases of a step, in the order they run.
+enum class Phase { halo, internal_forces, contact, loads, stable_step, velocity_update, constraints, energies, output,
+                   position_update, count };
+std::string_view phase_name(Phase phase);
+
+// Wall-clock seconds spent in each phase over a run.
+struct PhaseTimes {
+  std::array<double, static_cast<std::size_t>(Phase::count)> seconds{};
+  double& operator[](Phase p) { return seconds[static_cast<std::size_t>(p)]; }
+  double operator[](Phase p) const { return seconds[static_cast<std::size_t>(p)]; }
+  double total() const;
+};
+
 // What the loop reports to whoever runs it (the CLI writes files; tests record histories).
 struct Observer {
   // Field output at t^n (every D3PLOT interval, and at the end).
   std::function<void(const StepInfo&, const Problem&)> on_field_output;
   // Energies at t^n (every GLSTAT interval, and at the end).
-  std::function<void(const StepInfo&, const Energies&)> on_history;
+  std::function<void(const StepInfo&, const discretization::EnergyLedger&)> on_history;
   // Forces on the rigid walls at t^n (every RWFORC interval, GLSTAT's by default, and at the end).
   std::function<void(const StepInfo&, const std::vector<contact::RigidWall>&)> on_rigid_wall_forces;
   // Called on every step (cheap): for progress lines.
@@ -52,11 +48,26 @@ struct Observer {
 struct RunSummary {
   long long steps = 0;
   Real end_time = 0;
-  Energies energies;
+  discretization::EnergyLedger energies;
+  PhaseTimes phases;
 };
 
-// Runs to ENDTIM (or ENDCYC). Throws InstabilityError (after a last field output) when the
-// solution becomes non-finite or runs away.
+// The time loop over one problem. run() goes to ENDTIM (or ENDCYC, or ENDENG); it throws
+// InstabilityError when the solution becomes non-finite or runs away. phases() holds the time
+// spent in each phase so far, also after such an error.
+class TimeLoop {
+ public:
+  TimeLoop(Problem& problem, const Observer& observer);
+  ~TimeLoop();
+  RunSummary run();
+  const PhaseTimes& phases() const;
+
+ private:
+  class Step;
+  std::unique_ptr<Step> step_;
+};
+
+// TimeLoop(problem, observer).run().
 RunSummary run(Problem& problem, const Observer& observer);
 
 }  // namespace spall::solver

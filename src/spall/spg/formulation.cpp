@@ -5,18 +5,18 @@
 
 namespace spall::spg {
 
-void SpgFormulation::compute_forces(solver::NodeStore& nodes, Real dt) {
+void SpgFormulation::compute_forces(discretization::NodeStore& nodes, Real dt) {
   for (auto& part : parts_) part.compute_forces(nodes, dt);
 }
 
-Real SpgFormulation::stable_time_step(const solver::NodeStore& nodes) const {
+Real SpgFormulation::stable_time_step(const discretization::NodeStore& nodes) const {
   Real dt = std::numeric_limits<Real>::infinity();
   for (const auto& part : parts_) dt = std::min(dt, part.stable_time_step(nodes));
   return dt;
 }
 
-solver::Formulation::Power SpgFormulation::internal_power(std::span<const Vec3> v) const {
-  Power p;
+discretization::InternalPower SpgFormulation::internal_power(std::span<const Vec3> v) const {
+  discretization::InternalPower p;
   for (const auto& part : parts_) {
     const auto q = part.internal_power(v);
     p.stored += q.stored;
@@ -25,27 +25,12 @@ solver::Formulation::Power SpgFormulation::internal_power(std::span<const Vec3> 
   return p;
 }
 
-void SpgFormulation::add_fields(std::vector<io::output::PointField>& fields,
-                                const solver::NodeStore& nodes) const {
-  const std::size_t n = nodes.id.size();
-  Part::NodeFields f;
-  f.pressure.assign(n, 0);
-  f.von_mises.assign(n, 0);
-  f.density.assign(n, 0);
-  f.effective_plastic_strain.assign(n, 0);
-  f.bond_damage.assign(n, 0);
-  f.stress.assign(6 * n, 0);
-  f.broken_bonds.assign(n, 0);
-  f.bond_count.assign(n, 0);
-  for (const auto& part : parts_) part.write_fields(f);
-  fields.push_back({"pressure", 1, std::move(f.pressure)});
-  fields.push_back({"von_mises", 1, std::move(f.von_mises)});
-  fields.push_back({"density", 1, std::move(f.density)});
-  fields.push_back({"stress", 6, std::move(f.stress)});
-  fields.push_back({"effective_plastic_strain", 1, std::move(f.effective_plastic_strain)});
-  fields.push_back({"broken_bonds", 1, std::move(f.broken_bonds)});
-  fields.push_back({"bond_damage", 1, std::move(f.bond_damage)});
-  fields.push_back({"bond_count", 1, std::move(f.bond_count)});
+void SpgFormulation::book_energies(discretization::EnergyLedger& ledger, std::span<const Vec3> v, Real dt) const {
+  discretization::book_internal_power(ledger, internal_power(v), dt);
+}
+
+void SpgFormulation::write_fields(discretization::FieldSet& fields, const discretization::NodeStore&) const {
+  for (const auto& part : parts_) part.write_fields(fields);
 }
 
 Real SpgFormulation::max_wave_speed() const {

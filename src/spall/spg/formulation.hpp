@@ -4,21 +4,22 @@
 // (spg/part.hpp), and parts couple through shared nodes.
 #include <vector>
 
-#include "spall/solver/formulation.hpp"
+#include "spall/discretization/formulation.hpp"
 #include "spall/spg/part.hpp"
 
 namespace spall::spg {
 
-class SpgFormulation final : public solver::Formulation {
+class SpgFormulation final : public discretization::Formulation {
  public:
   explicit SpgFormulation(std::vector<Part> parts) : parts_(std::move(parts)) {}
 
   const char* name() const override { return "SPG"; }
-  void compute_forces(solver::NodeStore& nodes, Real dt) override;
-  Real stable_time_step(const solver::NodeStore& nodes) const override;
-  Power internal_power(std::span<const Vec3> v) const override;
-  void add_fields(std::vector<io::output::PointField>& fields,
-                  const solver::NodeStore& nodes) const override;
+  void compute_forces(discretization::NodeStore& nodes, Real dt) override;
+  Real stable_time_step(const discretization::NodeStore& nodes) const override;
+  void book_energies(discretization::EnergyLedger& ledger, std::span<const Vec3> v, Real dt) const override;
+  void write_fields(discretization::FieldSet& fields, const discretization::NodeStore& nodes) const override;
+  // The power of the last internal forces at the node velocities v.
+  discretization::InternalPower internal_power(std::span<const Vec3> v) const;
   Real max_wave_speed() const override;
 
   const std::vector<Part>& parts() const { return parts_; }

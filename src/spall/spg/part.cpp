@@ -41,7 +41,7 @@ struct FirstFailure {
 }  // namespace
 
 Part::Part(PartSettings settings, const std::vector<ParticleSetup>& particles,
-           const solver::NodeStore& nodes)
+           const discretization::NodeStore& nodes)
     : settings_(std::move(settings)) {
   const std::size_t n = particles.size();
   const auto& mat = settings_.material;
@@ -459,7 +459,7 @@ void Part::internal_forces() {
   }
 }
 
-void Part::compute_forces(solver::NodeStore& nodes, Real dt) {
+void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
   const Index n = particle_count();
 #pragma omp parallel for schedule(static) if (n > parallel_threshold)
   for (Index i = 0; i < n; ++i) {
@@ -483,7 +483,7 @@ void Part::compute_forces(solver::NodeStore& nodes, Real dt) {
 // CFL condition on the support size (seed 001 §2.1: the SPG step follows the support of the shape
 // functions, not the closest nodal distance, so a distorted neighbourhood does not cut it down):
 // dt <= alpha (a_min / DX) (V / V_0)^(1/3) / (c + |v|).
-Real Part::stable_time_step(const solver::NodeStore& nodes) const {
+Real Part::stable_time_step(const discretization::NodeStore& nodes) const {
   const Index n = particle_count();
   Real dt = std::numeric_limits<Real>::infinity();
 #pragma omp parallel for reduction(min : dt) schedule(static) if (n > parallel_threshold)
@@ -495,10 +495,10 @@ Real Part::stable_time_step(const solver::NodeStore& nodes) const {
   return dt;
 }
 
-Part::Power Part::internal_power(std::span<const Vec3> v) const {
+discretization::InternalPower Part::internal_power(std::span<const Vec3> v) const {
   // Reduced in index order (deterministic). The viscous share is the stress power of q; the rest
   // of the work of the internal forces is stored.
-  Power p;
+  discretization::InternalPower p;
   Real work = 0;
   for (Index i = 0; i < particle_count(); ++i) {
     work -= force_[i].dot(v[node_[i]]);
@@ -514,21 +514,27 @@ Real Part::max_wave_speed() const {
   return c;
 }
 
-void Part::write_fields(NodeFields& f) const {
+void Part::write_fields(discretization::FieldSet& fields) const {
+  const auto pressure = fields.node_real("pressure"), von_mises = fields.node_real("von_mises"),
+             density = fields.node_real("density"),
+             plastic_strain = fields.node_real("effective_plastic_strain"),
+             bond_damage = fields.node_real("bond_damage"),
+             stress = fields.node_real("stress", 6, discretization::symmetric_tensor_components);
+  const auto broken_bonds = fields.node_integer("broken_bonds"), bond_count = fields.node_integer("bond_count");
   for (Index a = 0; a < particle_count(); ++a) {
     const Index i = node_[a];
     const Mat3& S = state_[a].deviatoric_stress;
-    f.pressure[i] = pressure_[a];
-    f.von_mises[i] = std::sqrt(Real(1.5) * S.cwiseProduct(S).sum());
-    f.density[i] = density_[a];
-    f.effective_plastic_strain[i] = state_[a].plastic_strain;
+    pressure[i] = pressure_[a];
+    von_mises[i] = std::sqrt(Real(1.5) * S.cwiseProduct(S).sum());
+    density[i] = density_[a];
+    plastic_strain[i] = state_[a].plastic_strain;
     const Index broken = bonds_.broken_count(a);
-    f.broken_bonds[i] = broken;
-    f.bond_count[i] = bonds_.count(a) - broken;
-    f.bond_damage[i] = initial_bond_count_[a] > 0 ? double(broken) / initial_bond_count_[a] : 0.0;
+    broken_bonds[i] = broken;
+    bond_count[i] = bonds_.count(a) - broken;
+    bond_damage[i] = initial_bond_count_[a] > 0 ? double(broken) / initial_bond_count_[a] : 0.0;
     const Mat3 sigma = S - pressure_[a] * Mat3::Identity();
     const double components[6] = {sigma(0, 0), sigma(1, 1), sigma(2, 2), sigma(0, 1), sigma(1, 2), sigma(2, 0)};
-    std::copy(components, components + 6, f.stress.begin() + 6 * i);
+    std::copy(components, components + 6, stress.begin() + 6 * i);
   }
 }
 

@@ -24,9 +24,10 @@
 #include <vector>
 
 #include "spall/core/error.hpp"
-#include "spall/io/output/vtu.hpp"
+#include "spall/discretization/energy_ledger.hpp"
+#include "spall/discretization/field_set.hpp"
 #include "spall/materials/material.hpp"
-#include "spall/solver/node_store.hpp"
+#include "spall/discretization/node_store.hpp"
 #include "spall/spg/bond_failure.hpp"
 #include "spall/spg/bonds.hpp"
 #include "spall/spg/integration_constraint.hpp"
@@ -72,27 +73,19 @@ struct ParticleSetup {
 
 class Part {
  public:
-  Part(PartSettings settings, const std::vector<ParticleSetup>& particles, const solver::NodeStore& nodes);
+  Part(PartSettings settings, const std::vector<ParticleSetup>& particles, const discretization::NodeStore& nodes);
 
   // Advances the state over dt with x^n and v^{n-1/2}, updates the kernel when it is due, and
   // adds the internal forces at x^n to nodes.f.
-  void compute_forces(solver::NodeStore& nodes, Real dt);
-  Real stable_time_step(const solver::NodeStore& nodes) const;
+  void compute_forces(discretization::NodeStore& nodes, Real dt);
+  Real stable_time_step(const discretization::NodeStore& nodes) const;
   // The power of the internal forces at the velocities v: stored (strain energy, stabilization
   // springs) and dissipated by the bulk viscosity.
-  struct Power {
-    Real stored = 0;
-    Real dissipated = 0;
-  };
-  Power internal_power(std::span<const Vec3> v) const;
+  discretization::InternalPower internal_power(std::span<const Vec3> v) const;
   Real max_wave_speed() const;
 
-  // Writes this part's values into node-aligned arrays (zeros elsewhere are the caller's).
-  struct NodeFields {
-    std::vector<double> pressure, von_mises, density, effective_plastic_strain, bond_damage, stress;
-    std::vector<std::int64_t> broken_bonds, bond_count;
-  };
-  void write_fields(NodeFields& fields) const;
+  // Writes this part's output fields for its nodes.
+  void write_fields(discretization::FieldSet& fields) const;
 
   const PartSettings& settings() const { return settings_; }
   Index particle_count() const { return static_cast<Index>(node_.size()); }

@@ -138,7 +138,7 @@ bool is_spg_part(const model::Model& model, Id part_id) {
 }
 
 std::vector<PartSetup> spg_parts(const model::Model& model, const std::unordered_map<Id, Index>& index_of_node,
-                                 const solver::NodeStore& nodes) {
+                                 const discretization::NodeStore& nodes) {
   std::map<Id, PartParticles> parts;  // by part ID: deterministic order
   for (const auto& e : model.solid_elements) {
     if (!is_spg_part(model, e.pid)) continue;
@@ -194,9 +194,9 @@ std::vector<PartSetup> spg_parts(const model::Model& model, const std::unordered
   return setups;
 }
 
-std::unique_ptr<solver::Formulation> build_spg(const model::Model& model,
+std::unique_ptr<discretization::Formulation> build_spg(const model::Model& model,
                                                const std::unordered_map<Id, Index>& index_of_node,
-                                               solver::NodeStore& nodes, std::vector<Id>& part_of_node) {
+                                               discretization::NodeStore& nodes, std::vector<Id>& part_of_node) {
   std::vector<PartSetup> setups = spg_parts(model, index_of_node, nodes);
   if (setups.empty()) return nullptr;
   std::vector<Part> built;

@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "spall/model/model.hpp"
-#include "spall/solver/formulation.hpp"
-#include "spall/solver/node_store.hpp"
+#include "spall/discretization/formulation.hpp"
+#include "spall/discretization/node_store.hpp"
 #include "spall/spg/part.hpp"
 
 namespace spall::spg {
@@ -26,12 +26,12 @@ struct PartSetup {
 // The SPG parts of the model (by part ID), with nodal volumes, spacings and surface flags from the
 // elements; throws InputError for anything the solver cannot run.
 std::vector<PartSetup> spg_parts(const model::Model& model, const std::unordered_map<Id, Index>& index_of_node,
-                                 const solver::NodeStore& nodes);
+                                 const discretization::NodeStore& nodes);
 
 // Adds the SPG particles' masses to nodes.mass and their part to part_of_node, and returns the
 // formulation (nullptr when the model has no SPG part).
-std::unique_ptr<solver::Formulation> build_spg(const model::Model& model,
+std::unique_ptr<discretization::Formulation> build_spg(const model::Model& model,
                                                const std::unordered_map<Id, Index>& index_of_node,
-                                               solver::NodeStore& nodes, std::vector<Id>& part_of_node);
+                                               discretization::NodeStore& nodes, std::vector<Id>& part_of_node);
 
 }  // namespace spall::spg

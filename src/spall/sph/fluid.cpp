@@ -14,7 +14,7 @@
 #include <fmt/format.h>
 
 #include "spall/core/error.hpp"
-#include "spall/core/ordered_sum.hpp"
+#include "spall/core/parallel.hpp"
 #include "spall/core/simd.hpp"
 #include "spall/kernels/cubic_spline.hpp"
 #include "spall/neighbors/trimmed_stencil.hpp"
@@ -123,7 +123,7 @@ Real FluidMaterial::sound_speed_at(Real rho) const {
 
 FluidFormulation::FluidFormulation(const FluidParameters& parameters,
                                    const std::vector<Index>& particle_nodes,
-                                   const solver::NodeStore& nodes)
+                                   const discretization::NodeStore& nodes)
     : parameters_(parameters), support_(2 * parameters.smoothing_length) {
   const auto& m = parameters_.material;
   if (!(m.density > 0) || !(m.reference_sound_speed() > 0) || !(m.dynamic_viscosity >= 0))
@@ -153,7 +153,7 @@ FluidFormulation::FluidFormulation(const FluidParameters& parameters,
 
 // Bins the particles into cells of edge (support + skin) / 2 and puts every per-particle array in
 // cell order, so that the particles of a cell are contiguous.
-void FluidFormulation::rebuild_cells(const solver::NodeStore& nodes) {
+void FluidFormulation::rebuild_cells(const discretization::NodeStore& nodes) {
   const Index n = particle_count();
   std::vector<Vec3> x(n);
 #pragma omp parallel for schedule(static)
@@ -204,7 +204,7 @@ void FluidFormulation::rebuild_cells(const solver::NodeStore& nodes) {
 // equation of state once per particle. The density terms only in the active cells: the walls of
 // a cell without a moving particle in its block (far from the fluid) are read by no pair until
 // the next rebuild (for_each_particle_candidates), and their density does not change.
-void FluidFormulation::gather(const solver::NodeStore& nodes, Real dt) {
+void FluidFormulation::gather(const discretization::NodeStore& nodes, Real dt) {
   const Index n = particle_count();
   const auto& m = parameters_.material;
   Real max_density = m.density;
@@ -853,7 +853,7 @@ void wall_rates(const PairInputs& in, const PairConstants& c, const Index* w, in
 
 }  // namespace
 
-void FluidFormulation::pair_pass(solver::NodeStore& nodes, Real dt) {
+void FluidFormulation::pair_pass(discretization::NodeStore& nodes, Real dt) {
   const auto& m = parameters_.material;
   const auto& av = parameters_.viscosity;
   const Real H = support_;
@@ -926,7 +926,7 @@ void FluidFormulation::pair_pass(solver::NodeStore& nodes, Real dt) {
   first_pass_ = false;
 }
 
-void FluidFormulation::compute_forces(solver::NodeStore& nodes, Real dt) {
+void FluidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt) {
   // Every particle moved by dt v^{n-1/2} since the last call.
   Real max_speed = 0;
   const Index n = particle_count();
@@ -941,7 +941,7 @@ void FluidFormulation::compute_forces(solver::NodeStore& nodes, Real dt) {
   pair_pass(nodes, dt);
 }
 
-Real FluidFormulation::stable_time_step(const solver::NodeStore&) const {
+Real FluidFormulation::stable_time_step(const discretization::NodeStore&) const {
   const Real h = parameters_.smoothing_length;
   // Monaghan 1992: the artificial viscosity adds the signal speed 1.2 (alpha c + beta max mu_ab).
   const auto& av = parameters_.viscosity;
@@ -954,10 +954,10 @@ Real FluidFormulation::stable_time_step(const solver::NodeStore&) const {
   return dt;
 }
 
-solver::Formulation::Power FluidFormulation::internal_power(std::span<const Vec3> v) const {
+discretization::InternalPower FluidFormulation::internal_power(std::span<const Vec3> v) const {
   // Stored (compression) energy grows by -f_pressure . v; viscosity dissipates -f_viscous . v.
   // In an order independent of the thread count.
-  const Sums<2> sums = ordered_sum(
+  const Sums<2> sums = parallel::ordered_sum(
       particle_count(),
       [&](Index a) {
         const Vec3& va = v[node_[a]];
@@ -969,7 +969,7 @@ solver::Formulation::Power FluidFormulation::internal_power(std::span<const Vec3
         return term;
       },
       Sums<2>{});
-  Power p;
+  discretization::InternalPower p;
   p.stored = -sums[0];
   p.dissipated = -sums[1];
   return p;
@@ -994,26 +994,22 @@ std::vector<Index> FluidFormulation::neighbour_counts() const {
   return counts;
 }
 
-void FluidFormulation::add_fields(std::vector<io::output::PointField>& fields,
-                                  const solver::NodeStore& nodes) const {
-  const std::size_t n_nodes = nodes.id.size();
-  std::vector<double> pressure(n_nodes, 0), density(n_nodes, 0), smoothing(n_nodes, 0), mass(n_nodes, 0);
-  std::vector<std::int64_t> neighbour_count(n_nodes, 0);
+void FluidFormulation::book_energies(discretization::EnergyLedger& ledger, std::span<const Vec3> v, Real dt) const {
+  discretization::book_internal_power(ledger, internal_power(v), dt);
+}
+
+void FluidFormulation::write_fields(discretization::FieldSet& fields, const discretization::NodeStore&) const {
+  const auto pressure = fields.node_real("pressure"), density = fields.node_real("density"),
+             smoothing = fields.node_real("smoothing_length");
+  const auto neighbour_count = fields.node_integer("neighbour_count");
   const auto counts = neighbour_counts();
   for (Index a = 0; a < particle_count(); ++a) {
     const Index i = node_[a];
     pressure[i] = parameters_.material.pressure(density_[a]);
     density[i] = density_[a];
     smoothing[i] = parameters_.smoothing_length;
-    mass[i] = mass_[a];
     neighbour_count[i] = counts[a];
   }
-  fields.push_back({"pressure", 1, std::move(pressure)});
-  fields.push_back({"density", 1, std::move(density)});
-  fields.push_back({"smoothing_length", 1, std::move(smoothing)});
-  // With density, the particle's volume m / rho: what `spall surface` needs for the colour field.
-  fields.push_back({"mass", 1, std::move(mass)});
-  fields.push_back({"neighbour_count", 1, std::move(neighbour_count)});
 }
 
 std::size_t FluidFormulation::memory_bytes() const {

@@ -40,7 +40,7 @@
 
 #include "spall/materials/eos.hpp"
 #include "spall/neighbors/cell_list.hpp"
-#include "spall/solver/formulation.hpp"
+#include "spall/discretization/formulation.hpp"
 #include "spall/sph/artificial_viscosity.hpp"
 
 namespace spall::sph {
@@ -86,18 +86,19 @@ struct FluidParameters {
   int dimension = 3;
 };
 
-class FluidFormulation final : public solver::Formulation {
+class FluidFormulation final : public discretization::Formulation {
  public:
   // `particle_nodes`: the node of each particle; masses come from the node store.
   FluidFormulation(const FluidParameters& parameters, const std::vector<Index>& particle_nodes,
-                   const solver::NodeStore& nodes);
+                   const discretization::NodeStore& nodes);
 
   const char* name() const override { return "SPH fluid"; }
-  void compute_forces(solver::NodeStore& nodes, Real dt) override;
-  Real stable_time_step(const solver::NodeStore& nodes) const override;
-  Power internal_power(std::span<const Vec3> v) const override;
-  void add_fields(std::vector<io::output::PointField>& fields,
-                  const solver::NodeStore& nodes) const override;
+  void compute_forces(discretization::NodeStore& nodes, Real dt) override;
+  Real stable_time_step(const discretization::NodeStore& nodes) const override;
+  void book_energies(discretization::EnergyLedger& ledger, std::span<const Vec3> v, Real dt) const override;
+  void write_fields(discretization::FieldSet& fields, const discretization::NodeStore& nodes) const override;
+  // The power of the last internal forces at the node velocities v.
+  discretization::InternalPower internal_power(std::span<const Vec3> v) const;
   Real max_wave_speed() const override;
 
   Index particle_count() const { return static_cast<Index>(node_.size()); }
@@ -110,9 +111,9 @@ class FluidFormulation final : public solver::Formulation {
   Index node_of(Index particle) const { return node_[particle]; }
 
  private:
-  void rebuild_cells(const solver::NodeStore& nodes);
-  void gather(const solver::NodeStore& nodes, Real dt);
-  void pair_pass(solver::NodeStore& nodes, Real dt);
+  void rebuild_cells(const discretization::NodeStore& nodes);
+  void gather(const discretization::NodeStore& nodes, Real dt);
+  void pair_pass(discretization::NodeStore& nodes, Real dt);
   // Calls visit(a, ranges, range count) for every particle a, in an `omp for` over the cells: the
   // ranges hold every particle within the support of a. For the pair pass (pair_pass), the
   // moving particles of a cell come together instead, to visit(cluster, count, ranges, range

@@ -11,7 +11,7 @@
 
 #include "spall/core/cube_root.hpp"
 #include "spall/core/error.hpp"
-#include "spall/core/ordered_sum.hpp"
+#include "spall/core/parallel.hpp"
 #include "spall/core/simd.hpp"
 #include "spall/materials/elastic.hpp"
 #include "spall/materials/radial_return.hpp"
@@ -275,7 +275,7 @@ Index picked_support(const neighbors::NeighborList& list, Index a, const std::ui
 
 SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
                                    const std::vector<ParticleSetup>& particles,
-                                   SolidOptions options, const solver::NodeStore& nodes)
+                                   SolidOptions options, const discretization::NodeStore& nodes)
     : materials_(std::move(materials)), options_(options) {
   const std::size_t n = particles.size();
   node_.resize(n);
@@ -374,7 +374,7 @@ bool SolidFormulation::active(Real time) const {
   return time >= options_.start_time && time <= options_.death_time;
 }
 
-void SolidFormulation::gather_kinematics(const solver::NodeStore& nodes) {
+void SolidFormulation::gather_kinematics(const discretization::NodeStore& nodes) {
   const Index n = particle_count();
   if (first_node_ >= 0) {
     x_ = std::span<const Vec3>(nodes.x).subspan(first_node_, n);
@@ -796,7 +796,7 @@ bool SolidFormulation::sound(Index a) const {
   return density_[a] > 0 && std::isfinite(density_[a]) && std::isfinite(smoothing_length(a));
 }
 
-void SolidFormulation::check_state(const solver::NodeStore& nodes, Index first_unsound) const {
+void SolidFormulation::check_state(const discretization::NodeStore& nodes, Index first_unsound) const {
   if (first_unsound < particle_count()) {
     const Index a = first_unsound;
     throw InstabilityError(fmt::format(
@@ -932,7 +932,7 @@ void SolidFormulation::with_discretization(F&& f) {
   });
 }
 
-void SolidFormulation::compute_forces(solver::NodeStore& nodes, Real dt) {
+void SolidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt) {
   time_ += dt;
   const Index n = particle_count();
   if (!active(time_)) {
@@ -993,7 +993,7 @@ Real SolidFormulation::stable_step_of(Index a, const Vec3& v) const {
   return smoothing_length(a) / (sound_speed_[a] * s + v.norm());
 }
 
-Real SolidFormulation::stable_time_step(const solver::NodeStore& nodes) const {
+Real SolidFormulation::stable_time_step(const discretization::NodeStore& nodes) const {
   if (stable_step_) return *stable_step_;  // found by the last compute_forces
   const Index n = particle_count();
   Real dt = std::numeric_limits<Real>::infinity();
@@ -1002,80 +1002,71 @@ Real SolidFormulation::stable_time_step(const solver::NodeStore& nodes) const {
   return dt;
 }
 
-solver::Formulation::Power SolidFormulation::internal_power(std::span<const Vec3> v) const {
+discretization::InternalPower SolidFormulation::internal_power(std::span<const Vec3> v) const {
   // Work of the internal forces on the nodes: strain energy grows by -f_stress . v, and the
   // artificial viscosity dissipates -f_visc . v >= 0. In an order independent of the thread count.
-  const Sums<2> sums = ordered_sum(
+  const Sums<2> sums = parallel::ordered_sum(
       particle_count(),
       [&](Index a) {
         const Vec3& va = v[node_[a]];
         return Sums<2>{{(force_[a].head<3>() - viscous_force_[a]).dot(va), viscous_force_[a].dot(va)}};
       },
       Sums<2>{});
-  Power p;
+  discretization::InternalPower p;
   p.stored = -sums[0];
   p.dissipated = -sums[1];
   return p;
 }
 
-void SolidFormulation::add_fields(std::vector<io::output::PointField>& fields,
-                                  const solver::NodeStore& nodes) const {
-  const std::size_t n_nodes = nodes.id.size();
-  std::vector<double> pressure(n_nodes, 0), von_mises(n_nodes, 0), density(n_nodes, 0),
-      smoothing(n_nodes, 0), mass(n_nodes, 0), energy(n_nodes, 0), plastic_strain(n_nodes, 0), temperature(n_nodes, 0),
-      stress(6 * n_nodes, 0);
-  std::vector<std::int64_t> neighbour_count(n_nodes, 0), failed(n_nodes, 0);
+void SolidFormulation::book_energies(discretization::EnergyLedger& ledger, std::span<const Vec3> v, Real dt) const {
+  discretization::book_internal_power(ledger, internal_power(v), dt);
+}
+
+void SolidFormulation::write_fields(discretization::FieldSet& fields, const discretization::NodeStore&) const {
+  const auto pressure = fields.node_real("pressure"), von_mises = fields.node_real("von_mises"),
+             density = fields.node_real("density"), smoothing = fields.node_real("smoothing_length"),
+             energy = fields.node_real("internal_energy"),
+             plastic_strain = fields.node_real("effective_plastic_strain"),
+             stress = fields.node_real("stress", 6, discretization::symmetric_tensor_components);
+  // 1 once the material point has failed (spall, damage, FS): no deviatoric stress, no tension.
+  const auto failed = fields.node_integer("failed");
+  const auto neighbour_count = fields.node_integer("neighbour_count");
   const auto& list = verlet_.list();
   for (Index a = 0; a < particle_count(); ++a) {
     const Index i = node_[a];
     const Mat3& S = state_[a].deviatoric_stress;
     plastic_strain[i] = state_[a].plastic_strain;
     failed[i] = state_[a].failed;
-    temperature[i] = state_[a].temperature;
     pressure[i] = pressure_[a];
     von_mises[i] = materials::von_mises(S);
     density[i] = density_[a];
     smoothing[i] = smoothing_length(a);
-    mass[i] = mass_[a];
     energy[i] = internal_energy_[a];
     const Mat3 sigma = S - pressure_[a] * Mat3::Identity();
     const double components[6] = {sigma(0, 0), sigma(1, 1), sigma(2, 2),
                                   sigma(0, 1), sigma(1, 2), sigma(2, 0)};
     std::copy(components, components + 6, stress.begin() + 6 * i);
-    if (list_built_) neighbour_count[i] = list.count(a);
+    neighbour_count[i] = list_built_ ? list.count(a) : 0;
   }
-  fields.push_back({"pressure", 1, std::move(pressure)});
-  fields.push_back({"von_mises", 1, std::move(von_mises)});
-  fields.push_back({"density", 1, std::move(density)});
-  fields.push_back({"stress", 6, std::move(stress)});
-  fields.push_back({"smoothing_length", 1, std::move(smoothing)});
-  // With density, the particle's volume m / rho: what `spall surface` needs for the colour field.
-  fields.push_back({"mass", 1, std::move(mass)});
-  fields.push_back({"internal_energy", 1, std::move(energy)});
-  fields.push_back({"effective_plastic_strain", 1, std::move(plastic_strain)});
-  // 1 once the material point has failed (spall, damage, FS): no deviatoric stress, no tension.
-  fields.push_back({"failed", 1, std::move(failed)});
-  if (has_temperature_) fields.push_back({"temperature", 1, std::move(temperature)});
+  if (has_temperature_) {
+    const auto temperature = fields.node_real("temperature");
+    for (Index a = 0; a < particle_count(); ++a) temperature[node_[a]] = state_[a].temperature;
+  }
   if (!category_.empty()) {
-    std::vector<double> colour(n_nodes, 0), normal(3 * n_nodes, 0);
-    std::vector<std::int64_t> category(n_nodes, 0);
+    const auto colour = fields.node_real("colour_field"), normal = fields.node_real("colour_normal", 3);
+    const auto category = fields.node_integer("category");
     for (Index a = 0; a < particle_count(); ++a) {
       const Index i = node_[a];
       colour[i] = colour_[a];
       for (int d = 0; d < 3; ++d) normal[3 * i + d] = colour_normal_[a][d];
       category[i] = static_cast<std::int64_t>(category_[a]);
     }
-    fields.push_back({"colour_field", 1, std::move(colour)});
-    fields.push_back({"colour_normal", 3, std::move(normal)});
-    fields.push_back({"category", 1, std::move(category)});
   }
   if (!exported_deviator_.empty()) {
     // What the relaxed treatment passes on (docs/THEORY.md §3); von_mises is the material's own.
-    std::vector<double> exported(n_nodes, 0);
+    const auto exported = fields.node_real("exported_von_mises");
     for (Index a = 0; a < particle_count(); ++a) exported[node_[a]] = materials::von_mises(exported_deviator_[a]);
-    fields.push_back({"exported_von_mises", 1, std::move(exported)});
   }
-  fields.push_back({"neighbour_count", 1, std::move(neighbour_count)});
 }
 
 namespace {

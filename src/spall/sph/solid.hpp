@@ -34,7 +34,7 @@
 #include "spall/kernels/kernel.hpp"
 #include "spall/materials/material.hpp"
 #include "spall/neighbors/verlet_list.hpp"
-#include "spall/solver/formulation.hpp"
+#include "spall/discretization/formulation.hpp"
 #include "spall/sph/artificial_viscosity.hpp"
 
 namespace spall::sph {
@@ -134,18 +134,19 @@ struct alignas(32) PlainStressRecord {
   float unused;
 };
 
-class SolidFormulation final : public solver::Formulation {
+class SolidFormulation final : public discretization::Formulation {
  public:
   SolidFormulation(std::vector<materials::Material> materials,
                    const std::vector<ParticleSetup>& particles, SolidOptions options,
-                   const solver::NodeStore& nodes);
+                   const discretization::NodeStore& nodes);
 
   const char* name() const override { return "SPH"; }
-  void compute_forces(solver::NodeStore& nodes, Real dt) override;
-  Real stable_time_step(const solver::NodeStore& nodes) const override;
-  Power internal_power(std::span<const Vec3> v) const override;
-  void add_fields(std::vector<io::output::PointField>& fields,
-                  const solver::NodeStore& nodes) const override;
+  void compute_forces(discretization::NodeStore& nodes, Real dt) override;
+  Real stable_time_step(const discretization::NodeStore& nodes) const override;
+  void book_energies(discretization::EnergyLedger& ledger, std::span<const Vec3> v, Real dt) const override;
+  void write_fields(discretization::FieldSet& fields, const discretization::NodeStore& nodes) const override;
+  // The power of the last internal forces at the node velocities v.
+  discretization::InternalPower internal_power(std::span<const Vec3> v) const;
   Real max_wave_speed() const override;
 
   Index particle_count() const { return static_cast<Index>(node_.size()); }
@@ -163,7 +164,7 @@ class SolidFormulation final : public solver::Formulation {
   std::vector<ResidualStressRow> residual_stress(const ResidualStressCriterion& criterion) const;
 
  private:
-  void gather_kinematics(const solver::NodeStore& nodes);
+  void gather_kinematics(const discretization::NodeStore& nodes);
   void update_records();
   void update_neighbour_list();
   // corrected: *CONTROL_SPH FORM 1 (the moment and its inverse B), else plain SPH.
@@ -186,7 +187,7 @@ class SolidFormulation final : public solver::Formulation {
   bool sound(Index a) const;
   // Stops the run (InstabilityError) at the first particle that is not sound (first_unsound <
   // particle_count()), before the force pass, the neighbour search or the materials see it.
-  void check_state(const solver::NodeStore& nodes, Index first_unsound) const;
+  void check_state(const discretization::NodeStore& nodes, Index first_unsound) const;
   // Particle a's limit on the step at node velocity v (stable_time_step).
   Real stable_step_of(Index a, const Vec3& v) const;
   void relax_exported_deviator(Index a, const Mat3& L, const Mat3& D_dev, bool treated,

@@ -23,8 +23,8 @@ struct Stencil {
 };
 }  // namespace
 
-std::vector<io::output::PointField> vertex_fields(const SurfaceParticles& particles,
-                                                  const std::vector<io::output::PointField>& fields,
+std::vector<discretization::Field> vertex_fields(const SurfaceParticles& particles,
+                                                  const std::vector<discretization::Field>& fields,
                                                   const std::vector<Vec3>& vertices) {
   const std::size_t n = particles.x.size();
   for (const auto& f : fields) {
@@ -33,7 +33,7 @@ std::vector<io::output::PointField> vertex_fields(const SurfaceParticles& partic
       throw std::invalid_argument(fmt::format("vertex_fields: field '{}' does not fit {} particles", f.name, n));
   }
   if (n == 0 && !vertices.empty()) throw std::invalid_argument("vertex_fields: vertices but no particles");
-  std::vector<io::output::PointField> out;
+  std::vector<discretization::Field> out;
   for (const auto& f : fields) {
     out.push_back({f.name, f.components, {}, f.component_names});
     std::visit([&](const auto& v) { out.back().values = std::decay_t<decltype(v)>(vertices.size() * f.components); },

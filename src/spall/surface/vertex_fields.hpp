@@ -17,8 +17,8 @@ namespace spall::surface {
 //            means nothing.
 // Throws std::invalid_argument for a field that does not fit the particles, or a vertex that no
 // particle's kernel reaches (none on a mesh of c = iso > 0, where the weights sum to iso).
-std::vector<io::output::PointField> vertex_fields(const SurfaceParticles& particles,
-                                                  const std::vector<io::output::PointField>& fields,
+std::vector<discretization::Field> vertex_fields(const SurfaceParticles& particles,
+                                                  const std::vector<discretization::Field>& fields,
                                                   const std::vector<Vec3>& vertices);
 
 }  // namespace spall::surface

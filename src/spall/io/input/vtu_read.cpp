@@ -100,7 +100,7 @@ std::vector<T> array_values(const fs::path& path, std::string_view appended, con
 
 }  // namespace
 
-const output::PointField* VtuSnapshot::field(std::string_view name) const {
+const discretization::Field* VtuSnapshot::field(std::string_view name) const {
   for (const auto& f : fields)
     if (f.name == name) return &f;
   return nullptr;
@@ -162,7 +162,7 @@ VtuSnapshot read_vtu(const fs::path& path) {
     snap.points[i] = Vec3(coordinates[3 * i], coordinates[3 * i + 1], coordinates[3 * i + 2]);
   for (const auto& a : point_data) {
     if (snap.field(a.name)) fail(path, fmt::format("point field '{}' given twice", a.name));
-    output::PointField field{
+    discretization::Field field{
         .name = a.name, .components = a.components, .values = {}, .component_names = a.component_names};
     if (a.type == "Float64")
       field.values = array_values<double>(path, appended, a, n);

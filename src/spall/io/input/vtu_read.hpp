@@ -15,10 +15,10 @@ namespace spall::io::input {
 
 struct VtuSnapshot {
   std::vector<Vec3> points;
-  std::vector<output::PointField> fields;  // Float64 fields as double, Int64 as int64, file order
+  std::vector<discretization::Field> fields;  // Float64 fields as double, Int64 as int64, file order
 
   // The field called `name`, or nullptr.
-  const output::PointField* field(std::string_view name) const;
+  const discretization::Field* field(std::string_view name) const;
 };
 
 // Throws InputError ("PATH: what is wrong") for a file it cannot read or that is not in the format

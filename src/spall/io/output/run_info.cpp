@@ -43,6 +43,9 @@ std::string json_number(double value) {
 }  // namespace
 
 void write_run_json(const std::filesystem::path& path, const RunInfo& info) {
+  std::string phases;
+  for (const auto& [name, seconds] : info.phases)
+    phases += fmt::format("{}{}: {}", phases.empty() ? "" : ", ", json_string(name), json_number(seconds));
   const std::string json = fmt::format(
       "{{\n"
       "  \"version\": {},\n"
@@ -53,11 +56,12 @@ void write_run_json(const std::filesystem::path& path, const RunInfo& info) {
       "  \"end_time\": {},\n"
       "  \"wall_seconds\": {},\n"
       "  \"particles\": {},\n"
+      "  \"phases\": {{{}}},\n"
       "  \"status\": {}\n"
       "}}\n",
       json_string(info.version), json_string(info.deck), info.threads, info.ranks, info.steps,
       json_number(info.end_time), json_number(info.wall_seconds), info.particles,
-      json_string(info.status));
+      phases, json_string(info.status));
   replace_file_atomically(path, [&](std::ostream& out) { out << json; });
 }
 

@@ -1,7 +1,10 @@
 #pragma once
-// run.json: what a run was (version, threads, ranks, deck) and how it went (steps, wall time).
+// run.json: what a run was (version, threads, ranks, deck) and how it went (steps, wall time,
+// the time spent in each phase of the step).
 #include <filesystem>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace spall::io::output {
 
@@ -15,6 +18,7 @@ struct RunInfo {
   double wall_seconds = 0;
   long long particles = 0;
   std::string status;  // "completed", "unstable", ...
+  std::vector<std::pair<std::string, double>> phases;  // seconds spent in each phase of the step
 };
 
 void write_run_json(const std::filesystem::path& path, const RunInfo& info);

@@ -30,7 +30,7 @@ std::string escaped(std::string_view text) {
 }
 
 namespace {
-void check_field(const PointField& field, std::size_t point_count) {
+void check_field(const discretization::Field& field, std::size_t point_count) {
   const auto fail = [&](const std::string& why) {
     throw std::invalid_argument(fmt::format("VTK point field '{}': {}", field.name, why));
   };
@@ -50,7 +50,7 @@ void check_field(const PointField& field, std::size_t point_count) {
 }
 }  // namespace
 
-void check_point_fields(const std::vector<PointField>& fields, std::size_t point_count) {
+void check_point_fields(const std::vector<discretization::Field>& fields, std::size_t point_count) {
   std::set<std::string_view> names;
   for (const auto& field : fields) {
     check_field(field, point_count);
@@ -60,7 +60,7 @@ void check_point_fields(const std::vector<PointField>& fields, std::size_t point
   }
 }
 
-AppendedArray point_field_array(const PointField& field) {
+AppendedArray point_field_array(const discretization::Field& field) {
   AppendedArray array{.name = field.name, .components = field.components};
   if (!field.component_names.empty()) array.component_names = &field.component_names;
   std::visit(

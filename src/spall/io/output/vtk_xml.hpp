@@ -35,10 +35,10 @@ struct AppendedArray {
 
 // Checks that every field fits `point_count` points and that no name repeats (ParaView keeps only
 // one of two arrays with the same name); throws std::invalid_argument naming the field otherwise.
-void check_point_fields(const std::vector<PointField>& fields, std::size_t point_count);
+void check_point_fields(const std::vector<discretization::Field>& fields, std::size_t point_count);
 
 // The array of a point field; it refers to the field's values, which must outlive it.
-AppendedArray point_field_array(const PointField& field);
+AppendedArray point_field_array(const discretization::Field& field);
 
 // Arrays listed in the XML header in the order they are described, then written in that order.
 class AppendedSection {

@@ -23,7 +23,7 @@ void check_triangles(const std::vector<std::array<Index, 3>>& triangles, std::si
 }  // namespace
 
 void write_vtp(const std::filesystem::path& path, const std::vector<Vec3>& vertices,
-               const std::vector<std::array<Index, 3>>& triangles, const std::vector<PointField>& fields) {
+               const std::vector<std::array<Index, 3>>& triangles, const std::vector<discretization::Field>& fields) {
   const std::size_t n = vertices.size(), m = triangles.size();
   vtk_xml::check_point_fields(fields, n);
   check_triangles(triangles, n);

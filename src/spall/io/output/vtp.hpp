@@ -15,6 +15,6 @@ namespace spall::io::output {
 // triangle naming a vertex that does not exist, std::runtime_error (naming the path) when the file
 // cannot be written.
 void write_vtp(const std::filesystem::path& path, const std::vector<Vec3>& vertices,
-               const std::vector<std::array<Index, 3>>& triangles, const std::vector<PointField>& fields);
+               const std::vector<std::array<Index, 3>>& triangles, const std::vector<discretization::Field>& fields);
 
 }  // namespace spall::io::output

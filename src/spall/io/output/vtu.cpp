@@ -4,6 +4,9 @@
 #include <array>
 #include <ostream>
 #include <span>
+#include <stdexcept>
+#include <type_traits>
+#include <variant>
 
 #include <fmt/format.h>
 
@@ -32,48 +35,123 @@ void write_sequence(std::ostream& out, std::size_t count, ValueAt value_at) {
   }
 }
 
+// The cell fields of the blocks as arrays over all cells (the vertex cells first, then each
+// block's cells in order), filled where a cell does not have the field.
+std::vector<discretization::Field> merged_cell_fields(std::size_t vertex_cells,
+                                                      const std::vector<discretization::CellBlock>& blocks) {
+  std::size_t total = vertex_cells;
+  for (const auto& block : blocks) total += block.cell_count();
+  std::vector<discretization::Field> merged;
+  std::size_t first = vertex_cells;
+  for (const auto& block : blocks) {
+    vtk_xml::check_point_fields(block.fields, block.cell_count());
+    for (const auto& field : block.fields) {
+      auto it = std::find_if(merged.begin(), merged.end(), [&](const auto& m) { return m.name == field.name; });
+      if (it == merged.end()) {
+        discretization::Field m{field.name, field.components, {}, field.component_names};
+        std::visit(
+            [&](const auto& values) {
+              using Value = typename std::decay_t<decltype(values)>::value_type;
+              const Value fill = std::is_same_v<Value, double> ? Value(discretization::real_fill)
+                                                               : Value(discretization::integer_fill);
+              m.values = std::vector<Value>(total * field.components, fill);
+            },
+            field.values);
+        merged.push_back(std::move(m));
+        it = merged.end() - 1;
+      }
+      if (it->components != field.components || it->values.index() != field.values.index())
+        throw std::invalid_argument(fmt::format("VTK cell field '{}': blocks disagree on its components", field.name));
+      std::visit(
+          [&](auto& target) {
+            const auto& source = std::get<std::decay_t<decltype(target)>>(field.values);
+            std::copy(source.begin(), source.end(), target.begin() + first * field.components);
+          },
+          it->values);
+    }
+    first += block.cell_count();
+  }
+  return merged;
+}
+
 }  // namespace
 
 void write_vtu(const std::filesystem::path& path, const std::vector<Vec3>& points,
-               const std::vector<PointField>& fields) {
+               const std::vector<discretization::Field>& fields,
+               const std::vector<discretization::CellBlock>& cell_blocks) {
   const std::size_t n = points.size();
   vtk_xml::check_point_fields(fields, n);
+  // Every point is a vertex cell (cell i is point i), then the blocks' cells.
+  std::size_t cell_count = n, connectivity_size = n;
+  for (const auto& block : cell_blocks) {
+    if (block.connectivity.size() % discretization::nodes_per_cell(block.shape) != 0)
+      throw std::invalid_argument("VTK cell block: connectivity is not a whole number of cells");
+    for (Index node : block.connectivity)
+      if (node < 0 || static_cast<std::size_t>(node) >= n)
+        throw std::invalid_argument(fmt::format("VTK cell block: node {} is not one of the {} points", node, n));
+    cell_count += block.cell_count();
+    connectivity_size += block.connectivity.size();
+  }
+  const std::vector<discretization::Field> cell_fields = merged_cell_fields(n, cell_blocks);
 
   const std::span<const double> coordinates(n == 0 ? nullptr : points.front().data(), 3 * n);
-  // One vertex cell per point: cell i is point i.
+  // The vertex cells' arrays follow from the point count alone and are written in chunks; the
+  // blocks' arrays from their connectivity.
+  const auto* blocks = &cell_blocks;
   std::array<AppendedArray, 3> cells{{
       {.name = "connectivity",
        .type = "Int64",
-       .bytes = n * sizeof(std::int64_t),
+       .bytes = connectivity_size * sizeof(std::int64_t),
        .write_values =
-           [n](std::ostream& out) {
+           [n, blocks](std::ostream& out) {
              write_sequence<std::int64_t>(out, n, [](std::size_t i) { return std::int64_t(i); });
+             for (const auto& block : *blocks)
+               write_sequence<std::int64_t>(out, block.connectivity.size(),
+                                            [&](std::size_t i) { return std::int64_t(block.connectivity[i]); });
            }},
       {.name = "offsets",
        .type = "Int64",
-       .bytes = n * sizeof(std::int64_t),
+       .bytes = cell_count * sizeof(std::int64_t),
        .write_values =
-           [n](std::ostream& out) {
+           [n, blocks](std::ostream& out) {
              write_sequence<std::int64_t>(out, n, [](std::size_t i) { return std::int64_t(i + 1); });
+             std::int64_t end = static_cast<std::int64_t>(n);
+             for (const auto& block : *blocks) {
+               const int per_cell = discretization::nodes_per_cell(block.shape);
+               write_sequence<std::int64_t>(out, block.cell_count(),
+                                            [&](std::size_t i) { return end + per_cell * std::int64_t(i + 1); });
+               end += static_cast<std::int64_t>(block.connectivity.size());
+             }
            }},
       {.name = "types",
        .type = "UInt8",
-       .bytes = n * sizeof(std::uint8_t),
+       .bytes = cell_count * sizeof(std::uint8_t),
        .write_values =
-           [n](std::ostream& out) {
+           [n, blocks](std::ostream& out) {
              write_sequence<std::uint8_t>(out, n, [](std::size_t) { return vtk_vertex; });
+             for (const auto& block : *blocks) {
+               const auto type = static_cast<std::uint8_t>(block.shape);
+               write_sequence<std::uint8_t>(out, block.cell_count(), [type](std::size_t) { return type; });
+             }
            }},
   }};
 
-  // The XML lists the arrays in VTK's order (PointData, Points, Cells); the appended section
-  // holds them in the same order.
+  // The XML lists the arrays in VTK's order (PointData, CellData, Points, Cells); the appended
+  // section holds them in the same order.
   vtk_xml::AppendedSection appended;
   std::string header = vtk_xml::file_opening("UnstructuredGrid") + "  <UnstructuredGrid>\n";
-  header += fmt::format("    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", n, n);
+  header += fmt::format("    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", n, cell_count);
   header += "      <PointData>\n";
   for (const auto& field : fields)
     header += appended.describe(vtk_xml::point_field_array(field), "        ");
-  header += "      </PointData>\n      <Points>\n";
+  header += "      </PointData>\n";
+  if (!cell_fields.empty()) {
+    header += "      <CellData>\n";
+    for (const auto& field : cell_fields)
+      header += appended.describe(vtk_xml::point_field_array(field), "        ");
+    header += "      </CellData>\n";
+  }
+  header += "      <Points>\n";
   header += appended.describe(
       {.type = "Float64",
        .components = 3,

@@ -1,6 +1,7 @@
 #pragma once
 // ParaView output: a .vtu file per output time (VTK XML UnstructuredGrid, binary appended data,
-// one vertex cell per point) and a .pvd series that lists them with their times.
+// one vertex cell per point, then the cells of any hexahedron or tetrahedron blocks) and a .pvd
+// series that lists them with their times.
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -9,28 +10,19 @@
 #include <vector>
 
 #include "spall/core/types.hpp"
+#include "spall/discretization/field_set.hpp"
 
 namespace spall::io::output {
 
-// A point field: `components` values per point, point-major (x0 y0 z0 x1 y1 z1 ...).
-// Three components show in ParaView as a vector. component_names, when given (one per component),
-// label the components in ParaView, e.g. symmetric_tensor_components for a stress in Voigt order.
-struct PointField {
-  std::string name;
-  int components = 1;
-  std::variant<std::vector<double>, std::vector<std::int64_t>> values;
-  std::vector<std::string> component_names = {};
-};
-
-// Voigt order of a symmetric tensor's six components, as the solver stores stress and strain.
-inline const std::vector<std::string> symmetric_tensor_components = {"xx", "yy", "zz",
-                                                                     "xy", "yz", "zx"};
-
-// Writes the points as VTK_VERTEX cells with the fields as point data, through a temporary file.
-// Throws std::invalid_argument for a field whose size or names do not fit, std::runtime_error
-// (naming the path) when the file cannot be written.
+// Writes the points as VTK_VERTEX cells (cell i is point i) with `fields` as point data, then the
+// cells of `cell_blocks` (connectivity in indices of `points`) with their fields as cell data; a
+// cell field is one array over all cells, with the fill value (discretization/field_set.hpp) on
+// the cells that do not have it. Through a temporary file. Throws std::invalid_argument for a
+// field or block whose size or names do not fit, std::runtime_error (naming the path) when the
+// file cannot be written.
 void write_vtu(const std::filesystem::path& path, const std::vector<Vec3>& points,
-               const std::vector<PointField>& fields);
+               const std::vector<discretization::Field>& fields,
+               const std::vector<discretization::CellBlock>& cell_blocks = {});
 
 class PvdSeries {
  public:

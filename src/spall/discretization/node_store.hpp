@@ -1,25 +1,34 @@
 #pragma once
 // The one node store every discretization shares (DESIGN: "every discretization owns its points as
 // nodes"): SPH particles, SPG particles and hexahedron corners are all nodes here, so coupling
-// through shared nodes needs no extra machinery. Structure of arrays, dense indices.
+// through shared nodes needs no extra machinery: two formulations that use a node both add their
+// force to it. Structure of arrays, dense indices; the owned nodes first, then (under MPI) the
+// ghost copies of other ranks' nodes.
 #include <cstdint>
 #include <vector>
 
 #include "spall/core/types.hpp"
 
-namespace spall::solver {
+namespace spall::discretization {
 
 struct NodeStore {
+  // A node that belongs to no rigid body.
+  static constexpr std::int32_t no_body = -1;
+
   std::vector<Id> id;      // the deck's node ID
   std::vector<Vec3> x0;    // reference position
   std::vector<Vec3> x;     // current position x^n
   std::vector<Vec3> v;     // velocity at the half step v^{n-1/2} (central difference)
   std::vector<Vec3> f;     // force at x^n
   std::vector<Real> mass;  // lumped mass; 0 for a node no formulation uses
-  std::vector<std::uint8_t> fixed;  // bit d set: translation d is held by an SPC
+  std::vector<std::uint8_t> fixed;    // bit d set: translation d is held by an SPC
+  std::vector<std::uint8_t> active;   // 0 once every element or particle on the node has eroded
+  std::vector<std::int32_t> body;     // the rigid body the node moves with, or no_body
+  Index owned = 0;                    // nodes [0, owned) are this rank's; the rest are ghosts
 
   Index size() const { return static_cast<Index>(id.size()); }
 
+  // n owned nodes, at rest, massless, free, active, in no body.
   void resize(Index n) {
     id.resize(n);
     x0.resize(n);
@@ -28,7 +37,10 @@ struct NodeStore {
     f.assign(n, Vec3::Zero());
     mass.assign(n, 0);
     fixed.assign(n, 0);
+    active.assign(n, 1);
+    body.assign(n, no_body);
+    owned = n;
   }
 };
 
-}  // namespace spall::solver
+}  // namespace spall::discretization

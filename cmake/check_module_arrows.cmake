@@ -1,0 +1,28 @@
+# Fails when a file under src/spall/<module>/ includes "spall/<other>/..." for a module <other>
+# that <module> does not depend on (RULES: "folder: allowed folders" per line). Run by the
+# spall_module_arrows target at every build.
+cmake_minimum_required(VERSION 3.25)
+file(STRINGS ${RULES} lines)
+set(violations "")
+foreach(line ${lines})
+  string(REGEX MATCH "^([^:]+): (.*)$" _ "${line}")
+  set(module ${CMAKE_MATCH_1})
+  set(allowed_text ${CMAKE_MATCH_2})
+  string(REPLACE " " ";" allowed "${allowed_text}")
+  file(GLOB files ${SOURCE_DIR}/src/spall/${module}/*.hpp ${SOURCE_DIR}/src/spall/${module}/*.cpp
+       ${SOURCE_DIR}/src/spall/${module}/*.in)
+  foreach(file ${files})
+    file(STRINGS ${file} includes REGEX "^#include \"spall/")
+    foreach(include ${includes})
+      string(REGEX MATCH "\"spall/(.+)/[^/]+\"" _ "${include}")
+      set(target_module ${CMAKE_MATCH_1})
+      if(NOT target_module IN_LIST allowed)
+        file(RELATIVE_PATH relative ${SOURCE_DIR} ${file})
+        string(APPEND violations "  ${relative}: ${include} (${module} may use: ${allowed_text})\n")
+      endif()
+    endforeach()
+  endforeach()
+endforeach()
+if(violations)
+  message(FATAL_ERROR "module arrows broken (docs/ARCHITECTURE.md):\n${violations}")
+endif()

@@ -1,0 +1,76 @@
+#pragma once
+// The global energy balance as an open ledger (DESIGN, phase 8): whoever produces a term registers
+// it by name (the time loop: kinetic energy and external work; SPH and SPG: internal energy and
+// artificial viscosity; FEM later: hourglass; contact: sliding), and glstat's columns are the
+// ledger's terms. Each term has a role in the balance
+//   total = kinetic + stored + dissipated,   ratio = total / (total at t = 0 + external work),
+// which is 1 for a run that conserves energy (LS-DYNA's glstat "energy ratio").
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "spall/core/types.hpp"
+
+namespace spall::discretization {
+
+class EnergyLedger {
+ public:
+  enum class Role { kinetic, stored, dissipated, external };
+
+  struct Term {
+    std::string name;  // the glstat column, e.g. "internal_energy"
+    Role role;
+    Real value = 0;
+  };
+
+  // Adds `amount` to the term `name`, registering it on first use. Terms are listed by role
+  // (kinetic, stored, dissipated, external), then in the order they were registered. A name
+  // registered under another role throws std::logic_error.
+  void add(std::string_view name, Role role, Real amount);
+  // Sets the term (a state, like the kinetic energy, rather than an accumulated work).
+  void set(std::string_view name, Role role, Real value);
+
+  const std::vector<Term>& terms() const { return terms_; }
+  // The term's value, 0 when nobody registered it.
+  Real value(std::string_view name) const;
+
+  // The standard terms by name.
+  Real kinetic() const { return value(kinetic_energy); }
+  Real internal() const { return value(internal_energy); }
+  Real artificial_viscosity() const { return value(artificial_viscosity_energy); }
+  Real external_work() const { return value(external_work_name); }
+
+  Real total() const;
+  // Fixes the reference of the ratio: the total at t = 0.
+  void set_initial_total() { initial_total_ = total(); }
+  Real initial_total() const { return initial_total_; }
+  // total / (initial total + external work): 1 for a perfectly conserving run; 1 also when both
+  // are 0 (a model at rest).
+  Real ratio() const;
+
+  static constexpr std::string_view kinetic_energy = "kinetic_energy";
+  static constexpr std::string_view internal_energy = "internal_energy";
+  static constexpr std::string_view artificial_viscosity_energy = "artificial_viscosity_energy";
+  static constexpr std::string_view external_work_name = "external_work";
+
+ private:
+  Term& term(std::string_view name, Role role);
+
+  std::vector<Term> terms_;
+  Real initial_total_ = 0;
+};
+
+// The power of a formulation's internal forces at the nodes' velocities: the rate of stored
+// (strain) energy and the rate of energy dissipated by its artificial viscosity.
+struct InternalPower {
+  Real stored = 0;
+  Real dissipated = 0;
+};
+
+// Books dt times the power as internal_energy and artificial_viscosity_energy.
+inline void book_internal_power(EnergyLedger& ledger, const InternalPower& power, Real dt) {
+  ledger.add(EnergyLedger::internal_energy, EnergyLedger::Role::stored, dt * power.stored);
+  ledger.add(EnergyLedger::artificial_viscosity_energy, EnergyLedger::Role::dissipated, dt * power.dissipated);
+}
+
+}  // namespace spall::discretization

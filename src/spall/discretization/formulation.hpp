@@ -1,0 +1,42 @@
+#pragma once
+// A discretization plugged into the step (SPH fluid, SPH solid, SPG; FEM later). It owns its own
+// state (densities, stresses, bonds ...) and adds its internal forces to the shared node store.
+#include <span>
+
+#include "spall/core/types.hpp"
+#include "spall/discretization/energy_ledger.hpp"
+#include "spall/discretization/field_set.hpp"
+#include "spall/discretization/node_store.hpp"
+
+namespace spall::discretization {
+
+class Formulation {
+ public:
+  virtual ~Formulation() = default;
+
+  virtual const char* name() const = 0;
+
+  // Advances the formulation's state over `dt` (the step just taken, 0 at the first call) with the
+  // current positions x^n and velocities v^{n-1/2}, then adds the internal forces at x^n to
+  // nodes.f.
+  virtual void compute_forces(NodeStore& nodes, Real dt) = 0;
+
+  // The largest stable step, before TSSFAC, for the state of the last compute_forces (a
+  // formulation may find it there; the step asks right after, with the same nodes).
+  virtual Real stable_time_step(const NodeStore& nodes) const = 0;
+
+  // Books dt times the power of the last internal forces at the node velocities v (mid-step
+  // velocities) into the ledger: the stored (strain) energy and whatever the formulation
+  // dissipates (artificial viscosity, hourglass control ...). Called every step, from the first,
+  // so that the formulation's terms are registered before the first output.
+  virtual void book_energies(EnergyLedger& ledger, std::span<const Vec3> v, Real dt) const = 0;
+
+  // Writes the formulation's output fields (pressure, von Mises stress, density, ...) for its own
+  // nodes, and its cells if it has any.
+  virtual void write_fields(FieldSet& fields, const NodeStore& nodes) const = 0;
+
+  // Largest signal speed, for the runaway-velocity check.
+  virtual Real max_wave_speed() const = 0;
+};
+
+}  // namespace spall::discretization
