@@ -1,4 +1,5 @@
 #include "spall/contact/rigid_wall.hpp"
+#include "spall/core/parallel.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -46,16 +47,14 @@ void RigidWall::enforce(discretization::NodeStore& nodes, Real t_mid, Real dt, R
   const Index count = static_cast<Index>(nodes_.size());
   if (!active_now_) {
     // Not there yet (or any more): a node may pass the plane, and is then behind it at birth.
-#pragma omp parallel for schedule(static) if (count >= parallel_from)
-    for (Index k = 0; k < count; ++k) {
+    parallel::for_each(count, [&](Index k) {
       const Index i = nodes_[k];
       state_[k] = n.dot(nodes.x[i] + dt * nodes.v[i] - origin) >= 0 ? std::uint8_t(in_front)
                                                                     : std::uint8_t(0);
-    }
+    }, {.serial_below = parallel_from});
     return;
   }
-#pragma omp parallel for schedule(static) if (count >= parallel_from)
-  for (Index k = 0; k < count; ++k) {
+  parallel::for_each(count, [&](Index k) {
     const Index i = nodes_[k];
     const Vec3 r = nodes.x[i] - origin;
     const Real d = n.dot(r);
@@ -64,7 +63,7 @@ void RigidWall::enforce(discretization::NodeStore& nodes, Real t_mid, Real dt, R
     // half kick) moves nothing: only a node on or behind the wall can be stopped then.
     closing_[k] = dt > 0 ? u + d / dt : (d > 0 ? std::numeric_limits<Real>::infinity() : u);
     candidate_[k] = (state_[k] & in_front) && inside(r + dt * nodes.v[i]);
-  }
+  }, {.serial_below = parallel_from});
 
   const Real v_wall = solve_wall_velocity(nodes);
 
@@ -72,8 +71,7 @@ void RigidWall::enforce(discretization::NodeStore& nodes, Real t_mid, Real dt, R
   const Real v_before_impact = velocity_;
   impulse_.resize(active_.size());
   const Index pushed = static_cast<Index>(active_.size());
-#pragma omp parallel for schedule(static) if (pushed >= parallel_from)
-  for (Index a = 0; a < pushed; ++a) {
+  parallel::for_each(pushed, [&](Index a) {
     const Index k = active_[a];
     const Index i = nodes_[k];
     Vec3& v = nodes.v[i];
@@ -96,7 +94,7 @@ void RigidWall::enforce(discretization::NodeStore& nodes, Real t_mid, Real dt, R
       }
     }
     impulse_[a] = nodes.mass[i] * (v - v_before);
-  }
+  }, {.serial_below = parallel_from});
 
   // Summed in the order of active_, which does not depend on the thread count.
   Vec3 total = Vec3::Zero();
@@ -110,10 +108,9 @@ void RigidWall::enforce(discretization::NodeStore& nodes, Real t_mid, Real dt, R
   // Which side each node will be on at t^{n+1}: a pushed node is on the wall; a node that passes
   // the plane beside a finite wall, or was behind it, is behind until it comes back in front.
   if (dt > 0) {
-#pragma omp parallel for schedule(static) if (count >= parallel_from)
-    for (Index k = 0; k < count; ++k)
-      if (candidate_[k] != pushed_now)
-        state_[k] = closing_[k] >= v_wall ? std::uint8_t(in_front) : std::uint8_t(0);
+    parallel::for_each(count, [&](Index k) {
+      if (candidate_[k] != pushed_now) state_[k] = closing_[k] >= v_wall ? std::uint8_t(in_front) : std::uint8_t(0);
+    }, {.serial_below = parallel_from});
   }
 }
 

@@ -5,6 +5,10 @@
 // for these functions, not a second copy of the physics. Bodies must not allocate, throw or keep
 // thread_local scratch.
 #include <algorithm>
+#include <atomic>
+#include <concepts>
+#include <limits>
+#include <utility>
 #include <vector>
 
 #include "spall/core/types.hpp"
@@ -27,11 +31,137 @@ struct Sums {
 
 namespace parallel {
 
-// body(i) for every i in [0, n), the range cut into one contiguous piece per thread.
+// How a loop's range is shared: statically (one contiguous piece per thread) or in chunks of
+// `chunk` handed out as threads finish (rows of very different cost); a range shorter than
+// `serial_below` runs on the calling thread alone (starting a team costs more than it saves).
+struct Schedule {
+  Index chunk = 0;  // 0: static
+  Index serial_below = 0;
+};
+
+// body(i) for every i in [0, n).
+template <std::integral I, class Body>
+void for_each(I n, Body&& body, Schedule schedule = {}) {
+  if (schedule.chunk > 0) {
+#pragma omp parallel for schedule(dynamic, schedule.chunk) if (std::cmp_greater_equal(n, schedule.serial_below))
+    for (I i = 0; i < n; ++i) body(i);
+  } else {
+#pragma omp parallel for schedule(static) if (std::cmp_greater_equal(n, schedule.serial_below))
+    for (I i = 0; i < n; ++i) body(i);
+  }
+}
+
+// combine(... combine(identity, term(0)) ..., term(n - 1)) in some order: only for operations
+// whose result does not depend on the order (min, max, logical or, integer sums); sums of reals
+// go through ordered_sum.
+template <std::integral I, typename T, class Term, class Combine>
+T reduce_exact(I n, T identity, Term&& term, Combine&& combine, Schedule schedule = {}) {
+  T result = identity;
+#pragma omp parallel if (std::cmp_greater_equal(n, schedule.serial_below))
+  {
+    T local = identity;
+    if (schedule.chunk > 0) {
+#pragma omp for schedule(dynamic, schedule.chunk) nowait
+      for (I i = 0; i < n; ++i) local = combine(local, term(i));
+    } else {
+#pragma omp for schedule(static) nowait
+      for (I i = 0; i < n; ++i) local = combine(local, term(i));
+    }
+#pragma omp critical(spall_parallel_reduce_exact)
+    result = combine(result, local);
+  }
+  return result;
+}
+
+// The lowest i in [0, n) for which failed(i) holds, -1 if none: the same for any thread count.
+// failed(i) is evaluated for every i (it may do the loop's work).
+template <class Failed>
+Index first_failure(Index n, Failed&& failed, Schedule schedule = {}) {
+  constexpr Index none = std::numeric_limits<Index>::max();
+  const Index first = reduce_exact(
+      n, none, [&](Index i) { return failed(i) ? i : none; }, [](Index a, Index b) { return std::min(a, b); },
+      schedule);
+  return first == none ? Index(-1) : first;
+}
+
+// body(block) for every block in [0, blocks), where a block may write to its own and the next
+// block's data: the even blocks run side by side, and an odd block runs once the even blocks on
+// either side of it are done, so no two neighbouring blocks ever run at once and each item is
+// written first by its even block, then by its odd neighbour, whatever the thread count. A task per
+// block with those dependences rather than a sweep of the even blocks and then one of the odd: the
+// end of each sweep would leave threads idle.
 template <class Body>
-void for_each(Index n, Body&& body) {
-#pragma omp parallel for schedule(static)
-  for (Index i = 0; i < n; ++i) body(i);
+void for_each_alternating_block(Index blocks, Body&& body) {
+  std::vector<char> finished(blocks + 2);  // a dependence token per block, from block -1
+  char* const token = finished.data() + 1;
+#pragma omp parallel
+#pragma omp single
+  for (Index parity = 0; parity < 2; ++parity)
+    for (Index block = parity; block < blocks; block += 2) {
+#pragma omp task firstprivate(block) depend(in : token[block - 1], token[block + 1]) depend(out : token[block])
+      body(block);
+    }
+}
+
+// The lowest index a parallel loop reports (the same for any thread count), -1 if none: for the
+// first particle whose state broke, which the error message names.
+class LowestIndex {
+ public:
+  void report(Index i) {
+    Index seen = lowest_.load(std::memory_order_relaxed);
+    while (i < seen && !lowest_.compare_exchange_weak(seen, i, std::memory_order_relaxed)) {
+    }
+  }
+  Index value() const {
+    const Index i = lowest_.load(std::memory_order_relaxed);
+    return i == std::numeric_limits<Index>::max() ? Index(-1) : i;
+  }
+
+ private:
+  std::atomic<Index> lowest_{std::numeric_limits<Index>::max()};
+};
+
+// The threads of a parallel region, for work that keeps per-thread buffers: each thread runs the
+// region's body with its Team, and the loops it starts through the team share their range among
+// the team's threads.
+class Team {
+ public:
+  int index() const;  // 0 .. size() - 1
+  int size() const;
+  // body(i) for every i in [0, n), shared among the team (each thread calls it with the same n).
+  // The team waits at the end until every thread has finished its share.
+  template <std::integral I, class Body>
+  void for_each(I n, Body&& body, Schedule schedule = {}) const {
+    if (schedule.chunk > 0) {
+#pragma omp for schedule(dynamic, schedule.chunk)
+      for (I i = 0; i < n; ++i) body(i);
+    } else {
+#pragma omp for schedule(static)
+      for (I i = 0; i < n; ++i) body(i);
+    }
+  }
+  // body() on one thread of the team while the others wait.
+  template <class Body>
+  void single(Body&& body) const {
+#pragma omp single
+    body();
+  }
+  // body() on each thread in turn (in no fixed order: for exact merges, like a min).
+  template <class Body>
+  void one_at_a_time(Body&& body) const {
+#pragma omp critical(spall_parallel_team)
+    body();
+  }
+};
+
+// body(team) on every thread of a team (on the calling thread alone when `in_parallel` is false).
+template <class Body>
+void region(Body&& body, bool in_parallel = true) {
+#pragma omp parallel if (in_parallel)
+  {
+    const Team team;
+    body(team);
+  }
 }
 
 // sum_{i < n} term(i); T is Real or Sums<N> (several sums in one pass). The sums do not depend on
@@ -67,7 +197,7 @@ void set_thread_count(int threads);
 // sets GOMP_SPINCOUNT to `polite_spin_count` and executes the program again with the same
 // arguments (argv as main received it). Returns only when nothing is to be done or exec failed.
 // Measured: docs/PERFORMANCE.md, "Two runs on one machine".
-inline constexpr const char* polite_spin_count = "10000";
+inline constexpr const char* polite_spin_count = "3000";
 void wait_politely(char** argv);
 
 }  // namespace parallel

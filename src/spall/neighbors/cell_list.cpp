@@ -7,41 +7,22 @@
 #include <string>
 #include <utility>
 
+#include "spall/core/bounding_box.hpp"
 #include "spall/core/error.hpp"
 
 namespace spall::neighbors {
 
 namespace {
 
-struct BoundingBox {
-  Vec3 lower;
-  Vec3 upper;
-};
-
-BoundingBox bounding_box(std::span<const Vec3> x) {
-  const auto n = static_cast<std::int64_t>(x.size());
-  Real lx = x[0].x(), ly = x[0].y(), lz = x[0].z();
-  Real ux = lx, uy = ly, uz = lz;
-  std::int64_t not_finite = 0;
-  // min and max are exact, so the box does not depend on how the reduction is split.
-#pragma omp parallel for reduction(min : lx, ly, lz) reduction(max : ux, uy, uz) \
-    reduction(+ : not_finite)
-  for (std::int64_t i = 0; i < n; ++i) {
-    const Vec3& p = x[i];
-    not_finite += !p.allFinite();
-    lx = std::min(lx, p.x());
-    ly = std::min(ly, p.y());
-    lz = std::min(lz, p.z());
-    ux = std::max(ux, p.x());
-    uy = std::max(uy, p.y());
-    uz = std::max(uz, p.z());
-  }
-  if (not_finite > 0) {
+// The particles' box; a non-finite position is an instability, named by its particle.
+BoundingBox particle_box(std::span<const Vec3> x) {
+  const BoundingBox box = bounding_box(x.size(), [&](std::size_t i) { return x[i]; });
+  if (!box.finite) {
     const auto bad = std::find_if(x.begin(), x.end(), [](const Vec3& p) { return !p.allFinite(); });
     throw InstabilityError("neighbour search: particle " + std::to_string(bad - x.begin()) +
                            " has a non-finite position");
   }
-  return {Vec3(lx, ly, lz), Vec3(ux, uy, uz)};
+  return box;
 }
 
 // LSD radix sort of (key, particle) by key, 11 bits a pass. Stable, so particles of one cell keep
@@ -89,7 +70,7 @@ void CellList::build(std::span<const Vec3> x, Real cell_size) {
   lower_ = Vec3::Zero();
   if (n == 0) return;
 
-  const BoundingBox box = bounding_box(x);
+  const BoundingBox box = particle_box(x);
   lower_ = box.lower;
   const Vec3 extent = box.upper - box.lower;
   if (!extent.allFinite()) {
@@ -108,8 +89,7 @@ void CellList::build(std::span<const Vec3> x, Real cell_size) {
   std::vector<CellKey> particle_key(n);
   order_.resize(n);
   const Real inverse_size = 1 / cell_size_;
-#pragma omp parallel for
-  for (std::int64_t i = 0; i < n; ++i) {
+  parallel::for_each(n, [&](std::int64_t i) {
     // Relative to the box corner, so positions far from the origin bin as well as near it; the
     // clamp guards the particles on the upper faces against rounding.
     std::array<std::int64_t, 3> ic;
@@ -119,7 +99,7 @@ void CellList::build(std::span<const Vec3> x, Real cell_size) {
     }
     particle_key[i] = key(ic[0], ic[1], ic[2]);
     order_[i] = static_cast<Index>(i);
-  }
+  });
   sort_by_key(particle_key, order_);
 
   for (std::int64_t k = 0; k < n; ++k) {

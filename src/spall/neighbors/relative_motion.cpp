@@ -1,13 +1,15 @@
 #include "spall/neighbors/relative_motion.hpp"
 
-#include <omp.h>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <functional>
 #include <vector>
+
+#include "spall/core/bounding_box.hpp"
+#include "spall/core/parallel.hpp"
 
 namespace spall::neighbors {
 
@@ -41,26 +43,7 @@ namespace spall::neighbors {
 // particles (a fragment flying far from the rest) is not built: the answer is then false.
 namespace {
 
-struct Box {
-  std::array<Real, 3> lower{std::numeric_limits<Real>::infinity(), std::numeric_limits<Real>::infinity(),
-                            std::numeric_limits<Real>::infinity()};
-  std::array<Real, 3> upper{-std::numeric_limits<Real>::infinity(), -std::numeric_limits<Real>::infinity(),
-                            -std::numeric_limits<Real>::infinity()};
-
-  bool empty() const { return !(lower[0] <= upper[0]); }
-  void include(const Vec3& p) {
-    for (int a = 0; a < 3; ++a) {
-      lower[a] = std::min(lower[a], p[a]);
-      upper[a] = std::max(upper[a], p[a]);
-    }
-  }
-  void include(const Box& b) {
-    for (int a = 0; a < 3; ++a) {
-      lower[a] = std::min(lower[a], b.lower[a]);
-      upper[a] = std::max(upper[a], b.upper[a]);
-    }
-  }
-};
+using Box = BoundingBox;
 
 // The largest |d_i - d_j| for d_i in box a and d_j in box b, bounded by |e_ab| (see above); squared.
 Real largest_difference_squared(const Box& a, const Box& b) {
@@ -76,21 +59,18 @@ Real largest_difference_squared(const Box& a, const Box& b) {
 bool within_half_limit_of_centre(std::span<const Vec3> x, std::span<const Vec3> before, const Box& d,
                                  Real limit) {
   const auto n = static_cast<std::int64_t>(x.size());
-  const Vec3 centre(Real(0.5) * (d.lower[0] + d.upper[0]), Real(0.5) * (d.lower[1] + d.upper[1]),
-                    Real(0.5) * (d.lower[2] + d.upper[2]));
+  const Vec3 centre = d.centre();
   const Real half = limit / 2;
   const Real half_squared = half * half;
-  bool outside = false;
-#pragma omp parallel for reduction(|| : outside)
-  for (std::int64_t i = 0; i < n; ++i) {
-    outside = outside || !((x[i] - before[i] - centre).squaredNorm() <= half_squared);
-  }
+  const bool outside = parallel::reduce_exact(
+      n, false, [&](std::int64_t i) { return !((x[i] - before[i] - centre).squaredNorm() <= half_squared); },
+      std::logical_or<>());
   return !outside;
 }
 
 // Dense grid of cells of edge `edge` over the box of the current positions.
 struct Grid {
-  std::array<Real, 3> origin;
+  Vec3 origin;
   std::array<std::int64_t, 3> cells;
   Real inverse_edge;
 
@@ -112,25 +92,22 @@ bool neighbouring_cells_moved_together(std::span<const Vec3> x, std::span<const 
   const std::int64_t cell_count = grid.count();
   // One box per cell and thread, merged after: min and max are exact, so the merged boxes do not
   // depend on which thread saw which particle.
-  const int threads = omp_get_max_threads();
+  const int threads = parallel::thread_count();
   std::vector<Box> boxes(static_cast<std::size_t>(threads) * cell_count);
-#pragma omp parallel num_threads(threads)
-  {
-    Box* mine = boxes.data() + static_cast<std::int64_t>(omp_get_thread_num()) * cell_count;
-#pragma omp for schedule(static)
-    for (std::int64_t i = 0; i < n; ++i) mine[grid.cell_of(x[i])].include(x[i] - before[i]);
-  }
-#pragma omp parallel for schedule(static)
-  for (std::int64_t c = 0; c < cell_count; ++c)
+  parallel::region([&](const parallel::Team& team) {
+    Box* mine = boxes.data() + static_cast<std::int64_t>(team.index()) * cell_count;
+    team.for_each(n, [&](std::int64_t i) { mine[grid.cell_of(x[i])].include(x[i] - before[i]); });
+  });
+  parallel::for_each(cell_count, [&](std::int64_t c) {
     for (int t = 1; t < threads; ++t) boxes[c].include(boxes[t * cell_count + c]);
+  });
 
   const Real limit_squared = limit * limit;
   const auto [nx, ny, nz] = grid.cells;
-  bool apart = false;
-#pragma omp parallel for schedule(static) reduction(|| : apart)
-  for (std::int64_t c = 0; c < cell_count; ++c) {
+  const auto cell_apart = [&](std::int64_t c) {
     const Box& a = boxes[c];
-    if (a.empty()) continue;
+    if (a.empty()) return false;
+    bool apart = false;
     const std::int64_t ix = c % nx, iy = (c / nx) % ny, iz = c / (nx * ny);
     for (std::int64_t z = std::max<std::int64_t>(iz - 1, 0); z <= std::min(iz + 1, nz - 1); ++z)
       for (std::int64_t y = std::max<std::int64_t>(iy - 1, 0); y <= std::min(iy + 1, ny - 1); ++y)
@@ -141,8 +118,9 @@ bool neighbouring_cells_moved_together(std::span<const Vec3> x, std::span<const 
           if (other < c || boxes[other].empty()) continue;
           apart = apart || !(largest_difference_squared(a, boxes[other]) <= limit_squared);
         }
-  }
-  return !apart;
+    return apart;
+  };
+  return !parallel::reduce_exact(cell_count, false, cell_apart, std::logical_or<>());
 }
 
 }  // namespace
@@ -153,24 +131,23 @@ bool close_pairs_moved_together(std::span<const Vec3> x, std::span<const Vec3> b
   if (n == 0) return true;
   // Boxes of the positions and of the displacements, and whether every displacement is finite (a
   // NaN would slip through min and max).
-  constexpr Real inf = std::numeric_limits<Real>::infinity();
-  Real pl0 = inf, pl1 = inf, pl2 = inf, pu0 = -inf, pu1 = -inf, pu2 = -inf;
-  Real dl0 = inf, dl1 = inf, dl2 = inf, du0 = -inf, du1 = -inf, du2 = -inf;
-  std::int64_t not_finite = 0;
-#pragma omp parallel for reduction(min : pl0, pl1, pl2, dl0, dl1, dl2) \
-    reduction(max : pu0, pu1, pu2, du0, du1, du2) reduction(+ : not_finite)
-  for (std::int64_t i = 0; i < n; ++i) {
-    const Vec3& p = x[i];
-    const Vec3 d = p - before[i];
-    not_finite += !d.allFinite();
-    pl0 = std::min(pl0, p.x()), pl1 = std::min(pl1, p.y()), pl2 = std::min(pl2, p.z());
-    pu0 = std::max(pu0, p.x()), pu1 = std::max(pu1, p.y()), pu2 = std::max(pu2, p.z());
-    dl0 = std::min(dl0, d.x()), dl1 = std::min(dl1, d.y()), dl2 = std::min(dl2, d.z());
-    du0 = std::max(du0, d.x()), du1 = std::max(du1, d.y()), du2 = std::max(du2, d.z());
-  }
-  const Box position{{pl0, pl1, pl2}, {pu0, pu1, pu2}};
-  const Box displacement{{dl0, dl1, dl2}, {du0, du1, du2}};
-  if (not_finite > 0) return false;
+  struct Boxes {
+    Box position, displacement;
+  };
+  const auto [position, displacement] = parallel::reduce_exact(
+      n, Boxes{},
+      [&](std::int64_t i) {
+        Boxes b;
+        b.position.include(x[i]);
+        b.displacement.include(x[i] - before[i]);
+        return b;
+      },
+      [](Boxes a, const Boxes& b) {
+        a.position.include(b.position);
+        a.displacement.include(b.displacement);
+        return a;
+      });
+  if (!displacement.finite) return false;
   if (within_half_limit_of_centre(x, before, displacement, limit)) return true;
 
   Grid grid;

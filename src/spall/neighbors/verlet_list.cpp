@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include <omp.h>
 
+#include "spall/core/parallel.hpp"
 #include "spall/core/simd.hpp"
 #include "spall/neighbors/cell_list.hpp"
 #include "spall/neighbors/relative_motion.hpp"
@@ -56,14 +56,13 @@ struct CellOrderedPositions {
       : x(cells.order().size() + search_lanes), y(x.size()), z(x.size()), particle(x.size()), lower(cells.lower()) {
     const std::span<const Index> order = cells.order();
     const auto n = static_cast<std::int64_t>(order.size());
-#pragma omp parallel for
-    for (std::int64_t k = 0; k < n; ++k) {
+    parallel::for_each(n, [&](std::int64_t k) {
       const Vec3& p = positions[order[k]];
       x[k] = p.x();
       y[k] = p.y();
       z[k] = p.z();
       particle[k] = order[k];
-    }
+    });
   }
 
   // Position minus the grid corner, as CellList::build bins it.
@@ -100,8 +99,7 @@ struct PairRadius {
              Real skin)
       : reach(order.size() + search_lanes), largest_reach(largest_reach), skin(skin) {
     const auto n = static_cast<std::int64_t>(order.size());
-#pragma omp parallel for
-    for (std::int64_t k = 0; k < n; ++k) reach[k] = reach_by_particle[order[k]];
+    parallel::for_each(n, [&](std::int64_t k) { reach[k] = reach_by_particle[order[k]]; });
   }
   Real largest(Index a) const { return reach[a] + largest_reach + skin; }
   // For the pack of candidates b, b + 1, ... of a.
@@ -187,19 +185,18 @@ void VerletList::build_rows(std::span<const Vec3> x, Real radius, const MakeRadi
   const Index cell_count = cells.cell_count();
 
   // Calls visit(k, ranges, range_count) with the trimmed candidate ranges of every particle k (in
-  // cell order), from inside a parallel region. Chunks of consecutive cells, so that the stencil
-  // mostly slides along a row of cells; dynamic scheduling because cells hold different numbers
-  // of particles: it changes who computes a row, never what it holds.
-  const auto for_each_particle = [&](auto&& visit) {
+  // cell order), shared among the team of a parallel region. Chunks of consecutive cells, so that
+  // the stencil mostly slides along a row of cells; dynamic scheduling because cells hold
+  // different numbers of particles: it changes who computes a row, never what it holds.
+  const auto for_each_particle = [&](const parallel::Team& team, auto&& visit) {
     TrimmedStencil stencil(cells, stencil_reach);
     TrimmedStencil::Ranges ranges;
-#pragma omp for schedule(dynamic, 64)
-    for (Index c = 0; c < cell_count; ++c) {
+    team.for_each(cell_count, [&](Index c) {
       stencil.prepare(c);
       const ParticleRange own = cells.cell(c);
       for (Index k = own.begin; k < own.end; ++k)
         visit(k, ranges, stencil.trimmed(p.offset(k), pair_radius.largest(k), ranges));
-    }
+    }, {.chunk = 64});
   };
 
   // One walk: each thread appends the rows it finds to a buffer of its own, with each row's
@@ -210,23 +207,21 @@ void VerletList::build_rows(std::span<const Vec3> x, Real radius, const MakeRadi
   std::vector<std::vector<Index>> found_particles;
   // The last list's length (the list is rebuilt every few tens of steps and changes slowly).
   const std::size_t last_total = list_.neighbors.size();
-#pragma omp parallel
-  {
-#pragma omp single
-    {
-      found_rows.resize(omp_get_num_threads());
-      found_particles.resize(omp_get_num_threads());
-    }
+  parallel::region([&](const parallel::Team& team) {
+    team.single([&] {
+      found_rows.resize(team.size());
+      found_particles.resize(team.size());
+    });
     // found has room for search_lanes entries past the candidates, which compress_indices may write
     // before the count moves past them. Candidates are gathered search_lanes at a time without a
     // branch per candidate (about one in three is a neighbour, so a branch would mispredict often).
-    RowBuffer& found = found_rows[omp_get_thread_num()];
-    std::vector<Index>& particles = found_particles[omp_get_thread_num()];
+    RowBuffer& found = found_rows[team.index()];
+    std::vector<Index>& particles = found_particles[team.index()];
     // The thread's share of the last list with 1/8 to spare: a buffer grown from empty by doubling
     // copies itself over as it goes (memmove was a quarter of the Taylor bar's builds).
-    const std::size_t share = last_total / static_cast<std::size_t>(omp_get_num_threads());
+    const std::size_t share = last_total / static_cast<std::size_t>(team.size());
     found.reserve(share + share / 8 + search_lanes);
-    for_each_particle([&](Index k, const TrimmedStencil::Ranges& ranges, int range_count) {
+    for_each_particle(team, [&](Index k, const TrimmedStencil::Ranges& ranges, int range_count) {
       Index candidates = 0;
       for (int r = 0; r < range_count; ++r) candidates += ranges[r].end - ranges[r].begin;
       const std::size_t start = found.size();
@@ -244,19 +239,18 @@ void VerletList::build_rows(std::span<const Vec3> x, Real radius, const MakeRadi
       particles.push_back(order[k]);
       list_.offsets[order[k] + 1] = count;
     });
-  }
+  });
   for (Index i = 0; i < n; ++i) list_.offsets[i + 1] += list_.offsets[i];
   size_storage(list_.neighbors, static_cast<std::size_t>(list_.offsets[n]));
   const auto threads = static_cast<int>(found_rows.size());
-#pragma omp parallel for schedule(static, 1)
-  for (int t = 0; t < threads; ++t) {
+  parallel::for_each(threads, [&](int t) {
     const Index* from = found_rows[t].data();
     for (const Index i : found_particles[t]) {
       const Index count = list_.count(i);
       std::copy(from, from + count, list_.neighbors.begin() + list_.offsets[i]);
       from += count;
     }
-  }
+  });
 }
 
 bool VerletList::needs_rebuild(std::span<const Vec3> x) const {

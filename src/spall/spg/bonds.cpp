@@ -1,6 +1,7 @@
 #include "spall/spg/bonds.hpp"
 
 #include <algorithm>
+#include <functional>
 #include <iterator>
 
 namespace spall::spg {
@@ -36,8 +37,7 @@ void record_broken_pairs(const BondList& bonds, std::vector<BondPair>& broken_pa
 void link_mirrors(BondList& bonds) {
   const Index n = bonds.size();
   bonds.mirror.resize(bonds.neighbour.size());
-#pragma omp parallel for schedule(static) if (n > parallel_threshold)
-  for (Index i = 0; i < n; ++i) {
+  parallel::for_each(n, [&](Index i) {
     for (Index k = bonds.offsets[i]; k < bonds.offsets[i + 1]; ++k) {
       const Index j = bonds.neighbour[k];
       const auto begin = bonds.neighbour.begin() + bonds.offsets[j];
@@ -45,28 +45,30 @@ void link_mirrors(BondList& bonds) {
       // The pattern is symmetric, so i is in row j.
       bonds.mirror[k] = static_cast<Index>(std::lower_bound(begin, end, i) - bonds.neighbour.begin());
     }
-  }
+  }, particle_loops);
 }
 
 Index break_bonds(BondList& bonds, std::span<const Real> quantity, std::span<const Vec3> x,
                   Real critical_value, Real critical_stretch) {
   const Index n = bonds.size();
-  Index newly_broken = 0;
   // Each side decides from the same symmetric expression, so the two flags of a bond agree.
-#pragma omp parallel for schedule(static) reduction(+ : newly_broken) if (n > parallel_threshold)
-  for (Index i = 0; i < n; ++i) {
-    for (Index k = bonds.offsets[i]; k < bonds.offsets[i + 1]; ++k) {
-      if (bonds.broken[k]) continue;
-      const Index j = bonds.neighbour[k];
-      const Real average = Real(0.5) * (quantity[i] + quantity[j]);
-      if (!(average > critical_value)) continue;
-      const Real stretch = (x[i] - x[j]).norm() / bonds.rest_length[k];
-      if (!(stretch > critical_stretch)) continue;
-      bonds.broken[k] = 1;
-      if (i < j) ++newly_broken;
-    }
-  }
-  return newly_broken;
+  return parallel::reduce_exact(
+      n, Index(0),
+      [&](Index i) {
+        Index broken_here = 0;
+        for (Index k = bonds.offsets[i]; k < bonds.offsets[i + 1]; ++k) {
+          if (bonds.broken[k]) continue;
+          const Index j = bonds.neighbour[k];
+          const Real average = Real(0.5) * (quantity[i] + quantity[j]);
+          if (!(average > critical_value)) continue;
+          const Real stretch = (x[i] - x[j]).norm() / bonds.rest_length[k];
+          if (!(stretch > critical_stretch)) continue;
+          bonds.broken[k] = 1;
+          if (i < j) ++broken_here;
+        }
+        return broken_here;
+      },
+      std::plus<>(), particle_loops);
 }
 
 }  // namespace spall::spg

@@ -75,8 +75,7 @@ BondList make_bonds(const neighbors::NeighborList& list, std::span<const Vec3> x
   bonds.neighbour.resize(m);
   bonds.broken.assign(m, 0);
   bonds.rest_length.resize(m);
-#pragma omp parallel for schedule(static) if (n > parallel_threshold)
-  for (Index i = 0; i < n; ++i) {
+  parallel::for_each(n, [&](Index i) {
     Index out = bonds.offsets[i];
     for (Index k = list.offsets[i]; k < list.offsets[i + 1]; ++k) {
       const Index j = list.neighbors[k];
@@ -89,7 +88,7 @@ BondList make_bonds(const neighbors::NeighborList& list, std::span<const Vec3> x
       bonds.broken[out] = std::binary_search(broken_pairs.begin(), broken_pairs.end(), pair) ? 1 : 0;
       ++out;
     }
-  }
+  }, particle_loops);
   link_mirrors(bonds);
   return bonds;
 }

@@ -32,13 +32,12 @@ Vec3 dot(const Multipliers& a, const Multipliers& b) {
   constexpr Index chunk = 1024;
   const Index chunks = (n + chunk - 1) / chunk;
   std::vector<Vec3> partial(chunks, Vec3::Zero());
-#pragma omp parallel for schedule(static) if (n > parallel_threshold)
-  for (Index c = 0; c < chunks; ++c) {
+  parallel::for_each(chunks, [&](Index c) {
     Vec3 s = Vec3::Zero();
     for (Index j = c * chunk; j < std::min(n, (c + 1) * chunk); ++j)
       s += a.lambda[j].cwiseProduct(b.lambda[j]) + a.mu[j].cwiseProduct(b.mu[j]).rowwise().sum();
     partial[c] = s;
-  }
+  }, particle_loops);
   Vec3 total = Vec3::Zero();
   for (const Vec3& s : partial) total += s;
   return total;
@@ -54,9 +53,8 @@ class NormalEquations {
     // without the divergence row where the particle is not interior), the same for every
     // gradient component.
     preconditioner_.assign(n, Mat4::Zero());
-#pragma omp parallel for schedule(static) if (n > parallel_threshold)
-    for (Index j = 0; j < n; ++j) {
-      if (!active_[j]) continue;
+    parallel::for_each(n, [&](Index j) {
+      if (!active_[j]) return;
       Mat4 P = Mat4::Zero();
       for (Index k = bonds.offsets[j]; k < bonds.offsets[j + 1]; ++k) {
         if (!usable(j, k)) continue;
@@ -78,7 +76,7 @@ class NormalEquations {
         inverse.col(0).setZero();
       }
       preconditioner_[j] = inverse;
-    }
+    }, particle_loops);
   }
 
   bool usable(Index j, Index k) const { return !bonds_.broken[k] && active_[bonds_.neighbour[k]] && active_[j]; }
@@ -92,8 +90,7 @@ class NormalEquations {
   // y = R R^T z: per particle the divergence (interior only) and first moment of the fluxes.
   void apply(const Multipliers& z, Multipliers& y) const {
     const Index n = bonds_.size();
-#pragma omp parallel for schedule(static) if (n > parallel_threshold)
-    for (Index j = 0; j < n; ++j) {
+    parallel::for_each(n, [&](Index j) {
       Vec3 div = Vec3::Zero();
       Mat3 moment = Mat3::Zero();
       if (active_[j])
@@ -105,13 +102,12 @@ class NormalEquations {
         }
       y.lambda[j] = interior_[j] ? div : Vec3::Zero();
       y.mu[j] = moment;
-    }
+    }, particle_loops);
   }
 
   void precondition(const Multipliers& r, Multipliers& z) const {
     const Index n = bonds_.size();
-#pragma omp parallel for schedule(static) if (n > parallel_threshold)
-    for (Index j = 0; j < n; ++j) {
+    parallel::for_each(n, [&](Index j) {
       for (int i = 0; i < 3; ++i) {
         Vec4 b;
         b << r.lambda[j][i], r.mu[j].row(i).transpose();
@@ -119,7 +115,7 @@ class NormalEquations {
         z.lambda[j][i] = s[0];
         z.mu[j].row(i) = s.tail<3>().transpose();
       }
-    }
+    }, particle_loops);
   }
 
  private:
@@ -133,11 +129,10 @@ class NormalEquations {
 // z += a r per gradient component (a_i scales component i).
 void axpy(const Vec3& a, const Multipliers& r, Multipliers& z) {
   const Index n = static_cast<Index>(z.lambda.size());
-#pragma omp parallel for schedule(static) if (n > parallel_threshold)
-  for (Index j = 0; j < n; ++j) {
+  parallel::for_each(n, [&](Index j) {
     z.lambda[j] += a.cwiseProduct(r.lambda[j]);
     z.mu[j] += a.asDiagonal() * r.mu[j];
-  }
+  }, particle_loops);
 }
 
 // Stop when the residual is 1e-13 of the right-hand side, or at round-off (1e-15) of the natural
@@ -233,11 +228,10 @@ void correct_integration(const BondList& bonds, std::span<const Vec3> X, std::sp
     Vec3 beta = Vec3::Zero();
     for (int i = 0; i < 3; ++i) beta[i] = rs[i] > 0 ? rs_next[i] / rs[i] : 0;
     rs = rs_next;
-#pragma omp parallel for schedule(static) if (n > parallel_threshold)
-    for (Index j = 0; j < n; ++j) {
+    parallel::for_each(n, [&](Index j) {
       p.lambda[j] = s.lambda[j] + beta.cwiseProduct(p.lambda[j]);
       p.mu[j] = s.mu[j] + beta.asDiagonal() * p.mu[j];
-    }
+    }, particle_loops);
     rr = dot(r, r);
     ++iteration;
   }
@@ -251,12 +245,10 @@ void correct_integration(const BondList& bonds, std::span<const Vec3> X, std::sp
 
   correction.self.assign(n, Vec3::Zero());
   correction.bond.assign(bonds.neighbour.size(), Vec3::Zero());
-#pragma omp parallel if (n > parallel_threshold)
-  {
+  parallel::region([&](const parallel::Team& team) {
     std::vector<Vec3> row;
     std::vector<std::uint8_t> usable;
-#pragma omp for schedule(static)
-    for (Index j = 0; j < n; ++j) {
+    team.for_each(n, [&](Index j) {
       const Index count = bonds.count(j);
       row.assign(count, Vec3::Zero());
       usable.assign(count, 0);
@@ -273,8 +265,8 @@ void correct_integration(const BondList& bonds, std::span<const Vec3> X, std::sp
         self -= c;
       }
       correction.self[j] = self;
-    }
-  }
+    });
+  }, n > parallel_threshold);
 }
 
 }  // namespace spall::spg

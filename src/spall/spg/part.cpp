@@ -29,15 +29,6 @@ std::size_t bytes(const std::vector<T>& v) {
   return v.capacity() * sizeof(T);
 }
 
-// Lowest index that failed in a parallel loop (the same for any thread count), -1 if none.
-struct FirstFailure {
-  Index index = -1;
-  void report(Index i) {
-#pragma omp critical(spg_first_failure)
-    if (index < 0 || i < index) index = i;
-  }
-};
-
 }  // namespace
 
 Part::Part(PartSettings settings, const std::vector<ParticleSetup>& particles,
@@ -138,15 +129,13 @@ void Part::build_shape_functions(bool at_setup) {
     window_map.resize(n);
     for (Index i = 0; i < n; ++i) window_map[i] = F_total_[i].inverse();
   }
-  FirstFailure singular;
-#pragma omp parallel if (n > parallel_threshold)
-  {
+  parallel::LowestIndex singular;
+  parallel::region([&](const parallel::Team& team) {
     std::vector<KernelSample> samples;
     std::vector<Index> entry;  // bond position of each sample after the first (self)
     std::vector<Real> psi;
     std::vector<Vec3> grad;
-#pragma omp for schedule(static)
-    for (Index j = 0; j < n; ++j) {
+    team.for_each(n, [&](Index j) {
       samples.clear();
       entry.clear();
       auto add = [&](Index i) {
@@ -169,7 +158,7 @@ void Part::build_shape_functions(bool at_setup) {
       if (degraded_[j]) {
         if (at_setup) {
           singular.report(j);
-          continue;
+          return;
         }
         // Too few bonds left for a linear field (bond failure, or particles drifting apart under
         // an Eulerian kernel): the particle keeps a Shepard partition of unity for the smoothing
@@ -186,10 +175,9 @@ void Part::build_shape_functions(bool at_setup) {
         psi_[entry[s - 1]] = psi[s];
         grad_[entry[s - 1]] = grad[s];
       }
-    }
-  }
-  if (singular.index >= 0) {
-    const Index j = singular.index;
+    });
+  }, n > parallel_threshold);
+  if (const Index j = singular.value(); j >= 0) {
     throw InputError(settings_.where, "*SECTION_SOLID_SPG",
                      fmt::format("part {}: node {} has {} particles in its kernel support, too few (or "
                                  "all in one plane) for linear RK shape functions (singular moment "
@@ -222,21 +210,19 @@ void Part::correct_integration_constraint(bool at_setup) {
   }
   // g_I = sum_J V_J grad Psi_I(X_J); with smoothing e_K = sum_I Psi_K(X_I) g_I.
   std::vector<Vec3> g(n), defect(n);
-#pragma omp parallel for schedule(static) if (n > parallel_threshold)
-  for (Index i = 0; i < n; ++i) {
+  parallel::for_each(n, [&](Index i) {
     Vec3 sum = volume_ref_[i] * grad_self_[i];
     for (Index k = bonds_.offsets[i]; k < bonds_.offsets[i + 1]; ++k)
       sum.noalias() += volume_ref_[bonds_.neighbour[k]] * grad_[bonds_.mirror[k]];
     g[i] = sum;
-  }
+  }, particle_loops);
   if (settings_.stabilization == Stabilization::fluid_particle) {
-#pragma omp parallel for schedule(static) if (n > parallel_threshold)
-    for (Index K = 0; K < n; ++K) {
+    parallel::for_each(n, [&](Index K) {
       Vec3 sum = psi_self_[K] * g[K];
       for (Index k = bonds_.offsets[K]; k < bonds_.offsets[K + 1]; ++k)
         sum.noalias() += psi_[bonds_.mirror[k]] * g[bonds_.neighbour[k]];
       defect[K] = sum;
-    }
+    }, particle_loops);
   } else {
     defect = g;
   }
@@ -248,27 +234,25 @@ void Part::correct_integration_constraint(bool at_setup) {
 
 void Part::smooth(std::span<const Vec3> field, std::vector<Vec3>& smoothed) const {
   const Index n = particle_count();
-#pragma omp parallel for schedule(static) if (n > parallel_threshold)
-  for (Index i = 0; i < n; ++i) {
+  parallel::for_each(n, [&](Index i) {
     Vec3 s = psi_self_[i] * field[i];
     for (Index k = bonds_.offsets[i]; k < bonds_.offsets[i + 1]; ++k)
       s.noalias() += psi_[k] * field[bonds_.neighbour[k]];
     smoothed[i] = s;
-  }
+  }, particle_loops);
 }
 
 // F and L at every particle from the (smoothed) positions and velocities, then the stress update.
 void Part::deformation(std::span<const Vec3> x, std::span<const Vec3> v, Real dt) {
   const Index n = particle_count();
   const auto& mat = settings_.material;
-  FirstFailure inverted;
-#pragma omp parallel for schedule(static) if (n > parallel_threshold)
-  for (Index j = 0; j < n; ++j) {
+  parallel::LowestIndex inverted;
+  parallel::for_each(n, [&](Index j) {
     if (degraded_[j]) {
       spin_[j] = Mat3::Zero();
       viscous_pressure_[j] = 0;
       viscous_power_[j] = 0;
-      continue;
+      return;
     }
     // D' = D + C: the gradient of the (smoothed) field plus the correction acting on the nodal
     // values themselves.
@@ -282,7 +266,7 @@ void Part::deformation(std::span<const Vec3> x, std::span<const Vec3> v, Real dt
     const Real det = F.determinant();
     if (!(det > 0)) {
       inverted.report(j);
-      continue;
+      return;
     }
     F_[j] = F;
     const Mat3 L = dF * F.inverse();
@@ -315,31 +299,30 @@ void Part::deformation(std::span<const Vec3> x, std::span<const Vec3> v, Real dt
                                    : 0;
     viscous_pressure_[j] = q;
     viscous_power_[j] = -volume * q * volume_rate;
-  }
-  if (inverted.index >= 0)
+  }, particle_loops);
+  if (const Index j = inverted.value(); j >= 0)
     throw InstabilityError(fmt::format("SPG part {}: the deformation gradient at node {} is no longer "
                                        "invertible (det F <= 0): the particles have inverted",
-                                       settings_.part_id, node_id_[inverted.index]));
+                                       settings_.part_id, node_id_[j]));
 }
 
 // The spring on the part of the motion that the smoothing removes, in rate form so that it keeps
 // its memory across kernel updates, rotated with the particle's spin (THEORY §9.5).
 void Part::update_stabilization(Real dt) {
   const Index n = particle_count();
-#pragma omp parallel for schedule(static) if (n > parallel_threshold)
-  for (Index j = 0; j < n; ++j) {
+  parallel::for_each(n, [&](Index j) {
     if (degraded_[j]) {
       stabilization_force_[j] = Vec3::Zero();
       stabilization_total_[j] = Vec3::Zero();
       stabilization_power_[j] = 0;
-      continue;
+      return;
     }
     const Vec3& s = stabilization_force_[j];
     const Vec3 removed = v_[j] - vs_[j];  // the velocity the smoothing removes
     stabilization_force_[j] = s + dt * (stiffness_[j] * removed + spin_[j] * s);
     stabilization_total_[j] = stabilization_force_[j] + dashpot_[j] * removed;
     stabilization_power_[j] = dashpot_[j] * removed.squaredNorm();
-  }
+  }, particle_loops);
 }
 
 // Per particle, the quantity IDAM judges bonds on (bond_failure.hpp). Called after the kernel
@@ -347,8 +330,7 @@ void Part::update_stabilization(Real dt) {
 void Part::failure_quantity(std::vector<Real>& out) const {
   const Index n = particle_count();
   out.resize(n);
-#pragma omp parallel for schedule(static) if (n > parallel_threshold)
-  for (Index j = 0; j < n; ++j) {
+  parallel::for_each(n, [&](Index j) {
     switch (settings_.failure_quantity) {
       case BondFailure::plastic_strain:
         out[j] = state_[j].plastic_strain;
@@ -360,7 +342,7 @@ void Part::failure_quantity(std::vector<Real>& out) const {
         out[j] = max_shear_strain(F_[j] * F_total_[j]);
         break;
     }
-  }
+  }, particle_loops);
 }
 
 // A particle that bond failure left without a linear approximation can neither carry nor pass on
@@ -388,12 +370,11 @@ void Part::detach_degraded_particles() {
 
 void Part::update_kernel() {
   const Index n = particle_count();
-#pragma omp parallel for schedule(static) if (n > parallel_threshold)
-  for (Index j = 0; j < n; ++j) {
+  parallel::for_each(n, [&](Index j) {
     volume_ref_[j] *= F_[j].determinant();
     F_total_[j] = F_[j] * F_total_[j];
     F_[j] = Mat3::Identity();
-  }
+  }, particle_loops);
   std::vector<Real> quantity;
   failure_quantity(quantity);
   // Broken bonds per particle, over every bond ever broken (also those an Eulerian update drops).
@@ -424,27 +405,24 @@ void Part::update_kernel() {
 // h_I = sum_J V_J P_J grad Psi_I(X_J), then the force on K gathers h and s through Psi_K(X_I).
 void Part::internal_forces() {
   const Index n = particle_count();
-#pragma omp parallel for schedule(static) if (n > parallel_threshold)
-  for (Index j = 0; j < n; ++j) {
+  parallel::for_each(n, [&](Index j) {
     if (degraded_[j]) {
       weighted_stress_[j] = Mat3::Zero();
-      continue;
+      return;
     }
     const Real volume = volume_ref_[j] * F_[j].determinant();
     const Mat3 sigma = state_[j].deviatoric_stress - (pressure_[j] + viscous_pressure_[j]) * Mat3::Identity();
     weighted_stress_[j] = volume * sigma * F_[j].inverse().transpose();
-  }
-#pragma omp parallel for schedule(static) if (n > parallel_threshold)
-  for (Index i = 0; i < n; ++i) {
+  }, particle_loops);
+  parallel::for_each(n, [&](Index i) {
     Vec3 h = weighted_stress_[i] * grad_self_[i];
     for (Index k = bonds_.offsets[i]; k < bonds_.offsets[i + 1]; ++k)
       h.noalias() += weighted_stress_[bonds_.neighbour[k]] * grad_[bonds_.mirror[k]];
     h_[i] = h;
-  }
+  }, particle_loops);
   const bool smoothed = settings_.stabilization == Stabilization::fluid_particle;
   const auto& s = stabilization_total_;
-#pragma omp parallel for schedule(static) if (n > parallel_threshold)
-  for (Index K = 0; K < n; ++K) {
+  parallel::for_each(n, [&](Index K) {
     // f_K = -sum_I Psi_K(X_I) (h_I - s_I) - s_K, or with ITB 2 -h_K - s_K + sum_I Psi_K(X_I) s_I.
     Vec3 gathered = psi_self_[K] * (smoothed ? Vec3(h_[K] - s[K]) : Vec3(-s[K]));
     for (Index k = bonds_.offsets[K]; k < bonds_.offsets[K + 1]; ++k) {
@@ -456,16 +434,15 @@ void Part::internal_forces() {
     for (Index k = bonds_.offsets[K]; k < bonds_.offsets[K + 1]; ++k)
       corrected.noalias() += weighted_stress_[bonds_.neighbour[k]] * correction_.bond[bonds_.mirror[k]];
     force_[K] = (smoothed ? Vec3(-gathered - s[K]) : Vec3(-h_[K] - gathered - s[K])) - corrected;
-  }
+  }, particle_loops);
 }
 
 void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
   const Index n = particle_count();
-#pragma omp parallel for schedule(static) if (n > parallel_threshold)
-  for (Index i = 0; i < n; ++i) {
+  parallel::for_each(n, [&](Index i) {
     x_[i] = nodes.x[node_[i]];
     v_[i] = nodes.v[node_[i]];
-  }
+  }, particle_loops);
   if (dt > 0) {
     smooth(v_, vs_);
     const bool smoothed = settings_.stabilization == Stabilization::fluid_particle;
@@ -476,8 +453,7 @@ void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
     if (++steps_since_update_ >= settings_.update_interval) update_kernel();
   }
   internal_forces();
-#pragma omp parallel for schedule(static) if (n > parallel_threshold)
-  for (Index i = 0; i < n; ++i) nodes.f[node_[i]] += force_[i];
+  parallel::for_each(n, [&](Index i) { nodes.f[node_[i]] += force_[i]; }, particle_loops);
 }
 
 // CFL condition on the support size (seed 001 §2.1: the SPG step follows the support of the shape
@@ -485,14 +461,14 @@ void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
 // dt <= alpha (a_min / DX) (V / V_0)^(1/3) / (c + |v|).
 Real Part::stable_time_step(const discretization::NodeStore& nodes) const {
   const Index n = particle_count();
-  Real dt = std::numeric_limits<Real>::infinity();
-#pragma omp parallel for reduction(min : dt) schedule(static) if (n > parallel_threshold)
-  for (Index i = 0; i < n; ++i) {
-    const Real volume_ratio = volume_ref_[i] * F_[i].determinant() / volume0_[i];
-    const Real length = spacing_[i] * cube_root(volume_ratio);
-    dt = std::min(dt, courant_factor * length / (sound_speed_[i] + nodes.v[node_[i]].norm()));
-  }
-  return dt;
+  return parallel::reduce_exact(
+      n, std::numeric_limits<Real>::infinity(),
+      [&](Index i) {
+        const Real volume_ratio = volume_ref_[i] * F_[i].determinant() / volume0_[i];
+        const Real length = spacing_[i] * cube_root(volume_ratio);
+        return courant_factor * length / (sound_speed_[i] + nodes.v[node_[i]].norm());
+      },
+      [](Real a, Real b) { return std::min(a, b); }, particle_loops);
 }
 
 discretization::InternalPower Part::internal_power(std::span<const Vec3> v) const {

@@ -156,8 +156,7 @@ FluidFormulation::FluidFormulation(const FluidParameters& parameters,
 void FluidFormulation::rebuild_cells(const discretization::NodeStore& nodes) {
   const Index n = particle_count();
   std::vector<Vec3> x(n);
-#pragma omp parallel for schedule(static)
-  for (Index a = 0; a < n; ++a) x[a] = nodes.x[node_[a]];
+  parallel::for_each(n, [&](Index a) { x[a] = nodes.x[node_[a]]; });
   cells_.build(x, (1 + parameters_.skin) * support_ / stencil_reach);
   // The cell list keeps no order: from here on the particles are in cell order.
   const std::vector<Index> order = cells_.take_order();
@@ -177,18 +176,16 @@ void FluidFormulation::rebuild_cells(const discretization::NodeStore& nodes) {
   }
   const Index cell_count = cells_.cell_count();
   active_cell_.assign(cell_count, 0);
-#pragma omp parallel
-  {
+  parallel::region([&](const parallel::Team& team) {
     neighbors::TrimmedStencil stencil(cells_, stencil_reach);
     neighbors::TrimmedStencil::Ranges ranges;
-#pragma omp for schedule(dynamic, 64)
-    for (Index c = 0; c < cell_count; ++c) {
+    team.for_each(cell_count, [&](Index c) {
       stencil.prepare(c);
       const int range_count = stencil.block(ranges);
       for (int r = 0; r < range_count; ++r)
         if (moving_before[ranges[r].end] > moving_before[ranges[r].begin]) active_cell_[c] = 1;
-    }
-  }
+    }, {.chunk = 64});
+  });
   // Positions are taken relative to the grid corner, in single precision: a position and the
   // distance test carry relative errors of a few 2^-24 of the box size and of the support, which
   // the stencil's radius covers with this margin.
@@ -207,11 +204,13 @@ void FluidFormulation::rebuild_cells(const discretization::NodeStore& nodes) {
 void FluidFormulation::gather(const discretization::NodeStore& nodes, Real dt) {
   const Index n = particle_count();
   const auto& m = parameters_.material;
-  Real max_density = m.density;
-  Index first_empty = n;  // the first particle whose density is no longer positive
+  struct Found {
+    Real max_density;
+    Index first_empty;  // the first particle whose density is no longer positive
+  };
   const Index cell_count = cells_.cell_count();
-#pragma omp parallel for schedule(static) reduction(max : max_density) reduction(min : first_empty)
-  for (Index c = 0; c < cell_count; ++c) {
+  const auto cell_records = [&](Index c) {
+    Found found{m.density, n};
     const bool active = active_cell_[c];
     const neighbors::ParticleRange own = cells_.cell(c);
     for (Index a = own.begin; a < own.end; ++a) {
@@ -229,12 +228,17 @@ void FluidFormulation::gather(const discretization::NodeStore& nodes, Real dt) {
       // rho~^n = rho^{n-1} + dt (2 rho'^{n-1} - rho'^{n-2})
       Real rho = density_[a] + dt * (2 * Real(rate_[a]) - Real(previous_rate_[a]));
       if (nodes.fixed[i] == all_translations) rho = std::max(rho, m.density);
-      if (!(rho > 0)) first_empty = std::min(first_empty, a);
+      if (!(rho > 0)) found.first_empty = std::min(found.first_empty, a);
       record.inverse_density = static_cast<float>(1 / rho);
       record.pressure_term = static_cast<float>(m.pressure(rho) / (rho * rho));
-      max_density = std::max(max_density, rho);
+      found.max_density = std::max(found.max_density, rho);
     }
-  }
+    return found;
+  };
+  const auto [max_density, first_empty] = parallel::reduce_exact(
+      cell_count, Found{m.density, n}, cell_records, [](const Found& x, const Found& y) {
+        return Found{std::max(x.max_density, y.max_density), std::min(x.first_empty, y.first_empty)};
+      });
   // Continuity can empty a particle that a splash tears from its neighbours under tension; its
   // pressure and volume then mean nothing, so the run stops rather than carry on.
   if (first_empty < n)
@@ -247,7 +251,8 @@ void FluidFormulation::gather(const discretization::NodeStore& nodes, Real dt) {
 }
 
 template <bool pair_pass, typename Visit, typename VisitWalls>
-void FluidFormulation::for_each_particle_candidates(Visit&& visit, VisitWalls&& visit_walls) const {
+void FluidFormulation::for_each_particle_candidates(const parallel::Team& team, Visit&& visit,
+                                                   VisitWalls&& visit_walls) const {
   neighbors::TrimmedStencil stencil(cells_, stencil_reach);
   neighbors::TrimmedStencil::Ranges ranges;
   std::vector<Index> cluster, walls;
@@ -257,8 +262,7 @@ void FluidFormulation::for_each_particle_candidates(Visit&& visit, VisitWalls&& 
   const Real radius = support_ + travelled_ + rounding_margin_;
   const Index cell_count = cells_.cell_count();
   // Chunks of consecutive cells, so that the stencil mostly slides along a row of cells.
-#pragma omp for schedule(dynamic, 16)
-  for (Index c = 0; c < cell_count; ++c) {
+  team.for_each(cell_count, [&](Index c) {
     const neighbors::ParticleRange own = cells_.cell(c);
     if constexpr (!pair_pass) {
       stencil.prepare(c);
@@ -282,7 +286,7 @@ void FluidFormulation::for_each_particle_candidates(Visit&& visit, VisitWalls&& 
         range_count = stencil.trimmed(lower, upper, radius, ranges);
       }
       if (!cluster.empty()) visit(cluster.data(), static_cast<int>(cluster.size()), ranges, range_count);
-      if (walls.empty()) continue;
+      if (walls.empty()) return;
       // The walls share the cell's runs (the moving particles are done with them), each cut in
       // place to the span from its first to its last moving particle, and come wall_group at a
       // time: cheaper than trimming runs per wall (docs/PERFORMANCE.md, sessions 13, 18 and 19).
@@ -291,7 +295,7 @@ void FluidFormulation::for_each_particle_candidates(Visit&& visit, VisitWalls&& 
         visit_walls(walls.data() + w, static_cast<int>(std::min<std::size_t>(wall_group, walls.size() - w)), ranges,
                     span_count);
     }
-  }
+  }, {.chunk = 16});
 }
 
 namespace {
@@ -874,8 +878,8 @@ void FluidFormulation::pair_pass(discretization::NodeStore& nodes, Real dt) {
   const PairInputs in{record_.data(), mass_.data(), uniform_mass_, moving_.data()};
   Real max_acceleration = 0, max_mu = 0;
 
-#pragma omp parallel reduction(max : max_acceleration, max_mu)
-  {
+  parallel::region([&](const parallel::Team& team) {
+    Real max_acceleration_here = 0, max_mu_here = 0;
     std::vector<Index> found;
     // rho^n = rho^{n-1} + dt rho'^n.
     const auto update_density = [&](Index a, Real rate) {
@@ -893,8 +897,8 @@ void FluidFormulation::pair_pass(discretization::NodeStore& nodes, Real dt) {
         pressure_force_[3 * a + d] = static_cast<float>(f[d] - fv[d]);
         viscous_force_[3 * a + d] = static_cast<float>(fv[d]);
       }
-      max_acceleration = std::max(max_acceleration, f.norm() / Real(mass_[a]));
-      max_mu = std::max(max_mu, Real(sums.max_mu));
+      max_acceleration_here = std::max(max_acceleration_here, f.norm() / Real(mass_[a]));
+      max_mu_here = std::max(max_mu_here, Real(sums.max_mu));
       update_density(a, sums.rate);
     };
     std::vector<Index> counts;
@@ -919,8 +923,12 @@ void FluidFormulation::pair_pass(discretization::NodeStore& nodes, Real dt) {
         density_[a] = std::max(density_[a], m.density);
       }
     };
-    for_each_particle_candidates<true>(moving_cluster, walls);
-  }
+    for_each_particle_candidates<true>(team, moving_cluster, walls);
+    team.one_at_a_time([&] {
+      max_acceleration = std::max(max_acceleration, max_acceleration_here);
+      max_mu = std::max(max_mu, max_mu_here);
+    });
+  });
   max_acceleration_ = max_acceleration;
   max_mu_ = max_mu;
   first_pass_ = false;
@@ -928,10 +936,9 @@ void FluidFormulation::pair_pass(discretization::NodeStore& nodes, Real dt) {
 
 void FluidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt) {
   // Every particle moved by dt v^{n-1/2} since the last call.
-  Real max_speed = 0;
   const Index n = particle_count();
-#pragma omp parallel for schedule(static) reduction(max : max_speed)
-  for (Index a = 0; a < n; ++a) max_speed = std::max(max_speed, nodes.v[node_[a]].norm());
+  const Real max_speed = parallel::reduce_exact(
+      n, Real(0), [&](Index a) { return nodes.v[node_[a]].norm(); }, [](Real x, Real y) { return std::max(x, y); });
   max_speed_ = max_speed;
   travelled_ += dt * max_speed;
   // Two particles approach each other by at most twice the bound; the search also widens by the
@@ -980,17 +987,18 @@ std::vector<Index> FluidFormulation::neighbour_counts() const {
   if (!cells_built_) return counts;
   const float H2 = static_cast<float>(support_ * support_);
   const auto no_walls = [](const Index*, int, const auto&, int) {};  // pair_pass false: none
-#pragma omp parallel
-  for_each_particle_candidates<false>([&](Index a, const auto& ranges, int range_count) {
-    Index count = 0;
-    for (int r = 0; r < range_count; ++r)
-      for (Index b = ranges[r].begin; b < ranges[r].end; ++b) {
-        const float dx = record_[a].x - record_[b].x, dy = record_[a].y - record_[b].y,
-                    dz = record_[a].z - record_[b].z;
-        count += (dx * dx + dy * dy + dz * dz < H2) & (b != a);
-      }
-    counts[a] = count;
-  }, no_walls);
+  parallel::region([&](const parallel::Team& team) {
+    for_each_particle_candidates<false>(team, [&](Index a, const auto& ranges, int range_count) {
+      Index count = 0;
+      for (int r = 0; r < range_count; ++r)
+        for (Index b = ranges[r].begin; b < ranges[r].end; ++b) {
+          const float dx = record_[a].x - record_[b].x, dy = record_[a].y - record_[b].y,
+                      dz = record_[a].z - record_[b].z;
+          count += (dx * dx + dy * dy + dz * dz < H2) & (b != a);
+        }
+      counts[a] = count;
+    }, no_walls);
+  });
   return counts;
 }
 

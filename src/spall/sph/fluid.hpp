@@ -40,6 +40,7 @@
 
 #include "spall/materials/eos.hpp"
 #include "spall/neighbors/cell_list.hpp"
+#include "spall/core/parallel.hpp"
 #include "spall/discretization/formulation.hpp"
 #include "spall/sph/artificial_viscosity.hpp"
 
@@ -122,7 +123,7 @@ class FluidFormulation final : public discretization::Formulation {
   // (fluid.cpp) to visit_walls(walls, count, spans, span count), the same runs cut to their
   // moving spans (none in a cell without moving particles around).
   template <bool pair_pass, typename Visit, typename VisitWalls>
-  void for_each_particle_candidates(Visit&& visit, VisitWalls&& visit_walls) const;
+  void for_each_particle_candidates(const parallel::Team& team, Visit&& visit, VisitWalls&& visit_walls) const;
 
   FluidParameters parameters_;
   Real support_ = 0;  // H = 2h

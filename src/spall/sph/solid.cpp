@@ -11,6 +11,7 @@
 
 #include "spall/core/cube_root.hpp"
 #include "spall/core/error.hpp"
+#include "spall/core/bounding_box.hpp"
 #include "spall/core/parallel.hpp"
 #include "spall/core/simd.hpp"
 #include "spall/materials/elastic.hpp"
@@ -153,36 +154,6 @@ template <typename Kernel>
 
 // (v, 0), a row of SolidFormulation::force_.
 inline Eigen::Vector4d force_row(const Vec3& v) { return {v.x(), v.y(), v.z(), 0}; }
-
-// rows[b[i]] -= (d[0][i], d[1][i], d[2][i], 0) in double for the eight lanes i, in lane order
-// (lanes may share a row). With AVX2 the three packs are transposed into the lanes' rows of four
-// floats, each widened and subtracted from its row at once: about a third of the instructions of
-// 24 scalar read-modify-writes (docs/PERFORMANCE.md, session 20).
-[[gnu::always_inline]] inline void subtract_from_rows(const Float8 (&d)[3], const Index* b, Eigen::Vector4d* rows) {
-#if defined(SPALL_SIMD_AVX2)
-  const __m256 zero = _mm256_setzero_ps();
-  const __m256 xy_0145 = _mm256_unpacklo_ps(d[0].v, d[1].v), xy_2367 = _mm256_unpackhi_ps(d[0].v, d[1].v);
-  const __m256 z_0145 = _mm256_unpacklo_ps(d[2].v, zero), z_2367 = _mm256_unpackhi_ps(d[2].v, zero);
-  // Lane i's row (x, y, z, 0) in the low half of rows_of[i % 4], lane i + 4's in the high half.
-  const __m256 rows_of[4] = {_mm256_shuffle_ps(xy_0145, z_0145, _MM_SHUFFLE(1, 0, 1, 0)),
-                             _mm256_shuffle_ps(xy_0145, z_0145, _MM_SHUFFLE(3, 2, 3, 2)),
-                             _mm256_shuffle_ps(xy_2367, z_2367, _MM_SHUFFLE(1, 0, 1, 0)),
-                             _mm256_shuffle_ps(xy_2367, z_2367, _MM_SHUFFLE(3, 2, 3, 2))};
-  for (int lane = 0; lane < 8; ++lane) {
-    const __m128 row = lane < 4 ? _mm256_castps256_ps128(rows_of[lane]) : _mm256_extractf128_ps(rows_of[lane - 4], 1);
-    // The index taken as unsigned: scaled without a sign extension first (simd::avx2::row_of).
-    double* f = rows[static_cast<std::uint32_t>(b[lane])].data();
-    _mm256_storeu_pd(f, _mm256_sub_pd(_mm256_loadu_pd(f), _mm256_cvtps_pd(row)));
-  }
-#else
-  alignas(32) float on_b[3][Float8::width];
-  for (int i = 0; i < 3; ++i) d[i].store(on_b[i]);
-  for (int lane = 0; lane < Float8::width; ++lane) {
-    Eigen::Vector4d& f_b = rows[b[lane]];
-    f_b[0] -= on_b[0][lane], f_b[1] -= on_b[1][lane], f_b[2] -= on_b[2][lane];
-  }
-#endif
-}
 
 // m_b of a pack of pairs: the one mass of a lattice broadcast (uniform > 0), else gathered.
 inline Float8 pair_mass(const std::vector<float>& mass, Real uniform, const Index* b) {
@@ -383,11 +354,10 @@ void SolidFormulation::gather_kinematics(const discretization::NodeStore& nodes)
   }
   x_copy_.resize(n);
   v_copy_.resize(n);
-#pragma omp parallel for schedule(static)
-  for (Index a = 0; a < n; ++a) {
+  parallel::for_each(n, [&](Index a) {
     x_copy_[a] = nodes.x[node_[a]];
     v_copy_[a] = nodes.v[node_[a]];
-  }
+  });
   x_ = x_copy_;
   v_ = v_copy_;
 }
@@ -395,15 +365,14 @@ void SolidFormulation::gather_kinematics(const discretization::NodeStore& nodes)
 // The particles of this step into the records of the pair loops.
 void SolidFormulation::update_records() {
   const Index n = particle_count();
-#pragma omp parallel for schedule(static)
-  for (Index a = 0; a < n; ++a) {
+  parallel::for_each(n, [&](Index a) {
     const Vec3 x = x_[a] - record_origin_;
     const Vec3& v = v_[a];
     record_[a] = {static_cast<float>(x[0]), static_cast<float>(x[1]), static_cast<float>(x[2]),
                   static_cast<float>(smoothing_length(a)), static_cast<float>(v[0]), static_cast<float>(v[1]),
                   static_cast<float>(v[2]), static_cast<float>(volume_[a])};
     viscosity_record_[a] = {static_cast<float>(sound_speed_[a]), static_cast<float>(density_[a])};
-  }
+  });
 }
 
 // The list holds every pair within reach_a + reach_b + skin at the build, reach = cutoff_margin h
@@ -414,28 +383,30 @@ void SolidFormulation::update_records() {
 void SolidFormulation::update_neighbour_list() {
   const Index n = particle_count();
   if (list_built_ && !h_outgrown_ && !verlet_.needs_rebuild(x_)) return;
-  Real h_largest = 0;
-#pragma omp parallel for reduction(max : h_largest) schedule(static)
-  for (Index a = 0; a < n; ++a) {
-    list_reach_[a] = cutoff_margin * smoothing_length(a);
-    h_largest = std::max(h_largest, smoothing_length(a));
-  }
+  const Real h_largest = parallel::reduce_exact(
+      n, Real(0),
+      [&](Index a) {
+        list_reach_[a] = cutoff_margin * smoothing_length(a);
+        return smoothing_length(a);
+      },
+      [](Real a, Real b) { return std::max(a, b); });
   verlet_.build(x_, list_reach_, skin_fraction * cutoff_margin * 2 * h_largest, neighbors::RowOrder::search);
   list_built_ = true;
   // The records' origin: the middle of the particles' bounding box.
   if (n > 0) {
-    Real lower[3] = {x_[0][0], x_[0][1], x_[0][2]}, upper[3] = {lower[0], lower[1], lower[2]};
-#pragma omp parallel for reduction(min : lower[:3]) reduction(max : upper[:3]) schedule(static)
-    for (Index a = 0; a < n; ++a)
-      for (int d = 0; d < 3; ++d) lower[d] = std::min(lower[d], x_[a][d]), upper[d] = std::max(upper[d], x_[a][d]);
-    for (int d = 0; d < 3; ++d) record_origin_[d] = Real(0.5) * (lower[d] + upper[d]);
+    const Vec3 centre = bounding_box(n, [&](Index a) { return x_[a]; }).centre();
+    for (int d = 0; d < 3; ++d) record_origin_[d] = centre[d];
   }
   // The force pass's blocks (compute_pair_forces): as long as the largest b - a of any pair.
   const auto& list = verlet_.list();
-  Index span = 1;
-#pragma omp parallel for reduction(max : span) schedule(static)
-  for (Index a = 0; a < n; ++a)
-    for (Index k = list.offsets[a]; k < list.offsets[a + 1]; ++k) span = std::max(span, list.neighbors[k] - a);
+  const Index span = parallel::reduce_exact(
+      n, Index(1),
+      [&](Index a) {
+        Index longest = 1;
+        for (Index k = list.offsets[a]; k < list.offsets[a + 1]; ++k) longest = std::max(longest, list.neighbors[k] - a);
+        return longest;
+      },
+      [](Index a, Index b) { return std::max(a, b); });
   force_block_length_ = span;
   force_blocks_ = (n + span - 1) / span;
   if (force_blocks_ < min_force_blocks) force_blocks_ = 0;
@@ -460,189 +431,192 @@ Index SolidFormulation::compute_rates(Real dt) {
   support_mask_.resize(mask_bytes(list));
   std::uint8_t* mask = support_mask_.data();
   Index first_unsound = n;
-#pragma omp parallel for schedule(dynamic, 512) reduction(min : first_unsound)
-  for (Index a = 0; a < n; ++a) {
-    thread_local RowTerms terms;
-    const Index padded = pick_support(list, a, record_.data(), mask, terms);
-    const Index* neighbour = terms.neighbour.data();
-    float *dx_k = terms.dx.data(), *dy_k = terms.dy.data(), *dz_k = terms.dz.data(), *factor_k = terms.factor.data(),
-          *r_k = terms.r.data(), *support_k = terms.support.data(),
-          *weight_k = terms.weight.data(), *dvx_k = terms.dvx.data(), *dvy_k = terms.dvy.data(),
-          *dvz_k = terms.dvz.data(), *viscous_k = terms.viscous.data(), *heating_k = terms.heating.data();
-    const PairRecord& own = record_[a];
-    const PackCentre centre(own);
-    const Float8 vax(own.vx), vay(own.vy), vaz(own.vz);
-    // With g = V_b grad_a W_ab = V_b F x_ab:
-    //   normal n = sum g (seed 000 eq. 9: n = grad c_s)
-    //   moment   = -sum g (x) x_ab, = I for a full support (symmetric: 6 sums)
-    //   spread   = sum_b V_b grad (x) grad / |grad| = sum V_b |F| / r x_ab (x) x_ab, for the stable step
-    //   L        = sum (v_b - v_a) (x) g,  drho = -sum m_b F (v_b - v_a) . x_ab
-    // Three loops over the pairs, each with no more sums than registers: the geometry, the moment
-    // and the spread; then L and the viscosity's pair terms; then the normal and the viscosity's
-    // sums, in double.
-    Float8 m_xx, m_yy, m_zz, m_xy, m_yz, m_zx, s_xx, s_yy, s_zz, s_xy, s_yz, s_zx;
-    for (Index k = 0; k < padded; k += W) {
-      Float8 c[8];  // x, y, z, h, vx, vy, vz, V of the neighbours
-      simd::load_rows<record_stride>(records, neighbour + k, 0, c);
-      const PairGeometry g = pair_geometry<Kernel>(centre, c);
-      const Float8 volume = c[7], w = volume * g.factor;
-      g.dx.store(dx_k + k), g.dy.store(dy_k + k), g.dz.store(dz_k + k);
-      g.r.store(r_k + k), g.support.store(support_k + k), g.factor.store(factor_k + k);
-      w.store(weight_k + k);
-      (c[4] - vax).store(dvx_k + k), (c[5] - vay).store(dvy_k + k), (c[6] - vaz).store(dvz_k + k);
-      if constexpr (corrected) {  // plain SPH needs no moment (its lanes stay zero)
-        const Float8 gx = w * g.dx, gy = w * g.dy, gz = w * g.dz;
-        m_xx = fma(gx, g.dx, m_xx), m_yy = fma(gy, g.dy, m_yy), m_zz = fma(gz, g.dz, m_zz);
-        m_xy = fma(gx, g.dy, m_xy), m_yz = fma(gy, g.dz, m_yz), m_zx = fma(gz, g.dx, m_zx);
+  parallel::region([&](const parallel::Team& team) {
+    RowTerms terms;  // this thread's pair terms, reused row after row
+    Index unsound_here = n;
+    team.for_each(n, [&](Index a) {
+      const Index padded = pick_support(list, a, record_.data(), mask, terms);
+      const Index* neighbour = terms.neighbour.data();
+      float *dx_k = terms.dx.data(), *dy_k = terms.dy.data(), *dz_k = terms.dz.data(), *factor_k = terms.factor.data(),
+            *r_k = terms.r.data(), *support_k = terms.support.data(),
+            *weight_k = terms.weight.data(), *dvx_k = terms.dvx.data(), *dvy_k = terms.dvy.data(),
+            *dvz_k = terms.dvz.data(), *viscous_k = terms.viscous.data(), *heating_k = terms.heating.data();
+      const PairRecord& own = record_[a];
+      const PackCentre centre(own);
+      const Float8 vax(own.vx), vay(own.vy), vaz(own.vz);
+      // With g = V_b grad_a W_ab = V_b F x_ab:
+      //   normal n = sum g (seed 000 eq. 9: n = grad c_s)
+      //   moment   = -sum g (x) x_ab, = I for a full support (symmetric: 6 sums)
+      //   spread   = sum_b V_b grad (x) grad / |grad| = sum V_b |F| / r x_ab (x) x_ab, for the stable step
+      //   L        = sum (v_b - v_a) (x) g,  drho = -sum m_b F (v_b - v_a) . x_ab
+      // Three loops over the pairs, each with no more sums than registers: the geometry, the moment
+      // and the spread; then L and the viscosity's pair terms; then the normal and the viscosity's
+      // sums, in double.
+      Float8 m_xx, m_yy, m_zz, m_xy, m_yz, m_zx, s_xx, s_yy, s_zz, s_xy, s_yz, s_zx;
+      for (Index k = 0; k < padded; k += W) {
+        Float8 c[8];  // x, y, z, h, vx, vy, vz, V of the neighbours
+        simd::load_rows<record_stride>(records, neighbour + k, 0, c);
+        const PairGeometry g = pair_geometry<Kernel>(centre, c);
+        const Float8 volume = c[7], w = volume * g.factor;
+        g.dx.store(dx_k + k), g.dy.store(dy_k + k), g.dz.store(dz_k + k);
+        g.r.store(r_k + k), g.support.store(support_k + k), g.factor.store(factor_k + k);
+        w.store(weight_k + k);
+        (c[4] - vax).store(dvx_k + k), (c[5] - vay).store(dvy_k + k), (c[6] - vaz).store(dvz_k + k);
+        if constexpr (corrected) {  // plain SPH needs no moment (its lanes stay zero)
+          const Float8 gx = w * g.dx, gy = w * g.dy, gz = w * g.dz;
+          m_xx = fma(gx, g.dx, m_xx), m_yy = fma(gy, g.dy, m_yy), m_zz = fma(gz, g.dz, m_zz);
+          m_xy = fma(gx, g.dy, m_xy), m_yz = fma(gy, g.dz, m_yz), m_zx = fma(gz, g.dx, m_zx);
+        }
+        if (row_sums) {
+          const Float8 spread = volume * abs(g.factor) * g.inverse_r;
+          const Float8 sx = spread * g.dx, sy = spread * g.dy, sz = spread * g.dz;
+          s_xx = fma(sx, g.dx, s_xx), s_yy = fma(sy, g.dy, s_yy), s_zz = fma(sz, g.dz, s_zz);
+          s_xy = fma(sx, g.dy, s_xy), s_yz = fma(sy, g.dz, s_yz), s_zx = fma(sz, g.dx, s_zx);
+        }
       }
-      if (row_sums) {
-        const Float8 spread = volume * abs(g.factor) * g.inverse_r;
-        const Float8 sx = spread * g.dx, sy = spread * g.dy, sz = spread * g.dz;
-        s_xx = fma(sx, g.dx, s_xx), s_yy = fma(sy, g.dy, s_yy), s_zz = fma(sz, g.dz, s_zz);
-        s_xy = fma(sx, g.dy, s_xy), s_yz = fma(sy, g.dz, s_yz), s_zx = fma(sz, g.dx, s_zx);
-      }
-    }
-    // v_b - v_a and x_a - x_b of the pack of pairs at k.
-    const auto pair_kinematics = [&](Index k, Float8& vx, Float8& vy, Float8& vz, Float8& dx, Float8& dy, Float8& dz) {
-      vx = Float8::load(dvx_k + k), vy = Float8::load(dvy_k + k), vz = Float8::load(dvz_k + k);
-      dx = Float8::load(dx_k + k), dy = Float8::load(dy_k + k), dz = Float8::load(dz_k + k);
-    };
-    // Monaghan's viscosity, -m_a m_b Pi_ab grad_a W_ab on the pairs approaching each other, here
-    // where v_ab and the pair geometry are at hand, with rho and c of the step start (the records).
-    Float8 L_lanes[9];
-    const Float8 m_a(static_cast<float>(mass_[a])), rho_a(viscosity_record_[a].density),
-        c_a(viscosity_record_[a].sound_speed);
-    for (Index k = 0; k < padded; k += W) {
-      Float8 vx, vy, vz, dx, dy, dz;
-      pair_kinematics(k, vx, vy, vz, dx, dy, dz);
-      const Float8 w = Float8::load(weight_k + k);
-      const Float8 gx = w * dx, gy = w * dy, gz = w * dz;
-      // Column-major like Mat3: L(i, j) = L_lanes[i + 3 j].
-      L_lanes[0] = fma(vx, gx, L_lanes[0]), L_lanes[1] = fma(vy, gx, L_lanes[1]), L_lanes[2] = fma(vz, gx, L_lanes[2]);
-      L_lanes[3] = fma(vx, gy, L_lanes[3]), L_lanes[4] = fma(vy, gy, L_lanes[4]), L_lanes[5] = fma(vz, gy, L_lanes[5]);
-      L_lanes[6] = fma(vx, gz, L_lanes[6]), L_lanes[7] = fma(vy, gz, L_lanes[7]), L_lanes[8] = fma(vz, gz, L_lanes[8]);
-      // v_ab . x_ab, bit for bit that of (b, a): v_b - v_a and x_a - x_b change sign exactly.
-      const Float8 vr = Float8(0) - fma(vz, dz, fma(vy, dy, vx * dx));
-      const auto approaching = vr < Float8(0);
-      if (approaching.lanes() == 0) {
-        Float8(0).store(viscous_k + k), Float8(0).store(heating_k + k);
-        continue;
-      }
-      // Pi = (-alpha c mu + beta mu^2) / rho_ab with mu = h v_ab . x_ab / d, d = r^2 + eta^2 h^2, as
-      // (-alpha c d + beta h v.x) h v.x / (d^2 rho_ab) with one reciprocal, c and rho the pair's
-      // means: every product and sum is commutative, so that (a, b) and (b, a) get the same Pi.
-      const Index* b = neighbour + k;
-      const Float8 h_ab = Float8(0.5f) * Float8::load(support_k + k);  // mean smoothing length
-      const Float8 hv = h_ab * vr;
-      const Float8 r = Float8::load(r_k + k);
-      const Float8 d = fma(Float8(eta2) * h_ab, h_ab, r * r);
-      Float8 c_rho[2];  // c_b, rho_b
-      simd::load_rows<viscosity_stride>(&viscosity_record_.data()->sound_speed, b, 0, c_rho);
-      const Float8 c = Float8(0.5f) * (c_a + c_rho[0]);
-      const Float8 rho = Float8(0.5f) * (rho_a + c_rho[1]);
-      const Float8 Pi =
-          select(approaching, fma(Float8(-alpha) * c, d, Float8(beta) * hv) * hv * reciprocal(d * d * rho), Float8(0));
-      const Float8 m_b = pair_mass(record_mass_, uniform_mass_, b);
-      const Float8 mPF = m_b * Pi * Float8::load(factor_k + k);
-      (m_a * mPF).store(viscous_k + k);
-      (Float8(0.5f) * mPF * vr).store(heating_k + k);
-    }
-    // The viscosity's sums are widened to double: each side of a pair sums its own terms, and
-    // momentum is conserved to the round-off of those sums.
-    Float8 n_x, n_y, n_z;
-    simd::WideSum8 visc_x, visc_y, visc_z, heating;
-    for (Index k = 0; k < padded; k += W) {
-      const Float8 dx = Float8::load(dx_k + k), dy = Float8::load(dy_k + k), dz = Float8::load(dz_k + k);
-      if (normal_on) {
-        const Float8 w = Float8::load(weight_k + k);
-        n_x = fma(w, dx, n_x), n_y = fma(w, dy, n_y), n_z = fma(w, dz, n_z);
-      }
-      const Float8 s = Float8::load(viscous_k + k);
-      visc_x.add(s * dx), visc_y.add(s * dy), visc_z.add(s * dz);
-      heating.add(Float8::load(heating_k + k));
-    }
-    // The continuity sum, for a particle whose velocity gradient is not corrected (with the
-    // correction its density follows from tr(L) instead).
-    const auto continuity = [&] {
-      Float8 drho_lanes;
+      // v_b - v_a and x_a - x_b of the pack of pairs at k.
+      const auto pair_kinematics = [&](Index k, Float8& vx, Float8& vy, Float8& vz, Float8& dx, Float8& dy, Float8& dz) {
+        vx = Float8::load(dvx_k + k), vy = Float8::load(dvy_k + k), vz = Float8::load(dvz_k + k);
+        dx = Float8::load(dx_k + k), dy = Float8::load(dy_k + k), dz = Float8::load(dz_k + k);
+      };
+      // Monaghan's viscosity, -m_a m_b Pi_ab grad_a W_ab on the pairs approaching each other, here
+      // where v_ab and the pair geometry are at hand, with rho and c of the step start (the records).
+      Float8 L_lanes[9];
+      const Float8 m_a(static_cast<float>(mass_[a])), rho_a(viscosity_record_[a].density),
+          c_a(viscosity_record_[a].sound_speed);
       for (Index k = 0; k < padded; k += W) {
         Float8 vx, vy, vz, dx, dy, dz;
         pair_kinematics(k, vx, vy, vz, dx, dy, dz);
-        const Float8 mass = pair_mass(record_mass_, uniform_mass_, neighbour + k);
-        drho_lanes -= mass * Float8::load(factor_k + k) * fma(vz, dz, fma(vy, dy, vx * dx));
-      }
-      return drho_lanes.sum();
-    };
-    // The 24 sums eight at a time: L's nine, then the normal, the moment and the spread.
-    const Float8 lanes[3][8] = {{L_lanes[0], L_lanes[1], L_lanes[2], L_lanes[3], L_lanes[4], L_lanes[5], L_lanes[6],
-                                 L_lanes[7]},
-                                {L_lanes[8], n_x, n_y, n_z, m_xx, m_yy, m_zz, m_xy},
-                                {m_yz, m_zx, s_xx, s_yy, s_zz, s_xy, s_yz, s_zx}};
-    Real sums[24];
-    for (int i = 0; i < 3; ++i) simd::sum_lanes(lanes[i], sums + 8 * i);
-    viscous_force_[a] = Vec3(-visc_x.sum(), -visc_y.sum(), -visc_z.sum());
-    force_[a] = force_row(viscous_force_[a]);  // the force pass adds the stress's pair terms
-    viscous_heating_[a] = heating.sum();
-    Real drho;
-    Mat3 L;
-    for (int i = 0; i < 9; ++i) L.data()[i] = sums[i];
-    const Vec3 normal(sums[9], sums[10], sums[11]);
-    Mat3 moment = symmetric(sums + 12, Real(-1));
-    if (colour_on) {
-      // seed 000 eq. 10, self included
-      Real colour = volume_[a] * Kernel::value(0, 2 * smoothing_length(a));
-      std::int32_t count = 0;
-      for (Index k = 0; k < padded; ++k) {
-        if (terms.neighbour[k] == a) continue;  // the padding
-        colour += volume_[terms.neighbour[k]] * Kernel::value(terms.r[k], terms.support[k]);
-        ++count;
-      }
-      colour_[a] = colour;
-      colour_normal_[a] = normal;
-      support_count_[a] = count;
-    }
-    // In plane strain nothing varies along z: the moment is the identity there.
-    if (plane) moment(2, 2) = 1;
-    Mat3 correction = Mat3::Identity();
-    // Randles & Libersky 1996: L B with B = moment^{-1} is exact for linear velocity fields,
-    // also where the support is cut by a free surface; the density follows from tr(L).
-    if (corrected && invert_symmetric(moment, min_moment_determinant, correction)) {
-      L = product(L, correction);
-      drho = -density_[a] * L.trace();
-    } else {
-      drho = continuity();
-    }
-    // Row sum of the gradient operator v -> L_a, sum_b V_b |B^T grad_a W_ab| + |B^T n_a| (the
-    // second term: the weight of v_a itself), relative to a full support's; the first term by
-    // Cauchy-Schwarz, sqrt(tr T tr(B^T T B)) with T = spread (exact when B = I).
-    if (row_sums) {
-      const Mat3 spread = symmetric(sums + 18, Real(1));
-      // tr(B^T T B) = sum_ij (T B)_ij B_ij: one product, not two and a diagonal. Written out in
-      // scalars: Eigen's two-lane forms of these 3x3 products store single lanes to the stack and
-      // reload them as pairs, which stalls store forwarding (a tenth of this pass, measured).
-      Real quadratic = 0, transposed_normal = 0;
-      for (int j = 0; j < 3; ++j) {
-        Real normal_j = 0;
-        for (int i = 0; i < 3; ++i) {
-          const Real TB_ij = spread(i, 0) * correction(0, j) + spread(i, 1) * correction(1, j) + spread(i, 2) * correction(2, j);
-          quadratic += TB_ij * correction(i, j);
-          normal_j += correction(i, j) * normal[i];
+        const Float8 w = Float8::load(weight_k + k);
+        const Float8 gx = w * dx, gy = w * dy, gz = w * dz;
+        // Column-major like Mat3: L(i, j) = L_lanes[i + 3 j].
+        L_lanes[0] = fma(vx, gx, L_lanes[0]), L_lanes[1] = fma(vy, gx, L_lanes[1]), L_lanes[2] = fma(vz, gx, L_lanes[2]);
+        L_lanes[3] = fma(vx, gy, L_lanes[3]), L_lanes[4] = fma(vy, gy, L_lanes[4]), L_lanes[5] = fma(vz, gy, L_lanes[5]);
+        L_lanes[6] = fma(vx, gz, L_lanes[6]), L_lanes[7] = fma(vy, gz, L_lanes[7]), L_lanes[8] = fma(vz, gz, L_lanes[8]);
+        // v_ab . x_ab, bit for bit that of (b, a): v_b - v_a and x_a - x_b change sign exactly.
+        const Float8 vr = Float8(0) - fma(vz, dz, fma(vy, dy, vx * dx));
+        const auto approaching = vr < Float8(0);
+        if (approaching.lanes() == 0) {
+          Float8(0).store(viscous_k + k), Float8(0).store(heating_k + k);
+          continue;
         }
-        transposed_normal += normal_j * normal_j;
+        // Pi = (-alpha c mu + beta mu^2) / rho_ab with mu = h v_ab . x_ab / d, d = r^2 + eta^2 h^2, as
+        // (-alpha c d + beta h v.x) h v.x / (d^2 rho_ab) with one reciprocal, c and rho the pair's
+        // means: every product and sum is commutative, so that (a, b) and (b, a) get the same Pi.
+        const Index* b = neighbour + k;
+        const Float8 h_ab = Float8(0.5f) * Float8::load(support_k + k);  // mean smoothing length
+        const Float8 hv = h_ab * vr;
+        const Float8 r = Float8::load(r_k + k);
+        const Float8 d = fma(Float8(eta2) * h_ab, h_ab, r * r);
+        Float8 c_rho[2];  // c_b, rho_b
+        simd::load_rows<viscosity_stride>(&viscosity_record_.data()->sound_speed, b, 0, c_rho);
+        const Float8 c = Float8(0.5f) * (c_a + c_rho[0]);
+        const Float8 rho = Float8(0.5f) * (rho_a + c_rho[1]);
+        const Float8 Pi =
+            select(approaching, fma(Float8(-alpha) * c, d, Float8(beta) * hv) * hv * reciprocal(d * d * rho), Float8(0));
+        const Float8 m_b = pair_mass(record_mass_, uniform_mass_, b);
+        const Float8 mPF = m_b * Pi * Float8::load(factor_k + k);
+        (m_a * mPF).store(viscous_k + k);
+        (Float8(0.5f) * mPF * vr).store(heating_k + k);
       }
-      const Real row_sum = std::sqrt(spread.trace() * quadratic) + std::sqrt(transposed_normal);
-      gradient_amplification_[a] = row_sum * 2 * smoothing_length(a) / full_support_gradient_;
-    }
-    if (colour_on) {
-      density_rate_[a] = drho;
-      velocity_gradient_[a] = L;
-      correction_[a] = correction;
-    } else {
-      update_particle(a, L, correction, drho, dt);  // its own data only: the neighbours' rates
-                                                     // read the step start's volume_
-      if (!sound(a)) first_unsound = std::min(first_unsound, a);
-    }
-  }
+      // The viscosity's sums are widened to double: each side of a pair sums its own terms, and
+      // momentum is conserved to the round-off of those sums.
+      Float8 n_x, n_y, n_z;
+      simd::WideSum8 visc_x, visc_y, visc_z, heating;
+      for (Index k = 0; k < padded; k += W) {
+        const Float8 dx = Float8::load(dx_k + k), dy = Float8::load(dy_k + k), dz = Float8::load(dz_k + k);
+        if (normal_on) {
+          const Float8 w = Float8::load(weight_k + k);
+          n_x = fma(w, dx, n_x), n_y = fma(w, dy, n_y), n_z = fma(w, dz, n_z);
+        }
+        const Float8 s = Float8::load(viscous_k + k);
+        visc_x.add(s * dx), visc_y.add(s * dy), visc_z.add(s * dz);
+        heating.add(Float8::load(heating_k + k));
+      }
+      // The continuity sum, for a particle whose velocity gradient is not corrected (with the
+      // correction its density follows from tr(L) instead).
+      const auto continuity = [&] {
+        Float8 drho_lanes;
+        for (Index k = 0; k < padded; k += W) {
+          Float8 vx, vy, vz, dx, dy, dz;
+          pair_kinematics(k, vx, vy, vz, dx, dy, dz);
+          const Float8 mass = pair_mass(record_mass_, uniform_mass_, neighbour + k);
+          drho_lanes -= mass * Float8::load(factor_k + k) * fma(vz, dz, fma(vy, dy, vx * dx));
+        }
+        return drho_lanes.sum();
+      };
+      // The 24 sums eight at a time: L's nine, then the normal, the moment and the spread.
+      const Float8 lanes[3][8] = {{L_lanes[0], L_lanes[1], L_lanes[2], L_lanes[3], L_lanes[4], L_lanes[5], L_lanes[6],
+                                   L_lanes[7]},
+                                  {L_lanes[8], n_x, n_y, n_z, m_xx, m_yy, m_zz, m_xy},
+                                  {m_yz, m_zx, s_xx, s_yy, s_zz, s_xy, s_yz, s_zx}};
+      Real sums[24];
+      for (int i = 0; i < 3; ++i) simd::sum_lanes(lanes[i], sums + 8 * i);
+      viscous_force_[a] = Vec3(-visc_x.sum(), -visc_y.sum(), -visc_z.sum());
+      force_[a] = force_row(viscous_force_[a]);  // the force pass adds the stress's pair terms
+      viscous_heating_[a] = heating.sum();
+      Real drho;
+      Mat3 L;
+      for (int i = 0; i < 9; ++i) L.data()[i] = sums[i];
+      const Vec3 normal(sums[9], sums[10], sums[11]);
+      Mat3 moment = symmetric(sums + 12, Real(-1));
+      if (colour_on) {
+        // seed 000 eq. 10, self included
+        Real colour = volume_[a] * Kernel::value(0, 2 * smoothing_length(a));
+        std::int32_t count = 0;
+        for (Index k = 0; k < padded; ++k) {
+          if (terms.neighbour[k] == a) continue;  // the padding
+          colour += volume_[terms.neighbour[k]] * Kernel::value(terms.r[k], terms.support[k]);
+          ++count;
+        }
+        colour_[a] = colour;
+        colour_normal_[a] = normal;
+        support_count_[a] = count;
+      }
+      // In plane strain nothing varies along z: the moment is the identity there.
+      if (plane) moment(2, 2) = 1;
+      Mat3 correction = Mat3::Identity();
+      // Randles & Libersky 1996: L B with B = moment^{-1} is exact for linear velocity fields,
+      // also where the support is cut by a free surface; the density follows from tr(L).
+      if (corrected && invert_symmetric(moment, min_moment_determinant, correction)) {
+        L = product(L, correction);
+        drho = -density_[a] * L.trace();
+      } else {
+        drho = continuity();
+      }
+      // Row sum of the gradient operator v -> L_a, sum_b V_b |B^T grad_a W_ab| + |B^T n_a| (the
+      // second term: the weight of v_a itself), relative to a full support's; the first term by
+      // Cauchy-Schwarz, sqrt(tr T tr(B^T T B)) with T = spread (exact when B = I).
+      if (row_sums) {
+        const Mat3 spread = symmetric(sums + 18, Real(1));
+        // tr(B^T T B) = sum_ij (T B)_ij B_ij: one product, not two and a diagonal. Written out in
+        // scalars: Eigen's two-lane forms of these 3x3 products store single lanes to the stack and
+        // reload them as pairs, which stalls store forwarding (a tenth of this pass, measured).
+        Real quadratic = 0, transposed_normal = 0;
+        for (int j = 0; j < 3; ++j) {
+          Real normal_j = 0;
+          for (int i = 0; i < 3; ++i) {
+            const Real TB_ij = spread(i, 0) * correction(0, j) + spread(i, 1) * correction(1, j) + spread(i, 2) * correction(2, j);
+            quadratic += TB_ij * correction(i, j);
+            normal_j += correction(i, j) * normal[i];
+          }
+          transposed_normal += normal_j * normal_j;
+        }
+        const Real row_sum = std::sqrt(spread.trace() * quadratic) + std::sqrt(transposed_normal);
+        gradient_amplification_[a] = row_sum * 2 * smoothing_length(a) / full_support_gradient_;
+      }
+      if (colour_on) {
+        density_rate_[a] = drho;
+        velocity_gradient_[a] = L;
+        correction_[a] = correction;
+      } else {
+        update_particle(a, L, correction, drho, dt);  // its own data only: the neighbours' rates
+                                                       // read the step start's volume_
+        if (!sound(a)) unsound_here = std::min(unsound_here, a);
+      }
+    }, {.chunk = 512});
+    team.one_at_a_time([&] { first_unsound = std::min(first_unsound, unsound_here); });
+  });
   return first_unsound;
 }
 
@@ -654,24 +628,22 @@ void SolidFormulation::categorize() {
   const auto& list = verlet_.list();
   const Index n = particle_count();
   int layers = 0;
-#pragma omp parallel for schedule(static)
-  for (Index a = 0; a < n; ++a) {
+  parallel::for_each(n, [&](Index a) {
     const ColourField& c = options_.colour_field[material_[a]];
     const bool surface = c.enabled &&
                          support_count_[a] < c.neighbour_fraction * full_support_count_[a] &&
                          colour_normal_[a].norm() * smoothing_length(a) > c.normal_threshold;
     category_[a] = surface ? Category::surface : Category::interior;
-  }
+  });
   for (const ColourField& c : options_.colour_field)
     if (c.enabled) layers = std::max(layers, c.layers);
   std::vector<std::uint8_t> previous(n), next(n);
   for (Index a = 0; a < n; ++a) previous[a] = category_[a] == Category::surface;
   for (int layer = 1; layer <= layers; ++layer) {
-#pragma omp parallel for schedule(static)
-    for (Index a = 0; a < n; ++a) {
+    parallel::for_each(n, [&](Index a) {
       next[a] = 0;
       const ColourField& c = options_.colour_field[material_[a]];
-      if (!c.enabled || layer > c.layers || category_[a] != Category::interior) continue;
+      if (!c.enabled || layer > c.layers || category_[a] != Category::interior) return;
       // The current spacing: the initial one scaled as h has been.
       const Real scale = smoothing_length(a) / initial_smoothing_length_[a];
       const Real reach = Real(1.5) * spacing_[a] * scale;
@@ -682,7 +654,7 @@ void SolidFormulation::categorize() {
           break;
         }
       }
-    }
+    });
     for (Index a = 0; a < n; ++a)
       if (next[a]) category_[a] = Category::inner_layer;
     previous.swap(next);
@@ -691,13 +663,14 @@ void SolidFormulation::categorize() {
 
 Index SolidFormulation::update_state(Real dt) {
   const Index n = particle_count();
-  Index first_unsound = n;
-#pragma omp parallel for schedule(dynamic, 512) reduction(min : first_unsound)
-  for (Index a = 0; a < n; ++a) {
-    update_particle(a, velocity_gradient_[a], correction_[a], density_rate_[a], dt);
-    if (!sound(a)) first_unsound = std::min(first_unsound, a);
-  }
-  return first_unsound;
+  const Index first_unsound = parallel::first_failure(
+      n,
+      [&](Index a) {
+        update_particle(a, velocity_gradient_[a], correction_[a], density_rate_[a], dt);
+        return !sound(a);
+      },
+      {.chunk = 512});
+  return first_unsound < 0 ? n : first_unsound;
 }
 
 void SolidFormulation::update_particle(Index a, const Mat3& L, const Mat3& correction, Real density_rate, Real dt) {
@@ -826,9 +799,8 @@ void SolidFormulation::compute_pair_forces() {
   // plain_stress_stride b.
   const float* P = corrected ? stress_.data()->P : plain_stress_.data()->sigma;
   // The pair terms of particle a's row (half: the pairs with b > a, each added to a and taken
-  // from b), returned as a's sum.
-  const auto row_force = [&]<bool half>(Index a) {
-    thread_local RowTerms terms;
+  // from b), returned as a's sum; `terms` is the caller's scratch.
+  const auto row_force = [&]<bool half>(Index a, RowTerms& terms) {
     const Index padded = picked_support<half>(list, a, support_mask_.data(), terms);
     const Index* neighbour = terms.neighbour.data();
     const PackCentre centre(record_[a]);
@@ -874,7 +846,8 @@ void SolidFormulation::compute_pair_forces() {
       }
       f_x.add(Pd[0]), f_y.add(Pd[1]), f_z.add(Pd[2]);
       // The padding (b = a) adds exact zeros (F = 0 at r = 0).
-      if constexpr (half) subtract_from_rows(Pd, b, force_.data());
+      static_assert(sizeof(Eigen::Vector4d) == 4 * sizeof(double), "force_ rows are four contiguous doubles");
+      if constexpr (half) simd::subtract_from_rows(Pd, b, force_.data()->data());
     }
     Vec3 f(f_x.sum(), f_y.sum(), f_z.sum());
     if (stress_on) {
@@ -900,25 +873,21 @@ void SolidFormulation::compute_pair_forces() {
     // (blocks as long as the largest b - a of the list), so the even blocks run side by side
     // without two threads touching one particle, and so do the odd ones; an odd block runs once
     // the even blocks on either side of it are done. Every force is so summed in one order (its
-    // even block's terms first) whatever the thread count. A task per block with those
-    // dependences, not a sweep of the even blocks and then one of the odd: with about ten blocks
-    // a sweep, the sweeps' ends left a thread idle for a block (3 % of the Taylor bar's step).
-    std::vector<char> finished(force_blocks_ + 2);  // a dependence token per block, from block -1
-    char* const token = finished.data() + 1;
-#pragma omp parallel
-#pragma omp single
-    for (Index parity = 0; parity < 2; ++parity)
-      for (Index block = parity; block < force_blocks_; block += 2) {
-#pragma omp task firstprivate(block) depend(in : token[block - 1], token[block + 1]) depend(out : token[block])
-        {
-          const Index last = std::min(n, (block + 1) * force_block_length_);
-          for (Index a = block * force_block_length_; a < last; ++a)
-            force_[a].head<3>() += row_force.template operator()<true>(a);
-        }
-      }
+    // even block's terms first) whatever the thread count. (Tasks rather than two sweeps: with
+    // about ten blocks a sweep, the sweeps' ends left a thread idle for a block, 3 % of the Taylor
+    // bar's step.)
+    parallel::for_each_alternating_block(force_blocks_, [&](Index block) {
+      RowTerms terms;
+      const Index last = std::min(n, (block + 1) * force_block_length_);
+      for (Index a = block * force_block_length_; a < last; ++a)
+        force_[a].head<3>() += row_force.template operator()<true>(a, terms);
+    });
   } else {
-#pragma omp parallel for schedule(dynamic, 512)
-    for (Index a = 0; a < n; ++a) force_[a].head<3>() += row_force.template operator()<false>(a);
+    parallel::region([&](const parallel::Team& team) {
+      RowTerms terms;
+      team.for_each(n, [&](Index a) { force_[a].head<3>() += row_force.template operator()<false>(a, terms); },
+                    {.chunk = 512});
+    });
   }
 }
 
@@ -963,23 +932,26 @@ void SolidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt)
   // h follows the density only now, so that both pair passes of a step use one kernel: the force
   // pass takes the rates pass's pick, and its force is exactly dual to the velocity gradient.
   // The same pass finds the next step's limit and whether an h has outgrown its list reach.
-  bool outgrown = false;
-  Real step = std::numeric_limits<Real>::infinity();
-#pragma omp parallel for reduction(|| : outgrown) reduction(min : step) schedule(static)
-  for (Index a = 0; a < n; ++a) {
-    nodes.f[node_[a]] += force_[a].head<3>();
-    if (dt > 0) {
-      const Real compression = materials_[material_[a]].density / density_[a];
-      const Real scale = options_.dimension == 3 ? cube_root(compression) : std::sqrt(compression);
-      const HBounds& bounds = h_bounds_[material_[a]];
-      const Real h0 = initial_smoothing_length_[a];
-      smoothing_length(a) = std::clamp(h0 * scale, h0 * bounds.lower, h0 * bounds.upper);
-    }
-    outgrown = outgrown || smoothing_length(a) > list_reach_[a];
-    step = std::min(step, stable_step_of(a, nodes.v[node_[a]]));
-  }
-  h_outgrown_ = outgrown;
-  stable_step_ = step;
+  struct Found {
+    bool outgrown = false;
+    Real step = std::numeric_limits<Real>::infinity();
+  };
+  const Found found = parallel::reduce_exact(
+      n, Found{},
+      [&](Index a) {
+        nodes.f[node_[a]] += force_[a].head<3>();
+        if (dt > 0) {
+          const Real compression = materials_[material_[a]].density / density_[a];
+          const Real scale = options_.dimension == 3 ? cube_root(compression) : std::sqrt(compression);
+          const HBounds& bounds = h_bounds_[material_[a]];
+          const Real h0 = initial_smoothing_length_[a];
+          smoothing_length(a) = std::clamp(h0 * scale, h0 * bounds.lower, h0 * bounds.upper);
+        }
+        return Found{smoothing_length(a) > list_reach_[a], stable_step_of(a, nodes.v[node_[a]])};
+      },
+      [](const Found& x, const Found& y) { return Found{x.outgrown || y.outgrown, std::min(x.step, y.step)}; });
+  h_outgrown_ = found.outgrown;
+  stable_step_ = found.step;
 }
 
 // CFL condition dt <= h / (c s + |v|) per particle (docs/THEORY.md §3): the highest frequency of
@@ -996,10 +968,9 @@ Real SolidFormulation::stable_step_of(Index a, const Vec3& v) const {
 Real SolidFormulation::stable_time_step(const discretization::NodeStore& nodes) const {
   if (stable_step_) return *stable_step_;  // found by the last compute_forces
   const Index n = particle_count();
-  Real dt = std::numeric_limits<Real>::infinity();
-#pragma omp parallel for reduction(min : dt) schedule(static)
-  for (Index a = 0; a < n; ++a) dt = std::min(dt, stable_step_of(a, nodes.v[node_[a]]));
-  return dt;
+  return parallel::reduce_exact(
+      n, std::numeric_limits<Real>::infinity(), [&](Index a) { return stable_step_of(a, nodes.v[node_[a]]); },
+      [](Real x, Real y) { return std::min(x, y); });
 }
 
 discretization::InternalPower SolidFormulation::internal_power(std::span<const Vec3> v) const {

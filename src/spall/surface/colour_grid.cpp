@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "spall/core/error.hpp"
+#include "spall/core/parallel.hpp"
 #include "spall/kernels/cubic_spline.hpp"
 #include "spall/surface/particle_bins.hpp"
 
@@ -97,8 +98,7 @@ openvdb::FloatGrid::Ptr colour_level_grid(const SurfaceParticles& particles, Rea
   for (const auto& o : leaf_origins) leaves.push_back(grid->tree().touchLeaf(o));
 
   const Index leaf_count = static_cast<Index>(leaves.size());
-#pragma omp parallel for schedule(dynamic, 8)
-  for (Index l = 0; l < leaf_count; ++l) {
+  parallel::for_each(leaf_count, [&](Index l) {
     Leaf& leaf = *leaves[l];
     const openvdb::Coord o = leaf.origin();
     std::array<Real, leaf_voxels> colour{};
@@ -127,7 +127,7 @@ openvdb::FloatGrid::Ptr colour_level_grid(const SurfaceParticles& particles, Rea
     });
     for (int offset = 0; offset < leaf_voxels; ++offset)
       leaf.setValueOn(offset, static_cast<float>(iso - colour[offset]));
-  }
+  }, {.chunk = 8});
   return grid;
 }
 

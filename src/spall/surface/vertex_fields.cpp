@@ -7,6 +7,7 @@
 
 #include <fmt/format.h>
 
+#include "spall/core/parallel.hpp"
 #include "spall/kernels/cubic_spline.hpp"
 #include "spall/surface/particle_bins.hpp"
 
@@ -47,11 +48,10 @@ std::vector<discretization::Field> vertex_fields(const SurfaceParticles& particl
 
   const Index vertex_count = static_cast<Index>(vertices.size());
   Index unreached = 0;  // vertices out of every particle's support
-#pragma omp parallel reduction(+ : unreached)
-  {
+  parallel::region([&](const parallel::Team& team) {
     Stencil stencil;
-#pragma omp for schedule(static)
-    for (Index v = 0; v < vertex_count; ++v) {
+    Index unreached_here = 0;
+    team.for_each(vertex_count, [&](Index v) {
       stencil.weights.clear();
       stencil.nearest = -1;
       stencil.weight_sum = 0;
@@ -72,8 +72,8 @@ std::vector<discretization::Field> vertex_fields(const SurfaceParticles& particl
         stencil.weight_sum += w;
       });
       if (stencil.weights.empty()) {
-        ++unreached;
-        continue;
+        ++unreached_here;
+        return;
       }
       for (std::size_t k = 0; k < fields.size(); ++k) {
         const int components = fields[k].components;
@@ -94,8 +94,9 @@ std::vector<discretization::Field> vertex_fields(const SurfaceParticles& particl
             },
             fields[k].values);
       }
-    }
-  }
+    });
+    team.one_at_a_time([&] { unreached += unreached_here; });
+  });
   if (unreached > 0)
     throw std::invalid_argument(fmt::format("vertex_fields: {} vertices out of every particle's support", unreached));
   return out;
