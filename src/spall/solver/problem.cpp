@@ -10,7 +10,7 @@
 #include "spall/core/log.hpp"
 #include "spall/materials/make_material.hpp"
 #include "spall/neighbors/verlet_list.hpp"
-#include "spall/solver/fluid_setup.hpp"
+#include "spall/sph/fluid_setup.hpp"
 #include "spall/spg/setup.hpp"
 #include "spall/sph/solid.hpp"
 
@@ -165,10 +165,10 @@ class Builder {
     std::vector<sph::ParticleSetup> particles;
     std::set<Id> seen;
     sph::SolidOptions options = sph_options();
-    std::vector<FluidParticle> fluid;
+    std::vector<sph::FluidParticle> fluid;
     for (const auto& e : model_.sph_elements) {
-      // *MAT_NULL parts are liquid: the SPH fluid formulation (fluid_setup.cpp) takes them.
-      if (is_fluid_part(model_, e.pid)) {
+      // *MAT_NULL parts are liquid: the SPH fluid formulation (sph/fluid_setup.cpp) takes them.
+      if (sph::is_fluid_part(model_, e.pid)) {
         if (!seen.insert(e.nid).second)
           fail(e.where, "*ELEMENT_SPH", fmt::format("node {} carries two SPH particles", e.nid));
         fluid.push_back({&e, node_index(e.nid, e.where, "*ELEMENT_SPH")});
@@ -216,7 +216,7 @@ class Builder {
       kernel = kind;
     }
     if (!fluid.empty())
-      problem_.formulations.push_back(build_fluid(model_, fluid, options.viscosity, options.dimension,
+      problem_.formulations.push_back(sph::build_fluid(model_, fluid, options.viscosity, options.dimension,
                                                   problem_.nodes, problem_.part_of_node));
     if (particles.empty()) return refuse_sph_timestep_without_solid();
     options.kernel = *kernel;

@@ -1,14 +1,15 @@
 #pragma once
 // The SPH fluid of a model: its *MAT_NULL parts (with their *EOS_), checked, as one
-// FluidFormulation. Called by build_problem for the particles of those parts.
+// FluidFormulation (the fluid's own set-up, as spg/setup.hpp is SPG's). Called by the solver's
+// build_problem for the particles of those parts.
 #include <memory>
 #include <vector>
 
-#include "spall/model/model.hpp"
 #include "spall/discretization/node_store.hpp"
+#include "spall/model/model.hpp"
 #include "spall/sph/fluid.hpp"
 
-namespace spall::solver {
+namespace spall::sph {
 
 // True when part `pid` exists and its material is a *MAT_NULL: its particles are liquid.
 bool is_fluid_part(const model::Model& model, Id pid);
@@ -20,10 +21,10 @@ struct FluidParticle {
 
 // Sets the particles' masses and part IDs on the nodes (and holds z in plane strain) and returns
 // the formulation; throws InputError at the card for what the fluid cannot run.
-std::unique_ptr<sph::FluidFormulation> build_fluid(const model::Model& model,
+std::unique_ptr<FluidFormulation> build_fluid(const model::Model& model,
                                                    const std::vector<FluidParticle>& particles,
-                                                   const sph::ArtificialViscosity& viscosity,
+                                                   const ArtificialViscosity& viscosity,
                                                    int dimension, discretization::NodeStore& nodes,
                                                    std::vector<Id>& part_of_node);
 
-}  // namespace spall::solver
+}  // namespace spall::sph

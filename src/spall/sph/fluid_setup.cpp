@@ -1,4 +1,4 @@
-#include "spall/solver/fluid_setup.hpp"
+#include "spall/sph/fluid_setup.hpp"
 
 #include <cmath>
 #include <fmt/format.h>
@@ -7,7 +7,7 @@
 #include "spall/core/log.hpp"
 #include "spall/materials/make_material.hpp"
 
-namespace spall::solver {
+namespace spall::sph {
 
 namespace {
 
@@ -20,7 +20,7 @@ namespace {
 struct FluidPart {
   const model::Part* part = nullptr;
   const model::SectionSph* section = nullptr;
-  sph::FluidMaterial material;
+  FluidMaterial material;
   Real smoothing_length = 0;  // from SPHINI, or from CSLH and the largest spacing (below)
   Real spacing = 0;
 };
@@ -82,9 +82,9 @@ bool is_fluid_part(const model::Model& model, Id pid) {
   return mat != model.materials.end() && std::holds_alternative<model::MatNull>(mat->second.params);
 }
 
-std::unique_ptr<sph::FluidFormulation> build_fluid(const model::Model& model,
+std::unique_ptr<FluidFormulation> build_fluid(const model::Model& model,
                                                    const std::vector<FluidParticle>& particles,
-                                                   const sph::ArtificialViscosity& viscosity,
+                                                   const ArtificialViscosity& viscosity,
                                                    int dimension, discretization::NodeStore& nodes,
                                                    std::vector<Id>& part_of_node) {
   if (const auto& c = model.control_sph; c && (c->start > 0 || c->dt < 1e20))
@@ -137,7 +137,7 @@ std::unique_ptr<sph::FluidFormulation> build_fluid(const model::Model& model,
                        "takes one smoothing length (give its parts the same spacing and CSLH, "
                        "or SPHINI)",
                        part.part->id, part.smoothing_length, h_part->part->id, h));
-  sph::FluidParameters parameters;
+  FluidParameters parameters;
   parameters.material = first->material;
   parameters.smoothing_length = h;
   parameters.viscosity = viscosity;
@@ -146,7 +146,7 @@ std::unique_ptr<sph::FluidFormulation> build_fluid(const model::Model& model,
   particle_nodes.reserve(particles.size());
   for (const auto& p : particles) particle_nodes.push_back(p.node);
   std::sort(particle_nodes.begin(), particle_nodes.end());  // node (cell) order
-  return std::make_unique<sph::FluidFormulation>(parameters, particle_nodes, nodes);
+  return std::make_unique<FluidFormulation>(parameters, particle_nodes, nodes);
 }
 
-}  // namespace spall::solver
+}  // namespace spall::sph
