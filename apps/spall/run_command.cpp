@@ -42,7 +42,7 @@ void warn_unsupported(const model::Model& model) {
 }
 
 model::Model read_and_check(const std::string& deck) {
-  if (!fs::is_regular_file(deck)) throw InputError(fmt::format("{}: no such deck file", deck));
+  if (!fs::exists(deck)) throw InputError(fmt::format("{}: no such deck file", deck));
   model::Model model = io::keyword::read_deck(deck);
   warn_unsupported(model);
   io::keyword::validate(model);

@@ -103,6 +103,16 @@ set -e
 [ "$code" -eq 2 ] || { cat "$work/spg_idam.log"; fail "SPG IDAM 5: exit $code"; }
 grep -Eq "spg_idam\.k:[0-9]+: \*SECTION_SOLID_SPG: IDAM 5: " "$work/spg_idam.log" || { cat "$work/spg_idam.log"; fail "SPG IDAM message"; }
 
+# Not a keyword file: a folder or a binary file is one line and exit 2, not a page of warnings.
+set +e
+"$cli" check "$work" >/dev/null 2>"$work/folder.err"; folder_code=$?
+"$cli" check "$cli" >/dev/null 2>"$work/binary.err"; binary_code=$?
+set -e
+[ "$folder_code" -eq 2 ] && grep -q 'is a directory, not a keyword file' "$work/folder.err" &&
+  [ "$(wc -l <"$work/folder.err")" -eq 1 ] || { cat "$work/folder.err"; fail "a folder as the deck"; }
+[ "$binary_code" -eq 2 ] && grep -q 'not a keyword file (binary data' "$work/binary.err" &&
+  [ "$(wc -l <"$work/binary.err")" -eq 1 ] || { cat "$work/binary.err"; fail "a binary file as the deck"; }
+
 # Every public deck: `spall check` answers 0 or 2 with a clear line, never a crash (the decks live
 # in shared/ beside the checkout, which a user's clone does not have).
 if [ -d "$shared_dir/decks/public" ]; then

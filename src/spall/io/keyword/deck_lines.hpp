@@ -35,6 +35,9 @@ class DeckFile {
 
   const std::string& name() const { return name_; }
   const std::filesystem::path& path() const { return path_; }
+  // Where the first NUL byte is, std::string::npos if none: a keyword file is text, so a NUL
+  // says the file is something else (an executable, a d3plot, an archive).
+  std::size_t first_nul() const { return text_.find('\0'); }
 
   // Calls `on_block(const KeywordBlock&)` for each keyword block in order, up to `*END`. Lines
   // before the first keyword are ignored, as LS-DYNA ignores them. The block is reused between

@@ -112,9 +112,14 @@ constexpr int deepest_include = 32;
 class DeckReader {
  public:
   model::Model read(const std::filesystem::path& path) {
+    if (std::filesystem::is_directory(path))
+      throw InputError(path.string() + ": is a directory, not a keyword file");
     DeckFile file;
     if (!file.load(path))
       throw InputError(path.string() + ": cannot open the deck file");
+    if (const std::size_t nul = file.first_nul(); nul != std::string::npos)
+      throw InputError(path.string() + ": not a keyword file (binary data: a NUL byte at offset " +
+                       std::to_string(nul) + ")");
     read_file(file, 0);
     generate_sph_mesh_box_particles(model_);
     return std::move(model_);
