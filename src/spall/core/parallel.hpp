@@ -73,17 +73,6 @@ T reduce_exact(I n, T identity, Term&& term, Combine&& combine, Schedule schedul
   return result;
 }
 
-// The lowest i in [0, n) for which failed(i) holds, -1 if none: the same for any thread count.
-// failed(i) is evaluated for every i (it may do the loop's work).
-template <class Failed>
-Index first_failure(Index n, Failed&& failed, Schedule schedule = {}) {
-  constexpr Index none = std::numeric_limits<Index>::max();
-  const Index first = reduce_exact(
-      n, none, [&](Index i) { return failed(i) ? i : none; }, [](Index a, Index b) { return std::min(a, b); },
-      schedule);
-  return first == none ? Index(-1) : first;
-}
-
 // body(block) for every block in [0, blocks), where a block may write to its own and the next
 // block's data: the even blocks run side by side, and an odd block runs once the even blocks on
 // either side of it are done, so no two neighbouring blocks ever run at once and each item is
@@ -120,6 +109,17 @@ class LowestIndex {
  private:
   std::atomic<Index> lowest_{std::numeric_limits<Index>::max()};
 };
+
+// The lowest i in [0, n) for which failed(i) holds, -1 if none: the same for any thread count.
+// failed(i) is evaluated for every i (it may do the loop's work).
+template <class Failed>
+Index first_failure(Index n, Failed&& failed, Schedule schedule = {}) {
+  LowestIndex lowest;
+  for_each(n, [&](Index i) {
+    if (failed(i)) lowest.report(i);
+  }, schedule);
+  return lowest.value();
+}
 
 // The threads of a parallel region, for work that keeps per-thread buffers: each thread runs the
 // region's body with its Team, and the loops it starts through the team share their range among

@@ -5,11 +5,6 @@
 
 namespace spall::discretization {
 
-std::size_t Field::entity_count() const {
-  const std::size_t values_size = std::visit([](const auto& v) { return v.size(); }, values);
-  return components > 0 ? values_size / components : 0;
-}
-
 int nodes_per_cell(CellShape shape) { return shape == CellShape::hexahedron ? 8 : 4; }
 
 Field& FieldSet::node_field(std::string_view name, int components, bool integer,

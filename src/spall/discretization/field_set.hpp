@@ -24,8 +24,6 @@ struct Field {
   int components = 1;
   std::variant<std::vector<double>, std::vector<std::int64_t>> values;
   std::vector<std::string> component_names = {};
-
-  std::size_t entity_count() const;
 };
 
 // Voigt order of a symmetric tensor's six components, as the solver stores stress and strain.
@@ -49,8 +47,6 @@ struct CellBlock {
 class FieldSet {
  public:
   explicit FieldSet(Index node_count) : node_count_(node_count) {}
-
-  Index node_count() const { return node_count_; }
 
   // The node field `name` with `components` values per node: created filled with real_fill on the
   // first request, the same field on the next. A request whose components or kind differ from the

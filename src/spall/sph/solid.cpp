@@ -430,10 +430,9 @@ Index SolidFormulation::compute_rates(Real dt) {
   const float eta2 = static_cast<float>(options_.viscosity.eta * options_.viscosity.eta);
   support_mask_.resize(mask_bytes(list));
   std::uint8_t* mask = support_mask_.data();
-  Index first_unsound = n;
+  parallel::LowestIndex unsound;
   parallel::region([&](const parallel::Team& team) {
     RowTerms terms;  // this thread's pair terms, reused row after row
-    Index unsound_here = n;
     team.for_each(n, [&](Index a) {
       const Index padded = pick_support(list, a, record_.data(), mask, terms);
       const Index* neighbour = terms.neighbour.data();
@@ -612,12 +611,11 @@ Index SolidFormulation::compute_rates(Real dt) {
       } else {
         update_particle(a, L, correction, drho, dt);  // its own data only: the neighbours' rates
                                                        // read the step start's volume_
-        if (!sound(a)) unsound_here = std::min(unsound_here, a);
+        if (!sound(a)) unsound.report(a);
       }
     }, {.chunk = 512});
-    team.one_at_a_time([&] { first_unsound = std::min(first_unsound, unsound_here); });
   });
-  return first_unsound;
+  return unsound.value() < 0 ? n : unsound.value();
 }
 
 // Seed 000 §4: a particle is on the surface when it has fewer neighbours than a fraction of a full
