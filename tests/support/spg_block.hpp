@@ -1,13 +1,21 @@
 #pragma once
 // Builds SPG models in code for tests and benchmarks: a box meshed with nx x ny x nz hexahedra
 // (*ELEMENT_SOLID), one part with *SECTION_SOLID_SPG and *MAT_ELASTIC, and the controls a deck
-// would give. Interior nodes can be jittered to make the particle set irregular.
+// would give. Interior nodes can be jittered to make the particle set irregular. With `fem` set,
+// the same mesh runs as solid finite elements (*SECTION_SOLID, and *HOURGLASS when given).
 #include <cmath>
+#include <optional>
 #include <random>
 
 #include "spall/model/model.hpp"
 
 namespace spall::test_support {
+
+// The block as finite elements: ELFORM and, for ELFORM 1, its *HOURGLASS card (HGID 1).
+struct FiniteElements {
+  int elform = 1;
+  std::optional<model::Hourglass> hourglass;
+};
 
 struct SpgBlock {
   Vec3 size = Vec3(1, 0.1, 0.1);
@@ -17,6 +25,7 @@ struct SpgBlock {
   Real jitter = 0;                 // interior nodes moved by up to jitter x spacing per axis
   unsigned seed = 1;
   Real end_time = 1e-4;
+  std::optional<FiniteElements> fem;
 };
 
 inline Id spg_node_id(const SpgBlock& b, int i, int j, int k) {
@@ -26,9 +35,21 @@ inline Id spg_node_id(const SpgBlock& b, int i, int j, int k) {
 inline model::Model spg_block_model(const SpgBlock& b) {
   model::Model m;
   m.parts.push_back({1, "block", 1, 1, 0, 0, {}});
-  model::SectionSolidSpg section = b.section;
-  section.id = 1;
-  m.sections[1] = section;
+  if (b.fem) {
+    model::SectionSolid section;
+    section.id = 1;
+    section.elform = b.fem->elform;
+    m.sections[1] = section;
+    if (b.fem->hourglass) {
+      m.hourglasses[1] = *b.fem->hourglass;
+      m.hourglasses[1].id = 1;
+      m.parts.back().hgid = 1;
+    }
+  } else {
+    model::SectionSolidSpg section = b.section;
+    section.id = 1;
+    m.sections[1] = section;
+  }
   model::Material mat;
   mat.id = 1;
   mat.keyword = "*MAT_ELASTIC";

@@ -18,6 +18,7 @@ struct Cantilever {
   Real gravity = 1000;                      // m/s^2: 0.4 mm of tip deflection, well linear
   Real periods = 2.5;                       // of the first bending mode
   Real density = 7850, young = 200e9, poisson = 0.3;
+  std::optional<FiniteElements> fem;  // the beam as finite elements instead of SPG
 };
 
 struct CantileverResult {
@@ -26,6 +27,7 @@ struct CantileverResult {
   Real bending = 0, shear = 0;
   Real trapezoid_inertia_ratio = 1;  // I of the trapezoidal rule through the thickness over I
   long long steps = 0;
+  Real internal_energy = 0, hourglass_energy = 0;  // at the end
 };
 
 inline CantileverResult run_cantilever(const Cantilever& c) {
@@ -42,6 +44,7 @@ inline CantileverResult run_cantilever(const Cantilever& c) {
   b.young = c.young;
   b.poisson = c.poisson;
   b.end_time = c.periods * 2 * M_PI / omega1;
+  b.fem = c.fem;
   model::Model m = spg_block_model(b);
   model::Curve one;
   one.id = 1;
@@ -64,7 +67,10 @@ inline CantileverResult run_cantilever(const Cantilever& c) {
   m.damping_global = damping;
   solver::Problem p = solver::build_problem(m);
   CantileverResult r;
-  r.steps = solver::run(p, {}).steps;
+  const solver::RunSummary summary = solver::run(p, {});
+  r.steps = summary.steps;
+  r.internal_energy = summary.energies.internal();
+  r.hourglass_energy = summary.energies.value(discretization::EnergyLedger::hourglass_energy);
   int count = 0;
   for (Index i = 0; i < p.nodes.size(); ++i)
     if (p.nodes.x0[i].x() == c.length) {

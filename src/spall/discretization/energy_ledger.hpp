@@ -52,6 +52,7 @@ class EnergyLedger {
   static constexpr std::string_view internal_energy = "internal_energy";
   static constexpr std::string_view artificial_viscosity_energy = "artificial_viscosity_energy";
   static constexpr std::string_view external_work_name = "external_work";
+  static constexpr std::string_view hourglass_energy = "hourglass_energy";
 
  private:
   Term& term(std::string_view name, Role role);

@@ -98,6 +98,22 @@ StressUpdate update_stress(const Material& material, PointState& state, const Ma
   return {apply_tensile_limit(material, state, eos.pressure), work, longitudinal_wave_speed(material, eos, density)};
 }
 
+Real advance_point(const Material& material, PointState& state, PointThermo& thermo, const Mat3& L, Real dt,
+                   Real density) {
+  const Mat3 W = Real(0.5) * (L - L.transpose());
+  const Mat3 D = Real(0.5) * (L + L.transpose());
+  const Mat3 sigma_old = state.deviatoric_stress - thermo.pressure * Mat3::Identity();
+  state.deviatoric_stress += dt * (W * state.deviatoric_stress - state.deviatoric_stress * W);
+  state.back_stress += dt * (W * state.back_stress - state.back_stress * W);
+  const Real e_predicted = thermo.specific_energy + dt * sigma_old.cwiseProduct(D).sum() / density;
+  const StressUpdate update = update_stress(material, state, D, dt, density, e_predicted);
+  const Mat3 sigma = state.deviatoric_stress - update.pressure * Mat3::Identity();
+  thermo.specific_energy += Real(0.5) * dt * (sigma_old + sigma).cwiseProduct(D).sum() / density;
+  thermo.pressure = update.pressure;
+  thermo.sound_speed = sound_speed(material, density, thermo.specific_energy);
+  return update.plastic_work;
+}
+
 Real static_yield_stress(const Material& material, const PointState& state) {
   struct Visitor {
     const PointState& state;

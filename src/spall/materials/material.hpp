@@ -4,7 +4,8 @@
 // tension. Pure functions of their arguments, with no solver dependencies, so that the SPH solid
 // and the SPG formulation call the same code per particle or integration point.
 //
-// A caller's step for one point:
+// A step for one point (advance_point does all four; the SPH solid does them apart, because its
+// energy equation uses the stress its pair forces passed on, docs/THEORY.md §3):
 //   1. rotate state.deviatoric_stress and state.back_stress by its objective rate over dt
 //      (Jaumann: + dt (W S - S W));
 //   2. {p, w} = update_stress(material, state, D, dt, rho, e)   (D = sym(grad v) of the step);
@@ -67,6 +68,21 @@ struct StressUpdate {
 // stress and no tension: S = 0, p >= 0).
 StressUpdate update_stress(const Material& material, PointState& state, const Mat3& strain_rate,
                            Real dt, Real density, Real specific_energy);
+
+// The state of a point besides its PointState: what the energy equation and the time step carry.
+struct PointThermo {
+  Real specific_energy = 0;  // e, per unit mass
+  Real pressure = 0;         // p after the tensile limit
+  Real sound_speed = 0;      // sound_speed(material, rho, e) at the step's end
+};
+
+// Steps 1-4 above over dt for a point with velocity gradient L (at the middle of the step) and
+// density rho at the step's end: the Jaumann rotation by W = skew(L), update_stress with
+// D = sym(L), and the energy equation by the trapezoidal rule in the stress (the old stress
+// predicting the energy the EOS sees). The one point update of SPG particles and finite elements'
+// integration points. Returns the plastic work of the step per unit volume.
+Real advance_point(const Material& material, PointState& state, PointThermo& thermo, const Mat3& L, Real dt,
+                   Real density);
 
 // The three parts of update_stress, for callers and tests that need them apart.
 Real eos_pressure(const Material& material, Real density, Real specific_energy);

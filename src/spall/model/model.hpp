@@ -352,6 +352,25 @@ struct ControlBulkViscosity {
   SourceLocation where;
 };
 
+// *HOURGLASS (HGID on *PART): the hourglass control of one-point solid elements and the bulk
+// viscosity of the part's elements. 0 in IHQ, Q1 or Q2 takes the global value
+// (*CONTROL_HOURGLASS, *CONTROL_BULK_VISCOSITY); QB and QW (shells) are not read.
+struct Hourglass {
+  Id id = 0;
+  int ihq = 0;
+  Real qm = 0.1;
+  Real q1 = 0;
+  Real q2 = 0;
+  SourceLocation where;
+};
+
+// *CONTROL_HOURGLASS: the hourglass type and coefficient of parts without HGID.
+struct ControlHourglass {
+  int ihq = 0;
+  Real qh = 0.1;
+  SourceLocation where;
+};
+
 // *CONTROL_SPH, cards 1-3 (LS-DYNA defaults, except that a blank FORM reads as 1, not 0:
 // Spall's default is the corrected formulation (FORM 1); see docs/KEYWORDS.md.
 struct ControlSph {
@@ -448,6 +467,8 @@ struct Model {
   std::optional<ControlTermination> termination;
   ControlTimestep timestep;
   ControlBulkViscosity bulk_viscosity;
+  std::map<Id, Hourglass> hourglasses;
+  std::optional<ControlHourglass> control_hourglass;
   std::optional<ControlSph> control_sph;
   std::optional<SphArtificialStress> sph_artificial_stress;
   std::optional<SphTimestep> sph_timestep;

@@ -11,6 +11,7 @@
 #include "spall/materials/make_material.hpp"
 #include "spall/neighbors/verlet_list.hpp"
 #include "spall/sph/fluid_setup.hpp"
+#include "spall/fem/setup.hpp"
 #include "spall/spg/setup.hpp"
 #include "spall/sph/solid.hpp"
 
@@ -37,9 +38,10 @@ class Builder {
     problem_.model = &model_;
     build_nodes();
     build_sph();
-    reject_unsupported_elements();
     if (auto spg = spg::build_spg(model_, index_of_node_, problem_.nodes, problem_.part_of_node))
       problem_.formulations.push_back(std::move(spg));
+    if (auto fem = fem::build_fem(model_, index_of_node_, problem_.nodes, problem_.part_of_node))
+      problem_.formulations.push_back(std::move(fem));
     apply_spcs();
     build_motions();
     apply_initial_velocities();
@@ -295,16 +297,6 @@ class Builder {
     options.start_time = c.start;
     options.death_time = c.dt;
     return options;
-  }
-
-  // Solid elements run as SPG particles (*SECTION_SOLID_SPG); finite elements do not run yet.
-  void reject_unsupported_elements() {
-    for (const auto& e : model_.solid_elements)
-      if (!spg::is_spg_part(model_, e.pid))
-        fail(e.where, "*ELEMENT_SOLID",
-             fmt::format("element {}: part {} has a *SECTION_SOLID; solid finite elements are read and "
-                         "checked, but the solver does not run them yet (SPG parts, *SECTION_SOLID_SPG, "
-                         "do run)", e.eid, e.pid));
   }
 
   void apply_spcs() {

@@ -270,27 +270,17 @@ void Part::deformation(std::span<const Vec3> x, std::span<const Vec3> v, Real dt
     }
     F_[j] = F;
     const Mat3 L = dF * F.inverse();
-    const Mat3 W = Real(0.5) * (L - L.transpose());
-    const Mat3 D = Real(0.5) * (L + L.transpose());
-    spin_[j] = W;
-    // The point update of materials/material.hpp: Jaumann rotation of the deviator and back
-    // stress, the stress update at the new density, then the energy equation de/dt = sigma : D / rho
-    // (trapezoidal in the stress, with the old stress predicting the energy the EOS sees).
-    auto& state = state_[j];
-    const Mat3 sigma_old = state.deviatoric_stress - pressure_[j] * Mat3::Identity();
-    state.deviatoric_stress += dt * (W * state.deviatoric_stress - state.deviatoric_stress * W);
-    state.back_stress += dt * (W * state.back_stress - state.back_stress * W);
+    spin_[j] = Real(0.5) * (L - L.transpose());
     const Real rho = mass_[j] / (volume_ref_[j] * det);
-    const Real e_predicted = specific_energy_[j] + dt * sigma_old.cwiseProduct(D).sum() / rho;
-    const auto update = materials::update_stress(mat, state, D, dt, rho, e_predicted);
-    const Mat3 sigma = state.deviatoric_stress - update.pressure * Mat3::Identity();
-    specific_energy_[j] += Real(0.5) * dt * (sigma_old + sigma).cwiseProduct(D).sum() / rho;
+    materials::PointThermo thermo{specific_energy_[j], pressure_[j], sound_speed_[j]};
+    materials::advance_point(mat, state_[j], thermo, L, dt, rho);
+    specific_energy_[j] = thermo.specific_energy;
     density_[j] = rho;
-    pressure_[j] = update.pressure;
-    sound_speed_[j] = materials::sound_speed(mat, rho, specific_energy_[j]);
+    pressure_[j] = thermo.pressure;
+    sound_speed_[j] = thermo.sound_speed;
     // Bulk viscosity of LS-DYNA's solid elements, q = rho l (Q1 l tr(D)^2 - Q2 c tr(D)) while the
     // volume shrinks, with l the particle spacing followed through the volume change.
-    const Real volume_rate = D.trace();
+    const Real volume_rate = L.trace();  // tr(D)
     const Real volume = volume_ref_[j] * det;
     const Real length = mean_spacing_[j] * cube_root(volume / volume0_[j]);
     const Real q = volume_rate < 0 ? rho * length *

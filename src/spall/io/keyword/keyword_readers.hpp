@@ -58,6 +58,9 @@ void read_section_solid_spg(CardCursor&, const KeywordCall&, model::Model&);
 void read_section_sph(CardCursor&, const KeywordCall&, model::Model&);
 void read_mat_elastic(CardCursor&, const KeywordCall&, model::Model&);
 void read_mat_rigid(CardCursor&, const KeywordCall&, model::Model&);
+// hourglass.cpp
+void read_hourglass(CardCursor&, const KeywordCall&, model::Model&);
+void read_control_hourglass(CardCursor&, const KeywordCall&, model::Model&);
 // materials_plastic.cpp
 void read_mat_plastic_kinematic(CardCursor&, const KeywordCall&, model::Model&);
 void read_mat_piecewise_linear_plasticity(CardCursor&, const KeywordCall&, model::Model&);

@@ -31,6 +31,8 @@ constexpr SupportedKeyword supported_keywords[] = {
     {"SECTION_SOLID", read_section_solid, true},
     {"SECTION_SOLID_SPG", read_section_solid_spg, true},
     {"SECTION_SPH", read_section_sph, true},
+    {"HOURGLASS", read_hourglass, true},
+    {"CONTROL_HOURGLASS", read_control_hourglass},
     {"MAT_ELASTIC", read_mat_elastic, true},
     {"MAT_001", read_mat_elastic, true},
     {"MAT_RIGID", read_mat_rigid, true},

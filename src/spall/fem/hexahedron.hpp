@@ -1,0 +1,65 @@
+#pragma once
+// Geometry of the eight-node trilinear hexahedron in LS-DYNA's node order (also VTK's): N1-N4
+// one face, N5-N8 the opposite face in the same order. Natural coordinates of node I:
+//   (-,-,-) (+,-,-) (+,+,-) (-,+,-) (-,-,+) (+,-,+) (+,+,+) (-,+,+).
+// A degenerate element (a prism or a pyramid: repeated nodes) is the same map with corners that
+// coincide.
+//
+// The map x = sum_I N_I x_I is written in the element's polynomial basis
+//   x = a0 + a1 xi + a2 eta + a3 zeta + a4 eta zeta + a5 xi zeta + a6 xi eta + a7 xi eta zeta,
+//   a_k = (1/8) sum_I c_kI x_I,  c_kI the value of the basis monomial k at node I,
+// whose last four are the hourglass base vectors Gamma_1..4 of Flanagan & Belytschko (1981, IJNME
+// 17:679): eta zeta, xi zeta, xi eta, xi eta zeta at the nodes. The exact volume is a cubic in the
+// a_k (docs/THEORY.md §10.1):
+//   V = 8 [a1, a2, a3] + (8/3) ([a6, a2, a4] + [a5, a4, a3] + [a1, a6, a5]),   [u, v, w] = u . (v x w),
+// and b_I = dV/dx_I = integral over the element of grad N_I (FB's uniform gradient): the strain
+// rate of the one-point element is D = sym((1/V) sum_I v_I (x) b_I) and its nodal forces are
+// f_I = -sigma b_I.
+#include <array>
+
+#include "spall/core/types.hpp"
+
+namespace spall::fem {
+
+using HexNodes = std::array<Vec3, 8>;
+
+// c_kI: the basis monomials 1, xi, eta, zeta, eta zeta, xi zeta, xi eta, xi eta zeta at node I.
+inline constexpr int hex_basis[8][8] = {
+    {1, 1, 1, 1, 1, 1, 1, 1},          {-1, 1, 1, -1, -1, 1, 1, -1},    {-1, -1, 1, 1, -1, -1, 1, 1},
+    {-1, -1, -1, -1, 1, 1, 1, 1},      {1, 1, -1, -1, -1, -1, 1, 1},    {1, -1, -1, 1, -1, 1, 1, -1},
+    {1, -1, 1, -1, 1, -1, 1, -1},      {-1, 1, -1, 1, 1, -1, 1, -1}};
+// The hourglass base vectors Gamma_alpha (alpha = 0..3) are rows 4-7 of hex_basis.
+inline constexpr int hourglass_modes = 4;
+
+// The basis coefficients a_0..a_7 of the map (a_0, the centroid, included).
+struct HexCoefficients {
+  std::array<Vec3, 8> a;
+};
+HexCoefficients hex_coefficients(const HexNodes& x);
+
+struct HexGradient {
+  std::array<Vec3, 8> b;  // dV/dx_I
+  Real volume = 0;
+};
+
+// b_I and V from the basis coefficients of the map.
+HexGradient hex_gradient(const HexCoefficients& coefficients);
+inline HexGradient hex_gradient(const HexNodes& x) { return hex_gradient(hex_coefficients(x)); }
+
+// The characteristic length of the element's stable time step, V / (largest face area) (LS-DYNA,
+// Radioss, LULESH; fem-contact.md §2.4). A face's area is half the norm of its diagonals' cross
+// product (exact for a plane face).
+Real hex_characteristic_length(const HexNodes& x, Real volume);
+
+// The 2 x 2 x 2 Gauss rule of the fully integrated element (ELFORM 2): the derivatives of the
+// shape functions with respect to (xi, eta, zeta) at each point (weights are all 1).
+struct HexGaussRule {
+  std::array<std::array<Vec3, 8>, 8> dN;  // dN[g][I] = dN_I/d(xi, eta, zeta) at point g
+};
+const HexGaussRule& hex_gauss_rule();
+
+// grad N_I at Gauss point g of the current element and det J there; det J <= 0 (an inverted
+// point) leaves `grad` unset.
+Real hex_point_gradients(const HexNodes& x, int g, std::array<Vec3, 8>& grad);
+
+}  // namespace spall::fem

@@ -1,0 +1,141 @@
+#include "spall/fem/setup.hpp"
+
+#include <fmt/format.h>
+#include <map>
+
+#include "spall/core/log.hpp"
+#include "spall/fem/hexahedron.hpp"
+#include "spall/fem/solid_elements.hpp"
+#include "spall/fem/tetrahedron.hpp"
+#include "spall/materials/make_material.hpp"
+
+namespace spall::fem {
+
+namespace {
+
+[[noreturn]] void fail(const SourceLocation& where, const std::string& keyword, const std::string& message) {
+  throw InputError(where, keyword, message);
+}
+
+const model::SectionSolid* solid_section(const model::Model& model, const model::Part& part) {
+  auto it = model.sections.find(part.secid);
+  if (it == model.sections.end()) return nullptr;
+  return std::get_if<model::SectionSolid>(&it->second);
+}
+
+// LS-DYNA's tetrahedron on a hexahedron card: N4 repeated in N5-N8.
+bool is_tetrahedron(const model::ElementSolid& e) {
+  for (int a = 4; a < 8; ++a)
+    if (e.n[a] != e.n[3]) return false;
+  return true;
+}
+
+HourglassForm hourglass_form(int ihq) {
+  switch (ihq) {
+    case 1: return HourglassForm::viscous_base;
+    case 2:
+    case 3: return HourglassForm::viscous;
+    default: return HourglassForm::stiffness;  // 4, 5 (6-10 are refused where they are read)
+  }
+}
+
+// The part's hourglass control and bulk viscosity: its *HOURGLASS card (HGID), else
+// *CONTROL_HOURGLASS, else the defaults. IHQ 0 means the global type, and with none given LS-DYNA's
+// explicit default for solids, type 2 (fem-contact.md §1.2).
+PartSettings resolve_part(const model::Model& model, const model::Part& part, const model::SectionSolid& section) {
+  if (section.elform != 1 && section.elform != 2 && section.elform != 10) {
+    const std::string what =
+        section.elform == -1 || section.elform == -2
+            ? "the fully integrated hexahedra for poor aspect ratios are not implemented; use 2"
+            : "not implemented (Spall runs 1 one-point hexahedron, 2 fully integrated selective-reduced "
+              "hexahedron, 10 one-point tetrahedron, and 47 SPG with *SECTION_SOLID_SPG)";
+    fail(section.where, "*SECTION_SOLID", fmt::format("ELFORM {}: {}", section.elform, what));
+  }
+  if (section.aet != 0)
+    fail(section.where, "*SECTION_SOLID", fmt::format("AET {}: ambient element types are not implemented", section.aet));
+  PartSettings p;
+  p.part_id = part.id;
+  p.elform = section.elform;
+  p.material = materials::make_material(model, part);
+  const model::Hourglass* card = nullptr;
+  if (part.hgid != 0) {
+    auto it = model.hourglasses.find(part.hgid);
+    if (it == model.hourglasses.end())
+      fail(part.where, "*PART", fmt::format("part {}: HGID {}: no *HOURGLASS has that ID", part.id, part.hgid));
+    card = &it->second;
+  }
+  const auto& control = model.control_hourglass;
+  int ihq = card ? card->ihq : 0;
+  if (ihq == 0 && control) ihq = control->ihq;
+  const bool chosen = ihq == 0;
+  if (chosen) ihq = 2;
+  p.hourglass.form = section.elform == 1 ? hourglass_form(ihq) : HourglassForm::none;
+  p.hourglass.coefficient = card ? card->qm : control ? control->qh : 0.1;
+  p.bulk_quadratic = card && card->q1 > 0 ? card->q1 : model.bulk_viscosity.q1;
+  p.bulk_linear = card && card->q2 > 0 ? card->q2 : model.bulk_viscosity.q2;
+  if (section.elform == 1 && chosen)
+    log::info(fmt::format("part {}: one-point hexahedra with hourglass type 2 (Flanagan-Belytschko viscous, "
+                          "QM {:g}): no IHQ given, LS-DYNA's explicit default for solids", part.id,
+                          p.hourglass.coefficient));
+  return p;
+}
+
+}  // namespace
+
+bool is_fem_part(const model::Model& model, Id part_id) {
+  const model::Part* part = model.find_part(part_id);
+  return part && solid_section(model, *part);
+}
+
+std::unique_ptr<discretization::Formulation> build_fem(const model::Model& model,
+                                                       const std::unordered_map<Id, Index>& index_of_node,
+                                                       discretization::NodeStore& nodes, std::vector<Id>& part_of_node) {
+  std::vector<PartSettings> parts;
+  std::map<Id, int> part_index;
+  std::vector<ElementSetup> elements;
+  for (const auto& e : model.solid_elements) {
+    const model::Part* part = model.find_part(e.pid);
+    const model::SectionSolid* section = part ? solid_section(model, *part) : nullptr;
+    if (!section) continue;
+    auto [it, inserted] = part_index.try_emplace(e.pid, static_cast<int>(parts.size()));
+    if (inserted) parts.push_back(resolve_part(model, *part, *section));
+    const bool tetrahedron = is_tetrahedron(e);
+    if (section->elform == 10 && !tetrahedron)
+      fail(e.where, "*ELEMENT_SOLID",
+           fmt::format("element {}: part {} has ELFORM 10 (tetrahedra) but the element is not written as one "
+                       "(N1 N2 N3 N4 N4 N4 N4 N4)", e.eid, e.pid));
+    ElementSetup setup;
+    setup.id = e.eid;
+    setup.part = it->second;
+    for (int a = 0; a < 8; ++a) {
+      auto node = index_of_node.find(e.n[a]);
+      if (node == index_of_node.end())
+        fail(e.where, "*ELEMENT_SOLID", fmt::format("element {}: node {} does not exist", e.eid, e.n[a]));
+      setup.node[a] = node->second;
+    }
+    Real volume;
+    if (section->elform == 10) {
+      TetNodes x;
+      for (int a = 0; a < 4; ++a) x[a] = nodes.x0[setup.node[a]];
+      volume = tet_gradient(x).volume;
+    } else {
+      HexNodes x;
+      for (int a = 0; a < 8; ++a) x[a] = nodes.x0[setup.node[a]];
+      volume = hex_gradient(x).volume;
+    }
+    if (!(volume > 0))
+      fail(e.where, "*ELEMENT_SOLID",
+           fmt::format("element {}: volume {:.6g}: inverted or flat; check the node order (N1-N4 one face, "
+                       "N5-N8 the opposite face, N1-N4 counter-clockwise seen from N5-N8)", e.eid, volume));
+    elements.push_back(setup);
+  }
+  if (elements.empty()) return nullptr;
+  auto formulation = std::make_unique<SolidElements>(std::move(parts), elements, nodes);
+  formulation->add_nodal_masses(nodes);
+  for (const auto& e : elements)
+    for (Index i : e.node)
+      if (part_of_node[i] == 0) part_of_node[i] = formulation->parts()[e.part].part_id;
+  return formulation;
+}
+
+}  // namespace spall::fem

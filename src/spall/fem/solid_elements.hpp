@@ -1,0 +1,112 @@
+#pragma once
+// Solid finite elements (seed 001 §2.3: the hexahedral FEM region around the SPG core): one
+// formulation owns every part meshed with *SECTION_SOLID elements, and couples to SPG or SPH
+// parts through the nodes they share (each adds its forces to the node store).
+//   ELFORM 1   one-point hexahedron (Flanagan & Belytschko's uniform gradient) with hourglass
+//              control (*HOURGLASS IHQ 1-5);
+//   ELFORM 2   fully integrated selective-reduced hexahedron: the deviator at 2 x 2 x 2 Gauss
+//              points, the volumetric strain rate and the pressure constant over the element;
+//   ELFORM 10  one-point (constant strain) tetrahedron.
+// Every integration point takes the one material-point step of materials::advance_point, as SPG
+// particles do. Bulk viscosity (*CONTROL_BULK_VISCOSITY, *HOURGLASS Q1 Q2) on every element.
+// Theory, sources and what differs from LS-DYNA: docs/THEORY.md §10.
+//
+// Elements are processed colour by colour (no two elements of a colour share a node), so each
+// adds its forces to its nodes directly, and a node's sum is taken in colour order whatever the
+// thread count: results do not depend on it.
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "spall/discretization/formulation.hpp"
+#include "spall/materials/material.hpp"
+
+namespace spall::fem {
+
+// *HOURGLASS / *CONTROL_HOURGLASS IHQ for solids, grouped by what Spall computes.
+enum class HourglassForm {
+  none,          // fully integrated elements and tetrahedra have no hourglass modes
+  viscous_base,  // IHQ 1: viscous, on the base vectors Gamma (not orthogonal to rigid rotation)
+  viscous,       // IHQ 2, 3: Flanagan-Belytschko viscous, on the orthogonalised gamma
+  stiffness      // IHQ 4, 5: Flanagan-Belytschko stiffness, on gamma
+};
+
+struct HourglassControl {
+  HourglassForm form = HourglassForm::viscous;
+  Real coefficient = 0.1;  // QM
+};
+
+// What every element of a part shares.
+struct PartSettings {
+  Id part_id = 0;
+  int elform = 1;  // 1, 2 or 10
+  materials::Material material;
+  HourglassControl hourglass;  // ELFORM 1 only
+  Real bulk_quadratic = 1.5;   // Q1
+  Real bulk_linear = 0.06;     // Q2
+};
+
+// One element as the deck gives it: its part (index into the settings) and its nodes (node-store
+// indices, four for a tetrahedron).
+struct ElementSetup {
+  Id id = 0;
+  int part = 0;
+  std::array<Index, 8> node{};
+};
+
+class SolidElements final : public discretization::Formulation {
+ public:
+  // Throws std::invalid_argument for an element inverted or flat at the start (fem/setup.cpp
+  // checks the deck first and names the card).
+  SolidElements(std::vector<PartSettings> parts, const std::vector<ElementSetup>& elements,
+                const discretization::NodeStore& nodes);
+
+  const char* name() const override { return "FEM"; }
+  void compute_forces(discretization::NodeStore& nodes, Real dt) override;
+  Real stable_time_step(const discretization::NodeStore& nodes) const override;
+  void book_energies(discretization::EnergyLedger& ledger, std::span<const Vec3> v, Real dt) const override;
+  void write_fields(discretization::FieldSet& fields, const discretization::NodeStore& nodes) const override;
+  Real max_wave_speed() const override { return max_sound_speed_; }
+
+  // rho0 V0 / (nodes per element) to each node of each element (LS-DYNA's lumped mass).
+  void add_nodal_masses(discretization::NodeStore& nodes) const;
+
+  Index element_count() const;
+  std::size_t memory_bytes() const;
+  const std::vector<PartSettings>& parts() const { return parts_; }
+
+  // The elements of one kind, structure of arrays.
+  enum class Kind : std::uint8_t { hexahedron, hexahedron_selective_reduced, tetrahedron };
+  struct Block {
+    Kind kind = Kind::hexahedron;
+    int nodes_per_element = 8;
+    int points_per_element = 1;
+    std::vector<Index> node;  // local node indices (into node_), nodes_per_element per element
+    std::vector<std::int32_t> part;
+    std::vector<Id> id;
+    std::vector<Real> mass;
+    std::vector<materials::PointState> state;   // points_per_element per element
+    std::vector<materials::PointThermo> thermo;  // points_per_element per element
+    std::vector<Real> volume, density, viscous_pressure;
+    std::vector<Real> hourglass_energy;  // per element, for output
+    std::vector<Vec3> hourglass_force;              // stiffness forms: Q_alpha, 4 per element
+    std::vector<Index> colour_offset, colour_element;  // the elements of colour c, in order
+    Index size() const { return static_cast<Index>(id.size()); }
+  };
+
+ private:
+  template <Kind kind>
+  Real element_step(Block& block, Index e, const discretization::NodeStore& nodes, Real dt);
+  void colour(Block& block) const;
+
+  std::vector<PartSettings> parts_;
+  std::vector<Block> blocks_;
+  std::vector<Index> node_;   // local node -> node-store index
+  // The elements' internal forces on each local node, in three shares for the energy balance:
+  // the stress's, the bulk viscosity's and the hourglass control's (empty without one).
+  std::vector<Vec3> force_, bulk_force_, hourglass_force_;
+  Real stable_step_ = 0;
+  Real max_sound_speed_ = 0;
+};
+
+}  // namespace spall::fem
