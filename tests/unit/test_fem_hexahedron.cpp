@@ -25,8 +25,8 @@ using namespace spall::fem;
 
 namespace {
 
-HexNodes distorted_hexahedron() {
-  HexNodes x;
+HexVectors distorted_hexahedron() {
+  HexVectors x;
   for (int I = 0; I < 8; ++I) x[I] = Vec3(hex_basis[1][I], hex_basis[2][I], hex_basis[3][I]) * 0.5;
   // Non-planar faces, a skew and a taper: every basis coefficient a_1..a_7 non-zero.
   x[0] += Vec3(0.05, -0.02, 0.03);
@@ -49,14 +49,35 @@ TEST(FemHexahedron, HourglassBaseVectorsAreFlanaganBelytschkos) {
     for (int I = 0; I < 8; ++I) EXPECT_EQ(hex_basis[4 + alpha][I], expected[alpha][I]);
 }
 
+TEST(FemHexahedron, BasisCoefficientsAreTheMonomialsOfTheMap) {
+  // a_k = (1/8) sum_I c_kI x_I by the butterfly, and back.
+  const HexVectors x = distorted_hexahedron();
+  const HexVectors a = hex_coefficients(x);
+  for (int k = 0; k < 8; ++k) {
+    Vec3 direct = Vec3::Zero();
+    for (int I = 0; I < 8; ++I) direct += hex_basis[k][I] * x[I] / 8;
+    EXPECT_LT((a[k] - direct).norm(), 1e-15) << "monomial " << k;
+  }
+  const HexVectors back = hex_nodal(a);
+  for (int I = 0; I < 8; ++I) EXPECT_LT((back[I] - x[I]).norm(), 1e-15) << "node " << I;
+}
+
+TEST(FemHexahedron, CharacteristicLengthIsVolumeOverLargestFace) {
+  // A 2 x 1 x 0.5 brick: largest face 2 x 1, V / A = 0.5 (fem-contact.md §2.4).
+  HexVectors brick;
+  for (int I = 0; I < 8; ++I) brick[I] = Vec3(hex_basis[1][I] + 1, 0.5 * (hex_basis[2][I] + 1), 0.25 * (hex_basis[3][I] + 1));
+  const HexVectors a = hex_coefficients(brick);
+  EXPECT_NEAR(hex_characteristic_length(a, hex_gradient(brick).volume), 0.5, 1e-15);
+}
+
 TEST(FemHexahedron, VolumeEqualsTheGaussIntegralOfTheJacobian) {
-  const HexNodes x = distorted_hexahedron();
+  const HexVectors x = distorted_hexahedron();
   std::array<Vec3, 8> grad;
   Real gauss = 0;
   for (int g = 0; g < 8; ++g) gauss += hex_point_gradients(x, g, grad);
   EXPECT_NEAR(hex_gradient(x).volume, gauss, 1e-14 * gauss);
   // A unit cube, and a parallelepiped of volume |det A|.
-  HexNodes cube;
+  HexVectors cube;
   for (int I = 0; I < 8; ++I) cube[I] = 0.5 * Vec3(hex_basis[1][I], hex_basis[2][I], hex_basis[3][I]);
   EXPECT_NEAR(hex_gradient(cube).volume, 1.0, 1e-15);
   Mat3 A;
@@ -66,12 +87,12 @@ TEST(FemHexahedron, VolumeEqualsTheGaussIntegralOfTheJacobian) {
 }
 
 TEST(FemHexahedron, VolumeDerivativesAreTheGradientOfTheVolume) {
-  const HexNodes x = distorted_hexahedron();
+  const HexVectors x = distorted_hexahedron();
   const HexGradient g = hex_gradient(x);
   const Real h = 1e-6;
   for (int I = 0; I < 8; ++I)
     for (int d = 0; d < 3; ++d) {
-      HexNodes plus = x, minus = x;
+      HexVectors plus = x, minus = x;
       plus[I][d] += h;
       minus[I][d] -= h;
       const Real derivative = (hex_gradient(plus).volume - hex_gradient(minus).volume) / (2 * h);
@@ -89,7 +110,7 @@ TEST(FemHexahedron, VolumeDerivativesAreTheGradientOfTheVolume) {
 }
 
 TEST(FemHexahedron, LinearFieldsAreReproducedExactly) {
-  const HexNodes x = distorted_hexahedron();
+  const HexVectors x = distorted_hexahedron();
   const HexGradient g = hex_gradient(x);
   Mat3 sum = Mat3::Zero();
   Vec3 b_sum = Vec3::Zero();

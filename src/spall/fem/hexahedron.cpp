@@ -5,49 +5,82 @@
 
 namespace spall::fem {
 
-HexCoefficients hex_coefficients(const HexNodes& x) {
-  HexCoefficients c;
-  auto& a = c.a;
-  for (int k = 0; k < 8; ++k) {
-    Vec3 s = Vec3::Zero();
-    for (int I = 0; I < 8; ++I) s += hex_basis[k][I] * x[I];
-    a[k] = Real(0.125) * s;
-  }
-  return c;
+namespace {
+
+// The nodes in binary order (bit 0: xi = +1, bit 1: eta = +1, bit 2: zeta = +1), and the binary
+// index of each basis monomial's variables (xi 1, eta 2, zeta 4; eta zeta 6, xi zeta 5, xi eta 3).
+constexpr int node_of_binary[8] = {0, 1, 3, 2, 4, 5, 7, 6};
+constexpr int binary_of_monomial[8] = {0, 1, 2, 4, 6, 5, 3, 7};
+
+}  // namespace
+
+HexVectors hex_coefficients(const HexVectors& x) {
+  // After the stage of bit d, slot m holds the sum over the pair with the sign of its variable d
+  // where m has bit d: y_m = sum_b x_b prod_{d in m} (+1 if b has bit d, else -1).
+  HexVectors y;
+  for (int b = 0; b < 8; ++b) y[b] = x[node_of_binary[b]];
+  for (int d = 1; d < 8; d <<= 1)
+    for (int b = 0; b < 8; ++b)
+      if (!(b & d)) {
+        const Vec3 low = y[b], high = y[b | d];
+        y[b] = low + high;
+        y[b | d] = high - low;
+      }
+  HexVectors a;
+  for (int k = 0; k < 8; ++k) a[k] = Real(0.125) * y[binary_of_monomial[k]];
+  return a;
 }
 
-// g_k = dV/da_k of the cubic in hexahedron.hpp (dV/da_0 = dV/da_7 = 0), then
-// b_I = sum_k (dV/da_k)(da_k/dx_I) = (1/8) sum_k c_kI g_k, and V = (1/3) sum_k a_k . g_k (Euler's
-// theorem for a cubic form).
-HexGradient hex_gradient(const HexCoefficients& coefficients) {
-  const auto& a = coefficients.a;
+HexVectors hex_nodal(const HexVectors& a) {
+  // The inverse: x_b = sum_m a_m prod_{d in m} (+1 if b has bit d, else -1), stage by stage.
+  HexVectors y;
+  for (int k = 0; k < 8; ++k) y[binary_of_monomial[k]] = a[k];
+  for (int d = 1; d < 8; d <<= 1)
+    for (int b = 0; b < 8; ++b)
+      if (!(b & d)) {
+        const Vec3 low = y[b], high = y[b | d];
+        y[b] = low - high;
+        y[b | d] = low + high;
+      }
+  HexVectors x;
+  for (int b = 0; b < 8; ++b) x[node_of_binary[b]] = y[b];
+  return x;
+}
+
+// g_k = dV/da_k of the cubic in hexahedron.hpp, and V = (1/3) sum_k a_k . g_k (Euler's theorem
+// for a cubic form).
+HexVolumeGradient hex_volume_gradient(const HexVectors& a) {
   constexpr Real third8 = Real(8) / 3;
-  Vec3 g[7];
+  HexVolumeGradient out;
+  auto& g = out.g;
+  g[0] = g[7] = Vec3::Zero();
   g[1] = 8 * a[2].cross(a[3]) + third8 * a[6].cross(a[5]);
   g[2] = 8 * a[3].cross(a[1]) + third8 * a[4].cross(a[6]);
   g[3] = 8 * a[1].cross(a[2]) + third8 * a[5].cross(a[4]);
   g[4] = third8 * (a[6].cross(a[2]) + a[3].cross(a[5]));
   g[5] = third8 * (a[4].cross(a[3]) + a[1].cross(a[6]));
   g[6] = third8 * (a[2].cross(a[4]) + a[5].cross(a[1]));
-  HexGradient out;
-  for (int I = 0; I < 8; ++I) {
-    Vec3 b = Vec3::Zero();
-    for (int k = 1; k < 7; ++k) b += hex_basis[k][I] * g[k];
-    out.b[I] = Real(0.125) * b;
-  }
   Real v = 0;
   for (int k = 1; k < 7; ++k) v += a[k].dot(g[k]);
   out.volume = v / 3;
   return out;
 }
 
-Real hex_characteristic_length(const HexNodes& x, Real volume) {
-  static constexpr int faces[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4},
-                                      {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
-  Real largest = 0;
-  for (const auto& f : faces)
-    largest = std::max(largest, (x[f[2]] - x[f[0]]).cross(x[f[3]] - x[f[1]]).squaredNorm());
-  return volume / (Real(0.5) * std::sqrt(largest));
+HexGradient hex_gradient(const HexVectors& x) {
+  const HexVolumeGradient vg = hex_volume_gradient(hex_coefficients(x));
+  HexVectors g8;
+  for (int k = 0; k < 8; ++k) g8[k] = Real(0.125) * vg.g[k];
+  return {hex_nodal(g8), vg.volume};
+}
+
+Real hex_characteristic_length(const HexVectors& a, Real volume) {
+  const Real largest = std::max({(a[1] - a[5]).cross(a[2] - a[4]).squaredNorm(),   // zeta = -1
+                                 (a[1] + a[5]).cross(a[2] + a[4]).squaredNorm(),   // zeta = +1
+                                 (a[2] - a[6]).cross(a[3] - a[5]).squaredNorm(),   // xi = -1
+                                 (a[2] + a[6]).cross(a[3] + a[5]).squaredNorm(),   // xi = +1
+                                 (a[1] - a[6]).cross(a[3] - a[4]).squaredNorm(),   // eta = -1
+                                 (a[1] + a[6]).cross(a[3] + a[4]).squaredNorm()});  // eta = +1
+  return volume / (4 * std::sqrt(largest));
 }
 
 const HexGaussRule& hex_gauss_rule() {
@@ -68,7 +101,7 @@ const HexGaussRule& hex_gauss_rule() {
   return rule;
 }
 
-Real hex_point_gradients(const HexNodes& x, int g, std::array<Vec3, 8>& grad) {
+Real hex_point_gradients(const HexVectors& x, int g, HexVectors& grad) {
   const auto& dN = hex_gauss_rule().dN[g];
   Mat3 J = Mat3::Zero();  // J_ij = dx_i / dxi_j
   for (int I = 0; I < 8; ++I) J.noalias() += x[I] * dN[I].transpose();

@@ -21,8 +21,6 @@
 
 namespace spall::fem {
 
-using HexNodes = std::array<Vec3, 8>;
-
 // c_kI: the basis monomials 1, xi, eta, zeta, eta zeta, xi zeta, xi eta, xi eta zeta at node I.
 inline constexpr int hex_basis[8][8] = {
     {1, 1, 1, 1, 1, 1, 1, 1},          {-1, 1, 1, -1, -1, 1, 1, -1},    {-1, -1, 1, 1, -1, -1, 1, 1},
@@ -31,25 +29,36 @@ inline constexpr int hex_basis[8][8] = {
 // The hourglass base vectors Gamma_alpha (alpha = 0..3) are rows 4-7 of hex_basis.
 inline constexpr int hourglass_modes = 4;
 
-// The basis coefficients a_0..a_7 of the map (a_0, the centroid, included).
-struct HexCoefficients {
-  std::array<Vec3, 8> a;
-};
-HexCoefficients hex_coefficients(const HexNodes& x);
+// Eight vectors per node or per basis monomial.
+using HexVectors = std::array<Vec3, 8>;
 
-struct HexGradient {
-  std::array<Vec3, 8> b;  // dV/dx_I
+// The basis coefficients a_k = (1/8) sum_I c_kI x_I of nodal vectors (a_0, the centroid, included),
+// and back, x_I = sum_k c_kI a_k: each by a butterfly of 24 additions per component (the
+// transform is a 3D Walsh-Hadamard transform with the nodes in LS-DYNA's order).
+HexVectors hex_coefficients(const HexVectors& x);
+HexVectors hex_nodal(const HexVectors& a);
+
+// g_k = dV/da_k (k = 1..6; g_0 = g_7 = 0) and V, from the basis coefficients of the map. The
+// uniform gradient is b_I = (1/8) sum_k c_kI g_k = hex_nodal(g / 8), and
+// sum_I u_I (x) b_I = sum_k a_k(u) (x) g_k for any nodal field u.
+struct HexVolumeGradient {
+  HexVectors g;
   Real volume = 0;
 };
+HexVolumeGradient hex_volume_gradient(const HexVectors& a);
 
-// b_I and V from the basis coefficients of the map.
-HexGradient hex_gradient(const HexCoefficients& coefficients);
-inline HexGradient hex_gradient(const HexNodes& x) { return hex_gradient(hex_coefficients(x)); }
+// b_I and V of an element (for set-up and tests; the element loop stays in the basis).
+struct HexGradient {
+  HexVectors b;  // dV/dx_I
+  Real volume = 0;
+};
+HexGradient hex_gradient(const HexVectors& x);
 
 // The characteristic length of the element's stable time step, V / (largest face area) (LS-DYNA,
-// Radioss, LULESH; fem-contact.md §2.4). A face's area is half the norm of its diagonals' cross
-// product (exact for a plane face).
-Real hex_characteristic_length(const HexNodes& x, Real volume);
+// Radioss, LULESH; fem-contact.md §2.4), from the basis coefficients: the face zeta = -1 is
+// x = (a0 - a3) + (a1 - a5) xi + (a2 - a4) eta + (a6 - a7) xi eta, whose area by its diagonals
+// (exact for a plane face) is 4 |(a1 - a5) x (a2 - a4)|; the others alike.
+Real hex_characteristic_length(const HexVectors& a, Real volume);
 
 // The 2 x 2 x 2 Gauss rule of the fully integrated element (ELFORM 2): the derivatives of the
 // shape functions with respect to (xi, eta, zeta) at each point (weights are all 1).
@@ -60,6 +69,6 @@ const HexGaussRule& hex_gauss_rule();
 
 // grad N_I at Gauss point g of the current element and det J there; det J <= 0 (an inverted
 // point) leaves `grad` unset.
-Real hex_point_gradients(const HexNodes& x, int g, std::array<Vec3, 8>& grad);
+Real hex_point_gradients(const HexVectors& x, int g, HexVectors& grad);
 
 }  // namespace spall::fem

@@ -119,7 +119,7 @@ std::unique_ptr<discretization::Formulation> build_fem(const model::Model& model
       for (int a = 0; a < 4; ++a) x[a] = nodes.x0[setup.node[a]];
       volume = tet_gradient(x).volume;
     } else {
-      HexNodes x;
+      HexVectors x;
       for (int a = 0; a < 8; ++a) x[a] = nodes.x0[setup.node[a]];
       volume = hex_gradient(x).volume;
     }

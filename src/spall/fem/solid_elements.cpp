@@ -84,7 +84,7 @@ SolidElements::SolidElements(std::vector<PartSettings> parts, const std::vector<
         for (int a = 0; a < 4; ++a) x[a] = nodes.x0[e.node[a]];
         volume = tet_gradient(x).volume;
       } else {
-        HexNodes x;
+        HexVectors x;
         for (int a = 0; a < 8; ++a) x[a] = nodes.x0[e.node[a]];
         volume = hex_gradient(x).volume;
       }
@@ -95,7 +95,6 @@ SolidElements::SolidElements(std::vector<PartSettings> parts, const std::vector<
       block.id.push_back(e.id);
       block.mass.push_back(part.material.density * volume);
       block.volume.push_back(volume);
-      block.density.push_back(part.material.density);
       const materials::Material& m = part.material;
       const Real e0 = m.initial_specific_energy;
       for (int g = 0; g < block.points_per_element; ++g) {
@@ -106,10 +105,12 @@ SolidElements::SolidElements(std::vector<PartSettings> parts, const std::vector<
     }
     if (block.id.empty()) continue;
     const std::size_t n = block.id.size();
-    block.viscous_pressure.assign(n, 0);
     if (kind == Kind::hexahedron) block.hourglass_energy.assign(n, 0);
     if (stiffness) block.hourglass_force.assign(hourglass_modes * n, Vec3::Zero());
     colour(block);
+    for (auto* values : {&block.mass, &block.volume}) values->shrink_to_fit();
+    block.node.shrink_to_fit(), block.part.shrink_to_fit(), block.id.shrink_to_fit();
+    block.state.shrink_to_fit(), block.thermo.shrink_to_fit();
     blocks_.push_back(std::move(block));
   }
 }
@@ -140,118 +141,201 @@ void SolidElements::colour(Block& block) const {
   for (Index e = 0; e < n; ++e) block.colour_element[next[colour_of[e]]++] = e;
 }
 
-// One element over the step: its strain rate at the middle of the step (x^{n-1/2} = x^n - dt/2
-// v^{n-1/2}), the material update of its points, and its forces at x^n added to force_. Returns
-// its stable step, or -1 when its volume is no longer positive.
-template <Kind kind>
-Real SolidElements::element_step(Block& block, Index e, const discretization::NodeStore& nodes, Real dt) {
-  constexpr int N = kind == Kind::tetrahedron ? 4 : 8;
-  const Index* local = &block.node[N * e];
-  const PartSettings& part = parts_[block.part[e]];
-  const materials::Material& material = part.material;
-  std::array<Vec3, N> x, x_half, v;
-  for (int a = 0; a < N; ++a) {
-    const Index i = node_[local[a]];
-    x[a] = nodes.x[i];
-    v[a] = nodes.v[i];
-    x_half[a] = x[a] - Real(0.5) * dt * v[a];
-  }
-  // b_I = dV/dx_I now and at the middle of the step.
-  std::array<Vec3, N> b, b_half;
-  Real volume, volume_half, length;
-  HexCoefficients a_now;  // the hexahedron's basis coefficients (hourglass vectors)
-  if constexpr (kind == Kind::tetrahedron) {
-    const TetGradient now = tet_gradient(x), half = tet_gradient(x_half);
-    b = now.b, volume = now.volume, b_half = half.b, volume_half = half.volume;
-    length = volume > 0 ? tet_characteristic_length(now) : 0;
-  } else {
-    a_now = hex_coefficients(x);
-    const HexGradient now = hex_gradient(a_now), half = hex_gradient(x_half);
-    b = now.b, volume = now.volume, b_half = half.b, volume_half = half.volume;
-    length = volume > 0 ? hex_characteristic_length(x, volume) : 0;
-  }
-  if (!(volume > 0) || !(volume_half > 0)) return -1;
-  const Real rho = block.mass[e] / volume;
-  Mat3 L = Mat3::Zero();  // the mean velocity gradient (1/V) sum_I v_I b_I^T
-  for (int a = 0; a < N; ++a) L.noalias() += v[a] * b_half[a].transpose();
-  L /= volume_half;
-  const Real volume_rate = L.trace();
+namespace {
 
-  // The material: one point, or the eight Gauss points of the selective-reduced hexahedron with
-  // the element's mean volumetric rate in place of their own (B-bar; its pressure is their mean).
-  materials::PointState* state = &block.state[block.points_per_element * e];
-  materials::PointThermo* thermo = &block.thermo[block.points_per_element * e];
-  Vec3 f[N];
+template <std::size_t N>
+void scatter(const std::array<Vec3, N>& f, const Index* local, std::vector<Vec3>& to) {
+  for (std::size_t n = 0; n < N; ++n) to[local[n]] += f[n];
+}
+
+template <int N>
+struct Gathered {
+  std::array<Vec3, N> x, v;
+};
+
+template <int N>
+Gathered<N> gather(const Index* local, const std::vector<Index>& node, const discretization::NodeStore& nodes) {
+  Gathered<N> g;
+  for (int a = 0; a < N; ++a) {
+    const Index i = node[local[a]];
+    g.x[a] = nodes.x[i];
+    g.v[a] = nodes.v[i];
+  }
+  return g;
+}
+
+// sum_k u_k (x) g_k over k = 1..6: V times the mean gradient of the field whose basis
+// coefficients are u (hexahedron.hpp).
+Mat3 basis_gradient(const HexVectors& u, const HexVectors& g) {
+  Mat3 m = Mat3::Zero();
+  for (int k = 1; k < 7; ++k) m.noalias() += u[k] * g[k].transpose();
+  return m;
+}
+
+}  // namespace
+
+// One element over the step: its strain rate at the middle of the step (x^{n-1/2} = x^n - dt/2
+// v^{n-1/2}), the material update of its points, and its forces at x^n added to the three force
+// shares. Returns its stable step, or -1 when its volume is no longer positive.
+template <>
+Real SolidElements::element_step<Kind::hexahedron>(Block& block, Index e, const discretization::NodeStore& nodes,
+                                                   Real dt) {
+  const Index* local = &block.node[8 * e];
+  const PartSettings& part = parts_[block.part[e]];
+  const auto [x, v] = gather<8>(local, node_, nodes);
+  // Everything in the element's basis: a(x^{n-1/2}) = a(x^n) - dt/2 a(v) (the map is linear).
+  const HexVectors a = hex_coefficients(x), av = hex_coefficients(v);
+  HexVectors a_half;
+  for (int k = 0; k < 8; ++k) a_half[k] = a[k] - Real(0.5) * dt * av[k];
+  const HexVolumeGradient now = hex_volume_gradient(a), half = hex_volume_gradient(a_half);
+  if (!(now.volume > 0) || !(half.volume > 0)) return -1;
+  const Real volume = now.volume, rho = block.mass[e] / volume;
+  const Mat3 L = basis_gradient(av, half.g) / half.volume;
+  const Real volume_rate = L.trace();
+  materials::PointState& state = block.state[e];
+  materials::PointThermo& thermo = block.thermo[e];
+  if (dt > 0) materials::advance_point(part.material, state, thermo, L, dt, rho);
+  const Real c = thermo.sound_speed;
+  const Real q = bulk_viscosity(rho, volume, c, volume_rate, part);
+  // f_I = -sigma b_I = sum_k c_kI (-sigma g_k / 8): the shares' basis coefficients, then nodal.
+  const Mat3 sigma = state.deviatoric_stress - thermo.pressure * Mat3::Identity();
+  HexVectors stress, bulk;
+  stress[0] = stress[7] = bulk[0] = bulk[7] = Vec3::Zero();
+  for (int k = 1; k < 7; ++k) {
+    stress[k] = Real(-0.125) * (sigma * now.g[k]);
+    bulk[k] = Real(0.125) * q * now.g[k];
+  }
+  scatter(hex_nodal(stress), local, force_);
+  scatter(hex_nodal(bulk), local, bulk_force_);
+
+  // Hourglass control (Flanagan & Belytschko 1981): the rates qdot_alpha = sum_I v_I gamma_alphaI on
+  // gamma_alphaI = Gamma_alphaI - (h_alpha . b_I) / V, h_alpha = sum_J x_J Gamma_alphaJ = 8 a_{4+alpha},
+  // which vanish for rigid and linear motions, are qdot_alpha = 8 a_{4+alpha}(v) - (sum_I v_I (x) b_I)
+  // h_alpha / V (IHQ 1: on Gamma, 8 a_{4+alpha}(v)); f_I = -sum_alpha Q_alpha gamma_alphaI with
+  // Q = a_h qdot (viscous, a_h = QM rho c V^(2/3) / 4) or Q += kappa qdot dt (stiffness,
+  // kappa = QM 2G V^(1/3) / 4: with QM 0.1 a cube's bending mode gets about its physical
+  // stiffness, docs/THEORY.md §10.3). In the basis: -Q_alpha Gamma_alphaI is the coefficient
+  // -Q_alpha of monomial 4 + alpha, and sum_alpha Q_alpha (h_alpha . b_I) / V = M b_I / V with
+  // M = sum_alpha Q_alpha (x) h_alpha adds M g_k / (8 V) to the others.
+  const HourglassControl& hg = part.hourglass;
+  if (hg.form != HourglassForm::none) {
+    const bool orthogonal = hg.form != HourglassForm::viscous_base;
+    const Mat3 velocity_gradient = orthogonal ? Mat3(basis_gradient(av, now.g) / volume) : Mat3::Zero();
+    const Real l = cube_root(volume);
+    const Real viscous = hg.coefficient * rho * c * l * l / 4;
+    const Real stiffness = hg.coefficient * 2 * part.material.shear_modulus * l / 4;
+    HexVectors hourglass;
+    Mat3 M = Mat3::Zero();
+    Real power = 0;
+    for (int alpha = 0; alpha < hourglass_modes; ++alpha) {
+      const Vec3 h = 8 * a[4 + alpha];
+      const Vec3 rate = 8 * av[4 + alpha] - velocity_gradient * h;
+      Vec3 Q;
+      if (hg.form == HourglassForm::stiffness) {
+        Vec3& stored = block.hourglass_force[hourglass_modes * e + alpha];
+        stored += (stiffness * dt) * rate;
+        Q = stored;
+      } else {
+        Q = viscous * rate;
+      }
+      hourglass[4 + alpha] = -Q;
+      if (orthogonal) M.noalias() += Q * h.transpose();
+      power += Q.dot(rate);
+    }
+    hourglass[0] = Vec3::Zero();
+    for (int k = 1; k < 4; ++k) hourglass[k] = M * now.g[k] / (8 * volume);
+    for (int k = 4; k < 7; ++k) hourglass[k] += M * now.g[k] / (8 * volume);
+    scatter(hex_nodal(hourglass), local, hourglass_force_);
+    block.hourglass_energy[e] += dt * power;  // for output: at the step's own rates
+  }
+  block.volume[e] = volume;
+  return element_time_step(hex_characteristic_length(a, volume), c, volume_rate, part);
+}
+
+// The fully integrated hexahedron (ELFORM 2): at each of the 2 x 2 x 2 Gauss points its own
+// velocity gradient with the element's mean volumetric rate in place of its own (B-bar), its own
+// stress; the forces -integral S grad N_I dV by the same rule plus the mean pressure's p b_I.
+template <>
+Real SolidElements::element_step<Kind::hexahedron_selective_reduced>(Block& block, Index e,
+                                                                     const discretization::NodeStore& nodes, Real dt) {
+  const Index* local = &block.node[8 * e];
+  const PartSettings& part = parts_[block.part[e]];
+  const auto [x, v] = gather<8>(local, node_, nodes);
+  const HexVectors a = hex_coefficients(x), av = hex_coefficients(v);
+  HexVectors a_half;
+  for (int k = 0; k < 8; ++k) a_half[k] = a[k] - Real(0.5) * dt * av[k];
+  const HexVolumeGradient now = hex_volume_gradient(a), half = hex_volume_gradient(a_half);
+  if (!(now.volume > 0) || !(half.volume > 0)) return -1;
+  const Real volume = now.volume, rho = block.mass[e] / volume;
+  Real volume_rate = 0;
+  for (int k = 1; k < 7; ++k) volume_rate += av[k].dot(half.g[k]);
+  volume_rate /= half.volume;
+  materials::PointState* state = &block.state[8 * e];
+  materials::PointThermo* thermo = &block.thermo[8 * e];
+  HexVectors grad;
+  const HexVectors x_half_nodes = hex_nodal(a_half);
+  std::array<Vec3, 8> f;
   for (auto& fa : f) fa = Vec3::Zero();
   Real pressure = 0, c = 0;
-  if constexpr (kind == Kind::hexahedron_selective_reduced) {
-    std::array<Vec3, 8> grad;
-    for (int g = 0; g < 8; ++g) {
-      if (dt > 0) {
-        if (!(hex_point_gradients(x_half, g, grad) > 0)) return -1;
-        Mat3 Lg = Mat3::Zero();
-        for (int a = 0; a < 8; ++a) Lg.noalias() += v[a] * grad[a].transpose();
-        Lg.diagonal().array() += (volume_rate - Lg.trace()) / 3;
-        materials::advance_point(material, state[g], thermo[g], Lg, dt, rho);
-      }
-      // The deviator's forces -integral S grad N_I dV at x^n, by the same rule.
-      const Real J = hex_point_gradients(x, g, grad);
-      if (!(J > 0)) return -1;
-      const Mat3 S = J * state[g].deviatoric_stress;
-      for (int a = 0; a < 8; ++a) f[a].noalias() -= S * grad[a];
-      pressure += J * thermo[g].pressure;
-      c = std::max(c, thermo[g].sound_speed);
+  for (int g = 0; g < 8; ++g) {
+    if (dt > 0) {
+      if (!(hex_point_gradients(x_half_nodes, g, grad) > 0)) return -1;
+      Mat3 Lg = Mat3::Zero();
+      for (int n = 0; n < 8; ++n) Lg.noalias() += v[n] * grad[n].transpose();
+      Lg.diagonal().array() += (volume_rate - Lg.trace()) / 3;
+      materials::advance_point(part.material, state[g], thermo[g], Lg, dt, rho);
     }
-    pressure /= volume;  // the Gauss points' weights sum to the volume (det J integrated exactly)
-  } else {
-    if (dt > 0) materials::advance_point(material, state[0], thermo[0], L, dt, rho);
-    pressure = thermo[0].pressure;
-    c = thermo[0].sound_speed;
-    for (int a = 0; a < N; ++a) f[a].noalias() = -(state[0].deviatoric_stress * b[a]);
+    const Real J = hex_point_gradients(x, g, grad);
+    if (!(J > 0)) return -1;
+    const Mat3 S = J * state[g].deviatoric_stress;
+    for (int n = 0; n < 8; ++n) f[n].noalias() -= S * grad[n];
+    pressure += J * thermo[g].pressure;
+    c = std::max(c, thermo[g].sound_speed);
   }
+  pressure /= volume;  // the Gauss points' weights sum to the volume (det J integrated exactly)
   const Real q = bulk_viscosity(rho, volume, c, volume_rate, part);
-  for (int a = 0; a < N; ++a) {
-    f[a] += pressure * b[a];  // -(-p I) b_I
-    bulk_force_[local[a]] += q * b[a];
+  HexVectors pressure_share, bulk;
+  pressure_share[0] = pressure_share[7] = bulk[0] = bulk[7] = Vec3::Zero();
+  for (int k = 1; k < 7; ++k) {
+    pressure_share[k] = Real(0.125) * pressure * now.g[k];
+    bulk[k] = Real(0.125) * q * now.g[k];
   }
-
-  // Hourglass control of the one-point hexahedron (Flanagan & Belytschko 1981): the hourglass
-  // rates qdot_alpha = sum_I v_I gamma_alphaI on the shape vectors
-  // gamma_alphaI = Gamma_alphaI - (h_alpha . b_I) / V, h_alpha = sum_J x_J Gamma_alphaJ = 8 a_{4+alpha},
-  // which vanish for rigid and linear motions (IHQ 1: on Gamma itself); f_I = -sum_alpha Q_alpha
-  // gamma_alphaI with Q = a_h qdot (viscous, a_h = QM rho c V^(2/3) / 4) or Q += kappa qdot dt
-  // (stiffness, kappa = QM 2G V^(1/3) / 4: with QM 0.1 a cube's bending mode gets about its
-  // physical stiffness, docs/THEORY.md §10.3).
-  if constexpr (kind == Kind::hexahedron) {
-    const HourglassControl& hg = part.hourglass;
-    if (hg.form != HourglassForm::none) {
-      const Real l = cube_root(volume);
-      for (int alpha = 0; alpha < hourglass_modes; ++alpha) {
-        const int* Gamma = hex_basis[4 + alpha];
-        Real gamma[8];
-        const Vec3 h = 8 * a_now.a[4 + alpha] / volume;
-        for (int a = 0; a < 8; ++a)
-          gamma[a] = hg.form == HourglassForm::viscous_base ? Real(Gamma[a]) : Gamma[a] - h.dot(b[a]);
-        Vec3 rate = Vec3::Zero();
-        for (int a = 0; a < 8; ++a) rate += gamma[a] * v[a];
-        Vec3 Q;
-        if (hg.form == HourglassForm::stiffness) {
-          Vec3& stored = block.hourglass_force[hourglass_modes * e + alpha];
-          stored += (hg.coefficient * 2 * material.shear_modulus * l / 4 * dt) * rate;
-          Q = stored;
-        } else {
-          Q = (hg.coefficient * rho * c * l * l / 4) * rate;
-        }
-        for (int a = 0; a < 8; ++a) hourglass_force_[local[a]] -= gamma[a] * Q;
-        block.hourglass_energy[e] += dt * Q.dot(rate);  // for output: at the step's own rates
-      }
-    }
-  }
-  for (int a = 0; a < N; ++a) force_[local[a]] += f[a];
+  const HexVectors p_b = hex_nodal(pressure_share);
+  for (int n = 0; n < 8; ++n) f[n] += p_b[n];
+  scatter(f, local, force_);
+  scatter(hex_nodal(bulk), local, bulk_force_);
   block.volume[e] = volume;
-  block.density[e] = rho;
-  block.viscous_pressure[e] = q;
-  return element_time_step(length, c, volume_rate, part);
+  return element_time_step(hex_characteristic_length(a, volume), c, volume_rate, part);
+}
+
+// The constant-strain tetrahedron (ELFORM 10): b_I exact, one point.
+template <>
+Real SolidElements::element_step<Kind::tetrahedron>(Block& block, Index e, const discretization::NodeStore& nodes,
+                                                    Real dt) {
+  const Index* local = &block.node[4 * e];
+  const PartSettings& part = parts_[block.part[e]];
+  const auto [x, v] = gather<4>(local, node_, nodes);
+  TetNodes x_half;
+  for (int n = 0; n < 4; ++n) x_half[n] = x[n] - Real(0.5) * dt * v[n];
+  const TetGradient now = tet_gradient(x), half = tet_gradient(x_half);
+  if (!(now.volume > 0) || !(half.volume > 0)) return -1;
+  const Real volume = now.volume, rho = block.mass[e] / volume;
+  Mat3 L = Mat3::Zero();
+  for (int n = 0; n < 4; ++n) L.noalias() += v[n] * half.b[n].transpose();
+  L /= half.volume;
+  const Real volume_rate = L.trace();
+  materials::PointState& state = block.state[e];
+  materials::PointThermo& thermo = block.thermo[e];
+  if (dt > 0) materials::advance_point(part.material, state, thermo, L, dt, rho);
+  const Real c = thermo.sound_speed;
+  const Real q = bulk_viscosity(rho, volume, c, volume_rate, part);
+  const Mat3 sigma = state.deviatoric_stress - thermo.pressure * Mat3::Identity();
+  std::array<Vec3, 4> f, f_bulk;
+  for (int n = 0; n < 4; ++n) f[n] = -(sigma * now.b[n]), f_bulk[n] = q * now.b[n];
+  scatter(f, local, force_);
+  scatter(f_bulk, local, bulk_force_);
+  block.volume[e] = volume;
+  return element_time_step(tet_characteristic_length(now), c, volume_rate, part);
 }
 
 void SolidElements::compute_forces(discretization::NodeStore& nodes, Real dt) {
@@ -367,7 +451,7 @@ void SolidElements::write_fields(discretization::FieldSet& fields, const discret
       pressure[e] = p;
       von_mises[e] = materials::von_mises(S);
       plastic_strain[e] = eps;
-      density[e] = block.density[e];
+      density[e] = block.mass[e] / block.volume[e];
       if (hourglass) hourglass[e] = block.hourglass_energy[e];
     }
   }
@@ -390,7 +474,7 @@ std::size_t SolidElements::memory_bytes() const {
   std::size_t total = bytes(node_) + bytes(force_) + bytes(bulk_force_) + bytes(hourglass_force_);
   for (const Block& b : blocks_)
     total += bytes(b.node) + bytes(b.part) + bytes(b.id) + bytes(b.mass) + bytes(b.state) + bytes(b.thermo) +
-             bytes(b.volume) + bytes(b.density) + bytes(b.viscous_pressure) + bytes(b.hourglass_energy) + bytes(b.hourglass_force) +
+             bytes(b.volume) + bytes(b.hourglass_energy) + bytes(b.hourglass_force) +
              bytes(b.colour_offset) + bytes(b.colour_element);
   return total;
 }

@@ -87,7 +87,7 @@ class SolidElements final : public discretization::Formulation {
     std::vector<Real> mass;
     std::vector<materials::PointState> state;   // points_per_element per element
     std::vector<materials::PointThermo> thermo;  // points_per_element per element
-    std::vector<Real> volume, density, viscous_pressure;
+    std::vector<Real> volume;
     std::vector<Real> hourglass_energy;  // per element, for output
     std::vector<Vec3> hourglass_force;              // stiffness forms: Q_alpha, 4 per element
     std::vector<Index> colour_offset, colour_element;  // the elements of colour c, in order
@@ -95,6 +95,7 @@ class SolidElements final : public discretization::Formulation {
   };
 
  private:
+  // One element's step (solid_elements.cpp): its stable step, or -1 once it inverted.
   template <Kind kind>
   Real element_step(Block& block, Index e, const discretization::NodeStore& nodes, Real dt);
   void colour(Block& block) const;
