@@ -1,5 +1,6 @@
-// Every pair of formulations in one deck (SPH solid, SPH fluid, SPG): the deck builds, runs, and
-// writes one VTU whose fields are merged by name. Each body is a free bar of 30 x 4 x 4 nodes
+// Every pair of formulations in one deck (SPH solid, SPH fluid, SPG, solid finite elements): the
+// deck builds, runs, and writes one VTU whose point fields are merged by name (the elements'
+// fields are cell data of their own cells). Each body is a free bar of 30 x 4 x 4 nodes
 // started in its first longitudinal mode, v_x = V cos(pi x / L) (as
 // tests/verification/test_sph_elastic_bar.cpp and test_spg_elastic_bar.cpp), which turns kinetic
 // energy into strain energy and back over a period 2L/c (c = sqrt(E / rho); Graff, Wave Motion in
@@ -32,7 +33,7 @@ using test::row;
 
 namespace {
 
-enum class Body { sph_solid, sph_fluid, spg };
+enum class Body { sph_solid, sph_fluid, spg, fem };
 
 constexpr int nx = 30, ny = 4, nz = 4;  // nodes along and across the bar
 constexpr double dx = 1e-3;             // m
@@ -66,10 +67,14 @@ std::string body(Body kind, int pid, double origin) {
   const std::string id = std::to_string(pid);
   // A fluid part names its equation of state (EOSID).
   deck += "*PART\nbody " + id + "\n" + (kind == Body::sph_fluid ? row({id, id, id, id}) : row({id, id, id}));
-  if (kind == Body::spg) {
-    deck += "*SECTION_SOLID_SPG\n" + row({id, "47", "0"}) + row({"1.5", "1.5", "1.5", "0", "1", "", "15"}) +
-            // IDAM 1, FS 10: bonds would fail at an effective plastic strain an elastic body never has.
-            row({"1", "10.0"}) + "*MAT_ELASTIC\n" + row({id, "7850.0", "2.0e11", "0.3"}) + "*ELEMENT_SOLID\n";
+  if (kind == Body::spg || kind == Body::fem) {
+    deck += kind == Body::fem ? "*SECTION_SOLID\n" + row({id, "1"})  // one-point hexahedra, IHQ 0 -> 2
+                              : "*SECTION_SOLID_SPG\n" + row({id, "47", "0"}) +
+                                    row({"1.5", "1.5", "1.5", "0", "1", "", "15"}) +
+                                    // IDAM 1, FS 10: bonds would fail at an effective plastic strain
+                                    // an elastic body never has.
+                                    row({"1", "10.0"});
+    deck += "*MAT_ELASTIC\n" + row({id, "7850.0", "2.0e11", "0.3"}) + "*ELEMENT_SOLID\n";
     for (int k = 0; k + 1 < nz; ++k)
       for (int j = 0; j + 1 < ny; ++j)
         for (int i = 0; i + 1 < nx; ++i) {
@@ -101,7 +106,9 @@ std::string deck_of(const std::vector<Body>& bodies) {
   return deck + "*END\n";
 }
 
-const char* name(Body b) { return b == Body::sph_solid ? "SPH solid" : b == Body::sph_fluid ? "SPH fluid" : "SPG"; }
+const char* name(Body b) {
+  return b == Body::sph_solid ? "SPH solid" : b == Body::sph_fluid ? "SPH fluid" : b == Body::spg ? "SPG" : "FEM";
+}
 
 // One body alone (b absent) or two.
 void run_bodies(Body a, std::optional<Body> b = std::nullopt) {
@@ -128,8 +135,11 @@ void run_bodies(Body a, std::optional<Body> b = std::nullopt) {
   if (a != Body::sph_fluid || b) {
     EXPECT_GT(stored, 0.25 * e.initial_total()) << label << ": the bars must store energy";
   }
-  EXPECT_EQ(terms, (std::vector<std::string>{"kinetic_energy", "internal_energy", "artificial_viscosity_energy",
-                                             "external_work"}));
+  const bool fem = a == Body::fem || b == Body::fem;
+  std::vector<std::string> expected = {"kinetic_energy", "internal_energy", "artificial_viscosity_energy"};
+  if (fem) expected.push_back("hourglass_energy");
+  expected.push_back("external_work");
+  EXPECT_EQ(terms, expected);
 
   // One snapshot with each name once, written as one VTU.
   const auto snap = solver::snapshot_fields(problem);
@@ -140,15 +150,26 @@ void run_bodies(Body a, std::optional<Body> b = std::nullopt) {
       if (f.name == field_name) return &f;
     return nullptr;
   };
-  // Every formulation writes pressure and density: finite on every point.
-  for (const char* shared : {"pressure", "density"}) {
-    const auto* f = field(shared);
-    ASSERT_NE(f, nullptr) << shared;
-    for (double value : std::get<std::vector<double>>(f->values)) ASSERT_TRUE(std::isfinite(value)) << shared;
-  }
-  // A field of one formulation has the fill value on the other's points.
   const auto* part_id = field("part_id");
   const auto& parts = std::get<std::vector<std::int64_t>>(part_id->values);
+  // Every particle formulation writes pressure and density: finite on each of its points. The
+  // elements write theirs on their cells, one block, finite on every cell.
+  const int fem_part = a == Body::fem ? 1 : b == Body::fem ? 2 : 0;
+  if (!fem || b) {
+    for (const char* shared : {"pressure", "density"}) {
+      const auto* f = field(shared);
+      ASSERT_NE(f, nullptr) << shared;
+      const auto& values = std::get<std::vector<double>>(f->values);
+      for (std::size_t i = 0; i < values.size(); ++i)
+        if (parts[i] != fem_part) ASSERT_TRUE(std::isfinite(values[i])) << shared;
+    }
+  }
+  ASSERT_EQ(snap.cell_blocks.size(), fem ? 1u : 0u) << label;
+  if (fem)
+    for (const auto& f : snap.cell_blocks[0].fields)
+      if (f.name == "pressure" || f.name == "stress")
+        for (double value : std::get<std::vector<double>>(f.values)) ASSERT_TRUE(std::isfinite(value)) << f.name;
+  // A field of one formulation has the fill value on the other's points.
   const char* own = b == Body::spg ? "bond_count" : a == Body::sph_solid ? "effective_plastic_strain" : nullptr;
   if (b && own) {
     const auto* f = field(own);
@@ -180,6 +201,10 @@ TEST(MixedDecks, SpgAlone) { run_bodies(Body::spg); }
 TEST(MixedDecks, SphSolidAndSphFluid) { run_bodies(Body::sph_solid, Body::sph_fluid); }
 TEST(MixedDecks, SphSolidAndSpg) { run_bodies(Body::sph_solid, Body::spg); }
 TEST(MixedDecks, SphFluidAndSpg) { run_bodies(Body::sph_fluid, Body::spg); }
+TEST(MixedDecks, FemAlone) { run_bodies(Body::fem); }
+TEST(MixedDecks, SphSolidAndFem) { run_bodies(Body::sph_solid, Body::fem); }
+TEST(MixedDecks, SphFluidAndFem) { run_bodies(Body::sph_fluid, Body::fem); }
+TEST(MixedDecks, SpgAndFem) { run_bodies(Body::spg, Body::fem); }
 
 TEST(MixedDecks, NodeSharedBySphParticleAndSpgElementIsRefused) {
   log::set_quiet(true);
