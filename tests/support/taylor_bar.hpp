@@ -2,7 +2,8 @@
 // The Taylor bar of Wilkins & Guinan 1973 (J. Appl. Phys. 44:1200), test 1: an OFHC copper rod,
 // L0 = 23.47 mm, D0 = 7.62 mm, hitting a rigid wall at 210 m/s; Johnson & Cook's (1983) copper
 // constants (reference/validation.md §1(b)). SI units. Built in code for the verification test and
-// the benchmark; examples/taylor_bar has the same scene as a deck.
+// the benchmark; examples/taylor_bar has the same scene as a deck. As SPH particles on a lattice,
+// or (elform 1 or 2) as hexahedra: a square grid mapped onto the disc, extruded.
 #include <cmath>
 #include <cstdio>
 
@@ -24,15 +25,45 @@ struct TaylorBar {
   // (*SPALL_SPH_TIMESTEP RULE 1, which needs no row sums of the gradient operator). Not the
   // Wilkins & Guinan test: the verification test leaves it off.
   bool peer_physics = false;
+  int elform = 0;  // 0: SPH particles; 1 or 2: solid finite elements of that ELFORM
 };
+
+// The rod as hexahedra: n x n elements across (a square grid mapped onto the disc by
+// (u, v) -> R (u sqrt(1 - v^2 / 2), v sqrt(1 - u^2 / 2))), layers of about the same height.
+inline void add_rod_hexahedra(model::Model& m, const TaylorBar& bar) {
+  const int n = bar.particles_across;
+  const int layers = static_cast<int>(std::lround(bar.length / (bar.diameter / n)));
+  const Real radius = bar.diameter / 2;
+  const auto id = [&](int i, int j, int k) { return Id(1 + i + (n + 1) * (j + (n + 1) * k)); };
+  for (int k = 0; k <= layers; ++k)
+    for (int j = 0; j <= n; ++j)
+      for (int i = 0; i <= n; ++i) {
+        const Real u = 2.0 * i / n - 1, v = 2.0 * j / n - 1;
+        const Vec3 x(radius * u * std::sqrt(1 - v * v / 2), radius * v * std::sqrt(1 - u * u / 2),
+                     bar.length * k / layers);
+        m.nodes.push_back({id(i, j, k), x, 0, 0, {}});
+      }
+  Id eid = 1;
+  for (int k = 0; k < layers; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i)
+        m.solid_elements.push_back({eid++, 1,
+                                    {id(i, j, k), id(i + 1, j, k), id(i + 1, j + 1, k), id(i, j + 1, k),
+                                     id(i, j, k + 1), id(i + 1, j, k + 1), id(i + 1, j + 1, k + 1), id(i, j + 1, k + 1)},
+                                    {}});
+}
 
 inline model::Model taylor_bar_model(const TaylorBar& bar) {
   model::Model m;
   m.parts.push_back({1, "copper rod", 1, 1, 0, 0, {}});
-  model::SectionSph section;
-  section.id = 1;
-  section.cslh = bar.cslh;
-  m.sections[1] = section;
+  if (bar.elform != 0) {
+    m.sections[1] = model::SectionSolid{1, bar.elform, 0, {}};
+  } else {
+    model::SectionSph section;
+    section.id = 1;
+    section.cslh = bar.cslh;
+    m.sections[1] = section;
+  }
   model::MatJohnsonCook jc;
   jc.ro = 8960;
   jc.e = 124e9;
@@ -77,7 +108,8 @@ inline model::Model taylor_bar_model(const TaylorBar& bar) {
   const Real radius = bar.diameter / 2;
   const int layers = static_cast<int>(std::lround(bar.length / dx));
   std::vector<Vec3> positions;
-  for (int k = 0; k < layers; ++k)
+  if (bar.elform != 0) add_rod_hexahedra(m, bar);
+  for (int k = 0; k < layers && bar.elform == 0; ++k)
     for (int j = 0; j < bar.particles_across; ++j)
       for (int i = 0; i < bar.particles_across; ++i) {
         const Real x = (i + 0.5) * dx - radius, y = (j + 0.5) * dx - radius;
@@ -89,11 +121,13 @@ inline model::Model taylor_bar_model(const TaylorBar& bar) {
   for (const Vec3& x : positions) {
     m.nodes.push_back({id, x, 0, 0, {}});
     m.sph_elements.push_back({id, 1, mass, {}});
+    ++id;
+  }
+  for (const auto& node : m.nodes) {
     model::InitialVelocityNode iv;
-    iv.nid = id;
+    iv.nid = node.id;
     iv.v = Vec3(0, 0, -bar.speed);
     m.initial_velocity_nodes.push_back(iv);
-    ++id;
   }
   model::RigidWallPlanar wall;  // z = 0, normal +z, frictionless
   wall.tail = Vec3::Zero();
@@ -112,7 +146,7 @@ struct TaylorShape {
 
 // Length from the wall to the far end, and the largest radius (the foot's: the mushroom is widest
 // there); each particle stands for a cell of one spacing, so half a spacing is added beyond the
-// centres.
+// centres (dx = 0 for elements, whose nodes are on the surface).
 inline std::pair<Real, Real> rod_extent(const discretization::NodeStore& nodes, Real dx) {
   Real length = 0, radius = 0;
   for (Index i = 0; i < nodes.size(); ++i) {
@@ -128,7 +162,7 @@ inline std::pair<Real, Real> rod_extent(const discretization::NodeStore& nodes, 
 inline TaylorShape run_taylor_bar(const TaylorBar& bar) {
   const model::Model model = taylor_bar_model(bar);
   solver::Problem problem = solver::build_problem(model);
-  const Real dx = bar.diameter / bar.particles_across;
+  const Real dx = bar.elform != 0 ? 0 : bar.diameter / bar.particles_across;
   const auto [length0, radius0] = rod_extent(problem.nodes, dx);
   solver::Observer observer;
   problem.controls.glstat_dt = 10e-6;
@@ -137,11 +171,13 @@ inline TaylorShape run_taylor_bar(const TaylorBar& bar) {
     std::printf("t %.1f us: L/L0 %.4f  R/R0 %.4f  KE %.4g J  ratio %.4f\n", step.time * 1e6,
                 length / length0, radius / radius0, e.kinetic(), e.ratio());
   };
-  solver::run(problem, observer);
+  const auto summary = solver::run(problem, observer);
+  std::printf("%lld steps\n", summary.steps);
   const auto [length, radius] = rod_extent(problem.nodes, dx);
   const TaylorShape shape{length / length0, radius / radius0};
-  std::printf("Taylor bar D0/%d: L/L0 %.4f (measured 0.630, %+.1f %%), R/R0 %.4f (measured 2.204, %+.1f %%)\n",
-              bar.particles_across, shape.length_ratio, 100 * (shape.length_ratio / 0.630 - 1),
+  std::printf("Taylor bar %s D0/%d: L/L0 %.4f (measured 0.630, %+.1f %%), R/R0 %.4f (measured 2.204, %+.1f %%)\n",
+              bar.elform == 0 ? "SPH" : bar.elform == 1 ? "ELFORM 1" : "ELFORM 2", bar.particles_across,
+              shape.length_ratio, 100 * (shape.length_ratio / 0.630 - 1),
               shape.radius_ratio, 100 * (shape.radius_ratio / 2.204 - 1));
   return shape;
 }
