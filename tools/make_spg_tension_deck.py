@@ -5,7 +5,10 @@ A 4340 steel bar L x W x W (default 10 x 2 x 2 mm) meshed with hexahedra and run
 (*SECTION_SOLID_SPG: DX 1.6, updated-Lagrangian kernel, bond failure at FS 0.6 with STRETCH 1.2),
 Johnson-Cook plasticity (Johnson & Cook 1985 constants for 4340 steel), both end faces pulled
 apart at V each. The section narrows by 3 % towards the middle (a cosine taper) so that the neck
-forms there. Usage: make_spg_tension_deck.py [--elements N] [--speed V] [--end-time T] > bar.k
+forms there. With --fem-ends F, the elements within F L of either end are hexahedral finite
+elements instead (part 2, *SECTION_SOLID ELFORM 2, the same material), sharing their interface
+nodes with the SPG middle: seed 001's FEM region around an SPG core (examples/fem_spg_bar).
+Usage: make_spg_tension_deck.py [--elements N] [--speed V] [--end-time T] [--fem-ends F] > bar.k
 """
 import argparse
 import math
@@ -17,6 +20,7 @@ p.add_argument("--elements", type=int, default=30, help="elements along the bar;
 p.add_argument("--speed", type=float, default=10.0, help="V, m/s at each end")
 p.add_argument("--end-time", type=float, default=1.6e-4)
 p.add_argument("--taper", type=float, default=0.03)
+p.add_argument("--fem-ends", type=float, default=0.0, help="fraction of the length at each end as finite elements")
 args = p.parse_args()
 
 L, W = args.length, args.width
@@ -27,7 +31,8 @@ out = []
 w = out.append
 w("*KEYWORD")
 w("*TITLE")
-w(f"SPG tensile bar, 4340 steel (Johnson-Cook), {L*1e3:g} x {W*1e3:g} x {W*1e3:g} mm, ends pulled at {args.speed:g} m/s")
+kind = "FEM ends on an SPG" if args.fem_ends > 0 else "SPG"
+w(f"{kind} tensile bar, 4340 steel (Johnson-Cook), {L*1e3:g} x {W*1e3:g} x {W*1e3:g} mm, ends pulled at {args.speed:g} m/s")
 w("$ Units: m, s, kg, N, Pa.")
 w("*CONTROL_TERMINATION")
 w("$#  endtim")
@@ -43,6 +48,14 @@ w("*PART")
 w("tensile bar")
 w("$#     pid     secid       mid")
 w("         1         1         1")
+if args.fem_ends > 0:
+    w("*PART")
+    w("finite-element ends")
+    w("$#     pid     secid       mid")
+    w("         2         2         1")
+    w("*SECTION_SOLID")
+    w("$#   secid    elform")
+    w("         2         2")
 w("*SECTION_SOLID_SPG")
 w("$#   secid    elform       aet")
 w("         1        47         0")
@@ -82,7 +95,9 @@ for k in range(nz):
             eid += 1
             n = [node_id(i, j, k), node_id(i + 1, j, k), node_id(i + 1, j + 1, k), node_id(i, j + 1, k),
                  node_id(i, j, k + 1), node_id(i + 1, j, k + 1), node_id(i + 1, j + 1, k + 1), node_id(i, j + 1, k + 1)]
-            w(f"{eid:8d}{1:8d}" + "".join(f"{m:8d}" for m in n))
+            centre = L * (i + 0.5) / nx
+            pid = 2 if min(centre, L - centre) < args.fem_ends * L else 1
+            w(f"{eid:8d}{pid:8d}" + "".join(f"{m:8d}" for m in n))
 for sid, i in ((1, 0), (2, nx)):
     w("*SET_NODE_LIST")
     w(f"{sid:10d}")

@@ -14,6 +14,8 @@ Several files make panels side by side on one colour scale (e.g. before and afte
               c(x) = sum_b V_b W(x - x_b, h_b) (seed 000 eq. 10, cubic spline of support 2 h_b),
               found by marching cubes (VTK's flying edges) on a grid of half a spacing, each
               triangle coloured by the field of the particle nearest to it.
+Points where the field is NaN (docs/OUTPUT.md: the fill value of a point the field's formulation
+does not own, e.g. the nodes of finite elements for a particle field) are drawn light grey.
 --categories colours the field `category` (*SPALL_SPH_COLOUR_FIELD) as seed 000 Figure 4 does:
 surface green, inner layer red, interior blue.
 The particle volume V_b = m_b / rho_b is (h_b / CSLH)^3 while h follows the density
@@ -122,7 +124,7 @@ def draw_plane(ax, x, values, view, cut, dx, limits, norm, cmap, scale):
     ax.set_ylim((limits[0][b] - dx) * scale, (limits[1][b] + dx) * scale)
     ax.set_xlabel(view[0])
     ax.set_ylabel(view[1])
-    return ax.scatter(xs, ys, c=vs, marker="o", cmap=cmap, norm=norm, linewidths=0)
+    return ax.scatter(xs, ys, c=vs, marker="o", cmap=cmap, norm=norm, linewidths=0, plotnonfinite=True)
 
 
 def size_markers(ax, markers, diameter):
@@ -214,10 +216,11 @@ def main():
         cmap = matplotlib.colors.ListedColormap([colour for _, colour in CATEGORIES])
         norm = matplotlib.colors.BoundaryNorm(numpy.arange(len(CATEGORIES) + 1) - 0.5, len(CATEGORIES))
     else:
-        low = min(v.min() for _, v, _ in frames) if args.range is None else args.range[0]
-        high = max(v.max() for _, v, _ in frames) if args.range is None else args.range[1]
+        low = min(numpy.nanmin(v) for _, v, _ in frames) if args.range is None else args.range[0]
+        high = max(numpy.nanmax(v) for _, v, _ in frames) if args.range is None else args.range[1]
         norm = matplotlib.colors.Normalize(vmin=low, vmax=high if high > low else low + 1)
-        cmap = matplotlib.colormaps[args.cmap]
+        # Points without the field (its fill value NaN: the nodes of finite elements, say) in grey.
+        cmap = matplotlib.colormaps[args.cmap].with_extremes(bad="lightgrey")
 
     rows, columns = (len(frames), 1) if args.stack else (1, len(frames))
     fig = plt.figure(figsize=(args.width * columns + 1.2, args.height * rows), dpi=args.dpi, layout="constrained")
@@ -238,8 +241,8 @@ def main():
         if args.labels:
             ax.set_title(args.labels[k], fontsize=10)
         axes.append(ax)
-    data_low = min(v.min() for _, v, _ in frames)
-    data_high = max(v.max() for _, v, _ in frames)
+    data_low = min(numpy.nanmin(v) for _, v, _ in frames)
+    data_high = max(numpy.nanmax(v) for _, v, _ in frames)
     extend = {(False, False): "neither", (True, False): "min", (False, True): "max", (True, True): "both"}[
         (data_low < low, data_high > high)]
     bar = fig.colorbar(matplotlib.cm.ScalarMappable(norm=norm, cmap=cmap), ax=axes, shrink=0.9, extend=extend)

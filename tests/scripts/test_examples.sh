@@ -23,6 +23,9 @@ for scene in ductile iron; do
     fail "examples/compression_$scene/compression_$scene.k is not what make_compression_deck.py --scene $scene writes"
 done
 
+python3 "$tools/make_spg_tension_deck.py" --fem-ends 0.3 | cmp -s - "$examples/fem_spg_bar/bar.k" ||
+  fail "examples/fem_spg_bar/bar.k is not what make_spg_tension_deck.py --fem-ends 0.3 writes"
+
 python3 "$tools/make_brittle_deck.py" | cmp -s - "$examples/brittle_spall/brittle_spall.k" ||
   fail "examples/brittle_spall/brittle_spall.k is not what make_brittle_deck.py writes"
 
@@ -48,6 +51,20 @@ done
 "$py" "$tools/render_particles.py" "$work/taylor/d3plot_00000.vtu" --field no_such_field -o "$work/x.png" \
   2>"$work/err" && fail "a missing field was accepted"
 grep -q "no point field 'no_such_field'" "$work/err" || fail "missing-field message: $(cat "$work/err")"
+
+# A coarse bar with finite-element ends on an SPG core: one series with the hexahedra as cells, and
+# the picture draws the elements' nodes (NaN for the particle field) in grey beside the particles.
+python3 "$tools/make_spg_tension_deck.py" --fem-ends 0.3 --elements 10 --end-time 10e-6 >"$work/fem_spg.k"
+"$cli" run "$work/fem_spg.k" -o "$work/fem_spg" --threads 1 >/dev/null 2>&1 || fail "run of the coarse FEM/SPG bar"
+"$py" - "$work/fem_spg/d3plot_00001.vtu" <<'PY' || fail "the FEM/SPG bar's output"
+import sys, vtk
+r = vtk.vtkXMLUnstructuredGridReader(); r.SetFileName(sys.argv[1]); r.Update(); g = r.GetOutput()
+hexahedra = sum(g.GetCellType(c) == vtk.VTK_HEXAHEDRON for c in range(g.GetNumberOfCells()))
+assert hexahedra == 2 * 3 * 2 * 2, hexahedra  # 3 of 10 elements along at each end, 2 x 2 across
+assert g.GetCellData().GetArray("von_mises") is not None and g.GetPointData().GetArray("bond_count") is not None
+PY
+"$py" "$tools/render_particles.py" "$work/fem_spg/d3plot_00001.vtu" --field effective_plastic_strain --view xz \
+  -o "$work/fem_spg.png" >/dev/null || fail "render of the FEM/SPG bar"
 
 # A coarse frictionless compression to 10 %: both walls report forces; the table has ten rows.
 python3 "$tools/make_compression_deck.py" --scene ductile --across 5 --strain 0.1 --outputs 2 >"$work/squeeze.k"

@@ -160,3 +160,58 @@ TEST(FemSetup, TetrahedraAreWrittenAsHexahedronCards) {
   for (Real value : p.nodes.mass) mass += value;
   EXPECT_NEAR(mass, 7850 * 0.008, 1e-12);
 }
+
+TEST(FemSetup, AddErosionCardsAreReadAndWhatSpallLacksIsRefused) {
+  DeckFolder folder;
+  const model::Model m = io::keyword::read_deck(folder.write(
+      "erosion.k", "*MAT_ADD_EROSION\n" + row({"1", "", "2.0e9", "", "0.3", "", "", "2"}) +
+                       row({"-1.0e9", "1.5e9", "", "0.4", "", "", "", "1.0e-3"}) + "*CONTROL_TIMESTEP\n" +
+                       row({"", "0.8", "", "", "", "", "1"}) + "*END\n"));
+  const auto& e = m.add_erosions.at(1);
+  EXPECT_EQ(e.mxpres, 2.0e9);
+  EXPECT_EQ(e.effeps, 0.3);
+  EXPECT_EQ(e.ncs, 2);
+  EXPECT_EQ(e.numfip, 1);  // the default
+  EXPECT_EQ(e.mnpres, -1.0e9);
+  EXPECT_EQ(e.sigp1, 1.5e9);
+  EXPECT_EQ(e.mxeps, 0.4);
+  EXPECT_EQ(e.failtm, 1.0e-3);
+  EXPECT_EQ(m.timestep.erode, 1);
+  EXPECT_EQ(m.timestep.tssfac, 0.8);
+  const auto refused = [&](const std::string& cards) {
+    return input_error_of([&] { io::keyword::read_deck(folder.write("bad.k", cards + "*END\n")); });
+  };
+  EXPECT_NE(refused("*MAT_ADD_EROSION\n" + row({"1"}) + row({"", "", "", "", "", "5.0e8"})).find("field SIGTH"),
+            std::string::npos);
+  EXPECT_NE(refused("*MAT_ADD_EROSION\n" + row({"1"}) + row({}) + row({"1"})).find("field IDAM"), std::string::npos);
+  EXPECT_NE(refused("*MAT_ADD_EROSION\n" + row({"1"}) + row({"", "", "", "-5"})).find("field MXEPS"), std::string::npos);
+  EXPECT_NE(refused("*CONTROL_TIMESTEP\n" + row({"", "", "", "", "", "", "2"})).find("field ERODE"), std::string::npos);
+}
+
+TEST(FemSetup, AddErosionOnParticlesOrAMissingMaterialIsRefused) {
+  log::set_quiet(true);
+  test_support::SpgBlock b;
+  b.elements = {2, 2, 2};
+  b.size = Vec3(0.2, 0.2, 0.2);
+  model::Model spg = test_support::spg_block_model(b);
+  spg.add_erosions[1] = model::MatAddErosion{1};
+  EXPECT_NE(build_error(spg).find("*MAT_ADD_EROSION: MID 1: part 1 uses it and is not meshed with solid finite elements"),
+            std::string::npos) << build_error(spg);
+  model::Model missing = test_support::spg_block_model(cube(1));
+  missing.add_erosions[7] = model::MatAddErosion{7};
+  EXPECT_NE(build_error(missing).find("MID 7: no material has that ID"), std::string::npos);
+  // The criteria a part gets: each value that is not EXCL.
+  model::Model m = test_support::spg_block_model(cube(1));
+  model::MatAddErosion card{1};
+  card.excl = 99;
+  card.mxpres = 99;  // excluded
+  card.sigvm = 0;    // a criterion at 0 once EXCL is not 0
+  card.failtm = 99;
+  card.mneps = card.effeps = card.voleps = card.mnpres = card.sigp1 = card.mxeps = 99;
+  m.add_erosions[1] = card;
+  const auto& erosion = solid_elements(solver::build_problem(m)).parts().at(0).erosion;
+  EXPECT_FALSE(erosion.max_pressure);
+  ASSERT_TRUE(erosion.von_mises);
+  EXPECT_EQ(*erosion.von_mises, 0.0);
+  EXPECT_FALSE(erosion.failure_time);
+}

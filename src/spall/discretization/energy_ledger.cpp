@@ -30,7 +30,7 @@ Real EnergyLedger::value(std::string_view name) const {
 Real EnergyLedger::total() const {
   Real sum = 0;
   for (const auto& t : terms_)
-    if (t.role != Role::external) sum += t.value;
+    if (t.role != Role::external && t.role != Role::reported) sum += t.value;
   return sum;
 }
 

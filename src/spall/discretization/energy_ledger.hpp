@@ -4,7 +4,8 @@
 // artificial viscosity; FEM later: hourglass; contact: sliding), and glstat's columns are the
 // ledger's terms. Each term has a role in the balance
 //   total = kinetic + stored + dissipated,   ratio = total / (total at t = 0 + external work),
-// which is 1 for a run that conserves energy (LS-DYNA's glstat "energy ratio").
+// which is 1 for a run that conserves energy (LS-DYNA's glstat "energy ratio"). The kinetic and
+// internal energy of eroded elements leave with them and are dissipated terms of their own.
 #include <string>
 #include <string_view>
 #include <vector>
@@ -15,7 +16,9 @@ namespace spall::discretization {
 
 class EnergyLedger {
  public:
-  enum class Role { kinetic, stored, dissipated, external };
+  // reported: a quantity glstat shows beside the energies that is not part of the balance (the
+  // mass eroded elements took away).
+  enum class Role { kinetic, stored, dissipated, external, reported };
 
   struct Term {
     std::string name;  // the glstat column, e.g. "internal_energy"
@@ -53,6 +56,9 @@ class EnergyLedger {
   static constexpr std::string_view artificial_viscosity_energy = "artificial_viscosity_energy";
   static constexpr std::string_view external_work_name = "external_work";
   static constexpr std::string_view hourglass_energy = "hourglass_energy";
+  static constexpr std::string_view eroded_kinetic_energy = "eroded_kinetic_energy";
+  static constexpr std::string_view eroded_internal_energy = "eroded_internal_energy";
+  static constexpr std::string_view eroded_mass = "eroded_mass";
 
  private:
   Term& term(std::string_view name, Role role);

@@ -37,6 +37,10 @@ class Formulation {
 
   // Largest signal speed, for the runaway-velocity check.
   virtual Real max_wave_speed() const = 0;
+
+  // *CONTROL_TIMESTEP ERODE: from now on, delete the elements (or particles) whose own stable step
+  // falls below `step` rather than let the run stop. A formulation that cannot delete ignores it.
+  virtual void erode_below(Real /*step*/) {}
 };
 
 }  // namespace spall::discretization

@@ -39,6 +39,24 @@ HourglassForm hourglass_form(int ihq) {
   }
 }
 
+// *MAT_ADD_EROSION's criteria: each one whose value is not EXCL.
+Erosion resolve_erosion(const model::MatAddErosion& card) {
+  Erosion e;
+  const auto criterion = [&](Real value) { return value != card.excl ? std::optional<Real>(value) : std::nullopt; };
+  e.max_pressure = criterion(card.mxpres);
+  e.min_pressure = criterion(card.mnpres);
+  e.max_principal_stress = criterion(card.sigp1);
+  e.von_mises = criterion(card.sigvm);
+  e.max_principal_strain = criterion(card.mxeps);
+  e.min_principal_strain = criterion(card.mneps);
+  e.effective_strain = criterion(card.effeps);
+  e.volumetric_strain = criterion(card.voleps);
+  e.failure_time = criterion(card.failtm);
+  e.criteria = static_cast<int>(card.ncs);
+  e.points = static_cast<int>(card.numfip);
+  return e;
+}
+
 // The part's hourglass control and bulk viscosity: its *HOURGLASS card (HGID), else
 // *CONTROL_HOURGLASS, else the defaults. IHQ 0 means the global type, and with none given LS-DYNA's
 // explicit default for solids, type 2 (fem-contact.md §1.2).
@@ -73,6 +91,8 @@ PartSettings resolve_part(const model::Model& model, const model::Part& part, co
   p.hourglass.coefficient = card ? card->qm : control ? control->qh : 0.1;
   p.bulk_quadratic = card && card->q1 > 0 ? card->q1 : model.bulk_viscosity.q1;
   p.bulk_linear = card && card->q2 > 0 ? card->q2 : model.bulk_viscosity.q2;
+  if (auto it = model.add_erosions.find(part.mid); it != model.add_erosions.end())
+    p.erosion = resolve_erosion(it->second);
   if (section.elform == 1 && chosen)
     log::info(fmt::format("part {}: one-point hexahedra with hourglass type 2 (Flanagan-Belytschko viscous, "
                           "QM {:g}): no IHQ given, LS-DYNA's explicit default for solids", part.id,
@@ -82,6 +102,18 @@ PartSettings resolve_part(const model::Model& model, const model::Part& part, co
 
 }  // namespace
 
+void check_add_erosions(const model::Model& model) {
+  for (const auto& [mid, card] : model.add_erosions) {
+    if (!model.materials.contains(mid))
+      fail(card.where, "*MAT_ADD_EROSION", fmt::format("MID {}: no material has that ID", mid));
+    for (const auto& part : model.parts)
+      if (part.mid == mid && !is_fem_part(model, part.id))
+        fail(card.where, "*MAT_ADD_EROSION",
+             fmt::format("MID {}: part {} uses it and is not meshed with solid finite elements; Spall deletes "
+                         "elements only (SPH and SPG particles do not erode)", mid, part.id));
+  }
+}
+
 bool is_fem_part(const model::Model& model, Id part_id) {
   const model::Part* part = model.find_part(part_id);
   return part && solid_section(model, *part);
@@ -90,6 +122,7 @@ bool is_fem_part(const model::Model& model, Id part_id) {
 std::unique_ptr<discretization::Formulation> build_fem(const model::Model& model,
                                                        const std::unordered_map<Id, Index>& index_of_node,
                                                        discretization::NodeStore& nodes, std::vector<Id>& part_of_node) {
+  check_add_erosions(model);
   std::vector<PartSettings> parts;
   std::map<Id, int> part_index;
   std::vector<ElementSetup> elements;

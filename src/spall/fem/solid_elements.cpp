@@ -6,6 +6,7 @@
 #include <map>
 #include <stdexcept>
 
+#include <Eigen/Eigenvalues>
 #include <fmt/format.h>
 
 #include "spall/core/cube_root.hpp"
@@ -59,6 +60,19 @@ SolidElements::SolidElements(std::vector<PartSettings> parts, const std::vector<
       node_.push_back(i);
     }
   force_.assign(node_.size(), Vec3::Zero());
+  live_elements_.assign(node_.size(), 0);
+  for (const auto& e : elements)
+    for (int a = 0; a < (parts_[e.part].elform == 10 ? 4 : 8); ++a) ++live_elements_[local[e.node[a]]];
+  for (const auto& p : parts_) {
+    const Erosion& er = p.erosion;
+    may_erode_ |= er.max_pressure || er.min_pressure || er.max_principal_stress || er.von_mises ||
+                  er.max_principal_strain || er.min_principal_strain || er.effective_strain ||
+                  er.volumetric_strain || er.failure_time;
+    materials::PointState failed;
+    failed.plastic_strain = std::numeric_limits<Real>::max();
+    failed.damage = 1;
+    may_erode_ |= er.material_failure && materials::erodes_element(p.material, failed);
+  }
   bulk_force_.assign(node_.size(), Vec3::Zero());
   if (std::any_of(parts_.begin(), parts_.end(), [](const PartSettings& p) {
         return p.elform == 1 && p.hourglass.form != HourglassForm::none;
@@ -74,7 +88,7 @@ SolidElements::SolidElements(std::vector<PartSettings> parts, const std::vector<
     block.kind = kind;
     block.nodes_per_element = kind == Kind::tetrahedron ? 4 : 8;
     block.points_per_element = kind == Kind::hexahedron_selective_reduced ? 8 : 1;
-    bool stiffness = false;
+    bool stiffness = false, needs_strain = false;
     for (const auto& e : elements) {
       if (kind_of(e) != kind) continue;
       const PartSettings& part = parts_[e.part];
@@ -102,11 +116,17 @@ SolidElements::SolidElements(std::vector<PartSettings> parts, const std::vector<
         block.thermo.push_back({e0, materials::eos_pressure(m, m.density, e0), materials::sound_speed(m, m.density, e0)});
       }
       stiffness |= kind == Kind::hexahedron && part.hourglass.form == HourglassForm::stiffness;
+      needs_strain |= part.erosion.needs_strain();
     }
     if (block.id.empty()) continue;
     const std::size_t n = block.id.size();
     if (kind == Kind::hexahedron) block.hourglass_energy.assign(n, 0);
     if (stiffness) block.hourglass_force.assign(hourglass_modes * n, Vec3::Zero());
+    block.eroded.assign(n, 0);
+    if (needs_strain) {
+      block.strain.assign(n, Mat3::Zero());
+      block.effective_strain.assign(n, 0);
+    }
     colour(block);
     for (auto* values : {&block.mass, &block.volume}) values->shrink_to_fit();
     block.node.shrink_to_fit(), block.part.shrink_to_fit(), block.id.shrink_to_fit();
@@ -196,6 +216,8 @@ Real SolidElements::element_step<Kind::hexahedron>(Block& block, Index e, const 
   materials::PointThermo& thermo = block.thermo[e];
   if (dt > 0) materials::advance_point(part.material, state, thermo, L, dt, rho);
   const Real c = thermo.sound_speed;
+  const Real stable_step = element_time_step(hex_characteristic_length(a, volume), c, volume_rate, part);
+  if (fails(block, e, L, dt, stable_step)) return -2;
   const Real q = bulk_viscosity(rho, volume, c, volume_rate, part);
   // f_I = -sigma b_I = sum_k c_kI (-sigma g_k / 8): the shares' basis coefficients, then nodal.
   const Mat3 sigma = state.deviatoric_stress - thermo.pressure * Mat3::Identity();
@@ -249,7 +271,7 @@ Real SolidElements::element_step<Kind::hexahedron>(Block& block, Index e, const 
     block.hourglass_energy[e] += dt * power;  // for output: at the step's own rates
   }
   block.volume[e] = volume;
-  return element_time_step(hex_characteristic_length(a, volume), c, volume_rate, part);
+  return stable_step;
 }
 
 // The fully integrated hexahedron (ELFORM 2): at each of the 2 x 2 x 2 Gauss points its own
@@ -293,6 +315,9 @@ Real SolidElements::element_step<Kind::hexahedron_selective_reduced>(Block& bloc
     c = std::max(c, thermo[g].sound_speed);
   }
   pressure /= volume;  // the Gauss points' weights sum to the volume (det J integrated exactly)
+  const Real stable_step = element_time_step(hex_characteristic_length(a, volume), c, volume_rate, part);
+  const Mat3 L = part.erosion.needs_strain() ? Mat3(basis_gradient(av, half.g) / half.volume) : Mat3::Zero();
+  if (fails(block, e, L, dt, stable_step)) return -2;
   const Real q = bulk_viscosity(rho, volume, c, volume_rate, part);
   HexVectors pressure_share, bulk;
   pressure_share[0] = pressure_share[7] = bulk[0] = bulk[7] = Vec3::Zero();
@@ -305,7 +330,7 @@ Real SolidElements::element_step<Kind::hexahedron_selective_reduced>(Block& bloc
   scatter(f, local, force_);
   scatter(hex_nodal(bulk), local, bulk_force_);
   block.volume[e] = volume;
-  return element_time_step(hex_characteristic_length(a, volume), c, volume_rate, part);
+  return stable_step;
 }
 
 // The constant-strain tetrahedron (ELFORM 10): b_I exact, one point.
@@ -328,6 +353,8 @@ Real SolidElements::element_step<Kind::tetrahedron>(Block& block, Index e, const
   materials::PointThermo& thermo = block.thermo[e];
   if (dt > 0) materials::advance_point(part.material, state, thermo, L, dt, rho);
   const Real c = thermo.sound_speed;
+  const Real stable_step = element_time_step(tet_characteristic_length(now), c, volume_rate, part);
+  if (fails(block, e, L, dt, stable_step)) return -2;
   const Real q = bulk_viscosity(rho, volume, c, volume_rate, part);
   const Mat3 sigma = state.deviatoric_stress - thermo.pressure * Mat3::Identity();
   std::array<Vec3, 4> f, f_bulk;
@@ -335,7 +362,82 @@ Real SolidElements::element_step<Kind::tetrahedron>(Block& block, Index e, const
   scatter(f, local, force_);
   scatter(f_bulk, local, bulk_force_);
   block.volume[e] = volume;
-  return element_time_step(tet_characteristic_length(now), c, volume_rate, part);
+  return stable_step;
+}
+
+bool SolidElements::fails(Block& block, Index e, const Mat3& L, Real dt, Real stable_step) {
+  if (erosion_step_ > 0 && stable_step < erosion_step_) return true;
+  const PartSettings& part = parts_[block.part[e]];
+  const Erosion& er = part.erosion;
+  Mat3 strain = Mat3::Zero();
+  Real effective = 0;
+  if (!block.strain.empty()) {
+    // Jaumann-rotated like the stress, so that a rigid rotation leaves it unchanged.
+    const Mat3 W = Real(0.5) * (L - L.transpose()), D = Real(0.5) * (L + L.transpose());
+    strain = block.strain[e] += dt * (D + W * block.strain[e] - block.strain[e] * W);
+    const Mat3 D_dev = D - (D.trace() / 3) * Mat3::Identity();
+    effective = block.effective_strain[e] += dt * std::sqrt(Real(2) / 3 * D_dev.cwiseProduct(D_dev).sum());
+  }
+  if (!may_erode_) return false;
+  Vec3 principal_strain = Vec3::Zero();
+  if (er.max_principal_strain || er.min_principal_strain) {
+    Eigen::SelfAdjointEigenSolver<Mat3> solver;
+    solver.computeDirect(strain, Eigen::EigenvaluesOnly);
+    principal_strain = solver.eigenvalues();  // ascending
+  }
+  const Real volumetric = std::log(block.volume[e] * part.material.density / block.mass[e]);
+  int failed_points = 0;
+  for (int g = 0; g < block.points_per_element; ++g) {
+    const materials::PointState& state = block.state[block.points_per_element * e + g];
+    const Real p = block.thermo[block.points_per_element * e + g].pressure;
+    if (er.material_failure && materials::erodes_element(part.material, state)) {
+      ++failed_points;
+      continue;
+    }
+    int met = 0;
+    if (er.max_pressure) met += p >= *er.max_pressure;
+    if (er.min_pressure) met += p <= *er.min_pressure;
+    if (er.von_mises) met += materials::von_mises(state.deviatoric_stress) >= *er.von_mises;
+    if (er.max_principal_stress) {
+      Eigen::SelfAdjointEigenSolver<Mat3> solver;
+      solver.computeDirect(Mat3(state.deviatoric_stress - p * Mat3::Identity()), Eigen::EigenvaluesOnly);
+      met += solver.eigenvalues()[2] >= *er.max_principal_stress;
+    }
+    if (er.max_principal_strain) met += principal_strain[2] >= *er.max_principal_strain;
+    if (er.min_principal_strain) met += principal_strain[0] <= *er.min_principal_strain;
+    if (er.effective_strain) met += effective >= *er.effective_strain;
+    if (er.volumetric_strain)
+      met += *er.volumetric_strain > 0 ? volumetric >= *er.volumetric_strain : volumetric <= *er.volumetric_strain;
+    if (er.failure_time) met += time_ >= *er.failure_time;
+    failed_points += met >= er.criteria;
+  }
+  return failed_points >= er.points;
+}
+
+void SolidElements::remove_eroded(discretization::NodeStore& nodes) {
+  for (Block& block : blocks_) {
+    const int per = block.nodes_per_element, points = block.points_per_element;
+    for (Index e = 0; e < block.size(); ++e) {
+      if (block.eroded[e] != 1) continue;
+      block.eroded[e] = 2;
+      const PartSettings& part = parts_[block.part[e]];
+      const Real m = block.mass[e];
+      Real internal = 0;
+      for (int g = 0; g < points; ++g)
+        internal += block.thermo[points * e + g].specific_energy - part.material.initial_specific_energy;
+      eroded_internal_step_ += m * internal / points;
+      eroded_mass_ += m;
+      for (int a = 0; a < per; ++a) {
+        const Index k = block.node[per * e + a], i = node_[k];
+        eroded_kinetic_step_ += Real(0.5) * (m / per) * nodes.v[i].squaredNorm();
+        nodes.mass[i] -= m / per;
+        if (--live_elements_[k] == 0) {
+          nodes.mass[i] = other_mass_[k];  // the share of other formulations, exactly
+          if (!(nodes.mass[i] > 0)) nodes.mass[i] = 0, nodes.active[i] = 0;
+        }
+      }
+    }
+  }
 }
 
 void SolidElements::compute_forces(discretization::NodeStore& nodes, Real dt) {
@@ -344,14 +446,17 @@ void SolidElements::compute_forces(discretization::NodeStore& nodes, Real dt) {
     force_[k] = bulk_force_[k] = Vec3::Zero();
     if (hourglass) hourglass_force_[k] = Vec3::Zero();
   }, element_loops);
+  time_ += dt;
+  eroded_kinetic_step_ = eroded_internal_step_ = 0;
   struct Found {
     Real step;
     Real sound_speed;
+    Index eroding;  // elements deleted during this step
   };
   const auto combine = [](const Found& x, const Found& y) {
-    return Found{std::min(x.step, y.step), std::max(x.sound_speed, y.sound_speed)};
+    return Found{std::min(x.step, y.step), std::max(x.sound_speed, y.sound_speed), x.eroding + y.eroding};
   };
-  const Found none{std::numeric_limits<Real>::infinity(), 0};
+  const Found none{std::numeric_limits<Real>::infinity(), 0, 0};
   Found found = none;
   parallel::LowestIndex inverted;
   for (std::size_t k = 0; k < blocks_.size(); ++k) {
@@ -361,13 +466,18 @@ void SolidElements::compute_forces(discretization::NodeStore& nodes, Real dt) {
         const Index begin = block.colour_offset[c];
         found = combine(found, parallel::reduce_exact(block.colour_offset[c + 1] - begin, none, [&](Index j) {
           const Index e = block.colour_element[begin + j];
+          if (block.eroded[e]) return none;
           const Real step = element_step<kind>(block, e, nodes, dt);
+          if (step == -2 || (step == -1 && erode_enabled_)) {  // deleted: no forces from now on
+            block.eroded[e] = 1;
+            return Found{std::numeric_limits<Real>::infinity(), 0, 1};
+          }
           if (step < 0) {
             inverted.report(e);
             return none;
           }
           const Real c_e = block.thermo[block.points_per_element * e].sound_speed;
-          return Found{step, c_e};
+          return Found{step, c_e, 0};
         }, combine, element_loops));
         if (inverted.value() >= 0) break;
       }
@@ -378,10 +488,11 @@ void SolidElements::compute_forces(discretization::NodeStore& nodes, Real dt) {
       case Kind::tetrahedron: run.template operator()<Kind::tetrahedron>(); break;
     }
     if (const Index e = inverted.value(); e >= 0)
-      throw InstabilityError(fmt::format("FEM part {}: element {} has a negative volume: it inverted (element "
-                                         "erosion is not available yet; a smaller TSSFAC or a finer mesh may help)",
-                                         parts_[block.part[e]].part_id, block.id[e]));
+      throw InstabilityError(fmt::format("FEM part {}: element {} has a negative volume: it inverted (*CONTROL_TIMESTEP "
+                                         "ERODE 1 deletes inverted elements instead; a smaller TSSFAC or a finer mesh "
+                                         "may help)", parts_[block.part[e]].part_id, block.id[e]));
   }
+  if (found.eroding > 0) remove_eroded(nodes);
   parallel::for_each(static_cast<Index>(node_.size()), [&](Index k) {
     nodes.f[node_[k]] += force_[k] + bulk_force_[k] + (hourglass ? hourglass_force_[k] : Vec3::Zero());
   }, element_loops);
@@ -404,9 +515,14 @@ void SolidElements::book_energies(discretization::EnergyLedger& ledger, std::spa
     w[2] = hourglass ? -hourglass_force_[k].dot(u) : 0;
     return w;
   }, Sums<3>{});
-  ledger.add(Ledger::internal_energy, Ledger::Role::stored, dt * work[0]);
+  ledger.add(Ledger::internal_energy, Ledger::Role::stored, dt * work[0] - eroded_internal_step_);
   ledger.add(Ledger::artificial_viscosity_energy, Ledger::Role::dissipated, dt * work[1]);
   if (hourglass) ledger.add(Ledger::hourglass_energy, Ledger::Role::dissipated, dt * work[2]);
+  if (may_erode_ || erode_enabled_) {
+    ledger.add(Ledger::eroded_kinetic_energy, Ledger::Role::dissipated, eroded_kinetic_step_);
+    ledger.add(Ledger::eroded_internal_energy, Ledger::Role::dissipated, eroded_internal_step_);
+    ledger.set(Ledger::eroded_mass, Ledger::Role::reported, eroded_mass_);
+  }
 }
 
 void SolidElements::write_fields(discretization::FieldSet& fields, const discretization::NodeStore&) const {
@@ -431,6 +547,12 @@ void SolidElements::write_fields(discretization::FieldSet& fields, const discret
     double* plastic_strain = field("effective_plastic_strain", 1);
     double* density = field("density", 1);
     double* hourglass = block.hourglass_energy.empty() ? nullptr : field("hourglass_energy", 1);
+    if (may_erode_ || erode_enabled_) {
+      auto& eroded = cells.fields.emplace_back();
+      eroded.name = "eroded";
+      auto& flags = eroded.values.emplace<std::vector<std::int64_t>>(n);
+      for (Index e = 0; e < n; ++e) flags[e] = block.eroded[e] != 0;
+    }
     auto& ids = cells.fields.emplace_back();
     ids.name = "element_id";
     ids.values = std::vector<std::int64_t>(block.id.begin(), block.id.end());
@@ -457,11 +579,20 @@ void SolidElements::write_fields(discretization::FieldSet& fields, const discret
   }
 }
 
-void SolidElements::add_nodal_masses(discretization::NodeStore& nodes) const {
+void SolidElements::add_nodal_masses(discretization::NodeStore& nodes) {
+  other_mass_.resize(node_.size());
+  for (std::size_t k = 0; k < node_.size(); ++k) other_mass_[k] = nodes.mass[node_[k]];
   for (const Block& block : blocks_)
     for (Index e = 0; e < block.size(); ++e)
       for (int a = 0; a < block.nodes_per_element; ++a)
         nodes.mass[node_[block.node[block.nodes_per_element * e + a]]] += block.mass[e] / block.nodes_per_element;
+}
+
+Index SolidElements::eroded_count() const {
+  Index n = 0;
+  for (const Block& block : blocks_)
+    for (std::uint8_t flag : block.eroded) n += flag != 0;
+  return n;
 }
 
 Index SolidElements::element_count() const {
@@ -471,11 +602,13 @@ Index SolidElements::element_count() const {
 }
 
 std::size_t SolidElements::memory_bytes() const {
-  std::size_t total = bytes(node_) + bytes(force_) + bytes(bulk_force_) + bytes(hourglass_force_);
+  std::size_t total = bytes(node_) + bytes(force_) + bytes(bulk_force_) + bytes(hourglass_force_) +
+                      bytes(live_elements_) + bytes(other_mass_);
   for (const Block& b : blocks_)
     total += bytes(b.node) + bytes(b.part) + bytes(b.id) + bytes(b.mass) + bytes(b.state) + bytes(b.thermo) +
              bytes(b.volume) + bytes(b.hourglass_energy) + bytes(b.hourglass_force) +
-             bytes(b.colour_offset) + bytes(b.colour_element);
+             bytes(b.colour_offset) + bytes(b.colour_element) + bytes(b.eroded) + bytes(b.strain) +
+             bytes(b.effective_strain);
   return total;
 }
 

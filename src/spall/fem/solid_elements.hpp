@@ -16,6 +16,7 @@
 // thread count: results do not depend on it.
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "spall/discretization/formulation.hpp"
@@ -36,6 +37,25 @@ struct HourglassControl {
   Real coefficient = 0.1;  // QM
 };
 
+// When an element is deleted (docs/THEORY.md §10.4): *MAT_ADD_EROSION's criteria (each off when
+// unset), evaluated at each integration point with the point's stress and the element's strain;
+// a point fails when `criteria` of them hold at once, or when its material failed in a way that
+// erodes (materials::erodes_element); the element goes when `points` of its points have failed.
+struct Erosion {
+  std::optional<Real> max_pressure, min_pressure;                  // MXPRES, MNPRES
+  std::optional<Real> max_principal_stress, von_mises;             // SIGP1, SIGVM
+  std::optional<Real> max_principal_strain, min_principal_strain;  // MXEPS, MNEPS
+  std::optional<Real> effective_strain, volumetric_strain;         // EFFEPS, VOLEPS
+  std::optional<Real> failure_time;                                // FAILTM
+  int criteria = 1;  // NCS
+  int points = 1;    // NUMFIP
+  bool material_failure = true;
+  // Whether the element must keep its strain tensor and accumulated effective strain.
+  bool needs_strain() const {
+    return max_principal_strain || min_principal_strain || effective_strain;
+  }
+};
+
 // What every element of a part shares.
 struct PartSettings {
   Id part_id = 0;
@@ -44,6 +64,7 @@ struct PartSettings {
   HourglassControl hourglass;  // ELFORM 1 only
   Real bulk_quadratic = 1.5;   // Q1
   Real bulk_linear = 0.06;     // Q2
+  Erosion erosion;
 };
 
 // One element as the deck gives it: its part (index into the settings) and its nodes (node-store
@@ -69,9 +90,18 @@ class SolidElements final : public discretization::Formulation {
   Real max_wave_speed() const override { return max_sound_speed_; }
 
   // rho0 V0 / (nodes per element) to each node of each element (LS-DYNA's lumped mass).
-  void add_nodal_masses(discretization::NodeStore& nodes) const;
+  // Records the mass other formulations gave each node first (what an eroded node keeps).
+  void add_nodal_masses(discretization::NodeStore& nodes);
+
+  // *CONTROL_TIMESTEP ERODE: elements whose own stable step falls below `step` are deleted, and
+  // so are inverted ones (instead of stopping the run).
+  void erode_below(Real step) override {
+    erode_enabled_ = true;
+    erosion_step_ = step;
+  }
 
   Index element_count() const;
+  Index eroded_count() const;
   std::size_t memory_bytes() const;
   const std::vector<PartSettings>& parts() const { return parts_; }
 
@@ -90,6 +120,10 @@ class SolidElements final : public discretization::Formulation {
     std::vector<Real> volume;
     std::vector<Real> hourglass_energy;  // per element, for output
     std::vector<Vec3> hourglass_force;              // stiffness forms: Q_alpha, 4 per element
+    // Erosion: 0 alive, 1 deleted during this step (booked at its end), 2 deleted.
+    std::vector<std::uint8_t> eroded;
+    std::vector<Mat3> strain;             // the element's strain, Jaumann-rotated (strain criteria)
+    std::vector<Real> effective_strain;   // sum of dt sqrt(2/3 dev D : dev D) (EFFEPS)
     std::vector<Index> colour_offset, colour_element;  // the elements of colour c, in order
     Index size() const { return static_cast<Index>(id.size()); }
   };
@@ -98,6 +132,12 @@ class SolidElements final : public discretization::Formulation {
   // One element's step (solid_elements.cpp): its stable step, or -1 once it inverted.
   template <Kind kind>
   Real element_step(Block& block, Index e, const discretization::NodeStore& nodes, Real dt);
+  // Whether element e fails *MAT_ADD_EROSION or its material's failure after the step with mean
+  // velocity gradient L, and (ERODE) whether its stable step is below erosion_step_.
+  bool fails(Block& block, Index e, const Mat3& L, Real dt, Real stable_step);
+  // Takes the elements deleted during this step out: their mass from their nodes, their energies
+  // into the eroded terms.
+  void remove_eroded(discretization::NodeStore& nodes);
   void colour(Block& block) const;
 
   std::vector<PartSettings> parts_;
@@ -108,6 +148,15 @@ class SolidElements final : public discretization::Formulation {
   std::vector<Vec3> force_, bulk_force_, hourglass_force_;
   Real stable_step_ = 0;
   Real max_sound_speed_ = 0;
+  Real time_ = 0;           // the sum of the steps taken (FAILTM)
+  Real erosion_step_ = 0;   // ERODE: elements below this step are deleted (0: off)
+  std::vector<std::int32_t> live_elements_;  // per local node: elements not deleted
+  std::vector<Real> other_mass_;             // per local node: the mass other formulations gave it
+  // This step's deletions (booked by book_energies) and the totals.
+  Real eroded_kinetic_step_ = 0, eroded_internal_step_ = 0;
+  Real eroded_mass_ = 0;
+  bool may_erode_ = false;       // some part has an erosion criterion or a material that fails
+  bool erode_enabled_ = false;   // ERODE
 };
 
 }  // namespace spall::fem

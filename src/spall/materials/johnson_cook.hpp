@@ -22,6 +22,7 @@ struct JohnsonCook {
   Real heat_capacity = 0;     // CP (specific heat)
   Real d1 = 0, d2 = 0, d3 = 0, d4 = 0, d5 = 0;
   Real min_failure_strain = 1.0e-6;  // EFMIN
+  bool erode_at_failure = true;      // EROD 0: an element whose damage reaches 1 is deleted
 
   // With D1 = D2 = 0 the failure strain is 0 everywhere: LS-DYNA's "no damage".
   bool damage() const { return d1 != 0 || d2 != 0; }

@@ -92,6 +92,7 @@ class MaterialMaker {
     strength.d4 = card.d4;
     strength.d5 = card.d5;
     strength.min_failure_strain = card.efmin;
+    strength.erode_at_failure = card.erod == 0;
     // LS-DYNA reads E and PR for shells; for solids the bulk response comes from the EOS.
     // Without one, Spall takes the linear K = E / (3 (1 - 2 PR)).
     if (!eos_ && card.e == 0)

@@ -114,6 +114,16 @@ Real advance_point(const Material& material, PointState& state, PointThermo& the
   return update.plastic_work;
 }
 
+bool erodes_element(const Material& material, const PointState& state) {
+  if (const auto* m = std::get_if<PlasticKinematic>(&material.strength))
+    return m->failure_strain > 0 && state.plastic_strain >= m->failure_strain;
+  if (const auto* m = std::get_if<PiecewiseLinear>(&material.strength))
+    return m->failure_strain > 0 && state.plastic_strain >= m->failure_strain;
+  if (const auto* m = std::get_if<JohnsonCook>(&material.strength))
+    return m->erode_at_failure && m->damage() && state.damage >= 1;
+  return false;
+}
+
 Real static_yield_stress(const Material& material, const PointState& state) {
   struct Visitor {
     const PointState& state;

@@ -92,6 +92,11 @@ Real update_deviatoric_stress(const Material& material, PointState& state, const
 // Returns the pressure to use; may mark the point failed (spall) and then clears its deviator.
 Real apply_tensile_limit(const Material& material, PointState& state, Real pressure);
 
+// Whether the point failed in a way that deletes a finite element (LS-DYNA): the plastic strain
+// reached *MAT_003 FS or *MAT_024 FAIL, or the Johnson-Cook damage reached 1 with EROD 0. (Spall
+// and particles keep their points: a failed point carries no deviator and no tension.)
+bool erodes_element(const Material& material, const PointState& state);
+
 // The yield stress at the point's plastic strain and temperature without the strain-rate term
 // (the quasi-static flow stress a residual stress is compared with); infinity for materials
 // without yield (*MAT_ELASTIC), 0 for *MAT_NULL.

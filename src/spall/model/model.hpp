@@ -319,6 +319,8 @@ struct ControlTimestep {
   Real tslimt = 0;
   Real dt2ms = 0;
   Id lctm = 0;
+  int erode = 0;  // ERODE: 1 in the units digit erodes solids whose step falls below DTMIN dt0
+  int ms1st = 0;
   SourceLocation where;
 };
 
@@ -349,6 +351,18 @@ struct ControlBulkViscosity {
   Real q1 = 1.5;
   Real q2 = 0.06;
   int type = 1;
+  SourceLocation where;
+};
+
+// *MAT_ADD_EROSION: failure criteria added to material MID; an element whose NCS criteria hold
+// at once (at NUMFIP of its integration points) is deleted. A criterion whose value equals EXCL
+// is off (blank and 0 read as 0, so with the default EXCL 0 the blank ones are off).
+struct MatAddErosion {
+  Id mid = 0;
+  Real excl = 0;
+  Real mxpres = 0, mneps = 0, effeps = 0, voleps = 0;  // card 1
+  Real numfip = 1, ncs = 1;
+  Real mnpres = 0, sigp1 = 0, sigvm = 0, mxeps = 0, epssh = 0, sigth = 0, impulse = 0, failtm = 0;  // card 2
   SourceLocation where;
 };
 
@@ -468,6 +482,7 @@ struct Model {
   ControlTimestep timestep;
   ControlBulkViscosity bulk_viscosity;
   std::map<Id, Hourglass> hourglasses;
+  std::map<Id, MatAddErosion> add_erosions;  // by MID
   std::optional<ControlHourglass> control_hourglass;
   std::optional<ControlSph> control_sph;
   std::optional<SphArtificialStress> sph_artificial_stress;

@@ -476,6 +476,8 @@ class Builder {
     c.dt_initial = ts.dtinit;
     c.max_dt_curve = curve(ts.lctm, ts.where, "*CONTROL_TIMESTEP", "LCTM");
     if (ts.dt2ms != 0) fail(ts.where, "*CONTROL_TIMESTEP", "DT2MS: mass scaling is not supported yet");
+    if (ts.ms1st != 0) fail(ts.where, "*CONTROL_TIMESTEP", "MS1ST: mass scaling is not supported yet");
+    c.erode = ts.erode % 10 == 1;
     if (model_.d3plot) {
       const auto& d = *model_.d3plot;
       c.d3plot_dt = d.dt > 0 ? d.dt : (d.npltc > 0 ? c.end_time / d.npltc : 0);

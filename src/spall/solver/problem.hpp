@@ -33,6 +33,7 @@ struct RunControls {
   Real end_time = 0;
   long long end_cycle = 0;     // 0: no limit
   Real dt_min_factor = 0;      // stop when dt < DTMIN * dt_initial
+  bool erode = false;          // ERODE: delete solids below DTMIN * dt_initial (and inverted ones) instead
   Real end_energy = 0;         // stop when the energy ratio changes by ENDENG percent (0: off)
   Real tssfac = 0.9;
   Real dt_initial = 0;         // DTINIT (0: from the stable step)

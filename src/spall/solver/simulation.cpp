@@ -151,12 +151,16 @@ class TimeLoop::Step {
     if (step_.step == 0) {
       if (controls_.dt_initial > 0) dt = std::min(dt, controls_.dt_initial);
       dt_first_ = dt;
+      // ERODE: elements whose own step x TSSFAC would fall below DTMIN x dt0 are deleted instead.
+      if (controls_.erode)
+        for (const auto& f : problem_.formulations) f->erode_below(controls_.dt_min_factor * dt_first_ / controls_.tssfac);
     }
     if (!std::isfinite(dt)) dt = controls_.end_time;  // nothing limits the step (no formulation)
-    dt = std::min(dt, controls_.end_time - step_.time);
+    // DTMIN judges the stable step, not the last step shortened to land on ENDTIM.
     if (controls_.dt_min_factor > 0 && dt < controls_.dt_min_factor * dt_first_ && step_.time < controls_.end_time)
       throw InstabilityError(fmt::format("time step {:.6g} at step {}, time {:.6g} fell below DTMIN x initial step ({:.6g})",
                                          dt, step_.step, step_.time, controls_.dt_min_factor * dt_first_));
+    dt = std::min(dt, controls_.end_time - step_.time);
     step_.dt = dt;
     dt_mid_ = step_.step == 0 ? Real(0.5) * dt : Real(0.5) * (dt_previous_ + dt);
     // Where v^n lies between v^{n-1/2} and v^{n+1/2} (see energies()).

@@ -35,7 +35,7 @@ void read_control_termination(CardCursor& cursor, const KeywordCall&, model::Mod
 }
 
 void read_control_timestep(CardCursor& cursor, const KeywordCall&, model::Model& model) {
-  const Card card = cursor.next(standard_fields, "card 1 (DTINIT TSSFAC ISDO TSLIMT DT2MS LCTM)");
+  const Card card = cursor.next(standard_fields, "card 1 (DTINIT TSSFAC ISDO TSLIMT DT2MS LCTM ERODE MS1ST)");
   model::ControlTimestep timestep;
   timestep.dtinit = card.real(0, "DTINIT", 0.0);
   // TSSFAC < 0 is the ID of a curve of the factor over time, kept negative as LS-DYNA has it.
@@ -44,6 +44,12 @@ void read_control_timestep(CardCursor& cursor, const KeywordCall&, model::Model&
   timestep.tslimt = card.real(3, "TSLIMT", 0.0);
   timestep.dt2ms = card.real(4, "DT2MS", 0.0);
   timestep.lctm = card.integer(5, "LCTM", 0);
+  // ERODE: its digits switch erosion on for solids (units), shells (tens) and beams (hundreds).
+  timestep.erode = static_cast<int>(card.integer(6, "ERODE", 0));
+  const int e = timestep.erode;
+  if (e < 0 || e > 111 || e % 10 > 1 || e / 10 % 10 > 1)
+    card.fail("ERODE", quoted(card.text(6)) + " is not 0, 1, 10, 11, 100, 101, 110 or 111");
+  timestep.ms1st = static_cast<int>(card.integer(7, "MS1ST", 0));
   timestep.where = card.where();
   model.timestep = timestep;
 }

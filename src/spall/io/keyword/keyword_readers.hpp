@@ -58,6 +58,8 @@ void read_section_solid_spg(CardCursor&, const KeywordCall&, model::Model&);
 void read_section_sph(CardCursor&, const KeywordCall&, model::Model&);
 void read_mat_elastic(CardCursor&, const KeywordCall&, model::Model&);
 void read_mat_rigid(CardCursor&, const KeywordCall&, model::Model&);
+// add_erosion.cpp
+void read_mat_add_erosion(CardCursor&, const KeywordCall&, model::Model&);
 // hourglass.cpp
 void read_hourglass(CardCursor&, const KeywordCall&, model::Model&);
 void read_control_hourglass(CardCursor&, const KeywordCall&, model::Model&);

@@ -32,6 +32,7 @@ constexpr SupportedKeyword supported_keywords[] = {
     {"SECTION_SOLID_SPG", read_section_solid_spg, true},
     {"SECTION_SPH", read_section_sph, true},
     {"HOURGLASS", read_hourglass, true},
+    {"MAT_ADD_EROSION", read_mat_add_erosion, true},
     {"CONTROL_HOURGLASS", read_control_hourglass},
     {"MAT_ELASTIC", read_mat_elastic, true},
     {"MAT_001", read_mat_elastic, true},
