@@ -6,8 +6,8 @@
 
 namespace spall::cli {
 
-Progress::Progress(spall::Real end_time, long long particles)
-    : end_time_(end_time), particles_(particles), terminal_(isatty(STDERR_FILENO) != 0) {}
+Progress::Progress(spall::Real end_time, long long nodes)
+    : end_time_(end_time), nodes_(nodes), terminal_(isatty(STDERR_FILENO) != 0) {}
 
 double Progress::elapsed_seconds() const {
   return std::chrono::duration<double>(Clock::now() - start_).count();
@@ -35,11 +35,11 @@ void Progress::finish(const spall::solver::StepInfo& step) {
 
 void Progress::print(const spall::solver::StepInfo& step, bool final) {
   const double seconds = elapsed_seconds();
-  const double rate = seconds > 0 ? particles_ * double(step.step) / seconds : 0;
+  const double rate = seconds > 0 ? nodes_ * double(step.step) / seconds : 0;
   const double fraction = end_time_ > 0 ? step.time / end_time_ : 1;
   const double eta = fraction > 0 ? seconds * (1 - fraction) / fraction : 0;
   const std::string line =
-      fmt::format("t {:.4e} ({:5.1f}%)  step {}  dt {:.3e}  {:.3e} particle-steps/s  ETA {:.0f} s",
+      fmt::format("t {:.4e} ({:5.1f}%)  step {}  dt {:.3e}  {:.3e} node-steps/s  ETA {:.0f} s",
                   step.time, 100 * fraction, step.step, last_dt_, rate, eta);
   if (terminal_)
     fmt::print(stderr, "\r{}{}", line, final ? "\n" : "   ");

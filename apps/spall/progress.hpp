@@ -9,7 +9,7 @@ namespace spall::cli {
 
 class Progress {
  public:
-  Progress(spall::Real end_time, long long particles);
+  Progress(spall::Real end_time, long long nodes);
   void update(const spall::solver::StepInfo& step);
   void finish(const spall::solver::StepInfo& step);
   double elapsed_seconds() const;
@@ -19,7 +19,7 @@ class Progress {
 
   using Clock = std::chrono::steady_clock;
   spall::Real end_time_;
-  long long particles_;
+  long long nodes_;
   bool terminal_;
   Clock::time_point start_ = Clock::now();
   Clock::time_point last_print_ = start_;

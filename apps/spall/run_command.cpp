@@ -49,7 +49,8 @@ model::Model read_and_check(const std::string& deck) {
   return model;
 }
 
-long long particle_count(const solver::Problem& problem) {
+// The nodes that carry mass: the particles of SPH and SPG parts and the nodes of finite elements.
+long long moving_node_count(const solver::Problem& problem) {
   long long n = 0;
   for (Real m : problem.nodes.mass) n += m > 0;
   return n;
@@ -104,9 +105,9 @@ int run_deck(const RunOptions& options) {
   fs::create_directories(out);
   copy_deck(model, options.deck, out);
 
-  const long long particles = particle_count(problem);
-  log::info(fmt::format("spall {}: {} with {} particles on {} threads, to {}", version, options.deck,
-                        particles, parallel::thread_count(), out.string()));
+  const long long nodes = moving_node_count(problem);
+  log::info(fmt::format("spall {}: {} with {} nodes (particles and element nodes) on {} threads, to {}", version,
+                        options.deck, nodes, parallel::thread_count(), out.string()));
 
   io::output::PvdSeries series(out / "d3plot.pvd");
   // glstat.csv: time, dt, the energy ledger's terms (whoever produces a term registers it in the
@@ -136,7 +137,7 @@ int run_deck(const RunOptions& options) {
     if (residual && residual_options.at_output == 1) residual->write(step.time);
   };
 
-  Progress progress(problem.controls.end_time, particles);
+  Progress progress(problem.controls.end_time, nodes);
   solver::StepInfo last_step;
   solver::Observer observer;
   observer.on_field_output = write_fields;
@@ -172,7 +173,7 @@ int run_deck(const RunOptions& options) {
   info.version = version;
   info.deck = fs::absolute(options.deck).string();
   info.threads = parallel::thread_count();
-  info.particles = particles;
+  info.nodes = nodes;
   int code = exit_success;
   solver::TimeLoop loop(problem, observer);
   try {
@@ -185,10 +186,10 @@ int run_deck(const RunOptions& options) {
       if (residual_options.at_output != 1) residual->write(summary.end_time);
       log::info(residual->summary());
     }
-    log::info(fmt::format("done: {} steps to t = {:g} in {:.2f} s, {:.3e} particle-steps/s, energy ratio {:.6f}",
+    log::info(fmt::format("done: {} steps to t = {:g} in {:.2f} s, {:.3e} node-steps/s, energy ratio {:.6f}",
                           summary.steps, summary.end_time, progress.elapsed_seconds(),
                           progress.elapsed_seconds() > 0
-                              ? particles * double(summary.steps) / progress.elapsed_seconds()
+                              ? nodes * double(summary.steps) / progress.elapsed_seconds()
                               : 0.0,
                           summary.energies.ratio()));
   } catch (const InstabilityError& e) {

@@ -20,7 +20,7 @@ fail() { echo "FAIL: $*"; exit 1; }
 # A coarse bar, a quarter period.
 python3 "$source_dir/tools/make_bar_deck.py" --spacing 0.025 --periods 0.25 >"$work/bar.k"
 "$cli" run "$work/bar.k" -o "$work/out" 2>"$work/run.log" || { cat "$work/run.log"; fail "run"; }
-grep -q 'particle-steps/s' "$work/run.log" || fail "no progress line"
+grep -q 'node-steps/s' "$work/run.log" || fail "no progress line"
 last=$(ls "$work/out"/d3plot_*.vtu | tail -n 1)
 "${read_vtu[@]}" "$last" --field velocity --field displacement --field pressure --field von_mises \
   --field density --field part_id --field node_id --field stress >"$work/fields" || fail "VTK could not read $last"

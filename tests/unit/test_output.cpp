@@ -280,7 +280,7 @@ TEST_F(OutputTest, RunJsonEscapesStrings) {
   info.steps = 123456789012LL;
   info.end_time = 0.1;
   info.wall_seconds = std::numeric_limits<double>::quiet_NaN();
-  info.particles = 1000;
+  info.nodes = 1000;
   info.status = "completed";
   info.phases = {{"internal_forces", 1.5}, {"output", 0.25}};
   write_run_json(path, info);
@@ -293,7 +293,7 @@ TEST_F(OutputTest, RunJsonEscapesStrings) {
             "  \"steps\": 123456789012,\n"
             "  \"end_time\": 0.10000000000000001,\n"
             "  \"wall_seconds\": null,\n"
-            "  \"particles\": 1000,\n"
+            "  \"nodes\": 1000,\n"
             "  \"phases\": {\"internal_forces\": 1.5, \"output\": 0.25},\n"
             "  \"status\": \"completed\"\n"
             "}\n");

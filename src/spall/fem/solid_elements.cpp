@@ -221,14 +221,16 @@ Real SolidElements::element_step<Kind::hexahedron>(Block& block, Index e, const 
   const Real q = bulk_viscosity(rho, volume, c, volume_rate, part);
   // f_I = -sigma b_I = sum_k c_kI (-sigma g_k / 8): the shares' basis coefficients, then nodal.
   const Mat3 sigma = state.deviatoric_stress - thermo.pressure * Mat3::Identity();
-  HexVectors stress, bulk;
-  stress[0] = stress[7] = bulk[0] = bulk[7] = Vec3::Zero();
-  for (int k = 1; k < 7; ++k) {
-    stress[k] = Real(-0.125) * (sigma * now.g[k]);
-    bulk[k] = Real(0.125) * q * now.g[k];
-  }
+  HexVectors stress;
+  stress[0] = stress[7] = Vec3::Zero();
+  for (int k = 1; k < 7; ++k) stress[k] = Real(-0.125) * (sigma * now.g[k]);
   scatter(hex_nodal(stress), local, force_);
-  scatter(hex_nodal(bulk), local, bulk_force_);
+  if (q != 0) {  // only while the element shrinks
+    HexVectors bulk;
+    bulk[0] = bulk[7] = Vec3::Zero();
+    for (int k = 1; k < 7; ++k) bulk[k] = Real(0.125) * q * now.g[k];
+    scatter(hex_nodal(bulk), local, bulk_force_);
+  }
 
   // Hourglass control (Flanagan & Belytschko 1981): the rates qdot_alpha = sum_I v_I gamma_alphaI on
   // gamma_alphaI = Gamma_alphaI - (h_alpha . b_I) / V, h_alpha = sum_J x_J Gamma_alphaJ = 8 a_{4+alpha},

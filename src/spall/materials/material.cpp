@@ -104,7 +104,8 @@ Real advance_point(const Material& material, PointState& state, PointThermo& the
   const Mat3 D = Real(0.5) * (L + L.transpose());
   const Mat3 sigma_old = state.deviatoric_stress - thermo.pressure * Mat3::Identity();
   state.deviatoric_stress += dt * (W * state.deviatoric_stress - state.deviatoric_stress * W);
-  state.back_stress += dt * (W * state.back_stress - state.back_stress * W);
+  // Only kinematic hardening (MAT_003 BETA < 1) moves the back stress away from zero.
+  if (!state.back_stress.isZero(0)) state.back_stress += dt * (W * state.back_stress - state.back_stress * W);
   const Real e_predicted = thermo.specific_energy + dt * sigma_old.cwiseProduct(D).sum() / density;
   const StressUpdate update = update_stress(material, state, D, dt, density, e_predicted);
   const Mat3 sigma = state.deviatoric_stress - update.pressure * Mat3::Identity();

@@ -177,10 +177,8 @@ std::vector<PartSetup> spg_parts(const model::Model& model, const std::unordered
     setup.settings.material = resolve_material(model, part);
     if (setup.settings.failure_quantity == BondFailure::plastic_strain)
       setup.settings.failure_value = bond_failure_strain(setup.settings.material, setup.settings.failure_value);
+    // TYPE -1 and -2 add bulk viscosity to shells, 2 to beams: for solids every TYPE is the standard form.
     const auto& viscosity = model.bulk_viscosity;
-    if (viscosity.type != 1 && viscosity.type != -1)
-      fail(viscosity.where, "*CONTROL_BULK_VISCOSITY",
-           fmt::format("TYPE {}: only the standard type 1 is supported (SPG part {})", viscosity.type, pid));
     setup.settings.bulk_viscosity_quadratic = viscosity.q1;
     setup.settings.bulk_viscosity_linear = viscosity.q2;
     setup.particles.reserve(particles.by_node.size());

@@ -55,12 +55,12 @@ void write_run_json(const std::filesystem::path& path, const RunInfo& info) {
       "  \"steps\": {},\n"
       "  \"end_time\": {},\n"
       "  \"wall_seconds\": {},\n"
-      "  \"particles\": {},\n"
+      "  \"nodes\": {},\n"
       "  \"phases\": {{{}}},\n"
       "  \"status\": {}\n"
       "}}\n",
       json_string(info.version), json_string(info.deck), info.threads, info.ranks, info.steps,
-      json_number(info.end_time), json_number(info.wall_seconds), info.particles,
+      json_number(info.end_time), json_number(info.wall_seconds), info.nodes,
       phases, json_string(info.status));
   replace_file_atomically(path, [&](std::ostream& out) { out << json; });
 }

@@ -16,7 +16,7 @@ struct RunInfo {
   long long steps = 0;
   double end_time = 0;
   double wall_seconds = 0;
-  long long particles = 0;
+  long long nodes = 0;  // nodes with mass: particles and the nodes of elements
   std::string status;  // "completed", "unstable", ...
   std::vector<std::pair<std::string, double>> phases;  // seconds spent in each phase of the step
 };
