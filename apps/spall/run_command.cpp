@@ -127,6 +127,17 @@ int run_deck(const RunOptions& options) {
   const model::SphResidualStress residual_options = model.sph_residual_stress.value_or(model::SphResidualStress{});
   std::optional<ResidualStressReport> residual;
   if (solid) residual.emplace(out / "residual.csv", *solid, residual_options);
+  // The rigid bodies' motion and the forces on them, at the GLSTAT interval; only with bodies.
+  std::optional<io::output::CsvHistory> rbdout;
+  if (!problem.rigid_bodies.empty()) {
+    std::vector<io::output::Column> columns{{"time", "time"}, {"part", ""}};
+    for (const char* name : {"x", "y", "z"}) columns.push_back({name, "length"});
+    for (const char* name : {"vx", "vy", "vz"}) columns.push_back({name, "velocity"});
+    for (const char* name : {"wx", "wy", "wz"}) columns.push_back({name, "1/time"});
+    for (const char* name : {"fx", "fy", "fz"}) columns.push_back({name, "force"});
+    for (const char* name : {"mx", "my", "mz"}) columns.push_back({name, "force*length"});
+    rbdout.emplace(out / "rbdout.csv", std::move(columns));
+  }
 
   int field_count = 0;
   auto write_fields = [&](const solver::StepInfo& step, const solver::Problem& p) {
@@ -144,7 +155,8 @@ int run_deck(const RunOptions& options) {
   observer.on_history = [&](const solver::StepInfo& step, const discretization::EnergyLedger& e) {
     if (!glstat) {
       std::vector<io::output::Column> columns{{"time", "time"}, {"dt", "time"}};
-      for (const auto& term : e.terms()) columns.push_back({term.name, "energy"});
+      for (const auto& term : e.terms())
+        columns.push_back({term.name, term.role == discretization::EnergyLedger::Role::reported ? "mass" : "energy"});
       columns.push_back({"total_energy", "energy"});
       columns.push_back({"energy_ratio", ""});
       glstat.emplace(out / "glstat.csv", std::move(columns));
@@ -154,6 +166,13 @@ int run_deck(const RunOptions& options) {
     row.push_back(e.total());
     row.push_back(e.ratio());
     glstat->append(row);
+    if (rbdout)
+      for (const auto& body : problem.rigid_bodies.bodies()) {
+        std::vector<double> r{step.time, static_cast<double>(body.part_id)};
+        for (const Vec3* v : {&body.step_centre, &body.velocity, &body.angular_velocity, &body.force, &body.moment})
+          r.insert(r.end(), v->data(), v->data() + 3);
+        rbdout->append(r);
+      }
   };
   observer.on_rigid_wall_forces = [&](const solver::StepInfo& step,
                                       const std::vector<contact::RigidWall>& walls) {

@@ -4,7 +4,8 @@
 # to rwforc.csv; bad input is one `file:line: *KEYWORD:` line and exit 2; an unsupported keyword
 # is a warning with name and line; an unstable run exits 3 and leaves its last state; an SPG run
 # writes its bond fields and an SPG option without an implementation is exit 2 naming the field;
-# every public deck goes through `spall check` with exit 0 or 2, never a crash.
+# a rigid body's motion goes to rbdout.csv; every public deck goes through `spall check` with exit 0
+# or 2, never a crash.
 # Arguments, as CTest passes them: CLI SOURCE_DIR SHARED_DIR.
 set -euo pipefail
 cli=$1
@@ -112,6 +113,32 @@ set -e
   [ "$(wc -l <"$work/folder.err")" -eq 1 ] || { cat "$work/folder.err"; fail "a folder as the deck"; }
 [ "$binary_code" -eq 2 ] && grep -q 'not a keyword file (binary data' "$work/binary.err" &&
   [ "$(wc -l <"$work/binary.err")" -eq 1 ] || { cat "$work/binary.err"; fail "a binary file as the deck"; }
+
+# A rigid tool turning at 3000 rpm (*MAT_RIGID, *BOUNDARY_PRESCRIBED_MOTION_RIGID DOF 7, LCTM
+# holding the step): rbdout.csv has the body's angular velocity, 314.16 rad/s about z.
+{
+  echo "*KEYWORD"
+  echo "*CONTROL_TERMINATION"; echo "   1.0e-03"
+  echo "*CONTROL_TIMESTEP"; echo "       0.0       0.9       0.0       0.0       0.0        99"
+  echo "*DATABASE_GLSTAT"; echo "   1.0e-04"
+  echo "*PART"; echo "tool"; echo "         1         1         1"
+  echo "*SECTION_SOLID"; echo "         1         1"
+  echo "*MAT_RIGID"; echo "         1    7850.0   2.0e+11       0.3"; echo "       1.0         7         4"
+  echo "*DEFINE_CURVE"; echo "        99"; echo "                 0.0              1.0e-5"; echo "                 1.0              1.0e-5"
+  echo "*DEFINE_CURVE"; echo "         1"; echo "                 0.0                 1.0"; echo "                 1.0                 1.0"
+  echo "*BOUNDARY_PRESCRIBED_MOTION_RIGID"; echo "         1         7         0         1    314.16"
+  echo "*NODE"
+  n=1
+  for z in 0.0 0.01; do for y in -0.005 0.005; do for x in -0.005 0.005; do
+    printf '%8d%16s%16s%16s\n' $n $x $y $z; n=$((n + 1))
+  done; done; done
+  echo "*ELEMENT_SOLID"; printf '%8d%8d%8d%8d%8d%8d%8d%8d%8d%8d\n' 1 1 1 2 4 3 5 6 8 7
+  echo "*END"
+} >"$work/tool.k"
+"$cli" run "$work/tool.k" -o "$work/tool" 2>"$work/tool.log" || { cat "$work/tool.log"; fail "rigid tool run"; }
+head -n 1 "$work/tool/rbdout.csv" | grep -q '^time \[time\],part,x \[length\]' || fail "rbdout header: $(head -n 1 "$work/tool/rbdout.csv")"
+tail -n 1 "$work/tool/rbdout.csv" | awk -F, '{ exit !($2 == 1 && $11 > 314.159 && $11 < 314.161 && $9 == 0 && $10 == 0) }' ||
+  fail "rbdout last row: $(tail -n 1 "$work/tool/rbdout.csv")"
 
 # Every public deck: `spall check` answers 0 or 2 with a clear line, never a crash (the decks live
 # in shared/ beside the checkout, which a user's clone does not have).

@@ -4,6 +4,7 @@
 // Elastic Solids, §2.1). Started with v(x, 0) = V cos(pi x / L), the kinetic energy first vanishes
 // at a quarter period t = L / (2 c).
 #include <cmath>
+#include <omp.h>
 #include <vector>
 
 #include "spall/solver/simulation.hpp"
@@ -45,6 +46,19 @@ inline BarHistory run_spg_bar(SpgBlock b, Real end_time, Real tssfac = 0.9) {
   };
   h.summary = solver::run(problem, observer);
   return h;
+}
+
+// The nodes after running the bar to `end_time` on `threads` threads, started with
+// v = (cos(pi x / L), 0.1, 0) m/s: for the checks that a result does not depend on the thread count.
+inline discretization::NodeStore bar_nodes_after(SpgBlock b, Real end_time, int threads) {
+  omp_set_num_threads(threads);
+  b.end_time = end_time;
+  model::Model m = spg_block_model(b);
+  for (const auto& node : m.nodes)
+    m.initial_velocity_nodes.push_back({node.id, Vec3(std::cos(M_PI * node.x.x() / b.size.x()), 0.1, 0), Vec3::Zero(), 0, {}});
+  solver::Problem p = solver::build_problem(m);
+  solver::run(p, {});
+  return p.nodes;
 }
 
 // Time of the first minimum of a sampled curve, refined by a parabola through the three samples

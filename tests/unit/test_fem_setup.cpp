@@ -194,15 +194,16 @@ TEST(FemSetup, AddErosionOnParticlesOrAMissingMaterialIsRefused) {
   b.elements = {2, 2, 2};
   b.size = Vec3(0.2, 0.2, 0.2);
   model::Model spg = test_support::spg_block_model(b);
-  spg.add_erosions[1] = model::MatAddErosion{1};
+  spg.add_erosions[1].mid = 1;
   EXPECT_NE(build_error(spg).find("*MAT_ADD_EROSION: MID 1: part 1 uses it and is not meshed with solid finite elements"),
             std::string::npos) << build_error(spg);
   model::Model missing = test_support::spg_block_model(cube(1));
-  missing.add_erosions[7] = model::MatAddErosion{7};
+  missing.add_erosions[7].mid = 7;
   EXPECT_NE(build_error(missing).find("MID 7: no material has that ID"), std::string::npos);
   // The criteria a part gets: each value that is not EXCL.
   model::Model m = test_support::spg_block_model(cube(1));
-  model::MatAddErosion card{1};
+  model::MatAddErosion card;
+  card.mid = 1;
   card.excl = 99;
   card.mxpres = 99;  // excluded
   card.sigvm = 0;    // a criterion at 0 once EXCL is not 0

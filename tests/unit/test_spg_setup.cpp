@@ -187,15 +187,20 @@ TEST(SpgSetup, TooSmallSupportIsASingularMomentMatrixAtTheSection) {
   EXPECT_NE(message.find("node 1 "), std::string::npos) << message;
 }
 
-TEST(SpgSetup, RigidMaterialsAndInvertedElementsAreRefused) {
+TEST(SpgSetup, InvertedElementsAreRefusedAndARigidMaterialMakesARigidBody) {
   log::set_quiet(true);
   test_support::SpgBlock b;
   b.elements = {2, 2, 2};
   b.size = Vec3(0.2, 0.2, 0.2);
+  // *MAT_RIGID on a *SECTION_SOLID_SPG part: a rigid body, as in LS-DYNA (the section then only
+  // gives the geometry), not SPG particles.
   model::Model rigid = test_support::spg_block_model(b);
   rigid.materials[1].keyword = "*MAT_RIGID";
   rigid.materials[1].params = model::MatRigid{7850, 2e11, 0.3};
-  EXPECT_NE(build_error(rigid).find("is a rigid body"), std::string::npos);
+  const solver::Problem p = solver::build_problem(rigid);
+  EXPECT_TRUE(p.formulations.empty());
+  ASSERT_EQ(p.rigid_bodies.bodies().size(), 1u);
+  EXPECT_NEAR(p.rigid_bodies.bodies()[0].mass, 7850 * 0.008, 1e-12);
   model::Model inverted = test_support::spg_block_model(b);
   auto& n = inverted.solid_elements[0].n;
   std::swap(n[0], n[4]);

@@ -6,7 +6,6 @@
 // (bitwise).
 #include <gtest/gtest.h>
 
-#include <omp.h>
 
 #include "spall/core/log.hpp"
 #include "support/spg_bar.hpp"
@@ -70,18 +69,8 @@ TEST(FemElasticBar, ResultsDoNotDependOnTheThreadCount) {
     auto b = fem_bar(elform, elform == 1 ? 4 : 0, 0.15);
     b.elements = {120, 8, 8};
     const Real end = 0.3 * test_support::bar_quarter_period(b);
-    auto final_state = [&](int threads) {
-      omp_set_num_threads(threads);
-      b.end_time = end;
-      model::Model m = test_support::spg_block_model(b);
-      for (const auto& node : m.nodes)
-        m.initial_velocity_nodes.push_back({node.id, Vec3(std::cos(M_PI * node.x.x()), 0.1, 0), Vec3::Zero(), 0, {}});
-      solver::Problem p = solver::build_problem(m);
-      solver::run(p, {});
-      return p.nodes;
-    };
-    const auto one = final_state(1);
-    const auto two = final_state(2);
+    const auto one = test_support::bar_nodes_after(b, end, 1);
+    const auto two = test_support::bar_nodes_after(b, end, 2);
     ASSERT_EQ(one.x.size(), two.x.size());
     for (std::size_t i = 0; i < one.x.size(); ++i) {
       ASSERT_EQ(one.x[i], two.x[i]) << "ELFORM " << elform << " node " << one.id[i];

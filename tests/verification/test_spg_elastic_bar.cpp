@@ -6,7 +6,6 @@
 // test_spg_elastic_bar_slow.cpp.
 #include <gtest/gtest.h>
 
-#include <omp.h>
 
 #include "spall/core/log.hpp"
 #include "support/spg_bar.hpp"
@@ -59,18 +58,8 @@ TEST(SpgElasticBar, ResultsDoNotDependOnTheThreadCount) {
   b.section.kernel = 1;  // Eulerian: neighbour searches and rebuilt shape functions every 5 steps
   b.section.smstep = 5;
   const Real end = 0.15 * test_support::bar_quarter_period(b);
-  auto final_state = [&](int threads) {
-    omp_set_num_threads(threads);
-    b.end_time = end;
-    model::Model m = test_support::spg_block_model(b);
-    for (const auto& node : m.nodes)
-      m.initial_velocity_nodes.push_back({node.id, Vec3(std::cos(M_PI * node.x.x()), 0.1, 0), Vec3::Zero(), 0, {}});
-    solver::Problem p = solver::build_problem(m);
-    solver::run(p, {});
-    return p.nodes;
-  };
-  const auto one = final_state(1);
-  const auto two = final_state(2);
+  const auto one = test_support::bar_nodes_after(b, end, 1);
+  const auto two = test_support::bar_nodes_after(b, end, 2);
   ASSERT_EQ(one.x.size(), two.x.size());
   for (std::size_t i = 0; i < one.x.size(); ++i) {
     EXPECT_EQ(one.x[i], two.x[i]) << "node " << one.id[i];

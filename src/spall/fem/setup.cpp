@@ -4,9 +4,7 @@
 #include <map>
 
 #include "spall/core/log.hpp"
-#include "spall/fem/hexahedron.hpp"
 #include "spall/fem/solid_elements.hpp"
-#include "spall/fem/tetrahedron.hpp"
 #include "spall/materials/make_material.hpp"
 
 namespace spall::fem {
@@ -18,6 +16,10 @@ namespace {
 }
 
 const model::SectionSolid* solid_section(const model::Model& model, const model::Part& part) {
+  // A part of *MAT_RIGID is a rigid body whatever its section (rigid/setup.hpp).
+  if (auto m = model.materials.find(part.mid);
+      m != model.materials.end() && std::holds_alternative<model::MatRigid>(m->second.params))
+    return nullptr;
   auto it = model.sections.find(part.secid);
   if (it == model.sections.end()) return nullptr;
   return std::get_if<model::SectionSolid>(&it->second);
@@ -146,16 +148,7 @@ std::unique_ptr<discretization::Formulation> build_fem(const model::Model& model
         fail(e.where, "*ELEMENT_SOLID", fmt::format("element {}: node {} does not exist", e.eid, e.n[a]));
       setup.node[a] = node->second;
     }
-    Real volume;
-    if (section->elform == 10) {
-      TetNodes x;
-      for (int a = 0; a < 4; ++a) x[a] = nodes.x0[setup.node[a]];
-      volume = tet_gradient(x).volume;
-    } else {
-      HexVectors x;
-      for (int a = 0; a < 8; ++a) x[a] = nodes.x0[setup.node[a]];
-      volume = hex_gradient(x).volume;
-    }
+    const Real volume = element_volume(setup.node, section->elform == 10, nodes);
     if (!(volume > 0))
       fail(e.where, "*ELEMENT_SOLID",
            fmt::format("element {}: volume {:.6g}: inverted or flat; check the node order (N1-N4 one face, "

@@ -47,6 +47,17 @@ Real bulk_viscosity(Real rho, Real volume, Real c, Real volume_rate, const PartS
 
 }  // namespace
 
+Real element_volume(const std::array<Index, 8>& node, bool tetrahedron, const discretization::NodeStore& nodes) {
+  if (tetrahedron) {
+    TetNodes x;
+    for (int a = 0; a < 4; ++a) x[a] = nodes.x0[node[a]];
+    return tet_gradient(x).volume;
+  }
+  HexVectors x;
+  for (int a = 0; a < 8; ++a) x[a] = nodes.x0[node[a]];
+  return hex_gradient(x).volume;
+}
+
 SolidElements::SolidElements(std::vector<PartSettings> parts, const std::vector<ElementSetup>& elements,
                              const discretization::NodeStore& nodes)
     : parts_(std::move(parts)) {
@@ -92,16 +103,7 @@ SolidElements::SolidElements(std::vector<PartSettings> parts, const std::vector<
     for (const auto& e : elements) {
       if (kind_of(e) != kind) continue;
       const PartSettings& part = parts_[e.part];
-      Real volume = 0;
-      if (kind == Kind::tetrahedron) {
-        TetNodes x;
-        for (int a = 0; a < 4; ++a) x[a] = nodes.x0[e.node[a]];
-        volume = tet_gradient(x).volume;
-      } else {
-        HexVectors x;
-        for (int a = 0; a < 8; ++a) x[a] = nodes.x0[e.node[a]];
-        volume = hex_gradient(x).volume;
-      }
+      const Real volume = element_volume(e.node, kind == Kind::tetrahedron, nodes);
       if (!(volume > 0))
         throw std::invalid_argument(fmt::format("element {}: volume {:.6g} at the start", e.id, volume));
       for (int a = 0; a < block.nodes_per_element; ++a) block.node.push_back(local[e.node[a]]);
@@ -184,6 +186,25 @@ Gathered<N> gather(const Index* local, const std::vector<Index>& node, const dis
   return g;
 }
 
+// A hexahedron over the step in its basis: a(x^n), a(v), and the volume gradients at x^n and at
+// x^{n-1/2}, whose coefficients are a(x^n) - dt/2 a(v) (the map is linear in the nodes).
+struct HexStep {
+  HexVectors a, av;
+  HexVolumeGradient now, half;
+  bool inverted() const { return !(now.volume > 0) || !(half.volume > 0); }
+};
+
+HexStep hex_step(const std::array<Vec3, 8>& x, const std::array<Vec3, 8>& v, Real dt) {
+  HexStep s;
+  s.a = hex_coefficients(x);
+  s.av = hex_coefficients(v);
+  HexVectors a_half;
+  for (int k = 0; k < 8; ++k) a_half[k] = s.a[k] - Real(0.5) * dt * s.av[k];
+  s.now = hex_volume_gradient(s.a);
+  s.half = hex_volume_gradient(a_half);
+  return s;
+}
+
 // sum_k u_k (x) g_k over k = 1..6: V times the mean gradient of the field whose basis
 // coefficients are u (hexahedron.hpp).
 Mat3 basis_gradient(const HexVectors& u, const HexVectors& g) {
@@ -203,12 +224,10 @@ Real SolidElements::element_step<Kind::hexahedron>(Block& block, Index e, const 
   const Index* local = &block.node[8 * e];
   const PartSettings& part = parts_[block.part[e]];
   const auto [x, v] = gather<8>(local, node_, nodes);
-  // Everything in the element's basis: a(x^{n-1/2}) = a(x^n) - dt/2 a(v) (the map is linear).
-  const HexVectors a = hex_coefficients(x), av = hex_coefficients(v);
-  HexVectors a_half;
-  for (int k = 0; k < 8; ++k) a_half[k] = a[k] - Real(0.5) * dt * av[k];
-  const HexVolumeGradient now = hex_volume_gradient(a), half = hex_volume_gradient(a_half);
-  if (!(now.volume > 0) || !(half.volume > 0)) return -1;
+  // Everything in the element's basis.
+  const HexStep geometry = hex_step(x, v, dt);
+  if (geometry.inverted()) return -1;
+  const auto& [a, av, now, half] = geometry;
   const Real volume = now.volume, rho = block.mass[e] / volume;
   const Mat3 L = basis_gradient(av, half.g) / half.volume;
   const Real volume_rate = L.trace();
@@ -285,11 +304,9 @@ Real SolidElements::element_step<Kind::hexahedron_selective_reduced>(Block& bloc
   const Index* local = &block.node[8 * e];
   const PartSettings& part = parts_[block.part[e]];
   const auto [x, v] = gather<8>(local, node_, nodes);
-  const HexVectors a = hex_coefficients(x), av = hex_coefficients(v);
-  HexVectors a_half;
-  for (int k = 0; k < 8; ++k) a_half[k] = a[k] - Real(0.5) * dt * av[k];
-  const HexVolumeGradient now = hex_volume_gradient(a), half = hex_volume_gradient(a_half);
-  if (!(now.volume > 0) || !(half.volume > 0)) return -1;
+  const HexStep geometry = hex_step(x, v, dt);
+  if (geometry.inverted()) return -1;
+  const auto& [a, av, now, half] = geometry;
   const Real volume = now.volume, rho = block.mass[e] / volume;
   Real volume_rate = 0;
   for (int k = 1; k < 7; ++k) volume_rate += av[k].dot(half.g[k]);
@@ -297,7 +314,8 @@ Real SolidElements::element_step<Kind::hexahedron_selective_reduced>(Block& bloc
   materials::PointState* state = &block.state[8 * e];
   materials::PointThermo* thermo = &block.thermo[8 * e];
   HexVectors grad;
-  const HexVectors x_half_nodes = hex_nodal(a_half);
+  HexVectors x_half_nodes;
+  for (int n = 0; n < 8; ++n) x_half_nodes[n] = x[n] - Real(0.5) * dt * v[n];
   std::array<Vec3, 8> f;
   for (auto& fa : f) fa = Vec3::Zero();
   Real pressure = 0, c = 0;

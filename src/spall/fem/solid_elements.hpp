@@ -75,6 +75,10 @@ struct ElementSetup {
   std::array<Index, 8> node{};
 };
 
+// The volume of an element at the nodes' reference positions x0: a tetrahedron of its first four
+// nodes, or the trilinear hexahedron of all eight (degenerate ones repeat nodes).
+Real element_volume(const std::array<Index, 8>& node, bool tetrahedron, const discretization::NodeStore& nodes);
+
 class SolidElements final : public discretization::Formulation {
  public:
   // Throws std::invalid_argument for an element inverted or flat at the start (fem/setup.cpp

@@ -12,6 +12,7 @@
 #include "spall/neighbors/verlet_list.hpp"
 #include "spall/sph/fluid_setup.hpp"
 #include "spall/fem/setup.hpp"
+#include "spall/rigid/setup.hpp"
 #include "spall/spg/setup.hpp"
 #include "spall/sph/solid.hpp"
 
@@ -42,9 +43,11 @@ class Builder {
       problem_.formulations.push_back(std::move(spg));
     if (auto fem = fem::build_fem(model_, index_of_node_, problem_.nodes, problem_.part_of_node))
       problem_.formulations.push_back(std::move(fem));
+    rigid::add_rigid_masses(model_, index_of_node_, problem_.nodes, problem_.part_of_node);
     apply_spcs();
     build_motions();
     apply_initial_velocities();
+    problem_.rigid_bodies = rigid::build_rigid_bodies(model_, index_of_node_, problem_.nodes);
     build_loads();
     build_rigid_walls();
     build_controls();
@@ -318,8 +321,7 @@ class Builder {
       const char* keyword = pm.target == model::Target::node ? "*BOUNDARY_PRESCRIBED_MOTION_NODE"
                             : pm.target == model::Target::node_set ? "*BOUNDARY_PRESCRIBED_MOTION_SET"
                                                                    : "*BOUNDARY_PRESCRIBED_MOTION_RIGID";
-      if (pm.target != model::Target::node && pm.target != model::Target::node_set)
-        fail(pm.where, keyword, "rigid bodies are not supported yet");
+      if (pm.target == model::Target::part) continue;  // a rigid body's (rigid/setup.cpp)
       if (pm.dof < 1 || pm.dof > 3)
         fail(pm.where, keyword,
              fmt::format("DOF {}: only translations along x, y, z (1, 2, 3) are supported", pm.dof));

@@ -9,6 +9,7 @@
 #include "spall/model/model.hpp"
 #include "spall/discretization/formulation.hpp"
 #include "spall/discretization/node_store.hpp"
+#include "spall/rigid/rigid_bodies.hpp"
 
 namespace spall::solver {
 
@@ -55,6 +56,7 @@ struct Problem {
   std::vector<NodalMotion> motions;
   std::vector<BaseAcceleration> base_accelerations;
   std::vector<contact::RigidWall> rigid_walls;
+  rigid::RigidBodies rigid_bodies;
   std::vector<Id> part_of_node;   // the deck's part ID of the node's particle, 0 if none
   RunControls controls;
   const model::Model* model = nullptr;  // curves are owned by the model, which must outlive this

@@ -181,10 +181,11 @@ class TimeLoop::Step {
     });
   }
 
-  // Prescribed motion at the mid-step, then the rigid walls (last, so that no constraint carries
-  // a node through a wall). Rigid bodies go here.
+  // Rigid bodies, prescribed motion at the mid-step, then the rigid walls (last, so that no
+  // constraint carries a node through a wall).
   void constraints() {
     const Real dt = step_.dt, t_mid = step_.time + Real(0.5) * dt;
+    problem_.rigid_bodies.advance(nodes_, step_.time, dt, dt_mid_);
     for (const auto& m : problem_.motions) {
       if (t_mid < m.birth || t_mid > m.death) continue;
       Real& v = nodes_.v[m.node][m.direction];

@@ -1,0 +1,138 @@
+#include "spall/rigid/rigid_bodies.hpp"
+
+#include <cmath>
+
+namespace spall::rigid {
+
+namespace {
+
+Mat3 cross_matrix(const Vec3& a) {
+  Mat3 m;
+  m << 0, -a.z(), a.y(), a.z(), 0, -a.x(), -a.y(), a.x(), 0;
+  return m;
+}
+
+// The nearest rotation to R, by Gram-Schmidt on its columns: a product of a million exact
+// rotations drifts from orthogonality by a million roundings; this keeps it at one.
+Mat3 orthonormalized(const Mat3& R) {
+  Vec3 a = R.col(0).normalized();
+  Vec3 b = (R.col(1) - a.dot(R.col(1)) * a).normalized();
+  Mat3 out;
+  out.col(0) = a;
+  out.col(1) = b;
+  out.col(2) = a.cross(b);
+  return out;
+}
+
+// The value a prescribed motion gives its degree of freedom over the step, or false when it is
+// not active (outside BIRTH-DEATH). `current` is the velocity after the free update (VAD 1 adds
+// to it) and `position` the displacement or angle reached (VAD 2 aims from it).
+bool prescribed(const PrescribedMotion& m, Real time, Real dt, Real dt_mid, Real current, Real position,
+                Real& value) {
+  const Real t_mid = time + Real(0.5) * dt;
+  if (t_mid < m.birth || t_mid > m.death) return false;
+  switch (m.vad) {
+    case 0: value = m.sf * m.curve->value(t_mid); break;
+    case 1: value = current + dt_mid * m.sf * m.curve->value(time); break;
+    default: value = dt > 0 ? (m.sf * m.curve->value(time + dt) - position) / dt : 0; break;
+  }
+  return true;
+}
+
+}  // namespace
+
+Mat3 rotation_of(const Vec3& phi) {
+  const Real angle = phi.norm();
+  const Mat3 K = cross_matrix(phi);
+  if (angle < 1e-8) return Mat3::Identity() + K + Real(0.5) * K * K;  // to O(angle^3)
+  return Mat3::Identity() + (std::sin(angle) / angle) * K + ((1 - std::cos(angle)) / (angle * angle)) * K * K;
+}
+
+void RigidBodies::add(RigidBody body, discretization::NodeStore& nodes) {
+  body.mass = 0;
+  Vec3 moment = Vec3::Zero(), momentum = Vec3::Zero();
+  for (Index i : body.node) {
+    body.mass += nodes.mass[i];
+    moment += nodes.mass[i] * nodes.x[i];
+    momentum += nodes.mass[i] * nodes.v[i];
+  }
+  body.centre = moment / body.mass;
+  body.velocity = momentum / body.mass;
+  body.inertia.setZero();
+  body.angular_momentum.setZero();
+  body.offset.clear();
+  for (Index i : body.node) {
+    const Vec3 r = nodes.x[i] - body.centre;
+    body.offset.push_back(r);
+    body.inertia += nodes.mass[i] * (r.squaredNorm() * Mat3::Identity() - r * r.transpose());
+    body.angular_momentum += nodes.mass[i] * r.cross(nodes.v[i] - body.velocity);
+    nodes.body[i] = static_cast<std::int32_t>(bodies_.size());
+  }
+  body.rotation.setIdentity();
+  body.angular_velocity = body.inertia.inverse() * body.angular_momentum;
+  body.initial_centre = body.step_centre = body.centre;
+  bodies_.push_back(std::move(body));
+}
+
+void RigidBodies::advance(discretization::NodeStore& nodes, Real time, Real dt, Real dt_mid) {
+  for (RigidBody& b : bodies_) {
+    // The nodes' forces at x^n (internal forces of deformable elements on shared nodes, contact,
+    // loads) and their moment about the centre.
+    Vec3 F = Vec3::Zero(), M = Vec3::Zero();
+    for (Index i : b.node) {
+      F += nodes.f[i];
+      M += (nodes.x[i] - b.centre).cross(nodes.f[i]);
+    }
+    b.force = F, b.moment = M, b.step_centre = b.centre;
+    b.velocity += (dt_mid / b.mass) * F;
+    b.angular_momentum += dt_mid * M;  // L is conserved exactly when no moment acts
+
+    // Translations: prescribed, or held (CMO 1, CON1), else free.
+    for (const PrescribedMotion& m : b.motions)
+      if (m.dof < 3) {
+        Real v;
+        if (prescribed(m, time, dt, dt_mid, b.velocity[m.dof], b.centre[m.dof] - b.initial_centre[m.dof], v))
+          b.velocity[m.dof] = v;
+      }
+    for (int d = 0; d < 3; ++d)
+      if (b.fixed_translation[d]) b.velocity[d] = 0;
+
+    // Rotation: omega^{n+1/2} = J^{n+1/2, -1} L with J at the middle of the step, found by fixed
+    // point from the last omega (the implicit midpoint rule for Euler's equations: L exactly
+    // conserved, the energy to O(dt^2) without drift); then the components that are prescribed
+    // or held, and L made to match them.
+    std::array<bool, 3> imposed{};
+    Vec3 imposed_value = Vec3::Zero();
+    for (const PrescribedMotion& m : b.motions)
+      if (m.dof >= 3) {
+        const int d = m.dof - 3;
+        Real w;
+        if (prescribed(m, time, dt, dt_mid, b.angular_velocity[d], b.angle[d], w)) imposed[d] = true, imposed_value[d] = w;
+      }
+    for (int d = 0; d < 3; ++d)
+      if (b.fixed_rotation[d]) imposed[d] = true, imposed_value[d] = 0;
+    Vec3 omega = b.angular_velocity;
+    Mat3 J_half;
+    for (int iteration = 0; iteration < 4; ++iteration) {
+      J_half = b.world_inertia(rotation_of(Real(0.5) * dt * omega) * b.rotation);
+      omega = J_half.ldlt().solve(b.angular_momentum);
+      for (int d = 0; d < 3; ++d)
+        if (imposed[d]) omega[d] = imposed_value[d];
+    }
+    if (imposed[0] || imposed[1] || imposed[2]) b.angular_momentum = J_half * omega;
+    b.angular_velocity = omega;
+    b.angle += dt * omega;
+
+    // x_c^{n+1}, R^{n+1}, and the nodes' velocities that carry them there.
+    b.centre += dt * b.velocity;
+    b.rotation = orthonormalized(rotation_of(dt * omega) * b.rotation);
+    for (std::size_t k = 0; k < b.node.size(); ++k) {
+      const Index i = b.node[k];
+      const Vec3 target = b.centre + b.rotation * b.offset[k];
+      nodes.v[i] = dt > 0 ? Vec3((target - nodes.x[i]) / dt)
+                          : Vec3(b.velocity + omega.cross(nodes.x[i] - b.centre));
+    }
+  }
+}
+
+}  // namespace spall::rigid

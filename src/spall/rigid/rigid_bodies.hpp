@@ -1,0 +1,72 @@
+#pragma once
+// Rigid bodies (*MAT_RIGID parts; fem-contact.md §2.5): each body is a set of nodes of the shared
+// node store that move together. In the constraints phase a body sums its nodes' forces and
+// moments, advances its centre's velocity and its angular momentum, applies its constraints and
+// prescribed motion, turns by the exact rotation of its angular velocity over the step, and gives
+// each node the velocity that carries it to its rigid position x_c + R r_I (so the body stays
+// rigid to round-off however long it runs: the positions are never integrated, only placed).
+// docs/THEORY.md §11.
+#include <array>
+#include <vector>
+
+#include "spall/core/types.hpp"
+#include "spall/discretization/node_store.hpp"
+#include "spall/model/curve.hpp"
+
+namespace spall::rigid {
+
+// A prescribed motion of one degree of freedom of a body (*BOUNDARY_PRESCRIBED_MOTION_RIGID):
+// DOF 0-2 translation along x, y, z; 3-5 rotation about the global x, y, z axes through the
+// centre of mass.
+struct PrescribedMotion {
+  int dof = 0;
+  int vad = 0;  // 0 velocity, 1 acceleration, 2 displacement (for rotations: angle)
+  const model::Curve* curve = nullptr;
+  Real sf = 1;
+  Real birth = 0, death = 1e28;
+};
+
+struct RigidBody {
+  Id part_id = 0;
+  std::vector<Index> node;  // node-store indices
+  std::vector<Vec3> offset;  // r_I: the node's position from the centre in the body's frame
+  Real mass = 0;
+  Mat3 inertia = Mat3::Zero();  // J about the centre, in the body's frame (the world's at t = 0)
+  Vec3 centre = Vec3::Zero();   // x_c
+  Vec3 initial_centre = Vec3::Zero();
+  Vec3 angle = Vec3::Zero();    // the rotation about x, y, z so far, sum of dt omega (VAD 2)
+  Mat3 rotation = Mat3::Identity();
+  Vec3 velocity = Vec3::Zero();          // v_c at the half step
+  Vec3 angular_momentum = Vec3::Zero();  // L about the centre, world frame, at the half step
+  Vec3 angular_velocity = Vec3::Zero();  // omega at the half step
+  std::array<bool, 3> fixed_translation{}, fixed_rotation{};  // *MAT_RIGID CMO 1, CON1 and CON2
+  std::vector<PrescribedMotion> motions;
+  Vec3 force = Vec3::Zero(), moment = Vec3::Zero();  // of the nodes' forces at the last step
+  Vec3 step_centre = Vec3::Zero();  // x_c at the last step's start, where force and moment act
+
+  // J in the world's frame at the rotation R: R J0 R^T.
+  Mat3 world_inertia(const Mat3& R) const { return R * inertia * R.transpose(); }
+};
+
+// The rotation by the angle |phi| about phi / |phi| (Rodrigues' formula).
+Mat3 rotation_of(const Vec3& phi);
+
+class RigidBodies {
+ public:
+  // Mass, centre, inertia, velocity and angular momentum from the nodes' masses, positions and
+  // velocities at the start; marks the nodes' body in `nodes.body`.
+  void add(RigidBody body, discretization::NodeStore& nodes);
+
+  // The constraints phase of step n: nodes at x^n with forces f^n, velocities v^{n+1/2} from the
+  // velocity update (which the bodies overwrite for their nodes). `time` is t^n, `dt` the step
+  // to t^{n+1}, `dt_mid` the one the velocities were advanced by.
+  void advance(discretization::NodeStore& nodes, Real time, Real dt, Real dt_mid);
+
+  const std::vector<RigidBody>& bodies() const { return bodies_; }
+  bool empty() const { return bodies_.empty(); }
+
+ private:
+  std::vector<RigidBody> bodies_;
+};
+
+}  // namespace spall::rigid

@@ -1,0 +1,152 @@
+#include "spall/rigid/setup.hpp"
+
+#include <fmt/format.h>
+#include <map>
+#include <set>
+
+#include "spall/fem/solid_elements.hpp"
+
+namespace spall::rigid {
+
+namespace {
+
+[[noreturn]] void fail(const SourceLocation& where, const std::string& keyword, const std::string& message) {
+  throw InputError(where, keyword, message);
+}
+
+const model::MatRigid* rigid_material(const model::Model& model, const model::Part& part) {
+  auto it = model.materials.find(part.mid);
+  return it == model.materials.end() ? nullptr : std::get_if<model::MatRigid>(&it->second.params);
+}
+
+// *MAT_RIGID CON1 / CON2 coding: 1 x, 2 y, 3 z, 4 xy, 5 yz, 6 zx, 7 xyz.
+std::array<bool, 3> axes(int code) {
+  static constexpr std::array<std::array<bool, 3>, 8> table = {{{false, false, false},
+                                                               {true, false, false},
+                                                               {false, true, false},
+                                                               {false, false, true},
+                                                               {true, true, false},
+                                                               {false, true, true},
+                                                               {true, false, true},
+                                                               {true, true, true}}};
+  return table[code];
+}
+
+bool is_tetrahedron(const model::ElementSolid& e) {
+  for (int a = 4; a < 8; ++a)
+    if (e.n[a] != e.n[3]) return false;
+  return true;
+}
+
+// *BOUNDARY_PRESCRIBED_MOTION_RIGID (fem-contact.md §1.4): DOF 1-3 translations, 5-7 rotations
+// about the global axes through the centre of mass; VAD 0 velocity, 1 acceleration, 2
+// displacement (or angle).
+PrescribedMotion prescribed_motion(const model::Model& model, const model::PrescribedMotion& pm) {
+  const char* keyword = "*BOUNDARY_PRESCRIBED_MOTION_RIGID";
+  PrescribedMotion m;
+  if (pm.dof >= 1 && pm.dof <= 3)
+    m.dof = pm.dof - 1;
+  else if (pm.dof >= 5 && pm.dof <= 7)
+    m.dof = pm.dof - 2;
+  else
+    fail(pm.where, keyword,
+         fmt::format("DOF {}: only translations (1, 2, 3) and rotations about the global axes through the centre of "
+                     "mass (5, 6, 7) are supported", pm.dof));
+  if (pm.vad < 0 || pm.vad > 2)
+    fail(pm.where, keyword,
+         fmt::format("VAD {}: only velocity (0), acceleration (1) and displacement (2) are supported", pm.vad));
+  if (pm.vid != 0) fail(pm.where, keyword, fmt::format("VID {}: local directions are not supported", pm.vid));
+  auto curve = model.curves.find(pm.lcid);
+  if (curve == model.curves.end()) fail(pm.where, keyword, fmt::format("LCID: curve {} does not exist", pm.lcid));
+  m.vad = pm.vad;
+  m.curve = &curve->second;
+  m.sf = pm.sf;
+  m.birth = pm.birth;
+  m.death = pm.death;
+  return m;
+}
+
+}  // namespace
+
+bool is_rigid_part(const model::Model& model, Id part_id) {
+  const model::Part* part = model.find_part(part_id);
+  return part && rigid_material(model, *part);
+}
+
+void add_rigid_masses(const model::Model& model, const std::unordered_map<Id, Index>& index_of_node,
+                      discretization::NodeStore& nodes, std::vector<Id>& part_of_node) {
+  for (const auto& e : model.solid_elements) {
+    const model::Part* part = model.find_part(e.pid);
+    const model::MatRigid* rigid = part ? rigid_material(model, *part) : nullptr;
+    if (!rigid) continue;
+    std::array<Index, 8> node;
+    for (int a = 0; a < 8; ++a) {
+      auto it = index_of_node.find(e.n[a]);
+      if (it == index_of_node.end())
+        fail(e.where, "*ELEMENT_SOLID", fmt::format("element {}: node {} does not exist", e.eid, e.n[a]));
+      node[a] = it->second;
+    }
+    const bool tetrahedron = is_tetrahedron(e);
+    const Real volume = fem::element_volume(node, tetrahedron, nodes);
+    if (!(volume > 0))
+      fail(e.where, "*ELEMENT_SOLID", fmt::format("element {}: volume {:.6g}: inverted or flat (rigid part {})", e.eid,
+                                                  volume, e.pid));
+    const int per = tetrahedron ? 4 : 8;
+    for (int a = 0; a < per; ++a) {
+      nodes.mass[node[a]] += rigid->ro * volume / per;
+      if (part_of_node[node[a]] == 0) part_of_node[node[a]] = e.pid;
+    }
+  }
+}
+
+RigidBodies build_rigid_bodies(const model::Model& model, const std::unordered_map<Id, Index>& index_of_node,
+                               discretization::NodeStore& nodes) {
+  std::map<Id, std::set<Index>> body_nodes;  // by part ID: deterministic order
+  for (const auto& e : model.solid_elements)
+    if (is_rigid_part(model, e.pid))
+      for (Id n : e.n) body_nodes[e.pid].insert(index_of_node.at(n));
+  for (const auto& part : model.parts)
+    if (rigid_material(model, part) && !body_nodes.contains(part.id))
+      for (const auto& p : model.sph_elements)
+        if (p.pid == part.id)
+          fail(part.where, "*PART", fmt::format("part {}: *MAT_RIGID on SPH particles is not supported (rigid bodies "
+                                                "are meshed with solid elements)", part.id));
+  RigidBodies bodies;
+  std::map<Id, int> index_of_body;
+  for (const auto& [pid, node_set] : body_nodes) {
+    const model::Part& part = *model.find_part(pid);
+    const model::MatRigid& card = *rigid_material(model, part);
+    const SourceLocation& where = model.materials.at(part.mid).where;
+    RigidBody body;
+    body.part_id = pid;
+    body.node.assign(node_set.begin(), node_set.end());
+    for (Index i : body.node)
+      if (nodes.body[i] != discretization::NodeStore::no_body)
+        fail(part.where, "*PART", fmt::format("part {}: node {} belongs to another rigid body too (merging bodies, "
+                                              "*CONSTRAINED_RIGID_BODIES, is not supported yet)", pid, nodes.id[i]));
+    if (card.cmo == -1)
+      fail(where, "*MAT_RIGID", "CMO -1: constraints in a local coordinate system are not supported yet");
+    if (card.cmo == 1) {
+      body.fixed_translation = axes(card.con1);
+      body.fixed_rotation = axes(card.con2);
+    }
+    for (const auto& pm : model.prescribed_motions)
+      if (pm.target == model::Target::part && pm.id == pid) {
+        body.motions.push_back(prescribed_motion(model, pm));
+        const int dof = body.motions.back().dof;
+        if (dof < 3 ? body.fixed_translation[dof] : body.fixed_rotation[dof - 3])
+          fail(pm.where, "*BOUNDARY_PRESCRIBED_MOTION_RIGID",
+               fmt::format("DOF {}: part {}'s *MAT_RIGID (CMO 1, {} {}) holds that degree of freedom", pm.dof, pid,
+                           dof < 3 ? "CON1" : "CON2", dof < 3 ? card.con1 : card.con2));
+      }
+    index_of_body[pid] = static_cast<int>(bodies.bodies().size());
+    bodies.add(std::move(body), nodes);
+  }
+  for (const auto& pm : model.prescribed_motions)
+    if (pm.target == model::Target::part && !index_of_body.contains(pm.id))
+      fail(pm.where, "*BOUNDARY_PRESCRIBED_MOTION_RIGID",
+           fmt::format("PID {}: not a rigid part (*MAT_RIGID meshed with solid elements)", pm.id));
+  return bodies;
+}
+
+}  // namespace spall::rigid
