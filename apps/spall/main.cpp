@@ -24,9 +24,14 @@ int main(int argc, char** argv) {
   run->add_option("--threads", options.threads, "OpenMP threads (default: all cores)")
       ->check(CLI::PositiveNumber);
 
+  run->add_option("--skip", options.skip,
+                  "Run without this unsupported physics keyword (e.g. CONTACT_AUTOMATIC_SINGLE_SURFACE, or CONTACT for "
+                  "every *CONTACT_...); repeat for more. The physics is then incomplete");
   std::string check_deck;
+  std::vector<std::string> check_skip;
   auto* check = app.add_subcommand("check", "Read and check a deck without running it");
   check->add_option("deck", check_deck, "LS-DYNA keyword deck (.k)")->required();
+  check->add_option("--skip", check_skip, "As for run: check without this unsupported physics keyword");
 
   spall::cli::SurfaceOptions surface_options;
   int surface_threads = 0;
@@ -65,7 +70,7 @@ int main(int argc, char** argv) {
   if (options.threads > 0) spall::parallel::set_thread_count(options.threads);
   if (surface_threads > 0) spall::parallel::set_thread_count(surface_threads);
   try {
-    if (*check) return spall::cli::check_deck(check_deck);
+    if (*check) return spall::cli::check_deck(check_deck, check_skip);
     if (*surface) return spall::cli::reconstruct_surface(surface_options);
     return spall::cli::run_deck(options);
   } catch (const spall::InputError& e) {

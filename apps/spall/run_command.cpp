@@ -14,6 +14,7 @@
 #include "spall/core/parallel.hpp"
 #include "spall/core/version.hpp"
 #include "spall/io/keyword/reader.hpp"
+#include "spall/io/keyword/unsupported.hpp"
 #include "spall/io/output/history.hpp"
 #include "spall/io/output/run_info.hpp"
 #include "spall/io/output/vtu.hpp"
@@ -26,7 +27,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Each unsupported keyword once: where it first appears and how often it does.
+// Each unsupported keyword once: where it first appears and how often it does. A physics keyword
+// reaches this only when the user skipped it (--skip): then the physics is incomplete, and the
+// warning says so.
 void warn_unsupported(const model::Model& model) {
   std::map<std::string, std::pair<SourceLocation, int>> seen;
   for (const auto& u : model.unsupported) {
@@ -35,18 +38,29 @@ void warn_unsupported(const model::Model& model) {
   }
   for (const auto& [keyword, first] : seen) {
     const auto& [where, count] = first;
-    log::warning(fmt::format("{}:{}: {}: not supported by Spall, skipped{}", where.file, where.line,
-                             keyword,
-                             count > 1 ? fmt::format(" ({} occurrences)", count) : std::string()));
+    log::warning(fmt::format("{}:{}: {}: not supported by Spall, skipped{}{}", where.file, where.line, keyword,
+                             count > 1 ? fmt::format(" ({} occurrences)", count) : std::string(),
+                             io::keyword::defines_physics(keyword)
+                                 ? " on request (--skip): the physics of this run is incomplete"
+                                 : std::string()));
   }
 }
 
-model::Model read_and_check(const std::string& deck) {
+model::Model read_and_check(const std::string& deck, const std::vector<std::string>& skip) {
   if (!fs::exists(deck)) throw InputError(fmt::format("{}: no such deck file", deck));
   model::Model model = io::keyword::read_deck(deck);
+  io::keyword::refuse_unsupported_physics(model, skip);
   warn_unsupported(model);
   io::keyword::validate(model);
   return model;
+}
+
+// A deck whose parts give no particle, element or rigid body has nothing to run.
+solver::Problem build_something(const model::Model& model, const std::string& deck) {
+  solver::Problem problem = solver::build_problem(model);
+  if (problem.formulations.empty() && problem.rigid_bodies.empty())
+    throw InputError(fmt::format("{}: nothing to simulate: no part has particles or elements that Spall runs", deck));
+  return problem;
 }
 
 // The nodes that carry mass: the particles of SPH and SPG parts and the nodes of finite elements.
@@ -86,9 +100,9 @@ std::string where_the_time_went(const solver::PhaseTimes& phases) {
 
 }  // namespace
 
-int check_deck(const std::string& deck) {
-  const model::Model model = read_and_check(deck);
-  const solver::Problem problem = solver::build_problem(model);
+int check_deck(const std::string& deck, const std::vector<std::string>& skip) {
+  const model::Model model = read_and_check(deck, skip);
+  const solver::Problem problem = build_something(model, deck);
   fmt::print("{}: {} nodes, {} parts, {} SPH particles, {} solid elements; end time {:g}; OK\n", deck,
              model.nodes.size(), model.parts.size(), model.sph_elements.size(),
              model.solid_elements.size(), problem.controls.end_time);
@@ -96,8 +110,8 @@ int check_deck(const std::string& deck) {
 }
 
 int run_deck(const RunOptions& options) {
-  const model::Model model = read_and_check(options.deck);
-  solver::Problem problem = solver::build_problem(model);
+  const model::Model model = read_and_check(options.deck, options.skip);
+  solver::Problem problem = build_something(model, options.deck);
 
   const fs::path out = options.output_dir.empty()
                            ? fs::current_path() / (fs::path(options.deck).stem().string() + ".out")

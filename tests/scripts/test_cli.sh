@@ -62,6 +62,26 @@ set -e
 grep -Eq "bad\.k:[0-9]+: \*NODE: field X: .*1\.2\.3e-02" "$work/bad.log" || { cat "$work/bad.log"; fail "bad number message"; }
 [ ! -e "$work/bad_out" ] || fail "output written for a bad deck"
 
+# An unsupported physics keyword stops the check at its line (exit 2), unless skipped by name,
+# and then the warning says the physics is incomplete.
+sed 's/^\*END$/*CONTACT_AUTOMATIC_SINGLE_SURFACE\n         1         0         2\n       0.2\n\n*END/' "$work/bar.k" >"$work/contact.k"
+set +e
+"$cli" check "$work/contact.k" >/dev/null 2>"$work/contact.log"
+code=$?
+set -e
+[ "$code" -eq 2 ] || fail "a deck with a contact checked with exit $code"
+grep -Eq 'contact\.k:[0-9]+: \*CONTACT_AUTOMATIC_SINGLE_SURFACE: not supported by Spall, and it defines physics' "$work/contact.log" ||
+  { cat "$work/contact.log"; fail "contact refusal"; }
+"$cli" check "$work/contact.k" --skip CONTACT >/dev/null 2>"$work/contact.log" || fail "check --skip CONTACT"
+grep -q 'on request (--skip): the physics of this run is incomplete' "$work/contact.log" || fail "--skip warning"
+# A deck with nothing Spall can run: exit 2.
+printf '*KEYWORD\n*CONTROL_TERMINATION\n       1.0\n*END\n' >"$work/empty.k"
+set +e
+"$cli" check "$work/empty.k" >/dev/null 2>"$work/empty.log"
+code=$?
+set -e
+[ "$code" -eq 2 ] && grep -q 'nothing to simulate' "$work/empty.log" || fail "an empty deck: exit $code, $(cat "$work/empty.log")"
+
 # An unsupported keyword: a warning with its name and line; the run goes on.
 sed 's/^\*END$/*CONTROL_ENERGY\n         2\n*END/' "$work/bar.k" >"$work/unsupported.k"
 "$cli" check "$work/unsupported.k" 2>"$work/unsupported.log" >/dev/null || fail "check with unsupported keyword"

@@ -1,0 +1,50 @@
+// Unsupported keywords (issue 33 item 4): one that defines physics (contacts, elements Spall does
+// not have, constraints, loads, initial and boundary conditions, the analysis type) stops the check
+// at its line unless the user skips it by name; output and tuning keywords stay warnings.
+#include <gtest/gtest.h>
+
+#include "keyword_test_decks.hpp"
+#include "spall/io/keyword/reader.hpp"
+#include "spall/io/keyword/unsupported.hpp"
+
+namespace spall::io::keyword {
+namespace {
+
+using test::DeckFolder;
+using test::input_error_of;
+using test::row;
+
+TEST(keyword_unsupported, PhysicsKeywordsAreToldFromOutputAndTuning) {
+  for (const char* physics : {"*CONTACT_AUTOMATIC_SINGLE_SURFACE_ID", "*ELEMENT_SHELL", "*PART_INERTIA",
+                              "*CONSTRAINED_RIGID_BODIES", "*BOUNDARY_SPC_SET_BIRTH_DEATH", "*LOAD_SEGMENT",
+                              "*INITIAL_STRESS_SOLID", "*RIGIDWALL_GEOMETRIC_FLAT", "*CONTROL_IMPLICIT_GENERAL",
+                              "*CASE", "*INCLUDE_TRANSFORM", "*DAMPING_PART_MASS"})
+    EXPECT_TRUE(defines_physics(physics)) << physics;
+  for (const char* tuning : {"*DATABASE_BINARY_D3THDT", "*CONTROL_ENERGY", "*CONTROL_SOLID", "*TITLE",
+                             "*DEFINE_BOX", "*SECTION_SHELL", "*MAT_SOIL_AND_FOAM", "*SET_SEGMENT", "*PARTITION",
+                             "*CONTACTS"})
+    EXPECT_FALSE(defines_physics(tuning)) << tuning;
+}
+
+TEST(keyword_unsupported, SkipNamesAKeywordOrItsFamily) {
+  EXPECT_TRUE(skip_matches("CONTACT", "*CONTACT_AUTOMATIC_SINGLE_SURFACE"));
+  EXPECT_TRUE(skip_matches("*contact_automatic_single_surface", "*CONTACT_AUTOMATIC_SINGLE_SURFACE"));
+  EXPECT_FALSE(skip_matches("CONTACT_AUTO", "*CONTACT_AUTOMATIC_SINGLE_SURFACE"));
+  EXPECT_FALSE(skip_matches("ELEMENT", "*CONTACT_AUTOMATIC_SINGLE_SURFACE"));
+}
+
+TEST(keyword_unsupported, APhysicsKeywordStopsTheCheckAtItsLineUnlessSkipped) {
+  DeckFolder folder;
+  const auto path = folder.write("contact.k", "*KEYWORD\n*CONTROL_ENERGY\n" + row({"2"}) +
+                                                  "*CONTACT_AUTOMATIC_SINGLE_SURFACE\n" + row({"1", "0", "2"}) +
+                                                  row({"0.2"}) + row({}) + "*END\n");
+  const model::Model model = read_deck(path);
+  EXPECT_EQ(input_error_of([&] { refuse_unsupported_physics(model, {}); }),
+            path.string() + ":4: *CONTACT_AUTOMATIC_SINGLE_SURFACE: not supported by Spall, and it defines physics: "
+                            "running without it would solve another problem (`spall run --skip "
+                            "CONTACT_AUTOMATIC_SINGLE_SURFACE` runs without it, knowingly)");
+  EXPECT_EQ(input_error_of([&] { refuse_unsupported_physics(model, {"contact"}); }), "");
+}
+
+}  // namespace
+}  // namespace spall::io::keyword
