@@ -99,7 +99,9 @@ TEST(FemErosion, APulledBarLosesExactlyTheMassOfItsDeletedElements) {
     const auto& rho = std::get<std::vector<double>>(density->values);
     const auto& deleted = std::get<std::vector<std::int64_t>>(flags->values);
     for (std::size_t k = 0; k < rho.size(); ++k)
-      if (!deleted[k]) ASSERT_TRUE(rho[k] > 0 && std::isfinite(rho[k])) << "element " << k;
+      if (!deleted[k]) {
+        ASSERT_TRUE(rho[k] > 0 && std::isfinite(rho[k])) << "element " << k;
+      }
   }
 }
 

@@ -5,12 +5,14 @@
 //   kept to 1e-6 over 10^5 steps and its shape to round-off;
 // - a prescribed rotation (DOF 7, VAD 0) and a prescribed plunge (DOF 3, VAD 2) move a body exactly
 //   as their curves say, with *MAT_RIGID CMO 1 holding the other degrees of freedom;
+// - two bodies merged by *CONSTRAINED_RIGID_BODIES turn as one about their common centre;
 // - what Spall cannot run is refused at the card.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "spall/core/log.hpp"
+#include "spall/io/keyword/reader.hpp"
 #include "spall/solver/simulation.hpp"
 #include "unit/keyword_test_decks.hpp"
 
@@ -132,6 +134,67 @@ TEST(RigidBodies, PrescribedRotationAndPlungeFollowTheirCurves) {
   EXPECT_NEAR(body.centre.y(), 0, 1e-15);
   EXPECT_NEAR(body.centre.z(), -0.002, 1e-12);
   EXPECT_NEAR(body.angular_velocity.z(), omega, 1e-9);
+}
+
+TEST(RigidBodies, ConstrainedRigidBodiesMoveAsOne) {
+  log::set_quiet(true);
+  // Two bricks side by side with no node in common (part 2 a copy of part 1 moved along x),
+  // merged by *CONSTRAINED_RIGID_BODIES; the lead turns at 100 rad/s about z, and the pair turns
+  // as one body about their common centre, every distance kept.
+  const Real end = 0.02;
+  model::Model m = rigid_brick(Vec3(0.02, 0.02, 0.02), {1, 1, 1}, end, end / 1000);
+  m.parts.push_back({2, "second brick", 1, 1, 0, 0, {}});
+  const std::size_t node_count = m.nodes.size();
+  for (std::size_t k = 0; k < node_count; ++k) {
+    model::Node copy = m.nodes[k];
+    copy.id += 100;
+    copy.x.x() += 0.05;
+    m.nodes.push_back(copy);
+  }
+  model::ElementSolid second = m.solid_elements[0];
+  second.eid = 2, second.pid = 2;
+  for (Id& n : second.n) n += 100;
+  m.solid_elements.push_back(second);
+  m.merged_rigid_bodies.push_back({1, 2, {}});
+  model::Curve spin;
+  spin.id = 1, spin.points = {{0.0, 100.0}, {1.0, 100.0}};
+  m.curves[1] = spin;
+  m.prescribed_motions.push_back({model::Target::part, 1, 7, 0, 1, 1.0, 0, 1e28, 0, {}});
+  solver::Problem p = solver::build_problem(m);
+  ASSERT_EQ(p.rigid_bodies.bodies().size(), 1u);
+  const auto& body = p.rigid_bodies.bodies()[0];
+  EXPECT_EQ(body.node.size(), 16u);
+  EXPECT_NEAR(body.centre.x(), 0.025, 1e-15);  // between the two bricks
+  solver::run(p, {});
+  Real worst = 0;
+  for (Index i = 0; i < p.nodes.size(); ++i)
+    for (Index j = 0; j < i; ++j)
+      worst = std::max(worst, std::abs((p.nodes.x[i] - p.nodes.x[j]).norm() - (p.nodes.x0[i] - p.nodes.x0[j]).norm()));
+  // The second brick's centre went round the common centre by 100 rad/s x 20 ms = 2 rad.
+  Vec3 second_centre = Vec3::Zero();
+  for (Index i = 0; i < p.nodes.size(); ++i)
+    if (p.nodes.id[i] > 100) second_centre += p.nodes.x[i] / 8;
+  const Vec3 expected = body.centre + 0.025 * Vec3(std::cos(2.0), std::sin(2.0), 0);
+  std::printf("merged pair: distances kept to %.2e m, second centre off by %.2e m\n", worst,
+              (second_centre - expected).norm());
+  EXPECT_LT(worst, 1e-15);
+  EXPECT_LT((second_centre - expected).norm(), 1e-12);
+  // The constrained part's own prescribed motion is refused: the lead's moves the body.
+  m.prescribed_motions.back().id = 2;
+  EXPECT_NE(test::input_error_of([&] { solver::build_problem(m); }).find("PID 2: merged into the body of part 1"),
+            std::string::npos);
+}
+
+TEST(RigidBodies, ConstrainedRigidBodiesCardsAreRead) {
+  test::DeckFolder folder;
+  const auto m = io::keyword::read_deck(
+      folder.write("merge.k", "*CONSTRAINED_RIGID_BODIES\n" + test::row({"1", "2"}) + test::row({"1", "3", "0"}) + "*END\n"));
+  ASSERT_EQ(m.merged_rigid_bodies.size(), 2u);
+  EXPECT_EQ(m.merged_rigid_bodies[1].lead, 1);
+  EXPECT_EQ(m.merged_rigid_bodies[1].constrained, 3);
+  const auto bad = folder.write("bad.k", "*CONSTRAINED_RIGID_BODIES\n" + test::row({"1", "2", "1"}) + "*END\n");
+  EXPECT_NE(test::input_error_of([&] { io::keyword::read_deck(bad); }).find("field IFLAG: '1': only 0 is supported"),
+            std::string::npos);
 }
 
 TEST(RigidBodies, WhatSpallCannotRunIsRefused) {

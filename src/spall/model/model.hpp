@@ -279,6 +279,13 @@ struct BodyLoad {
 
 // *RIGIDWALL_PLANAR (_MOVING, _FINITE, _FINITE_MOVING; each with _ID): a rigid plane through
 // the tail point, its normal from tail to head pointing to the side where the tracked nodes are.
+// *CONSTRAINED_RIGID_BODIES: rigid part PIDC moves as one body with rigid part PIDL (its lead).
+struct ConstrainedRigidBodies {
+  Id lead = 0;         // PIDL
+  Id constrained = 0;  // PIDC
+  SourceLocation where;
+};
+
 struct RigidWallPlanar {
   Id id = 0;  // the _ID card's ID; 0 when the keyword has no _ID card
   std::string title;
@@ -477,6 +484,7 @@ struct Model {
   std::vector<InitialVelocityGeneration> initial_velocity_generations;
   std::vector<BodyLoad> body_loads;
   std::vector<RigidWallPlanar> rigid_walls;
+  std::vector<ConstrainedRigidBodies> merged_rigid_bodies;
 
   std::optional<ControlTermination> termination;
   ControlTimestep timestep;

@@ -101,12 +101,32 @@ void add_rigid_masses(const model::Model& model, const std::unordered_map<Id, In
 
 RigidBodies build_rigid_bodies(const model::Model& model, const std::unordered_map<Id, Index>& index_of_node,
                                discretization::NodeStore& nodes) {
-  std::map<Id, std::set<Index>> body_nodes;  // by part ID: deterministic order
+  // *CONSTRAINED_RIGID_BODIES: each part's lead (itself, or its PIDL's lead, followed down).
+  std::map<Id, const model::ConstrainedRigidBodies*> lead_card;
+  for (const auto& merge : model.merged_rigid_bodies) {
+    for (Id pid : {merge.lead, merge.constrained})
+      if (!is_rigid_part(model, pid))
+        fail(merge.where, "*CONSTRAINED_RIGID_BODIES", fmt::format("part {} is not a rigid part (*MAT_RIGID)", pid));
+    if (!lead_card.emplace(merge.constrained, &merge).second)
+      fail(merge.where, "*CONSTRAINED_RIGID_BODIES", fmt::format("PIDC {}: already merged into another body", merge.constrained));
+  }
+  const auto lead_of = [&](Id pid) {
+    for (std::size_t hops = 0; lead_card.contains(pid); ++hops) {
+      if (hops > lead_card.size())
+        fail(lead_card.at(pid)->where, "*CONSTRAINED_RIGID_BODIES", fmt::format("part {} leads itself in a loop", pid));
+      pid = lead_card.at(pid)->lead;
+    }
+    return pid;
+  };
+  std::map<Id, std::set<Index>> body_nodes;  // by the lead's part ID: deterministic order
+  std::set<Id> meshed;
   for (const auto& e : model.solid_elements)
-    if (is_rigid_part(model, e.pid))
-      for (Id n : e.n) body_nodes[e.pid].insert(index_of_node.at(n));
+    if (is_rigid_part(model, e.pid)) {
+      meshed.insert(e.pid);
+      for (Id n : e.n) body_nodes[lead_of(e.pid)].insert(index_of_node.at(n));
+    }
   for (const auto& part : model.parts)
-    if (rigid_material(model, part) && !body_nodes.contains(part.id))
+    if (rigid_material(model, part) && !meshed.contains(part.id))
       for (const auto& p : model.sph_elements)
         if (p.pid == part.id)
           fail(part.where, "*PART", fmt::format("part {}: *MAT_RIGID on SPH particles is not supported (rigid bodies "
@@ -122,8 +142,8 @@ RigidBodies build_rigid_bodies(const model::Model& model, const std::unordered_m
     body.node.assign(node_set.begin(), node_set.end());
     for (Index i : body.node)
       if (nodes.body[i] != discretization::NodeStore::no_body)
-        fail(part.where, "*PART", fmt::format("part {}: node {} belongs to another rigid body too (merging bodies, "
-                                              "*CONSTRAINED_RIGID_BODIES, is not supported yet)", pid, nodes.id[i]));
+        fail(part.where, "*PART", fmt::format("part {}: node {} belongs to another rigid body too (merge the two "
+                                              "with *CONSTRAINED_RIGID_BODIES)", pid, nodes.id[i]));
     if (card.cmo == -1)
       fail(where, "*MAT_RIGID", "CMO -1: constraints in a local coordinate system are not supported yet");
     if (card.cmo == 1) {
@@ -145,7 +165,10 @@ RigidBodies build_rigid_bodies(const model::Model& model, const std::unordered_m
   for (const auto& pm : model.prescribed_motions)
     if (pm.target == model::Target::part && !index_of_body.contains(pm.id))
       fail(pm.where, "*BOUNDARY_PRESCRIBED_MOTION_RIGID",
-           fmt::format("PID {}: not a rigid part (*MAT_RIGID meshed with solid elements)", pm.id));
+           lead_card.contains(pm.id)
+               ? fmt::format("PID {}: merged into the body of part {} (*CONSTRAINED_RIGID_BODIES); prescribe the "
+                             "lead's motion", pm.id, lead_of(pm.id))
+               : fmt::format("PID {}: not a rigid part (*MAT_RIGID meshed with solid elements)", pm.id));
   return bodies;
 }
 

@@ -88,6 +88,7 @@ void read_initial_velocity_generation(CardCursor&, const KeywordCall&, model::Mo
 void read_load_body(CardCursor&, const KeywordCall&, model::Model&);
 // rigid_walls.cpp
 void read_rigidwall_planar(CardCursor&, const KeywordCall&, model::Model&);
+void read_constrained_rigid_bodies(CardCursor&, const KeywordCall&, model::Model&);
 // controls.cpp
 void read_control_termination(CardCursor&, const KeywordCall&, model::Model&);
 void read_control_timestep(CardCursor&, const KeywordCall&, model::Model&);

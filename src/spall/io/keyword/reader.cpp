@@ -67,6 +67,7 @@ constexpr SupportedKeyword supported_keywords[] = {
     {"LOAD_BODY_Y", read_load_body},
     {"LOAD_BODY_Z", read_load_body},
     {"RIGIDWALL_PLANAR", read_rigidwall_planar, false, true},
+    {"CONSTRAINED_RIGID_BODIES", read_constrained_rigid_bodies},
     {"RIGIDWALL_PLANAR_MOVING", read_rigidwall_planar, false, true},
     {"RIGIDWALL_PLANAR_FINITE", read_rigidwall_planar, false, true},
     {"RIGIDWALL_PLANAR_FINITE_MOVING", read_rigidwall_planar, false, true},

@@ -89,4 +89,22 @@ void read_rigidwall_planar(CardCursor& cursor, const KeywordCall& call, model::M
   model.rigid_walls.push_back(std::move(wall));
 }
 
+// *CONSTRAINED_RIGID_BODIES: PIDL PIDC IFLAG, one pair a card. IFLAG 1 (keep the constrained
+// part's own centre and inertia for output) has no Spall meaning; the merged body's mass
+// properties always come from all its nodes.
+void read_constrained_rigid_bodies(CardCursor& cursor, const KeywordCall&, model::Model& model) {
+  while (true) {
+    cursor.skip_blank_lines();
+    if (cursor.done()) break;
+    const Card card = cursor.next(standard_fields, "card (PIDL PIDC IFLAG)");
+    model::ConstrainedRigidBodies merge;
+    merge.lead = card.required_integer(0, "PIDL");
+    merge.constrained = card.required_integer(1, "PIDC");
+    if (card.integer(2, "IFLAG", 0) != 0) card.fail("IFLAG", quoted(card.text(2)) + ": only 0 is supported");
+    if (merge.lead == merge.constrained) card.fail("PIDC", quoted(card.text(1)) + " is its own lead");
+    merge.where = card.where();
+    model.merged_rigid_bodies.push_back(merge);
+  }
+}
+
 }  // namespace spall::io::keyword
