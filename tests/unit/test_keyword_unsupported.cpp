@@ -18,11 +18,12 @@ TEST(keyword_unsupported, PhysicsKeywordsAreToldFromOutputAndTuning) {
   for (const char* physics : {"*CONTACT_AUTOMATIC_SINGLE_SURFACE_ID", "*ELEMENT_SHELL", "*PART_INERTIA",
                               "*CONSTRAINED_RIGID_BODIES", "*BOUNDARY_SPC_SET_BIRTH_DEATH", "*LOAD_SEGMENT",
                               "*INITIAL_STRESS_SOLID", "*RIGIDWALL_GEOMETRIC_FLAT", "*CONTROL_IMPLICIT_GENERAL",
-                              "*CASE", "*INCLUDE_TRANSFORM", "*DAMPING_PART_MASS"})
+                              "*CASE", "*INCLUDE_TRANSFORM", "*DAMPING_PART_MASS", "*DEFINE_SPH_MESH_SURFACE",
+                              "*DEFINE_SPH_INJECTION", "*DEFINE_ADAPTIVE_SOLID_TO_SPH"})
     EXPECT_TRUE(defines_physics(physics)) << physics;
   for (const char* tuning : {"*DATABASE_BINARY_D3THDT", "*CONTROL_ENERGY", "*CONTROL_SOLID", "*TITLE",
                              "*DEFINE_BOX", "*SECTION_SHELL", "*MAT_SOIL_AND_FOAM", "*SET_SEGMENT", "*PARTITION",
-                             "*CONTACTS"})
+                             "*CONTACTS", "*DEFINE_SPH_MASSFLOW_PLANE"})
     EXPECT_FALSE(defines_physics(tuning)) << tuning;
 }
 
