@@ -16,20 +16,10 @@ namespace {
 }
 
 const model::SectionSolid* solid_section(const model::Model& model, const model::Part& part) {
-  // A part of *MAT_RIGID is a rigid body whatever its section (rigid/setup.hpp).
-  if (auto m = model.materials.find(part.mid);
-      m != model.materials.end() && std::holds_alternative<model::MatRigid>(m->second.params))
-    return nullptr;
+  if (model.rigid_material(part)) return nullptr;  // a rigid body (rigid/setup.hpp)
   auto it = model.sections.find(part.secid);
   if (it == model.sections.end()) return nullptr;
   return std::get_if<model::SectionSolid>(&it->second);
-}
-
-// LS-DYNA's tetrahedron on a hexahedron card: N4 repeated in N5-N8.
-bool is_tetrahedron(const model::ElementSolid& e) {
-  for (int a = 4; a < 8; ++a)
-    if (e.n[a] != e.n[3]) return false;
-  return true;
 }
 
 HourglassForm hourglass_form(int ihq) {
@@ -134,8 +124,7 @@ std::unique_ptr<discretization::Formulation> build_fem(const model::Model& model
     if (!section) continue;
     auto [it, inserted] = part_index.try_emplace(e.pid, static_cast<int>(parts.size()));
     if (inserted) parts.push_back(resolve_part(model, *part, *section));
-    const bool tetrahedron = is_tetrahedron(e);
-    if (section->elform == 10 && !tetrahedron)
+    if (section->elform == 10 && !e.is_tetrahedron())
       fail(e.where, "*ELEMENT_SOLID",
            fmt::format("element {}: part {} has ELFORM 10 (tetrahedra) but the element is not written as one "
                        "(N1 N2 N3 N4 N4 N4 N4 N4)", e.eid, e.pid));

@@ -8,4 +8,9 @@ const Part* Model::find_part(Id id) const {
   return nullptr;
 }
 
+const MatRigid* Model::rigid_material(const Part& part) const {
+  auto it = materials.find(part.mid);
+  return it == materials.end() ? nullptr : std::get_if<MatRigid>(&it->second.params);
+}
+
 }  // namespace spall::model

@@ -4,6 +4,7 @@
 // IDs and units; the solver builds its dense stores from it. Every item remembers where it was
 // read, so that a later check can still say `file:line: *KEYWORD: ...`.
 #include <array>
+#include <cstdint>
 #include <map>
 #include <optional>
 #include <string>
@@ -97,6 +98,13 @@ struct MatRigid {
   Real cmo = 0;
   int con1 = 0, con2 = 0;
 };
+
+// LS-DYNA's constraint code (*NODE TC, *MAT_RIGID CON1 and CON2): 1 x, 2 y, 3 z, 4 xy, 5 yz, 6 zx,
+// 7 xyz; as a mask, bit d set when axis d is held (0 for a code outside 0..7).
+inline std::uint8_t constraint_axes(int code) {
+  static constexpr std::uint8_t masks[8] = {0, 1, 2, 4, 3, 6, 5, 7};
+  return (code >= 0 && code <= 7) ? masks[code] : 0;
+}
 // *MAT_PLASTIC_KINEMATIC (003): bilinear hardening, BETA 0 kinematic .. 1 isotropic, optional
 // Cowper-Symonds rate scaling (SRC, SRP) and failure strain FS.
 struct MatPlasticKinematic {
@@ -177,6 +185,9 @@ struct ElementSolid {
   Id pid = 0;
   std::array<Id, 8> n{};
   SourceLocation where;
+
+  // LS-DYNA's tetrahedron on a hexahedron card: N4 repeated in N5-N8.
+  bool is_tetrahedron() const { return n[4] == n[3] && n[5] == n[3] && n[6] == n[3] && n[7] == n[3]; }
 };
 
 // *DEFINE_SPH_MESH_BOX: the box [XMIN, XMIN + XLEN] x [YMIN, ...] x [ZMIN, ...] cut into
@@ -505,6 +516,8 @@ struct Model {
   std::vector<UnsupportedKeyword> unsupported;
 
   const Part* find_part(Id id) const;
+  // The part's *MAT_RIGID card, or nullptr: such a part is a rigid body whatever its section.
+  const MatRigid* rigid_material(const Part& part) const;
 };
 
 }  // namespace spall::model

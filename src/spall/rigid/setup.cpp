@@ -14,28 +14,10 @@ namespace {
   throw InputError(where, keyword, message);
 }
 
-const model::MatRigid* rigid_material(const model::Model& model, const model::Part& part) {
-  auto it = model.materials.find(part.mid);
-  return it == model.materials.end() ? nullptr : std::get_if<model::MatRigid>(&it->second.params);
-}
-
-// *MAT_RIGID CON1 / CON2 coding: 1 x, 2 y, 3 z, 4 xy, 5 yz, 6 zx, 7 xyz.
+// *MAT_RIGID CON1 / CON2 as the axes they hold.
 std::array<bool, 3> axes(int code) {
-  static constexpr std::array<std::array<bool, 3>, 8> table = {{{false, false, false},
-                                                               {true, false, false},
-                                                               {false, true, false},
-                                                               {false, false, true},
-                                                               {true, true, false},
-                                                               {false, true, true},
-                                                               {true, false, true},
-                                                               {true, true, true}}};
-  return table[code];
-}
-
-bool is_tetrahedron(const model::ElementSolid& e) {
-  for (int a = 4; a < 8; ++a)
-    if (e.n[a] != e.n[3]) return false;
-  return true;
+  const std::uint8_t mask = model::constraint_axes(code);
+  return {(mask & 1) != 0, (mask & 2) != 0, (mask & 4) != 0};
 }
 
 // *BOUNDARY_PRESCRIBED_MOTION_RIGID (fem-contact.md §1.4): DOF 1-3 translations, 5-7 rotations
@@ -70,14 +52,14 @@ PrescribedMotion prescribed_motion(const model::Model& model, const model::Presc
 
 bool is_rigid_part(const model::Model& model, Id part_id) {
   const model::Part* part = model.find_part(part_id);
-  return part && rigid_material(model, *part);
+  return part && model.rigid_material(*part);
 }
 
 void add_rigid_masses(const model::Model& model, const std::unordered_map<Id, Index>& index_of_node,
                       discretization::NodeStore& nodes, std::vector<Id>& part_of_node) {
   for (const auto& e : model.solid_elements) {
     const model::Part* part = model.find_part(e.pid);
-    const model::MatRigid* rigid = part ? rigid_material(model, *part) : nullptr;
+    const model::MatRigid* rigid = part ? model.rigid_material(*part) : nullptr;
     if (!rigid) continue;
     std::array<Index, 8> node;
     for (int a = 0; a < 8; ++a) {
@@ -86,7 +68,7 @@ void add_rigid_masses(const model::Model& model, const std::unordered_map<Id, In
         fail(e.where, "*ELEMENT_SOLID", fmt::format("element {}: node {} does not exist", e.eid, e.n[a]));
       node[a] = it->second;
     }
-    const bool tetrahedron = is_tetrahedron(e);
+    const bool tetrahedron = e.is_tetrahedron();
     const Real volume = fem::element_volume(node, tetrahedron, nodes);
     if (!(volume > 0))
       fail(e.where, "*ELEMENT_SOLID", fmt::format("element {}: volume {:.6g}: inverted or flat (rigid part {})", e.eid,
@@ -126,16 +108,15 @@ RigidBodies build_rigid_bodies(const model::Model& model, const std::unordered_m
       for (Id n : e.n) body_nodes[lead_of(e.pid)].insert(index_of_node.at(n));
     }
   for (const auto& part : model.parts)
-    if (rigid_material(model, part) && !meshed.contains(part.id))
+    if (model.rigid_material(part) && !meshed.contains(part.id))
       for (const auto& p : model.sph_elements)
         if (p.pid == part.id)
           fail(part.where, "*PART", fmt::format("part {}: *MAT_RIGID on SPH particles is not supported (rigid bodies "
                                                 "are meshed with solid elements)", part.id));
   RigidBodies bodies;
-  std::map<Id, int> index_of_body;
   for (const auto& [pid, node_set] : body_nodes) {
     const model::Part& part = *model.find_part(pid);
-    const model::MatRigid& card = *rigid_material(model, part);
+    const model::MatRigid& card = *model.rigid_material(part);
     const SourceLocation& where = model.materials.at(part.mid).where;
     RigidBody body;
     body.part_id = pid;
@@ -159,11 +140,10 @@ RigidBodies build_rigid_bodies(const model::Model& model, const std::unordered_m
                fmt::format("DOF {}: part {}'s *MAT_RIGID (CMO 1, {} {}) holds that degree of freedom", pm.dof, pid,
                            dof < 3 ? "CON1" : "CON2", dof < 3 ? card.con1 : card.con2));
       }
-    index_of_body[pid] = static_cast<int>(bodies.bodies().size());
     bodies.add(std::move(body), nodes);
   }
   for (const auto& pm : model.prescribed_motions)
-    if (pm.target == model::Target::part && !index_of_body.contains(pm.id))
+    if (pm.target == model::Target::part && !body_nodes.contains(pm.id))
       fail(pm.where, "*BOUNDARY_PRESCRIBED_MOTION_RIGID",
            lead_card.contains(pm.id)
                ? fmt::format("PID {}: merged into the body of part {} (*CONSTRAINED_RIGID_BODIES); prescribe the "

@@ -25,12 +25,6 @@ namespace {
   throw InputError(where, keyword, message);
 }
 
-// *NODE TC and *MAT_RIGID CON1 coding: 1 x, 2 y, 3 z, 4 xy, 5 yz, 6 zx, 7 xyz.
-std::uint8_t translation_mask(int code) {
-  static constexpr std::uint8_t masks[8] = {0, 1, 2, 4, 3, 6, 5, 7};
-  return (code >= 0 && code <= 7) ? masks[code] : 0;
-}
-
 class Builder {
  public:
   explicit Builder(const model::Model& model) : model_(model) {}
@@ -109,7 +103,7 @@ class Builder {
       nodes.id[k] = node.id;
       nodes.x0[k] = node.x;
       nodes.x[k] = node.x;
-      nodes.fixed[k] = translation_mask(node.tc);
+      nodes.fixed[k] = model::constraint_axes(node.tc);
       if (!index_of_node_.emplace(node.id, k).second)
         fail(node.where, "*NODE", fmt::format("node {} is defined twice", node.id));
     }

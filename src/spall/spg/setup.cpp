@@ -19,10 +19,7 @@ constexpr const char* section_keyword = "*SECTION_SOLID_SPG";
 }
 
 const model::SectionSolidSpg* spg_section(const model::Model& model, const model::Part& part) {
-  // A part of *MAT_RIGID is a rigid body whatever its section (rigid/setup.hpp).
-  if (auto m = model.materials.find(part.mid);
-      m != model.materials.end() && std::holds_alternative<model::MatRigid>(m->second.params))
-    return nullptr;
+  if (model.rigid_material(part)) return nullptr;  // a rigid body (rigid/setup.hpp)
   auto it = model.sections.find(part.secid);
   if (it == model.sections.end()) return nullptr;
   return std::get_if<model::SectionSolidSpg>(&it->second);
