@@ -15,6 +15,7 @@
 #include "spall/fem/hexahedron.hpp"
 #include "spall/fem/tetrahedron.hpp"
 #include "spall/materials/elastic.hpp"
+#include "spall/materials/radial_return.hpp"
 
 namespace spall::fem {
 
@@ -39,9 +40,8 @@ Real element_time_step(Real length, Real c, Real volume_rate, const PartSettings
 
 // Bulk viscosity q = rho l (Q1 l tr(D)^2 - Q2 c tr(D)) while tr(D) < 0, l = V^(1/3) (LS-DYNA's
 // solid elements; the SPG particles use the same form with their spacing).
-Real bulk_viscosity(Real rho, Real volume, Real c, Real volume_rate, const PartSettings& part) {
+Real bulk_viscosity(Real rho, Real l, Real c, Real volume_rate, const PartSettings& part) {
   if (!(volume_rate < 0)) return 0;
-  const Real l = cube_root(volume);
   return rho * l * (part.bulk_quadratic * l * volume_rate * volume_rate - part.bulk_linear * c * volume_rate);
 }
 
@@ -237,7 +237,8 @@ Real SolidElements::element_step<Kind::hexahedron>(Block& block, Index e, const 
   const Real c = thermo.sound_speed;
   const Real stable_step = element_time_step(hex_characteristic_length(a, volume), c, volume_rate, part);
   if (fails(block, e, L, dt, stable_step)) return -2;
-  const Real q = bulk_viscosity(rho, volume, c, volume_rate, part);
+  const Real l = cube_root(volume);  // the length of the bulk viscosity and the hourglass control
+  const Real q = bulk_viscosity(rho, l, c, volume_rate, part);
   // f_I = -sigma b_I = sum_k c_kI (-sigma g_k / 8): the shares' basis coefficients, then nodal.
   const Mat3 sigma = state.deviatoric_stress - thermo.pressure * Mat3::Identity();
   HexVectors stress;
@@ -264,7 +265,6 @@ Real SolidElements::element_step<Kind::hexahedron>(Block& block, Index e, const 
   if (hg.form != HourglassForm::none) {
     const bool orthogonal = hg.form != HourglassForm::viscous_base;
     const Mat3 velocity_gradient = orthogonal ? Mat3(basis_gradient(av, now.g) / volume) : Mat3::Zero();
-    const Real l = cube_root(volume);
     const Real viscous = hg.coefficient * rho * c * l * l / 4;
     const Real stiffness = hg.coefficient * 2 * part.material.shear_modulus * l / 4;
     HexVectors hourglass;
@@ -338,17 +338,19 @@ Real SolidElements::element_step<Kind::hexahedron_selective_reduced>(Block& bloc
   const Real stable_step = element_time_step(hex_characteristic_length(a, volume), c, volume_rate, part);
   const Mat3 L = part.erosion.needs_strain() ? Mat3(basis_gradient(av, half.g) / half.volume) : Mat3::Zero();
   if (fails(block, e, L, dt, stable_step)) return -2;
-  const Real q = bulk_viscosity(rho, volume, c, volume_rate, part);
-  HexVectors pressure_share, bulk;
-  pressure_share[0] = pressure_share[7] = bulk[0] = bulk[7] = Vec3::Zero();
-  for (int k = 1; k < 7; ++k) {
-    pressure_share[k] = Real(0.125) * pressure * now.g[k];
-    bulk[k] = Real(0.125) * q * now.g[k];
-  }
+  const Real q = bulk_viscosity(rho, cube_root(volume), c, volume_rate, part);
+  HexVectors pressure_share;
+  pressure_share[0] = pressure_share[7] = Vec3::Zero();
+  for (int k = 1; k < 7; ++k) pressure_share[k] = Real(0.125) * pressure * now.g[k];
   const HexVectors p_b = hex_nodal(pressure_share);
   for (int n = 0; n < 8; ++n) f[n] += p_b[n];
   scatter(f, local, force_);
-  scatter(hex_nodal(bulk), local, bulk_force_);
+  if (q != 0) {  // only while the element shrinks
+    HexVectors bulk;
+    bulk[0] = bulk[7] = Vec3::Zero();
+    for (int k = 1; k < 7; ++k) bulk[k] = Real(0.125) * q * now.g[k];
+    scatter(hex_nodal(bulk), local, bulk_force_);
+  }
   block.volume[e] = volume;
   return stable_step;
 }
@@ -375,7 +377,7 @@ Real SolidElements::element_step<Kind::tetrahedron>(Block& block, Index e, const
   const Real c = thermo.sound_speed;
   const Real stable_step = element_time_step(tet_characteristic_length(now), c, volume_rate, part);
   if (fails(block, e, L, dt, stable_step)) return -2;
-  const Real q = bulk_viscosity(rho, volume, c, volume_rate, part);
+  const Real q = bulk_viscosity(rho, cube_root(volume), c, volume_rate, part);
   const Mat3 sigma = state.deviatoric_stress - thermo.pressure * Mat3::Identity();
   std::array<Vec3, 4> f, f_bulk;
   for (int n = 0; n < 4; ++n) f[n] = -(sigma * now.b[n]), f_bulk[n] = q * now.b[n];
@@ -393,10 +395,9 @@ bool SolidElements::fails(Block& block, Index e, const Mat3& L, Real dt, Real st
   Real effective = 0;
   if (!block.strain.empty()) {
     // Jaumann-rotated like the stress, so that a rigid rotation leaves it unchanged.
-    const Mat3 W = Real(0.5) * (L - L.transpose()), D = Real(0.5) * (L + L.transpose());
-    strain = block.strain[e] += dt * (D + W * block.strain[e] - block.strain[e] * W);
-    const Mat3 D_dev = D - (D.trace() / 3) * Mat3::Identity();
-    effective = block.effective_strain[e] += dt * std::sqrt(Real(2) / 3 * D_dev.cwiseProduct(D_dev).sum());
+    const Mat3 D = Real(0.5) * (L + L.transpose());
+    strain = block.strain[e] += dt * (D + materials::jaumann_rotation(L, block.strain[e]));
+    effective = block.effective_strain[e] += dt * materials::effective_strain_rate(materials::deviator(D));
   }
   if (!may_erode_) return false;
   Vec3 principal_strain = Vec3::Zero();
@@ -405,7 +406,8 @@ bool SolidElements::fails(Block& block, Index e, const Mat3& L, Real dt, Real st
     solver.computeDirect(strain, Eigen::EigenvaluesOnly);
     principal_strain = solver.eigenvalues();  // ascending
   }
-  const Real volumetric = std::log(block.volume[e] * part.material.density / block.mass[e]);
+  const Real volumetric =
+      er.volumetric_strain ? std::log(block.volume[e] * part.material.density / block.mass[e]) : 0;
   int failed_points = 0;
   for (int g = 0; g < block.points_per_element; ++g) {
     const materials::PointState& state = block.state[block.points_per_element * e + g];
@@ -419,9 +421,8 @@ bool SolidElements::fails(Block& block, Index e, const Mat3& L, Real dt, Real st
     if (er.min_pressure) met += p <= *er.min_pressure;
     if (er.von_mises) met += materials::von_mises(state.deviatoric_stress) >= *er.von_mises;
     if (er.max_principal_stress) {
-      Eigen::SelfAdjointEigenSolver<Mat3> solver;
-      solver.computeDirect(Mat3(state.deviatoric_stress - p * Mat3::Identity()), Eigen::EigenvaluesOnly);
-      met += solver.eigenvalues()[2] >= *er.max_principal_stress;
+      const Real sigma_1 = materials::max_principal_stress(state.deviatoric_stress - p * Mat3::Identity());
+      met += sigma_1 >= *er.max_principal_stress;
     }
     if (er.max_principal_strain) met += principal_strain[2] >= *er.max_principal_strain;
     if (er.min_principal_strain) met += principal_strain[0] <= *er.min_principal_strain;

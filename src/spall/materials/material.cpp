@@ -65,10 +65,8 @@ Real apply_tensile_limit(const Material& material, PointState& state, Real press
       break;
     case TensileLimit::principal_stress: {
       if (state.failed) break;
-      const Mat3 sigma = state.deviatoric_stress - pressure * Mat3::Identity();
-      Eigen::SelfAdjointEigenSolver<Mat3> solver;
-      solver.computeDirect(sigma, Eigen::EigenvaluesOnly);
-      if (solver.eigenvalues().maxCoeff() >= -material.pressure_cutoff) state.failed = true;
+      if (max_principal_stress(state.deviatoric_stress - pressure * Mat3::Identity()) >= -material.pressure_cutoff)
+        state.failed = true;
       break;
     }
     case TensileLimit::hydrostatic_tension:
@@ -113,6 +111,12 @@ Real advance_point(const Material& material, PointState& state, PointThermo& the
   thermo.pressure = update.pressure;
   thermo.sound_speed = sound_speed(material, density, thermo.specific_energy);
   return update.plastic_work;
+}
+
+Real max_principal_stress(const Mat3& sigma) {
+  Eigen::SelfAdjointEigenSolver<Mat3> solver;
+  solver.computeDirect(sigma, Eigen::EigenvaluesOnly);
+  return solver.eigenvalues().maxCoeff();
 }
 
 bool erodes_element(const Material& material, const PointState& state) {

@@ -97,6 +97,9 @@ Real apply_tensile_limit(const Material& material, PointState& state, Real press
 // and particles keep their points: a failed point carries no deviator and no tension.)
 bool erodes_element(const Material& material, const PointState& state);
 
+// sigma_1, the largest eigenvalue of a symmetric stress.
+Real max_principal_stress(const Mat3& sigma);
+
 // The yield stress at the point's plastic strain and temperature without the strain-rate term
 // (the quasi-static flow stress a residual stress is compared with); infinity for materials
 // without yield (*MAT_ELASTIC), 0 for *MAT_NULL.
