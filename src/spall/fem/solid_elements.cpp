@@ -71,9 +71,6 @@ SolidElements::SolidElements(std::vector<PartSettings> parts, const std::vector<
       node_.push_back(i);
     }
   force_.assign(node_.size(), Vec3::Zero());
-  live_elements_.assign(node_.size(), 0);
-  for (const auto& e : elements)
-    for (int a = 0; a < (parts_[e.part].elform == 10 ? 4 : 8); ++a) ++live_elements_[local[e.node[a]]];
   for (const auto& p : parts_) {
     const Erosion& er = p.erosion;
     may_erode_ |= er.max_pressure || er.min_pressure || er.max_principal_stress || er.von_mises ||
@@ -135,6 +132,9 @@ SolidElements::SolidElements(std::vector<PartSettings> parts, const std::vector<
     block.state.shrink_to_fit(), block.thermo.shrink_to_fit();
     blocks_.push_back(std::move(block));
   }
+  live_elements_.assign(node_.size(), 0);
+  for (const Block& block : blocks_)
+    for (Index k : block.node) ++live_elements_[k];
 }
 
 // Greedy colouring in element order: each element takes the lowest colour none of its nodes'
