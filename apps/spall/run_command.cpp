@@ -133,6 +133,16 @@ int run_deck(const RunOptions& options) {
     rwforc.emplace(out / "rwforc.csv",
                    std::vector<io::output::Column>{{"time", "time"}, {"wall", ""}, {"normal_force", "force"},
                                                    {"fx", "force"}, {"fy", "force"}, {"fz", "force"}});
+  // Forces of the penalty contacts on each side (1: SURFA, 2: SURFB), with their moments about a
+  // side's rigid-body centre, or about the origin; only when the deck has contacts.
+  std::optional<io::output::CsvHistory> rcforc;
+  if (!problem.contacts.empty()) {
+    std::vector<io::output::Column> columns{{"time", "time"}, {"contact", ""}, {"side", ""}};
+    for (const char* name : {"fx", "fy", "fz"}) columns.push_back({name, "force"});
+    for (const char* name : {"mx", "my", "mz"}) columns.push_back({name, "force*length"});
+    for (const char* name : {"px", "py", "pz"}) columns.push_back({name, "length"});
+    rcforc.emplace(out / "rcforc.csv", std::move(columns));
+  }
   // Residual stress of the SPH solids per part and category (seed 000), at the end of the run and,
   // on request, at every field output.
   const sph::SolidFormulation* solid = nullptr;
@@ -196,6 +206,18 @@ int run_deck(const RunOptions& options) {
                             f.x(), f.y(), f.z()};
       rwforc->append(row);
     }
+  };
+  observer.on_contact_forces = [&](const solver::StepInfo& step, const std::vector<contact::PenaltyContact>& contacts) {
+    for (const auto& c : contacts)
+      for (int side = 0; side < 2; ++side) {
+        const auto& r = side == 0 ? c.side_a() : c.side_b();
+        const std::int32_t body = c.definition().side_body[side];
+        const Vec3 p = body >= 0 ? problem.rigid_bodies.bodies()[body].step_centre : Vec3::Zero();
+        const Vec3 m = r.moment - p.cross(r.force);
+        std::vector<double> row{step.time, static_cast<double>(c.definition().id), double(side + 1)};
+        for (const Vec3* v : {&r.force, &m, &p}) row.insert(row.end(), v->data(), v->data() + 3);
+        rcforc->append(row);
+      }
   };
   observer.on_step = [&](const solver::StepInfo& step) {
     last_step = step;

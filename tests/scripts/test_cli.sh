@@ -64,13 +64,13 @@ grep -Eq "bad\.k:[0-9]+: \*NODE: field X: .*1\.2\.3e-02" "$work/bad.log" || { ca
 
 # An unsupported physics keyword stops the check at its line (exit 2), unless skipped by name,
 # and then the warning says the physics is incomplete.
-sed 's/^\*END$/*CONTACT_AUTOMATIC_SINGLE_SURFACE\n         1         0         2\n       0.2\n\n*END/' "$work/bar.k" >"$work/contact.k"
+sed 's/^\*END$/*CONTACT_TIED_SURFACE_TO_SURFACE\n         1         0         2\n       0.2\n\n*END/' "$work/bar.k" >"$work/contact.k"
 set +e
 "$cli" check "$work/contact.k" >/dev/null 2>"$work/contact.log"
 code=$?
 set -e
 [ "$code" -eq 2 ] || fail "a deck with a contact checked with exit $code"
-grep -Eq 'contact\.k:[0-9]+: \*CONTACT_AUTOMATIC_SINGLE_SURFACE: not supported by Spall, and it defines physics' "$work/contact.log" ||
+grep -Eq 'contact\.k:[0-9]+: \*CONTACT_TIED_SURFACE_TO_SURFACE: not supported by Spall, and it defines physics' "$work/contact.log" ||
   { cat "$work/contact.log"; fail "contact refusal"; }
 "$cli" check "$work/contact.k" --skip CONTACT >/dev/null 2>"$work/contact.log" || fail "check --skip CONTACT"
 grep -q 'on request (--skip): the physics of this run is incomplete' "$work/contact.log" || fail "--skip warning"

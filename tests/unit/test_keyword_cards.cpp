@@ -379,8 +379,8 @@ TEST(keyword_cards, UnsupportedKeywordsAreRecordedWithNameLineAndId) {
   const std::string deck = "*KEYWORD\n*MAT_SOIL_AND_FOAM\n" + row({"6", "1.0e-9"}) +
                            "*SECTION_SHELL_TITLE\nskin\n" + row({"3", "2"}) +
                            "*EOS_JWL\n" + row({"6", "371.2"}) +
-                           "*CONTACT_AUTOMATIC_NODES_TO_SURFACE_ID\n" + row({"1"}) + row({"1", "2"}) +
-                           "*CONTROL_CONTACT\n" + row({"1"}) +
+                           "*CONTACT_TIED_NODES_TO_SURFACE_ID\n" + row({"1"}) + row({"1", "2"}) +
+                           "*CONTROL_SHELL\n" + row({"1"}) +
                            "*DEFINE_TABLE_TITLE\nrates\n" + row({"7"}) + row({"1.0", "8"}, {20, 20}) +
                            "*END\n";
   const auto model = read_deck(folder.write("unsupported.k", deck));
@@ -393,10 +393,10 @@ TEST(keyword_cards, UnsupportedKeywordsAreRecordedWithNameLineAndId) {
   EXPECT_EQ(model.unsupported[1].where.line, 4);
   EXPECT_EQ(model.unsupported[2].keyword, "*EOS_JWL");
   EXPECT_EQ(model.unsupported[2].id, 6);
-  EXPECT_EQ(model.unsupported[3].keyword, "*CONTACT_AUTOMATIC_NODES_TO_SURFACE_ID");
+  EXPECT_EQ(model.unsupported[3].keyword, "*CONTACT_TIED_NODES_TO_SURFACE_ID");
   EXPECT_EQ(model.unsupported[3].id, 0);
   EXPECT_EQ(model.unsupported[3].where.line, 9);
-  EXPECT_EQ(model.unsupported[4].keyword, "*CONTROL_CONTACT");
+  EXPECT_EQ(model.unsupported[4].keyword, "*CONTROL_SHELL");
   EXPECT_EQ(model.unsupported[4].where.line, 12);
   // A table keeps its ID too, for *MAT_PIECEWISE_LINEAR_PLASTICITY's LCSS to name it.
   EXPECT_EQ(model.unsupported[5].keyword, "*DEFINE_TABLE_TITLE");

@@ -36,14 +36,15 @@ TEST(keyword_unsupported, SkipNamesAKeywordOrItsFamily) {
 
 TEST(keyword_unsupported, APhysicsKeywordStopsTheCheckAtItsLineUnlessSkipped) {
   DeckFolder folder;
+  // A contact type Spall does not read (the four it reads are in test_keyword_contact).
   const auto path = folder.write("contact.k", "*KEYWORD\n*CONTROL_ENERGY\n" + row({"2"}) +
-                                                  "*CONTACT_AUTOMATIC_SINGLE_SURFACE\n" + row({"1", "0", "2"}) +
+                                                  "*CONTACT_TIED_SURFACE_TO_SURFACE\n" + row({"1", "0", "2"}) +
                                                   row({"0.2"}) + row({}) + "*END\n");
   const model::Model model = read_deck(path);
   EXPECT_EQ(input_error_of([&] { refuse_unsupported_physics(model, {}); }),
-            path.string() + ":4: *CONTACT_AUTOMATIC_SINGLE_SURFACE: not supported by Spall, and it defines physics: "
+            path.string() + ":4: *CONTACT_TIED_SURFACE_TO_SURFACE: not supported by Spall, and it defines physics: "
                             "running without it would solve another problem (`spall run --skip "
-                            "CONTACT_AUTOMATIC_SINGLE_SURFACE` runs without it, knowingly)");
+                            "CONTACT_TIED_SURFACE_TO_SURFACE` runs without it, knowingly)");
   EXPECT_EQ(input_error_of([&] { refuse_unsupported_physics(model, {"contact"}); }), "");
 }
 

@@ -321,6 +321,60 @@ struct RigidWallPlanar {
   SourceLocation where;
 };
 
+// *SET_SEGMENT: quadrilaterals N1 N2 N3 N4 in the deck's order (a triangle repeats N3 as N4).
+struct SegmentSet {
+  Id id = 0;
+  std::vector<std::array<Id, 4>> segments;
+  SourceLocation where;
+};
+
+// One side of a contact: SURFA/SURFATYP or SURFB/SURFBTYP.
+struct ContactSurface {
+  enum class Type { segment_set = 0, part_set = 2, part = 3, node_set = 4, all = 5, exempted_part_set = 6 };
+  Id id = 0;  // the set's or part's ID (unused for `all`)
+  Type type = Type::segment_set;
+  SourceLocation where;  // card 1
+};
+
+// *CONTACT_NODES_TO_SURFACE, *CONTACT_AUTOMATIC_NODES_TO_SURFACE, *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE
+// and *CONTACT_AUTOMATIC_SINGLE_SURFACE (with _ID, _TITLE, _MPP): penalty contact (SOFT 0, 1) with
+// Coulomb friction. Fields as read, LS-DYNA's defaults applied (blank and 0 read alike where the
+// manual says so: SFSA, SFSB, FSF, VSF 0 -> 1; DT 0 -> 1e20; SOFSCL 0 -> 0.1; MAXPAR 0 -> 1.025).
+struct Contact {
+  enum class Kind { nodes_to_surface, automatic_nodes_to_surface, automatic_surface_to_surface,
+                    automatic_single_surface };
+  Kind kind = Kind::automatic_nodes_to_surface;
+  std::string keyword;  // as written, e.g. "*CONTACT_AUTOMATIC_NODES_TO_SURFACE_ID", for messages
+  Id id = 0;            // CID of the _ID card; 0 without one (then numbered in deck order)
+  std::string heading;
+  ContactSurface a, b;  // SURFA (slave nodes), SURFB (master segments); b unused for single surface
+  Real fs = 0, fd = 0, dc = 0, vc = 0;  // Coulomb: mu = FD + (FS - FD) exp(-DC |v_rel|); VC caps F_t
+  Real vdc = 0;                         // normal damping, percent of critical
+  Real birth = 0, death = 1e20;         // BT, DT
+  Real sfsa = 1, sfsb = 1;              // penalty scale of side A (nodes), side B (segments)
+  Real fsf = 1, vsf = 1;                // scale of the Coulomb coefficients, of VC
+  int soft = 0;                         // optional card A: 0 standard penalty, 1 soft constraint
+  Real sofscl = 0.1;
+  Real maxpar = 1.025;                  // parametric tolerance of the segment search
+  int bsort = 0;                        // cycles between bucket sorts (Spall sorts every cycle)
+  Real penmax = 0;                      // optional card B; 0: the type's default (automatic: 0.4)
+  Real sldstf = 0;                      // > 0: the stiffness modulus of solid segments instead of K
+  Real dtstif = 0;                      // optional card C: the step of the SOFT 1 stiffness (0: the first)
+  SourceLocation where;                 // card 1
+  SourceLocation where_card2, where_card3;
+};
+
+// *CONTROL_CONTACT: the defaults every contact shares.
+struct ControlContact {
+  Real slsfac = 0.1;  // scale of the penalty stiffness (0 -> 0.1)
+  int penopt = 1;     // 1: the smaller of node and segment stiffness; 2: segment; 3: node
+  Real xpene = 4.0;   // release depth of *CONTACT_NODES_TO_SURFACE, in segment thicknesses (0 -> 4)
+  // Card 4 IGNORE: the contacts' default for tracking initial penetrations (not implemented). Kept
+  // so that validate() refuses it only in a deck that has a contact for it to act on.
+  int ignore = 0;
+  SourceLocation where;
+};
+
 struct ControlTermination {
   Real endtim = 0;
   int endcyc = 0;  // 0 = no limit
@@ -486,6 +540,7 @@ struct Model {
   std::vector<SphMeshBox> sph_mesh_boxes;  // as read; their particles are in nodes/sph_elements
   std::map<Id, NodeSet> node_sets;
   std::map<Id, PartSet> part_sets;
+  std::map<Id, SegmentSet> segment_sets;
   std::map<Id, Curve> curves;
 
   std::vector<Spc> spcs;
@@ -496,6 +551,8 @@ struct Model {
   std::vector<BodyLoad> body_loads;
   std::vector<RigidWallPlanar> rigid_walls;
   std::vector<ConstrainedRigidBodies> merged_rigid_bodies;
+  std::vector<Contact> contacts;
+  std::optional<ControlContact> control_contact;
 
   std::optional<ControlTermination> termination;
   ControlTimestep timestep;
@@ -511,6 +568,7 @@ struct Model {
   std::optional<OutputInterval> d3plot;
   std::optional<OutputInterval> glstat;
   std::optional<OutputInterval> rwforc;
+  std::optional<OutputInterval> rcforc;
   std::optional<DampingGlobal> damping_global;
 
   std::vector<UnsupportedKeyword> unsupported;

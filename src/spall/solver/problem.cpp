@@ -7,6 +7,7 @@
 #include <set>
 #include <unordered_map>
 
+#include "spall/contact/setup.hpp"
 #include "spall/core/log.hpp"
 #include "spall/materials/make_material.hpp"
 #include "spall/neighbors/verlet_list.hpp"
@@ -42,6 +43,7 @@ class Builder {
     build_motions();
     apply_initial_velocities();
     problem_.rigid_bodies = rigid::build_rigid_bodies(model_, index_of_node_, problem_.nodes);
+    problem_.contacts = contact::build_contacts(model_, index_of_node_, problem_.nodes, problem_.part_of_node);
     build_loads();
     build_rigid_walls();
     build_controls();
@@ -483,17 +485,8 @@ class Builder {
     }
     // Without *DATABASE_GLSTAT the energies are still written, 1000 rows over the run.
     c.glstat_dt = (model_.glstat && model_.glstat->dt > 0) ? model_.glstat->dt : c.end_time / 1000;
-    c.rwforc_dt = c.glstat_dt;
-    if (model_.rwforc) {
-      const auto& r = *model_.rwforc;
-      c.rwforc_dt = r.dt;
-      c.rwforc_dt_curve = curve(r.lcdt, r.where, "*DATABASE_RWFORC", "LCUR");
-      if (c.rwforc_dt_curve && r.ioopt != 1)
-        fail(r.where, "*DATABASE_RWFORC",
-             fmt::format("IOOPT {}: only 1 (next output at LCUR of the current time) is supported", r.ioopt));
-      if (c.rwforc_dt <= 0 && !c.rwforc_dt_curve)
-        fail(r.where, "*DATABASE_RWFORC", "DT: must be > 0 (or give LCUR)");
-    }
+    force_history(model_.rwforc, "*DATABASE_RWFORC", c.rwforc_dt, c.rwforc_dt_curve);
+    force_history(model_.rcforc, "*DATABASE_RCFORC", c.rcforc_dt, c.rcforc_dt_curve);
     if (model_.damping_global) {
       const auto& d = *model_.damping_global;
       if (d.rotation_scale != Vec3::Zero() && d.rotation_scale != Vec3::Ones())
@@ -505,6 +498,19 @@ class Builder {
     if (model_.bulk_viscosity.type != 1 && model_.bulk_viscosity.type != -1 && !model_.sph_elements.empty())
       fail(model_.bulk_viscosity.where, "*CONTROL_BULK_VISCOSITY",
            fmt::format("TYPE {}: only the standard type 1 is supported", model_.bulk_viscosity.type));
+  }
+
+  // The interval of a force history (*DATABASE_RWFORC, *DATABASE_RCFORC): GLSTAT's without the card.
+  void force_history(const std::optional<model::OutputInterval>& card, const char* keyword, Real& dt,
+                     const model::Curve*& dt_curve) const {
+    dt = problem_.controls.glstat_dt;
+    if (!card) return;
+    const auto& r = *card;
+    dt = r.dt;
+    dt_curve = curve(r.lcdt, r.where, keyword, "LCUR");
+    if (dt_curve && r.ioopt != 1)
+      fail(r.where, keyword, fmt::format("IOOPT {}: only 1 (next output at LCUR of the current time) is supported", r.ioopt));
+    if (dt <= 0 && !dt_curve) fail(r.where, keyword, "DT: must be > 0 (or give LCUR)");
   }
 
   const model::Model& model_;

@@ -5,6 +5,7 @@
 #include <memory>
 #include <vector>
 
+#include "spall/contact/penalty_contact.hpp"
 #include "spall/contact/rigid_wall.hpp"
 #include "spall/model/model.hpp"
 #include "spall/discretization/formulation.hpp"
@@ -44,6 +45,8 @@ struct RunControls {
   Real glstat_dt = 0;
   Real rwforc_dt = 0;                             // rigid-wall forces (GLSTAT's interval by default)
   const model::Curve* rwforc_dt_curve = nullptr;  // LCUR
+  Real rcforc_dt = 0;                             // contact forces (GLSTAT's interval by default)
+  const model::Curve* rcforc_dt_curve = nullptr;  // LCUR
   // *DAMPING_GLOBAL: f = -D(t) m (scale . v), D = damping or damping_curve(t).
   Real damping = 0;
   const model::Curve* damping_curve = nullptr;
@@ -56,6 +59,7 @@ struct Problem {
   std::vector<NodalMotion> motions;
   std::vector<BaseAcceleration> base_accelerations;
   std::vector<contact::RigidWall> rigid_walls;
+  std::vector<contact::PenaltyContact> contacts;
   rigid::RigidBodies rigid_bodies;
   std::vector<Id> part_of_node;   // the deck's part ID of the node's particle, 0 if none
   RunControls controls;

@@ -64,6 +64,7 @@ class TimeLoop::Step {
     field_output_ = {controls_.d3plot_dt, controls_.d3plot_dt_curve};
     history_ = {controls_.glstat_dt, nullptr};
     rwforc_ = {controls_.rwforc_dt, controls_.rwforc_dt_curve};
+    rcforc_ = {controls_.rcforc_dt, controls_.rcforc_dt_curve};
     runaway_speed_limit_ = runaway_speed_limit();
     parallel::for_each(nodes_.size(), [&](Index i) { nodes_.f[i] = Vec3::Zero(); });
   }
@@ -72,7 +73,7 @@ class TimeLoop::Step {
   bool advance() {
     timed(Phase::halo, [] {});  // ghost nodes in: nothing to do without MPI
     timed(Phase::internal_forces, [&] { internal_forces(); });
-    timed(Phase::contact, [] {});  // penalty contact forces: none implemented yet
+    timed(Phase::contact, [&] { contact(); });
     timed(Phase::loads, [&] { loads(); });
     timed(Phase::stable_step, [&] { stable_step(); });
     timed(Phase::velocity_update, [&] { velocity_update(); });
@@ -124,6 +125,16 @@ class TimeLoop::Step {
     }
   }
 
+  // Penalty contact forces at x^n, from the slip of v^{n-1/2} over the last step. The soft
+  // constraint's stiffness takes the first step, known only now.
+  void contact() {
+    if (step_.step == 0 && !problem_.contacts.empty()) {
+      const Real dt = step_limit();
+      for (auto& c : problem_.contacts) c.set_first_step(std::isfinite(dt) ? dt : controls_.end_time);
+    }
+    for (auto& c : problem_.contacts) c.apply(nodes_, step_.time, dt_previous_);
+  }
+
   // Base accelerations a(t): every node with mass feels the inertial force -m a (LS-DYNA's
   // *LOAD_BODY convention); *DAMPING_GLOBAL: -D m v on the velocity of the last half step. Both
   // are counted as external work (energies()).
@@ -141,15 +152,22 @@ class TimeLoop::Step {
     return nodes_.mass[i] * (base_acceleration_ + damping_.cwiseProduct(v));
   }
 
-  // dt^{n+1/2} = TSSFAC x the smallest stable step of every formulation (a global minimum: under
-  // MPI, over the ranks too), within LCTM, DTINIT and the end time.
-  void stable_step() {
+  // TSSFAC x the smallest stable step of every formulation, within LCTM and, on the first step,
+  // DTINIT; infinite when nothing limits it.
+  Real step_limit() const {
     Real dt = std::numeric_limits<Real>::infinity();
     for (const auto& f : problem_.formulations) dt = std::min(dt, f->stable_time_step(nodes_));
     dt *= controls_.tssfac;
     if (controls_.max_dt_curve) dt = std::min(dt, controls_.max_dt_curve->value(step_.time));
+    if (step_.step == 0 && controls_.dt_initial > 0) dt = std::min(dt, controls_.dt_initial);
+    return dt;
+  }
+
+  // dt^{n+1/2} = TSSFAC x the smallest stable step of every formulation (a global minimum: under
+  // MPI, over the ranks too), within LCTM, DTINIT and the end time.
+  void stable_step() {
+    Real dt = step_limit();
     if (step_.step == 0) {
-      if (controls_.dt_initial > 0) dt = std::min(dt, controls_.dt_initial);
       dt_first_ = dt;
       // ERODE: elements whose own step x TSSFAC would fall below DTMIN x dt0 are deleted instead.
       if (controls_.erode)
@@ -236,6 +254,7 @@ class TimeLoop::Step {
         Sums<4>{});
     ledger_.set(EnergyLedger::kinetic_energy, Role::kinetic, sums[2]);
     for (const auto& f : problem_.formulations) f->book_energies(ledger_, v_n, dt_mid);
+    for (const auto& c : problem_.contacts) c.book_energies(ledger_, v_n, dt_mid);
     ledger_.add(EnergyLedger::external_work_name, Role::external, dt_mid * (sums[0] + sums[1]));
     if (step_.step == 0) ledger_.set_initial_total();
     if (sums[3] > 0) throw_runaway();
@@ -264,6 +283,8 @@ class TimeLoop::Step {
     if (history_.due(step_.time, tolerance, last) && observer_.on_history) observer_.on_history(step_, ledger_);
     if (!problem_.rigid_walls.empty() && rwforc_.due(step_.time, tolerance, last) && observer_.on_rigid_wall_forces)
       observer_.on_rigid_wall_forces(step_, problem_.rigid_walls);
+    if (!problem_.contacts.empty() && rcforc_.due(step_.time, tolerance, last) && observer_.on_contact_forces)
+      observer_.on_contact_forces(step_, problem_.contacts);
     if (observer_.on_step) observer_.on_step(step_);
     if (last) return false;
     return !(controls_.end_energy > 0 && 100 * std::abs(ledger_.ratio() - 1) > controls_.end_energy);
@@ -292,7 +313,7 @@ class TimeLoop::Step {
   Real dt_previous_ = 0, dt_first_ = 0, dt_mid_ = 0, velocity_weight_ = 0.5;
   Vec3 base_acceleration_ = Vec3::Zero(), damping_ = Vec3::Zero();
   Real runaway_speed_limit_ = std::numeric_limits<Real>::infinity();
-  OutputSchedule field_output_, history_, rwforc_;
+  OutputSchedule field_output_, history_, rwforc_, rcforc_;
   EnergyLedger ledger_;
   PhaseTimes phases_;
 };

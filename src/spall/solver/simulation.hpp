@@ -1,6 +1,6 @@
 #pragma once
 // The explicit time loop (central difference) as one step of named phases (docs/ARCHITECTURE.md):
-//   halo -> internal forces -> contact -> loads -> stable step -> velocity update (with SPCs)
+//   halo -> internal forces -> contact (penalty) -> loads -> stable step -> velocity update (with SPCs)
 //   -> constraints (prescribed motion, rigid walls) -> energies -> output -> position update
 // The stable step comes before the velocity update because the central difference with a varying
 // step needs dt^{n+1/2} for v^{n+1/2} = v^{n-1/2} + a^n (dt^{n-1/2} + dt^{n+1/2}) / 2.
@@ -41,6 +41,8 @@ struct Observer {
   std::function<void(const StepInfo&, const discretization::EnergyLedger&)> on_history;
   // Forces on the rigid walls at t^n (every RWFORC interval, GLSTAT's by default, and at the end).
   std::function<void(const StepInfo&, const std::vector<contact::RigidWall>&)> on_rigid_wall_forces;
+  // Forces of the penalty contacts at t^n (every RCFORC interval, GLSTAT's by default, and at the end).
+  std::function<void(const StepInfo&, const std::vector<contact::PenaltyContact>&)> on_contact_forces;
   // Called on every step (cheap): for progress lines.
   std::function<void(const StepInfo&)> on_step;
 };

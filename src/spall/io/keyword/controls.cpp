@@ -1,6 +1,6 @@
 // *CONTROL_TERMINATION, *CONTROL_TIMESTEP, *CONTROL_BULK_VISCOSITY, *CONTROL_SPH,
 // *SPALL_SPH_ARTIFICIAL_STRESS, *SPALL_SPH_COLOUR_FIELD, *SPALL_SPH_TIMESTEP, *SPALL_RESIDUAL_STRESS,
-// *DATABASE_BINARY_D3PLOT, *DATABASE_GLSTAT, *DATABASE_RWFORC. Each
+// *DATABASE_BINARY_D3PLOT, *DATABASE_GLSTAT, *DATABASE_RWFORC, *DATABASE_RCFORC. Each
 // reads its first card; the later optional cards of *CONTROL_TIMESTEP
 // (mass-scaling details) and *DATABASE_BINARY_D3PLOT (IOOPT, RATE, ...) are not used by Spall.
 #include "spall/io/keyword/keyword_readers.hpp"
@@ -236,7 +236,10 @@ void read_database_glstat(CardCursor& cursor, const KeywordCall&, model::Model& 
   model.glstat = output;
 }
 
-void read_database_rwforc(CardCursor& cursor, const KeywordCall&, model::Model& model) {
+namespace {
+// *DATABASE_RWFORC and *DATABASE_RCFORC: one card DT BINARY LCUR IOOPT. BINARY is not read: Spall
+// writes its CSV file whatever it says.
+model::OutputInterval read_force_history(CardCursor& cursor) {
   const Card card = cursor.next(standard_fields, "card 1 (DT BINARY LCUR IOOPT)");
   model::OutputInterval output;
   output.dt = card.real(0, "DT", 0.0);
@@ -248,7 +251,16 @@ void read_database_rwforc(CardCursor& cursor, const KeywordCall&, model::Model& 
   if (output.ioopt < 1 || output.ioopt > 3)
     card.fail("IOOPT", quoted(card.text(3)) + " is not 1, 2 or 3");
   output.where = card.where();
-  model.rwforc = output;
+  return output;
+}
+}  // namespace
+
+void read_database_rwforc(CardCursor& cursor, const KeywordCall&, model::Model& model) {
+  model.rwforc = read_force_history(cursor);
+}
+
+void read_database_rcforc(CardCursor& cursor, const KeywordCall&, model::Model& model) {
+  model.rcforc = read_force_history(cursor);
 }
 
 }  // namespace spall::io::keyword

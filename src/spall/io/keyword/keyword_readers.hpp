@@ -11,12 +11,13 @@
 
 namespace spall::io::keyword {
 
-// The keyword as dispatched: its name without the `_TITLE` / `_ID` option, and which option
-// was given.
+// The keyword as dispatched: its name without the `_TITLE` / `_ID` (/ `_MPP`) options, and which
+// options were given.
 struct KeywordCall {
   std::string_view base;
-  bool title = false;  // `_TITLE`: a title line before card 1
+  bool title = false;  // `_TITLE`: a title line before card 1 (for *CONTACT_: the ID card, as `_ID`)
   bool id = false;     // `_ID`: an ID + HEADING card before card 1
+  bool mpp = false;    // `_MPP` (*CONTACT_ only): MPP cards before card 1
 };
 
 using KeywordReader = void (*)(CardCursor&, const KeywordCall&, model::Model&);
@@ -76,6 +77,7 @@ void read_eos_murnaghan(CardCursor&, const KeywordCall&, model::Model&);
 void read_set_node_list(CardCursor&, const KeywordCall&, model::Model&);
 void read_set_node_list_generate(CardCursor&, const KeywordCall&, model::Model&);
 void read_set_part_list(CardCursor&, const KeywordCall&, model::Model&);
+void read_set_segment(CardCursor&, const KeywordCall&, model::Model&);
 // curves.cpp
 void read_define_curve(CardCursor&, const KeywordCall&, model::Model&);
 // boundary_initial.cpp
@@ -89,6 +91,12 @@ void read_load_body(CardCursor&, const KeywordCall&, model::Model&);
 // rigid_walls.cpp
 void read_rigidwall_planar(CardCursor&, const KeywordCall&, model::Model&);
 void read_constrained_rigid_bodies(CardCursor&, const KeywordCall&, model::Model&);
+// contact.cpp
+// The four contact types Spall reads, with any of `_ID` or `_TITLE` and `_MPP` in any order: true
+// and `call` filled in for one of them, false for every other *CONTACT_ name (those stay unsupported).
+bool split_contact_keyword(std::string_view name, KeywordCall& call);
+void read_contact(CardCursor&, const KeywordCall&, model::Model&);
+void read_control_contact(CardCursor&, const KeywordCall&, model::Model&);
 // controls.cpp
 void read_control_termination(CardCursor&, const KeywordCall&, model::Model&);
 void read_control_timestep(CardCursor&, const KeywordCall&, model::Model&);
@@ -102,5 +110,6 @@ void read_spall_residual_stress(CardCursor&, const KeywordCall&, model::Model&);
 void read_database_binary_d3plot(CardCursor&, const KeywordCall&, model::Model&);
 void read_database_glstat(CardCursor&, const KeywordCall&, model::Model&);
 void read_database_rwforc(CardCursor&, const KeywordCall&, model::Model&);
+void read_database_rcforc(CardCursor&, const KeywordCall&, model::Model&);
 
 }  // namespace spall::io::keyword

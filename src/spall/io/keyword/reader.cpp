@@ -20,7 +20,8 @@ struct SupportedKeyword {
   bool id_option = false;
 };
 
-// Every keyword Spall reads. Any other keyword goes to Model::unsupported.
+// Every keyword Spall reads, but the contacts (split_contact_keyword: their options combine in any
+// order). Any other keyword goes to Model::unsupported.
 constexpr SupportedKeyword supported_keywords[] = {
     {"NODE", read_node},
     {"PART", read_part},
@@ -54,6 +55,7 @@ constexpr SupportedKeyword supported_keywords[] = {
     {"SET_NODE_LIST_GENERATE", read_set_node_list_generate, true},
     {"SET_PART", read_set_part_list, true},
     {"SET_PART_LIST", read_set_part_list, true},
+    {"SET_SEGMENT", read_set_segment, true},
     {"DEFINE_CURVE", read_define_curve, true},
     {"BOUNDARY_SPC_NODE", read_boundary_spc, false, true},
     {"BOUNDARY_SPC_SET", read_boundary_spc, false, true},
@@ -76,6 +78,7 @@ constexpr SupportedKeyword supported_keywords[] = {
     {"CONTROL_BULK_VISCOSITY", read_control_bulk_viscosity},
     {"DAMPING_GLOBAL", read_damping_global},
     {"CONTROL_SPH", read_control_sph},
+    {"CONTROL_CONTACT", read_control_contact},
     {"SPALL_SPH_ARTIFICIAL_STRESS", read_spall_sph_artificial_stress},
     {"SPALL_SPH_COLOUR_FIELD", read_spall_sph_colour_field},
     {"SPALL_SPH_TIMESTEP", read_spall_sph_timestep},
@@ -83,6 +86,7 @@ constexpr SupportedKeyword supported_keywords[] = {
     {"DATABASE_BINARY_D3PLOT", read_database_binary_d3plot},
     {"DATABASE_GLSTAT", read_database_glstat},
     {"DATABASE_RWFORC", read_database_rwforc},
+    {"DATABASE_RCFORC", read_database_rcforc},
 };
 
 bool ends_with(std::string_view text, std::string_view suffix) {
@@ -160,6 +164,7 @@ class DeckReader {
     KeywordCall call;
     if (const SupportedKeyword* keyword = find_supported(name, call))
       return keyword->reader(cursor, call, model_);
+    if (split_contact_keyword(name, call)) return read_contact(cursor, call, model_);
     record_unsupported(block, long_format);
   }
 

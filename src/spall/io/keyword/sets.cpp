@@ -1,4 +1,4 @@
-// *SET_NODE_LIST (+ _GENERATE), *SET_PART_LIST, each with an optional _TITLE line.
+// *SET_NODE_LIST (+ _GENERATE), *SET_PART_LIST, *SET_SEGMENT, each with an optional _TITLE line.
 #include "spall/io/keyword/keyword_readers.hpp"
 
 namespace spall::io::keyword {
@@ -64,6 +64,37 @@ void read_set_part_list(CardCursor& cursor, const KeywordCall& call, model::Mode
   set.where = header.where();
   set.parts = read_members(cursor);
   insert_unique(model.part_sets, set.id, std::move(set), header, "part set");
+}
+
+// One segment a line: N1 N2 N3 N4 A1 A2 A3 A4. A1..A4 are attributes with no use in Spall.
+void read_set_segment(CardCursor& cursor, const KeywordCall& call, model::Model& model) {
+  constexpr const char* names[4] = {"N1", "N2", "N3", "N4"};
+  const Card header = read_set_header(cursor, call);
+  model::SegmentSet set;
+  set.id = header.required_integer(0, "SID");
+  set.where = header.where();
+  while (true) {
+    cursor.skip_blank_lines();
+    if (cursor.done()) break;
+    const Card card = cursor.next(standard_fields, "segment card (N1 N2 N3 N4 A1 A2 A3 A4)");
+    std::array<Id, 4> nodes{};
+    for (int k = 0; k < 3; ++k) nodes[k] = card.required_integer(k, names[k]);
+    // LS-DYNA's triangle: N4 blank or 0, or N4 = N3.
+    nodes[3] = card.integer(3, "N4", 0);
+    if (nodes[3] == 0) nodes[3] = nodes[2];
+    for (int k = 0; k < 4; ++k)
+      if (nodes[k] <= 0) card.fail(names[k], quoted(card.text(k)) + " is not a node ID (> 0)");
+    for (int k = 1; k < 4; ++k)
+      for (int j = 0; j < k; ++j)
+        if (nodes[k] == nodes[j] && !(k == 3 && j == 2))
+          card.fail(names[k], quoted(card.text(k)) + " repeats " + names[j] +
+                                  ": a segment has 3 or 4 different nodes (a triangle repeats N3 as N4, "
+                                  "or leaves N4 blank)");
+    set.segments.push_back(nodes);
+  }
+  if (set.segments.empty())
+    header.context().fail(header.line(), "segment set " + std::to_string(set.id) + " has no segment");
+  insert_unique(model.segment_sets, set.id, std::move(set), header, "segment set");
 }
 
 }  // namespace spall::io::keyword

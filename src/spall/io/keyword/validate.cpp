@@ -64,6 +64,7 @@ class Validator {
     check_materials();
     check_sets();
     check_conditions();
+    check_contacts();
     check_controls();
   }
 
@@ -227,6 +228,13 @@ class Validator {
           throw InputError(set.where, "*SET_PART_LIST",
                            "part set " + std::to_string(id) + ": part " + std::to_string(pid) +
                                " is not defined");
+    for (const auto& [id, set] : model_.segment_sets)
+      for (const auto& segment : set.segments)
+        for (Id nid : segment)
+          if (!node_ids_.contains(nid))
+            throw InputError(set.where, "*SET_SEGMENT",
+                             "segment set " + std::to_string(id) + ": node " + std::to_string(nid) +
+                                 " is not defined");
   }
 
   void require(bool exists, const SourceLocation& where, const char* keyword, const char* what,
@@ -310,6 +318,44 @@ class Validator {
     }
   }
 
+  // SURFA and SURFB name sets or parts that exist; the field is named, at the contact's card 1.
+  void check_contacts() const {
+    for (const auto& contact : model_.contacts) {
+      check_contact_surface(contact, contact.a, "SURFA");
+      if (contact.kind != model::Contact::Kind::automatic_single_surface)
+        check_contact_surface(contact, contact.b, "SURFB");
+    }
+    // *CONTROL_CONTACT IGNORE is the default of every contact's IGNORE (in LS-DYNA's MPP version,
+    // "set to 1 in any of three places, initial penetrations are tracked"): harmless without a contact.
+    const auto& control = model_.control_contact;
+    if (control && control->ignore != 0 && !model_.contacts.empty()) {
+      const auto& contact = model_.contacts.front();
+      throw InputError(control->where, "*CONTROL_CONTACT",
+                       "IGNORE (card 4) = " + std::to_string(control->ignore) + " would make " + contact.keyword +
+                           " (" + location_text(contact.where) +
+                           ") track initial penetrations, which is not implemented; leave it 0");
+    }
+  }
+  void check_contact_surface(const model::Contact& contact, const model::ContactSurface& surface,
+                             const char* field) const {
+    using Type = model::ContactSurface::Type;
+    const char* keyword = contact.keyword.c_str();
+    switch (surface.type) {
+      case Type::segment_set:
+        return require(model_.segment_sets.contains(surface.id), contact.where, keyword,
+                       (std::string(field) + ": segment set").c_str(), surface.id);
+      case Type::part_set:
+      case Type::exempted_part_set:
+        return require(model_.part_sets.contains(surface.id), contact.where, keyword,
+                       (std::string(field) + ": part set").c_str(), surface.id);
+      case Type::part: return require_part(surface.id, contact.where, keyword, field);
+      case Type::node_set:
+        return require(model_.node_sets.contains(surface.id), contact.where, keyword,
+                       (std::string(field) + ": node set").c_str(), surface.id);
+      case Type::all: return;
+    }
+  }
+
   void check_controls() const {
     const auto& timestep = model_.timestep;
     if (timestep.lctm != 0) require_curve(timestep.lctm, timestep.where, "*CONTROL_TIMESTEP", "LCTM");
@@ -322,6 +368,8 @@ class Validator {
       require_curve(model_.glstat->lcdt, model_.glstat->where, "*DATABASE_GLSTAT", "LCUR");
     if (model_.rwforc && model_.rwforc->lcdt != 0)
       require_curve(model_.rwforc->lcdt, model_.rwforc->where, "*DATABASE_RWFORC", "LCUR");
+    if (model_.rcforc && model_.rcforc->lcdt != 0)
+      require_curve(model_.rcforc->lcdt, model_.rcforc->where, "*DATABASE_RCFORC", "LCUR");
   }
 
   const Model& model_;

@@ -1,0 +1,199 @@
+#include "spall/contact/penalty_contact.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "spall/core/parallel.hpp"
+
+namespace spall::contact {
+
+namespace {
+// A few dozen flops for a node with no segment in its cell: below this many a parallel loop
+// costs more than it saves.
+constexpr Index parallel_from = 4096;
+
+using discretization::NodeStore;
+
+std::array<Vec3, 4> corners_of(const Segment& segment, const NodeStore& nodes) {
+  return {nodes.x[segment.node[0]], nodes.x[segment.node[1]], nodes.x[segment.node[2]], nodes.x[segment.node[3]]};
+}
+}  // namespace
+
+Real PenaltyContact::Friction::coefficient(Real sliding_speed) const {
+  if (!(decay > 0)) return static_coefficient;
+  return dynamic_coefficient + (static_coefficient - dynamic_coefficient) * std::exp(-decay * sliding_speed);
+}
+
+PenaltyContact::PenaltyContact(const Definition& definition, std::vector<Pass> passes)
+    : definition_(definition), stiffness_step_(definition.stiffness_step) {
+  for (auto& pass : passes) {
+    PassState state;
+    state.reach.resize(pass.segment.size());
+    for (std::size_t s = 0; s < pass.segment.size(); ++s)
+      state.reach[s] = definition_.release_depth * pass.segment[s].thickness;
+    state.found.assign(pass.slave.size(), -1);
+    state.pass = std::move(pass);
+    passes_.push_back(std::move(state));
+  }
+}
+
+Index PenaltyContact::touching() const {
+  Index n = 0;
+  for (const auto& state : passes_) n += static_cast<Index>(state.touches.size());
+  return n;
+}
+
+void PenaltyContact::apply(NodeStore& nodes, Real t, Real dt) {
+  side_[0] = side_[1] = Resultant{};
+  const bool alive = t >= definition_.birth && t <= definition_.death;
+  for (auto& state : passes_) {
+    state.previous.clear();
+    if (!alive) {
+      state.touches.clear();  // friction history ends with the contact
+      continue;
+    }
+    search(state, nodes);
+    respond(state, nodes, dt);
+    gather(state, nodes);
+  }
+}
+
+// Each slave node's segment: of the segments in its cell (not one it is a corner of, nor one of
+// its own rigid body's, nor one with an eroded corner), the one with the closest point; a touch
+// when the node is behind it, less deep than the segment's reach.
+void PenaltyContact::search(PassState& state, const NodeStore& nodes) const {
+  const Pass& pass = state.pass;
+  state.grid.build(pass.segment, state.reach, nodes.x);
+  parallel::for_each(static_cast<Index>(pass.slave.size()), [&](Index k) {
+    const Index i = pass.slave[k];
+    state.found[k] = -1;
+    if (!nodes.active[i] || !(nodes.mass[i] > 0)) return;
+    const Vec3& x = nodes.x[i];
+    Real best = std::numeric_limits<Real>::infinity(), gap = 0;
+    std::int32_t chosen = -1;
+    for (Index s : state.grid.candidates(x)) {
+      const Segment& segment = pass.segment[s];
+      bool skip = false;
+      for (Index corner : segment.node)
+        skip |= corner == i || !nodes.active[corner] ||
+                (nodes.body[i] != NodeStore::no_body && nodes.body[corner] == nodes.body[i]);
+      if (skip) continue;
+      const SegmentPoint p = closest_on_segment(x, corners_of(segment, nodes), segment.triangle());
+      if (p.distance_squared < best) {
+        best = p.distance_squared;
+        chosen = static_cast<std::int32_t>(s);
+        gap = p.normal.dot(x - p.point);
+      }
+    }
+    if (chosen >= 0 && gap < 0 && -gap <= state.reach[chosen]) state.found[k] = chosen;
+  }, {.serial_below = parallel_from});
+
+  // The touches in slave order, each keeping the friction force it had on the last step.
+  state.previous.swap(state.touches);
+  state.touches.clear();
+  std::size_t before = 0;
+  for (Index k = 0; k < static_cast<Index>(pass.slave.size()); ++k) {
+    if (state.found[k] < 0) continue;
+    Touch touch;
+    touch.slave = k;
+    touch.segment = state.found[k];
+    while (before < state.previous.size() && state.previous[before].slave < k) ++before;
+    if (before < state.previous.size() && state.previous[before].slave == k)
+      touch.friction = state.previous[before].friction;
+    state.touches.push_back(touch);
+  }
+}
+
+// The penalty force of each touch (docs/THEORY.md §12.2-12.3).
+void PenaltyContact::respond(PassState& state, const NodeStore& nodes, Real dt) const {
+  const Pass& pass = state.pass;
+  const Definition& d = definition_;
+  parallel::for_each(static_cast<Index>(state.touches.size()), [&](Index a) {
+    Touch& touch = state.touches[a];
+    const Index i = pass.slave[touch.slave];
+    const Segment& segment = pass.segment[touch.segment];
+    const SegmentPoint p = closest_on_segment(nodes.x[i], corners_of(segment, nodes), segment.triangle());
+    touch.weight = p.weight;
+    const Vec3& n = touch.normal = p.normal;
+    const Real penetration = -n.dot(nodes.x[i] - p.point);
+
+    Vec3 v_rel = nodes.v[i];
+    Real master_mass = 0;
+    bool rigid_master = false;
+    for (int c = 0; c < segment.corners(); ++c) {
+      const Index J = segment.node[c];
+      v_rel -= p.weight[c] * nodes.v[J];
+      master_mass += nodes.mass[J] / segment.corners();
+      rigid_master |= nodes.body[J] != NodeStore::no_body;
+    }
+    // m* of the soft constraint and the mass the damping sees: a rigid segment does not move
+    // under one node.
+    const Real slave_mass = nodes.mass[i];
+    const Real stiff_mass = rigid_master ? slave_mass : std::min(slave_mass, master_mass);
+    const Real damped_mass = rigid_master ? slave_mass : slave_mass * master_mass / (slave_mass + master_mass);
+
+    Real k = d.penopt == 2   ? segment.stiffness
+             : d.penopt == 3 ? pass.slave_stiffness[touch.slave]
+                             : std::min(segment.stiffness, pass.slave_stiffness[touch.slave]);
+    if (d.soft == 1 && stiffness_step_ > 0)
+      k = std::max(k, Real(0.5) * d.soft_scale * stiff_mass / (stiffness_step_ * stiffness_step_));
+
+    const Real v_n = n.dot(v_rel);  // > 0: separating
+    const Real damping = d.damping * 2 * std::sqrt(k * damped_mass);
+    touch.normal_force = std::max(Real(0), k * penetration - damping * v_n);
+
+    // Friction: the last force turned into the new tangent plane, the elastic trial of the slip
+    // over the last step, then the Coulomb limit (and the viscous cap VC A).
+    const Vec3 v_t = v_rel - v_n * n;
+    Vec3 previous = touch.friction - n.dot(touch.friction) * n;
+    const Real kept = previous.norm();
+    if (kept > 0) previous *= touch.friction.norm() / kept;
+    Vec3 trial = previous - k * dt * v_t;
+    Real limit = d.friction.coefficient(v_t.norm()) * touch.normal_force;
+    if (d.friction.viscous_limit > 0) limit = std::min(limit, d.friction.viscous_limit * segment.area);
+    const Real size = trial.norm();
+    if (size > limit) trial *= size > 0 ? limit / size : Real(0);
+    touch.friction = trial;
+  }, {.serial_below = 256});
+}
+
+// Adds the forces to the nodes, in slave order: the slave takes F, the corners -w_J F.
+void PenaltyContact::gather(const PassState& state, NodeStore& nodes) {
+  const Pass& pass = state.pass;
+  Resultant& slave_side = side_[pass.slaves_are_side_a ? 0 : 1];
+  Resultant& segment_side = side_[pass.slaves_are_side_a ? 1 : 0];
+  for (const Touch& touch : state.touches) {
+    const Index i = pass.slave[touch.slave];
+    const Vec3 force = touch.normal_force * touch.normal + touch.friction;
+    nodes.f[i] += force;
+    slave_side.force += force;
+    slave_side.moment += nodes.x[i].cross(force);
+    const Segment& segment = pass.segment[touch.segment];
+    for (int c = 0; c < segment.corners(); ++c) {
+      const Index J = segment.node[c];
+      const Vec3 reaction = -touch.weight[c] * force;
+      nodes.f[J] += reaction;
+      segment_side.force += reaction;
+      segment_side.moment += nodes.x[J].cross(reaction);
+    }
+  }
+}
+
+void PenaltyContact::book_energies(discretization::EnergyLedger& ledger, std::span<const Vec3> v, Real dt) const {
+  using Role = discretization::EnergyLedger::Role;
+  Real normal_power = 0, friction_power = 0;
+  for (const auto& state : passes_)
+    for (const Touch& touch : state.touches) {
+      const Segment& segment = state.pass.segment[touch.segment];
+      Vec3 v_rel = v[state.pass.slave[touch.slave]];
+      for (int c = 0; c < segment.corners(); ++c) v_rel -= touch.weight[c] * v[segment.node[c]];
+      normal_power += touch.normal_force * touch.normal.dot(v_rel);
+      friction_power += touch.friction.dot(v_rel);
+    }
+  // The energy the contact takes is minus the work its forces do on the nodes.
+  ledger.add(contact_energy, Role::stored, -dt * normal_power);
+  ledger.add(friction_energy, Role::dissipated, -dt * friction_power);
+}
+
+}  // namespace spall::contact

@@ -1,0 +1,90 @@
+#pragma once
+// Deck text for the contact tests: boxes of hexahedra and lattices of SPH particles with their
+// parts, written as a user would write them (so the keyword reader is part of what is tested).
+#include <fmt/format.h>
+
+#include <array>
+#include <string>
+
+#include "spall/core/types.hpp"
+#include "unit/keyword_test_decks.hpp"
+
+namespace spall::test_support {
+
+using test::row;
+
+inline std::string number(double value) { return fmt::format("{:.9g}", value); }
+
+// A box [lower, lower + size] of n[0] x n[1] x n[2] hexahedra of part `pid`, nodes numbered from
+// first_node and elements from first_element (*NODE and *ELEMENT_SOLID).
+inline std::string hex_box(Id pid, const Vec3& lower, const Vec3& size, std::array<int, 3> n, Id first_node,
+                           Id first_element) {
+  const auto id = [&](int i, int j, int k) { return first_node + i + (n[0] + 1) * (j + (n[1] + 1) * k); };
+  std::string deck = "*NODE\n";
+  for (int k = 0; k <= n[2]; ++k)
+    for (int j = 0; j <= n[1]; ++j)
+      for (int i = 0; i <= n[0]; ++i) {
+        const Vec3 x = lower + Vec3(size.x() * i / n[0], size.y() * j / n[1], size.z() * k / n[2]);
+        deck += row({std::to_string(id(i, j, k)), number(x.x()), number(x.y()), number(x.z())}, {8, 16, 16, 16});
+      }
+  deck += "*ELEMENT_SOLID\n";
+  Id eid = first_element;
+  for (int k = 0; k < n[2]; ++k)
+    for (int j = 0; j < n[1]; ++j)
+      for (int i = 0; i < n[0]; ++i) {
+        const auto node = [&](int a, int b, int c) { return std::to_string(id(i + a, j + b, k + c)); };
+        deck += row({std::to_string(eid++), std::to_string(pid), node(0, 0, 0), node(1, 0, 0), node(1, 1, 0),
+                     node(0, 1, 0), node(0, 0, 1), node(1, 0, 1), node(1, 1, 1), node(0, 1, 1)},
+                    {8, 8, 8, 8, 8, 8, 8, 8, 8, 8});
+      }
+  return deck;
+}
+
+// SPH particles of part `pid` on the lattice lower + spacing (i, j, k), i < n[0] ..., each of mass
+// density x spacing^3, nodes numbered from first_node (*NODE and *ELEMENT_SPH).
+inline std::string sph_lattice(Id pid, const Vec3& lower, Real spacing, std::array<int, 3> n, Real density,
+                               Id first_node) {
+  std::string nodes = "*NODE\n", particles = "*ELEMENT_SPH\n";
+  const std::string mass = number(density * spacing * spacing * spacing);
+  Id id = first_node;
+  for (int k = 0; k < n[2]; ++k)
+    for (int j = 0; j < n[1]; ++j)
+      for (int i = 0; i < n[0]; ++i, ++id) {
+        const Vec3 x = lower + spacing * Vec3(i, j, k);
+        nodes += row({std::to_string(id), number(x.x()), number(x.y()), number(x.z())}, {8, 16, 16, 16});
+        particles += row({std::to_string(id), std::to_string(pid), mass}, {8, 8, 16});
+      }
+  return nodes + particles;
+}
+
+// How a deformable body is discretized.
+enum class Body { fem, spg, sph };
+
+inline const char* body_name(Body b) { return b == Body::fem ? "FEM" : b == Body::spg ? "SPG" : "SPH"; }
+
+// *PART `pid` with its section (same ID) for the body kind, and an elastic material (same ID).
+inline std::string deformable_part(Body kind, Id pid, Real density, Real young, Real poisson) {
+  const std::string id = std::to_string(pid);
+  std::string deck = "*PART\nbody " + id + "\n" + row({id, id, id});
+  switch (kind) {
+    case Body::fem: deck += "*SECTION_SOLID\n" + row({id, "1"}); break;  // one-point hexahedra, IHQ 0 -> 2
+    case Body::spg:
+      // IDAM 1 with FS 10: no elastic body's bonds fail.
+      deck += "*SECTION_SOLID_SPG\n" + row({id, "47", "0"}) + row({"1.5", "1.5", "1.5", "0", "1", "", "15"}) +
+              row({"1", "10.0"});
+      break;
+    case Body::sph: deck += "*SECTION_SPH\n" + row({id, "1.2"}); break;
+  }
+  return deck + "*MAT_ELASTIC\n" + row({id, number(density), number(young), number(poisson)});
+}
+
+// *PART `pid` of *MAT_RIGID (any solid section sets only its geometry); `fixed` holds all six
+// degrees of freedom (CMO 1, CON1 7, CON2 7).
+inline std::string rigid_part(Id pid, Real density, Real young, Real poisson, bool fixed) {
+  const std::string id = std::to_string(pid);
+  return "*PART\nrigid " + id + "\n" + row({id, id, id}) + "*SECTION_SOLID\n" + row({id, "1"}) + "*MAT_RIGID\n" +
+         row({id, number(density), number(young), number(poisson)}) +
+         (fixed ? row({"1.0", "7", "7"}) : row({"0.0", "0", "0"}));
+}
+
+}  // namespace spall::test_support
