@@ -73,14 +73,17 @@ HexGradient hex_gradient(const HexVectors& x) {
   return {hex_nodal(g8), vg.volume};
 }
 
-Real hex_characteristic_length(const HexVectors& a, Real volume) {
+Real hex_characteristic_length(const HexVectors& a, const HexVectors& g, Real volume) {
+  Mat3 S = Mat3::Zero();
+  for (int k = 1; k < 7; ++k) S.noalias() += g[k] * g[k].transpose();
+  const Real stiffest = S.cwiseAbs().rowwise().sum().maxCoeff();
   const Real largest = std::max({(a[1] - a[5]).cross(a[2] - a[4]).squaredNorm(),   // zeta = -1
                                  (a[1] + a[5]).cross(a[2] + a[4]).squaredNorm(),   // zeta = +1
                                  (a[2] - a[6]).cross(a[3] - a[5]).squaredNorm(),   // xi = -1
                                  (a[2] + a[6]).cross(a[3] + a[5]).squaredNorm(),   // xi = +1
                                  (a[1] - a[6]).cross(a[3] - a[4]).squaredNorm(),   // eta = -1
                                  (a[1] + a[6]).cross(a[3] + a[4]).squaredNorm()});  // eta = +1
-  return volume / (4 * std::sqrt(largest));
+  return std::min(volume / (4 * std::sqrt(largest)), 2 * volume / std::sqrt(stiffest));
 }
 
 const HexGaussRule& hex_gauss_rule() {

@@ -54,11 +54,18 @@ struct HexGradient {
 };
 HexGradient hex_gradient(const HexVectors& x);
 
-// The characteristic length of the element's stable time step, V / (largest face area) (LS-DYNA,
-// Radioss, LULESH; fem-contact.md §2.4), from the basis coefficients: the face zeta = -1 is
-// x = (a0 - a3) + (a1 - a5) xi + (a2 - a4) eta + (a6 - a7) xi eta, whose area by its diagonals
-// (exact for a plane face) is 4 |(a1 - a5) x (a2 - a4)|; the others alike.
-Real hex_characteristic_length(const HexVectors& a, Real volume);
+// The characteristic length of the element's stable time step: the smaller of
+// - V / (largest face area) (LS-DYNA, Radioss, LULESH; fem-contact.md §2.4), from the basis
+//   coefficients: the face zeta = -1 is x = (a0 - a3) + (a1 - a5) xi + (a2 - a4) eta + (a6 - a7) xi eta,
+//   whose area by its diagonals (exact for a plane face) is 4 |(a1 - a5) x (a2 - a4)|; the others alike;
+// - 2 V / sqrt(lambda_max(S)), S = sum_k g_k g_k^T: the highest frequency of one free element of
+//   uniform gradient with lumped masses rho V / 8 is omega^2 = 8 (lambda + 2 mu) lambda_max(G) / rho
+//   with G = sum_I b_I b_I^T / V^2 = S / (8 V^2) (exact for nu = 0; docs/THEORY.md §10.4), so that
+//   2 / omega = L / c with L = 1 / sqrt(2 lambda_max(G)). Both are the edge of a cube; a distorted
+//   element (the corners of a disc meshed as a mapped square) is stiffer than its faces say (0.73
+//   of V / A_max there), and the first alone let such a mesh blow up. lambda_max(S) is bounded by
+//   S's largest absolute row sum (Gershgorin), exact for a brick.
+Real hex_characteristic_length(const HexVectors& a, const HexVectors& g, Real volume);
 
 // The 2 x 2 x 2 Gauss rule of the fully integrated element (ELFORM 2): the derivatives of the
 // shape functions with respect to (xi, eta, zeta) at each point (weights are all 1).

@@ -235,7 +235,7 @@ Real SolidElements::element_step<Kind::hexahedron>(Block& block, Index e, const 
   materials::PointThermo& thermo = block.thermo[e];
   if (dt > 0) materials::advance_point(part.material, state, thermo, L, dt, rho);
   const Real c = thermo.sound_speed;
-  const Real stable_step = element_time_step(hex_characteristic_length(a, volume), c, volume_rate, part);
+  const Real stable_step = element_time_step(hex_characteristic_length(a, now.g, volume), c, volume_rate, part);
   if (fails(block, e, L, dt, stable_step)) return -2;
   const Real l = cube_root(volume);  // the length of the bulk viscosity and the hourglass control
   const Real q = bulk_viscosity(rho, l, c, volume_rate, part);
@@ -335,7 +335,7 @@ Real SolidElements::element_step<Kind::hexahedron_selective_reduced>(Block& bloc
     c = std::max(c, thermo[g].sound_speed);
   }
   pressure /= volume;  // the Gauss points' weights sum to the volume (det J integrated exactly)
-  const Real stable_step = element_time_step(hex_characteristic_length(a, volume), c, volume_rate, part);
+  const Real stable_step = element_time_step(hex_characteristic_length(a, now.g, volume), c, volume_rate, part);
   const Mat3 L = part.erosion.needs_strain() ? Mat3(basis_gradient(av, half.g) / half.volume) : Mat3::Zero();
   if (fails(block, e, L, dt, stable_step)) return -2;
   const Real q = bulk_viscosity(rho, cube_root(volume), c, volume_rate, part);
