@@ -3,8 +3,11 @@
 // parts, written as a user would write them (so the keyword reader is part of what is tested).
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <string>
+#include <vector>
 
 #include "spall/core/types.hpp"
 #include "unit/keyword_test_decks.hpp"
@@ -37,6 +40,47 @@ inline std::string hex_box(Id pid, const Vec3& lower, const Vec3& size, std::arr
                      node(0, 1, 0), node(0, 0, 1), node(1, 0, 1), node(1, 1, 1), node(0, 1, 1)},
                     {8, 8, 8, 8, 8, 8, 8, 8, 8, 8});
       }
+  return deck;
+}
+
+// A cylinder of radius r and height `height` standing on `base` along z, of n x n hexahedra across
+// (a square grid mapped onto the disc by (u, v) -> r (u sqrt(1 - v^2 / 2), v sqrt(1 - u^2 / 2)))
+// and `layers` layers, part `pid`, nodes from first_node and elements from first_element. The
+// bottom nodes' IDs go to `bottom` when given.
+inline std::string hex_cylinder(Id pid, const Vec3& base, Real radius, Real height, int n, int layers, Id first_node,
+                                Id first_element, std::vector<Id>* bottom = nullptr) {
+  const auto id = [&](int i, int j, int k) { return first_node + i + (n + 1) * (j + (n + 1) * k); };
+  std::string deck = "*NODE\n";
+  for (int k = 0; k <= layers; ++k)
+    for (int j = 0; j <= n; ++j)
+      for (int i = 0; i <= n; ++i) {
+        const Real u = 2.0 * i / n - 1, v = 2.0 * j / n - 1;
+        const Vec3 x = base + Vec3(radius * u * std::sqrt(1 - v * v / 2), radius * v * std::sqrt(1 - u * u / 2),
+                                   height * k / layers);
+        deck += row({std::to_string(id(i, j, k)), number(x.x()), number(x.y()), number(x.z())}, {8, 16, 16, 16});
+        if (k == 0 && bottom) bottom->push_back(id(i, j, k));
+      }
+  deck += "*ELEMENT_SOLID\n";
+  Id eid = first_element;
+  for (int k = 0; k < layers; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const auto node = [&](int a, int b, int c) { return std::to_string(id(i + a, j + b, k + c)); };
+        deck += row({std::to_string(eid++), std::to_string(pid), node(0, 0, 0), node(1, 0, 0), node(1, 1, 0),
+                     node(0, 1, 0), node(0, 0, 1), node(1, 0, 1), node(1, 1, 1), node(0, 1, 1)},
+                    {8, 8, 8, 8, 8, 8, 8, 8, 8, 8});
+      }
+  return deck;
+}
+
+// *SET_NODE_LIST `sid` of the given nodes, eight to a line.
+inline std::string node_set(Id sid, const std::vector<Id>& nodes) {
+  std::string deck = "*SET_NODE_LIST\n" + row({std::to_string(sid)});
+  for (std::size_t k = 0; k < nodes.size(); k += 8) {
+    std::string line;
+    for (std::size_t m = k; m < std::min(nodes.size(), k + 8); ++m) line += fmt::format("{:>10}", nodes[m]);
+    deck += line + "\n";
+  }
   return deck;
 }
 

@@ -120,6 +120,18 @@ TEST(PenaltyContact, LetsGoOfANodeDeeperThanTheReleaseDepthOrInFront) {
   }
 }
 
+TEST(PenaltyContact, TouchesBeyondAnEdgeOnlyWithinMaxpar) {
+  // MAXPAR 1.025: a node whose projection lies beyond the segment's edge by up to 0.025 of its
+  // size (2 for this square) still touches it; further out it does not.
+  for (const auto& [x, touching] : {std::pair{1.04, 1}, std::pair{1.06, 0}}) {
+    NodeOnSquare scene(0.01);
+    scene.nodes.x[4].x() = x;
+    auto contact = scene.contact({}, 1e4, 1e4);
+    contact.apply(scene.nodes, 0, 0);
+    EXPECT_EQ(contact.touching(), touching) << x;
+  }
+}
+
 TEST(PenaltyContact, SoftConstraintStiffnessFollowsTheNodeMassAndStep) {
   // SOFT 1: k = max(k0, 0.5 SOFSCL m / dt^2) against a rigid segment (m* = the node's mass).
   NodeOnSquare scene(0.01);

@@ -61,16 +61,17 @@ void PenaltyContact::apply(NodeStore& nodes, Real t, Real dt) {
 
 // Each slave node's segment: of the segments in its cell (not one it is a corner of, nor one of
 // its own rigid body's, nor one with an eroded corner), the one with the closest point; a touch
-// when the node is behind it, less deep than the segment's reach.
+// when the node is behind it, less deep than the segment's reach, and not beside it (MAXPAR).
 void PenaltyContact::search(PassState& state, const NodeStore& nodes) const {
   const Pass& pass = state.pass;
+  const Definition& d = definition_;
   state.grid.build(pass.segment, state.reach, nodes.x);
   parallel::for_each(static_cast<Index>(pass.slave.size()), [&](Index k) {
     const Index i = pass.slave[k];
     state.found[k] = -1;
     if (!nodes.active[i] || !(nodes.mass[i] > 0)) return;
     const Vec3& x = nodes.x[i];
-    Real best = std::numeric_limits<Real>::infinity(), gap = 0;
+    Real best = std::numeric_limits<Real>::infinity(), gap = 0, beyond = 0;
     std::int32_t chosen = -1;
     for (Index s : state.grid.candidates(x)) {
       const Segment& segment = pass.segment[s];
@@ -84,9 +85,14 @@ void PenaltyContact::search(PassState& state, const NodeStore& nodes) const {
         best = p.distance_squared;
         chosen = static_cast<std::int32_t>(s);
         gap = p.normal.dot(x - p.point);
+        beyond = (x - p.point - gap * p.normal).squaredNorm();  // from the segment, in its plane
       }
     }
-    if (chosen >= 0 && gap < 0 && -gap <= state.reach[chosen]) state.found[k] = chosen;
+    // Behind the segment, not deeper than its reach, and its projection on the segment's plane
+    // not beyond an edge by more than MAXPAR - 1 of the segment's size (sqrt of its area).
+    if (chosen >= 0 && gap < 0 && -gap <= state.reach[chosen] &&
+        beyond <= d.edge_tolerance * d.edge_tolerance * pass.segment[chosen].area)
+      state.found[k] = chosen;
   }, {.serial_below = parallel_from});
 
   // The touches in slave order, each keeping the friction force it had on the last step.

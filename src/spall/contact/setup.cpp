@@ -163,6 +163,7 @@ class Builder {
     // face's shortest diagonal (fem-contact.md §1.6-1.7).
     const bool old_type = c.kind == Contact::Kind::nodes_to_surface;
     d.release_depth = c.penmax > 0 ? c.penmax : old_type ? control_.xpene : 0.4;
+    d.edge_tolerance = c.maxpar - 1;
 
     std::vector<PenaltyContact::Pass> passes;
     const std::string& keyword = c.keyword;
