@@ -16,7 +16,15 @@ namespace spall::test_support {
 
 using test::row;
 
-inline std::string number(double value) { return fmt::format("{:.9g}", value); }
+// A value in at most 10 characters (a fixed-format field: a longer text would spill into the next
+// field), to as many significant digits (up to 9) as fit.
+inline std::string number(double value) {
+  for (int digits = 9; digits > 1; --digits) {
+    std::string text = fmt::format("{:.{}g}", value, digits);
+    if (text.size() <= 10) return text;
+  }
+  return fmt::format("{:.1e}", value);
+}
 
 // A box [lower, lower + size] of n[0] x n[1] x n[2] hexahedra of part `pid`, nodes numbered from
 // first_node and elements from first_element (*NODE and *ELEMENT_SOLID).

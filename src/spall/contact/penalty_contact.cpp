@@ -74,6 +74,7 @@ void PenaltyContact::search(PassState& state, const NodeStore& nodes) const {
     Real best = std::numeric_limits<Real>::infinity(), gap = 0, beyond = 0;
     std::int32_t chosen = -1;
     for (Index s : state.grid.candidates(x)) {
+      if (!state.grid.within_reach(s, x)) continue;
       const Segment& segment = pass.segment[s];
       bool skip = false;
       for (Index corner : segment.node)

@@ -20,6 +20,11 @@ class SegmentGrid {
   // The segments whose cell holds p, in ascending order (empty outside the grid).
   std::span<const Index> candidates(const Vec3& p) const;
 
+  // Whether p lies in segment s's box, grown by its reach: a cheap test before the closest point.
+  bool within_reach(Index s, const Vec3& p) const {
+    return (p.array() >= box_lo_[s].array()).all() && (p.array() <= box_hi_[s].array()).all();
+  }
+
  private:
   Vec3 lower_ = Vec3::Zero();
   Real inverse_cell_ = 0;
