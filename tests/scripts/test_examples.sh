@@ -26,6 +26,9 @@ done
 python3 "$tools/make_spg_tension_deck.py" --fem-ends 0.3 | cmp -s - "$examples/fem_spg_bar/bar.k" ||
   fail "examples/fem_spg_bar/bar.k is not what make_spg_tension_deck.py --fem-ends 0.3 writes"
 
+python3 "$tools/make_punch_deck.py" | cmp -s - "$examples/punch_rotation/punch.k" ||
+  fail "examples/punch_rotation/punch.k is not what make_punch_deck.py writes"
+
 python3 "$tools/make_brittle_deck.py" | cmp -s - "$examples/brittle_spall/brittle_spall.k" ||
   fail "examples/brittle_spall/brittle_spall.k is not what make_brittle_deck.py writes"
 
@@ -84,4 +87,13 @@ awk '/^fragments / { n = $2 } /^crack_face_particles / { faces = $2; surface = $
   --view xz --cut -o "$work/categories.png" >/dev/null || fail "render --categories"
 head -c 8 "$work/categories.png" | od -An -tx1 | tr -d ' \n' | grep -qx '89504e470d0a1a0a' ||
   fail "categories.png is not a PNG"
+
+# A coarse turning punch: the contact's forces on the punch come out in rcforc.csv, and the plot
+# tool reads them (the block pushes the punch up; friction turns it back).
+python3 "$tools/make_punch_deck.py" --spacing 1e-3 --end-time 2e-5 --outputs 2 >"$work/punch.k"
+"$cli" run "$work/punch.k" -o "$work/punch" --threads 1 >/dev/null 2>&1 || fail "run of the coarse punch"
+"$py" "$tools/plot_contact_forces.py" "$work/punch" -o "$work/torque.png" >"$work/forces" || fail "plot_contact_forces.py"
+awk '/^last quarter/ { f = $4; m = $7 } END { exit !(f > 0 && m < 0) }' "$work/forces" ||
+  fail "punch forces: $(cat "$work/forces")"
+head -c 8 "$work/torque.png" | od -An -tx1 | tr -d ' \n' | grep -qx '89504e470d0a1a0a' || fail "torque.png is not a PNG"
 echo "examples: OK"
