@@ -41,8 +41,25 @@ def node(nid, x, y, z):
     w(f"{nid:>8}{x:>16.8g}{y:>16.8g}{z:>16.8g}")
 
 
-def element(eid, pid, nodes):
-    w(f"{eid:>8}{pid:>8}" + "".join(f"{n:>8}" for n in nodes))
+def lattice(part, first_node, first_element, cells, place):
+    """A structured mesh of hexahedra of `part`: lattice point (i, j, k) at place(i, j, k); returns its node IDs."""
+    cx, cy, cz = cells
+    nid = lambda i, j, k: first_node + i + (cx + 1) * (j + (cy + 1) * k)
+    w("*NODE")
+    for k in range(cz + 1):
+        for j in range(cy + 1):
+            for i in range(cx + 1):
+                node(nid(i, j, k), *place(i, j, k))
+    w("*ELEMENT_SOLID")
+    eid = first_element
+    for k in range(cz):
+        for j in range(cy):
+            for i in range(cx):
+                corners = [nid(i, j, k), nid(i + 1, j, k), nid(i + 1, j + 1, k), nid(i, j + 1, k),
+                           nid(i, j, k + 1), nid(i + 1, j, k + 1), nid(i + 1, j + 1, k + 1), nid(i, j + 1, k + 1)]
+                w(f"{eid:>8}{part:>8}" + "".join(f"{c:>8}" for c in corners))
+                eid += 1
+    return nid
 
 
 omega = args.rpm * 2 * math.pi / 60
@@ -77,20 +94,8 @@ w("*MAT_PLASTIC_KINEMATIC")
 w("$#     mid        ro         e        pr      sigy      etan      beta")
 w("$ 6061-T6 aluminium, bilinear isotropic hardening")
 card(1, "2700.0", "6.9e10", "0.33", "2.76e8", "6.9e8", "1.0")
-nid = lambda i, j, k: 1 + i + (nx + 1) * (j + (nx + 1) * k)
-w("*NODE")
-for k in range(nz + 1):
-    for j in range(nx + 1):
-        for i in range(nx + 1):
-            node(nid(i, j, k), args.block * (i / nx - 0.5), args.block * (j / nx - 0.5), args.height * (k / nz - 1))
-w("*ELEMENT_SOLID")
-eid = 1
-for k in range(nz):
-    for j in range(nx):
-        for i in range(nx):
-            element(eid, 1, [nid(i, j, k), nid(i + 1, j, k), nid(i + 1, j + 1, k), nid(i, j + 1, k),
-                             nid(i, j, k + 1), nid(i + 1, j, k + 1), nid(i + 1, j + 1, k + 1), nid(i, j + 1, k + 1)])
-            eid += 1
+nid = lattice(1, 1, 1, (nx, nx, nz),
+              lambda i, j, k: (args.block * (i / nx - 0.5), args.block * (j / nx - 0.5), args.height * (k / nz - 1)))
 w("*SET_NODE_LIST")
 card(1)
 bottom = [nid(i, j, 0) for j in range(nx + 1) for i in range(nx + 1)]
@@ -114,22 +119,14 @@ card("1.0", 4, 4)
 n = 8
 layers = 4
 length = 3e-3
-pid = lambda i, j, k: 100001 + i + (n + 1) * (j + (n + 1) * k)
-w("*NODE")
-for k in range(layers + 1):
-    for j in range(n + 1):
-        for i in range(n + 1):
-            u, v = 2 * i / n - 1, 2 * j / n - 1
-            node(pid(i, j, k), args.radius * u * math.sqrt(1 - v * v / 2), args.radius * v * math.sqrt(1 - u * u / 2),
-                 length * k / layers)
-w("*ELEMENT_SOLID")
-eid = 100001
-for k in range(layers):
-    for j in range(n):
-        for i in range(n):
-            element(eid, 2, [pid(i, j, k), pid(i + 1, j, k), pid(i + 1, j + 1, k), pid(i, j + 1, k),
-                             pid(i, j, k + 1), pid(i + 1, j, k + 1), pid(i + 1, j + 1, k + 1), pid(i, j + 1, k + 1)])
-            eid += 1
+
+
+def disc(i, j, k):
+    u, v = 2 * i / n - 1, 2 * j / n - 1
+    return args.radius * u * math.sqrt(1 - v * v / 2), args.radius * v * math.sqrt(1 - u * u / 2), length * k / layers
+
+
+lattice(2, 100001, 100001, (n, n, layers), disc)
 w("$ The plunge (z displacement) and the spindle speed (rad/s about z).")
 w("*DEFINE_CURVE")
 card(1)

@@ -151,7 +151,8 @@ int run_deck(const RunOptions& options) {
   const model::SphResidualStress residual_options = model.sph_residual_stress.value_or(model::SphResidualStress{});
   std::optional<ResidualStressReport> residual;
   if (solid) residual.emplace(out / "residual.csv", *solid, residual_options);
-  // The rigid bodies' motion and the forces on them, at the GLSTAT interval; only with bodies.
+  // The rigid bodies' motion and the forces on them, at the RBDOUT interval (GLSTAT's without the
+  // card); only with bodies.
   std::optional<io::output::CsvHistory> rbdout;
   if (!problem.rigid_bodies.empty()) {
     std::vector<io::output::Column> columns{{"time", "time"}, {"part", ""}};
@@ -190,13 +191,14 @@ int run_deck(const RunOptions& options) {
     row.push_back(e.total());
     row.push_back(e.ratio());
     glstat->append(row);
-    if (rbdout)
-      for (const auto& body : problem.rigid_bodies.bodies()) {
-        std::vector<double> r{step.time, static_cast<double>(body.part_id)};
-        for (const Vec3* v : {&body.step_centre, &body.velocity, &body.angular_velocity, &body.force, &body.moment})
-          r.insert(r.end(), v->data(), v->data() + 3);
-        rbdout->append(r);
-      }
+  };
+  observer.on_rigid_bodies = [&](const solver::StepInfo& step, const rigid::RigidBodies& bodies) {
+    for (const auto& body : bodies.bodies()) {
+      std::vector<double> r{step.time, static_cast<double>(body.part_id)};
+      for (const Vec3* v : {&body.step_centre, &body.velocity, &body.angular_velocity, &body.force, &body.moment})
+        r.insert(r.end(), v->data(), v->data() + 3);
+      rbdout->append(r);
+    }
   };
   observer.on_rigid_wall_forces = [&](const solver::StepInfo& step,
                                       const std::vector<contact::RigidWall>& walls) {

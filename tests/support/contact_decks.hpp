@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -26,17 +27,24 @@ inline std::string number(double value) {
   return fmt::format("{:.1e}", value);
 }
 
-// A box [lower, lower + size] of n[0] x n[1] x n[2] hexahedra of part `pid`, nodes numbered from
-// first_node and elements from first_element (*NODE and *ELEMENT_SOLID).
-inline std::string hex_box(Id pid, const Vec3& lower, const Vec3& size, std::array<int, 3> n, Id first_node,
-                           Id first_element) {
+// A *NODE coordinate in its 16-character field.
+inline std::string coordinate(double value) { return fmt::format("{:.9g}", value); }
+
+// A structured mesh of n[0] x n[1] x n[2] hexahedra of part `pid` (*NODE and *ELEMENT_SOLID): the
+// lattice point (i, j, k) at place(i, j, k), nodes numbered from first_node in lattice order and
+// elements from first_element. The bottom layer's node IDs (k = 0) go to `bottom` when given.
+template <class Place>
+std::string hex_lattice(Id pid, std::array<int, 3> n, Id first_node, Id first_element, Place&& place,
+                        std::vector<Id>* bottom = nullptr) {
   const auto id = [&](int i, int j, int k) { return first_node + i + (n[0] + 1) * (j + (n[1] + 1) * k); };
   std::string deck = "*NODE\n";
   for (int k = 0; k <= n[2]; ++k)
     for (int j = 0; j <= n[1]; ++j)
       for (int i = 0; i <= n[0]; ++i) {
-        const Vec3 x = lower + Vec3(size.x() * i / n[0], size.y() * j / n[1], size.z() * k / n[2]);
-        deck += row({std::to_string(id(i, j, k)), number(x.x()), number(x.y()), number(x.z())}, {8, 16, 16, 16});
+        const Vec3 x = place(i, j, k);
+        deck += row({std::to_string(id(i, j, k)), coordinate(x.x()), coordinate(x.y()), coordinate(x.z())},
+                    {8, 16, 16, 16});
+        if (k == 0 && bottom) bottom->push_back(id(i, j, k));
       }
   deck += "*ELEMENT_SOLID\n";
   Id eid = first_element;
@@ -51,34 +59,39 @@ inline std::string hex_box(Id pid, const Vec3& lower, const Vec3& size, std::arr
   return deck;
 }
 
+// A box [lower, lower + size] of n[0] x n[1] x n[2] hexahedra.
+inline std::string hex_box(Id pid, const Vec3& lower, const Vec3& size, std::array<int, 3> n, Id first_node,
+                           Id first_element) {
+  return hex_lattice(pid, n, first_node, first_element, [&](int i, int j, int k) {
+    return Vec3(lower + Vec3(size.x() * i / n[0], size.y() * j / n[1], size.z() * k / n[2]));
+  });
+}
+
 // A cylinder of radius r and height `height` standing on `base` along z, of n x n hexahedra across
 // (a square grid mapped onto the disc by (u, v) -> r (u sqrt(1 - v^2 / 2), v sqrt(1 - u^2 / 2)))
-// and `layers` layers, part `pid`, nodes from first_node and elements from first_element. The
-// bottom nodes' IDs go to `bottom` when given.
+// and `layers` layers; the bottom nodes' IDs go to `bottom` when given.
 inline std::string hex_cylinder(Id pid, const Vec3& base, Real radius, Real height, int n, int layers, Id first_node,
                                 Id first_element, std::vector<Id>* bottom = nullptr) {
-  const auto id = [&](int i, int j, int k) { return first_node + i + (n + 1) * (j + (n + 1) * k); };
-  std::string deck = "*NODE\n";
-  for (int k = 0; k <= layers; ++k)
-    for (int j = 0; j <= n; ++j)
-      for (int i = 0; i <= n; ++i) {
-        const Real u = 2.0 * i / n - 1, v = 2.0 * j / n - 1;
-        const Vec3 x = base + Vec3(radius * u * std::sqrt(1 - v * v / 2), radius * v * std::sqrt(1 - u * u / 2),
-                                   height * k / layers);
-        deck += row({std::to_string(id(i, j, k)), number(x.x()), number(x.y()), number(x.z())}, {8, 16, 16, 16});
-        if (k == 0 && bottom) bottom->push_back(id(i, j, k));
-      }
-  deck += "*ELEMENT_SOLID\n";
-  Id eid = first_element;
-  for (int k = 0; k < layers; ++k)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) {
-        const auto node = [&](int a, int b, int c) { return std::to_string(id(i + a, j + b, k + c)); };
-        deck += row({std::to_string(eid++), std::to_string(pid), node(0, 0, 0), node(1, 0, 0), node(1, 1, 0),
-                     node(0, 1, 0), node(0, 0, 1), node(1, 0, 1), node(1, 1, 1), node(0, 1, 1)},
-                    {8, 8, 8, 8, 8, 8, 8, 8, 8, 8});
-      }
-  return deck;
+  return hex_lattice(pid, {n, n, layers}, first_node, first_element, [&](int i, int j, int k) {
+    const Real u = 2.0 * i / n - 1, v = 2.0 * j / n - 1;
+    return Vec3(base + Vec3(radius * u * std::sqrt(1 - v * v / 2), radius * v * std::sqrt(1 - u * u / 2),
+                            height * k / layers));
+  }, bottom);
+}
+
+// A ball of radius r about `centre` of n x n x n hexahedra (n even) as a cubed sphere: the lattice
+// point p of the cube [-1, 1]^3 on the cube shell max|p_d| = s goes to the sphere of radius s r,
+// along the direction of (tan(pi/4 p_d / s))_d (equiangular: the surface nodes evenly spaced in
+// angle on each face, 2 pi r / (4 n) apart along its middle lines).
+inline std::string hex_ball(Id pid, const Vec3& centre, Real r, int n, Id first_node, Id first_element) {
+  return hex_lattice(pid, {n, n, n}, first_node, first_element, [&](int i, int j, int k) {
+    const Vec3 p(2.0 * i / n - 1, 2.0 * j / n - 1, 2.0 * k / n - 1);
+    const Real shell = p.cwiseAbs().maxCoeff();
+    if (shell == 0) return centre;
+    Vec3 direction;
+    for (int d = 0; d < 3; ++d) direction[d] = std::tan(std::numbers::pi / 4 * p[d] / shell);
+    return Vec3(centre + shell * r * direction.normalized());
+  });
 }
 
 // *SET_NODE_LIST `sid` of the given nodes, eight to a line.
@@ -103,7 +116,7 @@ inline std::string sph_lattice(Id pid, const Vec3& lower, Real spacing, std::arr
     for (int j = 0; j < n[1]; ++j)
       for (int i = 0; i < n[0]; ++i, ++id) {
         const Vec3 x = lower + spacing * Vec3(i, j, k);
-        nodes += row({std::to_string(id), number(x.x()), number(x.y()), number(x.z())}, {8, 16, 16, 16});
+        nodes += row({std::to_string(id), coordinate(x.x()), coordinate(x.y()), coordinate(x.z())}, {8, 16, 16, 16});
         particles += row({std::to_string(id), std::to_string(pid), mass}, {8, 8, 16});
       }
   return nodes + particles;

@@ -60,40 +60,6 @@ constexpr Real penalty_scale = 100;
 constexpr Real tssfac = 0.6;
 constexpr Real end_time = 0.0085;  // s: the approach gap / v0 = 0.5 ms, t_c = 6.2 ms, then the flight away
 
-// A ball of radius r about `centre`, part pid, meshed with n x n x n hexahedra (n even) as a cubed
-// sphere: the lattice point p of the cube [-1, 1]^3 on the cube shell max|p_d| = s goes to the
-// sphere of radius s r, along the direction of (tan(pi/4 p_d / s))_d (equiangular: the surface
-// nodes evenly spaced in angle on each face, 2 pi r / (4 n) apart along its middle lines). Nodes
-// numbered from first_node, elements from first_element.
-std::string hex_ball(Id pid, const Vec3& centre, Real r, int n, Id first_node, Id first_element) {
-  const auto id = [&](int i, int j, int k) { return first_node + i + (n + 1) * (j + (n + 1) * k); };
-  std::string deck = "*NODE\n";
-  for (int k = 0; k <= n; ++k)
-    for (int j = 0; j <= n; ++j)
-      for (int i = 0; i <= n; ++i) {
-        const Vec3 p(2.0 * i / n - 1, 2.0 * j / n - 1, 2.0 * k / n - 1);
-        const Real shell = p.cwiseAbs().maxCoeff();
-        Vec3 x = centre;
-        if (shell > 0) {
-          Vec3 direction;
-          for (int d = 0; d < 3; ++d) direction[d] = std::tan(std::numbers::pi / 4 * p[d] / shell);
-          x += shell * r * direction.normalized();
-        }
-        deck += row({std::to_string(id(i, j, k)), number(x.x()), number(x.y()), number(x.z())}, {8, 16, 16, 16});
-      }
-  deck += "*ELEMENT_SOLID\n";
-  Id eid = first_element;
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) {
-        const auto node = [&](int a, int b, int c) { return std::to_string(id(i + a, j + b, k + c)); };
-        deck += row({std::to_string(eid++), std::to_string(pid), node(0, 0, 0), node(1, 0, 0), node(1, 1, 0),
-                     node(0, 1, 0), node(0, 0, 1), node(1, 0, 1), node(1, 1, 1), node(0, 1, 1)},
-                    {8, 8, 8, 8, 8, 8, 8, 8, 8, 8});
-      }
-  return deck;
-}
-
 // The sphere (part 1, its pole `gap` above z = 0, moving down at v0) over a fixed rigid plate
 // (part 2, its top z = 0, 2R x 2R), no gravity, no contact damping (VDC 0), no friction.
 std::string hertz_deck() {

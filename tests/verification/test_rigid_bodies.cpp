@@ -221,3 +221,26 @@ TEST(RigidBodies, WhatSpallCannotRunIsRefused) {
   card.cmo = -1;
   EXPECT_NE(error_of(m).find("CMO -1"), std::string::npos);
 }
+
+TEST(RigidBodies, HistoryRowsAtTheRbdoutInterval) {
+  // *DATABASE_RBDOUT DT: rbdout.csv rows at t = 0, DT, 2 DT ... and at the end (docs/OUTPUT.md),
+  // whatever the GLSTAT interval; without the card, GLSTAT's interval.
+  log::set_quiet(true);
+  for (const bool card : {true, false}) {
+    model::Model m = rigid_brick(Vec3(0.3, 0.2, 0.1), {3, 2, 1}, 1.0, 1e-3);
+    if (card) m.rbdout = model::OutputInterval{0.25, 0, 0, 0, 1, {}};
+    m.glstat = model::OutputInterval{0.1, 0, 0, 0, 1, {}};
+    solver::Problem p = solver::build_problem(m);
+    std::vector<Real> times;
+    solver::Observer observer;
+    observer.on_rigid_bodies = [&](const solver::StepInfo& step, const rigid::RigidBodies& bodies) {
+      EXPECT_EQ(bodies.bodies().size(), 1u);
+      times.push_back(step.time);
+    };
+    solver::run(p, observer);
+    const std::vector<Real> expected = card ? std::vector<Real>{0, 0.25, 0.5, 0.75, 1.0}
+                                            : std::vector<Real>{0, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0};
+    ASSERT_EQ(times.size(), expected.size()) << (card ? "RBDOUT" : "GLSTAT");
+    for (std::size_t k = 0; k < times.size(); ++k) EXPECT_NEAR(times[k], expected[k], 1e-9);
+  }
+}

@@ -569,6 +569,7 @@ struct Model {
   std::optional<OutputInterval> glstat;
   std::optional<OutputInterval> rwforc;
   std::optional<OutputInterval> rcforc;
+  std::optional<OutputInterval> rbdout;
   std::optional<DampingGlobal> damping_global;
 
   std::vector<UnsupportedKeyword> unsupported;

@@ -487,6 +487,7 @@ class Builder {
     c.glstat_dt = (model_.glstat && model_.glstat->dt > 0) ? model_.glstat->dt : c.end_time / 1000;
     force_history(model_.rwforc, "*DATABASE_RWFORC", c.rwforc_dt, c.rwforc_dt_curve);
     force_history(model_.rcforc, "*DATABASE_RCFORC", c.rcforc_dt, c.rcforc_dt_curve);
+    force_history(model_.rbdout, "*DATABASE_RBDOUT", c.rbdout_dt, c.rbdout_dt_curve);
     if (model_.damping_global) {
       const auto& d = *model_.damping_global;
       if (d.rotation_scale != Vec3::Zero() && d.rotation_scale != Vec3::Ones())
@@ -500,7 +501,7 @@ class Builder {
            fmt::format("TYPE {}: only the standard type 1 is supported", model_.bulk_viscosity.type));
   }
 
-  // The interval of a force history (*DATABASE_RWFORC, *DATABASE_RCFORC): GLSTAT's without the card.
+  // The interval of a history (*DATABASE_RWFORC, _RCFORC, _RBDOUT): GLSTAT's without the card.
   void force_history(const std::optional<model::OutputInterval>& card, const char* keyword, Real& dt,
                      const model::Curve*& dt_curve) const {
     dt = problem_.controls.glstat_dt;

@@ -47,6 +47,8 @@ struct RunControls {
   const model::Curve* rwforc_dt_curve = nullptr;  // LCUR
   Real rcforc_dt = 0;                             // contact forces (GLSTAT's interval by default)
   const model::Curve* rcforc_dt_curve = nullptr;  // LCUR
+  Real rbdout_dt = 0;                             // rigid bodies (GLSTAT's interval by default)
+  const model::Curve* rbdout_dt_curve = nullptr;  // LCUR
   // *DAMPING_GLOBAL: f = -D(t) m (scale . v), D = damping or damping_curve(t).
   Real damping = 0;
   const model::Curve* damping_curve = nullptr;

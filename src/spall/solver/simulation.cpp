@@ -65,6 +65,7 @@ class TimeLoop::Step {
     history_ = {controls_.glstat_dt, nullptr};
     rwforc_ = {controls_.rwforc_dt, controls_.rwforc_dt_curve};
     rcforc_ = {controls_.rcforc_dt, controls_.rcforc_dt_curve};
+    rbdout_ = {controls_.rbdout_dt, controls_.rbdout_dt_curve};
     runaway_speed_limit_ = runaway_speed_limit();
     parallel::for_each(nodes_.size(), [&](Index i) { nodes_.f[i] = Vec3::Zero(); });
   }
@@ -285,6 +286,8 @@ class TimeLoop::Step {
       observer_.on_rigid_wall_forces(step_, problem_.rigid_walls);
     if (!problem_.contacts.empty() && rcforc_.due(step_.time, tolerance, last) && observer_.on_contact_forces)
       observer_.on_contact_forces(step_, problem_.contacts);
+    if (!problem_.rigid_bodies.empty() && rbdout_.due(step_.time, tolerance, last) && observer_.on_rigid_bodies)
+      observer_.on_rigid_bodies(step_, problem_.rigid_bodies);
     if (observer_.on_step) observer_.on_step(step_);
     if (last) return false;
     return !(controls_.end_energy > 0 && 100 * std::abs(ledger_.ratio() - 1) > controls_.end_energy);
@@ -313,7 +316,7 @@ class TimeLoop::Step {
   Real dt_previous_ = 0, dt_first_ = 0, dt_mid_ = 0, velocity_weight_ = 0.5;
   Vec3 base_acceleration_ = Vec3::Zero(), damping_ = Vec3::Zero();
   Real runaway_speed_limit_ = std::numeric_limits<Real>::infinity();
-  OutputSchedule field_output_, history_, rwforc_, rcforc_;
+  OutputSchedule field_output_, history_, rwforc_, rcforc_, rbdout_;
   EnergyLedger ledger_;
   PhaseTimes phases_;
 };

@@ -43,6 +43,9 @@ struct Observer {
   std::function<void(const StepInfo&, const std::vector<contact::RigidWall>&)> on_rigid_wall_forces;
   // Forces of the penalty contacts at t^n (every RCFORC interval, GLSTAT's by default, and at the end).
   std::function<void(const StepInfo&, const std::vector<contact::PenaltyContact>&)> on_contact_forces;
+  // The rigid bodies after their update of this step (every RBDOUT interval, GLSTAT's by default,
+  // and at the end).
+  std::function<void(const StepInfo&, const rigid::RigidBodies&)> on_rigid_bodies;
   // Called on every step (cheap): for progress lines.
   std::function<void(const StepInfo&)> on_step;
 };

@@ -263,4 +263,8 @@ void read_database_rcforc(CardCursor& cursor, const KeywordCall&, model::Model& 
   model.rcforc = read_force_history(cursor);
 }
 
+void read_database_rbdout(CardCursor& cursor, const KeywordCall&, model::Model& model) {
+  model.rbdout = read_force_history(cursor);
+}
+
 }  // namespace spall::io::keyword

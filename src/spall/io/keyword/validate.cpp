@@ -370,6 +370,8 @@ class Validator {
       require_curve(model_.rwforc->lcdt, model_.rwforc->where, "*DATABASE_RWFORC", "LCUR");
     if (model_.rcforc && model_.rcforc->lcdt != 0)
       require_curve(model_.rcforc->lcdt, model_.rcforc->where, "*DATABASE_RCFORC", "LCUR");
+    if (model_.rbdout && model_.rbdout->lcdt != 0)
+      require_curve(model_.rbdout->lcdt, model_.rbdout->where, "*DATABASE_RBDOUT", "LCUR");
   }
 
   const Model& model_;
