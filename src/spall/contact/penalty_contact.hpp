@@ -42,7 +42,7 @@ class PenaltyContact {
     Real soft_scale = 0.1;     // SOFSCL
     int penopt = 1;            // 1 the smaller of node and segment stiffness, 2 segment, 3 node
     Real release_depth = 0.4;  // a node deeper than this many segment thicknesses is let go
-    Real edge_tolerance = 0.025;  // MAXPAR - 1: how far beyond a segment's edge, in segment sizes, a node still touches it
+    Real edge_tolerance = 0.025;  // MAXPAR - 1: how far beyond an edge, in segment sizes, a node touches
     Real stiffness_step = 0;   // DTSTIF: the step of the SOFT 1 stiffness (0: the first step)
     Real birth = 0, death = 1e20;
     // The rigid body (index in the node store's `body`) that all of side A's, and of side B's,

@@ -19,12 +19,10 @@ using model::ContactSurface;
 using Type = ContactSurface::Type;
 using Corners = std::array<Index, 4>;  // a triangle repeats corner 2
 
-[[noreturn]] void fail(const SourceLocation& where, const std::string& keyword, const std::string& message) {
-  throw InputError(where, keyword, message);
-}
-
 bool is_triangle(const Corners& f) { return f[3] == f[2]; }
-Corners reversed(const Corners& f) { return is_triangle(f) ? Corners{f[0], f[2], f[1], f[1]} : Corners{f[0], f[3], f[2], f[1]}; }
+Corners reversed(const Corners& f) {
+  return is_triangle(f) ? Corners{f[0], f[2], f[1], f[1]} : Corners{f[0], f[3], f[2], f[1]};
+}
 
 // n A of a face: half the cross product of its diagonals (of two edges for a triangle).
 Vec3 area_vector(const Corners& f, const std::vector<Vec3>& x) {
@@ -70,7 +68,7 @@ class SolidFaces {
       for (int k = 0; k < 8; ++k) {
         auto it = index_of_node.find(element.n[k]);
         if (it == index_of_node.end())
-          fail(element.where, "*ELEMENT_SOLID", fmt::format("node {} does not exist", element.n[k]));
+          fail_at(element.where, "*ELEMENT_SOLID", fmt::format("node {} does not exist", element.n[k]));
         n[k] = it->second;
       }
       std::vector<Corners> faces;
@@ -179,7 +177,8 @@ class Builder {
       forward.slave_stiffness = slave_stiffness_;
       forward.segment = segments(c.b, c.sfsb, old_type, "SURFB");
       if (forward.segment.empty())
-        fail(c.where, keyword, "SURFB: the master side has no solid element faces (SPH particles can only be slave nodes)");
+        fail_at(c.where, keyword,
+                "SURFB: the master side has no solid element faces (SPH particles can only be slave nodes)");
       passes.push_back(std::move(forward));
       if (c.kind == Contact::Kind::automatic_surface_to_surface) {
         // Two-way: side B's nodes against side A's faces too, where side A has faces.
@@ -198,7 +197,10 @@ class Builder {
     }
     d.side_body = {side_body(passes, true), side_body(passes, false)};
     Index slaves = 0, segment_count = 0;
-    for (const auto& p : passes) slaves += static_cast<Index>(p.slave.size()), segment_count += static_cast<Index>(p.segment.size());
+    for (const auto& p : passes) {
+      slaves += static_cast<Index>(p.slave.size());
+      segment_count += static_cast<Index>(p.segment.size());
+    }
     log::info(fmt::format("contact {} ({}): {} slave nodes, {} segments{}", d.id, keyword, slaves, segment_count,
                           d.soft == 1 ? ", soft constraint" : ""));
     return PenaltyContact(d, std::move(passes));
@@ -207,8 +209,9 @@ class Builder {
  private:
   // The rigid body all nodes of a side belong to, or no_body.
   std::int32_t side_body(const std::vector<PenaltyContact::Pass>& passes, bool side_a) const {
-    std::int32_t body = discretization::NodeStore::no_body - 1;  // no node seen yet
-    auto see = [&](Index i) { body = (body == discretization::NodeStore::no_body - 1 || body == nodes_.body[i]) ? nodes_.body[i] : discretization::NodeStore::no_body; };
+    constexpr std::int32_t none = discretization::NodeStore::no_body, unseen = none - 1;
+    std::int32_t body = unseen;
+    auto see = [&](Index i) { body = (body == unseen || body == nodes_.body[i]) ? nodes_.body[i] : none; };
     for (const auto& pass : passes) {
       if (pass.slaves_are_side_a == side_a)
         for (Index i : pass.slave) see(i);
@@ -216,19 +219,20 @@ class Builder {
         for (const Segment& s : pass.segment)
           for (Index i : s.node) see(i);
     }
-    return body < 0 ? discretization::NodeStore::no_body : body;
+    return body < 0 ? none : body;
   }
 
   const model::Part& part(Id id, const char* field) const {
     auto it = part_index_.find(id);
-    if (it == part_index_.end()) fail(contact_->where, contact_->keyword, fmt::format("{}: part {} does not exist", field, id));
+    if (it == part_index_.end())
+      fail_at(contact_->where, contact_->keyword, fmt::format("{}: part {} does not exist", field, id));
     return *it->second;
   }
 
   const model::PartSet& part_set(Id id, const char* field) const {
     auto it = model_.part_sets.find(id);
     if (it == model_.part_sets.end())
-      fail(contact_->where, contact_->keyword, fmt::format("{}: part set {} does not exist", field, id));
+      fail_at(contact_->where, contact_->keyword, fmt::format("{}: part set {} does not exist", field, id));
     return it->second;
   }
 
@@ -256,14 +260,14 @@ class Builder {
 
   Index node(Id id, const SourceLocation& where, const char* keyword) const {
     auto it = index_of_node_.find(id);
-    if (it == index_of_node_.end()) fail(where, keyword, fmt::format("node {} does not exist", id));
+    if (it == index_of_node_.end()) fail_at(where, keyword, fmt::format("node {} does not exist", id));
     return it->second;
   }
 
   const model::SegmentSet& segment_set(Id id, const char* field) const {
     auto it = model_.segment_sets.find(id);
     if (it == model_.segment_sets.end())
-      fail(contact_->where, contact_->keyword, fmt::format("{}: segment set {} does not exist", field, id));
+      fail_at(contact_->where, contact_->keyword, fmt::format("{}: segment set {} does not exist", field, id));
     return it->second;
   }
 
@@ -279,7 +283,7 @@ class Builder {
     if (side.type == Type::node_set) {
       auto it = model_.node_sets.find(side.id);
       if (it == model_.node_sets.end())
-        fail(contact_->where, contact_->keyword, fmt::format("{}: node set {} does not exist", field, side.id));
+        fail_at(contact_->where, contact_->keyword, fmt::format("{}: node set {} does not exist", field, side.id));
       for (Id id : it->second.nodes) nodes.insert(node(id, it->second.where, "*SET_NODE"));
     } else if (side.type == Type::segment_set) {
       const auto& set = segment_set(side.id, field);
@@ -314,8 +318,8 @@ class Builder {
       for (const auto& s : set.segments) {
         const Face* face = faces_.find(corners_of(s, set));
         if (!face)
-          fail(set.where, "*SET_SEGMENT",
-               fmt::format("segment {} {} {} {} is not a face of any solid element (shell segments are not supported)",
+          fail_at(set.where, "*SET_SEGMENT",
+                  fmt::format("segment {} {} {} {} is not a face of any solid element (shell segments are not supported)",
                            s[0], s[1], s[2], s[3]));
         faces.push_back(*face);
       }
@@ -331,8 +335,8 @@ class Builder {
       s.area = area_vector(face.node, x).norm();
       const Real volume = faces_.volume(face.element);
       if (!(s.area > 0 && volume > 0))
-        fail(model_.solid_elements[face.element].where, "*ELEMENT_SOLID",
-             fmt::format("element {} has a face of zero area or no volume: it cannot be a contact segment",
+        fail_at(model_.solid_elements[face.element].where, "*ELEMENT_SOLID",
+                fmt::format("element {} has a face of zero area or no volume: it cannot be a contact segment",
                          model_.solid_elements[face.element].eid));
       const Id pid = model_.solid_elements[face.element].pid;
       const Real modulus = contact_->sldstf > 0 ? contact_->sldstf : stiffness(pid).bulk_modulus;
@@ -364,8 +368,8 @@ class Builder {
       s.density = rigid->ro;
       s.bulk_modulus = rigid->e / (3 * (1 - 2 * rigid->pr));
       if (!(s.bulk_modulus > 0))
-        fail(contact_->where, contact_->keyword,
-             fmt::format("part {} is rigid with E {} and PR {}: the contact stiffness needs E > 0 and PR < 0.5", pid,
+        fail_at(contact_->where, contact_->keyword,
+                fmt::format("part {} is rigid with E {} and PR {}: the contact stiffness needs E > 0 and PR < 0.5", pid,
                          rigid->e, rigid->pr));
     } else {
       const materials::Material material = materials::make_material(model_, p);

@@ -21,4 +21,8 @@ InputError::InputError(SourceLocation where, std::string keyword, std::string me
 InputError::InputError(std::string message)
     : std::runtime_error(message), message_(std::move(message)) {}
 
+void fail_at(const SourceLocation& where, const std::string& keyword, const std::string& message) {
+  throw InputError(where, keyword, message);
+}
+
 }  // namespace spall

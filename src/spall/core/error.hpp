@@ -31,6 +31,10 @@ class InputError : public std::runtime_error {
   std::string message_;
 };
 
+// Stops the set-up at a card: throws InputError(where, keyword, message). For the code that turns
+// the model into formulations and refuses, at the card's line, what the solver cannot run.
+[[noreturn]] void fail_at(const SourceLocation& where, const std::string& keyword, const std::string& message);
+
 class InstabilityError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;

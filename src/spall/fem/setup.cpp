@@ -11,10 +11,6 @@ namespace spall::fem {
 
 namespace {
 
-[[noreturn]] void fail(const SourceLocation& where, const std::string& keyword, const std::string& message) {
-  throw InputError(where, keyword, message);
-}
-
 const model::SectionSolid* solid_section(const model::Model& model, const model::Part& part) {
   if (model.rigid_material(part)) return nullptr;  // a rigid body (rigid/setup.hpp)
   auto it = model.sections.find(part.secid);
@@ -59,10 +55,10 @@ PartSettings resolve_part(const model::Model& model, const model::Part& part, co
             ? "the fully integrated hexahedra for poor aspect ratios are not implemented; use 2"
             : "not implemented (Spall runs 1 one-point hexahedron, 2 fully integrated selective-reduced "
               "hexahedron, 10 one-point tetrahedron, and 47 SPG with *SECTION_SOLID_SPG)";
-    fail(section.where, "*SECTION_SOLID", fmt::format("ELFORM {}: {}", section.elform, what));
+    fail_at(section.where, "*SECTION_SOLID", fmt::format("ELFORM {}: {}", section.elform, what));
   }
   if (section.aet != 0)
-    fail(section.where, "*SECTION_SOLID", fmt::format("AET {}: ambient element types are not implemented", section.aet));
+    fail_at(section.where, "*SECTION_SOLID", fmt::format("AET {}: ambient element types are not implemented", section.aet));
   PartSettings p;
   p.part_id = part.id;
   p.elform = section.elform;
@@ -71,7 +67,7 @@ PartSettings resolve_part(const model::Model& model, const model::Part& part, co
   if (part.hgid != 0) {
     auto it = model.hourglasses.find(part.hgid);
     if (it == model.hourglasses.end())
-      fail(part.where, "*PART", fmt::format("part {}: HGID {}: no *HOURGLASS has that ID", part.id, part.hgid));
+      fail_at(part.where, "*PART", fmt::format("part {}: HGID {}: no *HOURGLASS has that ID", part.id, part.hgid));
     card = &it->second;
   }
   const auto& control = model.control_hourglass;
@@ -97,11 +93,11 @@ PartSettings resolve_part(const model::Model& model, const model::Part& part, co
 void check_add_erosions(const model::Model& model) {
   for (const auto& [mid, card] : model.add_erosions) {
     if (!model.materials.contains(mid))
-      fail(card.where, "*MAT_ADD_EROSION", fmt::format("MID {}: no material has that ID", mid));
+      fail_at(card.where, "*MAT_ADD_EROSION", fmt::format("MID {}: no material has that ID", mid));
     for (const auto& part : model.parts)
       if (part.mid == mid && !is_fem_part(model, part.id))
-        fail(card.where, "*MAT_ADD_EROSION",
-             fmt::format("MID {}: part {} uses it and is not meshed with solid finite elements; Spall deletes "
+        fail_at(card.where, "*MAT_ADD_EROSION",
+                fmt::format("MID {}: part {} uses it and is not meshed with solid finite elements; Spall deletes "
                          "elements only (SPH and SPG particles do not erode)", mid, part.id));
   }
 }
@@ -125,8 +121,8 @@ std::unique_ptr<discretization::Formulation> build_fem(const model::Model& model
     auto [it, inserted] = part_index.try_emplace(e.pid, static_cast<int>(parts.size()));
     if (inserted) parts.push_back(resolve_part(model, *part, *section));
     if (section->elform == 10 && !e.is_tetrahedron())
-      fail(e.where, "*ELEMENT_SOLID",
-           fmt::format("element {}: part {} has ELFORM 10 (tetrahedra) but the element is not written as one "
+      fail_at(e.where, "*ELEMENT_SOLID",
+              fmt::format("element {}: part {} has ELFORM 10 (tetrahedra) but the element is not written as one "
                        "(N1 N2 N3 N4 N4 N4 N4 N4)", e.eid, e.pid));
     ElementSetup setup;
     setup.id = e.eid;
@@ -134,13 +130,13 @@ std::unique_ptr<discretization::Formulation> build_fem(const model::Model& model
     for (int a = 0; a < 8; ++a) {
       auto node = index_of_node.find(e.n[a]);
       if (node == index_of_node.end())
-        fail(e.where, "*ELEMENT_SOLID", fmt::format("element {}: node {} does not exist", e.eid, e.n[a]));
+        fail_at(e.where, "*ELEMENT_SOLID", fmt::format("element {}: node {} does not exist", e.eid, e.n[a]));
       setup.node[a] = node->second;
     }
     const Real volume = element_volume(setup.node, section->elform == 10, nodes);
     if (!(volume > 0))
-      fail(e.where, "*ELEMENT_SOLID",
-           fmt::format("element {}: volume {:.6g}: inverted or flat; check the node order (N1-N4 one face, "
+      fail_at(e.where, "*ELEMENT_SOLID",
+              fmt::format("element {}: volume {:.6g}: inverted or flat; check the node order (N1-N4 one face, "
                        "N5-N8 the opposite face, N1-N4 counter-clockwise seen from N5-N8)", e.eid, volume));
     elements.push_back(setup);
   }

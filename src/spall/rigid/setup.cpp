@@ -10,10 +10,6 @@ namespace spall::rigid {
 
 namespace {
 
-[[noreturn]] void fail(const SourceLocation& where, const std::string& keyword, const std::string& message) {
-  throw InputError(where, keyword, message);
-}
-
 // *MAT_RIGID CON1 / CON2 as the axes they hold.
 std::array<bool, 3> axes(int code) {
   const std::uint8_t mask = model::constraint_axes(code);
@@ -31,15 +27,15 @@ PrescribedMotion prescribed_motion(const model::Model& model, const model::Presc
   else if (pm.dof >= 5 && pm.dof <= 7)
     m.dof = pm.dof - 2;
   else
-    fail(pm.where, keyword,
-         fmt::format("DOF {}: only translations (1, 2, 3) and rotations about the global axes through the centre of "
+    fail_at(pm.where, keyword,
+            fmt::format("DOF {}: only translations (1, 2, 3) and rotations about the global axes through the centre of "
                      "mass (5, 6, 7) are supported", pm.dof));
   if (pm.vad < 0 || pm.vad > 2)
-    fail(pm.where, keyword,
-         fmt::format("VAD {}: only velocity (0), acceleration (1) and displacement (2) are supported", pm.vad));
-  if (pm.vid != 0) fail(pm.where, keyword, fmt::format("VID {}: local directions are not supported", pm.vid));
+    fail_at(pm.where, keyword,
+            fmt::format("VAD {}: only velocity (0), acceleration (1) and displacement (2) are supported", pm.vad));
+  if (pm.vid != 0) fail_at(pm.where, keyword, fmt::format("VID {}: local directions are not supported", pm.vid));
   auto curve = model.curves.find(pm.lcid);
-  if (curve == model.curves.end()) fail(pm.where, keyword, fmt::format("LCID: curve {} does not exist", pm.lcid));
+  if (curve == model.curves.end()) fail_at(pm.where, keyword, fmt::format("LCID: curve {} does not exist", pm.lcid));
   m.vad = pm.vad;
   m.curve = &curve->second;
   m.sf = pm.sf;
@@ -65,13 +61,13 @@ void add_rigid_masses(const model::Model& model, const std::unordered_map<Id, In
     for (int a = 0; a < 8; ++a) {
       auto it = index_of_node.find(e.n[a]);
       if (it == index_of_node.end())
-        fail(e.where, "*ELEMENT_SOLID", fmt::format("element {}: node {} does not exist", e.eid, e.n[a]));
+        fail_at(e.where, "*ELEMENT_SOLID", fmt::format("element {}: node {} does not exist", e.eid, e.n[a]));
       node[a] = it->second;
     }
     const bool tetrahedron = e.is_tetrahedron();
     const Real volume = fem::element_volume(node, tetrahedron, nodes);
     if (!(volume > 0))
-      fail(e.where, "*ELEMENT_SOLID", fmt::format("element {}: volume {:.6g}: inverted or flat (rigid part {})", e.eid,
+      fail_at(e.where, "*ELEMENT_SOLID", fmt::format("element {}: volume {:.6g}: inverted or flat (rigid part {})", e.eid,
                                                   volume, e.pid));
     const int per = tetrahedron ? 4 : 8;
     for (int a = 0; a < per; ++a) {
@@ -88,14 +84,14 @@ RigidBodies build_rigid_bodies(const model::Model& model, const std::unordered_m
   for (const auto& merge : model.merged_rigid_bodies) {
     for (Id pid : {merge.lead, merge.constrained})
       if (!is_rigid_part(model, pid))
-        fail(merge.where, "*CONSTRAINED_RIGID_BODIES", fmt::format("part {} is not a rigid part (*MAT_RIGID)", pid));
+        fail_at(merge.where, "*CONSTRAINED_RIGID_BODIES", fmt::format("part {} is not a rigid part (*MAT_RIGID)", pid));
     if (!lead_card.emplace(merge.constrained, &merge).second)
-      fail(merge.where, "*CONSTRAINED_RIGID_BODIES", fmt::format("PIDC {}: already merged into another body", merge.constrained));
+      fail_at(merge.where, "*CONSTRAINED_RIGID_BODIES", fmt::format("PIDC {}: already merged into another body", merge.constrained));
   }
   const auto lead_of = [&](Id pid) {
     for (std::size_t hops = 0; lead_card.contains(pid); ++hops) {
       if (hops > lead_card.size())
-        fail(lead_card.at(pid)->where, "*CONSTRAINED_RIGID_BODIES", fmt::format("part {} leads itself in a loop", pid));
+        fail_at(lead_card.at(pid)->where, "*CONSTRAINED_RIGID_BODIES", fmt::format("part {} leads itself in a loop", pid));
       pid = lead_card.at(pid)->lead;
     }
     return pid;
@@ -111,7 +107,7 @@ RigidBodies build_rigid_bodies(const model::Model& model, const std::unordered_m
     if (model.rigid_material(part) && !meshed.contains(part.id))
       for (const auto& p : model.sph_elements)
         if (p.pid == part.id)
-          fail(part.where, "*PART", fmt::format("part {}: *MAT_RIGID on SPH particles is not supported (rigid bodies "
+          fail_at(part.where, "*PART", fmt::format("part {}: *MAT_RIGID on SPH particles is not supported (rigid bodies "
                                                 "are meshed with solid elements)", part.id));
   RigidBodies bodies;
   for (const auto& [pid, node_set] : body_nodes) {
@@ -123,10 +119,10 @@ RigidBodies build_rigid_bodies(const model::Model& model, const std::unordered_m
     body.node.assign(node_set.begin(), node_set.end());
     for (Index i : body.node)
       if (nodes.body[i] != discretization::NodeStore::no_body)
-        fail(part.where, "*PART", fmt::format("part {}: node {} belongs to another rigid body too (merge the two "
+        fail_at(part.where, "*PART", fmt::format("part {}: node {} belongs to another rigid body too (merge the two "
                                               "with *CONSTRAINED_RIGID_BODIES)", pid, nodes.id[i]));
     if (card.cmo == -1)
-      fail(where, "*MAT_RIGID", "CMO -1: constraints in a local coordinate system are not supported yet");
+      fail_at(where, "*MAT_RIGID", "CMO -1: constraints in a local coordinate system are not supported yet");
     if (card.cmo == 1) {
       body.fixed_translation = axes(card.con1);
       body.fixed_rotation = axes(card.con2);
@@ -136,16 +132,16 @@ RigidBodies build_rigid_bodies(const model::Model& model, const std::unordered_m
         body.motions.push_back(prescribed_motion(model, pm));
         const int dof = body.motions.back().dof;
         if (dof < 3 ? body.fixed_translation[dof] : body.fixed_rotation[dof - 3])
-          fail(pm.where, "*BOUNDARY_PRESCRIBED_MOTION_RIGID",
-               fmt::format("DOF {}: part {}'s *MAT_RIGID (CMO 1, {} {}) holds that degree of freedom", pm.dof, pid,
+          fail_at(pm.where, "*BOUNDARY_PRESCRIBED_MOTION_RIGID",
+                  fmt::format("DOF {}: part {}'s *MAT_RIGID (CMO 1, {} {}) holds that degree of freedom", pm.dof, pid,
                            dof < 3 ? "CON1" : "CON2", dof < 3 ? card.con1 : card.con2));
       }
     bodies.add(std::move(body), nodes);
   }
   for (const auto& pm : model.prescribed_motions)
     if (pm.target == model::Target::part && !body_nodes.contains(pm.id))
-      fail(pm.where, "*BOUNDARY_PRESCRIBED_MOTION_RIGID",
-           lead_card.contains(pm.id)
+      fail_at(pm.where, "*BOUNDARY_PRESCRIBED_MOTION_RIGID",
+              lead_card.contains(pm.id)
                ? fmt::format("PID {}: merged into the body of part {} (*CONSTRAINED_RIGID_BODIES); prescribe the "
                              "lead's motion", pm.id, lead_of(pm.id))
                : fmt::format("PID {}: not a rigid part (*MAT_RIGID meshed with solid elements)", pm.id));

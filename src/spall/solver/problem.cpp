@@ -21,11 +21,6 @@ namespace spall::solver {
 
 namespace {
 
-[[noreturn]] void fail(const SourceLocation& where, const std::string& keyword,
-                       const std::string& message) {
-  throw InputError(where, keyword, message);
-}
-
 class Builder {
  public:
   explicit Builder(const model::Model& model) : model_(model) {}
@@ -53,7 +48,7 @@ class Builder {
  private:
   Index node_index(Id id, const SourceLocation& where, const char* keyword) const {
     auto it = index_of_node_.find(id);
-    if (it == index_of_node_.end()) fail(where, keyword, fmt::format("node {} does not exist", id));
+    if (it == index_of_node_.end()) fail_at(where, keyword, fmt::format("node {} does not exist", id));
     return it->second;
   }
 
@@ -62,21 +57,21 @@ class Builder {
     if (id == 0) return nullptr;
     auto it = model_.curves.find(id);
     if (it == model_.curves.end())
-      fail(where, keyword, fmt::format("{}: curve {} does not exist", field, id));
+      fail_at(where, keyword, fmt::format("{}: curve {} does not exist", field, id));
     return &it->second;
   }
 
   std::vector<Index> node_set(Id id, const SourceLocation& where, const char* keyword) const {
     auto it = model_.node_sets.find(id);
     if (it == model_.node_sets.end())
-      fail(where, keyword, fmt::format("node set {} does not exist", id));
+      fail_at(where, keyword, fmt::format("node set {} does not exist", id));
     std::vector<Index> nodes;
     for (Id n : it->second.nodes) nodes.push_back(node_index(n, it->second.where, "*SET_NODE"));
     return nodes;
   }
 
   std::vector<Index> part_nodes(Id part_id, const SourceLocation& where, const char* keyword) const {
-    if (!model_.find_part(part_id)) fail(where, keyword, fmt::format("part {} does not exist", part_id));
+    if (!model_.find_part(part_id)) fail_at(where, keyword, fmt::format("part {} does not exist", part_id));
     std::vector<Index> nodes;
     for (Index i = 0; i < problem_.nodes.size(); ++i)
       if (problem_.part_of_node[i] == part_id) nodes.push_back(i);
@@ -107,7 +102,7 @@ class Builder {
       nodes.x[k] = node.x;
       nodes.fixed[k] = model::constraint_axes(node.tc);
       if (!index_of_node_.emplace(node.id, k).second)
-        fail(node.where, "*NODE", fmt::format("node {} is defined twice", node.id));
+        fail_at(node.where, "*NODE", fmt::format("node {} is defined twice", node.id));
     }
   }
 
@@ -123,29 +118,29 @@ class Builder {
                            std::vector<materials::Material>& table,
                            std::unordered_map<Id, Index>& material_index) {
     const model::Part* part = model_.find_part(pid);
-    if (!part) fail(where, "*ELEMENT_SPH", fmt::format("PID: part {} does not exist", pid));
+    if (!part) fail_at(where, "*ELEMENT_SPH", fmt::format("PID: part {} does not exist", pid));
     auto sec = model_.sections.find(part->secid);
     if (sec == model_.sections.end() || !std::holds_alternative<model::SectionSph>(sec->second))
-      fail(part->where, "*PART",
-           fmt::format("part {} has SPH particles but section {} is not a *SECTION_SPH", part->id,
+      fail_at(part->where, "*PART",
+              fmt::format("part {} has SPH particles but section {} is not a *SECTION_SPH", part->id,
                        part->secid));
     const auto& section = std::get<model::SectionSph>(sec->second);
     if (section.cslh < 1.0)
-      fail(section.where, "*SECTION_SPH",
-           fmt::format("CSLH: {} is inadmissible (less than 1; 1.05 to 1.3 are recommended)", section.cslh));
+      fail_at(section.where, "*SECTION_SPH",
+              fmt::format("CSLH: {} is inadmissible (less than 1; 1.05 to 1.3 are recommended)", section.cslh));
     if (section.sphkern != 0 && section.sphkern != 1 && section.sphkern != 4)
-      fail(section.where, "*SECTION_SPH",
-           fmt::format("SPHKERN {}: not implemented (0 cubic spline, 1 quintic spline, 4 Wendland C2)",
+      fail_at(section.where, "*SECTION_SPH",
+              fmt::format("SPHKERN {}: not implemented (0 cubic spline, 1 quintic spline, 4 Wendland C2)",
                        section.sphkern));
     if (!(section.hmin > 0 && section.hmin <= 1 && section.hmax >= 1))
-      fail(section.where, "*SECTION_SPH",
-           fmt::format("HMIN {} HMAX {}: need 0 < HMIN <= 1 <= HMAX (factors on the initial h)",
+      fail_at(section.where, "*SECTION_SPH",
+              fmt::format("HMIN {} HMAX {}: need 0 < HMIN <= 1 <= HMAX (factors on the initial h)",
                        section.hmin, section.hmax));
     if (section.death < 1e20 || section.start > 0)
-      fail(section.where, "*SECTION_SPH", "DEATH/START: particle birth and death are not implemented yet");
+      fail_at(section.where, "*SECTION_SPH", "DEATH/START: particle birth and death are not implemented yet");
     if (part->hgid != 0)
-      fail(part->where, "*PART",
-           fmt::format("part {}: HGID {}: *HOURGLASS controls are not supported yet", part->id, part->hgid));
+      fail_at(part->where, "*PART",
+              fmt::format("part {}: HGID {}: *HOURGLASS controls are not supported yet", part->id, part->hgid));
     auto [it, inserted] = material_index.emplace(part->id, static_cast<Index>(table.size()));
     if (inserted) table.push_back(materials::make_material(model_, *part));
     return {&section, it->second, table[it->second].density, 0};
@@ -154,8 +149,8 @@ class Builder {
   // *SPALL_SPH_TIMESTEP sets the SPH solid's step: without SPH solid particles it would do nothing.
   void refuse_sph_timestep_without_solid() const {
     if (model_.sph_timestep)
-      fail(model_.sph_timestep->where, "*SPALL_SPH_TIMESTEP",
-           "RULE: the deck has no SPH solid particles, whose stable step the rule sets");
+      fail_at(model_.sph_timestep->where, "*SPALL_SPH_TIMESTEP",
+              "RULE: the deck has no SPH solid particles, whose stable step the rule sets");
   }
 
   void build_sph() {
@@ -171,7 +166,7 @@ class Builder {
       // *MAT_NULL parts are liquid: the SPH fluid formulation (sph/fluid_setup.cpp) takes them.
       if (sph::is_fluid_part(model_, e.pid)) {
         if (!seen.insert(e.nid).second)
-          fail(e.where, "*ELEMENT_SPH", fmt::format("node {} carries two SPH particles", e.nid));
+          fail_at(e.where, "*ELEMENT_SPH", fmt::format("node {} carries two SPH particles", e.nid));
         fluid.push_back({&e, node_index(e.nid, e.where, "*ELEMENT_SPH")});
         continue;
       }
@@ -181,9 +176,9 @@ class Builder {
       SphPart& part = found->second;
       const Index node = node_index(e.nid, e.where, "*ELEMENT_SPH");
       if (!seen.insert(e.nid).second)
-        fail(e.where, "*ELEMENT_SPH", fmt::format("node {} carries two SPH particles", e.nid));
+        fail_at(e.where, "*ELEMENT_SPH", fmt::format("node {} carries two SPH particles", e.nid));
       const Real mass = e.mass > 0 ? e.mass : -e.mass * part.density;
-      if (!(mass > 0)) fail(e.where, "*ELEMENT_SPH", fmt::format("MASS: particle {} has no mass", e.nid));
+      if (!(mass > 0)) fail_at(e.where, "*ELEMENT_SPH", fmt::format("MASS: particle {} has no mass", e.nid));
       problem_.nodes.mass[node] = mass;
       problem_.part_of_node[node] = e.pid;
       // In plane strain (IDIM 2) masses are per unit thickness and particles stay in their plane.
@@ -202,16 +197,16 @@ class Builder {
       // The solid's pair terms are single precision (docs/THEORY.md §3): kernel gradients go as
       // h^-5 and viscous denominators as h^4, within float's range for these h.
       if (!(p.smoothing_length >= 1e-6 && p.smoothing_length <= 1e6))
-        fail(section.where, "*SECTION_SPH",
-             fmt::format("smoothing length {:.3g} (CSLH x spacing, or SPHINI) is outside 1e-6 to 1e6: the SPH "
+        fail_at(section.where, "*SECTION_SPH",
+                fmt::format("smoothing length {:.3g} (CSLH x spacing, or SPHINI) is outside 1e-6 to 1e6: the SPH "
                          "solid's pair terms are single precision; use units (mm, um) that bring it within",
                          p.smoothing_length));
       p.h_min_factor = section.hmin;
       p.h_max_factor = section.hmax;
       const auto kind = static_cast<kernels::KernelKind>(section.sphkern);
       if (kernel && *kernel != kind)
-        fail(section.where, "*SECTION_SPH",
-             fmt::format("SPHKERN {}: every SPH part must use the same kernel (particles of "
+        fail_at(section.where, "*SECTION_SPH",
+                fmt::format("SPHKERN {}: every SPH part must use the same kernel (particles of "
                          "different parts interact through it)",
                          section.sphkern));
       kernel = kind;
@@ -238,8 +233,8 @@ class Builder {
     std::vector<sph::ColourField> result(part_count);
     for (const auto& card : model_.sph_colour_fields)
       if (card.pid != 0 && !parts.count(card.pid))
-        fail(card.where, "*SPALL_SPH_COLOUR_FIELD",
-             fmt::format("PID: part {} has no SPH particles", card.pid));
+        fail_at(card.where, "*SPALL_SPH_COLOUR_FIELD",
+                fmt::format("PID: part {} has no SPH particles", card.pid));
     for (const auto& [pid, part] : parts) {
       const model::SphColourField* chosen = nullptr;
       for (const auto& card : model_.sph_colour_fields)
@@ -273,7 +268,7 @@ class Builder {
     if (!model_.control_sph) return options;
     const model::ControlSph& c = *model_.control_sph;
     const auto refuse = [&](int card, std::string_view field, auto value, std::string_view why) {
-      fail(c.card_where[card], "*CONTROL_SPH", fmt::format("{} {}: {}", field, value, why));
+      fail_at(c.card_where[card], "*CONTROL_SPH", fmt::format("{} {}: {}", field, value, why));
     };
     if (c.boxid != 0) refuse(0, "BOXID", c.boxid, "SPH activation boxes are not implemented");
     if (c.idim == -2) refuse(0, "IDIM", c.idim, "axisymmetric SPH is not implemented (3 and 2 are)");
@@ -301,7 +296,7 @@ class Builder {
   void apply_spcs() {
     for (const auto& spc : model_.spcs) {
       const char* keyword = spc.target == model::Target::node ? "*BOUNDARY_SPC_NODE" : "*BOUNDARY_SPC_SET";
-      if (spc.cid != 0) fail(spc.where, keyword, "CID: local coordinate systems are not supported yet");
+      if (spc.cid != 0) fail_at(spc.where, keyword, "CID: local coordinate systems are not supported yet");
       std::uint8_t mask = 0;
       for (int d = 0; d < 3; ++d)
         if (spc.dof[d]) mask |= std::uint8_t(1u << d);
@@ -319,13 +314,13 @@ class Builder {
                                                                    : "*BOUNDARY_PRESCRIBED_MOTION_RIGID";
       if (pm.target == model::Target::part) continue;  // a rigid body's (rigid/setup.cpp)
       if (pm.dof < 1 || pm.dof > 3)
-        fail(pm.where, keyword,
-             fmt::format("DOF {}: only translations along x, y, z (1, 2, 3) are supported", pm.dof));
+        fail_at(pm.where, keyword,
+                fmt::format("DOF {}: only translations along x, y, z (1, 2, 3) are supported", pm.dof));
       if (pm.vad < 0 || pm.vad > 2)
-        fail(pm.where, keyword,
-             fmt::format("VAD {}: only velocity (0), acceleration (1) and displacement (2) are supported", pm.vad));
+        fail_at(pm.where, keyword,
+                fmt::format("VAD {}: only velocity (0), acceleration (1) and displacement (2) are supported", pm.vad));
       const model::Curve* c = curve(pm.lcid, pm.where, keyword, "LCID");
-      if (!c) fail(pm.where, keyword, "LCID: a load curve is required");
+      if (!c) fail_at(pm.where, keyword, "LCID: a load curve is required");
       const auto nodes = pm.target == model::Target::node
                              ? std::vector<Index>{node_index(pm.id, pm.where, keyword)}
                              : node_set(pm.id, pm.where, keyword);
@@ -337,7 +332,7 @@ class Builder {
   void apply_initial_velocities() {
     auto& v = problem_.nodes.v;
     for (const auto& iv : model_.initial_velocities) {
-      if (iv.boxid != 0) fail(iv.where, "*INITIAL_VELOCITY", "BOXID: boxes are not supported yet");
+      if (iv.boxid != 0) fail_at(iv.where, "*INITIAL_VELOCITY", "BOXID: boxes are not supported yet");
       std::vector<char> exempt(problem_.nodes.size(), 0);
       if (iv.nsidex != 0)
         for (Index i : node_set(iv.nsidex, iv.where, "*INITIAL_VELOCITY")) exempt[i] = 1;
@@ -350,18 +345,18 @@ class Builder {
       for (Index i : nodes) v[i] = exempt[i] ? iv.v_exempt : iv.v;
     }
     for (const auto& iv : model_.initial_velocity_nodes) {
-      if (iv.icid != 0) fail(iv.where, "*INITIAL_VELOCITY_NODE", "ICID: local coordinate systems are not supported yet");
+      if (iv.icid != 0) fail_at(iv.where, "*INITIAL_VELOCITY_NODE", "ICID: local coordinate systems are not supported yet");
       v[node_index(iv.nid, iv.where, "*INITIAL_VELOCITY_NODE")] = iv.v;
     }
     for (const auto& g : model_.initial_velocity_generations) {
       const char* keyword = "*INITIAL_VELOCITY_GENERATION";
-      if (g.icid != 0) fail(g.where, keyword, "ICID: local coordinate systems are not supported yet");
+      if (g.icid != 0) fail_at(g.where, keyword, "ICID: local coordinate systems are not supported yet");
       std::vector<Index> nodes;
       if (g.styp == 2) {
         nodes = part_nodes(g.id, g.where, keyword);
       } else if (g.styp == 1) {
         auto ps = model_.part_sets.find(g.id);
-        if (ps == model_.part_sets.end()) fail(g.where, keyword, fmt::format("part set {} does not exist", g.id));
+        if (ps == model_.part_sets.end()) fail_at(g.where, keyword, fmt::format("part set {} does not exist", g.id));
         for (Id pid : ps->second.parts) {
           const auto more = part_nodes(pid, ps->second.where, "*SET_PART");
           nodes.insert(nodes.end(), more.begin(), more.end());
@@ -369,11 +364,11 @@ class Builder {
       } else if (g.styp == 3) {
         nodes = node_set(g.id, g.where, keyword);
       } else {
-        fail(g.where, keyword, fmt::format("STYP {}: must be 1 (part set), 2 (part) or 3 (node set)", g.styp));
+        fail_at(g.where, keyword, fmt::format("STYP {}: must be 1 (part set), 2 (part) or 3 (node set)", g.styp));
       }
       Vec3 axis = g.axis;
       if (g.omega != 0) {
-        if (axis.norm() == 0) fail(g.where, keyword, "NX NY NZ: the rotation axis is zero");
+        if (axis.norm() == 0) fail_at(g.where, keyword, "NX NY NZ: the rotation axis is zero");
         axis.normalize();
       }
       // v = v0 + omega n x (x - xc): rigid translation plus rotation about the axis.
@@ -386,9 +381,9 @@ class Builder {
     static const char* keywords[3] = {"*LOAD_BODY_X", "*LOAD_BODY_Y", "*LOAD_BODY_Z"};
     for (const auto& load : model_.body_loads) {
       const char* keyword = keywords[load.direction];
-      if (load.cid != 0) fail(load.where, keyword, "CID: local coordinate systems are not supported yet");
+      if (load.cid != 0) fail_at(load.where, keyword, "CID: local coordinate systems are not supported yet");
       const model::Curve* c = curve(load.lcid, load.where, keyword, "LCID");
-      if (!c) fail(load.where, keyword, "LCID: a load curve is required");
+      if (!c) fail_at(load.where, keyword, "LCID: a load curve is required");
       problem_.base_accelerations.push_back({load.direction, c, load.sf});
     }
   }
@@ -400,7 +395,7 @@ class Builder {
       const auto& wall = model_.rigid_walls[w];
       const std::string& keyword = wall.keyword;
       if (wall.boxid != 0)
-        fail(wall.where, keyword, fmt::format("BOXID {}: *DEFINE_BOX is not supported yet", wall.boxid));
+        fail_at(wall.where, keyword, fmt::format("BOXID {}: *DEFINE_BOX is not supported yet", wall.boxid));
       // LS-DYNA scales with RWKSF the penalty stiffness of a wall against rigid-body nodes; the
       // kinematic wall of deformable nodes has no stiffness, and Spall has no rigid bodies yet.
       if (wall.rwksf != 1.0)
@@ -463,25 +458,25 @@ class Builder {
       throw InputError("the deck has no *CONTROL_TERMINATION: ENDTIM is required");
     const auto& term = *model_.termination;
     auto& c = problem_.controls;
-    if (!(term.endtim > 0)) fail(term.where, "*CONTROL_TERMINATION", fmt::format("ENDTIM: must be > 0 (found {})", term.endtim));
+    if (!(term.endtim > 0)) fail_at(term.where, "*CONTROL_TERMINATION", fmt::format("ENDTIM: must be > 0 (found {})", term.endtim));
     c.end_time = term.endtim;
     c.end_cycle = term.endcyc;
     c.dt_min_factor = term.dtmin;
     c.end_energy = term.endeng;
     const auto& ts = model_.timestep;
     c.tssfac = ts.tssfac;
-    if (!(c.tssfac > 0)) fail(ts.where, "*CONTROL_TIMESTEP", "TSSFAC: a curve (negative TSSFAC) is not supported yet");
+    if (!(c.tssfac > 0)) fail_at(ts.where, "*CONTROL_TIMESTEP", "TSSFAC: a curve (negative TSSFAC) is not supported yet");
     c.dt_initial = ts.dtinit;
     c.max_dt_curve = curve(ts.lctm, ts.where, "*CONTROL_TIMESTEP", "LCTM");
-    if (ts.dt2ms != 0) fail(ts.where, "*CONTROL_TIMESTEP", "DT2MS: mass scaling is not supported yet");
-    if (ts.ms1st != 0) fail(ts.where, "*CONTROL_TIMESTEP", "MS1ST: mass scaling is not supported yet");
+    if (ts.dt2ms != 0) fail_at(ts.where, "*CONTROL_TIMESTEP", "DT2MS: mass scaling is not supported yet");
+    if (ts.ms1st != 0) fail_at(ts.where, "*CONTROL_TIMESTEP", "MS1ST: mass scaling is not supported yet");
     c.erode = ts.erode % 10 == 1;
     if (model_.d3plot) {
       const auto& d = *model_.d3plot;
       c.d3plot_dt = d.dt > 0 ? d.dt : (d.npltc > 0 ? c.end_time / d.npltc : 0);
       c.d3plot_dt_curve = curve(d.lcdt, d.where, "*DATABASE_BINARY_D3PLOT", "LCDT");
       if (c.d3plot_dt <= 0 && !c.d3plot_dt_curve)
-        fail(d.where, "*DATABASE_BINARY_D3PLOT", "DT: must be > 0 (or give NPLTC or LCDT)");
+        fail_at(d.where, "*DATABASE_BINARY_D3PLOT", "DT: must be > 0 (or give NPLTC or LCDT)");
     }
     // Without *DATABASE_GLSTAT the energies are still written, 1000 rows over the run.
     c.glstat_dt = (model_.glstat && model_.glstat->dt > 0) ? model_.glstat->dt : c.end_time / 1000;
@@ -491,14 +486,14 @@ class Builder {
     if (model_.damping_global) {
       const auto& d = *model_.damping_global;
       if (d.rotation_scale != Vec3::Zero() && d.rotation_scale != Vec3::Ones())
-        fail(d.where, "*DAMPING_GLOBAL", "SRX SRY SRZ: nodes carry no rotations to damp; leave them 0");
+        fail_at(d.where, "*DAMPING_GLOBAL", "SRX SRY SRZ: nodes carry no rotations to damp; leave them 0");
       c.damping = d.valdmp;
       c.damping_curve = curve(d.lcid, d.where, "*DAMPING_GLOBAL", "LCID");
       c.damping_scale = d.translation_scale;
     }
     if (model_.bulk_viscosity.type != 1 && model_.bulk_viscosity.type != -1 && !model_.sph_elements.empty())
-      fail(model_.bulk_viscosity.where, "*CONTROL_BULK_VISCOSITY",
-           fmt::format("TYPE {}: only the standard type 1 is supported", model_.bulk_viscosity.type));
+      fail_at(model_.bulk_viscosity.where, "*CONTROL_BULK_VISCOSITY",
+              fmt::format("TYPE {}: only the standard type 1 is supported", model_.bulk_viscosity.type));
   }
 
   // The interval of a history (*DATABASE_RWFORC, _RCFORC, _RBDOUT): GLSTAT's without the card.
@@ -510,8 +505,8 @@ class Builder {
     dt = r.dt;
     dt_curve = curve(r.lcdt, r.where, keyword, "LCUR");
     if (dt_curve && r.ioopt != 1)
-      fail(r.where, keyword, fmt::format("IOOPT {}: only 1 (next output at LCUR of the current time) is supported", r.ioopt));
-    if (dt <= 0 && !dt_curve) fail(r.where, keyword, "DT: must be > 0 (or give LCUR)");
+      fail_at(r.where, keyword, fmt::format("IOOPT {}: only 1 (next output at LCUR of the current time) is supported", r.ioopt));
+    if (dt <= 0 && !dt_curve) fail_at(r.where, keyword, "DT: must be > 0 (or give LCUR)");
   }
 
   const model::Model& model_;

@@ -14,10 +14,6 @@ namespace {
 
 constexpr const char* section_keyword = "*SECTION_SOLID_SPG";
 
-[[noreturn]] void fail(const SourceLocation& where, const std::string& keyword, const std::string& message) {
-  throw InputError(where, keyword, message);
-}
-
 const model::SectionSolidSpg* spg_section(const model::Model& model, const model::Part& part) {
   if (model.rigid_material(part)) return nullptr;  // a rigid body (rigid/setup.hpp)
   auto it = model.sections.find(part.secid);
@@ -27,38 +23,38 @@ const model::SectionSolidSpg* spg_section(const model::Model& model, const model
 
 // Every field of the section, against what the solver implements (docs/KEYWORDS.md, SPG table).
 PartSettings check_section(const model::SectionSolidSpg& s, Id part_id) {
-  if (s.aet != 0) fail(s.where, section_keyword, fmt::format("AET {}: ambient element types do not apply to SPG (ELFORM 47)", s.aet));
-  if (s.cohoff != 0) fail(s.where, section_keyword, "COHOFF: applies to cohesive elements, not to SPG (ELFORM 47)");
-  if (s.gaskett != 0) fail(s.where, section_keyword, "GASKETT: applies to cohesive gasket elements, not to SPG (ELFORM 47)");
+  if (s.aet != 0) fail_at(s.where, section_keyword, fmt::format("AET {}: ambient element types do not apply to SPG (ELFORM 47)", s.aet));
+  if (s.cohoff != 0) fail_at(s.where, section_keyword, "COHOFF: applies to cohesive elements, not to SPG (ELFORM 47)");
+  if (s.gaskett != 0) fail_at(s.where, section_keyword, "GASKETT: applies to cohesive gasket elements, not to SPG (ELFORM 47)");
   if (s.lscale != 0)
-    fail(s.where_card2, section_keyword,
-         fmt::format("LSCALE {}: a displacement-regularization length scale is not implemented (current "
+    fail_at(s.where_card2, section_keyword,
+            fmt::format("LSCALE {}: a displacement-regularization length scale is not implemented (current "
                      "manuals mark the column unused; leave it blank)", s.lscale));
   if (s.itb == 3)
-    fail(s.where_card3, section_keyword,
-         "ITB 3: momentum-consistent SPG (MC-SPG) is not implemented; use ITB 1 or 2");
+    fail_at(s.where_card3, section_keyword,
+            "ITB 3: momentum-consistent SPG (MC-SPG) is not implemented; use ITB 1 or 2");
   if (s.column8 != 0)
-    fail(s.where_card2, section_keyword,
-         fmt::format("SWTIME {}: switching from the updated-Lagrangian to the Eulerian kernel during the "
+    fail_at(s.where_card2, section_keyword,
+            fmt::format("SWTIME {}: switching from the updated-Lagrangian to the Eulerian kernel during the "
                      "run is not implemented (column 8 is SWTIME with ITB {}; MSC only with ITB 3)",
                      s.column8, s.itb));
   if (s.idam < 1 || s.idam > 3)
-    fail(s.where_card3, section_keyword,
-         fmt::format("IDAM {}: bond failure is implemented on the effective plastic strain (IDAM 1), the maximum "
+    fail_at(s.where_card3, section_keyword,
+            fmt::format("IDAM {}: bond failure is implemented on the effective plastic strain (IDAM 1), the maximum "
                      "principal stress (2) and the maximum shear strain (3) only",
                      s.idam));
   if (s.stretch < 1)
-    fail(s.where_card3, section_keyword,
-         fmt::format("STRETCH {}: a compression ratio below 1 is not implemented; STRETCH >= 1 makes bonds "
+    fail_at(s.where_card3, section_keyword,
+            fmt::format("STRETCH {}: a compression ratio below 1 is not implemented; STRETCH >= 1 makes bonds "
                      "fail only under relative tension (seed 001 §2.3)", s.stretch));
-  if (s.msfac != 0) fail(s.where_card3, section_keyword, "MSFAC: applies to MC-SPG (ITB 3) only, which is not implemented");
+  if (s.msfac != 0) fail_at(s.where_card3, section_keyword, "MSFAC: applies to MC-SPG (ITB 3) only, which is not implemented");
   if (s.isc != 0)
-    fail(s.where_card3, section_keyword, "ISC 1: self-contact between bond-failed particles is not implemented");
+    fail_at(s.where_card3, section_keyword, "ISC 1: self-contact between bond-failed particles is not implemented");
   if (s.boxid != 0)
-    fail(s.where_card3, section_keyword, fmt::format("BOXID {}: an active SPG region (*DEFINE_BOX) is not implemented", s.boxid));
+    fail_at(s.where_card3, section_keyword, fmt::format("BOXID {}: an active SPG region (*DEFINE_BOX) is not implemented", s.boxid));
   if (s.pdamp != -0.001)
-    fail(s.where_card3, section_keyword,
-         fmt::format("PDAMP {}: particle-to-particle damping applies to MC-SPG (ITB 3) only, which is not "
+    fail_at(s.where_card3, section_keyword,
+            fmt::format("PDAMP {}: particle-to-particle damping applies to MC-SPG (ITB 3) only, which is not "
                      "implemented; leave it blank", s.pdamp));
   PartSettings p;
   p.part_id = part_id;
@@ -76,7 +72,7 @@ PartSettings check_section(const model::SectionSolidSpg& s, Id part_id) {
 
 materials::Material resolve_material(const model::Model& model, const model::Part& part) {
   if (part.hgid != 0)
-    fail(part.where, "*PART", fmt::format("part {}: HGID {}: SPG parts have no hourglass modes to control", part.id, part.hgid));
+    fail_at(part.where, "*PART", fmt::format("part {}: HGID {}: SPG parts have no hourglass modes to control", part.id, part.hgid));
   return materials::make_material(model, part);
 }
 
@@ -149,14 +145,14 @@ std::vector<PartSetup> spg_parts(const model::Model& model, const std::unordered
     for (int a = 0; a < 8; ++a) {
       auto it = index_of_node.find(e.n[a]);
       if (it == index_of_node.end())
-        fail(e.where, "*ELEMENT_SOLID", fmt::format("element {}: node {} does not exist", e.eid, e.n[a]));
+        fail_at(e.where, "*ELEMENT_SOLID", fmt::format("element {}: node {} does not exist", e.eid, e.n[a]));
       index[a] = it->second;
       x[a] = nodes.x0[index[a]];
     }
     const HexVolumes v = hex_volumes(x);
     if (!(v.min_jacobian > 0) || !(v.total > 0))
-      fail(e.where, "*ELEMENT_SOLID",
-           fmt::format("element {}: inverted or flat (Jacobian {:.3g} at a Gauss point); check the node "
+      fail_at(e.where, "*ELEMENT_SOLID",
+              fmt::format("element {}: inverted or flat (Jacobian {:.3g} at a Gauss point); check the node "
                        "order (N1-N4 one face, N5-N8 the opposite face)", e.eid, v.min_jacobian));
     Vec3 lo = x[0], hi = x[0];
     for (const Vec3& p : x) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
@@ -203,8 +199,8 @@ std::unique_ptr<discretization::Formulation> build_spg(const model::Model& model
     const Id pid = setup.settings.part_id;
     for (const auto& p : setup.particles) {
       if (part_of_node[p.node] != 0 && !is_spg_part(model, part_of_node[p.node]))
-        fail(model.find_part(pid)->where, "*PART",
-             fmt::format("part {}: node {} is also an SPH particle of part {}; SPG and SPH parts cannot "
+        fail_at(model.find_part(pid)->where, "*PART",
+                fmt::format("part {}: node {} is also an SPH particle of part {}; SPG and SPH parts cannot "
                          "share nodes", pid, nodes.id[p.node], part_of_node[p.node]));
       if (part_of_node[p.node] == 0) part_of_node[p.node] = pid;
       nodes.mass[p.node] += setup.settings.material.density * p.volume;

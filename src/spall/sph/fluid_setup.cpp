@@ -11,11 +11,6 @@ namespace spall::sph {
 
 namespace {
 
-[[noreturn]] void fail(const SourceLocation& where, const std::string& keyword,
-                       const std::string& message) {
-  throw InputError(where, keyword, message);
-}
-
 // A fluid part as the set-up needs it, checked once however many particles it has.
 struct FluidPart {
   const model::Part* part = nullptr;
@@ -29,19 +24,19 @@ FluidPart resolve_fluid_part(const model::Model& model, Id pid) {
   const model::Part& part = *model.find_part(pid);
   const auto sec = model.sections.find(part.secid);
   if (sec == model.sections.end() || !std::holds_alternative<model::SectionSph>(sec->second))
-    fail(part.where, "*PART",
-         fmt::format("part {} has SPH particles but section {} is not a *SECTION_SPH", part.id,
+    fail_at(part.where, "*PART",
+            fmt::format("part {} has SPH particles but section {} is not a *SECTION_SPH", part.id,
                      part.secid));
   const auto& section = std::get<model::SectionSph>(sec->second);
   if (section.sphkern != 0)
-    fail(section.where, "*SECTION_SPH",
-         fmt::format("SPHKERN {}: the SPH fluid (part {}) has the cubic spline (0) only",
+    fail_at(section.where, "*SECTION_SPH",
+            fmt::format("SPHKERN {}: the SPH fluid (part {}) has the cubic spline (0) only",
                      section.sphkern, part.id));
   if (section.death < 1e20 || section.start > 0)
-    fail(section.where, "*SECTION_SPH", "DEATH/START: particle birth and death are not implemented yet");
+    fail_at(section.where, "*SECTION_SPH", "DEATH/START: particle birth and death are not implemented yet");
   if (part.hgid != 0)
-    fail(part.where, "*PART",
-         fmt::format("part {}: HGID {}: *HOURGLASS controls are not supported", part.id, part.hgid));
+    fail_at(part.where, "*PART",
+            fmt::format("part {}: HGID {}: *HOURGLASS controls are not supported", part.id, part.hgid));
   // MAT_NULL + EOS through the material library (it refuses a MAT_NULL without EOS).
   const materials::Material library = materials::make_material(model, part);
   FluidPart fluid{&part, &section, {}, 0, 0};
@@ -52,10 +47,10 @@ FluidPart resolve_fluid_part(const model::Model& model, Id pid) {
   m.dynamic_viscosity = std::get<materials::Null>(library.strength).viscosity;
   m.pressure_cutoff = library.pressure_cutoff;  // MAT_NULL PC (0: no tension)
   if (!(m.density > 0))
-    fail(part.where, "*PART", fmt::format("part {}: its *MAT_NULL needs RO > 0", part.id));
+    fail_at(part.where, "*PART", fmt::format("part {}: its *MAT_NULL needs RO > 0", part.id));
   if (!(m.reference_sound_speed() > 0))
-    fail(part.where, "*PART",
-         fmt::format("part {}: the equation of state {} gives no sound speed at RO {:g}; a "
+    fail_at(part.where, "*PART",
+            fmt::format("part {}: the equation of state {} gives no sound speed at RO {:g}; a "
                      "liquid needs dp/drho > 0",
                      part.id, part.eosid, m.density));
   return fluid;
@@ -88,8 +83,8 @@ std::unique_ptr<FluidFormulation> build_fluid(const model::Model& model,
                                                    int dimension, discretization::NodeStore& nodes,
                                                    std::vector<Id>& part_of_node) {
   if (const auto& c = model.control_sph; c && (c->start > 0 || c->dt < 1e20))
-    fail(c->card_where[0], "*CONTROL_SPH",
-         fmt::format("START {:g} / DT {:g}: the SPH fluid has no start or death time", c->start, c->dt));
+    fail_at(c->card_where[0], "*CONTROL_SPH",
+            fmt::format("START {:g} / DT {:g}: the SPH fluid has no start or death time", c->start, c->dt));
   std::unordered_map<Id, FluidPart> parts;
   const FluidPart* first = nullptr;
   bool warned = false;
@@ -104,8 +99,8 @@ std::unique_ptr<FluidFormulation> build_fluid(const model::Model& model,
       if (!first) {
         first = &part;
       } else if (part.part->mid != first->part->mid || part.part->eosid != first->part->eosid) {
-        fail(part.part->where, "*PART",
-             fmt::format("part {}: MID {} EOSID {}, but SPH fluid part {} has MID {} EOSID {}: "
+        fail_at(part.part->where, "*PART",
+                fmt::format("part {}: MID {} EOSID {}, but SPH fluid part {} has MID {} EOSID {}: "
                          "the SPH fluid takes one liquid (one MID and EOSID for all its parts)",
                          part.part->id, part.part->mid, part.part->eosid, first->part->id,
                          first->part->mid, first->part->eosid));
@@ -113,7 +108,7 @@ std::unique_ptr<FluidFormulation> build_fluid(const model::Model& model,
     }
     FluidPart& part = found->second;
     const Real mass = e.mass > 0 ? e.mass : -e.mass * part.material.density;
-    if (!(mass > 0)) fail(e.where, "*ELEMENT_SPH", fmt::format("MASS: particle {} has no mass", e.nid));
+    if (!(mass > 0)) fail_at(e.where, "*ELEMENT_SPH", fmt::format("MASS: particle {} has no mass", e.nid));
     nodes.mass[p.node] = mass;
     part_of_node[p.node] = e.pid;
     // In plane strain masses are per unit thickness and the particles stay in their plane.
@@ -132,8 +127,8 @@ std::unique_ptr<FluidFormulation> build_fluid(const model::Model& model,
   }
   for (const auto& [pid, part] : parts)
     if (std::abs(part.smoothing_length - h) > 1e-9 * h)
-      fail(part.section->where, "*SECTION_SPH",
-           fmt::format("part {} has h = {:g} but SPH fluid part {} has h = {:g}: the SPH fluid "
+      fail_at(part.section->where, "*SECTION_SPH",
+              fmt::format("part {} has h = {:g} but SPH fluid part {} has h = {:g}: the SPH fluid "
                        "takes one smoothing length (give its parts the same spacing and CSLH, "
                        "or SPHINI)",
                        part.part->id, part.smoothing_length, h_part->part->id, h));
