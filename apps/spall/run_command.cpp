@@ -103,9 +103,10 @@ std::string where_the_time_went(const solver::PhaseTimes& phases) {
 int check_deck(const std::string& deck, const std::vector<std::string>& skip) {
   const model::Model model = read_and_check(deck, skip);
   const solver::Problem problem = build_something(model, deck);
-  fmt::print("{}: {} nodes, {} parts, {} SPH particles, {} solid elements; end time {:g}; OK\n", deck,
-             model.nodes.size(), model.parts.size(), model.sph_elements.size(),
-             model.solid_elements.size(), problem.controls.end_time);
+  fmt::print("{}: {} nodes, {} parts, {} SPH particles, {} solid elements, {} rigid bodies, {} contacts; end time {:g}; "
+             "OK\n",
+             deck, model.nodes.size(), model.parts.size(), model.sph_elements.size(), model.solid_elements.size(),
+             problem.rigid_bodies.bodies().size(), problem.contacts.size(), problem.controls.end_time);
   return exit_success;
 }
 
