@@ -9,6 +9,7 @@
 #include <string>
 
 #include "spall/core/error.hpp"
+#include "spall/io/keyword/reader.hpp"
 
 namespace spall::test {
 
@@ -57,6 +58,21 @@ std::string input_error_of(Action&& action) {
     return error.what();
   }
   return "";
+}
+
+// The start of an error message at `line` of the folder's bad.k: "path:line: *KEYWORD: ".
+inline std::string prefix(const DeckFolder& folder, int line, const std::string& keyword) {
+  return (folder.path() / "bad.k").lexically_normal().string() + ":" + std::to_string(line) + ": " + keyword + ": ";
+}
+
+// The InputError message of reading `text` as bad.k, and of validating what it reads.
+inline std::string read_error(const DeckFolder& folder, const std::string& text) {
+  const auto path = folder.write("bad.k", text);
+  return input_error_of([&] { io::keyword::read_deck(path); });
+}
+inline std::string validate_error(const DeckFolder& folder, const std::string& text) {
+  const auto model = io::keyword::read_deck(folder.write("bad.k", text));
+  return input_error_of([&] { io::keyword::validate(model); });
 }
 
 }  // namespace spall::test

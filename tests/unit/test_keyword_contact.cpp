@@ -19,6 +19,9 @@ using model::ContactSurface;
 using test::DeckFolder;
 using test::input_error_of;
 using test::row;
+using test::prefix;
+using test::read_error;
+using test::validate_error;
 
 const std::initializer_list<int> node_widths = {8, 16, 16, 16, 8, 8};
 
@@ -37,17 +40,6 @@ const std::string base_deck =
 // The line the next keyword of `text` has: one after its last.
 int next_line(const std::string& text) { return static_cast<int>(std::count(text.begin(), text.end(), '\n')) + 1; }
 
-std::string prefix(const DeckFolder& folder, int line, const std::string& keyword) {
-  return (folder.path() / "bad.k").lexically_normal().string() + ":" + std::to_string(line) + ": " + keyword + ": ";
-}
-std::string read_error(const DeckFolder& folder, const std::string& text) {
-  const auto path = folder.write("bad.k", text);
-  return input_error_of([&] { read_deck(path); });
-}
-std::string validate_error(const DeckFolder& folder, const std::string& text) {
-  const auto model = read_deck(folder.write("bad.k", text));
-  return input_error_of([&] { validate(model); });
-}
 
 TEST(keyword_contact, FourTypesAndTheirOptionSpellings) {
   DeckFolder folder;

@@ -13,22 +13,12 @@ namespace {
 using test::DeckFolder;
 using test::input_error_of;
 using test::row;
+using test::prefix;
+using test::read_error;
+using test::validate_error;
 
 const std::initializer_list<int> node_widths = {8, 16, 16, 16, 8, 8};
 
-std::string read_error(const DeckFolder& folder, const std::string& text) {
-  const auto path = folder.write("bad.k", text);
-  return input_error_of([&] { read_deck(path); });
-}
-std::string validate_error(const DeckFolder& folder, const std::string& text) {
-  const auto path = folder.write("bad.k", text);
-  const auto model = read_deck(path);
-  return input_error_of([&] { validate(model); });
-}
-std::string prefix(const DeckFolder& folder, int line, const std::string& keyword) {
-  return (folder.path() / "bad.k").lexically_normal().string() + ":" + std::to_string(line) +
-         ": " + keyword + ": ";
-}
 
 const std::string termination = "*CONTROL_TERMINATION\n" + row({"1.0"});
 

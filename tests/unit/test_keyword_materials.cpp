@@ -12,21 +12,12 @@ namespace {
 using test::DeckFolder;
 using test::input_error_of;
 using test::row;
+using test::prefix;
+using test::read_error;
+using test::validate_error;
 
 model::Model read_text(const DeckFolder& folder, const std::string& text) {
   return read_deck(folder.write("deck.k", text));
-}
-std::string read_error(const DeckFolder& folder, const std::string& text) {
-  const auto path = folder.write("bad.k", text);
-  return input_error_of([&] { read_deck(path); });
-}
-std::string validate_error(const DeckFolder& folder, const std::string& text) {
-  const auto model = read_deck(folder.write("bad.k", text));
-  return input_error_of([&] { validate(model); });
-}
-std::string prefix(const DeckFolder& folder, int line, const std::string& keyword) {
-  return (folder.path() / "bad.k").lexically_normal().string() + ":" + std::to_string(line) + ": " +
-         keyword + ": ";
 }
 
 // Taylor-bar steel in t-mm-s (keywords.md §10: ansys/pydyna examples/Taylor_Bar).

@@ -13,6 +13,8 @@ namespace {
 using test::DeckFolder;
 using test::input_error_of;
 using test::row;
+using test::prefix;
+using test::read_error;
 
 const std::initializer_list<int> node_widths = {8, 16, 16, 16, 8, 8};
 
@@ -25,14 +27,6 @@ const std::string particle_deck =
     "*MAT_ELASTIC\n" + row({"1", "7850.0", "2.0e11", "0.3"}) + "*ELEMENT_SPH\n" +
     row({"1", "1", "1.0e-3"}, {8, 8, 16}) + row({"2", "1", "1.0e-3"}, {8, 8, 16});
 
-std::string prefix(const DeckFolder& folder, int line, const std::string& keyword) {
-  return (folder.path() / "bad.k").lexically_normal().string() + ":" + std::to_string(line) +
-         ": " + keyword + ": ";
-}
-std::string read_error(const DeckFolder& folder, const std::string& text) {
-  const auto path = folder.write("bad.k", text);
-  return input_error_of([&] { read_deck(path); });
-}
 
 TEST(keyword_rigid_walls, DefaultsOfEveryField) {
   DeckFolder folder;
