@@ -8,7 +8,8 @@ spindle speed: it plunges to DEPTH at SPEED, then holds its depth and keeps turn
 touches the block through *CONTACT_AUTOMATIC_NODES_TO_SURFACE (the block's particles are the slave
 nodes, the punch's faces the segments) with Coulomb friction MU and the soft-constraint penalty
 (SOFT 1) that fem-contact.md recommends for a rigid tool on a soft workpiece. The torque on the
-punch comes from friction alone; rcforc.csv has it (side 2, about the punch's centre).
+punch comes from friction alone; rcforc.csv has it (side 2, about the middle of the punch's face,
+*DATABASE_RCFORC_MOMENT).
 Usage: make_punch_deck.py [--spacing H] [--mu MU] [--end-time T] > punch.k
 """
 import argparse
@@ -126,7 +127,7 @@ def disc(i, j, k):
     return args.radius * u * math.sqrt(1 - v * v / 2), args.radius * v * math.sqrt(1 - u * u / 2), length * k / layers
 
 
-lattice(2, 100001, 100001, (n, n, layers), disc)
+punch = lattice(2, 100001, 100001, (n, n, layers), disc)
 w("$ The plunge (z displacement) and the spindle speed (rad/s about z).")
 w("*DEFINE_CURVE")
 card(1)
@@ -153,5 +154,9 @@ w("$#    sfsa      sfsb")
 card("1.0", "1.0")
 w("$#    soft    sofscl")
 card(1, "0.1")
+w("$ Moments of the punch's side about the node at the middle of its face, on its axis.")
+w("*DATABASE_RCFORC_MOMENT")
+w("$#     cid    nodesa    nodesb")
+card(1, 0, punch(n // 2, n // 2, 0))
 w("*END")
 print("\n".join(out))

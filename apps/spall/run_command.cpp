@@ -134,8 +134,8 @@ int run_deck(const RunOptions& options) {
     rwforc.emplace(out / "rwforc.csv",
                    std::vector<io::output::Column>{{"time", "time"}, {"wall", ""}, {"normal_force", "force"},
                                                    {"fx", "force"}, {"fy", "force"}, {"fz", "force"}});
-  // Forces of the penalty contacts on each side (1: SURFA, 2: SURFB), with their moments about a
-  // side's rigid-body centre, or about the origin; only when the deck has contacts.
+  // Forces of the penalty contacts on each side (1: SURFA, 2: SURFB), with their moments about the
+  // *DATABASE_RCFORC_MOMENT node, or the side's rigid-body centre, or the origin; only with contacts.
   std::optional<io::output::CsvHistory> rcforc;
   if (!problem.contacts.empty()) {
     std::vector<io::output::Column> columns{{"time", "time"}, {"contact", ""}, {"side", ""}};
@@ -215,7 +215,10 @@ int run_deck(const RunOptions& options) {
       for (int side = 0; side < 2; ++side) {
         const auto& r = side == 0 ? c.side_a() : c.side_b();
         const std::int32_t body = c.definition().side_body[side];
-        const Vec3 p = body >= 0 ? problem.rigid_bodies.bodies()[body].step_centre : Vec3::Zero();
+        const Index node = c.definition().moment_node[side];
+        const Vec3 p = node >= 0   ? problem.nodes.x[node]
+                       : body >= 0 ? problem.rigid_bodies.bodies()[body].step_centre
+                                   : Vec3::Zero();
         const Vec3 m = r.moment - p.cross(r.force);
         std::vector<double> row{step.time, static_cast<double>(c.definition().id), double(side + 1)};
         for (const Vec3* v : {&r.force, &m, &p}) row.insert(row.end(), v->data(), v->data() + 3);

@@ -96,4 +96,10 @@ python3 "$tools/make_punch_deck.py" --spacing 1e-3 --end-time 2e-5 --outputs 2 >
 awk '/^last quarter/ { f = $4; m = $7 } END { exit !(f > 0 && m < 0) }' "$work/forces" ||
   fail "punch forces: $(cat "$work/forces")"
 head -c 8 "$work/torque.png" | od -An -tx1 | tr -d ' \n' | grep -qx '89504e470d0a1a0a' || fail "torque.png is not a PNG"
+# *DATABASE_RCFORC_MOMENT: side 2's moments about the middle of the punch's face (on the axis,
+# plunged along -z), side 1's about the origin.
+awk -F, 'NR > 1 && $3 == 2 && $1 > 0 { if ($10 * $10 + $11 * $11 > 1e-20 || !($12 < 0)) bad = 1; seen = 1 }
+         NR > 1 && $3 == 1 && ($10 != 0 || $11 != 0 || $12 != 0) { bad = 1 }
+         END { exit !(seen && !bad) }' "$work/punch/rcforc.csv" ||
+  fail "rcforc.csv moment points: $(tail -2 "$work/punch/rcforc.csv")"
 echo "examples: OK"

@@ -509,6 +509,25 @@ TEST(keyword_contact, DatabaseRcforc) {
             prefix(folder, next_line(base_deck) + 1, "*DATABASE_RCFORC") + "LCUR: curve 7 is not defined");
 }
 
+TEST(keyword_contact, DatabaseRcforcMoment) {
+  // CID NODESA NODESB, one card per contact; the nodes are resolved, and the contact found, when
+  // the problem is built (test_examples runs a deck with it and reads the point from rcforc.csv).
+  DeckFolder folder;
+  const auto model =
+      read_deck(folder.write("moment.k", "*DATABASE_RCFORC_MOMENT\n" + row({"1", "0", "12"}) + row({"4", "3"})));
+  ASSERT_EQ(model.rcforc_moments.size(), 2u);
+  EXPECT_EQ(model.rcforc_moments[0].cid, 1);
+  EXPECT_EQ(model.rcforc_moments[0].nodes_a, 0);
+  EXPECT_EQ(model.rcforc_moments[0].nodes_b, 12);
+  EXPECT_EQ(model.rcforc_moments[1].nodes_a, 3);
+  EXPECT_EQ(model.rcforc_moments[1].nodes_b, 0);  // blank
+  EXPECT_EQ(model.rcforc_moments[1].where.line, 3);
+  EXPECT_EQ(read_error(folder, "*DATABASE_RCFORC_MOMENT\n" + row({"0", "1"})),
+            prefix(folder, 2, "*DATABASE_RCFORC_MOMENT") + "field CID: '0' must be greater than 0");
+  EXPECT_EQ(read_error(folder, "*DATABASE_RCFORC_MOMENT\n" + row({"1", "-2"})),
+            prefix(folder, 2, "*DATABASE_RCFORC_MOMENT") + "field NODESA: '-2' is negative");
+}
+
 // The public deck pydyna_mech.k (shared/, beside the checkout; absent in a plain clone): its
 // *CONTACT_NODES_TO_SURFACE, *CONTROL_CONTACT and *DATABASE_RCFORC as written there.
 TEST(keyword_contact, PublicPydynaMechDeck) {

@@ -100,6 +100,20 @@ TEST_P(RotatingPunch, NoTorqueWithoutFriction) {
   EXPECT_LT(std::abs(load.torque), 1e-12 * load.thrust * radius) << body_name(GetParam());
 }
 
+TEST(RotatingPunchDeck, RcforcMomentNamesAContactAndNodesThatExist) {
+  log::set_quiet(true);
+  test::DeckFolder folder;
+  auto error_of = [&](const std::string& card) {
+    std::string deck = punch_deck(Body::fem, 0.3);
+    deck.insert(deck.rfind("*END"), "*DATABASE_RCFORC_MOMENT\n" + card);
+    return test::input_error_of([&] { solver::build_problem(io::keyword::read_deck(folder.write("bad.k", deck))); });
+  };
+  EXPECT_EQ(error_of(row({"1", "0", "100001"})), "");
+  EXPECT_NE(error_of(row({"9", "0", "100001"})).find("*DATABASE_RCFORC_MOMENT: CID 9: no contact has that ID"),
+            std::string::npos);
+  EXPECT_NE(error_of(row({"1", "777"})).find("NODESA: node 777 does not exist"), std::string::npos);
+}
+
 INSTANTIATE_TEST_SUITE_P(Bodies, RotatingPunch, ::testing::Values(Body::fem, Body::spg),
                          [](const auto& info) { return std::string(body_name(info.param)); });
 

@@ -48,6 +48,9 @@ class PenaltyContact {
     // The rigid body (index in the node store's `body`) that all of side A's, and of side B's,
     // nodes belong to, or NodeStore::no_body: rcforc.csv takes a body's moments about its centre.
     std::array<std::int32_t, 2> side_body{discretization::NodeStore::no_body, discretization::NodeStore::no_body};
+    // *DATABASE_RCFORC_MOMENT: the node (store index) about which rcforc.csv takes each side's
+    // moment instead, or -1.
+    std::array<Index, 2> moment_node{-1, -1};
   };
 
   // One search of slave nodes against master segments; a surface-to-surface contact makes two.
@@ -81,6 +84,7 @@ class PenaltyContact {
   void book_energies(discretization::EnergyLedger& ledger, std::span<const Vec3> v, Real dt) const;
 
   const Definition& definition() const { return definition_; }
+  void set_moment_nodes(const std::array<Index, 2>& nodes) { definition_.moment_node = nodes; }
   const Resultant& side_a() const { return side_[0]; }
   const Resultant& side_b() const { return side_[1]; }
   // How many slave nodes touch a segment now.

@@ -399,9 +399,26 @@ std::vector<PenaltyContact> build_contacts(const model::Model& model,
                                            const discretization::NodeStore& nodes,
                                            const std::vector<Id>& part_of_node) {
   std::vector<PenaltyContact> contacts;
-  if (model.contacts.empty()) return contacts;
+  if (model.contacts.empty() && model.rcforc_moments.empty()) return contacts;
   Builder builder(model, index_of_node, nodes, part_of_node);
   for (std::size_t c = 0; c < model.contacts.size(); ++c) contacts.push_back(builder.build(model.contacts[c], c));
+  // *DATABASE_RCFORC_MOMENT: the nodes of the contact with that ID.
+  for (const auto& moment : model.rcforc_moments) {
+    const char* keyword = "*DATABASE_RCFORC_MOMENT";
+    auto contact = std::find_if(contacts.begin(), contacts.end(),
+                                [&](const PenaltyContact& c) { return c.definition().id == moment.cid; });
+    if (contact == contacts.end()) fail_at(moment.where, keyword, fmt::format("CID {}: no contact has that ID", moment.cid));
+    std::array<Index, 2> nodes_of{-1, -1};
+    for (int side = 0; side < 2; ++side) {
+      const Id id = side == 0 ? moment.nodes_a : moment.nodes_b;
+      if (id == 0) continue;
+      auto it = index_of_node.find(id);
+      if (it == index_of_node.end())
+        fail_at(moment.where, keyword, fmt::format("{}: node {} does not exist", side == 0 ? "NODESA" : "NODESB", id));
+      nodes_of[side] = it->second;
+    }
+    contact->set_moment_nodes(nodes_of);
+  }
   return contacts;
 }
 

@@ -364,6 +364,14 @@ struct Contact {
   SourceLocation where_card2, where_card3;
 };
 
+// *DATABASE_RCFORC_MOMENT: the nodes about which rcforc.csv takes contact CID's moments on side
+// A (NODESA) and side B (NODESB); 0: the default point (the side's rigid-body centre, or the origin).
+struct RcforcMoment {
+  Id cid = 0;
+  Id nodes_a = 0, nodes_b = 0;
+  SourceLocation where;
+};
+
 // *CONTROL_CONTACT: the defaults every contact shares.
 struct ControlContact {
   Real slsfac = 0.1;  // scale of the penalty stiffness (0 -> 0.1)
@@ -553,6 +561,7 @@ struct Model {
   std::vector<ConstrainedRigidBodies> merged_rigid_bodies;
   std::vector<Contact> contacts;
   std::optional<ControlContact> control_contact;
+  std::vector<RcforcMoment> rcforc_moments;
 
   std::optional<ControlTermination> termination;
   ControlTimestep timestep;

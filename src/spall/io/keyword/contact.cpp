@@ -325,6 +325,24 @@ void read_contact(CardCursor& cursor, const KeywordCall& call, model::Model& mod
   model.contacts.push_back(std::move(contact));
 }
 
+// *DATABASE_RCFORC_MOMENT: one card CID NODESA NODESB per contact.
+void read_database_rcforc_moment(CardCursor& cursor, const KeywordCall&, model::Model& model) {
+  while (true) {
+    cursor.skip_blank_lines();
+    if (cursor.done()) break;
+    const Card card = cursor.next(standard_fields, "card (CID NODESA NODESB)");
+    model::RcforcMoment moment;
+    moment.cid = card.required_integer(0, "CID");
+    moment.nodes_a = card.integer(1, "NODESA", 0);
+    moment.nodes_b = card.integer(2, "NODESB", 0);
+    if (moment.cid <= 0) card.fail("CID", quoted(card.text(0)) + " must be greater than 0");
+    if (moment.nodes_a < 0) card.fail("NODESA", quoted(card.text(1)) + " is negative");
+    if (moment.nodes_b < 0) card.fail("NODESB", quoted(card.text(2)) + " is negative");
+    moment.where = card.where();
+    model.rcforc_moments.push_back(moment);
+  }
+}
+
 void read_control_contact(CardCursor& cursor, const KeywordCall&, model::Model& model) {
   const Card card1 = cursor.next(standard_fields, "card 1 (SLSFAC RWPNAL ISLCHK SHLTHK PENOPT THKCHG ORIEN ENMASS)");
   if (model.control_contact)

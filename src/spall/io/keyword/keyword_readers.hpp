@@ -111,6 +111,7 @@ void read_database_binary_d3plot(CardCursor&, const KeywordCall&, model::Model&)
 void read_database_glstat(CardCursor&, const KeywordCall&, model::Model&);
 void read_database_rwforc(CardCursor&, const KeywordCall&, model::Model&);
 void read_database_rcforc(CardCursor&, const KeywordCall&, model::Model&);
+void read_database_rcforc_moment(CardCursor&, const KeywordCall&, model::Model&);
 void read_database_rbdout(CardCursor&, const KeywordCall&, model::Model&);
 
 }  // namespace spall::io::keyword

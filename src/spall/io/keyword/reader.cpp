@@ -87,6 +87,7 @@ constexpr SupportedKeyword supported_keywords[] = {
     {"DATABASE_GLSTAT", read_database_glstat},
     {"DATABASE_RWFORC", read_database_rwforc},
     {"DATABASE_RCFORC", read_database_rcforc},
+    {"DATABASE_RCFORC_MOMENT", read_database_rcforc_moment},
     {"DATABASE_RBDOUT", read_database_rbdout},
 };
 
