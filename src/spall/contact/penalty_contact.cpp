@@ -48,7 +48,6 @@ void PenaltyContact::apply(NodeStore& nodes, Real t, Real dt) {
   side_[0] = side_[1] = Resultant{};
   const bool alive = t >= definition_.birth && t <= definition_.death;
   for (auto& state : passes_) {
-    state.previous.clear();
     if (!alive) {
       state.touches.clear();  // friction history ends with the contact
       continue;

@@ -60,7 +60,7 @@ HexGradient hex_gradient(const HexVectors& x);
 //   whose area by its diagonals (exact for a plane face) is 4 |(a1 - a5) x (a2 - a4)|; the others alike;
 // - 2 V / sqrt(lambda_max(S)), S = sum_k g_k g_k^T: the highest frequency of one free element of
 //   uniform gradient with lumped masses rho V / 8 is omega^2 = 8 (lambda + 2 mu) lambda_max(G) / rho
-//   with G = sum_I b_I b_I^T / V^2 = S / (8 V^2) (exact for nu = 0; docs/THEORY.md §10.4), so that
+//   with G = sum_I b_I b_I^T / V^2 = S / (8 V^2) (exact for nu = 0; docs/THEORY.md §10.2), so that
 //   2 / omega = L / c with L = 1 / sqrt(2 lambda_max(G)). Both are the edge of a cube; a distorted
 //   element (the corners of a disc meshed as a mapped square) is stiffer than its faces say (0.73
 //   of V / A_max there), and the first alone let such a mesh blow up. lambda_max(S) is bounded by
