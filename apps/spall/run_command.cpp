@@ -128,6 +128,7 @@ int run_deck(const RunOptions& options) {
   // glstat.csv: time, dt, the energy ledger's terms (whoever produces a term registers it in the
   // first step, before the first row), the total and the energy ratio.
   std::optional<io::output::CsvHistory> glstat;
+  std::vector<std::pair<std::string, double>> reported;  // the masses of glstat's last row, for run.json
   // Forces on the rigid walls, one row per wall and output time; only when the deck has walls.
   std::optional<io::output::CsvHistory> rwforc;
   if (!problem.rigid_walls.empty())
@@ -189,6 +190,9 @@ int run_deck(const RunOptions& options) {
     }
     std::vector<double> row{step.time, step.dt};
     for (const auto& term : e.terms()) row.push_back(term.value);
+    reported.clear();
+    for (const auto& term : e.terms())
+      if (term.role == discretization::EnergyLedger::Role::reported) reported.emplace_back(term.name, term.value);
     row.push_back(e.total());
     row.push_back(e.ratio());
     glstat->append(row);
@@ -235,6 +239,7 @@ int run_deck(const RunOptions& options) {
   info.deck = fs::absolute(options.deck).string();
   info.threads = parallel::thread_count();
   info.nodes = nodes;
+  for (Real m : problem.nodes.mass) info.initial_mass += m;
   int code = exit_success;
   solver::TimeLoop loop(problem, observer);
   try {
@@ -263,6 +268,7 @@ int run_deck(const RunOptions& options) {
     code = exit_unstable;
   }
   info.wall_seconds = progress.elapsed_seconds();
+  info.masses = std::move(reported);
   for (int p = 0; p < static_cast<int>(solver::Phase::count); ++p) {
     const auto phase = static_cast<solver::Phase>(p);
     info.phases.emplace_back(solver::phase_name(phase), loop.phases()[phase]);

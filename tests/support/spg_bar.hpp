@@ -4,6 +4,7 @@
 // Elastic Solids, §2.1). Started with v(x, 0) = V cos(pi x / L), the kinetic energy first vanishes
 // at a quarter period t = L / (2 c).
 #include <cmath>
+#include <functional>
 #include <omp.h>
 #include <vector>
 
@@ -13,7 +14,7 @@
 namespace spall::test_support {
 
 struct BarHistory {
-  std::vector<Real> time, kinetic;
+  std::vector<Real> time, kinetic, dt;
   solver::RunSummary summary;
 };
 
@@ -26,9 +27,12 @@ inline SpgBlock spg_bar(int elements_along) {
 
 inline Real bar_quarter_period(const SpgBlock& b) { return b.size.x() / (2 * std::sqrt(b.young / b.density)); }
 
-inline BarHistory run_spg_bar(SpgBlock b, Real end_time, Real tssfac = 0.9) {
+// `edit` changes the model before the run (a control card, say).
+inline BarHistory run_spg_bar(SpgBlock b, Real end_time, Real tssfac = 0.9,
+                              const std::function<void(model::Model&)>& edit = {}) {
   b.end_time = end_time;
   model::Model m = spg_block_model(b);
+  if (edit) edit(m);
   for (const auto& node : m.nodes) {
     model::InitialVelocityNode iv;
     iv.nid = node.id;
@@ -43,6 +47,7 @@ inline BarHistory run_spg_bar(SpgBlock b, Real end_time, Real tssfac = 0.9) {
   observer.on_history = [&](const solver::StepInfo& s, const discretization::EnergyLedger& e) {
     h.time.push_back(s.time);
     h.kinetic.push_back(e.kinetic());
+    h.dt.push_back(s.dt);
   };
   h.summary = solver::run(problem, observer);
   return h;

@@ -281,6 +281,8 @@ TEST_F(OutputTest, RunJsonEscapesStrings) {
   info.end_time = 0.1;
   info.wall_seconds = std::numeric_limits<double>::quiet_NaN();
   info.nodes = 1000;
+  info.initial_mass = 2.5;
+  info.masses = {{"added_mass", 0.5}};
   info.status = "completed";
   info.phases = {{"internal_forces", 1.5}, {"output", 0.25}};
   write_run_json(path, info);
@@ -294,6 +296,7 @@ TEST_F(OutputTest, RunJsonEscapesStrings) {
             "  \"end_time\": 0.10000000000000001,\n"
             "  \"wall_seconds\": null,\n"
             "  \"nodes\": 1000,\n"
+            "  \"mass\": {\"initial\": 2.5, \"added_mass\": 0.5},\n"
             "  \"phases\": {\"internal_forces\": 1.5, \"output\": 0.25},\n"
             "  \"status\": \"completed\"\n"
             "}\n");

@@ -17,7 +17,7 @@ namespace spall::discretization {
 class EnergyLedger {
  public:
   // reported: a quantity glstat shows beside the energies that is not part of the balance (the
-  // mass eroded elements took away).
+  // mass eroded elements took away, the mass DT2MS added).
   enum class Role { kinetic, stored, dissipated, external, reported };
 
   struct Term {
@@ -59,6 +59,7 @@ class EnergyLedger {
   static constexpr std::string_view eroded_kinetic_energy = "eroded_kinetic_energy";
   static constexpr std::string_view eroded_internal_energy = "eroded_internal_energy";
   static constexpr std::string_view eroded_mass = "eroded_mass";
+  static constexpr std::string_view added_mass = "added_mass";
 
  private:
   Term& term(std::string_view name, Role role);

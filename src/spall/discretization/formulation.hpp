@@ -41,6 +41,13 @@ class Formulation {
   // *CONTROL_TIMESTEP ERODE: from now on, delete the elements (or particles) whose own stable step
   // falls below `step` rather than let the run stop. A formulation that cannot delete ignores it.
   virtual void erode_below(Real /*step*/) {}
+
+  // *CONTROL_TIMESTEP DT2MS < 0, LS-DYNA's conventional mass scaling: from now on, an element (a
+  // particle) whose own stable step is below `step` gets the mass that raises its step to `step`;
+  // the mass goes to its nodes and stays there, and book_energies reports it as added_mass. With
+  // `first_step_only` (MS1ST) only the first step adds mass. False from a formulation that cannot
+  // scale its mass.
+  virtual bool scale_mass_below(Real /*step*/, bool /*first_step_only*/) { return false; }
 };
 
 }  // namespace spall::discretization

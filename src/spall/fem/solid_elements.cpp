@@ -38,6 +38,19 @@ Real element_time_step(Real length, Real c, Real volume_rate, const PartSettings
   return length / (q + std::sqrt(q * q + c * c));
 }
 
+// DT2MS (THEORY §1, mass scaling): the sound speed c' at which element_time_step(l, c', tr D) is `step`. With
+// Q = Q2 c' + a, a = Q1 l |tr D| while the element shrinks, l / (Q + sqrt(Q^2 + c'^2)) = step is
+// c'^2 + 2 s Q2 c' + 2 s a - s^2 = 0, s = l / step; never below s / 2 (an element collapsing so fast
+// that its viscosity holds its step near or below `step` keeps a smaller step rather than take
+// unbounded mass).
+Real sound_speed_for_step(Real length, Real step, Real volume_rate, const PartSettings& part) {
+  const Real s = length / step;
+  if (!(volume_rate < 0)) return s;
+  const Real a = -part.bulk_quadratic * length * volume_rate, b = part.bulk_linear;
+  const Real discriminant = s * s * (b * b + 1) - 2 * s * a;
+  return discriminant > 0 ? std::max(-s * b + std::sqrt(discriminant), s / 2) : s / 2;
+}
+
 // Bulk viscosity q = rho l (Q1 l tr(D)^2 - Q2 c tr(D)) while tr(D) < 0, l = V^(1/3) (LS-DYNA's
 // solid elements; the SPG particles use the same form with their spacing).
 Real bulk_viscosity(Real rho, Real l, Real c, Real volume_rate, const PartSettings& part) {
@@ -219,8 +232,7 @@ Mat3 basis_gradient(const HexVectors& u, const HexVectors& g) {
 // v^{n-1/2}), the material update of its points, and its forces at x^n added to the three force
 // shares. Returns its stable step, or -1 when its volume is no longer positive.
 template <>
-Real SolidElements::element_step<Kind::hexahedron>(Block& block, Index e, const discretization::NodeStore& nodes,
-                                                   Real dt) {
+Real SolidElements::element_step<Kind::hexahedron>(Block& block, Index e, discretization::NodeStore& nodes, Real dt) {
   const Index* local = &block.node[8 * e];
   const PartSettings& part = parts_[block.part[e]];
   const auto [x, v] = gather<8>(local, node_, nodes);
@@ -235,7 +247,7 @@ Real SolidElements::element_step<Kind::hexahedron>(Block& block, Index e, const 
   materials::PointThermo& thermo = block.thermo[e];
   if (dt > 0) materials::advance_point(part.material, state, thermo, L, dt, rho);
   const Real c = thermo.sound_speed;
-  const Real stable_step = element_time_step(hex_characteristic_length(a, now.g, volume), c, volume_rate, part);
+  const Real stable_step = scaled_step(block, e, hex_characteristic_length(a, now.g, volume), c, volume_rate, nodes);
   if (fails(block, e, L, dt, stable_step)) return -2;
   const Real l = cube_root(volume);  // the length of the bulk viscosity and the hourglass control
   const Real q = bulk_viscosity(rho, l, c, volume_rate, part);
@@ -300,7 +312,7 @@ Real SolidElements::element_step<Kind::hexahedron>(Block& block, Index e, const 
 // stress; the forces -integral S grad N_I dV by the same rule plus the mean pressure's p b_I.
 template <>
 Real SolidElements::element_step<Kind::hexahedron_selective_reduced>(Block& block, Index e,
-                                                                     const discretization::NodeStore& nodes, Real dt) {
+                                                                     discretization::NodeStore& nodes, Real dt) {
   const Index* local = &block.node[8 * e];
   const PartSettings& part = parts_[block.part[e]];
   const auto [x, v] = gather<8>(local, node_, nodes);
@@ -335,7 +347,7 @@ Real SolidElements::element_step<Kind::hexahedron_selective_reduced>(Block& bloc
     c = std::max(c, thermo[g].sound_speed);
   }
   pressure /= volume;  // the Gauss points' weights sum to the volume (det J integrated exactly)
-  const Real stable_step = element_time_step(hex_characteristic_length(a, now.g, volume), c, volume_rate, part);
+  const Real stable_step = scaled_step(block, e, hex_characteristic_length(a, now.g, volume), c, volume_rate, nodes);
   const Mat3 L = part.erosion.needs_strain() ? Mat3(basis_gradient(av, half.g) / half.volume) : Mat3::Zero();
   if (fails(block, e, L, dt, stable_step)) return -2;
   const Real q = bulk_viscosity(rho, cube_root(volume), c, volume_rate, part);
@@ -357,8 +369,7 @@ Real SolidElements::element_step<Kind::hexahedron_selective_reduced>(Block& bloc
 
 // The constant-strain tetrahedron (ELFORM 10): b_I exact, one point.
 template <>
-Real SolidElements::element_step<Kind::tetrahedron>(Block& block, Index e, const discretization::NodeStore& nodes,
-                                                    Real dt) {
+Real SolidElements::element_step<Kind::tetrahedron>(Block& block, Index e, discretization::NodeStore& nodes, Real dt) {
   const Index* local = &block.node[4 * e];
   const PartSettings& part = parts_[block.part[e]];
   const auto [x, v] = gather<4>(local, node_, nodes);
@@ -375,7 +386,7 @@ Real SolidElements::element_step<Kind::tetrahedron>(Block& block, Index e, const
   materials::PointThermo& thermo = block.thermo[e];
   if (dt > 0) materials::advance_point(part.material, state, thermo, L, dt, rho);
   const Real c = thermo.sound_speed;
-  const Real stable_step = element_time_step(tet_characteristic_length(now), c, volume_rate, part);
+  const Real stable_step = scaled_step(block, e, tet_characteristic_length(now), c, volume_rate, nodes);
   if (fails(block, e, L, dt, stable_step)) return -2;
   const Real q = bulk_viscosity(rho, cube_root(volume), c, volume_rate, part);
   const Mat3 sigma = state.deviatoric_stress - thermo.pressure * Mat3::Identity();
@@ -385,6 +396,26 @@ Real SolidElements::element_step<Kind::tetrahedron>(Block& block, Index e, const
   scatter(f_bulk, local, bulk_force_);
   block.volume[e] = volume;
   return stable_step;
+}
+
+// DT2MS (THEORY §1, mass scaling): an element f times heavier has the sound speed c / sqrt(f); one whose step is
+// below the target gets the f that brings it there, (f - 1) m more mass shared by its nodes (the
+// element's colour owns them in this pass) and kept from then on. Its material keeps its density.
+Real SolidElements::scaled_step(Block& block, Index e, Real length, Real c, Real volume_rate,
+                                discretization::NodeStore& nodes) {
+  const PartSettings& part = parts_[block.part[e]];
+  if (block.mass_scale.empty()) return element_time_step(length, c, volume_rate, part);
+  Real& f = block.mass_scale[e];
+  if (mass_scaling_.active) {
+    const Real ratio = c / sound_speed_for_step(length, mass_scaling_.step, volume_rate, part);
+    if (ratio * ratio > f) {
+      const int per = block.nodes_per_element;
+      const Real added = (ratio * ratio - f) * block.mass[e] / per;
+      for (int a = 0; a < per; ++a) nodes.mass[node_[block.node[per * e + a]]] += added;
+      f = ratio * ratio;
+    }
+  }
+  return element_time_step(length, c / std::sqrt(f), volume_rate, part);
 }
 
 bool SolidElements::fails(Block& block, Index e, const Mat3& L, Real dt, Real stable_step) {
@@ -443,6 +474,8 @@ void SolidElements::remove_eroded(discretization::NodeStore& nodes) {
       block.eroded[e] = 2;
       const PartSettings& part = parts_[block.part[e]];
       const Real m = block.mass[e];
+      // What its nodes lose: the mass DT2MS added too.
+      const Real nodal = (block.mass_scale.empty() ? m : block.mass_scale[e] * m) / per;
       Real internal = 0;
       for (int g = 0; g < points; ++g)
         internal += block.thermo[points * e + g].specific_energy - part.material.initial_specific_energy;
@@ -450,8 +483,8 @@ void SolidElements::remove_eroded(discretization::NodeStore& nodes) {
       eroded_mass_ += m;
       for (int a = 0; a < per; ++a) {
         const Index k = block.node[per * e + a], i = node_[k];
-        eroded_kinetic_step_ += Real(0.5) * (m / per) * nodes.v[i].squaredNorm();
-        nodes.mass[i] -= m / per;
+        eroded_kinetic_step_ += Real(0.5) * nodal * nodes.v[i].squaredNorm();
+        nodes.mass[i] -= nodal;
         if (--live_elements_[k] == 0) {
           nodes.mass[i] = other_mass_[k];  // the share of other formulations, exactly
           if (!(nodes.mass[i] > 0)) nodes.mass[i] = 0, nodes.active[i] = 0;
@@ -514,6 +547,17 @@ void SolidElements::compute_forces(discretization::NodeStore& nodes, Real dt) {
                                          "may help)", parts_[block.part[e]].part_id, block.id[e]));
   }
   if (found.eroding > 0) remove_eroded(nodes);
+  if (mass_scaling_.active) {
+    Real added = 0;
+    for (const Block& block : blocks_)
+      added += parallel::ordered_sum(block.size(), [&](Index e) { return (block.mass_scale[e] - 1) * block.mass[e]; },
+                                     Real(0));
+    added_mass_step_ = added - added_mass_;
+    added_mass_ = added;
+    mass_scaling_.active = !mass_scaling_.first_step_only;
+  } else {
+    added_mass_step_ = 0;
+  }
   parallel::for_each(static_cast<Index>(node_.size()), [&](Index k) {
     nodes.f[node_[k]] += force_[k] + bulk_force_[k] + (hourglass ? hourglass_force_[k] : Vec3::Zero());
   }, element_loops);
@@ -522,6 +566,12 @@ void SolidElements::compute_forces(discretization::NodeStore& nodes, Real dt) {
 }
 
 Real SolidElements::stable_time_step(const discretization::NodeStore&) const { return stable_step_; }
+
+bool SolidElements::scale_mass_below(Real step, bool first_step_only) {
+  mass_scaling_ = {step, true, first_step_only};
+  for (Block& block : blocks_) block.mass_scale.assign(block.size(), 1);
+  return true;
+}
 
 void SolidElements::book_energies(discretization::EnergyLedger& ledger, std::span<const Vec3> v, Real dt) const {
   using Ledger = discretization::EnergyLedger;
@@ -544,6 +594,7 @@ void SolidElements::book_energies(discretization::EnergyLedger& ledger, std::spa
     ledger.add(Ledger::eroded_internal_energy, Ledger::Role::dissipated, eroded_internal_step_);
     ledger.set(Ledger::eroded_mass, Ledger::Role::reported, eroded_mass_);
   }
+  if (mass_scaling_.step > 0) ledger.add(Ledger::added_mass, Ledger::Role::reported, added_mass_step_);
 }
 
 void SolidElements::write_fields(discretization::FieldSet& fields, const discretization::NodeStore&) const {
@@ -629,7 +680,7 @@ std::size_t SolidElements::memory_bytes() const {
     total += bytes(b.node) + bytes(b.part) + bytes(b.id) + bytes(b.mass) + bytes(b.state) + bytes(b.thermo) +
              bytes(b.volume) + bytes(b.hourglass_energy) + bytes(b.hourglass_force) +
              bytes(b.colour_offset) + bytes(b.colour_element) + bytes(b.eroded) + bytes(b.strain) +
-             bytes(b.effective_strain);
+             bytes(b.effective_strain) + bytes(b.mass_scale);
   return total;
 }
 

@@ -103,6 +103,7 @@ class SolidElements final : public discretization::Formulation {
     erode_enabled_ = true;
     erosion_step_ = step;
   }
+  bool scale_mass_below(Real step, bool first_step_only) override;
 
   Index element_count() const;
   Index eroded_count() const;
@@ -119,6 +120,7 @@ class SolidElements final : public discretization::Formulation {
     std::vector<std::int32_t> part;
     std::vector<Id> id;
     std::vector<Real> mass;
+    std::vector<Real> mass_scale;  // DT2MS: the factor f >= 1 on the element's mass (empty without)
     std::vector<materials::PointState> state;   // points_per_element per element
     std::vector<materials::PointThermo> thermo;  // points_per_element per element
     std::vector<Real> volume;
@@ -135,10 +137,12 @@ class SolidElements final : public discretization::Formulation {
  private:
   // One element's step (solid_elements.cpp): its stable step, or -1 once it inverted.
   template <Kind kind>
-  Real element_step(Block& block, Index e, const discretization::NodeStore& nodes, Real dt);
+  Real element_step(Block& block, Index e, discretization::NodeStore& nodes, Real dt);
   // Whether element e fails *MAT_ADD_EROSION or its material's failure after the step with mean
   // velocity gradient L, and (ERODE) whether its stable step is below erosion_step_.
   bool fails(Block& block, Index e, const Mat3& L, Real dt, Real stable_step);
+  // The element's stable step with its length and sound speed, after DT2MS raised its mass.
+  Real scaled_step(Block& block, Index e, Real length, Real c, Real volume_rate, discretization::NodeStore& nodes);
   // Takes the elements deleted during this step out: their mass from their nodes, their energies
   // into the eroded terms.
   void remove_eroded(discretization::NodeStore& nodes);
@@ -159,6 +163,12 @@ class SolidElements final : public discretization::Formulation {
   // This step's deletions (booked by book_energies) and the totals.
   Real eroded_kinetic_step_ = 0, eroded_internal_step_ = 0;
   Real eroded_mass_ = 0;
+  struct MassScaling {
+    Real step = 0;             // the target stable step, |DT2MS|
+    bool active = false;       // mass is added on this step
+    bool first_step_only = false;
+  } mass_scaling_;
+  Real added_mass_ = 0, added_mass_step_ = 0;  // DT2MS: in all, and on this step
   bool may_erode_ = false;       // some part has an erosion criterion or a material that fails
   bool erode_enabled_ = false;   // ERODE
 };

@@ -42,6 +42,7 @@ class Builder {
     build_loads();
     build_rigid_walls();
     build_controls();
+    if (problem_.controls.mass_scaling_step > 0) scale_masses();
     return std::move(problem_);
   }
 
@@ -468,8 +469,17 @@ class Builder {
     if (!(c.tssfac > 0)) fail_at(ts.where, "*CONTROL_TIMESTEP", "TSSFAC: a curve (negative TSSFAC) is not supported yet");
     c.dt_initial = ts.dtinit;
     c.max_dt_curve = curve(ts.lctm, ts.where, "*CONTROL_TIMESTEP", "LCTM");
-    if (ts.dt2ms != 0) fail_at(ts.where, "*CONTROL_TIMESTEP", "DT2MS: mass scaling is not supported yet");
-    if (ts.ms1st != 0) fail_at(ts.where, "*CONTROL_TIMESTEP", "MS1ST: mass scaling is not supported yet");
+    if (ts.dt2ms > 0)
+      fail_at(ts.where, "*CONTROL_TIMESTEP",
+              "DT2MS > 0 (every element brought to one step, mass taken from the large ones) is not supported; a "
+              "negative DT2MS adds mass only where the step is below |DT2MS|");
+    if (ts.ms1st != 0 && ts.ms1st != 1)
+      fail_at(ts.where, "*CONTROL_TIMESTEP", fmt::format("MS1ST: {} is not 0 or 1", ts.ms1st));
+    if (ts.ms1st == 1 && ts.dt2ms == 0)
+      log::warning(fmt::format("{}:{}: *CONTROL_TIMESTEP: MS1ST 1 does nothing without a negative DT2MS", ts.where.file,
+                               ts.where.line));
+    c.mass_scaling_step = -ts.dt2ms;
+    c.end_mass_percent = term.endmas;
     c.erode = ts.erode % 10 == 1;
     if (model_.d3plot) {
       const auto& d = *model_.d3plot;
@@ -494,6 +504,16 @@ class Builder {
     if (model_.bulk_viscosity.type != 1 && model_.bulk_viscosity.type != -1 && !model_.sph_elements.empty())
       fail_at(model_.bulk_viscosity.where, "*CONTROL_BULK_VISCOSITY",
               fmt::format("TYPE {}: only the standard type 1 is supported", model_.bulk_viscosity.type));
+  }
+
+  // *CONTROL_TIMESTEP DT2MS < 0: every formulation that can adds mass where its step is below |DT2MS|.
+  void scale_masses() {
+    const auto& ts = model_.timestep;
+    for (auto& f : problem_.formulations)
+      if (!f->scale_mass_below(problem_.controls.mass_scaling_step, ts.ms1st == 1))
+        log::warning(fmt::format("{}:{}: *CONTROL_TIMESTEP: DT2MS: the {} particles keep their mass (their density is "
+                                 "the sum of the masses around them) and their own step still limits the run",
+                                 ts.where.file, ts.where.line, f->name()));
   }
 
   // The interval of a history (*DATABASE_RWFORC, _RCFORC, _RBDOUT): GLSTAT's without the card.

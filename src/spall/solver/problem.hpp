@@ -38,6 +38,8 @@ struct RunControls {
   bool erode = false;          // ERODE: delete solids below DTMIN * dt_initial (and inverted ones) instead
   Real end_energy = 0;         // stop when the energy ratio changes by ENDENG percent (0: off)
   Real tssfac = 0.9;
+  Real mass_scaling_step = 0;  // |DT2MS| of a negative DT2MS: the step mass scaling brings elements to (0: off)
+  Real end_mass_percent = 1e8;  // ENDMAS: stop when the added mass reaches this percentage of the initial mass
   Real dt_initial = 0;         // DTINIT (0: from the stable step)
   const model::Curve* max_dt_curve = nullptr;  // LCTM
   Real d3plot_dt = 0;

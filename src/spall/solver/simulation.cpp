@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <limits>
 
+#include "spall/core/log.hpp"
 #include "spall/core/parallel.hpp"
 
 namespace spall::solver {
@@ -67,6 +68,7 @@ class TimeLoop::Step {
     rcforc_ = {controls_.rcforc_dt, controls_.rcforc_dt_curve};
     rbdout_ = {controls_.rbdout_dt, controls_.rbdout_dt_curve};
     runaway_speed_limit_ = runaway_speed_limit();
+    initial_mass_ = parallel::ordered_sum(nodes_.size(), [&](Index i) { return nodes_.mass[i]; }, Real(0));
     parallel::for_each(nodes_.size(), [&](Index i) { nodes_.f[i] = Vec3::Zero(); });
   }
 
@@ -290,6 +292,12 @@ class TimeLoop::Step {
       observer_.on_rigid_bodies(step_, problem_.rigid_bodies);
     if (observer_.on_step) observer_.on_step(step_);
     if (last) return false;
+    if (controls_.mass_scaling_step > 0 &&
+        100 * ledger_.value(discretization::EnergyLedger::added_mass) > controls_.end_mass_percent * initial_mass_) {
+      log::info(fmt::format("ENDMAS: the mass DT2MS added is above {:g} % of the initial mass at step {}, time {:.6g}: "
+                            "the run ends", controls_.end_mass_percent, step_.step, step_.time));
+      return false;
+    }
     return !(controls_.end_energy > 0 && 100 * std::abs(ledger_.ratio() - 1) > controls_.end_energy);
   }
 
@@ -316,6 +324,7 @@ class TimeLoop::Step {
   Real dt_previous_ = 0, dt_first_ = 0, dt_mid_ = 0, velocity_weight_ = 0.5;
   Vec3 base_acceleration_ = Vec3::Zero(), damping_ = Vec3::Zero();
   Real runaway_speed_limit_ = std::numeric_limits<Real>::infinity();
+  Real initial_mass_ = 0;  // the nodes' mass before DT2MS adds any (ENDMAS)
   OutputSchedule field_output_, history_, rwforc_, rcforc_, rbdout_;
   EnergyLedger ledger_;
   PhaseTimes phases_;

@@ -27,6 +27,16 @@ discretization::InternalPower SpgFormulation::internal_power(std::span<const Vec
 
 void SpgFormulation::book_energies(discretization::EnergyLedger& ledger, std::span<const Vec3> v, Real dt) const {
   discretization::book_internal_power(ledger, internal_power(v), dt);
+  if (!mass_scaled_) return;
+  Real added = 0;
+  for (const auto& part : parts_) added += part.added_mass_step();
+  ledger.add(discretization::EnergyLedger::added_mass, discretization::EnergyLedger::Role::reported, added);
+}
+
+bool SpgFormulation::scale_mass_below(Real step, bool first_step_only) {
+  for (auto& part : parts_) part.scale_mass_below(step, first_step_only);
+  mass_scaled_ = true;
+  return true;
 }
 
 void SpgFormulation::write_fields(discretization::FieldSet& fields, const discretization::NodeStore&) const {

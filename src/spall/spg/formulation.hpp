@@ -21,6 +21,7 @@ class SpgFormulation final : public discretization::Formulation {
   // The power of the last internal forces at the node velocities v.
   discretization::InternalPower internal_power(std::span<const Vec3> v) const;
   Real max_wave_speed() const override;
+  bool scale_mass_below(Real step, bool first_step_only) override;
 
   const std::vector<Part>& parts() const { return parts_; }
   Index particle_count() const;
@@ -28,6 +29,7 @@ class SpgFormulation final : public discretization::Formulation {
 
  private:
   std::vector<Part> parts_;
+  bool mass_scaled_ = false;  // DT2MS
 };
 
 }  // namespace spall::spg

@@ -444,6 +444,41 @@ void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
   }
   internal_forces();
   parallel::for_each(n, [&](Index i) { nodes.f[node_[i]] += force_[i]; }, particle_loops);
+  if (mass_scaling_.active)
+    scale_masses(nodes);
+  else
+    added_mass_step_ = 0;
+}
+
+// DT2MS (THEORY §1, mass scaling): a particle f times heavier has the sound speed c / sqrt(f); one whose step
+// alpha h / (c + |v|) is below the target gets the f that brings it there, c / sqrt(f) = s - |v| with
+// s = alpha h / target (but never below s / 2: a particle faster than s / 2 keeps a step below the
+// target rather than take unbounded mass), (f - 1) m more mass on its node, kept from then on. Its
+// material keeps its density.
+void Part::scale_masses(discretization::NodeStore& nodes) {
+  const Index n = particle_count();
+  parallel::for_each(n, [&](Index i) {
+    const Real s = courant_factor * current_spacing(i) / mass_scaling_.step, speed = nodes.v[node_[i]].norm();
+    const Real ratio = sound_speed_[i] / std::max(s - speed, s / 2);
+    if (ratio * ratio > mass_scale_[i]) {
+      nodes.mass[node_[i]] += (ratio * ratio - mass_scale_[i]) * mass_[i];
+      mass_scale_[i] = ratio * ratio;
+    }
+  }, particle_loops);
+  const Real added = parallel::ordered_sum(n, [&](Index i) { return (mass_scale_[i] - 1) * mass_[i]; }, Real(0));
+  added_mass_step_ = added - added_mass_;
+  added_mass_ = added;
+  mass_scaling_.active = !mass_scaling_.first_step_only;
+}
+
+void Part::scale_mass_below(Real step, bool first_step_only) {
+  mass_scaling_ = {step, true, first_step_only};
+  mass_scale_.assign(particle_count(), 1);
+}
+
+// The nodal spacing h scaled with the particle's volume change since the start.
+Real Part::current_spacing(Index i) const {
+  return spacing_[i] * cube_root(volume_ref_[i] * F_[i].determinant() / volume0_[i]);
 }
 
 // CFL condition on the support size (seed 001 §2.1: the SPG step follows the support of the shape
@@ -454,9 +489,8 @@ Real Part::stable_time_step(const discretization::NodeStore& nodes) const {
   return parallel::reduce_exact(
       n, std::numeric_limits<Real>::infinity(),
       [&](Index i) {
-        const Real volume_ratio = volume_ref_[i] * F_[i].determinant() / volume0_[i];
-        const Real length = spacing_[i] * cube_root(volume_ratio);
-        return courant_factor * length / (sound_speed_[i] + nodes.v[node_[i]].norm());
+        const Real c = mass_scale_.empty() ? sound_speed_[i] : sound_speed_[i] / std::sqrt(mass_scale_[i]);
+        return courant_factor * current_spacing(i) / (c + nodes.v[node_[i]].norm());
       },
       [](Real a, Real b) { return std::min(a, b); }, particle_loops);
 }
@@ -511,7 +545,7 @@ Index Part::degraded_count() const {
 }
 
 std::size_t Part::memory_bytes() const {
-  return bytes(node_) + bytes(node_id_) + bytes(mass_) + bytes(volume0_) + bytes(volume_ref_) +
+  return bytes(node_) + bytes(node_id_) + bytes(mass_) + bytes(mass_scale_) + bytes(volume0_) + bytes(volume_ref_) +
          bytes(support_) + bytes(spacing_) + bytes(mean_spacing_) + bytes(stiffness_) +
          bytes(viscous_pressure_) + bytes(viscous_power_) + bytes(F_) + bytes(F_total_) +
          bytes(state_) + bytes(pressure_) + bytes(density_) + bytes(sound_speed_) +

@@ -79,6 +79,10 @@ class Part {
   // adds the internal forces at x^n to nodes.f.
   void compute_forces(discretization::NodeStore& nodes, Real dt);
   Real stable_time_step(const discretization::NodeStore& nodes) const;
+  // DT2MS (discretization::Formulation::scale_mass_below).
+  void scale_mass_below(Real step, bool first_step_only);
+  // The mass DT2MS added on the last step.
+  Real added_mass_step() const { return added_mass_step_; }
   // The power of the internal forces at the velocities v: stored (strain energy, stabilization
   // springs) and dissipated by the bulk viscosity.
   discretization::InternalPower internal_power(std::span<const Vec3> v) const;
@@ -108,6 +112,8 @@ class Part {
   void update_stabilization(Real dt);
   void failure_quantity(std::vector<Real>& out) const;
   void internal_forces();
+  void scale_masses(discretization::NodeStore& nodes);
+  Real current_spacing(Index i) const;
   void correct_integration_constraint(bool at_setup);
 
   PartSettings settings_;
@@ -150,6 +156,13 @@ class Part {
 
   int steps_since_update_ = 0;
   long long kernel_updates_ = 0;
+  struct MassScaling {
+    Real step = 0;  // the target stable step, |DT2MS|
+    bool active = false;
+    bool first_step_only = false;
+  } mass_scaling_;
+  std::vector<Real> mass_scale_;  // DT2MS: the factor f >= 1 on each particle's mass (empty without)
+  Real added_mass_ = 0, added_mass_step_ = 0;
 };
 
 }  // namespace spall::spg

@@ -46,6 +46,8 @@ void write_run_json(const std::filesystem::path& path, const RunInfo& info) {
   std::string phases;
   for (const auto& [name, seconds] : info.phases)
     phases += fmt::format("{}{}: {}", phases.empty() ? "" : ", ", json_string(name), json_number(seconds));
+  std::string masses = fmt::format("\"initial\": {}", json_number(info.initial_mass));
+  for (const auto& [name, value] : info.masses) masses += fmt::format(", {}: {}", json_string(name), json_number(value));
   const std::string json = fmt::format(
       "{{\n"
       "  \"version\": {},\n"
@@ -56,11 +58,12 @@ void write_run_json(const std::filesystem::path& path, const RunInfo& info) {
       "  \"end_time\": {},\n"
       "  \"wall_seconds\": {},\n"
       "  \"nodes\": {},\n"
+      "  \"mass\": {{{}}},\n"
       "  \"phases\": {{{}}},\n"
       "  \"status\": {}\n"
       "}}\n",
       json_string(info.version), json_string(info.deck), info.threads, info.ranks, info.steps,
-      json_number(info.end_time), json_number(info.wall_seconds), info.nodes,
+      json_number(info.end_time), json_number(info.wall_seconds), info.nodes, masses,
       phases, json_string(info.status));
   replace_file_atomically(path, [&](std::ostream& out) { out << json; });
 }

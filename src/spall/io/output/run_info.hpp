@@ -17,6 +17,8 @@ struct RunInfo {
   double end_time = 0;
   double wall_seconds = 0;
   long long nodes = 0;  // nodes with mass: particles and the nodes of elements
+  double initial_mass = 0;  // of the nodes, before mass scaling
+  std::vector<std::pair<std::string, double>> masses;  // at the last glstat row: eroded_mass, added_mass, ...
   std::string status;  // "completed", "unstable", ...
   std::vector<std::pair<std::string, double>> phases;  // seconds spent in each phase of the step
 };
