@@ -65,7 +65,11 @@ Real apply_tensile_limit(const Material& material, PointState& state, Real press
       break;
     case TensileLimit::principal_stress: {
       if (state.failed) break;
-      if (max_principal_stress(state.deviatoric_stress - pressure * Mat3::Identity()) >= -material.pressure_cutoff)
+      // A deviator's largest eigenvalue is at most sqrt(2/3) |s| (s_2 = s_3 = -s_1 / 2): the
+      // eigen-solve only where that bound reaches -PC.
+      const Real bound = std::sqrt(Real(2) / 3 * state.deviatoric_stress.squaredNorm()) - pressure;
+      if (bound >= -material.pressure_cutoff &&
+          max_principal_stress(state.deviatoric_stress - pressure * Mat3::Identity()) >= -material.pressure_cutoff)
         state.failed = true;
       break;
     }

@@ -47,7 +47,8 @@ void write_run_json(const std::filesystem::path& path, const RunInfo& info) {
   for (const auto& [name, seconds] : info.phases)
     phases += fmt::format("{}{}: {}", phases.empty() ? "" : ", ", json_string(name), json_number(seconds));
   std::string masses = fmt::format("\"initial\": {}", json_number(info.initial_mass));
-  for (const auto& [name, value] : info.masses) masses += fmt::format(", {}: {}", json_string(name), json_number(value));
+  for (const auto& [name, value] : info.masses)
+    masses += fmt::format(", {}: {}", json_string(name), json_number(value));
   const std::string json = fmt::format(
       "{{\n"
       "  \"version\": {},\n"
