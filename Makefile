@@ -3,7 +3,9 @@ JOBS ?= $(shell nproc)
 BUILD := build/release
 DEMO_OUT ?= results/elastic_bar
 
-.PHONY: setup build run test test-fast bench clean
+DRILLING_OUT ?= results/friction_drilling
+
+.PHONY: setup build run test test-fast bench drilling drilling-study clean
 
 setup:
 	@bash tools/setup.sh
@@ -25,6 +27,17 @@ test-fast: build
 bench: build
 	@$(BUILD)/bin/spall_bench --benchmark_out=$(BUILD)/bench.json --benchmark_out_format=json
 	@echo "JSON: $(BUILD)/bench.json"
+
+# The friction-drilling demo (examples/friction_drilling): the run, then its force histories and particles.
+drilling: build
+	$(BUILD)/bin/spall run examples/friction_drilling/drilling.k -o $(DRILLING_OUT)
+	/usr/bin/python3 tools/drilling_forces.py $(DRILLING_OUT) --label "m2, COF 0.2" --csv $(DRILLING_OUT)/forces.csv \
+	  -o $(DRILLING_OUT)/forces.png
+	/usr/bin/python3 tools/drilling_particles.py $(DRILLING_OUT)/d3plot_*.vtu | tail -n 1
+
+# Seed 001's parameter studies, the scaling check and the FEM comparison (LEVEL=coarse or full).
+drilling-study: build
+	bash tools/drilling_study.sh results/drilling_study
 
 clean:
 	rm -rf build

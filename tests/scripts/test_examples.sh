@@ -32,6 +32,9 @@ python3 "$tools/make_punch_deck.py" | cmp -s - "$examples/punch_rotation/punch.k
 python3 "$tools/make_brittle_deck.py" | cmp -s - "$examples/brittle_spall/brittle_spall.k" ||
   fail "examples/brittle_spall/brittle_spall.k is not what make_brittle_deck.py writes"
 
+python3 "$tools/make_drilling_deck.py" | cmp -s - "$examples/friction_drilling/drilling.k" ||
+  fail "examples/friction_drilling/drilling.k is not what make_drilling_deck.py writes"
+
 for deck in "$examples"/*/*.k; do
   "$cli" check "$deck" >"$work/check.log" 2>&1 || { cat "$work/check.log"; fail "spall check $deck"; }
 done
