@@ -29,7 +29,7 @@ p.add_argument("--window", type=float, default=0.25e-3, help="depth over which t
 p.add_argument("--csv", help="write the averaged histories here")
 p.add_argument("--title", default="")
 p.add_argument("-o", "--output", help="PNG to write")
-args = p.parse_args()
+args = p.parse_intermixed_args()  # RUN --label L RUN --label L ...
 labels = args.label or [os.path.basename(os.path.normpath(r)) for r in args.runs]
 if len(labels) != len(args.runs):
     sys.exit("give one --label per run")
