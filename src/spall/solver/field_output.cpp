@@ -33,9 +33,14 @@ FieldSnapshot snapshot_fields(const Problem& problem) {
   }
   for (const auto& f : problem.formulations) f->write_fields(set, nodes);
 
+  // The nodes with mass, and those of cells: an eroded element's cell is written (flagged) after
+  // its nodes lost their mass.
+  std::vector<char> in_cell(nodes.size(), 0);
+  for (const auto& block : set.cell_blocks())
+    for (Index node : block.connectivity) in_cell[node] = 1;
   std::vector<Index> written, point_of_node(nodes.size(), -1);
   for (Index i = 0; i < nodes.size(); ++i)
-    if (nodes.mass[i] > 0) {
+    if (nodes.mass[i] > 0 || in_cell[i]) {
       point_of_node[i] = static_cast<Index>(written.size());
       written.push_back(i);
     }
