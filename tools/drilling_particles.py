@@ -12,7 +12,7 @@ import argparse
 import sys
 
 import numpy
-import vtk
+from particle_files import read_particles
 from vtk.util.numpy_support import vtk_to_numpy
 
 p = argparse.ArgumentParser(description=__doc__)
@@ -24,12 +24,7 @@ args = p.parse_args()
 
 lost_any = False
 for path in args.files:
-    reader = vtk.vtkXMLUnstructuredGridReader()
-    reader.SetFileName(path)
-    reader.Update()
-    grid = reader.GetOutput()
-    if grid.GetNumberOfPoints() == 0:
-        sys.exit(f"{path}: no points")
+    grid = read_particles(path, "drilling_particles")
     data = grid.GetPointData()
     x = vtk_to_numpy(grid.GetPoints().GetData())
     v = vtk_to_numpy(data.GetArray("velocity"))

@@ -187,6 +187,8 @@ def main():
     parser.add_argument("--stack", action="store_true", help="panels one above the other (long bodies)")
     parser.add_argument("--dpi", type=int, default=100)
     parser.add_argument("--part", type=int, nargs="+", help="draw only the particles of these parts (part_id)")
+    parser.add_argument("--box", type=float, nargs=6, metavar=("X0", "Y0", "Z0", "X1", "Y1", "Z1"),
+                        help="draw only the particles inside this box (the deck's lengths): leaves out debris")
     args = parser.parse_args()
     if args.labels and len(args.labels) != len(args.vtu):
         sys.exit("render_particles: --labels needs one label per file")
@@ -203,6 +205,9 @@ def main():
             keep = numpy.isin(point_field(grid, path, "part_id", None), args.part)
             if not keep.any():
                 sys.exit(f"render_particles: {path}: no particle of part(s) {args.part}")
+            x, values, h = x[keep], values[keep], (h[keep] if h is not None else None)
+        if args.box:
+            keep = numpy.all((x >= args.box[:3]) & (x <= args.box[3:]), axis=1)
             x, values, h = x[keep], values[keep], (h[keep] if h is not None else None)
         frames.append((x, values, h))
     dx = args.spacing or median_spacing(frames[0][0])
