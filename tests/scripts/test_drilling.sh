@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The friction-drilling demo's whole chain on a coarse model (issue 34; examples/friction_drilling):
-# tools/make_drilling_deck.py writes the deck (0.4 mm particles, 4 layers, 24 tool facets, the plunge
+# tools/make_drilling_deck.py writes the deck (0.376 mm particles, 4 layers, 24 drill facets, the plunge
 # 2000 times the test's), spall runs the drill through the sheet at two friction coefficients side by
 # side, tools/drilling_forces.py reads the thrust and torque, tools/drilling_particles.py the particles.
 # Asserts (seed 001 §3.2.2: the torque is generated solely by friction, the thrust follows the material
@@ -36,7 +36,8 @@ mean() {  # mean() QUANTITY MU: the mean torque or thrust of the run at MU
 }
 awk -v low="$(mean torque 0.1)" -v high="$(mean torque 0.3)" 'BEGIN { exit !(high > low && low > 0) }' ||
   fail "the torque does not rise with friction"
-awk -v a="$(mean thrust 0.1)" -v b="$(mean thrust 0.3)" 'BEGIN { d = (a - b) / (a + b) * 2; exit !(a > 0 && d < 0.1 && d > -0.1) }' ||
+awk -v a="$(mean thrust 0.1)" -v b="$(mean thrust 0.3)" \
+  'BEGIN { d = (a - b) / (a + b) * 2; exit !(a > 0 && d < 0.1 && d > -0.1) }' ||
   fail "the thrust depends on the friction"
 
 /usr/bin/python3 "$tools/drilling_particles.py" "$work"/mu_*/d3plot_00002.vtu || true
