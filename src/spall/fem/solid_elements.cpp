@@ -552,11 +552,9 @@ void SolidElements::compute_forces(discretization::NodeStore& nodes, Real dt) {
     for (const Block& block : blocks_)
       added += parallel::ordered_sum(block.size(), [&](Index e) { return (block.mass_scale[e] - 1) * block.mass[e]; },
                                      Real(0));
-    added_mass_step_ = added - added_mass_;
-    added_mass_ = added;
-    mass_scaling_.active = !mass_scaling_.first_step_only;
+    mass_scaling_.record(added);
   } else {
-    added_mass_step_ = 0;
+    mass_scaling_.idle();
   }
   parallel::for_each(static_cast<Index>(node_.size()), [&](Index k) {
     nodes.f[node_[k]] += force_[k] + bulk_force_[k] + (hourglass ? hourglass_force_[k] : Vec3::Zero());
@@ -568,7 +566,7 @@ void SolidElements::compute_forces(discretization::NodeStore& nodes, Real dt) {
 Real SolidElements::stable_time_step(const discretization::NodeStore&) const { return stable_step_; }
 
 bool SolidElements::scale_mass_below(Real step, bool first_step_only) {
-  mass_scaling_ = {step, true, first_step_only};
+  mass_scaling_.start(step, first_step_only);
   for (Block& block : blocks_) block.mass_scale.assign(block.size(), 1);
   return true;
 }
@@ -594,7 +592,7 @@ void SolidElements::book_energies(discretization::EnergyLedger& ledger, std::spa
     ledger.add(Ledger::eroded_internal_energy, Ledger::Role::dissipated, eroded_internal_step_);
     ledger.set(Ledger::eroded_mass, Ledger::Role::reported, eroded_mass_);
   }
-  if (mass_scaling_.step > 0) ledger.add(Ledger::added_mass, Ledger::Role::reported, added_mass_step_);
+  if (mass_scaling_.step > 0) ledger.add(Ledger::added_mass, Ledger::Role::reported, mass_scaling_.added_this_step);
 }
 
 void SolidElements::write_fields(discretization::FieldSet& fields, const discretization::NodeStore&) const {

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "spall/discretization/formulation.hpp"
+#include "spall/discretization/mass_scaling.hpp"
 #include "spall/materials/material.hpp"
 
 namespace spall::fem {
@@ -163,12 +164,7 @@ class SolidElements final : public discretization::Formulation {
   // This step's deletions (booked by book_energies) and the totals.
   Real eroded_kinetic_step_ = 0, eroded_internal_step_ = 0;
   Real eroded_mass_ = 0;
-  struct MassScaling {
-    Real step = 0;             // the target stable step, |DT2MS|
-    bool active = false;       // mass is added on this step
-    bool first_step_only = false;
-  } mass_scaling_;
-  Real added_mass_ = 0, added_mass_step_ = 0;  // DT2MS: in all, and on this step
+  discretization::MassScaling mass_scaling_;  // DT2MS
   bool may_erode_ = false;       // some part has an erosion criterion or a material that fails
   bool erode_enabled_ = false;   // ERODE
 };

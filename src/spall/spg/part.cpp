@@ -447,7 +447,7 @@ void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
   if (mass_scaling_.active)
     scale_masses(nodes);
   else
-    added_mass_step_ = 0;
+    mass_scaling_.idle();
 }
 
 // DT2MS (THEORY §1, mass scaling): a particle f times heavier has the sound speed c / sqrt(f); one whose step
@@ -466,13 +466,11 @@ void Part::scale_masses(discretization::NodeStore& nodes) {
     }
   }, particle_loops);
   const Real added = parallel::ordered_sum(n, [&](Index i) { return (mass_scale_[i] - 1) * mass_[i]; }, Real(0));
-  added_mass_step_ = added - added_mass_;
-  added_mass_ = added;
-  mass_scaling_.active = !mass_scaling_.first_step_only;
+  mass_scaling_.record(added);
 }
 
 void Part::scale_mass_below(Real step, bool first_step_only) {
-  mass_scaling_ = {step, true, first_step_only};
+  mass_scaling_.start(step, first_step_only);
   mass_scale_.assign(particle_count(), 1);
 }
 

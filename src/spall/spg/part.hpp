@@ -26,6 +26,7 @@
 #include "spall/core/error.hpp"
 #include "spall/discretization/energy_ledger.hpp"
 #include "spall/discretization/field_set.hpp"
+#include "spall/discretization/mass_scaling.hpp"
 #include "spall/materials/material.hpp"
 #include "spall/discretization/node_store.hpp"
 #include "spall/spg/bond_failure.hpp"
@@ -82,7 +83,7 @@ class Part {
   // DT2MS (discretization::Formulation::scale_mass_below).
   void scale_mass_below(Real step, bool first_step_only);
   // The mass DT2MS added on the last step.
-  Real added_mass_step() const { return added_mass_step_; }
+  Real added_mass_step() const { return mass_scaling_.added_this_step; }
   // The power of the internal forces at the velocities v: stored (strain energy, stabilization
   // springs) and dissipated by the bulk viscosity.
   discretization::InternalPower internal_power(std::span<const Vec3> v) const;
@@ -156,13 +157,8 @@ class Part {
 
   int steps_since_update_ = 0;
   long long kernel_updates_ = 0;
-  struct MassScaling {
-    Real step = 0;  // the target stable step, |DT2MS|
-    bool active = false;
-    bool first_step_only = false;
-  } mass_scaling_;
+  discretization::MassScaling mass_scaling_;  // DT2MS
   std::vector<Real> mass_scale_;  // DT2MS: the factor f >= 1 on each particle's mass (empty without)
-  Real added_mass_ = 0, added_mass_step_ = 0;
 };
 
 }  // namespace spall::spg
