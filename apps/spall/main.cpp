@@ -1,5 +1,6 @@
 // spall: the command line. `spall run DECK`, `spall check DECK`, `spall surface OUTDIR`.
-// Exit codes: 0 success, 2 bad input, 3 numerical instability.
+// Exit codes: 0 success, 2 bad input, 3 numerical instability, 128 + the signal's number when a
+// run was interrupted (130 SIGINT, 143 SIGTERM).
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 
@@ -18,9 +19,17 @@ int main(int argc, char** argv) {
 
   spall::cli::RunOptions options;
   auto* run = app.add_subcommand("run", "Run a keyword deck and write ParaView output");
-  run->add_option("deck", options.deck, "LS-DYNA keyword deck (.k)")->required();
-  run->add_option("-o,--output", options.output_dir,
-                  "Output folder (default: the deck's name with .out, in the working folder)");
+  auto* deck_option = run->add_option("deck", options.deck, "LS-DYNA keyword deck (.k)");
+  auto* restart = run->add_option("--restart", options.restart_dir,
+                                  "Continue the run whose output folder this is, from its newest restart file "
+                                  "(runrsf), in that folder");
+  deck_option->excludes(restart);
+  run->add_option("--checkpoint-every", options.checkpoint_every,
+                  "Write a restart file every N steps (overrides *DATABASE_BINARY_RUNRSF's CYCL)")
+      ->check(CLI::PositiveNumber);
+  auto* output = run->add_option("-o,--output", options.output_dir,
+                                 "Output folder (default: the deck's name with .out, in the working folder)");
+  output->excludes(restart);
   run->add_option("--threads", options.threads, "OpenMP threads (default: all cores)")
       ->check(CLI::PositiveNumber);
 
@@ -58,6 +67,8 @@ int main(int argc, char** argv) {
 
   try {
     app.parse(argc, argv);
+    if (*run && options.deck.empty() && options.restart_dir.empty())
+      throw CLI::RequiredError("run: a deck, or --restart with an output folder,");
   } catch (const CLI::CallForHelp& e) {
     return app.exit(e);
   } catch (const CLI::CallForVersion& e) {

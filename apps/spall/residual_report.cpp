@@ -13,21 +13,27 @@ const char* category_name(int category) {
     default: return "all";
   }
 }
+
+
+std::vector<io::output::Column> columns() {
+  return {{"time", "time"},
+          {"part", ""},
+          {"category", ""},  // -1 all, 0 interior, 1 inner layer, 2 surface
+          {"particles", ""},
+          {"von_mises_max", "stress"},
+          {"von_mises_mean", "stress"},
+          {"von_mises_p95", "stress"},
+          {"residual_particles", ""}};
+}
 }  // namespace
 
 ResidualStressReport::ResidualStressReport(const std::filesystem::path& path,
                                            const sph::SolidFormulation& solid,
-                                           const model::SphResidualStress& options)
+                                           const model::SphResidualStress& options,
+                                           std::optional<std::uint64_t> resume_at)
     : solid_(solid),
       criterion_{options.yield_fraction, options.strain_rate},
-      csv_(path, {{"time", "time"},
-                  {"part", ""},
-                  {"category", ""},  // -1 all, 0 interior, 1 inner layer, 2 surface
-                  {"particles", ""},
-                  {"von_mises_max", "stress"},
-                  {"von_mises_mean", "stress"},
-                  {"von_mises_p95", "stress"},
-                  {"residual_particles", ""}}) {}
+      csv_(resume_at ? io::output::CsvHistory(path, columns(), *resume_at) : io::output::CsvHistory(path, columns())) {}
 
 void ResidualStressReport::write(double time) {
   last_ = solid_.residual_stress(criterion_);

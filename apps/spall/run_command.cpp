@@ -6,19 +6,19 @@
 #include <fmt/format.h>
 #include <map>
 #include <optional>
+#include <string.h>
 
+#include "interrupt.hpp"
 #include "progress.hpp"
-#include "residual_report.hpp"
+#include "restart_file.hpp"
+#include "run_outputs.hpp"
 #include "spall/core/error.hpp"
 #include "spall/core/log.hpp"
 #include "spall/core/parallel.hpp"
 #include "spall/core/version.hpp"
 #include "spall/io/keyword/reader.hpp"
 #include "spall/io/keyword/unsupported.hpp"
-#include "spall/io/output/history.hpp"
 #include "spall/io/output/run_info.hpp"
-#include "spall/io/output/vtu.hpp"
-#include "spall/solver/field_output.hpp"
 #include "spall/solver/simulation.hpp"
 
 namespace spall::cli {
@@ -111,164 +111,115 @@ int check_deck(const std::string& deck, const std::vector<std::string>& skip) {
 }
 
 int run_deck(const RunOptions& options) {
-  const model::Model model = read_and_check(options.deck, options.skip);
-  solver::Problem problem = build_something(model, options.deck);
+  // A restart reads the deck the run copied into its folder, and continues in that folder.
+  std::optional<Restart> restart;
+  if (!options.restart_dir.empty()) restart.emplace(read_newest_restart(options.restart_dir));
+  const std::string deck =
+      restart ? (fs::path(options.restart_dir) / "deck" / restart->header.deck).string() : options.deck;
+  const std::vector<std::string>& skip = restart ? restart->header.skip : options.skip;
+  const model::Model model = read_and_check(deck, skip);
+  solver::Problem problem = build_something(model, deck);
 
-  const fs::path out = options.output_dir.empty()
-                           ? fs::current_path() / (fs::path(options.deck).stem().string() + ".out")
-                           : fs::path(options.output_dir);
+  const fs::path out = restart                      ? fs::path(options.restart_dir)
+                       : options.output_dir.empty() ? fs::current_path() / (fs::path(deck).stem().string() + ".out")
+                                                    : fs::path(options.output_dir);
   fs::create_directories(out);
-  copy_deck(model, options.deck, out);
+  if (!restart) copy_deck(model, deck, out);
 
   const long long nodes = moving_node_count(problem);
-  log::info(fmt::format("spall {}: {} with {} nodes (particles and element nodes) on {} threads, to {}", version,
-                        options.deck, nodes, parallel::thread_count(), out.string()));
+  log::info(fmt::format("spall {}: {} with {} nodes (particles and element nodes) on {} threads, to {}", version, deck,
+                        nodes, parallel::thread_count(), out.string()));
 
-  io::output::PvdSeries series(out / "d3plot.pvd");
-  // glstat.csv: time, dt, the energy ledger's terms (whoever produces a term registers it in the
-  // first step, before the first row), the total and the energy ratio.
-  std::optional<io::output::CsvHistory> glstat;
-  std::vector<std::pair<std::string, double>> reported;  // the masses of glstat's last row, for run.json
-  // Forces on the rigid walls, one row per wall and output time; only when the deck has walls.
-  std::optional<io::output::CsvHistory> rwforc;
-  if (!problem.rigid_walls.empty())
-    rwforc.emplace(out / "rwforc.csv",
-                   std::vector<io::output::Column>{{"time", "time"}, {"wall", ""}, {"normal_force", "force"},
-                                                   {"fx", "force"}, {"fy", "force"}, {"fz", "force"}});
-  // Forces of the penalty contacts on each side (1: SURFA, 2: SURFB), with their moments about the
-  // *DATABASE_RCFORC_MOMENT node, or the side's rigid-body centre, or the origin; only with contacts.
-  std::optional<io::output::CsvHistory> rcforc;
-  if (!problem.contacts.empty()) {
-    std::vector<io::output::Column> columns{{"time", "time"}, {"contact", ""}, {"side", ""}};
-    for (const char* name : {"fx", "fy", "fz"}) columns.push_back({name, "force"});
-    for (const char* name : {"mx", "my", "mz"}) columns.push_back({name, "force*length"});
-    for (const char* name : {"px", "py", "pz"}) columns.push_back({name, "length"});
-    rcforc.emplace(out / "rcforc.csv", std::move(columns));
-  }
-  // Residual stress of the SPH solids per part and category (seed 000), at the end of the run and,
-  // on request, at every field output.
-  const sph::SolidFormulation* solid = nullptr;
-  for (const auto& f : problem.formulations)
-    if (const auto* s = dynamic_cast<const sph::SolidFormulation*>(f.get())) solid = s;
-  const model::SphResidualStress residual_options = model.sph_residual_stress.value_or(model::SphResidualStress{});
-  std::optional<ResidualStressReport> residual;
-  if (solid) residual.emplace(out / "residual.csv", *solid, residual_options);
-  // The rigid bodies' motion and the forces on them, at the RBDOUT interval (GLSTAT's without the
-  // card); only with bodies.
-  std::optional<io::output::CsvHistory> rbdout;
-  if (!problem.rigid_bodies.empty()) {
-    std::vector<io::output::Column> columns{{"time", "time"}, {"part", ""}};
-    for (const char* name : {"x", "y", "z"}) columns.push_back({name, "length"});
-    for (const char* name : {"vx", "vy", "vz"}) columns.push_back({name, "velocity"});
-    for (const char* name : {"wx", "wy", "wz"}) columns.push_back({name, "1/time"});
-    for (const char* name : {"fx", "fy", "fz"}) columns.push_back({name, "force"});
-    for (const char* name : {"mx", "my", "mz"}) columns.push_back({name, "force*length"});
-    rbdout.emplace(out / "rbdout.csv", std::move(columns));
-  }
-
-  int field_count = 0;
-  auto write_fields = [&](const solver::StepInfo& step, const solver::Problem& p) {
-    const auto snap = solver::snapshot_fields(p);
-    const std::string name = fmt::format("d3plot_{:05d}.vtu", field_count++);
-    io::output::write_vtu(out / name, snap.points, snap.fields, snap.cell_blocks);
-    series.add(step.time, name);
-    if (residual && residual_options.at_output == 1) residual->write(step.time);
-  };
-
+  RunOutputs outputs(out, problem, model, restart.has_value());
   Progress progress(problem.controls.end_time, nodes);
   solver::StepInfo last_step;
-  solver::Observer observer;
-  observer.on_field_output = write_fields;
-  observer.on_history = [&](const solver::StepInfo& step, const discretization::EnergyLedger& e) {
-    if (!glstat) {
-      std::vector<io::output::Column> columns{{"time", "time"}, {"dt", "time"}};
-      for (const auto& term : e.terms())
-        columns.push_back({term.name, term.role == discretization::EnergyLedger::Role::reported ? "mass" : "energy"});
-      columns.push_back({"total_energy", "energy"});
-      columns.push_back({"energy_ratio", ""});
-      glstat.emplace(out / "glstat.csv", std::move(columns));
-    }
-    std::vector<double> row{step.time, step.dt};
-    for (const auto& term : e.terms()) row.push_back(term.value);
-    reported.clear();
-    for (const auto& term : e.terms())
-      if (term.role == discretization::EnergyLedger::Role::reported) reported.emplace_back(term.name, term.value);
-    row.push_back(e.total());
-    row.push_back(e.ratio());
-    glstat->append(row);
-  };
-  observer.on_rigid_bodies = [&](const solver::StepInfo& step, const rigid::RigidBodies& bodies) {
-    for (const auto& body : bodies.bodies()) {
-      std::vector<double> r{step.time, static_cast<double>(body.part_id)};
-      for (const Vec3* v : {&body.step_centre, &body.velocity, &body.angular_velocity, &body.force, &body.moment})
-        r.insert(r.end(), v->data(), v->data() + 3);
-      rbdout->append(r);
-    }
-  };
-  observer.on_rigid_wall_forces = [&](const solver::StepInfo& step,
-                                      const std::vector<contact::RigidWall>& walls) {
-    for (const auto& wall : walls) {
-      const Vec3& f = wall.force();
-      const double row[] = {step.time, static_cast<double>(wall.definition().id), wall.normal_force(),
-                            f.x(), f.y(), f.z()};
-      rwforc->append(row);
-    }
-  };
-  observer.on_contact_forces = [&](const solver::StepInfo& step, const std::vector<contact::PenaltyContact>& contacts) {
-    for (const auto& c : contacts)
-      for (int side = 0; side < 2; ++side) {
-        const auto& r = side == 0 ? c.side_a() : c.side_b();
-        const std::int32_t body = c.definition().side_body[side];
-        const Index node = c.definition().moment_node[side];
-        const Vec3 p = node >= 0   ? problem.nodes.x[node]
-                       : body >= 0 ? problem.rigid_bodies.bodies()[body].step_centre
-                                   : Vec3::Zero();
-        const Vec3 m = r.moment - p.cross(r.force);
-        std::vector<double> row{step.time, static_cast<double>(c.definition().id), double(side + 1)};
-        for (const Vec3* v : {&r.force, &m, &p}) row.insert(row.end(), v->data(), v->data() + 3);
-        rcforc->append(row);
-      }
-  };
+  solver::Observer observer = outputs.observer();
   observer.on_step = [&](const solver::StepInfo& step) {
     last_step = step;
     progress.update(step);
   };
+  solver::TimeLoop loop(problem, observer);
+
+  // The run's state between two steps: the loop's, then the output files' and the wall time so far.
+  double wall_seconds_before = 0;  // of the runs this one continues
+  const auto state = [&](Archive& a) {
+    loop.checkpoint(a);
+    outputs.checkpoint(a);
+    a.section("run");
+    double wall_seconds = wall_seconds_before + progress.elapsed_seconds();
+    a(wall_seconds, last_step);
+    if (a.reading()) wall_seconds_before = wall_seconds;
+  };
+  if (restart) {
+    state(restart->state);
+    if (!restart->state.at_end())
+      throw InputError(fmt::format("{}: the checkpoint is longer than this deck's state", restart->file.string()));
+    log::info(fmt::format("continuing from {} at step {}, t = {:g}", restart->file.string(), restart->header.step,
+                          restart->header.time));
+  }
+
+  // Running restart files: every CYCL steps (--checkpoint-every overrides the deck), NR in turn.
+  const long long cycles = options.checkpoint_every > 0 ? options.checkpoint_every
+                           : model.runrsf              ? model.runrsf->cycles
+                                                       : 0;
+  RestartFiles restart_files(out, model.runrsf ? model.runrsf->files : 1);
+  const auto write_checkpoint = [&](const solver::StepInfo& step) {
+    const RestartHeader header{version, fs::path(deck).filename().string(), skip, step.step, step.time};
+    return restart_files.write(header, state);
+  };
 
   io::output::RunInfo info;
   info.version = version;
-  info.deck = fs::absolute(options.deck).string();
+  info.deck = fs::absolute(deck).string();
   info.threads = parallel::thread_count();
   info.nodes = nodes;
   for (Real m : problem.nodes.mass) info.initial_mass += m;
   int code = exit_success;
-  solver::TimeLoop loop(problem, observer);
+  const InterruptWatch interrupts;
   try {
-    const auto summary = loop.run();
-    progress.finish(last_step);
-    info.steps = summary.steps;
-    info.end_time = summary.end_time;
-    info.status = "completed";
-    if (residual) {
-      if (residual_options.at_output != 1) residual->write(summary.end_time);
-      log::info(residual->summary());
+    std::optional<solver::StepInfo> stopped;
+    const auto summary = loop.run([&](const solver::StepInfo& step) {
+      if (interrupts.received()) {
+        stopped = step;
+        return false;
+      }
+      if (cycles > 0 && step.step % cycles == 0) write_checkpoint(step);
+      return true;
+    });
+    if (stopped) {
+      const int signal = interrupts.received();
+      const fs::path file = write_checkpoint(*stopped);
+      outputs.write_fields(*stopped, problem);  // after the checkpoint: a restart writes its own
+      log::warning(fmt::format("interrupted ({}) at step {}, t = {:g}: the state is in {}; continue with `spall run "
+                               "--restart {}`",
+                               strsignal(signal), stopped->step, stopped->time, file.string(), out.string()));
+      info.steps = stopped->step;
+      info.end_time = stopped->time;
+      info.status = "interrupted";
+      code = 128 + signal;
+    } else {
+      progress.finish(last_step);
+      info.steps = summary.steps;
+      info.end_time = summary.end_time;
+      info.status = "completed";
+      if (const auto residual = outputs.finish(summary.end_time)) log::info(*residual);
+      log::info(fmt::format("done: {} steps to t = {:g} in {:.2f} s, {:.3e} node-steps/s, energy ratio {:.6f}",
+                            summary.steps, summary.end_time, progress.elapsed_seconds(),
+                            progress.elapsed_seconds() > 0 ? nodes * double(summary.steps) / progress.elapsed_seconds()
+                                                           : 0.0,
+                            summary.energies.ratio()));
     }
-    log::info(fmt::format("done: {} steps to t = {:g} in {:.2f} s, {:.3e} node-steps/s, energy ratio {:.6f}",
-                          summary.steps, summary.end_time, progress.elapsed_seconds(),
-                          progress.elapsed_seconds() > 0
-                              ? nodes * double(summary.steps) / progress.elapsed_seconds()
-                              : 0.0,
-                          summary.energies.ratio()));
   } catch (const InstabilityError& e) {
-    write_fields(last_step, problem);  // the last state, for the post-mortem
+    outputs.write_fields(last_step, problem);  // the last state, for the post-mortem
     log::error(e.what());
-    log::error(fmt::format("the last state is in {}", (out / fmt::format("d3plot_{:05d}.vtu", field_count - 1)).string()));
+    log::error(fmt::format("the last state is in {}", outputs.last_field_file().string()));
     info.steps = last_step.step;
     info.end_time = last_step.time;
     info.status = "unstable";
     code = exit_unstable;
   }
-  info.wall_seconds = progress.elapsed_seconds();
-  info.masses = std::move(reported);
+  info.wall_seconds = wall_seconds_before + progress.elapsed_seconds();
+  info.masses = outputs.masses();
   for (int p = 0; p < static_cast<int>(solver::Phase::count); ++p) {
     const auto phase = static_cast<solver::Phase>(p);
     info.phases.emplace_back(solver::phase_name(phase), loop.phases()[phase]);

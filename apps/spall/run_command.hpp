@@ -9,9 +9,12 @@ struct RunOptions {
   std::string output_dir;
   int threads = 0;
   std::vector<std::string> skip;  // physics keywords to run without (--skip)
+  std::string restart_dir;        // --restart: continue the run of this output folder
+  long long checkpoint_every = 0;  // --checkpoint-every: steps between restart files (0: the deck's)
 };
 
-// Reads, checks and runs a deck; writes the output folder. Returns the exit code.
+// Reads, checks and runs a deck, or continues a run from its restart file; writes the output
+// folder. Returns the exit code.
 int run_deck(const RunOptions& options);
 
 // Reads and checks a deck, builds the problem without running it. Returns the exit code.

@@ -15,6 +15,7 @@
 
 #include "spall/contact/segment.hpp"
 #include "spall/contact/segment_grid.hpp"
+#include "spall/core/archive.hpp"
 #include "spall/core/types.hpp"
 #include "spall/discretization/energy_ledger.hpp"
 #include "spall/discretization/node_store.hpp"
@@ -90,6 +91,12 @@ class PenaltyContact {
   // How many slave nodes touch a segment now.
   Index touching() const;
 
+  // The friction state, the first step's stiffness and the last resultants.
+  void checkpoint(Archive& a) {
+    a.expect_size("contact passes", passes_.size());
+    a(passes_, stiffness_step_, side_[0].force, side_[0].moment, side_[1].force, side_[1].moment);
+  }
+
   static constexpr std::string_view contact_energy = "contact_energy";
   static constexpr std::string_view friction_energy = "friction_energy";
 
@@ -102,6 +109,7 @@ class PenaltyContact {
     Vec3 normal = Vec3::UnitZ();
     Real normal_force = 0;            // >= 0, along the normal, on the slave
     Vec3 friction = Vec3::Zero();     // tangential force on the slave
+    void checkpoint(Archive& a) { a(slave, segment, weight, normal, normal_force, friction); }
   };
 
   struct PassState {
@@ -110,6 +118,8 @@ class PenaltyContact {
     std::vector<Real> reach;          // release depth of each segment
     std::vector<std::int32_t> found;  // per slave: the segment it touches, or -1
     std::vector<Touch> touches, previous;
+    // The touches of the last step (their friction carries over); the grid is rebuilt every step.
+    void checkpoint(Archive& a) { a(reach, found, touches, previous); }
   };
 
   void search(PassState& state, const discretization::NodeStore& nodes) const;

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "spall/core/archive.hpp"
 #include "spall/core/types.hpp"
 #include "spall/discretization/node_store.hpp"
 
@@ -55,6 +56,12 @@ class RigidWall {
   // the nodes push against the wall).
   const Vec3& force() const { return force_; }
   Real normal_force() const { return normal_force_; }
+  // The wall's motion and the nodes' contact state (a restart continues them).
+  void checkpoint(Archive& a) {
+    a.expect_size("nodes tracked by a rigid wall", nodes_.size());
+    a(state_, velocity_, displacement_, active_now_, force_, normal_force_, closing_, candidate_, active_, free_,
+      impulse_);
+  }
   // A moving wall's velocity along its normal v^{n+1/2} and displacement along it at t^n.
   Real velocity() const { return velocity_; }
   Real displacement() const { return displacement_; }

@@ -10,6 +10,7 @@
 #include <string_view>
 #include <vector>
 
+#include "spall/core/archive.hpp"
 #include "spall/core/types.hpp"
 
 namespace spall::discretization {
@@ -24,6 +25,7 @@ class EnergyLedger {
     std::string name;  // the glstat column, e.g. "internal_energy"
     Role role;
     Real value = 0;
+    void checkpoint(Archive& a) { a(name, role, value); }
   };
 
   // Adds `amount` to the term `name`, registering it on first use. Terms are listed by role
@@ -60,6 +62,9 @@ class EnergyLedger {
   static constexpr std::string_view eroded_internal_energy = "eroded_internal_energy";
   static constexpr std::string_view eroded_mass = "eroded_mass";
   static constexpr std::string_view added_mass = "added_mass";
+
+  // The terms and the total at t = 0 (a restart continues the same balance).
+  void checkpoint(Archive& a) { a(terms_, initial_total_); }
 
  private:
   Term& term(std::string_view name, Role role);

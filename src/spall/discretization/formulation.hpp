@@ -3,6 +3,7 @@
 // state (densities, stresses, bonds ...) and adds its internal forces to the shared node store.
 #include <span>
 
+#include "spall/core/archive.hpp"
 #include "spall/core/types.hpp"
 #include "spall/discretization/energy_ledger.hpp"
 #include "spall/discretization/field_set.hpp"
@@ -48,6 +49,10 @@ class Formulation {
   // `first_step_only` (MS1ST) only the first step adds mass. False from a formulation that cannot
   // scale its mass.
   virtual bool scale_mass_below(Real /*step*/, bool /*first_step_only*/) { return false; }
+
+  // Writes (or reads back) everything the formulation carries from one step to the next, so that a
+  // run continued from a checkpoint is bitwise the uninterrupted one (core/archive.hpp).
+  virtual void checkpoint(Archive& archive) = 0;
 };
 
 }  // namespace spall::discretization

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "spall/core/archive.hpp"
 #include "spall/core/types.hpp"
 
 namespace spall::discretization {
@@ -40,6 +41,12 @@ struct NodeStore {
     active.assign(n, 1);
     body.assign(n, no_body);
     owned = n;
+  }
+
+  // Everything but the IDs (the deck's), which must match.
+  void checkpoint(Archive& a) {
+    a.expect_size("nodes", id.size());
+    a(x0, x, v, f, mass, fixed, active, body, owned);
   }
 };
 

@@ -595,6 +595,14 @@ void SolidElements::book_energies(discretization::EnergyLedger& ledger, std::spa
   if (mass_scaling_.step > 0) ledger.add(Ledger::added_mass, Ledger::Role::reported, mass_scaling_.added_this_step);
 }
 
+void SolidElements::checkpoint(Archive& a) {
+  a.section("fem solids");
+  a.expect_size("element blocks", blocks_.size());
+  a(blocks_, force_, bulk_force_, hourglass_force_, stable_step_, max_sound_speed_, time_, erosion_step_,
+    live_elements_, other_mass_, eroded_kinetic_step_, eroded_internal_step_, eroded_mass_, mass_scaling_,
+    erode_enabled_);
+}
+
 void SolidElements::write_fields(discretization::FieldSet& fields, const discretization::NodeStore&) const {
   for (const Block& block : blocks_) {
     auto& cells = fields.add_cell_block(block.kind == Kind::tetrahedron ? discretization::CellShape::tetrahedron

@@ -105,6 +105,7 @@ class SolidElements final : public discretization::Formulation {
     erosion_step_ = step;
   }
   bool scale_mass_below(Real step, bool first_step_only) override;
+  void checkpoint(Archive& archive) override;
 
   Index element_count() const;
   Index eroded_count() const;
@@ -133,6 +134,11 @@ class SolidElements final : public discretization::Formulation {
     std::vector<Real> effective_strain;   // sum of dt sqrt(2/3 dev D : dev D) (EFFEPS)
     std::vector<Index> colour_offset, colour_element;  // the elements of colour c, in order
     Index size() const { return static_cast<Index>(id.size()); }
+    // The elements' state; the connectivity and the colours are the deck's.
+    void checkpoint(Archive& a) {
+      a.expect_size("elements in a block", id.size());
+      a(mass, mass_scale, state, thermo, volume, hourglass_energy, hourglass_force, eroded, strain, effective_strain);
+    }
   };
 
  private:

@@ -1,5 +1,6 @@
 #pragma once
 // What a material point carries from one step to the next.
+#include "spall/core/archive.hpp"
 #include "spall/core/types.hpp"
 
 namespace spall::materials {
@@ -23,3 +24,8 @@ struct PointState {
 };
 
 }  // namespace spall::materials
+
+namespace spall {
+template <>
+inline constexpr bool archived_as_bytes<materials::PointState> = true;
+}  // namespace spall

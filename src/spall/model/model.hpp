@@ -415,6 +415,14 @@ struct OutputInterval {
   SourceLocation where;
 };
 
+// *DATABASE_BINARY_RUNRSF: a running restart file every CYCL steps; NR files written in turn
+// (1: one file, overwritten), so that a crash while one is written leaves the one before.
+struct RestartOutput {
+  std::int64_t cycles = 0;  // CYCL
+  int files = 1;            // NR
+  SourceLocation where;
+};
+
 // *DAMPING_GLOBAL: mass-weighted nodal damping f = -D m v, D = VALDMP or the curve LCID of time;
 // STX STY STZ scale it per direction (all six scale factors 0: all 1).
 struct DampingGlobal {
@@ -579,6 +587,7 @@ struct Model {
   std::optional<OutputInterval> rwforc;
   std::optional<OutputInterval> rcforc;
   std::optional<OutputInterval> rbdout;
+  std::optional<RestartOutput> runrsf;
   std::optional<DampingGlobal> damping_global;
 
   std::vector<UnsupportedKeyword> unsupported;

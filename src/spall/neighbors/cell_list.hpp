@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "spall/core/archive.hpp"
 #include "spall/core/types.hpp"
 
 namespace spall::neighbors {
@@ -69,6 +70,8 @@ class CellList {
     return order_.capacity() * sizeof(Index) + cell_key_.capacity() * sizeof(CellKey) +
            cell_start_.capacity() * sizeof(Index);
   }
+
+  void checkpoint(Archive& a) { a(cell_size_, lower_, cells_, order_, cell_key_, cell_start_); }
 
  private:
   Real cell_size_ = 0;

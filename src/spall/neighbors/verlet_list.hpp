@@ -5,6 +5,7 @@
 #include <span>
 #include <vector>
 
+#include "spall/core/archive.hpp"
 #include "spall/core/types.hpp"
 
 namespace spall::neighbors {
@@ -16,6 +17,7 @@ struct NeighborList {
   std::vector<Index> offsets;
   std::vector<Index> neighbors;
   Index count(Index i) const { return offsets[i + 1] - offsets[i]; }
+  void checkpoint(Archive& a) { a(offsets, neighbors); }
 };
 
 // The order of the neighbours within a row: ascending index (what a caller that searches its rows
@@ -52,6 +54,9 @@ class VerletList {
   long long builds() const { return builds_; }
   // Bytes held besides the list itself: the positions saved at the build.
   std::size_t reference_positions_bytes() const { return x_at_build_.capacity() * sizeof(Vec3); }
+
+  // The list as built, and where the particles were then (the next rebuild depends on it).
+  void checkpoint(Archive& a) { a(list_, x_at_build_, cutoff_, skin_, builds_); }
 
  private:
   // Lists the pairs within make_radius(cell order).squared(k, j), radius being the largest pair

@@ -9,6 +9,7 @@
 #include <array>
 #include <vector>
 
+#include "spall/core/archive.hpp"
 #include "spall/core/types.hpp"
 #include "spall/discretization/node_store.hpp"
 #include "spall/model/curve.hpp"
@@ -46,6 +47,11 @@ struct RigidBody {
 
   // J in the world's frame at the rotation R: R J0 R^T.
   Mat3 world_inertia(const Mat3& R) const { return R * inertia * R.transpose(); }
+
+  // The motion; the nodes, mass properties and prescribed motions are the deck's.
+  void checkpoint(Archive& a) {
+    a(centre, angle, rotation, velocity, angular_momentum, angular_velocity, force, moment, step_centre);
+  }
 };
 
 // The rotation by the angle |phi| about phi / |phi| (Rodrigues' formula).
@@ -64,6 +70,10 @@ class RigidBodies {
 
   const std::vector<RigidBody>& bodies() const { return bodies_; }
   bool empty() const { return bodies_.empty(); }
+  void checkpoint(Archive& a) {
+    a.expect_size("rigid bodies", bodies_.size());
+    a(bodies_);
+  }
 
  private:
   std::vector<RigidBody> bodies_;

@@ -51,6 +51,7 @@ struct OutputSchedule {
     next = next_output_time(next, interval_curve ? interval_curve->value(t) : interval, t + tolerance);
     return true;
   }
+  void checkpoint(Archive& a) { a(interval, next); }
 };
 
 }  // namespace
@@ -91,6 +92,27 @@ class TimeLoop::Step {
 
   RunSummary summary() const { return {step_.step, step_.time, ledger_, phases_}; }
   const PhaseTimes& phases() const { return phases_; }
+  const StepInfo& info() const { return step_; }
+
+  // Between two steps: the problem's state (nodes, formulations, walls, contacts, bodies), then the
+  // loop's own (time, last steps, energies, output schedules, the time spent in each phase).
+  void checkpoint(Archive& a) {
+    a.section("problem");
+    a(nodes_);
+    a.expect_size("formulations", problem_.formulations.size());
+    for (auto& f : problem_.formulations) {
+      a.section(f->name());
+      f->checkpoint(a);
+    }
+    a.expect_size("rigid walls", problem_.rigid_walls.size());
+    for (auto& wall : problem_.rigid_walls) wall.checkpoint(a);
+    a.expect_size("contacts", problem_.contacts.size());
+    for (auto& c : problem_.contacts) c.checkpoint(a);
+    a(problem_.rigid_bodies);
+    a.section("time loop");
+    a(v_old_, step_, dt_previous_, dt_first_, dt_mid_, velocity_weight_, base_acceleration_, damping_,
+      runaway_speed_limit_, initial_mass_, field_output_, history_, rwforc_, rcforc_, rbdout_, ledger_, phases_);
+  }
 
  private:
   template <class Work>
@@ -333,11 +355,13 @@ class TimeLoop::Step {
 TimeLoop::TimeLoop(Problem& problem, const Observer& observer) : step_(std::make_unique<Step>(problem, observer)) {}
 TimeLoop::~TimeLoop() = default;
 
-RunSummary TimeLoop::run() {
-  while (step_->advance()) {
-  }
+RunSummary TimeLoop::run(const std::function<bool(const StepInfo&)>& between_steps) {
+  while (step_->advance())
+    if (between_steps && !between_steps(step_->info())) break;
   return step_->summary();
 }
+
+void TimeLoop::checkpoint(Archive& archive) { step_->checkpoint(archive); }
 
 const PhaseTimes& TimeLoop::phases() const { return step_->phases(); }
 

@@ -58,14 +58,19 @@ struct RunSummary {
 };
 
 // The time loop over one problem. run() goes to ENDTIM (or ENDCYC, or ENDENG); it throws
-// InstabilityError when the solution becomes non-finite or runs away. phases() holds the time
-// spent in each phase so far, also after such an error.
+// InstabilityError when the solution becomes non-finite or runs away. between_steps, when given,
+// is called after every step with the next one's start; run() returns early when it says false.
+// phases() holds the time spent in each phase so far, also after such an error.
 class TimeLoop {
  public:
   TimeLoop(Problem& problem, const Observer& observer);
   ~TimeLoop();
-  RunSummary run();
+  RunSummary run(const std::function<bool(const StepInfo&)>& between_steps = {});
   const PhaseTimes& phases() const;
+  // Between two steps (in between_steps, or before run()): writes the state of the problem and of
+  // the loop into the archive, or reads it back over a problem built from the same deck, which
+  // then continues bitwise as the run that wrote it (core/archive.hpp).
+  void checkpoint(Archive& archive);
 
  private:
   class Step;

@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "spall/core/archive.hpp"
 #include "spall/core/types.hpp"
 #include "spall/neighbors/verlet_list.hpp"
 #include "spall/spg/parallel.hpp"
@@ -24,6 +25,8 @@ struct BondList {
   std::vector<Index> mirror;
   std::vector<std::uint8_t> broken;  // 1 once the bond has failed
   std::vector<Real> rest_length;     // |x_i - x_j| when the bond formed (seed 001 eq. 14's |X_K - X_J|)
+
+  void checkpoint(Archive& a) { a(offsets, neighbour, mirror, broken, rest_length); }
 
   Index size() const { return offsets.empty() ? 0 : static_cast<Index>(offsets.size()) - 1; }
   Index count(Index i) const { return offsets[i + 1] - offsets[i]; }

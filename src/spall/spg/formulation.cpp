@@ -39,6 +39,12 @@ bool SpgFormulation::scale_mass_below(Real step, bool first_step_only) {
   return true;
 }
 
+void SpgFormulation::checkpoint(Archive& a) {
+  a.expect_size("SPG parts", parts_.size());
+  for (auto& part : parts_) part.checkpoint(a);
+  a(mass_scaled_);
+}
+
 void SpgFormulation::write_fields(discretization::FieldSet& fields, const discretization::NodeStore&) const {
   for (const auto& part : parts_) part.write_fields(fields);
 }

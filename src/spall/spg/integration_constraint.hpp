@@ -33,6 +33,8 @@ struct IntegrationCorrection {
   std::vector<Mat3> mu;      // row i: the first-moment multipliers of gradient component i
   int iterations = 0;
   Real relative_residual = 0;
+
+  void checkpoint(Archive& a) { a(self, bond, lambda, mu, iterations, relative_residual); }
 };
 
 // Computes the correction for the bonds (broken bonds and bonds of inactive particles excluded)

@@ -536,6 +536,16 @@ void Part::write_fields(discretization::FieldSet& fields) const {
   }
 }
 
+void Part::checkpoint(Archive& a) {
+  a.section("spg part");
+  a.expect_size("SPG particles", node_.size());
+  a(mass_, volume0_, volume_ref_, support_, spacing_, mean_spacing_, stiffness_, F_, F_total_, state_, pressure_,
+    density_, sound_speed_, specific_energy_, viscous_pressure_, viscous_power_, stabilization_force_, dashpot_,
+    stabilization_total_, stabilization_power_, initial_bond_count_, degraded_, psi_self_, grad_self_, psi_, grad_,
+    bonds_, broken_pairs_, on_surface_, correction_, x_, v_, xs_, vs_, h_, force_, weighted_stress_, spin_,
+    steps_since_update_, kernel_updates_, mass_scaling_, mass_scale_);
+}
+
 Index Part::degraded_count() const {
   Index n = 0;
   for (auto d : degraded_) n += d;

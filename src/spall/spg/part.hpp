@@ -101,6 +101,8 @@ class Part {
   long long kernel_updates() const { return kernel_updates_; }
   // Particles whose bonds no longer hold a linear field (Shepard smoothing, no strain of their own).
   Index degraded_count() const;
+  // Everything but the settings (the deck's) and the particles' nodes, which must match.
+  void checkpoint(Archive& archive);
   std::size_t memory_bytes() const;
 
  private:

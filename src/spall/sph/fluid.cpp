@@ -1029,4 +1029,14 @@ std::size_t FluidFormulation::memory_bytes() const {
 
 Real FluidFormulation::max_wave_speed() const { return max_sound_speed_; }
 
+// The particles in their cell order with their state, the cells as last built, and what decides
+// the next rebuild.
+void FluidFormulation::checkpoint(Archive& a) {
+  a.section("sph fluid");
+  a.expect_size("SPH fluid particles", node_.size());
+  a(support_, node_, mass_, uniform_mass_, density_, rate_, previous_rate_, record_, pressure_force_, viscous_force_,
+    moving_, cells_, active_cell_, origin_, rounding_margin_, cells_built_, first_pass_, travelled_, max_speed_,
+    max_sound_speed_, max_acceleration_, max_mu_);
+}
+
 }  // namespace spall::sph

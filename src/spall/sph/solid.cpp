@@ -1045,6 +1045,21 @@ std::size_t bytes(const std::vector<T>& v) {
 }
 }  // namespace
 
+// Everything but the materials and options (the deck's) and the spans into the node store or the
+// copies, which the next compute_forces gathers again.
+void SolidFormulation::checkpoint(Archive& a) {
+  a.section("sph solid");
+  a.expect_size("SPH solid particles", node_.size());
+  a(node_, material_, mass_, uniform_mass_, smoothing_length_, record_, viscosity_record_, record_mass_,
+    record_origin_, stress_, plain_stress_, list_reach_, initial_smoothing_length_, spacing_, density_, volume_,
+    updated_volume_, pressure_, sound_speed_, updated_sound_speed_, internal_energy_, state_,
+    gradient_amplification_, full_support_gradient_, correction_, artificial_stress_, exported_deviator_, colour_,
+    colour_normal_, support_count_, full_support_count_, category_, x_copy_, v_copy_, density_rate_,
+    velocity_gradient_, strain_rate_squared_, support_mask_, viscous_heating_, viscous_force_, force_,
+    force_blocks_, force_block_length_, verlet_, time_, step_, list_built_, h_outgrown_, stable_step_,
+    has_temperature_);
+}
+
 std::size_t SolidFormulation::memory_bytes() const {
   const auto& list = verlet_.list();
   return bytes(node_) + bytes(material_) + bytes(mass_) + bytes(smoothing_length_) + bytes(record_) + bytes(viscosity_record_) +

@@ -1,6 +1,7 @@
 // *CONTROL_TERMINATION, *CONTROL_TIMESTEP, *CONTROL_BULK_VISCOSITY, *CONTROL_SPH,
 // *SPALL_SPH_ARTIFICIAL_STRESS, *SPALL_SPH_COLOUR_FIELD, *SPALL_SPH_TIMESTEP, *SPALL_RESIDUAL_STRESS,
-// *DATABASE_BINARY_D3PLOT, *DATABASE_GLSTAT, *DATABASE_RWFORC, *DATABASE_RCFORC. Each
+// *DATABASE_BINARY_D3PLOT, *DATABASE_BINARY_RUNRSF, *DATABASE_GLSTAT, *DATABASE_RWFORC,
+// *DATABASE_RCFORC. Each
 // reads its first card; the later optional cards of *CONTROL_TIMESTEP
 // (mass-scaling details) and *DATABASE_BINARY_D3PLOT (IOOPT, RATE, ...) are not used by Spall.
 #include "spall/io/keyword/keyword_readers.hpp"
@@ -224,6 +225,24 @@ void read_database_binary_d3plot(CardCursor& cursor, const KeywordCall&, model::
   if (output.dt < 0.0) card.fail("DT", quoted(card.text(0)) + " is negative");
   output.where = card.where();
   model.d3plot = output;
+}
+
+// CYCL and NR; the card's other fields (BEAM, NPLTC, PSETID) belong to the plot files of the
+// same card layout and mean nothing for a restart file.
+void read_database_binary_runrsf(CardCursor& cursor, const KeywordCall&, model::Model& model) {
+  const Card card = cursor.next(standard_fields, "card 1 (CYCL NR BEAM NPLTC PSETID)");
+  model::RestartOutput output;
+  output.cycles = card.integer(0, "CYCL", 0);
+  output.files = static_cast<int>(card.integer(1, "NR", 1));
+  if (output.cycles <= 0) card.fail("CYCL", quoted(card.text(0)) + " is not a positive number of cycles");
+  if (output.files == 0) output.files = 1;
+  if (output.files < 0 || output.files > 99) card.fail("NR", quoted(card.text(1)) + " is not 1 to 99 files");
+  static constexpr std::pair<int, const char*> plot_fields[] = {{2, "BEAM"}, {3, "NPLTC"}, {4, "PSETID"}};
+  for (const auto& [field, name] : plot_fields)
+    if (card.integer(field, name, 0) != 0)
+      card.fail(name, quoted(card.text(field)) + " applies to plot files, not to restart files: leave it blank");
+  output.where = card.where();
+  model.runrsf = output;
 }
 
 void read_database_glstat(CardCursor& cursor, const KeywordCall&, model::Model& model) {

@@ -108,6 +108,7 @@ void read_spall_sph_colour_field(CardCursor&, const KeywordCall&, model::Model&)
 void read_spall_sph_timestep(CardCursor&, const KeywordCall&, model::Model&);
 void read_spall_residual_stress(CardCursor&, const KeywordCall&, model::Model&);
 void read_database_binary_d3plot(CardCursor&, const KeywordCall&, model::Model&);
+void read_database_binary_runrsf(CardCursor&, const KeywordCall&, model::Model&);
 void read_database_glstat(CardCursor&, const KeywordCall&, model::Model&);
 void read_database_rwforc(CardCursor&, const KeywordCall&, model::Model&);
 void read_database_rcforc(CardCursor&, const KeywordCall&, model::Model&);

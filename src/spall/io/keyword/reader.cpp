@@ -84,6 +84,7 @@ constexpr SupportedKeyword supported_keywords[] = {
     {"SPALL_SPH_TIMESTEP", read_spall_sph_timestep},
     {"SPALL_RESIDUAL_STRESS", read_spall_residual_stress},
     {"DATABASE_BINARY_D3PLOT", read_database_binary_d3plot},
+    {"DATABASE_BINARY_RUNRSF", read_database_binary_runrsf},
     {"DATABASE_GLSTAT", read_database_glstat},
     {"DATABASE_RWFORC", read_database_rwforc},
     {"DATABASE_RCFORC", read_database_rcforc},

@@ -169,6 +169,20 @@ void write_vtu(const std::filesystem::path& path, const std::vector<Vec3>& point
 
 void PvdSeries::add(double time, const std::string& relative_file) {
   entries_.emplace_back(time, relative_file);
+  try {
+    write();
+  } catch (...) {
+    entries_.pop_back();  // the series on disk does not list it either
+    throw;
+  }
+}
+
+void PvdSeries::restore(Entries entries) {
+  entries_ = std::move(entries);
+  write();
+}
+
+void PvdSeries::write() const {
   std::string pvd =
       "<?xml version=\"1.0\"?>\n"
       "<VTKFile type=\"Collection\" version=\"1.0\" byte_order=\"LittleEndian\">\n"
@@ -179,12 +193,7 @@ void PvdSeries::add(double time, const std::string& relative_file) {
                        vtk_xml::escaped(file));
   }
   pvd += "  </Collection>\n</VTKFile>\n";
-  try {
-    replace_file_atomically(path_, [&](std::ostream& out) { out << pvd; });
-  } catch (...) {
-    entries_.pop_back();  // the series on disk does not list it either
-    throw;
-  }
+  replace_file_atomically(path_, [&](std::ostream& out) { out << pvd; });
 }
 
 }  // namespace spall::io::output

@@ -31,9 +31,16 @@ class PvdSeries {
   // stays openable when a run stops early. Throws std::runtime_error when it cannot be written.
   void add(double time, const std::string& relative_file);
 
+  using Entries = std::vector<std::pair<double, std::string>>;
+  const Entries& entries() const { return entries_; }
+  // The series as a checkpoint had it, written over the .pvd (a restart drops what was added after).
+  void restore(Entries entries);
+
  private:
+  void write() const;
+
   std::filesystem::path path_;
-  std::vector<std::pair<double, std::string>> entries_;
+  Entries entries_;
 };
 
 }  // namespace spall::io::output

@@ -1,0 +1,142 @@
+#include "run_outputs.hpp"
+
+#include <fmt/format.h>
+
+#include "spall/solver/field_output.hpp"
+
+namespace spall::cli {
+
+namespace fs = std::filesystem;
+using io::output::Column;
+
+RunOutputs::RunOutputs(const fs::path& out, const solver::Problem& problem, const model::Model& model, bool resume)
+    : out_(out), problem_(problem), series_(out / "d3plot.pvd") {
+  // glstat.csv: time, dt, the energy ledger's terms (whoever produces a term registers it in the
+  // first step, before the first row), the total and the energy ratio.
+  glstat_.path = out / "glstat.csv";
+  // Forces on the rigid walls, one row per wall and output time; only when the deck has walls.
+  if (!problem.rigid_walls.empty()) {
+    rwforc_.path = out / "rwforc.csv";
+    rwforc_.columns = {{"time", "time"}, {"wall", ""}, {"normal_force", "force"},
+                       {"fx", "force"},  {"fy", "force"}, {"fz", "force"}};
+  }
+  // Forces of the penalty contacts on each side (1: SURFA, 2: SURFB), with their moments about the
+  // *DATABASE_RCFORC_MOMENT node, or the side's rigid-body centre, or the origin; only with contacts.
+  if (!problem.contacts.empty()) {
+    rcforc_.path = out / "rcforc.csv";
+    rcforc_.columns = {{"time", "time"}, {"contact", ""}, {"side", ""}};
+    for (const char* name : {"fx", "fy", "fz"}) rcforc_.columns.push_back({name, "force"});
+    for (const char* name : {"mx", "my", "mz"}) rcforc_.columns.push_back({name, "force*length"});
+    for (const char* name : {"px", "py", "pz"}) rcforc_.columns.push_back({name, "length"});
+  }
+  // The rigid bodies' motion and the forces on them, at the RBDOUT interval (GLSTAT's without the
+  // card); only with bodies.
+  if (!problem.rigid_bodies.empty()) {
+    rbdout_.path = out / "rbdout.csv";
+    rbdout_.columns = {{"time", "time"}, {"part", ""}};
+    for (const char* name : {"x", "y", "z"}) rbdout_.columns.push_back({name, "length"});
+    for (const char* name : {"vx", "vy", "vz"}) rbdout_.columns.push_back({name, "velocity"});
+    for (const char* name : {"wx", "wy", "wz"}) rbdout_.columns.push_back({name, "1/time"});
+    for (const char* name : {"fx", "fy", "fz"}) rbdout_.columns.push_back({name, "force"});
+    for (const char* name : {"mx", "my", "mz"}) rbdout_.columns.push_back({name, "force*length"});
+  }
+  // Residual stress of the SPH solids per part and category (seed 000), at the end of the run and,
+  // on request, at every field output.
+  for (const auto& f : problem.formulations)
+    if (const auto* s = dynamic_cast<const sph::SolidFormulation*>(f.get())) solid_ = s;
+  residual_options_ = model.sph_residual_stress.value_or(model::SphResidualStress{});
+  if (resume) return;
+  for (History* h : {&rwforc_, &rcforc_, &rbdout_})
+    if (!h->columns.empty()) open(*h);
+  if (solid_) residual_.emplace(out / "residual.csv", *solid_, residual_options_);
+}
+
+void RunOutputs::write_fields(const solver::StepInfo& step, const solver::Problem& p) {
+  const auto snap = solver::snapshot_fields(p);
+  const std::string name = fmt::format("d3plot_{:05d}.vtu", field_count_++);
+  io::output::write_vtu(out_ / name, snap.points, snap.fields, snap.cell_blocks);
+  series_.add(step.time, name);
+  if (residual_ && residual_options_.at_output == 1) residual_->write(step.time);
+}
+
+fs::path RunOutputs::last_field_file() const { return out_ / fmt::format("d3plot_{:05d}.vtu", field_count_ - 1); }
+
+std::optional<std::string> RunOutputs::finish(double end_time) {
+  if (!residual_) return std::nullopt;
+  if (residual_options_.at_output != 1) residual_->write(end_time);
+  return residual_->summary();
+}
+
+solver::Observer RunOutputs::observer() {
+  solver::Observer observer;
+  observer.on_field_output = [this](const solver::StepInfo& step, const solver::Problem& p) { write_fields(step, p); };
+  observer.on_history = [this](const solver::StepInfo& step, const discretization::EnergyLedger& e) {
+    using Role = discretization::EnergyLedger::Role;
+    if (!glstat_.file) {
+      glstat_.columns = {{"time", "time"}, {"dt", "time"}};
+      for (const auto& term : e.terms()) glstat_.columns.push_back({term.name, term.role == Role::reported ? "mass" : "energy"});
+      glstat_.columns.push_back({"total_energy", "energy"});
+      glstat_.columns.push_back({"energy_ratio", ""});
+      open(glstat_);
+    }
+    std::vector<double> row{step.time, step.dt};
+    for (const auto& term : e.terms()) row.push_back(term.value);
+    masses_.clear();
+    for (const auto& term : e.terms())
+      if (term.role == Role::reported) masses_.emplace_back(term.name, term.value);
+    row.push_back(e.total());
+    row.push_back(e.ratio());
+    glstat_.file->append(row);
+  };
+  observer.on_rigid_bodies = [this](const solver::StepInfo& step, const rigid::RigidBodies& bodies) {
+    for (const auto& body : bodies.bodies()) {
+      std::vector<double> r{step.time, static_cast<double>(body.part_id)};
+      for (const Vec3* v : {&body.step_centre, &body.velocity, &body.angular_velocity, &body.force, &body.moment})
+        r.insert(r.end(), v->data(), v->data() + 3);
+      rbdout_.file->append(r);
+    }
+  };
+  observer.on_rigid_wall_forces = [this](const solver::StepInfo& step, const std::vector<contact::RigidWall>& walls) {
+    for (const auto& wall : walls) {
+      const Vec3& f = wall.force();
+      const double row[] = {step.time, static_cast<double>(wall.definition().id), wall.normal_force(), f.x(), f.y(), f.z()};
+      rwforc_.file->append(row);
+    }
+  };
+  observer.on_contact_forces = [this](const solver::StepInfo& step, const std::vector<contact::PenaltyContact>& contacts) {
+    for (const auto& c : contacts)
+      for (int side = 0; side < 2; ++side) {
+        const auto& r = side == 0 ? c.side_a() : c.side_b();
+        const std::int32_t body = c.definition().side_body[side];
+        const Index node = c.definition().moment_node[side];
+        const Vec3 p = node >= 0   ? problem_.nodes.x[node]
+                       : body >= 0 ? problem_.rigid_bodies.bodies()[body].step_centre
+                                   : Vec3::Zero();
+        const Vec3 m = r.moment - p.cross(r.force);
+        std::vector<double> row{step.time, static_cast<double>(c.definition().id), double(side + 1)};
+        for (const Vec3* v : {&r.force, &m, &p}) row.insert(row.end(), v->data(), v->data() + 3);
+        rcforc_.file->append(row);
+      }
+  };
+  return observer;
+}
+
+void RunOutputs::checkpoint(Archive& a) {
+  a.section("output files");
+  io::output::PvdSeries::Entries entries = series_.entries();
+  a(entries, field_count_, masses_, glstat_.columns);
+  for (History* h : {&glstat_, &rwforc_, &rcforc_, &rbdout_}) {
+    std::optional<std::uint64_t> bytes;
+    if (h->file) bytes = h->file->bytes();
+    a(bytes);
+    if (a.reading() && bytes) h->file.emplace(h->path, h->columns, *bytes);
+  }
+  std::optional<std::uint64_t> residual_bytes;
+  if (residual_) residual_bytes = residual_->bytes();
+  a(residual_bytes);
+  if (!a.reading()) return;
+  series_.restore(std::move(entries));
+  if (residual_bytes) residual_.emplace(out_ / "residual.csv", *solid_, residual_options_, *residual_bytes);
+}
+
+}  // namespace spall::cli
