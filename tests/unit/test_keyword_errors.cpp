@@ -86,6 +86,12 @@ TEST(keyword_errors, MissingIncludeAndUndefinedParameter) {
   EXPECT_EQ(read_error(folder, "*PARAMETER_EXPRESSION\nR x       2*(3+\n")
                 .rfind(prefix(folder, 2, "*PARAMETER_EXPRESSION") + "field EXPRESSION:", 0),
             0u);
+  EXPECT_EQ(read_error(folder, "*PARAMETER_EXPRESSION\nR x       sqrt(1,2)\n"),
+            prefix(folder, 2, "*PARAMETER_EXPRESSION") + "field EXPRESSION: 'sqrt(1,2)': sqrt takes one argument");
+  EXPECT_EQ(read_error(folder, "*PARAMETER_EXPRESSION\nR x       2 * pie\n"),
+            prefix(folder, 2, "*PARAMETER_EXPRESSION") + "field EXPRESSION: '2 * pie': parameter 'pie' is not defined");
+  EXPECT_EQ(read_error(folder, "*PARAMETER_EXPRESSION\n          1 + 2\n"),
+            prefix(folder, 2, "*PARAMETER_EXPRESSION") + "field PRMR: is blank");
 }
 
 TEST(keyword_errors, SelfIncludeStopsAtADepthLimit) {

@@ -157,6 +157,7 @@ class DeckReader {
       return;
     }
     if (name == "INCLUDE") return read_include(file, cursor, depth);
+    if (name == "COMMENT") return;  // free text up to the next keyword, as a `$` line is
     if (name == "PARAMETER" || name == "PARAMETER_LOCAL" || name == "PARAMETER_NOECHO")
       return read_parameter(cursor, name == "PARAMETER_LOCAL");
     if (name == "PARAMETER_EXPRESSION" || name == "PARAMETER_EXPRESSION_LOCAL" ||
@@ -233,7 +234,8 @@ class DeckReader {
     }
   }
 
-  // PRMR(10) then the expression over the rest of the line.
+  // PRMR(10) then the expression over the rest of the line. A long expression continues on the
+  // lines after it whose PRMR columns are blank (such a line cannot start a definition).
   void read_parameter_expression(CardCursor& cursor, bool local) {
     while (true) {
       cursor.skip_blank_lines();
@@ -244,10 +246,12 @@ class DeckReader {
       const std::size_t comma = line.text.substr(0, 10).find(',');
       const std::size_t split = comma == std::string_view::npos ? 10 : comma;
       const std::string_view prmr = trim(line.text.substr(0, std::min(split, line.text.size())));
-      const std::string_view expression =
+      std::string expression(
           split < line.text.size() ? trim(line.text.substr(split + (comma == std::string_view::npos ? 0 : 1)))
-                                   : std::string_view{};
+                                   : std::string_view{});
       const Card card = cursor.next(standard_fields, "expression card");
+      while (!cursor.done() && trim(cursor.peek().text.substr(0, 10)).empty() && !trim(cursor.peek().text).empty())
+        expression += " " + cursor.next_text("expression continuation");
       ParameterValue value;
       const std::string_view name = parameter_name(card, prmr, "PRMR", value.type);
       if (value.type == 'C') card.fail("PRMR", "a character parameter cannot take an expression");
@@ -263,6 +267,7 @@ class DeckReader {
 
   static std::string_view parameter_name(const Card& card, std::string_view prmr,
                                          const char* field_name, char& type) {
+    if (prmr.empty()) card.fail(field_name, "is blank");
     type = static_cast<char>(std::toupper(static_cast<unsigned char>(prmr.front())));
     const std::string_view name = trim(prmr.substr(1));
     if ((type != 'R' && type != 'I' && type != 'C') || name.empty())
