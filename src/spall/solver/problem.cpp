@@ -501,9 +501,11 @@ class Builder {
       c.damping_curve = curve(d.lcid, d.where, "*DAMPING_GLOBAL", "LCID");
       c.damping_scale = d.translation_scale;
     }
-    if (model_.bulk_viscosity.type != 1 && model_.bulk_viscosity.type != -1 && !model_.sph_elements.empty())
+    // LS-DYNA manual: TYPE -1 and -2 are the standard viscosity (1) also applied to shells, -2 leaving
+    // the shells' viscous energy out of the balance; solids always count it. SPH particles are solids.
+    if (model_.bulk_viscosity.type == 2 && !model_.sph_elements.empty())
       fail_at(model_.bulk_viscosity.where, "*CONTROL_BULK_VISCOSITY",
-              fmt::format("TYPE {}: only the standard type 1 is supported", model_.bulk_viscosity.type));
+              "TYPE 2 (Richards-Wilkins): only the standard bulk viscosity (TYPE 1, -1 or -2) is supported for SPH");
   }
 
   // *CONTROL_TIMESTEP DT2MS < 0: every formulation that can adds mass where its step is below |DT2MS|.
