@@ -144,6 +144,28 @@ TEST(keyword_errors, ValidateCrossReferences) {
             prefix(folder, 16, "*PART") + "part 2: material 8 is not defined");
 }
 
+// A set or curve that a keyword Spall does not read defines is named with that keyword, not
+// called undefined; a set of another kind with the same ID does not count (own ID space).
+TEST(keyword_errors, ASetOrCurveOfAnUnreadKeywordIsNamed) {
+  DeckFolder folder;
+  const std::string base = termination + "*NODE\n" + row({"1", "0", "0", "0"}, node_widths) +
+                           "*SECTION_SOLID\n" + row({"1"}) + "*SECTION_SPH\n" + row({"2"}) +
+                           "*MAT_ELASTIC\n" + row({"1", "1.0", "1.0"}) + "*PART\nblock\n" +
+                           row({"1", "1", "1"});
+  const std::string deck = (folder.path() / "bad.k").lexically_normal().string();
+  EXPECT_EQ(validate_error(folder, base + "*SET_NODE_ADD\n" + row({"7"}) + row({"1", "2"}) +
+                                       "*BOUNDARY_SPC_SET\n" + row({"7", "0", "1"})),
+            prefix(folder, 18, "*BOUNDARY_SPC_SET") + "node set 7 is defined by *SET_NODE_ADD (" + deck +
+                ":14), which Spall does not read");
+  EXPECT_EQ(validate_error(folder, base + "*SET_SHELL_LIST\n" + row({"7"}) + row({"1"}) + "*BOUNDARY_SPC_SET\n" +
+                                       row({"7", "0", "1"})),
+            prefix(folder, 18, "*BOUNDARY_SPC_SET") + "node set 7 is not defined");
+  EXPECT_EQ(validate_error(folder, base + "*DEFINE_CURVE_FUNCTION_TITLE\ngravity\n" + row({"4"}) + "9.81\n" +
+                                       "*LOAD_BODY_Z\n" + row({"4"})),
+            prefix(folder, 19, "*LOAD_BODY_Z") + "LCID: curve 4 is defined by *DEFINE_CURVE_FUNCTION_TITLE (" + deck +
+                ":14), which Spall does not read");
+}
+
 // Whatever the bytes, reading ends in a model or an InputError, never another exception or a crash.
 TEST(keyword_errors, MangledDecksFailOnlyWithInputError) {
   DeckFolder folder;

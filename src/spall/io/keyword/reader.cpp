@@ -275,11 +275,10 @@ class DeckReader {
     return name;
   }
 
-  // Records the keyword for the warning list. For sections, materials, EOS and tables (which
-  // *MAT_PIECEWISE_LINEAR_PLASTICITY's LCSS may name) it also keeps the
-  // ID in the first field of the first data card (for *PART_ variants, the PID on the card after
-  // the heading), so that validate() can name the keyword a reference points to. Never throws:
-  // an unreadable ID is 0.
+  // Records the keyword for the warning list. For sections, materials, EOS, sets, curves, tables
+  // and functions it also keeps the ID in the first field of the first data card (for *PART_
+  // variants, the PID on the card after the heading), so that validate() can name the keyword a
+  // reference points to. Never throws: an unreadable ID is 0.
   void record_unsupported(const KeywordBlock& block, bool long_format) {
     model::UnsupportedKeyword unsupported;
     unsupported.keyword = "*" + block.name;
@@ -287,6 +286,7 @@ class DeckReader {
     const std::string_view name = block.name;
     std::size_t card = block.data.size();  // the card with the ID; none by default
     if (name.starts_with("SECTION_") || name.starts_with("MAT_") || name.starts_with("EOS_") ||
+        name.starts_with("SET_") || name.starts_with("DEFINE_CURVE") || name.starts_with("DEFINE_FUNCTION") ||
         name.starts_with("DEFINE_TABLE"))
       card = ends_with(name, "_TITLE") ? 1 : 0;
     else if (name.starts_with("PART_"))  // *PART_INERTIA etc.: a heading, then PID first
