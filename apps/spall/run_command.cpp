@@ -46,12 +46,26 @@ void warn_unsupported(const model::Model& model) {
   }
 }
 
+// Thermal materials are read for *PART TMID only: a deck that asks for a thermal solution is refused
+// at its *CONTROL_SOLUTION, so here they are unused. Once, naming the first.
+void warn_thermal_unused(const model::Model& model) {
+  if (model.thermal_materials.empty()) return;
+  const auto& first = model.thermal_materials.begin()->second;
+  const std::size_t count = model.thermal_materials.size();
+  log::warning(fmt::format("{}:{}: {}: {} not used: no thermal solution is requested (*CONTROL_SOLUTION SOLN 0), "
+                           "Spall runs the structural analysis",
+                           first.where.file, first.where.line, first.keyword,
+                           count > 1 ? fmt::format("this and {} more thermal materials are", count - 1)
+                                     : std::string("thermal material ") + std::to_string(first.id) + " is"));
+}
+
 model::Model read_and_check(const std::string& deck, const std::vector<std::string>& skip) {
   if (!fs::exists(deck)) throw InputError(fmt::format("{}: no such deck file", deck));
   model::Model model = io::keyword::read_deck(deck);
   io::keyword::refuse_unsupported_physics(model, skip);
   warn_unsupported(model);
   io::keyword::validate(model);
+  warn_thermal_unused(model);
   return model;
 }
 

@@ -74,6 +74,21 @@ grep -Eq 'contact\.k:[0-9]+: \*CONTACT_TIED_SURFACE_TO_SURFACE: not supported by
   { cat "$work/contact.log"; fail "contact refusal"; }
 "$cli" check "$work/contact.k" --skip CONTACT >/dev/null 2>"$work/contact.log" || fail "check --skip CONTACT"
 grep -q 'on request (--skip): the physics of this run is incomplete' "$work/contact.log" || fail "--skip warning"
+# Thermal materials in a structural deck: one warning that they are not used; a thermal solution
+# (*CONTROL_SOLUTION SOLN 1) is refused by name with exit 2.
+sed 's/^\*END$/*MAT_THERMAL_ISOTROPIC\n         1    7850.0\n     460.0      45.0\n*MAT_THERMAL_ISOTROPIC\n         2    7850.0\n     460.0      45.0\n*CONTROL_SOLUTION\n         0\n*END/' \
+  "$work/bar.k" >"$work/thermal.k"
+"$cli" check "$work/thermal.k" >/dev/null 2>"$work/thermal.log" || { cat "$work/thermal.log"; fail "check thermal.k"; }
+[ "$(grep -c 'not used: no thermal solution is requested' "$work/thermal.log")" -eq 1 ] ||
+  { cat "$work/thermal.log"; fail "thermal materials: not one warning"; }
+sed 's/^         0$/         1/' "$work/thermal.k" >"$work/thermal_soln.k"
+set +e
+"$cli" check "$work/thermal_soln.k" >/dev/null 2>"$work/thermal_soln.log"
+code=$?
+set -e
+[ "$code" -eq 2 ] || fail "a thermal solution checked with exit $code"
+grep -Eq 'thermal_soln\.k:[0-9]+: \*CONTROL_SOLUTION: field SOLN: 1 \(thermal only\)' "$work/thermal_soln.log" ||
+  { cat "$work/thermal_soln.log"; fail "thermal solution refusal"; }
 # A deck with nothing Spall can run: exit 2.
 printf '*KEYWORD\n*CONTROL_TERMINATION\n       1.0\n*END\n' >"$work/empty.k"
 set +e

@@ -32,6 +32,15 @@ struct Part {
   Id mid = 0;
   Id eosid = 0;
   Id hgid = 0;
+  Id tmid = 0;  // a thermal material (*MAT_THERMAL_*), used only by a thermal or coupled solution
+  SourceLocation where;
+};
+
+// A *MAT_THERMAL_* card: its own ID space in LS-DYNA (*PART TMID), apart from the structural
+// materials. Spall solves no heat equation, so only the ID is kept, for TMID references.
+struct ThermalMaterial {
+  Id id = 0;
+  std::string keyword;  // as written, e.g. *MAT_THERMAL_ISOTROPIC_TITLE
   SourceLocation where;
 };
 
@@ -542,6 +551,7 @@ struct Model {
   std::vector<Part> parts;
   std::map<Id, Section> sections;
   std::map<Id, Material> materials;
+  std::map<Id, ThermalMaterial> thermal_materials;
   std::map<Id, Eos> eos;
   std::vector<ElementSph> sph_elements;
   std::vector<ElementSolid> solid_elements;

@@ -126,6 +126,7 @@ void read_part(CardCursor& cursor, const KeywordCall&, model::Model& model) {
     part.mid = card.required_integer(2, "MID");
     part.eosid = card.integer(3, "EOSID", 0);
     part.hgid = card.integer(4, "HGID", 0);
+    part.tmid = card.integer(7, "TMID", 0);
     part.where = card.where();
     model.parts.push_back(std::move(part));
   }

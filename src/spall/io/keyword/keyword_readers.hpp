@@ -59,6 +59,9 @@ void read_section_solid_spg(CardCursor&, const KeywordCall&, model::Model&);
 void read_section_sph(CardCursor&, const KeywordCall&, model::Model&);
 void read_mat_elastic(CardCursor&, const KeywordCall&, model::Model&);
 void read_mat_rigid(CardCursor&, const KeywordCall&, model::Model&);
+// True for the keywords of thermal materials (`MAT_THERMAL_...`, `MAT_Tnn...`, without `*`).
+bool is_thermal_material(std::string_view name);
+void read_mat_thermal(CardCursor&, const KeywordCall&, model::Model&);
 // add_erosion.cpp
 void read_mat_add_erosion(CardCursor&, const KeywordCall&, model::Model&);
 // hourglass.cpp
@@ -99,6 +102,7 @@ void read_contact(CardCursor&, const KeywordCall&, model::Model&);
 void read_control_contact(CardCursor&, const KeywordCall&, model::Model&);
 // controls.cpp
 void read_control_termination(CardCursor&, const KeywordCall&, model::Model&);
+void read_control_solution(CardCursor&, const KeywordCall&, model::Model&);
 void read_control_timestep(CardCursor&, const KeywordCall&, model::Model&);
 void read_control_bulk_viscosity(CardCursor&, const KeywordCall&, model::Model&);
 void read_damping_global(CardCursor&, const KeywordCall&, model::Model&);

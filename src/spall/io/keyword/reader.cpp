@@ -74,6 +74,7 @@ constexpr SupportedKeyword supported_keywords[] = {
     {"RIGIDWALL_PLANAR_FINITE", read_rigidwall_planar, false, true},
     {"RIGIDWALL_PLANAR_FINITE_MOVING", read_rigidwall_planar, false, true},
     {"CONTROL_TERMINATION", read_control_termination},
+    {"CONTROL_SOLUTION", read_control_solution},
     {"CONTROL_TIMESTEP", read_control_timestep},
     {"CONTROL_BULK_VISCOSITY", read_control_bulk_viscosity},
     {"DAMPING_GLOBAL", read_damping_global},
@@ -168,6 +169,10 @@ class DeckReader {
     if (const SupportedKeyword* keyword = find_supported(name, call))
       return keyword->reader(cursor, call, model_);
     if (split_contact_keyword(name, call)) return read_contact(cursor, call, model_);
+    if (is_thermal_material(name)) {
+      call.title = ends_with(name, "_TITLE");
+      return read_mat_thermal(cursor, call, model_);
+    }
     record_unsupported(block, long_format);
   }
 
@@ -258,7 +263,7 @@ class DeckReader {
       if (expression.empty()) card.fail("EXPRESSION", "is blank");
       std::string error;
       const auto result = parameters_.evaluate(expression, error);
-      if (!result) card.fail("EXPRESSION", quoted(expression) + ": " + error);
+      if (!result) card.fail("EXPRESSION", quoted(std::string_view(expression)) + ": " + error);
       // An integer parameter keeps the whole part, as a Fortran assignment to an integer does.
       value.number = value.type == 'I' ? std::trunc(*result) : *result;
       parameters_.define(name, std::move(value), local);

@@ -150,6 +150,15 @@ class Validator {
       if (part.eosid != 0 && !model_.eos.contains(part.eosid))
         refuse_reference(part, used, "*EOS_", "equation of state", part.eosid);
       require_eos_where_needed(part);
+      // TMID has the thermal materials' own ID space; a structural material of that number is not one.
+      if (part.tmid != 0 && !model_.thermal_materials.contains(part.tmid))
+        throw InputError(part.where, "*PART",
+                         "part " + std::to_string(part.id) + ": TMID: thermal material " + std::to_string(part.tmid) +
+                             " is not defined" +
+                             (model_.materials.contains(part.tmid) ? " (material " + std::to_string(part.tmid) +
+                                                                         " is a structural one; TMID names a "
+                                                                         "*MAT_THERMAL_ card)"
+                                                                   : std::string()));
       if (section == model_.sections.end()) continue;
       if (auto it = first_sph_.find(part.id);
           it != first_sph_.end() && !std::holds_alternative<model::SectionSph>(section->second))
