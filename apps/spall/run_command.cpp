@@ -1,6 +1,7 @@
 #include "run_command.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <functional>
 #include <fmt/format.h>
@@ -266,12 +267,14 @@ int run_deck(const RunOptions& options) {
       if (residual_options.at_output != 1) residual->write(summary.end_time);
       log::info(residual->summary());
     }
-    log::info(fmt::format("done: {} steps to t = {:g} in {:.2f} s, {:.3e} node-steps/s, energy ratio {:.6f}",
+    info.energy_ratio = summary.energies.ratio();
+    // At rest the ratio is not a number (docs/OUTPUT.md): "n/a", not a quotient of round-off.
+    log::info(fmt::format("done: {} steps to t = {:g} in {:.2f} s, {:.3e} node-steps/s, energy ratio {}",
                           summary.steps, summary.end_time, progress.elapsed_seconds(),
                           progress.elapsed_seconds() > 0
                               ? nodes * double(summary.steps) / progress.elapsed_seconds()
                               : 0.0,
-                          summary.energies.ratio()));
+                          std::isfinite(info.energy_ratio) ? fmt::format("{:.6f}", info.energy_ratio) : "n/a"));
   } catch (const InstabilityError& e) {
     write_fields(last_step, problem);  // the last state, for the post-mortem
     log::error(e.what());

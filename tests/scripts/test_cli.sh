@@ -42,6 +42,14 @@ python3 "$source_dir/tools/make_bar_deck.py" --spacing 0.01 --width 0.1 --period
 "$cli" run "$work/bar_threads.k" -o "$work/threads2" --threads 2 2>/dev/null || fail "2-thread run"
 cmp -s "$work/threads1/glstat.csv" "$work/threads2/glstat.csv" || fail "glstat.csv differs between 1 and 2 threads"
 
+# A bar at rest has no energy ratio (0/0): "n/a" in the summary, nan in glstat.csv, null in run.json.
+python3 "$source_dir/tools/make_bar_deck.py" --spacing 0.025 --periods 0.02 --amplitude 0 >"$work/rest.k"
+"$cli" run "$work/rest.k" -o "$work/rest_out" 2>"$work/rest.log" || { cat "$work/rest.log"; fail "run at rest"; }
+grep -q 'energy ratio n/a' "$work/rest.log" || { cat "$work/rest.log"; fail "summary of a model at rest"; }
+tail -n 1 "$work/rest_out/glstat.csv" | awk -F, '{ exit !($NF == "nan") }' || fail "glstat ratio at rest: $(tail -n 1 "$work/rest_out/glstat.csv")"
+grep -q '"energy_ratio": null' "$work/rest_out/run.json" || fail "run.json energy_ratio at rest"
+grep -Eq '"energy_ratio": 0\.9|"energy_ratio": 1' "$work/out/run.json" || fail "run.json energy_ratio of the bar"
+
 # A rigid wall through the particle layer at x = 0.5125, facing +x: the half in front of it moves
 # onto it (v = V cos(pi x / L) < 0 there), so rwforc.csv has rows with a positive normal force.
 sed 's/^\*END$/*RIGIDWALL_PLANAR\n\n    0.5125       0.0       0.0       1.5       0.0       0.0\n*DATABASE_RWFORC\n   1.0e-05\n*END/' \
