@@ -42,6 +42,20 @@ python3 "$source_dir/tools/make_bar_deck.py" --spacing 0.01 --width 0.1 --period
 "$cli" run "$work/bar_threads.k" -o "$work/threads2" --threads 2 2>/dev/null || fail "2-thread run"
 cmp -s "$work/threads1/glstat.csv" "$work/threads2/glstat.csv" || fail "glstat.csv differs between 1 and 2 threads"
 
+# Without *DATABASE_BINARY_D3PLOT a run still leaves its first and last state for d3plot.pvd; so
+# does a run that ENDENG stops early (here at once: a 1e-12 % change of the energy ratio).
+sed '/^\*DATABASE_BINARY_D3PLOT$/,+2d' "$work/bar.k" >"$work/no_d3plot.k"
+"$cli" run "$work/no_d3plot.k" -o "$work/no_d3plot_out" 2>"$work/no_d3plot.log" || { cat "$work/no_d3plot.log"; fail "run without d3plot"; }
+[ "$(ls "$work/no_d3plot_out"/d3plot_*.vtu | wc -l)" -eq 2 ] || fail "without *DATABASE_BINARY_D3PLOT: $(ls "$work/no_d3plot_out")"
+[ "$(grep -c '<DataSet' "$work/no_d3plot_out/d3plot.pvd")" -eq 2 ] || fail "pvd without *DATABASE_BINARY_D3PLOT"
+grep -q 'timestep="0"' "$work/no_d3plot_out/d3plot.pvd" || fail "no first state in d3plot.pvd"
+sed 's/^9\.9058e-05         0       0\.0       0\.0       0\.0$/9.9058e-05         0       0.0     1e-12       0.0/' \
+  "$work/no_d3plot.k" >"$work/endeng.k"
+grep -q '1e-12' "$work/endeng.k" || fail "ENDENG deck"
+"$cli" run "$work/endeng.k" -o "$work/endeng_out" 2>"$work/endeng.log" || { cat "$work/endeng.log"; fail "run with ENDENG"; }
+[ "$(ls "$work/endeng_out"/d3plot_*.vtu | wc -l)" -eq 2 ] || fail "ENDENG: $(ls "$work/endeng_out")"
+awk -F, 'END { exit !($1 < 9e-5) }' "$work/endeng_out/glstat.csv" || fail "ENDENG did not stop the run early"
+
 # A bar at rest has no energy ratio (0/0): "n/a" in the summary, nan in glstat.csv, null in run.json.
 python3 "$source_dir/tools/make_bar_deck.py" --spacing 0.025 --periods 0.02 --amplitude 0 >"$work/rest.k"
 "$cli" run "$work/rest.k" -o "$work/rest_out" 2>"$work/rest.log" || { cat "$work/rest.log"; fail "run at rest"; }
