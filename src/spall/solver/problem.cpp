@@ -297,7 +297,7 @@ class Builder {
   void apply_spcs() {
     for (const auto& spc : model_.spcs) {
       const char* keyword = spc.target == model::Target::node ? "*BOUNDARY_SPC_NODE" : "*BOUNDARY_SPC_SET";
-      if (spc.cid != 0) fail_at(spc.where, keyword, "CID: local coordinate systems are not supported yet");
+      model_.require_global_axes(spc.cid, spc.where, keyword, "CID", false);
       std::uint8_t mask = 0;
       for (int d = 0; d < 3; ++d)
         if (spc.dof[d]) mask |= std::uint8_t(1u << d);
@@ -334,6 +334,7 @@ class Builder {
     auto& v = problem_.nodes.v;
     for (const auto& iv : model_.initial_velocities) {
       if (iv.boxid != 0) fail_at(iv.where, "*INITIAL_VELOCITY", "BOXID: boxes are not supported yet");
+      model_.require_global_axes(iv.icid, iv.where, "*INITIAL_VELOCITY", "ICID", true);
       std::vector<char> exempt(problem_.nodes.size(), 0);
       if (iv.nsidex != 0)
         for (Index i : node_set(iv.nsidex, iv.where, "*INITIAL_VELOCITY")) exempt[i] = 1;
@@ -346,12 +347,12 @@ class Builder {
       for (Index i : nodes) v[i] = exempt[i] ? iv.v_exempt : iv.v;
     }
     for (const auto& iv : model_.initial_velocity_nodes) {
-      if (iv.icid != 0) fail_at(iv.where, "*INITIAL_VELOCITY_NODE", "ICID: local coordinate systems are not supported yet");
+      model_.require_global_axes(iv.icid, iv.where, "*INITIAL_VELOCITY_NODE", "ICID", true);
       v[node_index(iv.nid, iv.where, "*INITIAL_VELOCITY_NODE")] = iv.v;
     }
     for (const auto& g : model_.initial_velocity_generations) {
       const char* keyword = "*INITIAL_VELOCITY_GENERATION";
-      if (g.icid != 0) fail_at(g.where, keyword, "ICID: local coordinate systems are not supported yet");
+      model_.require_global_axes(g.icid, g.where, keyword, "ICID", true);
       std::vector<Index> nodes;
       if (g.styp == 2) {
         nodes = part_nodes(g.id, g.where, keyword);
@@ -382,7 +383,7 @@ class Builder {
     static const char* keywords[3] = {"*LOAD_BODY_X", "*LOAD_BODY_Y", "*LOAD_BODY_Z"};
     for (const auto& load : model_.body_loads) {
       const char* keyword = keywords[load.direction];
-      if (load.cid != 0) fail_at(load.where, keyword, "CID: local coordinate systems are not supported yet");
+      model_.require_global_axes(load.cid, load.where, keyword, "CID", false);
       const model::Curve* c = curve(load.lcid, load.where, keyword, "LCID");
       if (!c) fail_at(load.where, keyword, "LCID: a load curve is required");
       problem_.base_accelerations.push_back({load.direction, c, load.sf});

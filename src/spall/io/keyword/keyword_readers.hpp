@@ -49,6 +49,9 @@ void read_node(CardCursor&, const KeywordCall&, model::Model&);
 void read_element_solid(CardCursor&, const KeywordCall&, model::Model&);
 void read_element_sph(CardCursor&, const KeywordCall&, model::Model&);
 void read_part(CardCursor&, const KeywordCall&, model::Model&);
+void read_define_coordinate_system(CardCursor&, const KeywordCall&, model::Model&);
+void read_define_coordinate_vector(CardCursor&, const KeywordCall&, model::Model&);
+void read_define_coordinate_nodes(CardCursor&, const KeywordCall&, model::Model&);
 // sph_mesh_box.cpp
 void read_define_sph_mesh_box(CardCursor&, const KeywordCall&, model::Model&);
 // After the whole deck is read: the nodes and particles of every *DEFINE_SPH_MESH_BOX.
