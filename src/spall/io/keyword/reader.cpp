@@ -258,8 +258,10 @@ class DeckReader {
           split < line.text.size() ? trim(line.text.substr(split + (comma == std::string_view::npos ? 0 : 1)))
                                    : std::string_view{});
       const Card card = cursor.next(standard_fields, "expression card");
-      while (!cursor.done() && trim(cursor.peek().text.substr(0, 10)).empty() && !trim(cursor.peek().text).empty())
-        expression += " " + cursor.next_text("expression continuation");
+      while (!cursor.done() && trim(cursor.peek().text.substr(0, 10)).empty() && !trim(cursor.peek().text).empty()) {
+        expression += ' ';
+        expression += cursor.next_text("expression continuation");
+      }
       ParameterValue value;
       const std::string_view name = parameter_name(card, prmr, "PRMR", value.type);
       if (value.type == 'C') card.fail("PRMR", "a character parameter cannot take an expression");
