@@ -34,7 +34,8 @@ void Model::require_global_axes(Id cid, const SourceLocation& where, const std::
   if (system.nodes[0] != 0) {
     Vec3 x[3];
     for (int k = 0; k < 3; ++k) {
-      const auto node = std::find_if(nodes.begin(), nodes.end(), [&](const Node& n) { return n.id == system.nodes[k]; });
+      const auto node =
+          std::find_if(nodes.begin(), nodes.end(), [&](const Node& n) { return n.id == system.nodes[k]; });
       if (node == nodes.end())
         fail_at(system.where, system.keyword, fmt::format("N{}: node {} is not defined", k + 1, system.nodes[k]));
       x[k] = node->x;

@@ -152,7 +152,8 @@ void read_coordinate_systems(CardCursor& cursor, const KeywordCall& call, model:
 }
 
 Vec3 point(const Card& card, int first, const char* const names[3]) {
-  return Vec3(card.real(first, names[0], 0.0), card.real(first + 1, names[1], 0.0), card.real(first + 2, names[2], 0.0));
+  return Vec3(card.real(first, names[0], 0.0), card.real(first + 1, names[1], 0.0),
+              card.real(first + 2, names[2], 0.0));
 }
 
 }  // namespace
