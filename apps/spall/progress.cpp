@@ -1,36 +1,47 @@
 #include "progress.hpp"
 
-#include <cstdio>
 #include <fmt/core.h>
 #include <unistd.h>
 
+#include <utility>
+
 namespace spall::cli {
 
-Progress::Progress(spall::Real end_time, long long nodes)
-    : end_time_(end_time), nodes_(nodes), terminal_(isatty(STDERR_FILENO) != 0) {}
+Progress::Environment Progress::Environment::standard() {
+  Environment environment;
+  environment.terminal = isatty(STDERR_FILENO) != 0;
+  return environment;
+}
+
+Progress::Progress(spall::Real end_time, long long nodes, Environment environment)
+    : environment_(std::move(environment)), end_time_(end_time), nodes_(nodes), start_(environment_.now()),
+      last_print_(start_) {}
 
 double Progress::elapsed_seconds() const {
-  return std::chrono::duration<double>(Clock::now() - start_).count();
+  return std::chrono::duration<double>(environment_.now() - start_).count();
 }
 
 void Progress::update(const spall::solver::StepInfo& step) {
   // The state at the end time is reached by a step of length zero (the velocity synchronisation);
   // the line shows the last step actually taken.
   if (step.dt > 0) last_dt_ = step.dt;
-  if (terminal_) {
-    const auto now = Clock::now();
+  const auto now = environment_.now();
+  if (environment_.terminal) {
     if (now - last_print_ < std::chrono::milliseconds(250)) return;
     last_print_ = now;
     print(step, false);
-  } else if (step.time >= next_decile_ * 0.1 * end_time_ * (1 - 1e-9)) {
-    while (step.time >= next_decile_ * 0.1 * end_time_ * (1 - 1e-9)) ++next_decile_;
-    print(step, false);
+    return;
   }
+  const bool decile = step.time >= next_decile_ * 0.1 * end_time_ * (1 - 1e-9);
+  if (!decile && now - last_print_ < quiet_limit) return;
+  while (step.time >= next_decile_ * 0.1 * end_time_ * (1 - 1e-9)) ++next_decile_;
+  last_print_ = now;
+  print(step, false);
 }
 
 void Progress::finish(const spall::solver::StepInfo& step) {
   // Off a terminal the 100 % line has already been printed by update().
-  if (terminal_) print(step, true);
+  if (environment_.terminal) print(step, true);
 }
 
 void Progress::print(const spall::solver::StepInfo& step, bool final) {
@@ -41,11 +52,11 @@ void Progress::print(const spall::solver::StepInfo& step, bool final) {
   const std::string line =
       fmt::format("t {:.4e} ({:5.1f}%)  step {}  dt {:.3e}  {:.3e} node-steps/s  ETA {:.0f} s",
                   step.time, 100 * fraction, step.step, last_dt_, rate, eta);
-  if (terminal_)
-    fmt::print(stderr, "\r{}{}", line, final ? "\n" : "   ");
+  if (environment_.terminal)
+    fmt::print(environment_.out, "\r{}{}", line, final ? "\n" : "   ");
   else
-    fmt::print(stderr, "{}\n", line);
-  std::fflush(stderr);
+    fmt::print(environment_.out, "{}\n", line);
+  std::fflush(environment_.out);
 }
 
 }  // namespace spall::cli

@@ -1,7 +1,9 @@
 #pragma once
-// The progress line of a long run: rewritten in place on a terminal, one line per 10 % of the
-// end time otherwise (logs, CI).
+// The progress line of a long run: rewritten in place on a terminal; otherwise (logs, CI) one line
+// per 10 % of the end time, and at least one a minute, so that a slow run shows it is alive.
 #include <chrono>
+#include <cstdio>
+#include <functional>
 
 #include "spall/solver/simulation.hpp"
 
@@ -9,7 +11,21 @@ namespace spall::cli {
 
 class Progress {
  public:
-  Progress(spall::Real end_time, long long nodes);
+  using Clock = std::chrono::steady_clock;
+
+  // Where the lines go and what time it is: stderr, its tty status and the steady clock by
+  // default; a test passes its own clock (no sleeping) and file.
+  struct Environment {
+    std::function<Clock::time_point()> now = [] { return Clock::now(); };
+    std::FILE* out = stderr;
+    bool terminal = false;
+    static Environment standard();
+  };
+
+  // Off a terminal, the longest wall time between two lines.
+  static constexpr std::chrono::seconds quiet_limit{60};
+
+  Progress(spall::Real end_time, long long nodes, Environment environment = Environment::standard());
   void update(const spall::solver::StepInfo& step);
   void finish(const spall::solver::StepInfo& step);
   double elapsed_seconds() const;
@@ -17,12 +33,11 @@ class Progress {
  private:
   void print(const spall::solver::StepInfo& step, bool final);
 
-  using Clock = std::chrono::steady_clock;
+  Environment environment_;
   spall::Real end_time_;
   long long nodes_;
-  bool terminal_;
-  Clock::time_point start_ = Clock::now();
-  Clock::time_point last_print_ = start_;
+  Clock::time_point start_;
+  Clock::time_point last_print_;
   spall::Real last_dt_ = 0;
   int next_decile_ = 1;
 };

@@ -1,6 +1,7 @@
 #include "run_command.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <functional>
 #include <fmt/format.h>
@@ -46,12 +47,26 @@ void warn_unsupported(const model::Model& model) {
   }
 }
 
+// Thermal materials are read for *PART TMID only: a deck that asks for a thermal solution is refused
+// at its *CONTROL_SOLUTION, so here they are unused. Once, naming the first.
+void warn_thermal_unused(const model::Model& model) {
+  if (model.thermal_materials.empty()) return;
+  const auto& first = model.thermal_materials.begin()->second;
+  const std::size_t count = model.thermal_materials.size();
+  log::warning(fmt::format("{}:{}: {}: {} not used: no thermal solution is requested (*CONTROL_SOLUTION SOLN 0), "
+                           "Spall runs the structural analysis",
+                           first.where.file, first.where.line, first.keyword,
+                           count > 1 ? fmt::format("this and {} more thermal materials are", count - 1)
+                                     : std::string("thermal material ") + std::to_string(first.id) + " is"));
+}
+
 model::Model read_and_check(const std::string& deck, const std::vector<std::string>& skip) {
   if (!fs::exists(deck)) throw InputError(fmt::format("{}: no such deck file", deck));
   model::Model model = io::keyword::read_deck(deck);
   io::keyword::refuse_unsupported_physics(model, skip);
   warn_unsupported(model);
   io::keyword::validate(model);
+  warn_thermal_unused(model);
   return model;
 }
 
@@ -203,11 +218,13 @@ int run_deck(const RunOptions& options) {
       info.end_time = summary.end_time;
       info.status = "completed";
       if (const auto residual = outputs.finish(summary.end_time)) log::info(*residual);
-      log::info(fmt::format("done: {} steps to t = {:g} in {:.2f} s, {:.3e} node-steps/s, energy ratio {:.6f}",
+      info.energy_ratio = summary.energies.ratio();
+      // At rest the ratio is not a number (docs/OUTPUT.md): "n/a", not a quotient of round-off.
+      log::info(fmt::format("done: {} steps to t = {:g} in {:.2f} s, {:.3e} node-steps/s, energy ratio {}",
                             summary.steps, summary.end_time, progress.elapsed_seconds(),
                             progress.elapsed_seconds() > 0 ? nodes * double(summary.steps) / progress.elapsed_seconds()
                                                            : 0.0,
-                            summary.energies.ratio()));
+                            std::isfinite(info.energy_ratio) ? fmt::format("{:.6f}", info.energy_ratio) : "n/a"));
     }
   } catch (const InstabilityError& e) {
     outputs.write_fields(last_step, problem);  // the last state, for the post-mortem

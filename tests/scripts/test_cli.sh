@@ -42,6 +42,28 @@ python3 "$source_dir/tools/make_bar_deck.py" --spacing 0.01 --width 0.1 --period
 "$cli" run "$work/bar_threads.k" -o "$work/threads2" --threads 2 2>/dev/null || fail "2-thread run"
 cmp -s "$work/threads1/glstat.csv" "$work/threads2/glstat.csv" || fail "glstat.csv differs between 1 and 2 threads"
 
+# Without *DATABASE_BINARY_D3PLOT a run still leaves its first and last state for d3plot.pvd; so
+# does a run that ENDENG stops early (here at once: a 1e-12 % change of the energy ratio).
+sed '/^\*DATABASE_BINARY_D3PLOT$/,+2d' "$work/bar.k" >"$work/no_d3plot.k"
+"$cli" run "$work/no_d3plot.k" -o "$work/no_d3plot_out" 2>"$work/no_d3plot.log" || { cat "$work/no_d3plot.log"; fail "run without d3plot"; }
+[ "$(ls "$work/no_d3plot_out"/d3plot_*.vtu | wc -l)" -eq 2 ] || fail "without *DATABASE_BINARY_D3PLOT: $(ls "$work/no_d3plot_out")"
+[ "$(grep -c '<DataSet' "$work/no_d3plot_out/d3plot.pvd")" -eq 2 ] || fail "pvd without *DATABASE_BINARY_D3PLOT"
+grep -q 'timestep="0"' "$work/no_d3plot_out/d3plot.pvd" || fail "no first state in d3plot.pvd"
+sed 's/^9\.9058e-05         0       0\.0       0\.0       0\.0$/9.9058e-05         0       0.0     1e-12       0.0/' \
+  "$work/no_d3plot.k" >"$work/endeng.k"
+grep -q '1e-12' "$work/endeng.k" || fail "ENDENG deck"
+"$cli" run "$work/endeng.k" -o "$work/endeng_out" 2>"$work/endeng.log" || { cat "$work/endeng.log"; fail "run with ENDENG"; }
+[ "$(ls "$work/endeng_out"/d3plot_*.vtu | wc -l)" -eq 2 ] || fail "ENDENG: $(ls "$work/endeng_out")"
+awk -F, 'END { exit !($1 < 9e-5) }' "$work/endeng_out/glstat.csv" || fail "ENDENG did not stop the run early"
+
+# A bar at rest has no energy ratio (0/0): "n/a" in the summary, nan in glstat.csv, null in run.json.
+python3 "$source_dir/tools/make_bar_deck.py" --spacing 0.025 --periods 0.02 --amplitude 0 >"$work/rest.k"
+"$cli" run "$work/rest.k" -o "$work/rest_out" 2>"$work/rest.log" || { cat "$work/rest.log"; fail "run at rest"; }
+grep -q 'energy ratio n/a' "$work/rest.log" || { cat "$work/rest.log"; fail "summary of a model at rest"; }
+tail -n 1 "$work/rest_out/glstat.csv" | awk -F, '{ exit !($NF == "nan") }' || fail "glstat ratio at rest: $(tail -n 1 "$work/rest_out/glstat.csv")"
+grep -q '"energy_ratio": null' "$work/rest_out/run.json" || fail "run.json energy_ratio at rest"
+grep -Eq '"energy_ratio": 0\.9|"energy_ratio": 1' "$work/out/run.json" || fail "run.json energy_ratio of the bar"
+
 # A rigid wall through the particle layer at x = 0.5125, facing +x: the half in front of it moves
 # onto it (v = V cos(pi x / L) < 0 there), so rwforc.csv has rows with a positive normal force.
 sed 's/^\*END$/*RIGIDWALL_PLANAR\n\n    0.5125       0.0       0.0       1.5       0.0       0.0\n*DATABASE_RWFORC\n   1.0e-05\n*END/' \
@@ -74,6 +96,21 @@ grep -Eq 'contact\.k:[0-9]+: \*CONTACT_TIED_SURFACE_TO_SURFACE: not supported by
   { cat "$work/contact.log"; fail "contact refusal"; }
 "$cli" check "$work/contact.k" --skip CONTACT >/dev/null 2>"$work/contact.log" || fail "check --skip CONTACT"
 grep -q 'on request (--skip): the physics of this run is incomplete' "$work/contact.log" || fail "--skip warning"
+# Thermal materials in a structural deck: one warning that they are not used; a thermal solution
+# (*CONTROL_SOLUTION SOLN 1) is refused by name with exit 2.
+sed 's/^\*END$/*MAT_THERMAL_ISOTROPIC\n         1    7850.0\n     460.0      45.0\n*MAT_THERMAL_ISOTROPIC\n         2    7850.0\n     460.0      45.0\n*CONTROL_SOLUTION\n         0\n*END/' \
+  "$work/bar.k" >"$work/thermal.k"
+"$cli" check "$work/thermal.k" >/dev/null 2>"$work/thermal.log" || { cat "$work/thermal.log"; fail "check thermal.k"; }
+[ "$(grep -c 'not used: no thermal solution is requested' "$work/thermal.log")" -eq 1 ] ||
+  { cat "$work/thermal.log"; fail "thermal materials: not one warning"; }
+sed 's/^         0$/         1/' "$work/thermal.k" >"$work/thermal_soln.k"
+set +e
+"$cli" check "$work/thermal_soln.k" >/dev/null 2>"$work/thermal_soln.log"
+code=$?
+set -e
+[ "$code" -eq 2 ] || fail "a thermal solution checked with exit $code"
+grep -Eq 'thermal_soln\.k:[0-9]+: \*CONTROL_SOLUTION: field SOLN: 1 \(thermal only\)' "$work/thermal_soln.log" ||
+  { cat "$work/thermal_soln.log"; fail "thermal solution refusal"; }
 # A deck with nothing Spall can run: exit 2.
 printf '*KEYWORD\n*CONTROL_TERMINATION\n       1.0\n*END\n' >"$work/empty.k"
 set +e

@@ -1,6 +1,8 @@
 // Every supported card read from small decks: values, documented defaults, layouts and syntax.
 #include <gtest/gtest.h>
 
+#include <numbers>
+
 #include "keyword_test_decks.hpp"
 #include "spall/io/keyword/reader.hpp"
 
@@ -372,6 +374,41 @@ TEST(keyword_cards, ParameterExpressions) {
   EXPECT_DOUBLE_EQ(sph.cslh, 9.0 * 2.0 - 1.0);
   EXPECT_DOUBLE_EQ(sph.hmax, -4.0 + 1.0 + 2.0 + 2.0);
   EXPECT_DOUBLE_EQ(sph.sphini, -2.0);
+}
+
+// The manual's constant pi and its Fortran functions; a long expression continues on lines whose
+// PRMR columns are blank.
+TEST(keyword_cards, ParameterExpressionFunctionsPiAndContinuation) {
+  DeckFolder folder;
+  const std::string deck =
+      "*KEYWORD\n*PARAMETER_EXPRESSION\n"
+      "R angle   pi/4\n"
+      "R trig    sin(angle)**2 + cos(angle)**2 + tan(angle) + atan2(1.0, 1.0)*4/pi\n"
+      "R ints    aint(-2.7) + anint(2.5) + int(3.9) + nint(-2.5) + float(1)\n"
+      "R more    max(1, 7, 3) - min(4, -2, 0) + sign(3, -1) + mod(7, 3) + log10(100.0)\n"
+      "R long    1 + 2\n"
+      "          + 3\n"
+      "          * 4\n"
+      "*SECTION_SPH\n" + row({"1", "&trig", "&ints", "&more"}) +
+      "*SECTION_SPH\n" + row({"2", "&long", "", "", "", "", "&angle"}) + "*END\n";
+  const auto model = read_deck(folder.write("expr.k", deck));
+  const auto& sph = std::get<model::SectionSph>(model.sections.at(1));
+  EXPECT_DOUBLE_EQ(sph.cslh, 1.0 + 1.0 + 1.0);
+  EXPECT_DOUBLE_EQ(sph.hmin, -2.0 + 3.0 + 3.0 - 3.0 + 1.0);
+  EXPECT_DOUBLE_EQ(sph.hmax, 7.0 + 2.0 - 3.0 + 1.0 + 2.0);
+  const auto& continued = std::get<model::SectionSph>(model.sections.at(2));
+  EXPECT_DOUBLE_EQ(continued.cslh, 1.0 + 2.0 + 3.0 * 4.0);
+  EXPECT_DOUBLE_EQ(continued.start, std::numbers::pi / 4);
+}
+
+// *COMMENT is free text up to the next keyword: neither read nor reported as unsupported.
+TEST(keyword_cards, CommentBlocksAreSkippedSilently) {
+  DeckFolder folder;
+  const std::string deck = "*KEYWORD\n*COMMENT\nWritten by LS-PrePost, 1,2,3\n  any text at all\n" +
+                           std::string("*SECTION_SOLID\n") + row({"4", "1"}) + "*END\n";
+  const auto model = read_deck(folder.write("comment.k", deck));
+  EXPECT_TRUE(model.unsupported.empty());
+  EXPECT_TRUE(model.sections.contains(4));
 }
 
 TEST(keyword_cards, UnsupportedKeywordsAreRecordedWithNameLineAndId) {

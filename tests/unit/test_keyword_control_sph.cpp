@@ -93,6 +93,20 @@ TEST(control_sph, UnimplementedOptionsStopAtTheirCard) {
   }
 }
 
+// ANSYS Workbench writes *CONTROL_BULK_VISCOSITY TYPE -1 or -2: the standard viscosity, also on
+// shells (manual); on SPH particles they are TYPE 1. TYPE 2 (Richards-Wilkins) is refused.
+TEST(control_sph, BulkViscosityTypesMinusOneAndMinusTwoAreTheStandardOne) {
+  for (const int type : {1, -1, -2}) {
+    model::Model block = test_support::elastic_block_model({Vec3(0.1, 0.1, 0.1), 0.025});
+    block.bulk_viscosity.type = type;
+    EXPECT_NO_THROW(solver::build_problem(block)) << "TYPE " << type;
+  }
+  model::Model block = test_support::elastic_block_model({Vec3(0.1, 0.1, 0.1), 0.025});
+  block.bulk_viscosity.type = 2;
+  const std::string message = input_error_of([&] { solver::build_problem(block); });
+  EXPECT_NE(message.find("*CONTROL_BULK_VISCOSITY: TYPE 2 (Richards-Wilkins)"), std::string::npos) << message;
+}
+
 // The solid's pair terms are single precision: a smoothing length whose h^-5 or h^4 leaves float's
 // range is refused at its *SECTION_SPH, with the way out named.
 TEST(section_sph, SmoothingLengthOutsideSinglePrecisionRangeIsRefused) {

@@ -86,6 +86,12 @@ TEST(keyword_errors, MissingIncludeAndUndefinedParameter) {
   EXPECT_EQ(read_error(folder, "*PARAMETER_EXPRESSION\nR x       2*(3+\n")
                 .rfind(prefix(folder, 2, "*PARAMETER_EXPRESSION") + "field EXPRESSION:", 0),
             0u);
+  EXPECT_EQ(read_error(folder, "*PARAMETER_EXPRESSION\nR x       sqrt(1,2)\n"),
+            prefix(folder, 2, "*PARAMETER_EXPRESSION") + "field EXPRESSION: 'sqrt(1,2)': sqrt takes one argument");
+  EXPECT_EQ(read_error(folder, "*PARAMETER_EXPRESSION\nR x       2 * pie\n"),
+            prefix(folder, 2, "*PARAMETER_EXPRESSION") + "field EXPRESSION: '2 * pie': parameter 'pie' is not defined");
+  EXPECT_EQ(read_error(folder, "*PARAMETER_EXPRESSION\n          1 + 2\n"),
+            prefix(folder, 2, "*PARAMETER_EXPRESSION") + "field PRMR: is blank");
 }
 
 TEST(keyword_errors, SelfIncludeStopsAtADepthLimit) {
@@ -136,6 +142,56 @@ TEST(keyword_errors, ValidateCrossReferences) {
             prefix(folder, 15, "*BOUNDARY_SPC_SET") + "node set 7 is not defined");
   EXPECT_EQ(validate_error(folder, base + "*PART\nother\n" + row({"2", "1", "8"})),
             prefix(folder, 16, "*PART") + "part 2: material 8 is not defined");
+}
+
+// A set or curve that a keyword Spall does not read defines is named with that keyword, not
+// called undefined; a set of another kind with the same ID does not count (own ID space).
+TEST(keyword_errors, ASetOrCurveOfAnUnreadKeywordIsNamed) {
+  DeckFolder folder;
+  const std::string base = termination + "*NODE\n" + row({"1", "0", "0", "0"}, node_widths) +
+                           "*SECTION_SOLID\n" + row({"1"}) + "*SECTION_SPH\n" + row({"2"}) +
+                           "*MAT_ELASTIC\n" + row({"1", "1.0", "1.0"}) + "*PART\nblock\n" +
+                           row({"1", "1", "1"});
+  const std::string deck = (folder.path() / "bad.k").lexically_normal().string();
+  EXPECT_EQ(validate_error(folder, base + "*SET_NODE_ADD\n" + row({"7"}) + row({"1", "2"}) +
+                                       "*BOUNDARY_SPC_SET\n" + row({"7", "0", "1"})),
+            prefix(folder, 18, "*BOUNDARY_SPC_SET") + "node set 7 is defined by *SET_NODE_ADD (" + deck +
+                ":14), which Spall does not read");
+  EXPECT_EQ(validate_error(folder, base + "*SET_SHELL_LIST\n" + row({"7"}) + row({"1"}) + "*BOUNDARY_SPC_SET\n" +
+                                       row({"7", "0", "1"})),
+            prefix(folder, 18, "*BOUNDARY_SPC_SET") + "node set 7 is not defined");
+  EXPECT_EQ(validate_error(folder, base + "*DEFINE_CURVE_FUNCTION_TITLE\ngravity\n" + row({"4"}) + "9.81\n" +
+                                       "*LOAD_BODY_Z\n" + row({"4"})),
+            prefix(folder, 19, "*LOAD_BODY_Z") + "LCID: curve 4 is defined by *DEFINE_CURVE_FUNCTION_TITLE (" + deck +
+                ":14), which Spall does not read");
+}
+
+// Thermal materials have their own ID space (LS-DYNA): thermal material 1 beside material 1 is no
+// repeat, and *PART TMID names one of them. A thermal or coupled solution cannot be run.
+TEST(keyword_errors, ThermalMaterialsHaveTheirOwnIdsAndAThermalSolutionIsRefused) {
+  DeckFolder folder;
+  const std::string base = termination + "*NODE\n" + row({"1", "0", "0", "0"}, node_widths) +
+                           "*SECTION_SPH\n" + row({"1"}) + "*MAT_ELASTIC\n" + row({"1", "1.0", "1.0"}) +
+                           "*MAT_THERMAL_ISOTROPIC_TITLE\nsteel\n" + row({"1", "7850", "", "", "0.0"}) +
+                           row({"460", "45"});
+  // Lines 1-12 are `base`; the *PART card is on line 15.
+  const std::string part = "*PART\nblock\n" + row({"1", "1", "1", "", "", "", "", "1"});
+  const auto model = read_deck(folder.write("good.k", base + part));
+  EXPECT_NO_THROW(validate(model));
+  ASSERT_TRUE(model.thermal_materials.contains(1));
+  EXPECT_EQ(model.thermal_materials.at(1).keyword, "*MAT_THERMAL_ISOTROPIC_TITLE");
+  EXPECT_EQ(model.parts.at(0).tmid, 1);
+  EXPECT_TRUE(model.unsupported.empty());
+  EXPECT_EQ(validate_error(folder, base + "*PART\nblock\n" + row({"1", "1", "1", "", "", "", "", "2"})),
+            prefix(folder, 15, "*PART") + "part 1: TMID: thermal material 2 is not defined");
+  EXPECT_EQ(read_error(folder, base + "*MAT_T01\n" + row({"1", "7850"}) + row({"460", "45"})),
+            prefix(folder, 14, "*MAT_T01") + "thermal material 1 is defined twice (first at " +
+                (folder.path() / "bad.k").lexically_normal().string() + ":11)");
+  EXPECT_NO_THROW(read_deck(folder.write("soln0.k", base + part + "*CONTROL_SOLUTION\n" + row({"0"}))));
+  EXPECT_EQ(read_error(folder, base + part + "*CONTROL_SOLUTION\n" + row({"2"})),
+            prefix(folder, 17, "*CONTROL_SOLUTION") +
+                "field SOLN: 2 (coupled thermal-structural): Spall solves no heat equation and cannot run a thermal "
+                "analysis; SOLN 0 is the structural one");
 }
 
 // Whatever the bytes, reading ends in a model or an InputError, never another exception or a crash.

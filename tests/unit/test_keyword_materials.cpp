@@ -113,6 +113,27 @@ TEST(keyword_materials, PiecewiseLinearPlasticityRefusesARateCurveAndBadPoints) 
                 "field EPS3: 0.1 does not increase (the previous point is at 0.2)");
 }
 
+// LS-PrePost writes cards 3-4 all zero when LCSS gives the curve (or when SIGY and ETAN do), and
+// pads a shorter table with zero pairs: LS-DYNA ends the table after the last nonzero point.
+TEST(keyword_materials, PiecewiseLinearPlasticityZeroPairsEndTheTable) {
+  DeckFolder folder;
+  const std::string zeros = row({"0.0", "0.0", "0.0", "0.0", "0.0", "0.0", "0.0", "0.0"});
+  const auto model = read_text(
+      folder, "*MAT_024\n" + row({"5", "2.7e-9", "70000", "0.33", "0.0", "0.0"}) + row({"0", "0", "9"}) + zeros +
+                  zeros + "*MAT_024\n" + row({"6", "2.7e-9", "70000", "0.33", "200", "700"}) + row({}) + zeros +
+                  zeros + "*MAT_024\n" + row({"7", "2.7e-9", "70000", "0.33"}) + row({}) +
+                  row({"0.0", "0.1", "0.5", "0.0", "0.0", "0.0", "0.0", "0.0"}) +
+                  row({"200", "260", "300", "0.0", "0.0", "0.0", "0.0", "0.0"}));
+  EXPECT_TRUE(std::get<model::MatPiecewiseLinearPlasticity>(model.materials.at(5).params).points.empty());
+  EXPECT_TRUE(std::get<model::MatPiecewiseLinearPlasticity>(model.materials.at(6).params).points.empty());
+  EXPECT_EQ(std::get<model::MatPiecewiseLinearPlasticity>(model.materials.at(7).params).points,
+            (std::vector<std::pair<Real, Real>>{{0.0, 200}, {0.1, 260}, {0.5, 300}}));
+  // A zero pair inside the table is still a point that does not increase.
+  EXPECT_EQ(read_error(folder, "*MAT_024\n" + row({"5", "2.7e-9", "70000", "0.33"}) + row({}) +
+                                   row({"0.0", "0.1", "0.0", "0.5"}) + row({"200", "260", "0.0", "300"})),
+            prefix(folder, 4, "*MAT_024") + "field EPS3: 0 does not increase (the previous point is at 0.1)");
+}
+
 // OFHC copper (validation.md §1(b)) in kg-m-s with the Johnson & Cook 1985 damage constants
 // D1..D5 = 0.54 4.89 -3.03 0.014 1.12 [memory].
 TEST(keyword_materials, JohnsonCookFields) {

@@ -298,6 +298,7 @@ TEST_F(OutputTest, RunJsonEscapesStrings) {
             "  \"nodes\": 1000,\n"
             "  \"mass\": {\"initial\": 2.5, \"added_mass\": 0.5},\n"
             "  \"phases\": {\"internal_forces\": 1.5, \"output\": 0.25},\n"
+            "  \"energy_ratio\": null,\n"
             "  \"status\": \"completed\"\n"
             "}\n");
 }

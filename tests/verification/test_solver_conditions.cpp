@@ -127,10 +127,20 @@ TEST(SolverConditions, UnsupportedConditionIsAnInputErrorAtItsLine) {
   spc.cid = 5;
   spc.where = {"deck.k", 42};
   model.spcs.push_back(spc);
+  // A system turned 90 degrees about z: its x axis is the global y.
+  model::CoordinateSystem turned;
+  turned.id = 5;
+  turned.keyword = "*DEFINE_COORDINATE_VECTOR";
+  turned.axis = Vec3(0, 1, 0);
+  turned.in_plane = Vec3(-1, 0, 0);
+  turned.where = {"deck.k", 7};
+  model.coordinate_systems[5] = turned;
   try {
     solver::build_problem(model);
-    FAIL() << "a local coordinate system was accepted";
+    FAIL() << "a turned local coordinate system was accepted";
   } catch (const InputError& e) {
-    EXPECT_STREQ(e.what(), "deck.k:42: *BOUNDARY_SPC_NODE: CID: local coordinate systems are not supported yet");
+    EXPECT_STREQ(e.what(), "deck.k:42: *BOUNDARY_SPC_NODE: CID: coordinate system 5 (*DEFINE_COORDINATE_VECTOR at "
+                           "deck.k:7) has local x axis (0, 1, 0), not the global one: Spall applies this card in "
+                           "global axes only");
   }
 }

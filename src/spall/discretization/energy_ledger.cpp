@@ -1,6 +1,8 @@
 #include "spall/discretization/energy_ledger.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <fmt/format.h>
 #include <stdexcept>
 
@@ -36,7 +38,14 @@ Real EnergyLedger::total() const {
 
 Real EnergyLedger::ratio() const {
   const Real reference = initial_total_ + external_work();
-  return reference != 0 ? total() / reference : 1;
+  Real scale = std::max(std::abs(initial_total_), std::abs(external_work()));
+  for (const auto& t : terms_)
+    if (t.role != Role::reported) scale = std::max(scale, std::abs(t.value));
+  // sqrt(eps): the terms are sums over many steps, each rounding at eps times their size; a
+  // reference within a few decades of eps * scale is round-off.
+  static const Real negligible = std::sqrt(std::numeric_limits<Real>::epsilon());
+  if (!(std::abs(reference) > negligible * scale)) return std::numeric_limits<Real>::quiet_NaN();
+  return total() / reference;
 }
 
 }  // namespace spall::discretization

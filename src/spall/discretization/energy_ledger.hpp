@@ -49,8 +49,10 @@ class EnergyLedger {
   // Fixes the reference of the ratio: the total at t = 0.
   void set_initial_total() { initial_total_ = total(); }
   Real initial_total() const { return initial_total_; }
-  // total / (initial total + external work): 1 for a perfectly conserving run; 1 also when both
-  // are 0 (a model at rest).
+  // total / (initial total + external work): 1 for a perfectly conserving run. NaN for a model at
+  // rest, where the reference is zero or no larger than the round-off of the terms it is made of:
+  // |reference| <= sqrt(eps) * (the largest |term|, initial total and external work included).
+  // Below that, the quotient measures round-off, not energy (6.7e14 for a model at rest).
   Real ratio() const;
 
   static constexpr std::string_view kinetic_energy = "kinetic_energy";

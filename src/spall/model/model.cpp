@@ -1,5 +1,9 @@
 #include "spall/model/model.hpp"
 
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+
 namespace spall::model {
 
 const Part* Model::find_part(Id id) const {
@@ -11,6 +15,58 @@ const Part* Model::find_part(Id id) const {
 const MatRigid* Model::rigid_material(const Part& part) const {
   auto it = materials.find(part.mid);
   return it == materials.end() ? nullptr : std::get_if<MatRigid>(&it->second.params);
+}
+
+namespace {
+
+std::string location_text(const SourceLocation& where) { return where.file + ":" + std::to_string(where.line); }
+
+}  // namespace
+
+void Model::require_global_axes(Id cid, const SourceLocation& where, const std::string& keyword,
+                                const std::string& field, bool initial_only) const {
+  if (cid == 0) return;
+  const auto it = coordinate_systems.find(cid);
+  if (it == coordinate_systems.end())
+    fail_at(where, keyword, fmt::format("{}: coordinate system {} is not defined", field, cid));
+  const CoordinateSystem& system = it->second;
+  Vec3 axis = system.axis, in_plane = system.in_plane;
+  if (system.nodes[0] != 0) {
+    Vec3 x[3];
+    for (int k = 0; k < 3; ++k) {
+      const auto node =
+          std::find_if(nodes.begin(), nodes.end(), [&](const Node& n) { return n.id == system.nodes[k]; });
+      if (node == nodes.end())
+        fail_at(system.where, system.keyword, fmt::format("N{}: node {} is not defined", k + 1, system.nodes[k]));
+      x[k] = node->x;
+    }
+    axis = x[1] - x[0];
+    in_plane = x[2] - x[0];
+  }
+  const Vec3 normal = axis.cross(in_plane);
+  if (!(normal.norm() > 1e-12 * axis.norm() * in_plane.norm()))
+    fail_at(system.where, system.keyword,
+            fmt::format("coordinate system {}: its two vectors are parallel (or zero), so they give no axes", cid));
+  // The local axes in order axis_index, +1, +2 (cyclic): a, then (a x w) x a, then a x w.
+  Vec3 local[3];
+  local[system.axis_index] = axis.normalized();
+  local[(system.axis_index + 2) % 3] = normal.normalized();
+  local[(system.axis_index + 1) % 3] = local[(system.axis_index + 2) % 3].cross(local[system.axis_index]);
+  // Global within 1e-9 of the cosine (an angle of 4.5e-5 rad): the round-off of coordinates written
+  // with 7 or more digits, well below any rotation a user means.
+  bool global = true;
+  for (int d = 0; d < 3; ++d) global = global && local[d][d] >= 1 - 1e-9;
+  const std::string named = fmt::format("{}: coordinate system {} ({} at {})", field, cid, system.keyword,
+                                        location_text(system.where));
+  if (!global)
+    fail_at(where, keyword,
+            fmt::format("{} has local x axis ({:.6g}, {:.6g}, {:.6g}), not the global one: Spall applies this card "
+                        "in global axes only",
+                        named, local[0].x(), local[0].y(), local[0].z()));
+  if (system.follows_nodes && !initial_only)
+    fail_at(where, keyword,
+            fmt::format("{} turns with its nodes during the run (FLAG 1), which Spall cannot follow; give FLAG 0",
+                        named));
 }
 
 }  // namespace spall::model

@@ -32,6 +32,30 @@ struct Part {
   Id mid = 0;
   Id eosid = 0;
   Id hgid = 0;
+  Id tmid = 0;  // a thermal material (*MAT_THERMAL_*), used only by a thermal or coupled solution
+  SourceLocation where;
+};
+
+// *DEFINE_COORDINATE_SYSTEM, _VECTOR or _NODES: the axes of a local system, from a vector along one
+// local axis and a vector in the plane of that axis and the next (x-y for x, y-z for y, z-x for z).
+// Spall applies every card in global axes, so a card that names a system runs only when the
+// system's axes are the global ones; its origin does not matter for directions.
+struct CoordinateSystem {
+  Id id = 0;
+  std::string keyword;  // as written, e.g. *DEFINE_COORDINATE_VECTOR
+  int axis_index = 0;   // which local axis `axis` is: 0 x, 1 y, 2 z (_NODES DIR)
+  Vec3 axis = Vec3::Zero();
+  Vec3 in_plane = Vec3::Zero();
+  std::array<Id, 3> nodes{};  // _NODES: N1 N2 N3; axis = N1 -> N2, in_plane = N1 -> N3, from their coordinates
+  bool follows_nodes = false;  // _NODES FLAG 1: the axes turn with the nodes during the run
+  SourceLocation where;
+};
+
+// A *MAT_THERMAL_* card: its own ID space in LS-DYNA (*PART TMID), apart from the structural
+// materials. Spall solves no heat equation, so only the ID is kept, for TMID references.
+struct ThermalMaterial {
+  Id id = 0;
+  std::string keyword;  // as written, e.g. *MAT_THERMAL_ISOTROPIC_TITLE
   SourceLocation where;
 };
 
@@ -550,6 +574,8 @@ struct Model {
   std::vector<Part> parts;
   std::map<Id, Section> sections;
   std::map<Id, Material> materials;
+  std::map<Id, ThermalMaterial> thermal_materials;
+  std::map<Id, CoordinateSystem> coordinate_systems;
   std::map<Id, Eos> eos;
   std::vector<ElementSph> sph_elements;
   std::vector<ElementSolid> solid_elements;
@@ -595,6 +621,11 @@ struct Model {
   const Part* find_part(Id id) const;
   // The part's *MAT_RIGID card, or nullptr: such a part is a rigid body whatever its section.
   const MatRigid* rigid_material(const Part& part) const;
+  // For a card of `keyword` whose `field` names the coordinate system `cid`: nothing when cid is 0
+  // or a system with the global axes; otherwise an InputError at `where`, saying whether the system
+  // is undefined, turned, or (with `initial_only` false) turning with its nodes during the run.
+  void require_global_axes(Id cid, const SourceLocation& where, const std::string& keyword, const std::string& field,
+                           bool initial_only) const;
 };
 
 }  // namespace spall::model

@@ -121,8 +121,20 @@ RigidBodies build_rigid_bodies(const model::Model& model, const std::unordered_m
       if (nodes.body[i] != discretization::NodeStore::no_body)
         fail_at(part.where, "*PART", fmt::format("part {}: node {} belongs to another rigid body too (merge the two "
                                               "with *CONSTRAINED_RIGID_BODIES)", pid, nodes.id[i]));
-    if (card.cmo == -1)
-      fail_at(where, "*MAT_RIGID", "CMO -1: constraints in a local coordinate system are not supported yet");
+    if (card.cmo == -1) {
+      // CON1 is a coordinate system and CON2 six digits (x y z translation, x y z rotation; 1 held,
+      // 100000 holds x): in a system with the global axes, the constraints of CMO 1.
+      model.require_global_axes(card.con1, where, "*MAT_RIGID", "CON1", false);
+      int code = card.con2;
+      bool digits = code >= 0;
+      for (int d = 5; d >= 0; --d, code /= 10) {
+        digits = digits && code % 10 <= 1;
+        (d < 3 ? body.fixed_translation[d] : body.fixed_rotation[d - 3]) = code % 10 == 1;
+      }
+      if (!digits || code != 0)
+        fail_at(where, "*MAT_RIGID", fmt::format("CON2 {}: with CMO -1, six digits 0 or 1 (x y z translation, "
+                                                 "x y z rotation)", card.con2));
+    }
     if (card.cmo == 1) {
       body.fixed_translation = axes(card.con1);
       body.fixed_rotation = axes(card.con2);

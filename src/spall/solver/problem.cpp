@@ -297,7 +297,7 @@ class Builder {
   void apply_spcs() {
     for (const auto& spc : model_.spcs) {
       const char* keyword = spc.target == model::Target::node ? "*BOUNDARY_SPC_NODE" : "*BOUNDARY_SPC_SET";
-      if (spc.cid != 0) fail_at(spc.where, keyword, "CID: local coordinate systems are not supported yet");
+      model_.require_global_axes(spc.cid, spc.where, keyword, "CID", false);
       std::uint8_t mask = 0;
       for (int d = 0; d < 3; ++d)
         if (spc.dof[d]) mask |= std::uint8_t(1u << d);
@@ -334,6 +334,7 @@ class Builder {
     auto& v = problem_.nodes.v;
     for (const auto& iv : model_.initial_velocities) {
       if (iv.boxid != 0) fail_at(iv.where, "*INITIAL_VELOCITY", "BOXID: boxes are not supported yet");
+      model_.require_global_axes(iv.icid, iv.where, "*INITIAL_VELOCITY", "ICID", true);
       std::vector<char> exempt(problem_.nodes.size(), 0);
       if (iv.nsidex != 0)
         for (Index i : node_set(iv.nsidex, iv.where, "*INITIAL_VELOCITY")) exempt[i] = 1;
@@ -346,12 +347,12 @@ class Builder {
       for (Index i : nodes) v[i] = exempt[i] ? iv.v_exempt : iv.v;
     }
     for (const auto& iv : model_.initial_velocity_nodes) {
-      if (iv.icid != 0) fail_at(iv.where, "*INITIAL_VELOCITY_NODE", "ICID: local coordinate systems are not supported yet");
+      model_.require_global_axes(iv.icid, iv.where, "*INITIAL_VELOCITY_NODE", "ICID", true);
       v[node_index(iv.nid, iv.where, "*INITIAL_VELOCITY_NODE")] = iv.v;
     }
     for (const auto& g : model_.initial_velocity_generations) {
       const char* keyword = "*INITIAL_VELOCITY_GENERATION";
-      if (g.icid != 0) fail_at(g.where, keyword, "ICID: local coordinate systems are not supported yet");
+      model_.require_global_axes(g.icid, g.where, keyword, "ICID", true);
       std::vector<Index> nodes;
       if (g.styp == 2) {
         nodes = part_nodes(g.id, g.where, keyword);
@@ -382,7 +383,7 @@ class Builder {
     static const char* keywords[3] = {"*LOAD_BODY_X", "*LOAD_BODY_Y", "*LOAD_BODY_Z"};
     for (const auto& load : model_.body_loads) {
       const char* keyword = keywords[load.direction];
-      if (load.cid != 0) fail_at(load.where, keyword, "CID: local coordinate systems are not supported yet");
+      model_.require_global_axes(load.cid, load.where, keyword, "CID", false);
       const model::Curve* c = curve(load.lcid, load.where, keyword, "LCID");
       if (!c) fail_at(load.where, keyword, "LCID: a load curve is required");
       problem_.base_accelerations.push_back({load.direction, c, load.sf});
@@ -501,9 +502,11 @@ class Builder {
       c.damping_curve = curve(d.lcid, d.where, "*DAMPING_GLOBAL", "LCID");
       c.damping_scale = d.translation_scale;
     }
-    if (model_.bulk_viscosity.type != 1 && model_.bulk_viscosity.type != -1 && !model_.sph_elements.empty())
+    // LS-DYNA manual: TYPE -1 and -2 are the standard viscosity (1) also applied to shells, -2 leaving
+    // the shells' viscous energy out of the balance; solids always count it. SPH particles are solids.
+    if (model_.bulk_viscosity.type == 2 && !model_.sph_elements.empty())
       fail_at(model_.bulk_viscosity.where, "*CONTROL_BULK_VISCOSITY",
-              fmt::format("TYPE {}: only the standard type 1 is supported", model_.bulk_viscosity.type));
+              "TYPE 2 (Richards-Wilkins): only the standard bulk viscosity (TYPE 1, -1 or -2) is supported for SPH");
   }
 
   // *CONTROL_TIMESTEP DT2MS < 0: every formulation that can adds mass where its step is below |DT2MS|.

@@ -298,29 +298,38 @@ class TimeLoop::Step {
         step_.dt));
   }
 
-  // Fields, histories and rigid-wall forces at t^n when due; false when the run ends here (end
-  // time, ENDCYC, or an energy ratio that moved by ENDENG percent).
+  // Fields, histories and rigid-wall forces at t^n when due, and all of them at the step where the
+  // run ends (end time, ENDCYC, ENDMAS, or an energy ratio that moved by ENDENG percent); false there.
+  // Without *DATABASE_BINARY_D3PLOT the fields are still written at the first and the last step, so
+  // that every run leaves its initial and final state.
   bool output() {
     const bool last = step_.time >= controls_.end_time || (controls_.end_cycle > 0 && step_.step >= controls_.end_cycle);
+    const bool stop = last || ends_early();
     const Real tolerance = 1e-9 * controls_.end_time;
-    if (field_output_.enabled() && field_output_.due(step_.time, tolerance, last) && observer_.on_field_output)
-      observer_.on_field_output(step_, problem_);
-    if (history_.due(step_.time, tolerance, last) && observer_.on_history) observer_.on_history(step_, ledger_);
-    if (!problem_.rigid_walls.empty() && rwforc_.due(step_.time, tolerance, last) && observer_.on_rigid_wall_forces)
+    const bool fields_due =
+        field_output_.enabled() ? field_output_.due(step_.time, tolerance, stop) : step_.step == 0 || stop;
+    if (fields_due && observer_.on_field_output) observer_.on_field_output(step_, problem_);
+    if (history_.due(step_.time, tolerance, stop) && observer_.on_history) observer_.on_history(step_, ledger_);
+    if (!problem_.rigid_walls.empty() && rwforc_.due(step_.time, tolerance, stop) && observer_.on_rigid_wall_forces)
       observer_.on_rigid_wall_forces(step_, problem_.rigid_walls);
-    if (!problem_.contacts.empty() && rcforc_.due(step_.time, tolerance, last) && observer_.on_contact_forces)
+    if (!problem_.contacts.empty() && rcforc_.due(step_.time, tolerance, stop) && observer_.on_contact_forces)
       observer_.on_contact_forces(step_, problem_.contacts);
-    if (!problem_.rigid_bodies.empty() && rbdout_.due(step_.time, tolerance, last) && observer_.on_rigid_bodies)
+    if (!problem_.rigid_bodies.empty() && rbdout_.due(step_.time, tolerance, stop) && observer_.on_rigid_bodies)
       observer_.on_rigid_bodies(step_, problem_.rigid_bodies);
     if (observer_.on_step) observer_.on_step(step_);
-    if (last) return false;
+    return !stop;
+  }
+
+  // ENDMAS (the mass DT2MS added passed its percentage of the initial mass) or ENDENG (the energy
+  // ratio moved by more than its percentage; never for a model at rest, whose ratio is NaN).
+  bool ends_early() const {
     if (controls_.mass_scaling_step > 0 &&
         100 * ledger_.value(discretization::EnergyLedger::added_mass) > controls_.end_mass_percent * initial_mass_) {
       log::info(fmt::format("ENDMAS: the mass DT2MS added is above {:g} % of the initial mass at step {}, time {:.6g}: "
                             "the run ends", controls_.end_mass_percent, step_.step, step_.time));
-      return false;
+      return true;
     }
-    return !(controls_.end_energy > 0 && 100 * std::abs(ledger_.ratio() - 1) > controls_.end_energy);
+    return controls_.end_energy > 0 && 100 * std::abs(ledger_.ratio() - 1) > controls_.end_energy;
   }
 
   // x^{n+1} = x^n + dt v^{n+1/2}, f cleared for the next step's forces; walls move; t advances.

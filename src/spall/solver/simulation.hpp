@@ -35,7 +35,8 @@ struct PhaseTimes {
 
 // What the loop reports to whoever runs it (the CLI writes files; tests record histories).
 struct Observer {
-  // Field output at t^n (every D3PLOT interval, and at the end).
+  // Field output at t^n (every D3PLOT interval, and at the end; without *DATABASE_BINARY_D3PLOT at
+  // the first step and at the end).
   std::function<void(const StepInfo&, const Problem&)> on_field_output;
   // Energies at t^n (every GLSTAT interval, and at the end).
   std::function<void(const StepInfo&, const discretization::EnergyLedger&)> on_history;

@@ -174,7 +174,8 @@ std::vector<PartSetup> spg_parts(const model::Model& model, const std::unordered
     setup.settings.material = resolve_material(model, part);
     if (setup.settings.failure_quantity == BondFailure::plastic_strain)
       setup.settings.failure_value = bond_failure_strain(setup.settings.material, setup.settings.failure_value);
-    // TYPE -1 and -2 add bulk viscosity to shells, 2 to beams: for solids every TYPE is the standard form.
+    // TYPE -1 and -2 also add the standard bulk viscosity to shells (-2 without its energy in the
+    // shells' balance; solids always count it): for solids they are TYPE 1.
     const auto& viscosity = model.bulk_viscosity;
     setup.settings.bulk_viscosity_quadratic = viscosity.q1;
     setup.settings.bulk_viscosity_linear = viscosity.q2;

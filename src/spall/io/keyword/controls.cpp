@@ -35,6 +35,18 @@ void read_control_termination(CardCursor& cursor, const KeywordCall&, model::Mod
   model.termination = termination;
 }
 
+// SOLN 0 is the structural analysis Spall runs; the other fields (NLQ ISNAN LCINT ...) tune the
+// thermal solver or the input checks, and are not read.
+void read_control_solution(CardCursor& cursor, const KeywordCall&, model::Model&) {
+  const Card card = cursor.next(standard_fields, "card 1 (SOLN NLQ ISNAN LCINT ...)");
+  const auto soln = card.integer(0, "SOLN", 0);
+  if (soln == 1 || soln == 2)
+    card.fail("SOLN", std::string(soln == 1 ? "1 (thermal only)" : "2 (coupled thermal-structural)") +
+                          ": Spall solves no heat equation and cannot run a thermal analysis; SOLN 0 is "
+                          "the structural one");
+  if (soln != 0) card.fail("SOLN", quoted(card.text(0)) + " is not 0, 1 or 2");
+}
+
 void read_control_timestep(CardCursor& cursor, const KeywordCall&, model::Model& model) {
   const Card card = cursor.next(standard_fields, "card 1 (DTINIT TSSFAC ISDO TSLIMT DT2MS LCTM ERODE MS1ST)");
   model::ControlTimestep timestep;

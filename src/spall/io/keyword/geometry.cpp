@@ -1,4 +1,5 @@
-// *NODE, *ELEMENT_SOLID, *ELEMENT_SPH, *PART.
+// *NODE, *ELEMENT_SOLID, *ELEMENT_SPH, *PART, and the local coordinate systems
+// (*DEFINE_COORDINATE_SYSTEM, _VECTOR, _NODES).
 #include <array>
 #include <cmath>
 
@@ -126,9 +127,88 @@ void read_part(CardCursor& cursor, const KeywordCall&, model::Model& model) {
     part.mid = card.required_integer(2, "MID");
     part.eosid = card.integer(3, "EOSID", 0);
     part.hgid = card.integer(4, "HGID", 0);
+    part.tmid = card.integer(7, "TMID", 0);
     part.where = card.where();
     model.parts.push_back(std::move(part));
   }
+}
+
+namespace {
+
+// Cards repeat (one system each), after a title line each with `_TITLE`.
+template <class ReadOne>
+void read_coordinate_systems(CardCursor& cursor, const KeywordCall& call, model::Model& model, ReadOne&& read_one) {
+  while (true) {
+    cursor.skip_blank_lines();
+    if (cursor.done()) break;
+    if (call.title) cursor.next_text("title");
+    model::CoordinateSystem system;
+    system.keyword = cursor.context().keyword;
+    const Card card = read_one(system);
+    system.where = card.where();
+    if (system.id <= 0) card.fail("CID", quoted(card.text(0)) + " is not a coordinate system ID (> 0)");
+    insert_unique(model.coordinate_systems, system.id, std::move(system), card, "coordinate system");
+  }
+}
+
+Vec3 point(const Card& card, int first, const char* const names[3]) {
+  return Vec3(card.real(first, names[0], 0.0), card.real(first + 1, names[1], 0.0),
+              card.real(first + 2, names[2], 0.0));
+}
+
+}  // namespace
+
+// Origin O, a point L on the local x axis, a point P in the local x-y plane.
+void read_define_coordinate_system(CardCursor& cursor, const KeywordCall& call, model::Model& model) {
+  read_coordinate_systems(cursor, call, model, [&](model::CoordinateSystem& system) {
+    const Card card1 = cursor.next(standard_fields, "card 1 (CID XO YO ZO XL YL ZL CIDL)");
+    system.id = card1.required_integer(0, "CID");
+    static constexpr const char* o_names[3] = {"XO", "YO", "ZO"};
+    static constexpr const char* l_names[3] = {"XL", "YL", "ZL"};
+    static constexpr const char* p_names[3] = {"XP", "YP", "ZP"};
+    const Vec3 origin = point(card1, 1, o_names);
+    system.axis = point(card1, 4, l_names) - origin;
+    if (card1.integer(7, "CIDL", 0) != 0)
+      card1.fail("CIDL", quoted(card1.text(7)) + ": points given in another local system are not supported; give "
+                                                 "them in global coordinates (CIDL 0)");
+    const Card card2 = cursor.next(standard_fields, "card 2 (XP YP ZP)");
+    system.in_plane = point(card2, 0, p_names) - origin;
+    return card1;
+  });
+}
+
+// The local x axis (XX YX ZX) and a vector in the local x-y plane (XV YV ZV); NID only moves the origin.
+void read_define_coordinate_vector(CardCursor& cursor, const KeywordCall& call, model::Model& model) {
+  read_coordinate_systems(cursor, call, model, [&](model::CoordinateSystem& system) {
+    const Card card = cursor.next(standard_fields, "card 1 (CID XX YX ZX XV YV ZV NID)");
+    system.id = card.required_integer(0, "CID");
+    static constexpr const char* x_names[3] = {"XX", "YX", "ZX"};
+    static constexpr const char* v_names[3] = {"XV", "YV", "ZV"};
+    system.axis = point(card, 1, x_names);
+    system.in_plane = point(card, 4, v_names);
+    return card;
+  });
+}
+
+// N1 -> N2 is the axis DIR (X, Y or Z; blank X), N3 lies in the plane of that axis and the next.
+void read_define_coordinate_nodes(CardCursor& cursor, const KeywordCall& call, model::Model& model) {
+  read_coordinate_systems(cursor, call, model, [&](model::CoordinateSystem& system) {
+    const Card card = cursor.next(standard_fields, "card 1 (CID N1 N2 N3 FLAG DIR)");
+    system.id = card.required_integer(0, "CID");
+    for (int k = 0; k < 3; ++k) {
+      system.nodes[k] = card.required_integer(1 + k, node_names[k]);
+      if (system.nodes[k] <= 0) card.fail(node_names[k], quoted(card.text(1 + k)) + " is not a node ID");
+    }
+    const auto flag = card.integer(4, "FLAG", 0);
+    if (flag != 0 && flag != 1) card.fail("FLAG", quoted(card.text(4)) + " is not 0 or 1");
+    system.follows_nodes = flag == 1;
+    const std::string_view dir = card.text(5);
+    if (dir.empty() || dir == "X" || dir == "x") system.axis_index = 0;
+    else if (dir == "Y" || dir == "y") system.axis_index = 1;
+    else if (dir == "Z" || dir == "z") system.axis_index = 2;
+    else card.fail("DIR", quoted(dir) + " is not X, Y or Z");
+    return card;
+  });
 }
 
 }  // namespace spall::io::keyword

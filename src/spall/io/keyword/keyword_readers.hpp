@@ -49,6 +49,9 @@ void read_node(CardCursor&, const KeywordCall&, model::Model&);
 void read_element_solid(CardCursor&, const KeywordCall&, model::Model&);
 void read_element_sph(CardCursor&, const KeywordCall&, model::Model&);
 void read_part(CardCursor&, const KeywordCall&, model::Model&);
+void read_define_coordinate_system(CardCursor&, const KeywordCall&, model::Model&);
+void read_define_coordinate_vector(CardCursor&, const KeywordCall&, model::Model&);
+void read_define_coordinate_nodes(CardCursor&, const KeywordCall&, model::Model&);
 // sph_mesh_box.cpp
 void read_define_sph_mesh_box(CardCursor&, const KeywordCall&, model::Model&);
 // After the whole deck is read: the nodes and particles of every *DEFINE_SPH_MESH_BOX.
@@ -59,6 +62,9 @@ void read_section_solid_spg(CardCursor&, const KeywordCall&, model::Model&);
 void read_section_sph(CardCursor&, const KeywordCall&, model::Model&);
 void read_mat_elastic(CardCursor&, const KeywordCall&, model::Model&);
 void read_mat_rigid(CardCursor&, const KeywordCall&, model::Model&);
+// True for the keywords of thermal materials (`MAT_THERMAL_...`, `MAT_Tnn...`, without `*`).
+bool is_thermal_material(std::string_view name);
+void read_mat_thermal(CardCursor&, const KeywordCall&, model::Model&);
 // add_erosion.cpp
 void read_mat_add_erosion(CardCursor&, const KeywordCall&, model::Model&);
 // hourglass.cpp
@@ -99,6 +105,7 @@ void read_contact(CardCursor&, const KeywordCall&, model::Model&);
 void read_control_contact(CardCursor&, const KeywordCall&, model::Model&);
 // controls.cpp
 void read_control_termination(CardCursor&, const KeywordCall&, model::Model&);
+void read_control_solution(CardCursor&, const KeywordCall&, model::Model&);
 void read_control_timestep(CardCursor&, const KeywordCall&, model::Model&);
 void read_control_bulk_viscosity(CardCursor&, const KeywordCall&, model::Model&);
 void read_damping_global(CardCursor&, const KeywordCall&, model::Model&);

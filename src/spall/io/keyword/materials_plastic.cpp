@@ -127,7 +127,9 @@ void read_mat_piecewise_linear_plasticity(CardCursor& cursor, const KeywordCall&
   if (plastic.vp != 0 && plastic.vp != -1)
     card2.fail("VP", fmt::format("{} is not -1, 0, 1 or 3", plastic.vp));
 
-  // Cards 3-4: up to eight (EPS, ES) points; a pair with both fields blank ends the list.
+  // Cards 3-4: up to eight (EPS, ES) points. A blank field reads as 0, and LS-DYNA ends the table
+  // after the last point with a nonzero EPS or ES: LS-PrePost writes both cards all zero when LCSS
+  // is used (or no table is), and zero pairs after the last point of a shorter table.
   const auto card3 = cursor.next_if_any(standard_fields);
   const auto card4 = card3 ? cursor.next_if_any(standard_fields) : std::nullopt;
   if (card3 && card4) {
@@ -135,21 +137,20 @@ void read_mat_piecewise_linear_plasticity(CardCursor& cursor, const KeywordCall&
                                                  "EPS5", "EPS6", "EPS7", "EPS8"};
     static constexpr const char* es_names[8] = {"ES1", "ES2", "ES3", "ES4",
                                                 "ES5", "ES6", "ES7", "ES8"};
-    bool ended = false;
+    Real eps[8];
+    Real es[8];
+    int count = 0;
     for (int i = 0; i < 8; ++i) {
-      if (card3->blank(i) && card4->blank(i)) {
-        ended = true;
-        continue;
-      }
-      if (ended) card3->fail(eps_names[i], "follows a blank point; the points must be consecutive");
-      const Real eps = card3->real(i, eps_names[i], 0.0);
-      const Real es = card4->required_real(i, es_names[i]);
-      if (!plastic.points.empty() && eps <= plastic.points.back().first)
-        card3->fail(eps_names[i],
-                    fmt::format("{:g} does not increase (the previous point is at {:g})", eps,
-                                plastic.points.back().first));
-      if (eps < 0) card3->fail(eps_names[i], fmt::format("{:g} is negative", eps));
-      plastic.points.emplace_back(eps, es);
+      eps[i] = card3->real(i, eps_names[i], 0.0);
+      es[i] = card4->real(i, es_names[i], 0.0);
+      if (eps[i] != 0 || es[i] != 0) count = i + 1;
+    }
+    for (int i = 0; i < count; ++i) {
+      if (eps[i] < 0) card3->fail(eps_names[i], fmt::format("{:g} is negative", eps[i]));
+      if (i > 0 && eps[i] <= eps[i - 1])
+        card3->fail(eps_names[i], fmt::format("{:g} does not increase (the previous point is at {:g})",
+                                              eps[i], eps[i - 1]));
+      plastic.points.emplace_back(eps[i], es[i]);
     }
     if (plastic.points.size() == 1)
       card3->fail("EPS2", "one point does not make a hardening curve; give at least two");

@@ -3,6 +3,8 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <numbers>
+#include <vector>
 
 namespace spall::io::keyword {
 
@@ -128,31 +130,43 @@ class ExpressionParser {
     const std::string_view name = text_.substr(start, position_ - start);
     if (!accept("(")) {
       const ParameterValue* value = parameters_.find(name);
+      // The manual's one named constant; a parameter of the same name shadows it.
+      if (!value && lowered(name) == "pi") return std::numbers::pi;
       if (!value) fail("parameter '" + std::string(name) + "' is not defined");
       else if (value->type == 'C') fail("parameter '" + std::string(name) + "' is not a number");
       return value ? value->number : 0;
     }
-    double arguments[2] = {0, 0};
-    int count = 0;
+    std::vector<double> arguments;
     do {
-      const double argument = sum();
-      if (count < 2) arguments[count] = argument;
-      ++count;
+      arguments.push_back(sum());
     } while (error_.empty() && accept(","));
     if (!accept(")")) fail("missing ')' after the arguments of " + std::string(name));
     if (!error_.empty()) return 0;
-    return call(name, arguments, count);
+    return call(name, arguments);
   }
-  double call(std::string_view name, const double* a, int count) {
-    std::string function(name);
-    for (char& ch : function) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  static std::string lowered(std::string_view name) {
+    std::string text(name);
+    for (char& ch : text) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    return text;
+  }
+  // The functions of the LS-DYNA manual's *PARAMETER_EXPRESSION, as in Fortran: MIN and MAX take
+  // two or more arguments, SIGN(a, b) is |a| with the sign of b, MOD(a, p) has the sign of a.
+  double call(std::string_view name, const std::vector<double>& a) {
+    const std::string function = lowered(name);
+    const std::size_t count = a.size();
     const auto one = [&](double (*f)(double)) {
       if (count != 1) fail(function + " takes one argument");
       return f(a[0]);
     };
     const auto two = [&](double (*f)(double, double)) {
       if (count != 2) fail(function + " takes two arguments");
-      return f(a[0], a[1]);
+      return count == 2 ? f(a[0], a[1]) : 0.0;
+    };
+    const auto extreme = [&](double (*f)(double, double)) {
+      if (count < 2) fail(function + " takes two or more arguments");
+      double value = a[0];
+      for (std::size_t i = 1; i < count; ++i) value = f(value, a[i]);
+      return value;
     };
     if (function == "sqrt") return one([](double x) { return std::sqrt(x); });
     if (function == "exp") return one([](double x) { return std::exp(x); });
@@ -162,20 +176,27 @@ class ExpressionParser {
     if (function == "sin") return one([](double x) { return std::sin(x); });
     if (function == "cos") return one([](double x) { return std::cos(x); });
     if (function == "tan") return one([](double x) { return std::tan(x); });
+    if (function == "csc") return one([](double x) { return 1.0 / std::sin(x); });
+    if (function == "sec") return one([](double x) { return 1.0 / std::cos(x); });
+    if (function == "ctn") return one([](double x) { return 1.0 / std::tan(x); });
     if (function == "asin") return one([](double x) { return std::asin(x); });
     if (function == "acos") return one([](double x) { return std::acos(x); });
     if (function == "atan") return one([](double x) { return std::atan(x); });
     if (function == "sinh") return one([](double x) { return std::sinh(x); });
     if (function == "cosh") return one([](double x) { return std::cosh(x); });
     if (function == "tanh") return one([](double x) { return std::tanh(x); });
-    if (function == "int") return one([](double x) { return std::trunc(x); });
-    if (function == "nint") return one([](double x) { return std::round(x); });
+    if (function == "asinh") return one([](double x) { return std::asinh(x); });
+    if (function == "acosh") return one([](double x) { return std::acosh(x); });
+    if (function == "atanh") return one([](double x) { return std::atanh(x); });
+    // INT and AINT truncate toward zero, NINT and ANINT round half away from zero (Fortran).
+    if (function == "int" || function == "aint") return one([](double x) { return std::trunc(x); });
+    if (function == "nint" || function == "anint") return one([](double x) { return std::round(x); });
+    if (function == "float") return one([](double x) { return x; });
     if (function == "atan2") return two([](double y, double x) { return std::atan2(y, x); });
-    if (function == "min") return two([](double x, double y) { return std::fmin(x, y); });
-    if (function == "max") return two([](double x, double y) { return std::fmax(x, y); });
     if (function == "mod") return two([](double x, double y) { return std::fmod(x, y); });
-    // Fortran SIGN(a, b): |a| with the sign of b.
     if (function == "sign") return two([](double x, double y) { return std::copysign(x, y); });
+    if (function == "min") return extreme([](double x, double y) { return std::fmin(x, y); });
+    if (function == "max") return extreme([](double x, double y) { return std::fmax(x, y); });
     fail("unknown function '" + std::string(name) + "'");
     return 0;
   }

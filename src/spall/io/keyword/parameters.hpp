@@ -34,9 +34,10 @@ class Parameters {
   // Names are case-insensitive. nullptr when not defined or not visible here.
   const ParameterValue* find(std::string_view name) const;
 
-  // The value of an arithmetic expression over numbers and visible parameters (by name, with or
-  // without `&`): + - * / ** (also ^), parentheses, and the functions sqrt exp log log10 abs sin
-  // cos tan asin acos atan atan2 sinh cosh tanh min max sign int nint mod. Nothing, with `error`
+  // The value of an arithmetic expression over numbers, `pi` and visible parameters (by name, with
+  // or without `&`): + - * / ** (also ^), parentheses, and the functions of the LS-DYNA manual's
+  // *PARAMETER_EXPRESSION: sin cos tan csc sec ctn asin acos atan atan2 sinh cosh tanh asinh acosh
+  // atanh min max sqrt mod abs sign int aint nint anint float exp log log10. Nothing, with `error`
   // set, if the expression cannot be evaluated.
   std::optional<double> evaluate(std::string_view expression, std::string& error) const;
 

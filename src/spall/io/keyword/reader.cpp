@@ -29,6 +29,9 @@ constexpr SupportedKeyword supported_keywords[] = {
     {"ELEMENT_SPH", read_element_sph},
     {"ELEMENT_SPH_VOLUME", read_element_sph},
     {"DEFINE_SPH_MESH_BOX", read_define_sph_mesh_box},
+    {"DEFINE_COORDINATE_SYSTEM", read_define_coordinate_system, true},
+    {"DEFINE_COORDINATE_VECTOR", read_define_coordinate_vector, true},
+    {"DEFINE_COORDINATE_NODES", read_define_coordinate_nodes, true},
     {"SECTION_SOLID", read_section_solid, true},
     {"SECTION_SOLID_SPG", read_section_solid_spg, true},
     {"SECTION_SPH", read_section_sph, true},
@@ -74,6 +77,7 @@ constexpr SupportedKeyword supported_keywords[] = {
     {"RIGIDWALL_PLANAR_FINITE", read_rigidwall_planar, false, true},
     {"RIGIDWALL_PLANAR_FINITE_MOVING", read_rigidwall_planar, false, true},
     {"CONTROL_TERMINATION", read_control_termination},
+    {"CONTROL_SOLUTION", read_control_solution},
     {"CONTROL_TIMESTEP", read_control_timestep},
     {"CONTROL_BULK_VISCOSITY", read_control_bulk_viscosity},
     {"DAMPING_GLOBAL", read_damping_global},
@@ -158,6 +162,7 @@ class DeckReader {
       return;
     }
     if (name == "INCLUDE") return read_include(file, cursor, depth);
+    if (name == "COMMENT") return;  // free text up to the next keyword, as a `$` line is
     if (name == "PARAMETER" || name == "PARAMETER_LOCAL" || name == "PARAMETER_NOECHO")
       return read_parameter(cursor, name == "PARAMETER_LOCAL");
     if (name == "PARAMETER_EXPRESSION" || name == "PARAMETER_EXPRESSION_LOCAL" ||
@@ -168,6 +173,10 @@ class DeckReader {
     if (const SupportedKeyword* keyword = find_supported(name, call))
       return keyword->reader(cursor, call, model_);
     if (split_contact_keyword(name, call)) return read_contact(cursor, call, model_);
+    if (is_thermal_material(name)) {
+      call.title = ends_with(name, "_TITLE");
+      return read_mat_thermal(cursor, call, model_);
+    }
     record_unsupported(block, long_format);
   }
 
@@ -234,7 +243,8 @@ class DeckReader {
     }
   }
 
-  // PRMR(10) then the expression over the rest of the line.
+  // PRMR(10) then the expression over the rest of the line. A long expression continues on the
+  // lines after it whose PRMR columns are blank (such a line cannot start a definition).
   void read_parameter_expression(CardCursor& cursor, bool local) {
     while (true) {
       cursor.skip_blank_lines();
@@ -245,17 +255,21 @@ class DeckReader {
       const std::size_t comma = line.text.substr(0, 10).find(',');
       const std::size_t split = comma == std::string_view::npos ? 10 : comma;
       const std::string_view prmr = trim(line.text.substr(0, std::min(split, line.text.size())));
-      const std::string_view expression =
+      std::string expression(
           split < line.text.size() ? trim(line.text.substr(split + (comma == std::string_view::npos ? 0 : 1)))
-                                   : std::string_view{};
+                                   : std::string_view{});
       const Card card = cursor.next(standard_fields, "expression card");
+      while (!cursor.done() && trim(cursor.peek().text.substr(0, 10)).empty() && !trim(cursor.peek().text).empty()) {
+        expression += ' ';
+        expression += cursor.next_text("expression continuation");
+      }
       ParameterValue value;
       const std::string_view name = parameter_name(card, prmr, "PRMR", value.type);
       if (value.type == 'C') card.fail("PRMR", "a character parameter cannot take an expression");
       if (expression.empty()) card.fail("EXPRESSION", "is blank");
       std::string error;
       const auto result = parameters_.evaluate(expression, error);
-      if (!result) card.fail("EXPRESSION", quoted(expression) + ": " + error);
+      if (!result) card.fail("EXPRESSION", quoted(std::string_view(expression)) + ": " + error);
       // An integer parameter keeps the whole part, as a Fortran assignment to an integer does.
       value.number = value.type == 'I' ? std::trunc(*result) : *result;
       parameters_.define(name, std::move(value), local);
@@ -264,6 +278,7 @@ class DeckReader {
 
   static std::string_view parameter_name(const Card& card, std::string_view prmr,
                                          const char* field_name, char& type) {
+    if (prmr.empty()) card.fail(field_name, "is blank");
     type = static_cast<char>(std::toupper(static_cast<unsigned char>(prmr.front())));
     const std::string_view name = trim(prmr.substr(1));
     if ((type != 'R' && type != 'I' && type != 'C') || name.empty())
@@ -271,11 +286,10 @@ class DeckReader {
     return name;
   }
 
-  // Records the keyword for the warning list. For sections, materials, EOS and tables (which
-  // *MAT_PIECEWISE_LINEAR_PLASTICITY's LCSS may name) it also keeps the
-  // ID in the first field of the first data card (for *PART_ variants, the PID on the card after
-  // the heading), so that validate() can name the keyword a reference points to. Never throws:
-  // an unreadable ID is 0.
+  // Records the keyword for the warning list. For sections, materials, EOS, sets, curves, tables
+  // and functions it also keeps the ID in the first field of the first data card (for *PART_
+  // variants, the PID on the card after the heading), so that validate() can name the keyword a
+  // reference points to. Never throws: an unreadable ID is 0.
   void record_unsupported(const KeywordBlock& block, bool long_format) {
     model::UnsupportedKeyword unsupported;
     unsupported.keyword = "*" + block.name;
@@ -283,6 +297,7 @@ class DeckReader {
     const std::string_view name = block.name;
     std::size_t card = block.data.size();  // the card with the ID; none by default
     if (name.starts_with("SECTION_") || name.starts_with("MAT_") || name.starts_with("EOS_") ||
+        name.starts_with("SET_") || name.starts_with("DEFINE_CURVE") || name.starts_with("DEFINE_FUNCTION") ||
         name.starts_with("DEFINE_TABLE"))
       card = ends_with(name, "_TITLE") ? 1 : 0;
     else if (name.starts_with("PART_"))  // *PART_INERTIA etc.: a heading, then PID first

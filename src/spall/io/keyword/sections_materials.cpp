@@ -1,7 +1,9 @@
-// *SECTION_SOLID, *SECTION_SOLID_SPG, *SECTION_SPH, *MAT_ELASTIC (001), *MAT_RIGID (020).
+// *SECTION_SOLID, *SECTION_SOLID_SPG, *SECTION_SPH, *MAT_ELASTIC (001), *MAT_RIGID (020), and the
+// IDs of the thermal materials (*MAT_THERMAL_*).
 #include "spall/io/keyword/keyword_readers.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <iterator>
 
 namespace spall::io::keyword {
@@ -185,6 +187,24 @@ void read_mat_rigid(CardCursor& cursor, const KeywordCall& call, model::Model& m
                           "unexpected data line after card 3; one *MAT_RIGID defines one material");
   material.params = rigid;
   insert_unique(model.materials, material.id, std::move(material), card1, "material");
+}
+
+bool is_thermal_material(std::string_view name) {
+  // *MAT_THERMAL_xxx, or its number *MAT_Tnn (the manual's *MAT_T01 to *MAT_T17 ...).
+  return name.starts_with("MAT_THERMAL_") ||
+         (name.size() >= 7 && name.starts_with("MAT_T") && std::isdigit(static_cast<unsigned char>(name[5])) &&
+          std::isdigit(static_cast<unsigned char>(name[6])) && (name.size() == 7 || name[7] == '_'));
+}
+
+// TMID on card 1; the thermal properties that follow are not read: Spall runs no thermal solution.
+void read_mat_thermal(CardCursor& cursor, const KeywordCall& call, model::Model& model) {
+  if (call.title) cursor.next_text("title");
+  const Card card = cursor.next(standard_fields, "card 1 (TMID ...)");
+  model::ThermalMaterial thermal;
+  thermal.id = card.required_integer(0, "TMID");
+  thermal.keyword = card.context().keyword;
+  thermal.where = card.where();
+  insert_unique(model.thermal_materials, thermal.id, std::move(thermal), card, "thermal material");
 }
 
 }  // namespace spall::io::keyword

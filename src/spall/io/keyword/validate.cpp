@@ -1,7 +1,10 @@
 // validate(): cross-references between the cards of a model as read. Each failure names the card
 // that holds the broken reference, with its file and line.
 #include <algorithm>
+#include <array>
 #include <string>
+#include <string_view>
+#include <utility>
 #include <unordered_map>
 #include <unordered_set>
 #include <vector>
@@ -147,6 +150,15 @@ class Validator {
       if (part.eosid != 0 && !model_.eos.contains(part.eosid))
         refuse_reference(part, used, "*EOS_", "equation of state", part.eosid);
       require_eos_where_needed(part);
+      // TMID has the thermal materials' own ID space; a structural material of that number is not one.
+      if (part.tmid != 0 && !model_.thermal_materials.contains(part.tmid))
+        throw InputError(part.where, "*PART",
+                         "part " + std::to_string(part.id) + ": TMID: thermal material " + std::to_string(part.tmid) +
+                             " is not defined" +
+                             (model_.materials.contains(part.tmid) ? " (material " + std::to_string(part.tmid) +
+                                                                         " is a structural one; TMID names a "
+                                                                         "*MAT_THERMAL_ card)"
+                                                                   : std::string()));
       if (section == model_.sections.end()) continue;
       if (auto it = first_sph_.find(part.id);
           it != first_sph_.end() && !std::holds_alternative<model::SectionSph>(section->second))
@@ -196,8 +208,7 @@ class Validator {
                          "LCSS: " + lcss + " is a " + table->keyword + " (" + location_text(table->where) +
                              "); tables of curves by strain rate are not read, give a "
                              "*DEFINE_CURVE of yield stress versus plastic strain");
-      throw InputError(material.where, material.keyword,
-                       "LCSS: curve " + lcss + " is not defined");
+      throw InputError(material.where, material.keyword, undefined("LCSS: curve", piecewise->lcss));
     }
   }
 
@@ -237,16 +248,35 @@ class Validator {
                                  " is not defined");
   }
 
+  // "<what> <id> is not defined", or, when a keyword Spall does not read defines it (a *SET_NODE_ADD,
+  // a *DEFINE_CURVE_FUNCTION), that keyword and where it is. `what` ends with the kind of thing
+  // ("node set", "LCID: curve"), which says which keywords could define it: sets of one kind share
+  // an ID space, curves share theirs with tables and functions.
+  std::string undefined(std::string_view what, Id id) const {
+    static constexpr std::pair<std::string_view, std::array<std::string_view, 3>> definers[] = {
+        {"node set", {"*SET_NODE"}},
+        {"part set", {"*SET_PART"}},
+        {"segment set", {"*SET_SEGMENT"}},
+        {"curve", {"*DEFINE_CURVE", "*DEFINE_FUNCTION", "*DEFINE_TABLE"}},
+    };
+    const std::string name = std::string(what) + " " + std::to_string(id);
+    for (const auto& [kind, prefixes] : definers) {
+      if (!what.ends_with(kind)) continue;
+      for (std::string_view prefix : prefixes)
+        if (const auto* other = !prefix.empty() ? find_unsupported(model_, prefix, id) : nullptr)
+          return name + " is defined by " + other->keyword + " (" + location_text(other->where) +
+                 "), which Spall does not read";
+    }
+    return name + " is not defined";
+  }
   void require(bool exists, const SourceLocation& where, const char* keyword, const char* what,
                Id id) const {
-    if (!exists)
-      throw InputError(where, keyword, std::string(what) + " " + std::to_string(id) + " is not defined");
+    if (!exists) throw InputError(where, keyword, undefined(what, id));
   }
   void require_curve(Id lcid, const SourceLocation& where, const char* keyword,
                      const char* field) const {
     if (!model_.curves.contains(lcid))
-      throw InputError(where, keyword, std::string(field) + ": curve " + std::to_string(lcid) +
-                                           " is not defined");
+      throw InputError(where, keyword, undefined(std::string(field) + ": curve", lcid));
   }
   bool target_exists(model::Target target, Id id) const {
     switch (target) {

@@ -61,11 +61,12 @@ void write_run_json(const std::filesystem::path& path, const RunInfo& info) {
       "  \"nodes\": {},\n"
       "  \"mass\": {{{}}},\n"
       "  \"phases\": {{{}}},\n"
+      "  \"energy_ratio\": {},\n"
       "  \"status\": {}\n"
       "}}\n",
       json_string(info.version), json_string(info.deck), info.threads, info.ranks, info.steps,
       json_number(info.end_time), json_number(info.wall_seconds), info.nodes, masses,
-      phases, json_string(info.status));
+      phases, json_number(info.energy_ratio), json_string(info.status));
   replace_file_atomically(path, [&](std::ostream& out) { out << json; });
 }
 

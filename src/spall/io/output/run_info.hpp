@@ -2,6 +2,7 @@
 // run.json: what a run was (version, threads, ranks, deck) and how it went (steps, wall time,
 // the time spent in each phase of the step).
 #include <filesystem>
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -19,6 +20,8 @@ struct RunInfo {
   long long nodes = 0;  // nodes with mass: particles and the nodes of elements
   double initial_mass = 0;  // of the nodes, before mass scaling
   std::vector<std::pair<std::string, double>> masses;  // at the last glstat row: eroded_mass, added_mass, ...
+  // glstat's last energy ratio; NaN (null in the file) for a model at rest or a run that did not complete.
+  double energy_ratio = std::numeric_limits<double>::quiet_NaN();
   std::string status;  // "completed", "unstable", ...
   std::vector<std::pair<std::string, double>> phases;  // seconds spent in each phase of the step
 };

@@ -1,0 +1,72 @@
+// The CLI's progress lines off a terminal: one per 10 % of the end time, and one whenever a minute
+// of wall time has passed without a line, on a clock the test moves (no sleeping).
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <string>
+
+#include "progress.hpp"
+
+namespace spall::cli {
+namespace {
+
+// Progress lines written to a temporary file, with a clock that stands still until moved.
+class ProgressLines {
+ public:
+  ProgressLines() : file_(std::tmpfile()) {}
+  ~ProgressLines() { std::fclose(file_); }
+
+  Progress::Environment environment() {
+    Progress::Environment environment;
+    environment.now = [this] { return now_; };
+    environment.out = file_;
+    environment.terminal = false;
+    return environment;
+  }
+  void advance(std::chrono::seconds seconds) { now_ += seconds; }
+  int count() const {
+    std::rewind(file_);
+    int lines = 0;
+    for (int c = std::fgetc(file_); c != EOF; c = std::fgetc(file_)) lines += c == '\n';
+    return lines;
+  }
+
+ private:
+  std::FILE* file_;
+  Progress::Clock::time_point now_{};
+};
+
+solver::StepInfo at(double time, long long step) { return {step, time, 1e-3}; }
+
+TEST(progress, OffATerminalALinePerTenthOfTheRun) {
+  ProgressLines lines;
+  Progress progress(1.0, 100, lines.environment());
+  for (int step = 1; step <= 1000; ++step) progress.update(at(step * 1e-3, step));
+  progress.finish(at(1.0, 1000));
+  EXPECT_EQ(lines.count(), 10);
+}
+
+TEST(progress, OffATerminalALineAtLeastEveryMinute) {
+  ProgressLines lines;
+  Progress progress(1.0, 100, lines.environment());
+  // 5 % of the run in 10 minutes: no tenth is reached, but every minute gets its line.
+  for (int step = 1; step <= 50; ++step) {
+    lines.advance(std::chrono::seconds(12));
+    progress.update(at(step * 1e-3, step));
+  }
+  EXPECT_EQ(lines.count(), 10);
+  // A tenth reached just after a line prints at once; the minute then counts from that line.
+  lines.advance(std::chrono::seconds(1));
+  progress.update(at(0.1, 51));
+  EXPECT_EQ(lines.count(), 11);
+  lines.advance(std::chrono::seconds(59));
+  progress.update(at(0.11, 52));
+  EXPECT_EQ(lines.count(), 11);
+  lines.advance(std::chrono::seconds(1));
+  progress.update(at(0.12, 53));
+  EXPECT_EQ(lines.count(), 12);
+  EXPECT_DOUBLE_EQ(progress.elapsed_seconds(), 50 * 12 + 61);
+}
+
+}  // namespace
+}  // namespace spall::cli
