@@ -1,6 +1,7 @@
 // spall: the command line. `spall run DECK`, `spall check DECK`, `spall surface OUTDIR`.
-// Exit codes: 0 success, 2 bad input, 3 numerical instability, 128 + the signal's number when a
-// run was interrupted (130 SIGINT, 143 SIGTERM).
+// Exit codes: 0 success, 1 internal error, 2 bad input, 3 numerical instability, 4 an output file
+// could not be written, 128 + the signal's number when a run was interrupted (130 SIGINT, 143
+// SIGTERM).
 #include <CLI/CLI.hpp>
 #include <fmt/core.h>
 
@@ -8,6 +9,7 @@
 #include "surface_command.hpp"
 #include "spall/core/error.hpp"
 #include "spall/core/log.hpp"
+#include "spall/core/memory.hpp"
 #include "spall/core/parallel.hpp"
 #include "spall/core/version.hpp"
 
@@ -24,6 +26,10 @@ int main(int argc, char** argv) {
                                   "Continue the run whose output folder this is, from its newest restart file "
                                   "(runrsf), in that folder");
   deck_option->excludes(restart);
+  double memory_limit_gb = 0;
+  run->add_option("--memory-limit", memory_limit_gb,
+                  "Refuse a deck whose particles would need more than this many GB (default: the memory available)")
+      ->check(CLI::PositiveNumber);
   run->add_option("--checkpoint-every", options.checkpoint_every,
                   "Write a restart file every N steps (overrides *DATABASE_BINARY_RUNRSF's CYCL)")
       ->check(CLI::PositiveNumber);
@@ -41,6 +47,7 @@ int main(int argc, char** argv) {
   auto* check = app.add_subcommand("check", "Read and check a deck without running it");
   check->add_option("deck", check_deck, "LS-DYNA keyword deck (.k)")->required();
   check->add_option("--skip", check_skip, "As for run: check without this unsupported physics keyword");
+  check->add_option("--memory-limit", memory_limit_gb, "As for run")->check(CLI::PositiveNumber);
 
   spall::cli::SurfaceOptions surface_options;
   int surface_threads = 0;
@@ -78,6 +85,7 @@ int main(int argc, char** argv) {
     return spall::exit_bad_input;
   }
 
+  if (memory_limit_gb > 0) spall::memory::set_limit(static_cast<std::uint64_t>(memory_limit_gb * 1e9));
   if (options.threads > 0) spall::parallel::set_thread_count(options.threads);
   if (surface_threads > 0) spall::parallel::set_thread_count(surface_threads);
   try {
@@ -87,6 +95,11 @@ int main(int argc, char** argv) {
   } catch (const spall::InputError& e) {
     spall::log::error(e.what());
     return spall::exit_bad_input;
+  } catch (const spall::OutputError& e) {
+    // A full disk or a folder without write permission: what was written before is whole.
+    spall::log::error(fmt::format("{} (the files written before it are complete; d3plot.pvd lists the states on disk)",
+                                  e.what()));
+    return spall::exit_output;
   } catch (const std::exception& e) {
     spall::log::error(fmt::format("internal error (please report it with the deck): {}", e.what()));
     return spall::exit_internal;

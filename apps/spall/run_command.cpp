@@ -234,6 +234,16 @@ int run_deck(const RunOptions& options) {
     info.end_time = last_step.time;
     info.status = "unstable";
     code = exit_unstable;
+  } catch (const OutputError&) {
+    // A full disk: run.json says so if it still fits; the error itself is reported by main().
+    info.steps = last_step.step;
+    info.end_time = last_step.time;
+    info.status = "output_failed";
+    try {
+      io::output::write_run_json(out / "run.json", info);
+    } catch (const OutputError&) {
+    }
+    throw;
   }
   info.wall_seconds = wall_seconds_before + progress.elapsed_seconds();
   info.masses = outputs.masses();

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "keyword_test_decks.hpp"
+#include "spall/core/memory.hpp"
 #include "spall/io/keyword/reader.hpp"
 
 namespace spall::io::keyword {
@@ -85,10 +86,36 @@ TEST(keyword_sph_mesh_box, Refusals) {
             prefix(folder, 14) +
                 "field IDSEG: removing the particles near segment set 5 is not supported (leave IDSEG 0)");
   EXPECT_EQ(error(box, row({"9", "1", "1", "1"})), prefix(folder, 14) + "IPID: part 9 is not defined");
-  EXPECT_EQ(error(box, row({"3", "1000", "1000", "1000"})),
-            prefix(folder, 14) + "field NZ: NX x NY x NZ is more than 200000000 particles");
   EXPECT_EQ(error(box, row({"3", "1", "1", "2"}), "*CONTROL_SPH\n" + row({"", "", "", "2"})),
             prefix(folder, 16) + "NZ 2: in plane strain (*CONTROL_SPH IDIM 2) a box has one layer, NZ 1");
+}
+
+// Issue 36, resource limits: a generation whose particles would not fit in the memory left is
+// refused at its card before anything is allocated (core/memory.hpp), not killed by the kernel.
+// 10^9 particles at about 1.1 kB each (their model records and the run's 1 kB) are 1.1 TB, more
+// than any machine this runs on has free.
+TEST(keyword_sph_mesh_box, GenerationsBeyondTheMemoryLeftAreRefusedBeforeAllocating) {
+  DeckFolder folder;
+  const std::string box = row({"0.0", "0.0", "0.0", "1.0", "1.0", "1.0"});
+  const auto path = folder.write("box.k", deck_with_box(box, row({"3", "1000", "1000", "1000"})));
+  const std::string message = input_error_of([&] { validate(read_deck(path)); });
+  EXPECT_EQ(message.rfind(prefix(folder, 14) + "field NZ: NX x NY x NZ: 1e+09 particles need about 1.1", 0), 0u)
+      << message;
+  EXPECT_NE(message.find("available"), std::string::npos) << message;
+
+  // *ELEMENT_SPH NEND: particles NID to NEND, all of one card; 10^8 of them (110 GB) against a
+  // limit of 10 GB (`spall run --memory-limit 10`), so that the test does not depend on the machine.
+  memory::set_limit(10'000'000'000);
+  const auto nend = folder.write("nend.k", "*KEYWORD\n*PART\nwater\n" + row({"3", "1", "1"}) + "*SECTION_SPH\n" +
+                                               row({"1"}) + "*MAT_ELASTIC\n" + row({"1", "1000.0", "1.0e9"}) +
+                                               "*ELEMENT_SPH\n" + row({"1", "3", "1.0", "99999999"}, {8, 8, 16, 8}) +
+                                               "*CONTROL_TERMINATION\n" + row({"1.0"}));
+  const std::string nend_message = input_error_of([&] { validate(read_deck(nend)); });
+  EXPECT_NE(nend_message.find("nend.k:10: *ELEMENT_SPH: field NEND: NID to NEND: 1e+08 particles need about 1"),
+            std::string::npos)
+      << nend_message;
+  EXPECT_NE(nend_message.find("this machine has 10 GB available"), std::string::npos) << nend_message;
+  memory::set_limit(0);
 }
 
 }  // namespace

@@ -1,13 +1,14 @@
 #pragma once
 // Errors with context. Bad input is an InputError: one line `file:line: *KEYWORD: what is wrong`,
-// exit code 2. A run that goes numerically unstable is an InstabilityError, exit code 3.
+// exit code 2. A run that goes numerically unstable is an InstabilityError, exit code 3. An output
+// file that cannot be written (a full disk, no permission) is an OutputError, exit code 4.
 #include <stdexcept>
 #include <string>
 
 namespace spall {
 
 // 1: an internal error (a bug in Spall, reported with what failed rather than an abort).
-enum ExitCode : int { exit_success = 0, exit_internal = 1, exit_bad_input = 2, exit_unstable = 3 };
+enum ExitCode : int { exit_success = 0, exit_internal = 1, exit_bad_input = 2, exit_unstable = 3, exit_output = 4 };
 
 // Where something was read: a file and a 1-based line number (0 when not from a file).
 struct SourceLocation {
@@ -36,6 +37,13 @@ class InputError : public std::runtime_error {
 [[noreturn]] void fail_at(const SourceLocation& where, const std::string& keyword, const std::string& message);
 
 class InstabilityError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// "cannot write PATH: why". Every output file is written whole or not at all (io/output), so the
+// files written before stay complete.
+class OutputError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };

@@ -3,6 +3,7 @@
 #include <array>
 #include <cmath>
 
+#include "spall/core/memory.hpp"
 #include "spall/io/keyword/keyword_readers.hpp"
 
 namespace spall::io::keyword {
@@ -110,6 +111,10 @@ void read_element_sph(CardCursor& cursor, const KeywordCall& call, model::Model&
       card.fail("NEND", "NEND " + std::to_string(nend) + " is below NID " +
                             std::to_string(particle.nid));
     const Id last = nend > 0 ? nend : particle.nid;
+    if (const std::string why = memory::shortfall(double(last - particle.nid + 1) + particles_so_far(model),
+                                                  particle_bytes, "particles");
+        !why.empty())
+      card.fail("NEND", "NID to NEND: " + why);
     for (Id nid = particle.nid; nid <= last; ++nid) {
       particle.nid = nid;
       model.sph_elements.push_back(particle);

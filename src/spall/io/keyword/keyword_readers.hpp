@@ -56,6 +56,12 @@ void read_define_coordinate_nodes(CardCursor&, const KeywordCall&, model::Model&
 void read_define_sph_mesh_box(CardCursor&, const KeywordCall&, model::Model&);
 // After the whole deck is read: the nodes and particles of every *DEFINE_SPH_MESH_BOX.
 void generate_sph_mesh_box_particles(model::Model&);
+// What a particle a card generates costs: its records in the model (a node and an *ELEMENT_SPH)
+// and about 1 kB for the run (docs/PERFORMANCE.md: 0.87 kB per SPH solid particle). A generation
+// whose particles would not fit in the memory left is refused at its card (core/memory.hpp).
+inline constexpr double particle_bytes = sizeof(model::Node) + sizeof(model::ElementSph) + 1000;
+// The SPH particles read so far and those the mesh boxes read so far will generate.
+double particles_so_far(const model::Model& model);
 // sections_materials.cpp
 void read_section_solid(CardCursor&, const KeywordCall&, model::Model&);
 void read_section_solid_spg(CardCursor&, const KeywordCall&, model::Model&);

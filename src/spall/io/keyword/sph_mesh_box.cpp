@@ -20,14 +20,16 @@
 #include <cmath>
 #include <string>
 
+#include "spall/core/memory.hpp"
 #include "spall/io/keyword/keyword_readers.hpp"
 
 namespace spall::io::keyword {
 
-namespace {
-// More particles than this in one box is a typing error, not a model (and would exhaust memory).
-constexpr std::int64_t max_box_particles = 200'000'000;
-}  // namespace
+double particles_so_far(const model::Model& model) {
+  double count = static_cast<double>(model.sph_elements.size());
+  for (const auto& box : model.sph_mesh_boxes) count += static_cast<double>(box.nx) * box.ny * box.nz;
+  return count;
+}
 
 void read_define_sph_mesh_box(CardCursor& cursor, const KeywordCall&, model::Model& model) {
   while (true) {
@@ -46,15 +48,16 @@ void read_define_sph_mesh_box(CardCursor& cursor, const KeywordCall&, model::Mod
     const Card card = cursor.next(standard_fields, "card 2 (IPID NX NY NZ - IDSEG SFSP)");
     box.ipid = card.required_integer(0, "IPID");
     const char* count_names[3] = {"NX", "NY", "NZ"};
-    std::int64_t total = 1;
+    double total = 1;
     for (int d = 0; d < 3; ++d) {
       const std::int64_t count = card.required_integer(1 + d, count_names[d]);
       if (count < 1)
         card.fail(count_names[d], quoted(card.text(1 + d)) + ": at least one particle per direction");
-      total *= std::min<std::int64_t>(count, max_box_particles + 1);
-      if (total > max_box_particles)
-        card.fail(count_names[d], "NX x NY x NZ is more than " + std::to_string(max_box_particles) +
-                                      " particles");
+      total *= static_cast<double>(count);
+      // Before the count is stored: the memory the box would take, all boxes so far included.
+      if (const std::string why = memory::shortfall(total + particles_so_far(model), particle_bytes, "particles");
+          !why.empty())
+        card.fail(count_names[d], "NX x NY x NZ: " + why);
       (d == 0 ? box.nx : d == 1 ? box.ny : box.nz) = static_cast<int>(count);
     }
     box.idseg = card.integer(5, "IDSEG", 0);

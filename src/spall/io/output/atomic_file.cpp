@@ -8,6 +8,8 @@
 
 #include <fmt/format.h>
 
+#include "spall/core/error.hpp"
+
 namespace spall::io::output {
 
 void replace_file_atomically(const std::filesystem::path& path,
@@ -18,7 +20,7 @@ void replace_file_atomically(const std::filesystem::path& path,
   const auto fail = [&](const std::string& why) {
     std::error_code ignored;
     std::filesystem::remove(temporary, ignored);
-    throw std::runtime_error(fmt::format("cannot write {}: {}", path.string(), why));
+    throw OutputError(fmt::format("cannot write {}: {}", path.string(), why));
   };
 
   {
@@ -32,8 +34,8 @@ void replace_file_atomically(const std::filesystem::path& path,
       std::filesystem::remove(temporary, ignored);
       throw;
     }
-    out.close();
-    if (!out) fail("write error (disk full?)");
+    out.close();  // flushes: a full disk shows here, errno ENOSPC
+    if (!out) fail(std::strerror(errno));
   }
 
   std::error_code error;

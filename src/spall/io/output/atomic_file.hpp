@@ -9,7 +9,7 @@
 namespace spall::io::output {
 
 // Calls write_contents on a binary stream to `path`.tmp, then renames it to `path`.
-// Throws std::runtime_error naming `path` if any step fails; the temporary is then removed.
+// Throws OutputError naming `path` if any step fails; the temporary is then removed.
 void replace_file_atomically(const std::filesystem::path& path,
                              const std::function<void(std::ostream&)>& write_contents);
 

@@ -8,6 +8,8 @@
 
 #include <fmt/format.h>
 
+#include "spall/core/error.hpp"
+
 namespace spall::io::output {
 namespace {
 
@@ -44,7 +46,7 @@ CsvHistory::CsvHistory(const std::filesystem::path& path, std::vector<Column> co
   const std::string header = header_line(path_, columns);
   out_.open(path_, std::ios::binary | std::ios::trunc);
   if (!out_) {
-    throw std::runtime_error(fmt::format("cannot write {}: {}", path_.string(), std::strerror(errno)));
+    throw OutputError(fmt::format("cannot write {}: {}", path_.string(), std::strerror(errno)));
   }
   write(header);
 }
@@ -58,13 +60,13 @@ CsvHistory::CsvHistory(const std::filesystem::path& path, std::vector<Column> co
   std::ifstream in(path_, std::ios::binary);
   if (error || size < resume_at || resume_at < header.size() || !in.read(first.data(), std::ssize(first)) ||
       first != header)
-    throw std::runtime_error(fmt::format("cannot continue {}: it is not the file the checkpoint was written with",
+    throw InputError(fmt::format("cannot continue {}: it is not the file the checkpoint was written with",
                                          path_.string()));
   in.close();
   std::filesystem::resize_file(path_, resume_at);
   out_.open(path_, std::ios::binary | std::ios::app);
   if (!out_) {
-    throw std::runtime_error(fmt::format("cannot write {}: {}", path_.string(), std::strerror(errno)));
+    throw OutputError(fmt::format("cannot write {}: {}", path_.string(), std::strerror(errno)));
   }
 }
 
@@ -87,7 +89,7 @@ void CsvHistory::append(std::span<const double> row) {
 void CsvHistory::write(std::string_view text) {
   out_.write(text.data(), static_cast<std::streamsize>(text.size()));
   out_.flush();
-  if (!out_) throw std::runtime_error(fmt::format("cannot write {}", path_.string()));
+  if (!out_) throw OutputError(fmt::format("cannot write {}: {}", path_.string(), std::strerror(errno)));
   bytes_ += text.size();
 }
 

@@ -22,11 +22,11 @@ struct Column {
 
 class CsvHistory {
  public:
-  // Creates (or truncates) the file and writes the header. Throws std::runtime_error naming the
+  // Creates (or truncates) the file and writes the header. Throws OutputError naming the
   // path when it cannot be written, std::invalid_argument for no columns.
   CsvHistory(const std::filesystem::path& path, std::vector<Column> columns);
   // Continues a file written with these columns, kept to its first `resume_at` bytes (a restart
-  // drops the rows written after its checkpoint). Throws std::runtime_error naming the path when
+  // drops the rows written after its checkpoint). Throws InputError naming the path when
   // the file is shorter or its header differs.
   CsvHistory(const std::filesystem::path& path, std::vector<Column> columns, std::uint64_t resume_at);
   // One value per column (std::invalid_argument otherwise), with 10 significant digits.

@@ -18,7 +18,7 @@ namespace spall::io::output {
 // cells of `cell_blocks` (connectivity in indices of `points`) with their fields as cell data; a
 // cell field is one array over all cells, with the fill value (discretization/field_set.hpp) on
 // the cells that do not have it. Through a temporary file. Throws std::invalid_argument for a
-// field or block whose size or names do not fit, std::runtime_error (naming the path) when the
+// field or block whose size or names do not fit, OutputError (naming the path) when the
 // file cannot be written.
 void write_vtu(const std::filesystem::path& path, const std::vector<Vec3>& points,
                const std::vector<discretization::Field>& fields,
@@ -28,7 +28,7 @@ class PvdSeries {
  public:
   explicit PvdSeries(std::filesystem::path path) : path_(std::move(path)) {}
   // Adds a dataset (path relative to the .pvd file) and rewrites the .pvd, so that a series
-  // stays openable when a run stops early. Throws std::runtime_error when it cannot be written.
+  // stays openable when a run stops early. Throws OutputError when it cannot be written.
   void add(double time, const std::string& relative_file);
 
   using Entries = std::vector<std::pair<double, std::string>>;

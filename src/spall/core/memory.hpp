@@ -1,0 +1,25 @@
+#pragma once
+// How much memory this process may still take, so that a deck asking for more (a mesh box or an
+// NEND generation of 10^12 particles) is refused with a message before it allocates, instead of
+// being killed by the kernel's out-of-memory killer halfway.
+#include <cstdint>
+#include <string>
+
+namespace spall::memory {
+
+// Bytes this process can still allocate: the machine's MemAvailable (/proc/meminfo), or less when
+// a cgroup (a container, a batch scheduler's job) limits the process (memory.max less
+// memory.current, cgroup v2), or set_limit's. The largest uint64 when none is known.
+std::uint64_t available_bytes();
+
+// A lower bound of the caller's on available_bytes() (`spall run --memory-limit`); 0: none.
+void set_limit(std::uint64_t bytes);
+
+// "12.3 GB": bytes for a message, in decimal units.
+std::string human_bytes(double bytes);
+
+// Null when `count` items of `bytes_each` fit in available_bytes(); else the reason, for the
+// caller's error at its card: "N particles need about X; this machine has Y available".
+std::string shortfall(double count, double bytes_each, const std::string& what);
+
+}  // namespace spall::memory
