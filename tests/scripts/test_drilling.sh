@@ -1,14 +1,14 @@
 #!/usr/bin/env bash
 # The friction-drilling demo's whole chain on a coarse model (issue 34; examples/friction_drilling):
 # tools/make_drilling_deck.py writes the deck (0.376 mm particles, 4 layers, 24 drill facets, the plunge
-# 2000 times the test's, the kernel updated every 15 steps), spall runs the drill through the sheet at two
-# friction coefficients side by side, tools/drilling_forces.py reads the thrust and torque,
-# tools/drilling_particles.py the particles.
+# 2000 times the test's, the kernel updated every 15 steps), spall runs the drill through the sheet at
+# seed 001 Fig. 7's two friction coefficients, 0.15 and 0.20, side by side, tools/drilling_forces.py
+# reads the thrust and torque, tools/drilling_particles.py the particles.
 # Asserts (seed 001 §3.2.2: the torque is generated solely by friction, the thrust follows the material
 # strength and not the friction): both runs complete; the mean torque over the plunge is larger at mu
-# 0.3 than at mu 0.1; the mean thrust differs by less than 10 %. Prints the particle check
-# (tools/drilling_particles.py): a few particles under the drill's flat tip come loose and are not
-# asserted on (examples/friction_drilling/README.md).
+# 0.20 than at mu 0.15; the mean thrust differs by less than 10 %. Prints the particle check
+# (tools/drilling_particles.py): a few loose particles are thrown out of the hole (0 of 2 640 at mu 0.15,
+# 4 at 0.20) and are not asserted on (examples/friction_drilling/README.md).
 set -euo pipefail
 cli=$1
 source_dir=$2
@@ -20,7 +20,7 @@ fail() {
   exit 1
 }
 
-for mu in 0.1 0.3; do
+for mu in 0.15 0.2; do
   python3 "$tools/make_drilling_deck.py" --spacing 0.4e-3 --layers 4 --ring-layers 3 --segments 24 \
     --time-scale 2000 --dt2ms=-2e-7 --smstep 15 --outputs 2 --histories 200 --mu $mu >"$work/drill_$mu.k"
   "$cli" run "$work/drill_$mu.k" -o "$work/mu_$mu" --threads 1 >"$work/run_$mu.log" 2>&1 &
@@ -29,15 +29,15 @@ for job in $(jobs -p); do
   wait "$job" || { tail -5 "$work"/run_*.log; fail "a coarse drilling run did not complete"; }
 done
 
-python3 "$tools/drilling_forces.py" "$work/mu_0.1" "$work/mu_0.3" --label 0.1 --label 0.3 >"$work/forces" ||
+python3 "$tools/drilling_forces.py" "$work/mu_0.15" "$work/mu_0.2" --label 0.15 --label 0.2 >"$work/forces" ||
   fail "drilling_forces.py"
 cat "$work/forces"
 mean() {  # mean() QUANTITY MU: the mean torque or thrust of the run at MU
   awk -v q="mean $1 " -v mu="$2:" '$1 == mu { split($0, a, q); split(a[2], b, " "); print b[1] }' "$work/forces"
 }
-awk -v low="$(mean torque 0.1)" -v high="$(mean torque 0.3)" 'BEGIN { exit !(high > low && low > 0) }' ||
+awk -v low="$(mean torque 0.15)" -v high="$(mean torque 0.2)" 'BEGIN { exit !(high > low && low > 0) }' ||
   fail "the torque does not rise with friction"
-awk -v a="$(mean thrust 0.1)" -v b="$(mean thrust 0.3)" \
+awk -v a="$(mean thrust 0.15)" -v b="$(mean thrust 0.2)" \
   'BEGIN { d = (a - b) / (a + b) * 2; exit !(a > 0 && d < 0.1 && d > -0.1) }' ||
   fail "the thrust depends on the friction"
 

@@ -42,7 +42,7 @@ Evaluation evaluate(KernelShape shape, const std::vector<Vec3>& x, const Vec3& p
   Evaluation e;
   e.psi.resize(x.size());
   e.grad.resize(x.size());
-  e.rcond = rk_shape_functions(shape, samples, dilation.maxCoeff() * h, e.psi, e.grad);
+  e.rcond = rk_shape_functions(shape, samples, dilation * h, e.psi, e.grad);
   return e;
 }
 
@@ -117,7 +117,7 @@ TEST(SpgRkShape, WindowMapMakesTheSupportFollowTheMaterial) {
   }
   std::vector<Real> psi(X.size());
   std::vector<Vec3> grad(X.size());
-  ASSERT_GE(rk_shape_functions(KernelShape::cubic_cubical, samples, 1.6 * h, psi, grad), min_moment_rcond);
+  ASSERT_GE(rk_shape_functions(KernelShape::cubic_cubical, samples, Vec3::Constant(1.6 * h), psi, grad), min_moment_rcond);
   Vec3 first = Vec3::Zero();
   Mat3 dfirst = Mat3::Zero();
   for (std::size_t i = 0; i < X.size(); ++i) {
@@ -141,7 +141,7 @@ TEST(SpgRkShape, TooFewNeighboursGiveASingularMomentMatrix) {
   alone[0].support = Vec3::Constant(0.16);
   std::vector<Real> psi(1);
   std::vector<Vec3> grad(1);
-  EXPECT_LT(rk_shape_functions(KernelShape::cubic_cubical, alone, 0.16, psi, grad), min_moment_rcond);
+  EXPECT_LT(rk_shape_functions(KernelShape::cubic_cubical, alone, Vec3::Constant(0.16), psi, grad), min_moment_rcond);
   ASSERT_TRUE(shepard_shape_functions(KernelShape::cubic_cubical, alone, psi, grad));
   EXPECT_EQ(psi[0], 1.0);
   EXPECT_EQ(grad[0], Vec3::Zero());

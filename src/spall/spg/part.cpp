@@ -24,6 +24,18 @@ constexpr Real courant_factor = 0.5;
 constexpr int setup_iterations = 2000;
 constexpr int update_iterations = 25;
 
+// The half-widths along the axes of the box that holds the window of half-widths a carried by the
+// deformation F: the ellipsoid {F diag(a) u : |u| <= 1} reaches sqrt(sum_k F_dk^2 a_k^2) along axis
+// d. A rotation leaves it at a; a stretch widens it as far as the material and its particles went.
+Vec3 window_extent(const Mat3& F, const Vec3& a) { return (F * a.asDiagonal()).rowwise().norm(); }
+
+// KERNEL 1 and 2 windows (THEORY §9.7) widen with the stretch up to this many times their first
+// size, which bounds the neighbour search; they never narrow, so the step keeps following the
+// first spacing (windows squeezed with the material would need a step as narrow as they are: ten
+// times shorter at the foot of a Taylor bar at 350 m/s). A Taylor bar at 350 m/s needs 3 with
+// KERNEL 2 (tests/verification/test_spg_taylor_bar.cpp).
+constexpr Real max_window_growth = 4;
+
 template <typename T>
 std::size_t bytes(const std::vector<T>& v) {
   return v.capacity() * sizeof(T);
@@ -68,6 +80,7 @@ Part::Part(PartSettings settings, const std::vector<ParticleSetup>& particles,
     on_surface_[i] = p.on_surface ? 1 : 0;
   }
   volume_ref_ = volume0_;
+  initial_support_ = support_;
   F_.assign(n, Mat3::Identity());
   F_total_.assign(n, Mat3::Identity());
   state_.assign(n, materials::initial_state(mat));
@@ -153,7 +166,8 @@ void Part::build_shape_functions(bool at_setup) {
       }
       psi.resize(samples.size());
       grad.resize(samples.size());
-      const Real rcond = rk_shape_functions(settings_.shape, samples, support_[j].maxCoeff(), psi, grad);
+      const Vec3 scale = material_windows ? window_extent(F_total_[j], support_[j]) : support_[j];
+      const Real rcond = rk_shape_functions(settings_.shape, samples, scale, psi, grad);
       degraded_[j] = rcond >= min_moment_rcond ? 0 : 1;
       if (degraded_[j]) {
         if (at_setup) {
@@ -339,7 +353,7 @@ void Part::failure_quantity(std::vector<Real>& out) const {
 // a stress consistently; the bonds it still has would only let its stressed neighbours fling it
 // off the crack. It is detached: its remaining bonds break too, and its neighbours' rows are
 // rebuilt without it (which may detach them in turn). Particles degraded without any broken bond
-// (an Eulerian kernel losing neighbours to distance, fixed windows in a stretch) keep their bonds.
+// (neighbours lost to a stretch beyond the windows' bound) keep their bonds.
 void Part::detach_degraded_particles() {
   const Index n = particle_count();
   for (int pass = 0; pass < 16; ++pass) {
@@ -376,6 +390,16 @@ void Part::update_kernel() {
   const std::vector<Index> broken_before = broken_per_particle();
   break_bonds(bonds_, quantity, x_, settings_.failure_value, settings_.failure_stretch);
   record_broken_pairs(bonds_, broken_pairs_);
+  if (settings_.kernel_update != KernelUpdate::updated_lagrangian) {
+    // Windows in the current configuration widen with the stretch of the material around each
+    // particle (THEORY §9.7): windows of the first size lose the neighbours of material that spreads
+    // (the foot of a Taylor bar) and leave their rows ill-conditioned; separation is the bonds' to
+    // decide (IDAM), or the kernel's beyond max_window_growth.
+    parallel::for_each(n, [&](Index j) {
+      const Vec3& a = initial_support_[j];
+      support_[j] = window_extent(F_total_[j], a).cwiseMax(a).cwiseMin(max_window_growth * a);
+    }, particle_loops);
+  }
   if (settings_.kernel_update == KernelUpdate::eulerian) {
     const BondList previous = std::move(bonds_);
     search_bonds(&previous);
@@ -554,7 +578,7 @@ Index Part::degraded_count() const {
 
 std::size_t Part::memory_bytes() const {
   return bytes(node_) + bytes(node_id_) + bytes(mass_) + bytes(mass_scale_) + bytes(volume0_) + bytes(volume_ref_) +
-         bytes(support_) + bytes(spacing_) + bytes(mean_spacing_) + bytes(stiffness_) +
+         bytes(support_) + bytes(initial_support_) + bytes(spacing_) + bytes(mean_spacing_) + bytes(stiffness_) +
          bytes(viscous_pressure_) + bytes(viscous_power_) + bytes(F_) + bytes(F_total_) +
          bytes(state_) + bytes(pressure_) + bytes(density_) + bytes(sound_speed_) +
          bytes(specific_energy_) + bytes(stabilization_force_) + bytes(stabilization_total_) +

@@ -19,8 +19,8 @@
 // with X the reference configuration of the last kernel update (every SMSTEP steps). KERNEL chooses
 // what an update rebuilds (THEORY §9.7): 0 updated Lagrangian, the bonds of the first
 // configuration with windows that deform with the material; 1 Eulerian, bonds searched anew in the
-// current configuration; 2 pseudo-Lagrangian, the bonds of the first configuration with windows of
-// fixed size in the current configuration.
+// current configuration; 2 pseudo-Lagrangian, the bonds of the first configuration. With 1 and 2 the
+// windows, in the current configuration, widen with the material's stretch (at most 4 times).
 #include <vector>
 
 #include "spall/core/error.hpp"
@@ -126,7 +126,10 @@ class Part {
   std::vector<Real> mass_;           // rho_0 V_0: this part's share of the node's mass
   std::vector<Real> volume0_;        // V_0
   std::vector<Real> volume_ref_;     // volume in the reference configuration of the kernel
-  std::vector<Vec3> support_;        // a_I = (DX, DY, DZ) x nodal spacing
+  std::vector<Vec3> initial_support_;  // a_I = (DX, DY, DZ) x nodal spacing
+  // The window's half-widths in the reference configuration of the kernel: a_I, or with KERNEL 1
+  // and 2 the box around a_I carried by the deformation since the start (window_extent, part.cpp).
+  std::vector<Vec3> support_;
   std::vector<Real> spacing_;        // smallest nodal spacing, for the stable step
   std::vector<Real> mean_spacing_;   // (h_x h_y h_z)^(1/3)
   std::vector<Real> stiffness_;      // kappa_I of the stabilization spring

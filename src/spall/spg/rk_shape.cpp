@@ -15,9 +15,9 @@ KernelValue window(KernelShape shape, const KernelSample& s) {
 }
 }  // namespace
 
-Real rk_shape_functions(KernelShape shape, std::span<const KernelSample> samples, Real scale,
+Real rk_shape_functions(KernelShape shape, std::span<const KernelSample> samples, const Vec3& scale,
                         std::span<Real> psi, std::span<Vec3> grad) {
-  const Real inv_s = 1 / scale;
+  const Vec3 inv_s = scale.cwiseInverse();
   Mat4 M = Mat4::Zero();
   Mat4 dM[3] = {Mat4::Zero(), Mat4::Zero(), Mat4::Zero()};
   // First pass: the moment matrix and its derivatives. The windows are kept in psi / grad until
@@ -28,14 +28,14 @@ Real rk_shape_functions(KernelShape shape, std::span<const KernelSample> samples
     grad[k] = w.gradient;
     if (w.value == 0 && w.gradient.isZero()) continue;
     Vec4 H;
-    H << 1, samples[k].y * inv_s;
+    H << 1, samples[k].y.cwiseProduct(inv_s);
     const Mat4 HH = H * H.transpose();
     M.noalias() += w.value * HH;
     for (int j = 0; j < 3; ++j) {
-      // H_,j = e_{j+1} / s: (H_,j H^T + H H_,j^T) phi + H H^T phi_,j
+      // H_,j = e_{j+1} / s_j: (H_,j H^T + H H_,j^T) phi + H H^T phi_,j
       Mat4 d = w.gradient[j] * HH;
-      d.row(j + 1) += (w.value * inv_s) * H.transpose();
-      d.col(j + 1) += (w.value * inv_s) * H;
+      d.row(j + 1) += (w.value * inv_s[j]) * H.transpose();
+      d.col(j + 1) += (w.value * inv_s[j]) * H;
       dM[j] += d;
     }
   }
@@ -53,11 +53,11 @@ Real rk_shape_functions(KernelShape shape, std::span<const KernelSample> samples
     const Vec3 dphi = grad[k];
     if (phi == 0 && dphi.isZero()) continue;
     Vec4 H;
-    H << 1, samples[k].y * inv_s;
+    H << 1, samples[k].y.cwiseProduct(inv_s);
     const Real bH = b.dot(H);
     psi[k] = bH * phi;
     for (int j = 0; j < 3; ++j)
-      grad[k][j] = db[j].dot(H) * phi + b[j + 1] * inv_s * phi + bH * dphi[j];
+      grad[k][j] = db[j].dot(H) * phi + b[j + 1] * inv_s[j] * phi + bH * dphi[j];
   }
   return rcond;
 }

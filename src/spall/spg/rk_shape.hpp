@@ -2,9 +2,10 @@
 // Reproducing-kernel (RK) shape functions with a linear basis at one evaluation point x
 // (Chen, Pan, Wu & Liu 1996; spg.md §2.1):
 //   Psi_I(x) = b(x)^T H(x - x_I) phi_I(x - x_I),   M(x) b(x) = H(0),
-//   M(x) = sum_I H(x - x_I) H(x - x_I)^T phi_I(x - x_I),   H(y) = [1, y_x / s, y_y / s, y_z / s],
-// (the basis scaled by s, the evaluation point's support size, for conditioning; the functions do
-// not depend on s) and the gradient from differentiating b through M b_,j = -M_,j b:
+//   M(x) = sum_I H(x - x_I) H(x - x_I)^T phi_I(x - x_I),   H(y) = [1, y_x / s_x, y_y / s_y, y_z / s_z],
+// (the basis scaled per direction by s, the evaluation point's support sizes, so that the pivot
+// ratio measures the particles' arrangement, not the window's aspect ratio; the functions do not
+// depend on s) and the gradient from differentiating b through M b_,j = -M_,j b:
 //   Psi_I,j = b_,j^T H phi + b^T H_,j phi + b^T H phi_,j.
 // Sum_I Psi_I = 1 and sum_I Psi_I x_I = x hold to round-off, and so do their gradients.
 #include <span>
@@ -32,7 +33,7 @@ inline constexpr Real min_moment_rcond = 1e-3;
 // Fills psi[k] = Psi_k(x) and grad[k] = grad Psi_k(x) for every sample. Returns the pivot ratio
 // of the scaled moment matrix (a reciprocal-condition indicator); below min_moment_rcond the outputs are not
 // meaningful (see shepard_shape_functions). `scale` is s in the basis.
-Real rk_shape_functions(KernelShape shape, std::span<const KernelSample> samples, Real scale,
+Real rk_shape_functions(KernelShape shape, std::span<const KernelSample> samples, const Vec3& scale,
                         std::span<Real> psi, std::span<Vec3> grad);
 
 // The zeroth-order (Shepard) functions Psi_I = phi_I / sum phi and their gradients: a partition of
