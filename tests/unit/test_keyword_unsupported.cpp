@@ -19,7 +19,8 @@ TEST(keyword_unsupported, PhysicsKeywordsAreToldFromOutputAndTuning) {
                               "*CONSTRAINED_RIGID_BODIES", "*BOUNDARY_SPC_SET_BIRTH_DEATH", "*LOAD_SEGMENT",
                               "*INITIAL_STRESS_SOLID", "*RIGIDWALL_GEOMETRIC_FLAT", "*CONTROL_IMPLICIT_GENERAL",
                               "*CASE", "*INCLUDE_TRANSFORM", "*DAMPING_PART_MASS", "*DEFINE_SPH_MESH_SURFACE",
-                              "*DEFINE_SPH_INJECTION", "*DEFINE_ADAPTIVE_SOLID_TO_SPH"})
+                              "*DEFINE_SPH_INJECTION", "*DEFINE_ADAPTIVE_SOLID_TO_SPH",
+                              "*MAT_ADD_THERMAL_EXPANSION", "*MAT_ADD_DAMAGE_GISSMO"})
     EXPECT_TRUE(defines_physics(physics)) << physics;
   for (const char* tuning : {"*DATABASE_BINARY_D3THDT", "*CONTROL_ENERGY", "*CONTROL_SOLID", "*TITLE",
                              "*DEFINE_BOX", "*SECTION_SHELL", "*MAT_SOIL_AND_FOAM", "*SET_SEGMENT", "*PARTITION",
@@ -46,6 +47,25 @@ TEST(keyword_unsupported, APhysicsKeywordStopsTheCheckAtItsLineUnlessSkipped) {
                             "running without it would solve another problem (`spall run --skip "
                             "CONTACT_TIED_SURFACE_TO_SURFACE` runs without it, knowingly)");
   EXPECT_EQ(input_error_of([&] { refuse_unsupported_physics(model, {"contact"}); }), "");
+}
+
+// A *MAT_ADD_ card that Spall does not read shares its material's ID, as the manual has it: it is not
+// "material 1 defined twice" but an unsupported change to material 1, which stops the check unless
+// skipped (*MAT_ADD_EROSION is read: test_keyword_add_erosion).
+TEST(keyword_unsupported, AnUnreadMatAddCardStopsTheCheckAndIsNotASecondMaterial) {
+  DeckFolder folder;
+  const auto path = folder.write(
+      "mat_add.k", "*KEYWORD\n*NODE\n" + row({"1", "0.", "0.", "0."}, {8, 16, 16, 16}) + "*PART\nblock\n" +
+                       row({"1", "1", "1"}) + "*SECTION_SOLID\n" + row({"1", "1"}) + "*MAT_ELASTIC\n" +
+                       row({"1", "7.85e-9", "2.1e5", "0.3"}) + "*MAT_ADD_THERMAL_EXPANSION\n" +
+                       row({"1", "0", "1.2e-5"}) + "*CONTROL_TERMINATION\n" + row({"1.0e-5"}) + "*END\n");
+  const model::Model model = read_deck(path);
+  EXPECT_EQ(input_error_of([&] { refuse_unsupported_physics(model, {}); }),
+            path.string() + ":11: *MAT_ADD_THERMAL_EXPANSION: not supported by Spall, and it defines physics: "
+                            "running without it would solve another problem (`spall run --skip "
+                            "MAT_ADD_THERMAL_EXPANSION` runs without it, knowingly)");
+  EXPECT_EQ(input_error_of([&] { refuse_unsupported_physics(model, {"MAT_ADD_THERMAL_EXPANSION"}); }), "");
+  EXPECT_EQ(input_error_of([&] { validate(model); }), "");
 }
 
 }  // namespace

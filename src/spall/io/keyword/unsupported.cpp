@@ -26,13 +26,14 @@ bool starts_with_family(std::string_view keyword, std::string_view family) {
 bool defines_physics(std::string_view keyword) {
   // Families of keywords that define the problem itself. Unread *SECTION_, *MAT_, *EOS_, *SET_ and
   // *DEFINE_ cards are harmless until a part or a card uses them, and validate() refuses that use,
-  // except the *DEFINE_ cards that make particles or couple bodies by themselves.
+  // except the *DEFINE_ cards that make particles or couple bodies by themselves, and the *MAT_ADD_
+  // cards, which change the material of their ID (expansion, damage, failure) rather than define one.
   static constexpr std::string_view physics[] = {
       "CONTACT",  "ELEMENT",       "PART",     "CONSTRAINED",       "BOUNDARY", "LOAD",
       "INITIAL",  "RIGIDWALL",     "DAMPING",  "AIRBAG",            "ALE",      "CONTROL_IMPLICIT",
       "CASE",     "INCLUDE_TRANSFORM", "DEFORMABLE_TO_RIGID", "TERMINATION", "INTERFACE", "RIGIDBODY",
       "DEFINE_SPH_MESH_SURFACE", "DEFINE_SPH_INJECTION", "DEFINE_SPH_TO_SPH_COUPLING",
-      "DEFINE_ADAPTIVE_SOLID_TO_SPH", "DEFINE_ADAPTIVE_SOLID_TO_DES", "DEFINE_CONTACT_EXCLUSION"};
+      "DEFINE_ADAPTIVE_SOLID_TO_SPH", "DEFINE_ADAPTIVE_SOLID_TO_DES", "DEFINE_CONTACT_EXCLUSION", "MAT_ADD"};
   const std::string name = normalized(keyword);
   return std::any_of(std::begin(physics), std::end(physics),
                      [&](std::string_view family) { return starts_with_family(name, family); });

@@ -89,7 +89,9 @@ class Validator {
     }
     for (const auto& [id, material] : model_.materials) {
       const auto* other = find_unsupported(model_, "*MAT_", id);
-      if (other)
+      // A *MAT_ADD_ card has its material's ID by design (refuse_unsupported_physics stops an
+      // unread one unless it is skipped).
+      if (other && !std::string_view(other->keyword).starts_with("*MAT_ADD_"))
         throw InputError(other->where, other->keyword,
                          "material " + std::to_string(id) + " is defined twice (first at " +
                              location_text(material.where) + ")");
