@@ -3,10 +3,12 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <initializer_list>
 #include <string>
+#include <vector>
 
 #include "spall/core/error.hpp"
 #include "spall/io/keyword/reader.hpp"
@@ -47,6 +49,20 @@ inline std::string row(std::initializer_list<std::string> values,
     line += std::string(w > value.size() ? w - value.size() : 0, ' ') + value;
   }
   return line + "\n";
+}
+
+// *SET_NODE_LIST `sid` with the nodes `ids`, eight to a line.
+inline std::string node_list(Id sid, const std::vector<Id>& ids) {
+  std::string text = "*SET_NODE_LIST\n" + row({std::to_string(sid)});
+  for (std::size_t k = 0; k < ids.size(); k += 8) {
+    std::string line;
+    for (std::size_t j = k; j < std::min(k + 8, ids.size()); ++j) {
+      const std::string id = std::to_string(ids[j]);
+      line += std::string(10 - std::min<std::size_t>(10, id.size()), ' ') + id;
+    }
+    text += line + "\n";
+  }
+  return text;
 }
 
 // The message of the InputError that `action` throws ("" if it throws none).

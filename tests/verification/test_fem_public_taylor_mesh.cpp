@@ -20,22 +20,13 @@
 
 using namespace spall;
 using test::DeckFolder;
+using test::node_list;
 using test::row;
 
 namespace {
 
 const std::filesystem::path mesh =
     std::filesystem::path(SPALL_SHARED_DIR) / "decks" / "public" / "ansys-example-data_taylor_bar_mesh.k";
-
-std::string node_list(Id sid, const std::vector<Id>& ids) {
-  std::string text = "*SET_NODE_LIST\n" + row({std::to_string(sid)});
-  for (std::size_t k = 0; k < ids.size(); k += 8) {
-    std::string line;
-    for (std::size_t j = k; j < std::min(k + 8, ids.size()); ++j) line += fmt::format("{:>10}", ids[j]);
-    text += line + "\n";
-  }
-  return text;
-}
 
 }  // namespace
 

@@ -34,6 +34,7 @@
 
 using namespace spall;
 using test::DeckFolder;
+using test::node_list;
 using test::row;
 
 namespace {
@@ -146,16 +147,6 @@ RodMesh public_mesh(const std::filesystem::path& path) {
   return mesh;
 }
 
-std::string node_list(Id sid, const std::vector<Id>& ids) {
-  std::string text = "*SET_NODE_LIST\n" + row({std::to_string(sid)});
-  for (std::size_t k = 0; k < ids.size(); k += 8) {
-    std::string line;
-    for (std::size_t j = k; j < std::min(k + 8, ids.size()); ++j) line += fmt::format("{:>10}", ids[j]);
-    text += line + "\n";
-  }
-  return text;
-}
-
 // The deck: the mesh, the part with `section` (its keyword and cards), the steel, the symmetry planes,
 // 350 m/s towards the wall, 60 us.
 std::string taylor_deck(const RodMesh& mesh, const std::string& section) {
@@ -227,8 +218,10 @@ TEST(SpgTaylorBar, SteelAt350MetresPerSecondOnAQuarterOGridWithEveryKernel) {
 }
 
 TEST(SpgTaylorBar, SteelAt350MetresPerSecondOnThePublicMeshWithEveryKernel) {
-  const auto path = std::filesystem::path(SPALL_SHARED_DIR) / "decks" / "public" / "ansys-example-data_taylor_bar_mesh.k";
-  if (!std::filesystem::exists(path)) GTEST_SKIP() << path.string() << " is absent (a clone without ../shared): skipped";
+  const auto path =
+      std::filesystem::path(SPALL_SHARED_DIR) / "decks" / "public" / "ansys-example-data_taylor_bar_mesh.k";
+  if (!std::filesystem::exists(path))
+    GTEST_SKIP() << path.string() << " is absent (a clone without ../shared): skipped";
   log::set_quiet(true);
   expect_spg_matches_fem(public_mesh(path), {updated_lagrangian, eulerian, pseudo_lagrangian});
 }
