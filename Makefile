@@ -5,7 +5,7 @@ DEMO_OUT ?= results/elastic_bar
 
 DRILLING_OUT ?= results/friction_drilling
 
-.PHONY: setup build run test test-fast bench drilling drilling-study clean
+.PHONY: setup build run test test-fast test-sanitize fuzz bench drilling drilling-study clean
 
 setup:
 	@bash tools/setup.sh
@@ -23,6 +23,23 @@ test: build
 
 test-fast: build
 	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS) -LE slow
+
+# The whole test suite built with AddressSanitizer and UndefinedBehaviorSanitizer (-O1); slower, so
+# a longer timeout per test. The test preset names tools/lsan.supp (libgomp's own allocations).
+test-sanitize: setup
+	@cmake --preset sanitize >/dev/null
+	@cmake --build --preset sanitize -j $(JOBS)
+	@ctest --preset sanitize -j $(JOBS) --timeout 3600
+
+# The keyword reader's libFuzzer target (clang, ASan, UBSan) for FUZZ_SECONDS on one core. The
+# corpus grows in FUZZ_WORK; a crash is written to FUZZ_WORK/artifacts and stops the run.
+FUZZ_SECONDS ?= 600
+FUZZ_WORK ?= build/fuzz/work
+fuzz:
+	@bash tools/setup.sh fuzz
+	@cmake --preset fuzz >/dev/null
+	@cmake --build --preset fuzz -j $(JOBS)
+	bash fuzz/run.sh $(FUZZ_SECONDS) $(FUZZ_WORK)
 
 bench: build
 	@$(BUILD)/bin/spall_bench --benchmark_out=$(BUILD)/bench.json --benchmark_out_format=json

@@ -98,7 +98,9 @@ TEST(FemSetup, BulkViscosityComesFromTheHourglassCardWhereItGivesIt) {
   m.bulk_viscosity.q2 = 0.05;
   m.hourglasses[1] = model::Hourglass{1, 0, 0.1, 2.0, 0, {}};
   m.parts[0].hgid = 1;
-  const auto& part = solid_elements(solver::build_problem(m)).parts().at(0);
+  // The problem is kept: a reference into a temporary one would dangle (AddressSanitizer found it).
+  const solver::Problem problem = solver::build_problem(m);
+  const auto& part = solid_elements(problem).parts().at(0);
   EXPECT_EQ(part.bulk_quadratic, 2.0);
   EXPECT_EQ(part.bulk_linear, 0.05);
 }
@@ -210,7 +212,8 @@ TEST(FemSetup, AddErosionOnParticlesOrAMissingMaterialIsRefused) {
   card.failtm = 99;
   card.mneps = card.effeps = card.voleps = card.mnpres = card.sigp1 = card.mxeps = 99;
   m.add_erosions[1] = card;
-  const auto& erosion = solid_elements(solver::build_problem(m)).parts().at(0).erosion;
+  const solver::Problem problem = solver::build_problem(m);
+  const auto& erosion = solid_elements(problem).parts().at(0).erosion;
   EXPECT_FALSE(erosion.max_pressure);
   ASSERT_TRUE(erosion.von_mises);
   EXPECT_EQ(*erosion.von_mises, 0.0);

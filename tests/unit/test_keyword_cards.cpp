@@ -263,13 +263,15 @@ TEST(keyword_cards, SphNendGeneratesParticlesAndNegativeMassIsVolume) {
   EXPECT_EQ(model.sph_elements[6].mass, -8.0);  // _VOLUME: stored as LS-DYNA's negative volume
 }
 
+// A generated range is expanded once the deck is read, and holds no more IDs than the deck has nodes
+// (the cube's 8 here).
 TEST(keyword_cards, NodeSetsListAndGenerate) {
   DeckFolder folder;
   const std::string deck = "*KEYWORD\n*SET_NODE_LIST_TITLE\nclamped edge\n" + row({"3"}) +
                            row({"5", "6", "0", "", "9"}) + row({"11"}) +
                            "*SET_NODE_LIST_GENERATE\n" + row({"4"}) + row({"1", "3", "10", "12"}) +
                            row({"20", "20"}) + "*SET_PART_LIST_TITLE\nall\n" + row({"2"}) +
-                           row({"1", "2", "3"}) + "*END\n";
+                           row({"1", "2", "3"}) + cube_nodes() + "*END\n";
   const auto model = read_deck(folder.write("sets.k", deck));
   EXPECT_EQ(model.node_sets.at(3).nodes, (std::vector<Id>{5, 6, 9, 11}));
   EXPECT_EQ(model.node_sets.at(4).nodes, (std::vector<Id>{1, 2, 3, 10, 11, 12, 20}));

@@ -222,5 +222,101 @@ TEST(keyword_errors, MangledDecksFailOnlyWithInputError) {
   }
 }
 
+// What the keyword fuzz target found (fuzz/regressions/ holds each as a deck): a stack overflow, an
+// exception other than InputError, undefined behaviour, a read without end or a giant allocation.
+// Each is now one line naming the field.
+TEST(keyword_errors, DeeplyNestedExpressionsAreRefusedBeforeTheStackOverflows) {
+  DeckFolder folder;
+  const std::string tail = ": nests deeper than 256 levels (parentheses, signs, powers)";
+  std::string tower = "1";
+  for (int level = 0; level < 300; ++level) tower += "**1";
+  for (const std::string& expression :
+       {std::string(100'000, '(') + "1" + std::string(100'000, ')'), std::string(100'000, '-') + "1", tower}) {
+    const std::string message = read_error(folder, "*PARAMETER_EXPRESSION\nR deep    " + expression + "\n");
+    EXPECT_EQ(message.rfind(prefix(folder, 2, "*PARAMETER_EXPRESSION") + "field EXPRESSION: '", 0), 0u) << message;
+    EXPECT_TRUE(message.ends_with(tail)) << message.substr(message.size() - std::min<std::size_t>(200, message.size()));
+  }
+  // 256 levels are still read.
+  const std::string deepest = std::string(255, '(') + "1" + std::string(255, ')');
+  EXPECT_EQ(read_error(folder, "*PARAMETER_EXPRESSION\nR deep    " + deepest + "\n"), "");
+}
+
+TEST(keyword_errors, ExpressionsWhoseValueIsNotFiniteAreRefused) {
+  DeckFolder folder;
+  EXPECT_EQ(read_error(folder, "*PARAMETER_EXPRESSION\nR x       1.0/0.0\n"),
+            prefix(folder, 2, "*PARAMETER_EXPRESSION") + "field EXPRESSION: '1.0/0.0': the value is not finite (inf)");
+  EXPECT_EQ(read_error(folder, "*PARAMETER_EXPRESSION\nI x       10**400\n"),
+            prefix(folder, 2, "*PARAMETER_EXPRESSION") + "field EXPRESSION: '10**400': the value is not finite (inf)");
+  EXPECT_EQ(read_error(folder, "*PARAMETER_EXPRESSION\nR x       log(0) - log(0)\n"),
+            prefix(folder, 2, "*PARAMETER_EXPRESSION") +
+                "field EXPRESSION: 'log(0) - log(0)': the value is not finite (-nan)");
+}
+
+TEST(keyword_errors, AParameterValueWithoutANameIsRefused) {
+  DeckFolder folder;
+  EXPECT_EQ(read_error(folder, "*PARAMETER\n" + row({"", "1.0", "R b", "2.0"})),
+            prefix(folder, 2, "*PARAMETER") +
+                "field PRMR1: is blank, but VAL1 is '1.0': a value needs a type letter and a name");
+}
+
+TEST(keyword_errors, NodeSetRangesLongerThanTheDeckHasNodesAreRefused) {
+  DeckFolder folder;
+  const std::string nodes = "*NODE\n" + row({"1", "0", "0", "0"}, node_widths) + row({"2", "1", "0", "0"}, node_widths);
+  EXPECT_EQ(read_error(folder, nodes + "*SET_NODE_LIST_GENERATE\n" + row({"1"}) + row({"1", "1000000000"})),
+            prefix(folder, 6, "*SET_NODE_LIST_GENERATE") +
+                "field B1BEG: range 1..1000000000 holds 1000000000 node IDs, more than the 2 nodes the deck defines");
+  EXPECT_EQ(read_error(folder, "*SET_NODE_LIST_GENERATE\n" + row({"1"}) + "1,9223372036854775807\n"),
+            prefix(folder, 3, "*SET_NODE_LIST_GENERATE") +
+                "field B1BEG: range 1..9223372036854775807 is not a range of node IDs");
+  // A range is read before the nodes it names, as LS-DYNA allows.
+  const auto model =
+      read_deck(folder.write("later.k", "*SET_NODE_LIST_GENERATE\n" + row({"1"}) + row({"1", "2"}) + nodes));
+  EXPECT_EQ(model.node_sets.at(1).nodes, (std::vector<Id>{1, 2}));
+}
+
+TEST(keyword_errors, ANegativeTssfacIsAWholeCurveId) {
+  DeckFolder folder;
+  EXPECT_EQ(read_error(folder, "*CONTROL_TIMESTEP\n" + row({"0.0", "-1.5"})),
+            prefix(folder, 2, "*CONTROL_TIMESTEP") +
+                "field TSSFAC: '-1.5': a negative TSSFAC is a curve ID, a whole number");
+  EXPECT_EQ(read_error(folder, "*CONTROL_TIMESTEP\n" + row({"0.0", "-1.0e300"})),
+            prefix(folder, 2, "*CONTROL_TIMESTEP") +
+                "field TSSFAC: '-1.0e300': a negative TSSFAC is a curve ID, a whole number");
+}
+
+TEST(keyword_errors, ErosionCountsBeyondAnIntAreRefused) {
+  DeckFolder folder;
+  EXPECT_EQ(read_error(folder, "*MAT_ADD_EROSION\n" + row({"1", "", "", "", "", "", "1.0e300"})),
+            prefix(folder, 2, "*MAT_ADD_EROSION") +
+                "field NUMFIP: '1.0e300': only a number of integration points (>= 1) is implemented for solids");
+  EXPECT_EQ(read_error(folder, "*MAT_ADD_EROSION\n" + row({"1", "", "", "", "", "", "", "1.0e20"})),
+            prefix(folder, 2, "*MAT_ADD_EROSION") + "field NCS: '1.0e20' is not a number of criteria (>= 1)");
+}
+
+TEST(keyword_errors, NodeIdsAndCoordinatesOutOfRangeAreRefused) {
+  DeckFolder folder;
+  EXPECT_EQ(read_error(folder, "*NODE\n1152921504606846976,0.0,0.0,0.0\n"),
+            prefix(folder, 2, "*NODE") + "field NID: 1152921504606846976 is not a node ID (1 to 2^53)");
+  EXPECT_EQ(read_error(folder, "*NODE\n" + row({"0", "0", "0", "0"}, node_widths)),
+            prefix(folder, 2, "*NODE") + "field NID: 0 is not a node ID (1 to 2^53)");
+  EXPECT_EQ(read_error(folder, "*NODE\n" + row({"1", "-inf", "0", "0"}, node_widths)),
+            prefix(folder, 2, "*NODE") + "field X: cannot read '-inf' as a number");
+  EXPECT_EQ(read_error(folder, "*NODE\n" + row({"1", "1.0e400", "0", "0"}, node_widths)),
+            prefix(folder, 2, "*NODE") + "field X: cannot read '1.0e400' as a number");
+  EXPECT_EQ(read_error(folder, "*ELEMENT_SPH\n-9000000000000000000,1,1.0,9000000000000000000\n"),
+            prefix(folder, 2, "*ELEMENT_SPH") + "field NID: -9000000000000000000 is not a node ID (1 to 2^53)");
+  EXPECT_EQ(read_error(folder, "*ELEMENT_SPH\n1,1,1.0,9000000000000000000\n"),
+            prefix(folder, 2, "*ELEMENT_SPH") + "field NEND: 9000000000000000000 is not a node ID (1 to 2^53)");
+}
+
+TEST(keyword_errors, AnIncludeThatIsNotAFileIsRefused) {
+  DeckFolder folder;
+  EXPECT_EQ(read_error(folder, "*INCLUDE\n.\n"),
+            prefix(folder, 2, "*INCLUDE") + "'.' is a directory, not a keyword file");
+  EXPECT_EQ(read_error(folder, "*INCLUDE\n/dev/zero\n"),
+            prefix(folder, 2, "*INCLUDE") +
+                "'/dev/zero' is not a regular file (a device or a pipe), not a keyword file");
+}
+
 }  // namespace
 }  // namespace spall::io::keyword

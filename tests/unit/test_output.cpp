@@ -67,7 +67,8 @@ struct ParsedVtu {
     std::uint64_t bytes = 0;
     std::memcpy(&bytes, appended.data() + offset, sizeof bytes);
     std::vector<T> decoded(bytes / sizeof(T));
-    std::memcpy(decoded.data(), appended.data() + offset + sizeof bytes, bytes);
+    // An empty vector's data() may be null, and memcpy from or to null is undefined even for 0 bytes.
+    if (bytes > 0) std::memcpy(decoded.data(), appended.data() + offset + sizeof bytes, bytes);
     return decoded;
   }
 };

@@ -121,3 +121,23 @@ TEST(SphFluidDeck, RefusesWhatTheFluidCannotRun) {
                                             row({"", "", "", "2", "", "0", "0.1"}))),
             at(5, "*CONTROL_SPH") + "START 0.1 / DT 1e+20: the SPH fluid has no start or death time");
 }
+
+// In plane strain the fluid's particles lie in one plane; one off it is refused at its card (it
+// was an internal error, an exception from the formulation).
+TEST(SphFluidDeck, PlaneStrainParticleOffThePlaneIsRefusedAtItsCard) {
+  log::set_quiet(true);
+  DeckFolder folder;
+  const std::initializer_list<int> node_widths = {8, 16, 16, 16};
+  const std::initializer_list<int> sph_widths = {8, 8, 16};
+  const std::string deck = "*KEYWORD\n*CONTROL_TERMINATION\n" + row({"1.0"}) + "*CONTROL_SPH\n" +
+                           row({"", "", "", "2", "", "0"}) + "*PART\nwater\n" + row({"1", "1", "1", "1"}) +
+                           "*SECTION_SPH\n" + row({"1", "1.3", "1.0", "1.0"}) + "*MAT_NULL\n" +
+                           row({"1", "1000.0", "-1.0e20", "1.0e-3"}) + "*EOS_MURNAGHAN\n" +
+                           row({"1", "7.0", "1.0e5"}) + "*NODE\n" + row({"1", "0.0", "0.0", "0.0"}, node_widths) +
+                           row({"2", "0.01", "0.0", "0.005"}, node_widths) + "*ELEMENT_SPH\n" +
+                           row({"1", "1", "-1.0e-4"}, sph_widths) + row({"2", "1", "-1.0e-4"}, sph_widths);
+  EXPECT_EQ(build_error(folder, deck),
+            (folder.path() / "column.k").lexically_normal().string() +
+                ":20: *ELEMENT_SPH: particle 2 lies at z = 0.005, off the plane z = 0 of particle 1: in plane "
+                "strain (*CONTROL_SPH IDIM 2) every particle of the SPH fluid lies in one plane");
+}

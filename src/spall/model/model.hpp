@@ -227,9 +227,17 @@ struct SphMeshBox {
   SourceLocation where;
 };
 
+// *SET_NODE_LIST_GENERATE's ranges are kept as read, and added to `nodes` once the whole deck is
+// read and its nodes are known: a range cannot hold more IDs than there are nodes.
+struct NodeRange {
+  Id first = 0, last = 0;
+  int line = 0;  // of the range's card, in the set's file
+  const char* field = "";  // its first field's name, B1BEG .. B4BEG, for messages
+};
 struct NodeSet {
   Id id = 0;
   std::vector<Id> nodes;
+  std::vector<NodeRange> ranges;
   SourceLocation where;
 };
 struct PartSet {

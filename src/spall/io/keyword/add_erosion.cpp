@@ -5,6 +5,9 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
+#include <limits>
+
 namespace spall::io::keyword {
 
 void read_mat_add_erosion(CardCursor& cursor, const KeywordCall& call, model::Model& model) {
@@ -21,9 +24,13 @@ void read_mat_add_erosion(CardCursor& cursor, const KeywordCall& call, model::Mo
   e.ncs = card1.real(7, "NCS", 1.0);
   if (e.numfip == 0) e.numfip = 1;
   if (e.ncs == 0) e.ncs = 1;
-  if (e.numfip < 1 || e.numfip != static_cast<int>(e.numfip))
+  // Compared as reals first: a cast of a value beyond int's range is undefined.
+  const auto whole_count = [](Real value) {
+    return value >= 1 && value <= std::numeric_limits<int>::max() && value == std::trunc(value);
+  };
+  if (!whole_count(e.numfip))
     card1.fail("NUMFIP", quoted(card1.text(6)) + ": only a number of integration points (>= 1) is implemented for solids");
-  if (e.ncs < 1 || e.ncs != static_cast<int>(e.ncs))
+  if (!whole_count(e.ncs))
     card1.fail("NCS", quoted(card1.text(7)) + " is not a number of criteria (>= 1)");
   e.where = card1.where();
   if (const auto card2 = cursor.next_if_any(standard_fields)) {

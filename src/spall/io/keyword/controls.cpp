@@ -4,6 +4,8 @@
 // *DATABASE_RCFORC. Each
 // reads its first card; the later optional cards of *CONTROL_TIMESTEP
 // (mass-scaling details) and *DATABASE_BINARY_D3PLOT (IOOPT, RATE, ...) are not used by Spall.
+#include <cmath>
+
 #include "spall/io/keyword/keyword_readers.hpp"
 
 namespace spall::io::keyword {
@@ -53,6 +55,8 @@ void read_control_timestep(CardCursor& cursor, const KeywordCall&, model::Model&
   timestep.dtinit = card.real(0, "DTINIT", 0.0);
   // TSSFAC < 0 is the ID of a curve of the factor over time, kept negative as LS-DYNA has it.
   timestep.tssfac = zero_means_default(card.real(1, "TSSFAC", 0.0), 0.9);
+  if (timestep.tssfac < 0 && (timestep.tssfac != std::trunc(timestep.tssfac) || timestep.tssfac < -largest_id))
+    card.fail("TSSFAC", quoted(card.text(1)) + ": a negative TSSFAC is a curve ID, a whole number");
   timestep.isdo = static_cast<int>(card.integer(2, "ISDO", 0));
   timestep.tslimt = card.real(3, "TSLIMT", 0.0);
   timestep.dt2ms = card.real(4, "DT2MS", 0.0);

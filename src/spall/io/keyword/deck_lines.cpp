@@ -3,6 +3,7 @@
 #include <cctype>
 #include <fstream>
 #include <iterator>
+#include <utility>
 
 namespace spall::io::keyword {
 
@@ -14,6 +15,12 @@ bool DeckFile::load(const std::filesystem::path& path) {
   path_ = path;
   name_ = path.lexically_normal().string();
   return true;
+}
+
+void DeckFile::assign(std::string text, const std::filesystem::path& path) {
+  text_ = std::move(text);
+  path_ = path;
+  name_ = path.lexically_normal().string();
 }
 
 void DeckFile::start_block(std::string_view keyword_line, KeywordBlock& block) {

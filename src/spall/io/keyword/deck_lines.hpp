@@ -32,6 +32,8 @@ class DeckFile {
  public:
   // Returns false when the file cannot be read.
   bool load(const std::filesystem::path& path);
+  // Takes `text` as the content of the file at `path` (which need not exist): a deck held in memory.
+  void assign(std::string text, const std::filesystem::path& path);
 
   const std::string& name() const { return name_; }
   const std::filesystem::path& path() const { return path_; }

@@ -36,6 +36,12 @@ bool is_legacy_solid_layout(const DataLine& first, bool long_format) {
 }
 }  // namespace
 
+Id checked_node_id(const Card& card, const char* name, Id id) {
+  if (id < 1 || id > largest_id)
+    card.fail(name, std::to_string(id) + " is not a node ID (1 to 2^53)");
+  return id;
+}
+
 void read_node(CardCursor& cursor, const KeywordCall&, model::Model& model) {
   model.nodes.reserve(model.nodes.size() + cursor.context().block.data.size());
   while (true) {
@@ -43,7 +49,7 @@ void read_node(CardCursor& cursor, const KeywordCall&, model::Model& model) {
     if (cursor.done()) break;
     const Card card = cursor.next(node_fields, "node card");
     model::Node node;
-    node.id = card.required_integer(0, "NID");
+    node.id = checked_node_id(card, "NID", card.required_integer(0, "NID"));
     node.x = Vec3(card.real(1, "X", 0.0), card.real(2, "Y", 0.0), card.real(3, "Z", 0.0));
     node.tc = static_cast<int>(card.integer(4, "TC", 0));
     node.rc = static_cast<int>(card.integer(5, "RC", 0));
@@ -97,7 +103,7 @@ void read_element_sph(CardCursor& cursor, const KeywordCall& call, model::Model&
     if (cursor.done()) break;
     const Card card = cursor.next(sph_fields, "particle card");
     model::ElementSph particle;
-    particle.nid = card.required_integer(0, "NID");
+    particle.nid = checked_node_id(card, "NID", card.required_integer(0, "NID"));
     particle.pid = card.required_integer(1, "PID");
     const Real mass = card.real(2, "MASS", 0.0);
     if (mass == 0.0)
@@ -110,11 +116,14 @@ void read_element_sph(CardCursor& cursor, const KeywordCall& call, model::Model&
     if (nend > 0 && nend < particle.nid)
       card.fail("NEND", "NEND " + std::to_string(nend) + " is below NID " +
                             std::to_string(particle.nid));
-    const Id last = nend > 0 ? nend : particle.nid;
-    if (const std::string why = memory::shortfall(double(last - particle.nid + 1) + particles_so_far(model),
-                                                  particle_bytes, "particles");
-        !why.empty())
-      card.fail("NEND", "NID to NEND: " + why);
+    const Id last = nend > 0 ? checked_node_id(card, "NEND", nend) : particle.nid;
+    // A card that generates particles is checked against the memory left; one particle a card is
+    // bounded by the file's size (and a check per card would read /proc for each particle).
+    if (last > particle.nid)
+      if (const std::string why = memory::shortfall(double(last - particle.nid + 1) + particles_so_far(model),
+                                                    particle_bytes, "particles");
+          !why.empty())
+        card.fail("NEND", "NID to NEND: " + why);
     for (Id nid = particle.nid; nid <= last; ++nid) {
       particle.nid = nid;
       model.sph_elements.push_back(particle);

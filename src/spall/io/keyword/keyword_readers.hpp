@@ -44,7 +44,14 @@ void insert_unique(Map& map, std::int64_t id, Item&& item, const Card& card, std
   }
 }
 
+// The largest ID read where IDs are counted or generated (nodes, particles, set ranges): 2^53, below
+// which every whole number is exactly a double (IDs come through real fields and parameters too),
+// and far enough below int64's end that generated node numbers and range lengths cannot overflow.
+inline constexpr Id largest_id = Id{1} << 53;
+
 // geometry.cpp
+// `id`, read from the card's field `name`, if it is a node ID (1 to largest_id); else fails there.
+Id checked_node_id(const Card& card, const char* name, Id id);
 void read_node(CardCursor&, const KeywordCall&, model::Model&);
 void read_element_solid(CardCursor&, const KeywordCall&, model::Model&);
 void read_element_sph(CardCursor&, const KeywordCall&, model::Model&);
@@ -88,6 +95,9 @@ void read_eos_murnaghan(CardCursor&, const KeywordCall&, model::Model&);
 // sets.cpp
 void read_set_node_list(CardCursor&, const KeywordCall&, model::Model&);
 void read_set_node_list_generate(CardCursor&, const KeywordCall&, model::Model&);
+// After the whole deck is read (and the mesh boxes' particles generated): the members of every
+// *SET_NODE_LIST_GENERATE range, each refused where it holds more IDs than the deck has nodes.
+void generate_node_set_ranges(model::Model&);
 void read_set_part_list(CardCursor&, const KeywordCall&, model::Model&);
 void read_set_segment(CardCursor&, const KeywordCall&, model::Model&);
 // curves.cpp

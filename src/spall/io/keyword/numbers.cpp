@@ -21,9 +21,11 @@ std::optional<double> parse_real(std::string_view text) {
   const char first = text.front();
   if (!(first == '-' || first == '.' || (first >= '0' && first <= '9'))) return std::nullopt;
 
+  // from_chars reads `-inf` and `-nan` too: no deck means them, and no later check expects them.
   double value = 0;
   auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (error == std::errc{} && end == text.data() + text.size()) return value;
+  if (error == std::errc{} && end == text.data() + text.size())
+    return std::isfinite(value) ? std::optional(value) : std::nullopt;
 
   // Fortran exponents: `D` for `E`, or a bare sign after the mantissa (`1.0+4`, `3.5-10`).
   char buffer[72];
@@ -42,7 +44,7 @@ std::optional<double> parse_real(std::string_view text) {
     buffer[size++] = c;
   }
   auto [end2, error2] = std::from_chars(buffer, buffer + size, value);
-  if (error2 == std::errc{} && end2 == buffer + size) return value;
+  if (error2 == std::errc{} && end2 == buffer + size && std::isfinite(value)) return value;
   return std::nullopt;
 }
 

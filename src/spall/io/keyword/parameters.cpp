@@ -4,6 +4,7 @@
 #include <charconv>
 #include <cmath>
 #include <numbers>
+#include <string>
 #include <vector>
 
 namespace spall::io::keyword {
@@ -45,6 +46,8 @@ class ExpressionParser {
     skip_blanks();
     if (error_.empty() && position_ != text_.size())
       fail("unexpected '" + std::string(text_.substr(position_)) + "'");
+    // A parameter is a field's value, and no field takes an infinity or NaN (1/0, 10**400, log(0)).
+    if (error_.empty() && !std::isfinite(value)) fail("the value is not finite (" + std::to_string(value) + ")");
     if (!error_.empty()) return std::nullopt;
     return value;
   }
@@ -82,10 +85,17 @@ class ExpressionParser {
     }
     return value;
   }
+  // Every recursion of the grammar passes here (a parenthesis, a sign, a power, an argument), so
+  // this bounds the stack a deeply nested expression takes.
   double unary() {
-    if (accept("-")) return -unary();
-    if (accept("+")) return unary();
-    return power();
+    if (depth_ == deepest_nesting) {
+      fail("nests deeper than " + std::to_string(deepest_nesting) + " levels (parentheses, signs, powers)");
+      return 0;
+    }
+    ++depth_;
+    const double value = accept("-") ? -unary() : accept("+") ? unary() : power();
+    --depth_;
+    return value;
   }
   double power() {
     const double base = primary();
@@ -201,10 +211,13 @@ class ExpressionParser {
     return 0;
   }
 
+  static constexpr int deepest_nesting = 256;
+
   std::string_view text_;
   const Parameters& parameters_;
   std::string& error_;
   std::size_t position_ = 0;
+  int depth_ = 0;
 };
 
 }  // namespace

@@ -3,7 +3,9 @@
 #include "spall/io/keyword/reader.hpp"
 
 #include <array>
+#include <cmath>
 #include <string>
+#include <system_error>
 
 #include "spall/io/keyword/deck_lines.hpp"
 #include "spall/io/keyword/keyword_readers.hpp"
@@ -124,19 +126,34 @@ const SupportedKeyword* find_supported(std::string_view name, KeywordCall& call)
 
 constexpr int deepest_include = 32;
 
+// Why `path` cannot be a deck file, empty when it can: a directory, or a device or pipe
+// (`/dev/zero` would be read without end). A path that does not exist is left to the opening.
+std::string not_a_deck_file(const std::filesystem::path& path) {
+  std::error_code error;
+  const std::filesystem::file_status status = std::filesystem::status(path, error);
+  if (std::filesystem::is_directory(status)) return "is a directory, not a keyword file";
+  if (std::filesystem::exists(status) && !std::filesystem::is_regular_file(status))
+    return "is not a regular file (a device or a pipe), not a keyword file";
+  return {};
+}
+
 class DeckReader {
  public:
   model::Model read(const std::filesystem::path& path) {
-    if (std::filesystem::is_directory(path))
-      throw InputError(path.string() + ": is a directory, not a keyword file");
+    if (const std::string why = not_a_deck_file(path); !why.empty()) throw InputError(path.string() + ": " + why);
     DeckFile file;
     if (!file.load(path))
       throw InputError(path.string() + ": cannot open the deck file");
+    return read(file);
+  }
+
+  model::Model read(const DeckFile& file) {
     if (const std::size_t nul = file.first_nul(); nul != std::string::npos)
-      throw InputError(path.string() + ": not a keyword file (binary data: a NUL byte at offset " +
+      throw InputError(file.name() + ": not a keyword file (binary data: a NUL byte at offset " +
                        std::to_string(nul) + ")");
     read_file(file, 0);
     generate_sph_mesh_box_particles(model_);
+    generate_node_set_ranges(model_);
     return std::move(model_);
   }
 
@@ -214,6 +231,8 @@ class DeckReader {
                            " levels (does a file include itself?)");
     std::filesystem::path path(name);
     if (path.is_relative()) path = file.path().parent_path() / path;
+    if (const std::string why = not_a_deck_file(path); !why.empty())
+      throw InputError(where, "*INCLUDE", "'" + name + "' " + why);
     DeckFile included;
     if (!included.load(path))
       throw InputError(where, "*INCLUDE", "cannot open '" + name + "' (looked for " +
@@ -231,10 +250,14 @@ class DeckReader {
       const Card card = cursor.next(standard_fields, "parameter card");
       for (int pair = 0; pair < 4; ++pair) {
         const std::string_view prmr = card.text(2 * pair);
+        const int field = 2 * pair + 1;
+        // A blank pair is padding; a value without a name would be dropped without a word.
+        if (prmr.empty() && !card.blank(field))
+          card.fail(prmr_names[pair], std::string("is blank, but ") + val_names[pair] + " is " +
+                                          quoted(card.text(field)) + ": a value needs a type letter and a name");
         if (prmr.empty()) continue;
         ParameterValue value;
         const std::string_view name = parameter_name(card, prmr, prmr_names[pair], value.type);
-        const int field = 2 * pair + 1;
         if (value.type == 'C') value.text = std::string(card.text(field));
         else if (value.type == 'I') value.number = static_cast<double>(card.required_integer(field, val_names[pair]));
         else value.number = card.required_real(field, val_names[pair]);
@@ -312,7 +335,10 @@ class DeckReader {
     std::string_view field = trim(text.substr(0, std::min(width, text.size())));
     if (!field.empty() && field.front() == '&') {
       const ParameterValue* value = parameters_.find(trim(field.substr(1)));
-      return value && value->type != 'C' ? static_cast<Id>(value->number) : 0;
+      // Only a value that is an ID converts: the cast of one beyond Id's range is undefined.
+      const bool is_id = value && value->type != 'C' && std::abs(value->number) <= static_cast<double>(largest_id) &&
+                         value->number == std::trunc(value->number);
+      return is_id ? static_cast<Id>(value->number) : 0;
     }
     std::int64_t id = 0;
     return parse_integer(field, id) == IntegerParse::ok ? id : 0;
@@ -326,5 +352,11 @@ class DeckReader {
 }  // namespace
 
 model::Model read_deck(const std::filesystem::path& path) { return DeckReader().read(path); }
+
+model::Model read_deck_text(std::string text, const std::filesystem::path& path) {
+  DeckFile file;
+  file.assign(std::move(text), path);
+  return DeckReader().read(file);
+}
 
 }  // namespace spall::io::keyword

@@ -1,6 +1,7 @@
 #pragma once
 // LS-DYNA keyword reader: deck file(s) -> model::Model.
 #include <filesystem>
+#include <string>
 
 #include "spall/model/model.hpp"
 
@@ -11,6 +12,9 @@ namespace spall::io::keyword {
 // Model::unsupported (one entry per keyword occurrence). Throws InputError on the first bad card,
 // with file, line, keyword and what is wrong (field name and the text found).
 model::Model read_deck(const std::filesystem::path& path);
+// The same for a deck held in memory: `text` read as if it were the file at `path`, which names it
+// in messages and places the files it includes.
+model::Model read_deck_text(std::string text, const std::filesystem::path& path);
 
 // Cross-reference checks on a model as read: unique IDs; every part's section and material exist;
 // element nodes, set members, curve IDs used by loads and BCs exist. Throws InputError.

@@ -1,4 +1,5 @@
 // *SET_NODE_LIST (+ _GENERATE), *SET_PART_LIST, *SET_SEGMENT, each with an optional _TITLE line.
+#include "spall/core/memory.hpp"
 #include "spall/io/keyword/keyword_readers.hpp"
 
 namespace spall::io::keyword {
@@ -36,8 +37,6 @@ void read_set_node_list(CardCursor& cursor, const KeywordCall& call, model::Mode
 void read_set_node_list_generate(CardCursor& cursor, const KeywordCall& call, model::Model& model) {
   constexpr const char* names[8] = {"B1BEG", "B1END", "B2BEG", "B2END",
                                     "B3BEG", "B3END", "B4BEG", "B4END"};
-  // A range is stored node by node; a typo such as 1..1e12 must not exhaust memory.
-  constexpr Id largest_range = 100'000'000;
   const Card header = read_set_header(cursor, call);
   model::NodeSet set;
   set.id = header.required_integer(0, "SID");
@@ -48,13 +47,33 @@ void read_set_node_list_generate(CardCursor& cursor, const KeywordCall& call, mo
       const Id first = card.integer(2 * pair, names[2 * pair], 0);
       const Id last = card.integer(2 * pair + 1, names[2 * pair + 1], 0);
       if (first == 0 && last == 0) continue;
-      if (first <= 0 || last < first || last - first >= largest_range)
+      if (first <= 0 || last < first || last > largest_id)
         card.fail(names[2 * pair], "range " + std::to_string(first) + ".." + std::to_string(last) +
                                        " is not a range of node IDs");
-      for (Id nid = first; nid <= last; ++nid) set.nodes.push_back(nid);
+      set.ranges.push_back({first, last, card.line(), names[2 * pair]});
     }
   }
   insert_unique(model.node_sets, set.id, std::move(set), header, "node set");
+}
+
+void generate_node_set_ranges(model::Model& model) {
+  const auto defined = static_cast<Id>(model.nodes.size());
+  for (auto& [id, set] : model.node_sets) {
+    for (const model::NodeRange& range : set.ranges) {
+      const SourceLocation where{set.where.file, range.line};
+      const Id count = range.last - range.first + 1;
+      // Every member must be a node of the deck (validate), so a longer range cannot be meant.
+      if (count > defined)
+        throw InputError(where, "*SET_NODE_LIST_GENERATE",
+                         "field " + std::string(range.field) + ": range " + std::to_string(range.first) + ".." +
+                             std::to_string(range.last) + " holds " + std::to_string(count) +
+                             " node IDs, more than the " + std::to_string(defined) + " nodes the deck defines");
+      if (const std::string why = memory::shortfall(double(set.nodes.size() + count), sizeof(Id), "set members");
+          !why.empty())
+        throw InputError(where, "*SET_NODE_LIST_GENERATE", "field " + std::string(range.field) + ": " + why);
+      for (Id nid = range.first; nid <= range.last; ++nid) set.nodes.push_back(nid);
+    }
+  }
 }
 
 void read_set_part_list(CardCursor& cursor, const KeywordCall& call, model::Model& model) {
