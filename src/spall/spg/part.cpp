@@ -30,10 +30,10 @@ constexpr int update_iterations = 25;
 Vec3 window_extent(const Mat3& F, const Vec3& a) { return (F * a.asDiagonal()).rowwise().norm(); }
 
 // KERNEL 1 and 2 windows (THEORY §9.7) widen with the stretch up to this many times their first
-// size, which bounds the neighbour search; they never narrow, so the step keeps following the
+// size, which bounds the neighbour search; they never narrow, so KERNEL 1's step keeps following the
 // first spacing (windows squeezed with the material would need a step as narrow as they are: ten
-// times shorter at the foot of a Taylor bar at 350 m/s). A Taylor bar at 350 m/s needs 3 with
-// KERNEL 2 (tests/verification/test_spg_taylor_bar.cpp).
+// times shorter at the foot of a Taylor bar at 350 m/s; KERNEL 2's first bonds need it anyway,
+// current_spacing). A Taylor bar at 350 m/s needs 3 with KERNEL 2 (test_spg_taylor_bar.cpp).
 constexpr Real max_window_growth = 4;
 
 template <typename T>
@@ -504,7 +504,8 @@ void Part::scale_mass_below(Real step, bool first_step_only) {
 // (a Taylor bar at 350 m/s inverts under the foot at 13 us with the volume rule, THEORY §9.6).
 Real Part::current_spacing(Index i) const {
   if (settings_.kernel_update == KernelUpdate::pseudo_lagrangian)
-    return window_extent(F_[i] * F_total_[i], initial_support_[i].cwiseQuotient(settings_.dilation)).minCoeff();
+    return window_extent(F_[i] * F_total_[i], initial_support_[i].cwiseQuotient(settings_.dilation))
+        .minCoeff();
   return spacing_[i] * cube_root(volume_ref_[i] * F_[i].determinant() / volume0_[i]);
 }
 
@@ -583,7 +584,8 @@ Index Part::degraded_count() const {
 
 std::size_t Part::memory_bytes() const {
   return bytes(node_) + bytes(node_id_) + bytes(mass_) + bytes(mass_scale_) + bytes(volume0_) + bytes(volume_ref_) +
-         bytes(support_) + bytes(initial_support_) + bytes(spacing_) + bytes(mean_spacing_) + bytes(stiffness_) +
+         bytes(support_) + bytes(initial_support_) + bytes(spacing_) + bytes(mean_spacing_) +
+         bytes(stiffness_) +
          bytes(viscous_pressure_) + bytes(viscous_power_) + bytes(F_) + bytes(F_total_) +
          bytes(state_) + bytes(pressure_) + bytes(density_) + bytes(sound_speed_) +
          bytes(specific_energy_) + bytes(stabilization_force_) + bytes(stabilization_total_) +
