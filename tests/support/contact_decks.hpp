@@ -152,4 +152,36 @@ inline std::string rigid_part(Id pid, Real density, Real young, Real poisson, bo
          (fixed ? row({"1.0", "7", "7"}) : row({"0.0", "0", "0"}));
 }
 
+// *PART `pid` of *MAT_RIGID meshed with shells: *SECTION_SHELL (same ID) of thickness t and mass per
+// area marea; `fixed` holds all six degrees of freedom.
+inline std::string rigid_shell_part(Id pid, Real density, Real young, Real poisson, Real thickness, bool fixed,
+                                    Real marea = 0) {
+  const std::string id = std::to_string(pid);
+  return "*PART\nrigid shells " + id + "\n" + row({id, id, id}) + "*SECTION_SHELL\n" + row({id, "2"}) +
+         row({number(thickness), "", "", "", "", number(marea)}) + "*MAT_RIGID\n" +
+         row({id, number(density), number(young), number(poisson)}) +
+         (fixed ? row({"1.0", "7", "7"}) : row({"0.0", "0", "0"}));
+}
+
+// A rectangle [lower, lower + a e1 + b e2] of n[0] x n[1] quadrilateral shells of part `pid`
+// (*NODE and *ELEMENT_SHELL), N1 N2 N3 N4 counter-clockwise about e1 x e2: the shells' normal.
+inline std::string shell_rectangle(Id pid, const Vec3& lower, const Vec3& e1, const Vec3& e2, std::array<int, 2> n,
+                                   Id first_node, Id first_element) {
+  const auto id = [&](int i, int j) { return first_node + i + (n[0] + 1) * j; };
+  std::string deck = "*NODE\n";
+  for (int j = 0; j <= n[1]; ++j)
+    for (int i = 0; i <= n[0]; ++i) {
+      const Vec3 x = lower + (Real(i) / n[0]) * e1 + (Real(j) / n[1]) * e2;
+      deck += row({std::to_string(id(i, j)), coordinate(x.x()), coordinate(x.y()), coordinate(x.z())}, {8, 16, 16, 16});
+    }
+  deck += "*ELEMENT_SHELL\n";
+  Id eid = first_element;
+  for (int j = 0; j < n[1]; ++j)
+    for (int i = 0; i < n[0]; ++i)
+      deck += row({std::to_string(eid++), std::to_string(pid), std::to_string(id(i, j)), std::to_string(id(i + 1, j)),
+                   std::to_string(id(i + 1, j + 1)), std::to_string(id(i, j + 1))},
+                  {8, 8, 8, 8, 8, 8});
+  return deck;
+}
+
 }  // namespace spall::test_support

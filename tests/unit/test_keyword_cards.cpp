@@ -413,10 +413,41 @@ TEST(keyword_cards, CommentBlocksAreSkippedSilently) {
   EXPECT_TRUE(model.sections.contains(4));
 }
 
+// *SECTION_SHELL (T2-T4 take T1; ICOMP 1's layer angles, eight a line, are passed over) and
+// *ELEMENT_SHELL (a triangle repeats N3; _THICKNESS adds THIC1-THIC4), on a rigid part.
+TEST(keyword_cards, RigidShellSectionsAndElements) {
+  DeckFolder folder;
+  const std::string deck =
+      "*KEYWORD\n*CONTROL_TERMINATION\n" + row({"1.0"}) + "*NODE\n" + row({"1", "0", "0", "0"}, {8, 16, 16, 16}) +
+      row({"2", "1", "0", "0"}, {8, 16, 16, 16}) + row({"3", "1", "1", "0"}, {8, 16, 16, 16}) +
+      row({"4", "0", "1", "0"}, {8, 16, 16, 16}) + "*PART\ntool\n" + row({"1", "7", "1"}) +
+      "*SECTION_SHELL_TITLE\nskin\n" + row({"7", "16", "", "9", "", "", "1"}) +
+      row({"0.5", "", "0.7", "", "", "0.25"}) + row({"0", "45", "90", "0", "45", "90", "0", "45"}) + row({"90"}) +
+      "*MAT_RIGID\n" + row({"1", "7.8e-9", "2.1e5", "0.3"}) + row({}) + "*ELEMENT_SHELL\n" +
+      row({"1", "1", "1", "2", "3", "4"}, {8, 8, 8, 8, 8, 8}) + row({"2", "1", "1", "2", "3"}, {8, 8, 8, 8, 8}) +
+      "*ELEMENT_SHELL_THICKNESS\n" + row({"3", "1", "1", "3", "4", "4"}, {8, 8, 8, 8, 8, 8}) +
+      row({"0.1", "0.2", "0.3"}, {16, 16, 16}) + "*END\n";
+  const model::Model model = read_deck(folder.write("shells.k", deck));
+  EXPECT_NO_THROW(validate(model));
+  EXPECT_TRUE(model.unsupported.empty());
+  const auto& section = std::get<model::SectionShell>(model.sections.at(7));
+  EXPECT_EQ(section.elform, 16);
+  EXPECT_EQ(section.t, (std::array<Real, 4>{0.5, 0.5, 0.7, 0.5}));
+  EXPECT_EQ(section.marea, 0.25);
+  ASSERT_EQ(model.shell_elements.size(), 3u);
+  EXPECT_EQ(model.shell_elements[0].n, (std::array<Id, 4>{1, 2, 3, 4}));
+  EXPECT_FALSE(model.shell_elements[0].is_triangle());
+  EXPECT_TRUE(model.shell_elements[1].is_triangle());
+  EXPECT_EQ(model.shell_elements[1].where.line, 23);
+  EXPECT_TRUE(model.shell_elements[2].is_triangle());
+  EXPECT_EQ(model.shell_thickness(model.shell_elements[2]), (std::array<Real, 4>{0.1, 0.2, 0.3, 0.5}));
+  EXPECT_EQ(model.shell_thickness(model.shell_elements[0]), section.t);
+}
+
 TEST(keyword_cards, UnsupportedKeywordsAreRecordedWithNameLineAndId) {
   DeckFolder folder;
   const std::string deck = "*KEYWORD\n*MAT_SOIL_AND_FOAM\n" + row({"6", "1.0e-9"}) +
-                           "*SECTION_SHELL_TITLE\nskin\n" + row({"3", "2"}) +
+                           "*SECTION_BEAM_TITLE\nbar\n" + row({"3", "2"}) +
                            "*EOS_JWL\n" + row({"6", "371.2"}) +
                            "*CONTACT_TIED_NODES_TO_SURFACE_ID\n" + row({"1"}) + row({"1", "2"}) +
                            "*CONTROL_SHELL\n" + row({"1"}) +
@@ -427,7 +458,7 @@ TEST(keyword_cards, UnsupportedKeywordsAreRecordedWithNameLineAndId) {
   EXPECT_EQ(model.unsupported[0].keyword, "*MAT_SOIL_AND_FOAM");
   EXPECT_EQ(model.unsupported[0].id, 6);
   EXPECT_EQ(model.unsupported[0].where.line, 2);
-  EXPECT_EQ(model.unsupported[1].keyword, "*SECTION_SHELL_TITLE");
+  EXPECT_EQ(model.unsupported[1].keyword, "*SECTION_BEAM_TITLE");
   EXPECT_EQ(model.unsupported[1].id, 3);
   EXPECT_EQ(model.unsupported[1].where.line, 4);
   EXPECT_EQ(model.unsupported[2].keyword, "*EOS_JWL");

@@ -242,10 +242,10 @@ TEST(keyword_contact, RefusedFieldsNameTheirLineAndField) {
       {one_way, card1 + row({"", "", "", "", "", "", "", "-9999"}), 1, "DT"},
       {one_way, card1 + blank + row({"-1.0"}), 2, "SFSA"},
       {one_way, card1 + blank + row({"", "-1.0"}), 2, "SFSB"},
-      {one_way, card1 + blank + row({"", "", "0.1"}), 2, "SAST"},
-      {one_way, card1 + blank + row({"", "", "", "0.1"}), 2, "SBST"},
-      {one_way, card1 + blank + row({"", "", "", "", "2.0"}), 2, "SFSAT"},
-      {one_way, card1 + blank + row({"", "", "", "", "", "0.5"}), 2, "SFSBT"},
+      {one_way, card1 + blank + row({"", "", "-0.1"}), 2, "SAST"},
+      {one_way, card1 + blank + row({"", "", "", "-0.1"}), 2, "SBST"},
+      {one_way, card1 + blank + row({"", "", "", "", "-2.0"}), 2, "SFSAT"},
+      {one_way, card1 + blank + row({"", "", "", "", "", "-0.5"}), 2, "SFSBT"},
       {one_way, card1 + blank + row({"", "", "", "", "", "", "-1"}), 2, "FSF"},
       {one_way, card1 + blank + row({"", "", "", "", "", "", "", "-1"}), 2, "VSF"},
       {one_way, card1 + blank + blank + row({"2"}), 3, "SOFT"},
@@ -261,7 +261,7 @@ TEST(keyword_contact, RefusedFieldsNameTheirLineAndField) {
       {one_way, card1 + blank + blank + row({"", "", "", "", "", "", "", "2"}), 3, "FRCFRQ"},
       {one_way, card1 + blank + blank + blank + row({"-0.1"}), 4, "PENMAX"},
       {one_way, card1 + blank + blank + blank + row({"", "1"}), 4, "THKOPT"},
-      {one_way, card1 + blank + blank + blank + row({"", "", "1"}), 4, "SHLTHK"},
+      {one_way, card1 + blank + blank + blank + row({"", "", "3"}), 4, "SHLTHK"},
       {one_way, card1 + blank + blank + blank + row({"", "", "", "2"}), 4, "SNLOG"},
       {one_way, card1 + blank + blank + blank + row({"", "", "", "", "1"}), 4, "ISYM"},
       {one_way, card1 + blank + blank + blank + row({"", "", "", "", "", "1"}), 4, "I2D3D"},
@@ -303,9 +303,8 @@ TEST(keyword_contact, RefusedFieldsNameTheirLineAndField) {
                 "the forming options (4, 6) are not implemented");
   EXPECT_EQ(read_error(folder, one_way + "\n" + card1 + blank + blank + blank + blank + row({"", "1"})),
             prefix(folder, 7, one_way) + "field IGNORE: '1': tracking initial penetrations is not implemented");
-  EXPECT_EQ(read_error(folder, one_way + "\n" + card1 + blank + row({"", "", "0.2"})),
-            prefix(folder, 4, one_way) +
-                "field SAST: '0.2': a contact thickness of shell and beam segments; Spall has no shells");
+  EXPECT_EQ(read_error(folder, one_way + "\n" + card1 + blank + blank + blank + row({"", "", "3"})),
+            prefix(folder, 6, one_way) + "field SHLTHK: '3' is not 0, 1 or 2");
 
   // Accepted at their defaults: FRICSF 1, FSTOL 2; SOFSCL up to 1.0 for the nodes-to-surface types.
   const std::string accepted = card1 + blank + blank + row({"1", "1.0"}) + blank + blank + blank +

@@ -111,12 +111,40 @@ TEST(keyword_errors, ValidateRefusesAPartWithAnUnsupportedSection) {
   DeckFolder folder;
   const std::string message = validate_error(
       folder, termination + "*NODE\n" + row({"1", "0", "0", "0"}, node_widths) +
-                  "*SECTION_SHELL\n" + row({"3", "2"}) + "*MAT_ELASTIC\n" + row({"1", "1.0", "1.0"}) +
+                  "*SECTION_BEAM\n" + row({"3", "2"}) + "*MAT_ELASTIC\n" + row({"1", "1.0", "1.0"}) +
                   "*PART\nskin\n" + row({"3", "3", "1"}) + "*ELEMENT_SPH\n" +
                   row({"1", "3", "1.0"}, {8, 8, 16}));
-  EXPECT_EQ(message, prefix(folder, 11, "*PART") + "part 3 uses *SECTION_SHELL (" +
+  EXPECT_EQ(message, prefix(folder, 11, "*PART") + "part 3 uses *SECTION_BEAM (" +
                          (folder.path() / "bad.k").lexically_normal().string() +
                          ":5), which Spall does not support");
+}
+
+TEST(keyword_errors, ShellCardsAndDeformableShells) {
+  DeckFolder folder;
+  EXPECT_EQ(read_error(folder, "*SECTION_SHELL\n" + row({"3", "2"}) + row({"0.0"})),
+            prefix(folder, 3, "*SECTION_SHELL") +
+                "field T1: '0.0': a shell needs a thickness > 0 (its mass and contact surface)");
+  EXPECT_EQ(read_error(folder, "*SECTION_SHELL\n" + row({"3", "2"}) + row({"1.0", "", "", "", "1"})),
+            prefix(folder, 3, "*SECTION_SHELL") +
+                "field NLOC: '1': a reference surface off the mid-surface is not implemented (0)");
+  EXPECT_EQ(read_error(folder, "*SECTION_SHELL\n" + row({"3", "101"}) + row({"1.0"})),
+            prefix(folder, 2, "*SECTION_SHELL") + "field ELFORM: '101': this shell formulation's extra cards are not read");
+  EXPECT_EQ(read_error(folder, "*ELEMENT_SHELL\n" + row({"1", "3", "1", "2", "3", "4", "5"}, {8, 8, 8, 8, 8, 8, 8})),
+            prefix(folder, 2, "*ELEMENT_SHELL") + "field N5: element 1: eight-node (quadratic) shells are not supported");
+  EXPECT_EQ(read_error(folder, "*ELEMENT_SHELL\n" + row({"1", "3", "1", "2"}, {8, 8, 8, 8})),
+            prefix(folder, 2, "*ELEMENT_SHELL") +
+                "field N3: element 1: N3 is blank or not a node ID; a shell needs N1-N3, and N4 (or N3 repeated)");
+  // Spall runs shells as rigid geometry only: a deformable shell part stops the check.
+  const std::string nodes = "*NODE\n" + row({"1", "0", "0", "0"}, node_widths) + row({"2", "1", "0", "0"}, node_widths) +
+                            row({"3", "1", "1", "0"}, node_widths);
+  EXPECT_EQ(validate_error(folder, termination + nodes + "*SECTION_SHELL\n" + row({"3", "2"}) + row({"1.0"}) +
+                                       "*MAT_ELASTIC\n" + row({"1", "1.0", "1.0"}) + "*PART\nskin\n" +
+                                       row({"3", "3", "1"}) + "*ELEMENT_SHELL\n" +
+                                       row({"1", "3", "1", "2", "3"}, {8, 8, 8, 8, 8})),
+            prefix(folder, 14, "*PART") + "part 3 has *ELEMENT_SHELL elements (" +
+                (folder.path() / "bad.k").lexically_normal().string() +
+                ":16) but material 1 is not *MAT_RIGID: Spall runs shells only as rigid geometry (deformable shells "
+                "are not implemented)");
 }
 
 TEST(keyword_errors, ValidateCrossReferences) {

@@ -30,8 +30,11 @@ PenaltyContact::PenaltyContact(const Definition& definition, std::vector<Pass> p
   for (auto& pass : passes) {
     PassState state;
     state.reach.resize(pass.segment.size());
-    for (std::size_t s = 0; s < pass.segment.size(); ++s)
+    state.grow.resize(pass.segment.size());
+    for (std::size_t s = 0; s < pass.segment.size(); ++s) {
       state.reach[s] = definition_.release_depth * pass.segment[s].thickness;
+      state.grow[s] = state.reach[s] + pass.segment[s].offset;
+    }
     state.found.assign(pass.slave.size(), -1);
     state.pass = std::move(pass);
     passes_.push_back(std::move(state));
@@ -60,11 +63,12 @@ void PenaltyContact::apply(NodeStore& nodes, Real t, Real dt) {
 
 // Each slave node's segment: of the segments in its cell (not one it is a corner of, nor one of
 // its own rigid body's, nor one with an eroded corner), the one with the closest point; a touch
-// when the node is behind it, less deep than the segment's reach, and not beside it (MAXPAR).
+// when the node is behind its contact surface (Segment::contact_at), less deep than the segment's
+// reach, and not beside it (MAXPAR).
 void PenaltyContact::search(PassState& state, const NodeStore& nodes) const {
   const Pass& pass = state.pass;
   const Definition& d = definition_;
-  state.grid.build(pass.segment, state.reach, nodes.x);
+  state.grid.build(pass.segment, state.grow, nodes.x);
   parallel::for_each(static_cast<Index>(pass.slave.size()), [&](Index k) {
     const Index i = pass.slave[k];
     state.found[k] = -1;
@@ -88,10 +92,12 @@ void PenaltyContact::search(PassState& state, const NodeStore& nodes) const {
         beyond = (x - p.point - gap * p.normal).squaredNorm();  // from the segment, in its plane
       }
     }
-    // Behind the segment, not deeper than its reach, and its projection on the segment's plane
-    // not beyond an edge by more than MAXPAR - 1 of the segment's size (sqrt of its area).
-    if (chosen >= 0 && gap < 0 && -gap <= state.reach[chosen] &&
-        beyond <= d.edge_tolerance * d.edge_tolerance * pass.segment[chosen].area)
+    // Behind the contact surface, not deeper than its reach, and its projection on the segment's
+    // plane not beyond an edge by more than MAXPAR - 1 of the segment's size (sqrt of its area).
+    if (chosen < 0) return;
+    const Segment& segment = pass.segment[chosen];
+    const Real depth = segment.contact_at(gap).penetration;
+    if (depth > 0 && depth <= state.reach[chosen] && beyond <= d.edge_tolerance * d.edge_tolerance * segment.area)
       state.found[k] = chosen;
   }, {.serial_below = parallel_from});
 
@@ -121,8 +127,9 @@ void PenaltyContact::respond(PassState& state, const NodeStore& nodes, Real dt) 
     const Segment& segment = pass.segment[touch.segment];
     const SegmentPoint p = closest_on_segment(nodes.x[i], corners_of(segment, nodes), segment.triangle());
     touch.weight = p.weight;
-    const Vec3& n = touch.normal = p.normal;
-    const Real penetration = -n.dot(nodes.x[i] - p.point);
+    const Segment::Contact side = segment.contact_at(p.normal.dot(nodes.x[i] - p.point));
+    const Vec3& n = touch.normal = side.sign * p.normal;
+    const Real penetration = side.penetration;
 
     Vec3 v_rel = nodes.v[i];
     Real master_mass = 0;

@@ -116,6 +116,7 @@ class PenaltyContact {
     Pass pass;
     SegmentGrid grid;
     std::vector<Real> reach;          // release depth of each segment
+    std::vector<Real> grow;           // how far the grid grows each segment's box: reach + offset
     std::vector<std::int32_t> found;  // per slave: the segment it touches, or -1
     std::vector<Touch> touches, previous;
     // The touches of the last step (their friction carries over); the grid is rebuilt every step.

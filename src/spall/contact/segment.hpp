@@ -10,12 +10,29 @@ namespace spall::contact {
 
 struct Segment {
   std::array<Index, 4> node{};  // counter-clockwise seen from outside; a triangle repeats node[2]
-  Real thickness = 0;  // V / A of the solid element whose face it is: the unit of the release depth
-  Real stiffness = 0;  // SOFT 0 penalty stiffness of the segment, SLSFAC SFS K A^2 / V
+  // The unit of the release depth: V / A of the solid element whose face it is, a shell's thickness.
+  Real thickness = 0;
+  Real stiffness = 0;  // SOFT 0 penalty stiffness: SLSFAC SFS K A^2 / V (solid), K A / max diagonal (shell)
   Real area = 0;       // at the start, for the viscous friction limit VC A
+  // A shell's segment: the contact surface lies `offset` off its mid-surface (half the thickness in
+  // the automatic types), on both sides when two_sided (the automatic types), else on the side its
+  // normal points to. A solid's face: one-sided, no offset.
+  bool two_sided = false;
+  Real offset = 0;
 
   bool triangle() const { return node[3] == node[2]; }
   int corners() const { return triangle() ? 3 : 4; }
+
+  // A point at the signed distance d from the segment's mid-surface (along its normal) is pushed
+  // along `sign` times the normal, and touches when `penetration` > 0.
+  struct Contact {
+    Real sign = 1;
+    Real penetration = 0;
+  };
+  Contact contact_at(Real d) const {
+    const Real sign = two_sided && d < 0 ? -1 : 1;
+    return {sign, offset - sign * d};
+  }
 };
 
 // The point of a segment closest to p, with the normal of the (sub-)triangle it lies on and the

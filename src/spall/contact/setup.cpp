@@ -139,6 +139,11 @@ class Builder {
         faces_(model, index_of_node, nodes.x) {
     if (model.control_contact) control_ = *model.control_contact;
     for (const auto& part : model.parts) part_index_[part.id] = &part;
+    for (std::size_t e = 0; e < model.shell_elements.size(); ++e) {
+      Corners f;
+      for (int k = 0; k < 4; ++k) f[k] = node(model.shell_elements[e].n[k], model.shell_elements[e].where, "*ELEMENT_SHELL");
+      shells_.emplace(key_of(f), e);
+    }
   }
 
   PenaltyContact build(const Contact& c, std::size_t ordinal) {
@@ -169,29 +174,29 @@ class Builder {
       PenaltyContact::Pass pass;
       pass.slave = slave_nodes(c.a, c.sfsa, "SURFA");
       pass.slave_stiffness = slave_stiffness_;
-      pass.segment = segments(c.a, c.sfsb, old_type, "SURFA");
+      pass.segment = segments(c.a, c.sfsb, old_type, "SURFA", c.sast, c.sfsat);
       passes.push_back(std::move(pass));
     } else {
       PenaltyContact::Pass forward;
       forward.slave = slave_nodes(c.a, c.sfsa, "SURFA");
       forward.slave_stiffness = slave_stiffness_;
-      forward.segment = segments(c.b, c.sfsb, old_type, "SURFB");
+      forward.segment = segments(c.b, c.sfsb, old_type, "SURFB", c.sbst, c.sfsbt);
       if (forward.segment.empty())
         fail_at(c.where, keyword,
-                "SURFB: the master side has no solid element faces (SPH particles can only be slave nodes)");
+                "SURFB: the master side has no solid element faces nor shells (SPH particles can only be slave nodes)");
       passes.push_back(std::move(forward));
       if (c.kind == Contact::Kind::automatic_surface_to_surface) {
         // Two-way: side B's nodes against side A's faces too, where side A has faces.
         PenaltyContact::Pass reverse;
-        reverse.segment = segments(c.a, c.sfsa, old_type, "SURFA");
+        reverse.segment = segments(c.a, c.sfsa, old_type, "SURFA", c.sast, c.sfsat);
         if (!reverse.segment.empty()) {
           reverse.slave = slave_nodes(c.b, c.sfsb, "SURFB");
           reverse.slave_stiffness = slave_stiffness_;
           reverse.slaves_are_side_a = false;
           passes.push_back(std::move(reverse));
         } else {
-          log::info(fmt::format("contact {}: side A has no solid element faces; its nodes are checked against side "
-                                "B's faces only", d.id));
+          log::info(fmt::format("contact {}: side A has no solid element faces nor shells; its nodes are checked "
+                                "against side B's segments only", d.id));
         }
       }
     }
@@ -294,6 +299,9 @@ class Builder {
       for (const auto& e : model_.solid_elements)
         if (parts.count(e.pid))
           for (Id id : e.n) nodes.insert(node(id, e.where, "*ELEMENT_SOLID"));
+      for (const auto& e : model_.shell_elements)
+        if (parts.count(e.pid))
+          for (Id id : e.n) nodes.insert(node(id, e.where, "*ELEMENT_SHELL"));
       for (const auto& e : model_.sph_elements)
         if (parts.count(e.pid)) nodes.insert(node(e.nid, e.where, "*ELEMENT_SPH"));
     }
@@ -309,23 +317,36 @@ class Builder {
     return out;
   }
 
-  // The master segments of a side, outward, with their stiffness SLSFAC SFS K A^2 / V and
-  // thickness (V / A; the old node-to-surface type: 1/20 of the shortest diagonal).
-  std::vector<Segment> segments(const ContactSurface& side, Real scale, bool old_type, const char* field) {
+  // The master segments of a side: the outward faces of its solid elements, with their stiffness
+  // SLSFAC SFS K A^2 / V and thickness V / A (the old node-to-surface type: 1/20 of the shortest
+  // diagonal), and its shells (shell_segment).
+  std::vector<Segment> segments(const ContactSurface& side, Real scale, bool old_type, const char* field,
+                                Real shell_thickness, Real thickness_scale) {
     std::vector<Face> faces;
+    std::vector<std::pair<std::size_t, Corners>> shells;  // element, corners as the side gives them
     if (side.type == Type::segment_set) {
       const auto& set = segment_set(side.id, field);
       for (const auto& s : set.segments) {
-        const Face* face = faces_.find(corners_of(s, set));
-        if (!face)
+        const Corners corners = corners_of(s, set);
+        if (const Face* face = faces_.find(corners)) {
+          faces.push_back(*face);
+        } else if (auto shell = shells_.find(key_of(corners)); shell != shells_.end()) {
+          shells.emplace_back(shell->second, corners);
+        } else {
           fail_at(set.where, "*SET_SEGMENT",
-                  fmt::format("segment {} {} {} {} is not a face of any solid element (shell segments are not supported)",
-                           s[0], s[1], s[2], s[3]));
-        faces.push_back(*face);
+                  fmt::format("segment {} {} {} {} is neither a face of a solid element nor a shell", s[0], s[1], s[2],
+                              s[3]));
+        }
       }
     } else if (side.type != Type::node_set) {
       const std::set<Id> parts = parts_of(side, field);
       faces = faces_.exterior([&](std::size_t e) { return parts.count(model_.solid_elements[e].pid) > 0; });
+      for (std::size_t e = 0; e < model_.shell_elements.size(); ++e)
+        if (parts.count(model_.shell_elements[e].pid)) {
+          Corners corners;
+          for (int k = 0; k < 4; ++k) corners[k] = index_of_node_.at(model_.shell_elements[e].n[k]);
+          shells.emplace_back(e, corners);
+        }
     }
     std::vector<Segment> out;
     const auto& x = nodes_.x;
@@ -341,20 +362,57 @@ class Builder {
       const Id pid = model_.solid_elements[face.element].pid;
       const Real modulus = contact_->sldstf > 0 ? contact_->sldstf : stiffness(pid).bulk_modulus;
       s.stiffness = control_.slsfac * scale * modulus * s.area * s.area / volume;
-      if (old_type) {
-        Real diagonal = std::numeric_limits<Real>::infinity();
-        if (s.triangle()) {
-          for (int k = 0; k < 3; ++k) diagonal = std::min(diagonal, (x[s.node[(k + 1) % 3]] - x[s.node[k]]).norm());
-        } else {
-          diagonal = std::min((x[s.node[2]] - x[s.node[0]]).norm(), (x[s.node[3]] - x[s.node[1]]).norm());
-        }
-        s.thickness = diagonal / 20;
-      } else {
-        s.thickness = volume / s.area;
-      }
+      s.thickness = old_type ? shortest_diagonal(s) / 20 : volume / s.area;
       out.push_back(s);
     }
+    for (const auto& [element, corners] : shells)
+      out.push_back(shell_segment(model_.shell_elements[element], corners, scale, old_type, shell_thickness,
+                                  thickness_scale));
     return out;
+  }
+
+  // 1/20 of a face's shortest diagonal (a triangle's shortest edge): the old node-to-surface
+  // type's segment thickness.
+  Real shortest_diagonal(const Segment& s) const {
+    const auto& x = nodes_.x;
+    if (!s.triangle()) return std::min((x[s.node[2]] - x[s.node[0]]).norm(), (x[s.node[3]] - x[s.node[1]]).norm());
+    Real shortest = std::numeric_limits<Real>::infinity();
+    for (int k = 0; k < 3; ++k) shortest = std::min(shortest, (x[s.node[(k + 1) % 3]] - x[s.node[k]]).norm());
+    return shortest;
+  }
+
+  // A shell as a segment (fem-contact.md §1.6-1.7): its thickness t is the side's SAST / SBST when
+  // given, else the mean of its corners', times SFSAT / SFSBT. The automatic types meet it from
+  // both sides at t / 2 off its mid-surface; the old node-to-surface type on the side its normal
+  // (N1 N2 N3 counter-clockwise) points to, at the mid-surface unless SHLTHK 2 offsets it by t / 2.
+  // Stiffness SLSFAC SFS K A / (longest diagonal) (LS-DYNA's theory manual, [MEM] in fem-contact.md).
+  Segment shell_segment(const model::ElementShell& element, const Corners& corners, Real scale, bool old_type,
+                        Real given_thickness, Real thickness_scale) {
+    const auto& x = nodes_.x;
+    Segment s;
+    s.node = corners;
+    s.area = area_vector(corners, x).norm();
+    if (!(s.area > 0))
+      fail_at(element.where, "*ELEMENT_SHELL",
+              fmt::format("shell element {} has zero area: it cannot be a contact segment", element.eid));
+    Real thickness = given_thickness;
+    if (!(thickness > 0)) {
+      const std::array<Real, 4> t = model_.shell_thickness(element);
+      for (int k = 0; k < s.corners(); ++k) thickness += t[k] / s.corners();
+    }
+    thickness *= thickness_scale;
+    Real longest = 0;
+    if (s.triangle()) {
+      for (int k = 0; k < 3; ++k) longest = std::max(longest, (x[corners[(k + 1) % 3]] - x[corners[k]]).norm());
+    } else {
+      longest = std::max((x[corners[2]] - x[corners[0]]).norm(), (x[corners[3]] - x[corners[1]]).norm());
+    }
+    s.stiffness = control_.slsfac * scale * stiffness(element.pid).bulk_modulus * s.area / longest;
+    const int shlthk = contact_->shlthk >= 0 ? contact_->shlthk : control_.shlthk;
+    s.two_sided = !old_type;
+    s.offset = !old_type || shlthk == 2 ? thickness / 2 : 0;
+    s.thickness = old_type ? shortest_diagonal(s) / 20 : thickness;
+    return s;
   }
 
   // K and rho of a part: *MAT_RIGID's E and PR; any other material's K = rho c^2 - 4G/3 at its
@@ -388,6 +446,7 @@ class Builder {
   model::ControlContact control_;
   std::unordered_map<Id, const model::Part*> part_index_;
   std::unordered_map<Id, PartStiffness> stiffness_;
+  std::map<Corners, std::size_t> shells_;  // key_of(corners) -> its index in model.shell_elements
   const Contact* contact_ = nullptr;
   std::vector<Real> slave_stiffness_;
 };

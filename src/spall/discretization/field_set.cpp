@@ -5,7 +5,13 @@
 
 namespace spall::discretization {
 
-int nodes_per_cell(CellShape shape) { return shape == CellShape::hexahedron ? 8 : 4; }
+int nodes_per_cell(CellShape shape) {
+  switch (shape) {
+    case CellShape::hexahedron: return 8;
+    case CellShape::triangle: return 3;
+    default: return 4;
+  }
+}
 
 Field& FieldSet::node_field(std::string_view name, int components, bool integer,
                             const std::vector<std::string>& component_names) {

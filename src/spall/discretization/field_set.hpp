@@ -3,7 +3,8 @@
 // A field two formulations both have (pressure, density, stress ...) is one field: each writes the
 // entries of its own nodes. Entries of nodes no formulation wrote keep a fill value: NaN for a real
 // field (ParaView leaves NaN out of colour ranges and shows it in its NaN colour) and -1 for an
-// integer field. Cells (hexahedra, tetrahedra) come in blocks of one type, with fields of their own.
+// integer field. Cells (hexahedra, tetrahedra, and the quadrilaterals and triangles of rigid shells)
+// come in blocks of one type, with fields of their own.
 #include <cstdint>
 #include <limits>
 #include <span>
@@ -34,7 +35,7 @@ inline constexpr double real_fill = std::numeric_limits<double>::quiet_NaN();
 inline constexpr std::int64_t integer_fill = -1;
 
 // The cell shapes a block may hold, with VTK's cell type numbers and node order.
-enum class CellShape : std::uint8_t { hexahedron = 12, tetrahedron = 10 };
+enum class CellShape : std::uint8_t { hexahedron = 12, tetrahedron = 10, quadrilateral = 9, triangle = 5 };
 int nodes_per_cell(CellShape shape);
 
 struct CellBlock {

@@ -17,6 +17,13 @@ const MatRigid* Model::rigid_material(const Part& part) const {
   return it == materials.end() ? nullptr : std::get_if<MatRigid>(&it->second.params);
 }
 
+std::array<Real, 4> Model::shell_thickness(const ElementShell& element) const {
+  const auto& section = std::get<SectionShell>(sections.at(find_part(element.pid)->secid));
+  std::array<Real, 4> t;
+  for (int k = 0; k < 4; ++k) t[k] = element.thickness[k] > 0 ? element.thickness[k] : section.t[k];
+  return t;
+}
+
 namespace {
 
 std::string location_text(const SourceLocation& where) { return where.file + ":" + std::to_string(where.line); }

@@ -109,7 +109,20 @@ struct SectionSolidSpg {
   SourceLocation where_card3;   // IDAM ... PDAMP (absent in decks that end after card 2)
 };
 
-using Section = std::variant<SectionSolid, SectionSph, SectionSolidSpg>;
+// *SECTION_SHELL: Spall runs shells only as rigid geometry (*MAT_RIGID parts): the thickness gives
+// their mass and their contact surface's offset, MAREA a mass per area. A rigid part has no
+// deformation, so the formulation and integration fields (ELFORM, SHRF, NIP, PROPT, QR, ICOMP ...)
+// are read for the layout and otherwise unused.
+struct SectionShell {
+  Id id = 0;
+  int elform = 2;
+  std::array<Real, 4> t{};  // T1-T4, the thickness at N1-N4 (blank T2-T4 take T1)
+  Real marea = 0;           // non-structural mass per unit area
+  SourceLocation where;     // card 1
+  SourceLocation where_card2;
+};
+
+using Section = std::variant<SectionSolid, SectionSph, SectionSolidSpg, SectionShell>;
 
 // *MAT_ELASTIC (001)
 struct MatElastic {
@@ -212,6 +225,18 @@ struct ElementSolid {
 
   // LS-DYNA's tetrahedron on a hexahedron card: N4 repeated in N5-N8.
   bool is_tetrahedron() const { return n[4] == n[3] && n[5] == n[3] && n[6] == n[3] && n[7] == n[3]; }
+};
+
+// *ELEMENT_SHELL (_THICKNESS, _BETA, _MCID): a quadrilateral N1-N4, a triangle repeating N3 as N4.
+// thickness: THIC1-THIC4 of _THICKNESS/_BETA, 0 where the section's T1-T4 apply.
+struct ElementShell {
+  Id eid = 0;
+  Id pid = 0;
+  std::array<Id, 4> n{};
+  std::array<Real, 4> thickness{};
+  SourceLocation where;
+
+  bool is_triangle() const { return n[3] == n[2]; }
 };
 
 // *DEFINE_SPH_MESH_BOX: the box [XMIN, XMIN + XLEN] x [YMIN, ...] x [ZMIN, ...] cut into
@@ -385,6 +410,9 @@ struct Contact {
   Real birth = 0, death = 1e20;         // BT, DT
   Real sfsa = 1, sfsb = 1;              // penalty scale of side A (nodes), side B (segments)
   Real fsf = 1, vsf = 1;                // scale of the Coulomb coefficients, of VC
+  Real sast = 0, sbst = 0;              // contact thickness of side A's, B's shells (0: their own)
+  Real sfsat = 1, sfsbt = 1;            // scale of that thickness
+  int shlthk = -1;                      // optional card B; -1: *CONTROL_CONTACT's
   int soft = 0;                         // optional card A: 0 standard penalty, 1 soft constraint
   Real sofscl = 0.1;
   Real maxpar = 1.025;                  // parametric tolerance of the segment search
@@ -409,6 +437,7 @@ struct ControlContact {
   Real slsfac = 0.1;  // scale of the penalty stiffness (0 -> 0.1)
   int penopt = 1;     // 1: the smaller of node and segment stiffness; 2: segment; 3: node
   Real xpene = 4.0;   // release depth of *CONTACT_NODES_TO_SURFACE, in segment thicknesses (0 -> 4)
+  int shlthk = 0;     // shell thickness in *CONTACT_NODES_TO_SURFACE: 0 no, 1 not of rigid shells, 2 yes
   // Card 4 IGNORE: the contacts' default for tracking initial penetrations (not implemented). Kept
   // so that validate() refuses it only in a deck that has a contact for it to act on.
   int ignore = 0;
@@ -587,6 +616,7 @@ struct Model {
   std::map<Id, Eos> eos;
   std::vector<ElementSph> sph_elements;
   std::vector<ElementSolid> solid_elements;
+  std::vector<ElementShell> shell_elements;  // rigid parts only (validate)
   std::vector<SphMeshBox> sph_mesh_boxes;  // as read; their particles are in nodes/sph_elements
   std::map<Id, NodeSet> node_sets;
   std::map<Id, PartSet> part_sets;
@@ -629,6 +659,9 @@ struct Model {
   const Part* find_part(Id id) const;
   // The part's *MAT_RIGID card, or nullptr: such a part is a rigid body whatever its section.
   const MatRigid* rigid_material(const Part& part) const;
+  // The thickness at a shell element's four corners: its THICn where given, else its section's Tn.
+  // The element's part must have a *SECTION_SHELL (validate() checks it).
+  std::array<Real, 4> shell_thickness(const ElementShell& element) const;
   // For a card of `keyword` whose `field` names the coordinate system `cid`: nothing when cid is 0
   // or a system with the global axes; otherwise an InputError at `where`, saying whether the system
   // is undefined, turned, or (with `initial_only` false) turning with its nodes during the run.

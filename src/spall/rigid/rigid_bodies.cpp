@@ -1,5 +1,6 @@
 #include "spall/rigid/rigid_bodies.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace spall::rigid {
@@ -72,6 +73,20 @@ void RigidBodies::add(RigidBody body, discretization::NodeStore& nodes) {
   body.angular_velocity = body.inertia.inverse() * body.angular_momentum;
   body.initial_centre = body.step_centre = body.centre;
   bodies_.push_back(std::move(body));
+}
+
+void RigidBodies::add_cell(discretization::CellShape shape, Id element_id, std::span<const Index> corners) {
+  auto block = std::find_if(cells_.begin(), cells_.end(), [&](const auto& b) { return b.shape == shape; });
+  if (block == cells_.end()) {
+    block = cells_.insert(cells_.end(), discretization::CellBlock{shape, {}, {}});
+    block->fields.push_back({"element_id", 1, std::vector<std::int64_t>{}});
+  }
+  block->connectivity.insert(block->connectivity.end(), corners.begin(), corners.end());
+  std::get<std::vector<std::int64_t>>(block->fields.front().values).push_back(element_id);
+}
+
+void RigidBodies::write_fields(discretization::FieldSet& fields) const {
+  for (const auto& block : cells_) fields.add_cell_block(block.shape) = block;
 }
 
 void RigidBodies::advance(discretization::NodeStore& nodes, Real time, Real dt, Real dt_mid) {

@@ -7,10 +7,12 @@
 // rigid to round-off however long it runs: the positions are never integrated, only placed).
 // docs/THEORY.md §11.
 #include <array>
+#include <span>
 #include <vector>
 
 #include "spall/core/archive.hpp"
 #include "spall/core/types.hpp"
+#include "spall/discretization/field_set.hpp"
 #include "spall/discretization/node_store.hpp"
 #include "spall/model/curve.hpp"
 
@@ -68,6 +70,12 @@ class RigidBodies {
   // to t^{n+1}, `dt_mid` the one the velocities were advanced by.
   void advance(discretization::NodeStore& nodes, Real time, Real dt, Real dt_mid);
 
+  // An element of a body, for the field output: its shape, deck ID and node-store corners (VTK's
+  // order, which is LS-DYNA's for these shapes).
+  void add_cell(discretization::CellShape shape, Id element_id, std::span<const Index> corners);
+  // The bodies' elements as cell blocks with their `element_id`, so that ParaView draws the tool.
+  void write_fields(discretization::FieldSet& fields) const;
+
   const std::vector<RigidBody>& bodies() const { return bodies_; }
   bool empty() const { return bodies_.empty(); }
   void checkpoint(Archive& a) {
@@ -77,6 +85,7 @@ class RigidBodies {
 
  private:
   std::vector<RigidBody> bodies_;
+  std::vector<discretization::CellBlock> cells_;  // one block a shape
 };
 
 }  // namespace spall::rigid

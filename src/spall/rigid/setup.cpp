@@ -75,6 +75,34 @@ void add_rigid_masses(const model::Model& model, const std::unordered_map<Id, In
       if (part_of_node[node[a]] == 0) part_of_node[node[a]] = e.pid;
     }
   }
+  // Shells (rigid only: validate() refuses others): RO times the area times the mean of the corner
+  // thicknesses, plus MAREA times the area, shared equally by the corners.
+  for (const auto& e : model.shell_elements) {
+    const model::Part& part = *model.find_part(e.pid);
+    const model::MatRigid& rigid = *model.rigid_material(part);
+    const auto& section = std::get<model::SectionShell>(model.sections.at(part.secid));
+    const int per = e.is_triangle() ? 3 : 4;
+    std::array<Vec3, 4> x;
+    for (int a = 0; a < 4; ++a) {
+      auto it = index_of_node.find(e.n[a]);
+      if (it == index_of_node.end())
+        fail_at(e.where, "*ELEMENT_SHELL", fmt::format("shell element {}: node {} does not exist", e.eid, e.n[a]));
+      x[a] = nodes.x[it->second];
+    }
+    // Half the cross product of the diagonals (of two edges for a triangle).
+    const Real area = Real(0.5) * (per == 3 ? (x[1] - x[0]).cross(x[2] - x[0]) : (x[2] - x[0]).cross(x[3] - x[1])).norm();
+    if (!(area > 0))
+      fail_at(e.where, "*ELEMENT_SHELL", fmt::format("shell element {}: zero area (rigid part {})", e.eid, e.pid));
+    const std::array<Real, 4> t = model.shell_thickness(e);
+    Real thickness = 0;
+    for (int a = 0; a < per; ++a) thickness += t[a] / per;
+    const Real mass = area * (rigid.ro * thickness + section.marea);
+    for (int a = 0; a < per; ++a) {
+      const Index i = index_of_node.at(e.n[a]);
+      nodes.mass[i] += mass / per;
+      if (part_of_node[i] == 0) part_of_node[i] = e.pid;
+    }
+  }
 }
 
 RigidBodies build_rigid_bodies(const model::Model& model, const std::unordered_map<Id, Index>& index_of_node,
@@ -103,13 +131,33 @@ RigidBodies build_rigid_bodies(const model::Model& model, const std::unordered_m
       meshed.insert(e.pid);
       for (Id n : e.n) body_nodes[lead_of(e.pid)].insert(index_of_node.at(n));
     }
+  for (const auto& e : model.shell_elements) {
+    meshed.insert(e.pid);
+    for (Id n : e.n) body_nodes[lead_of(e.pid)].insert(index_of_node.at(n));
+  }
   for (const auto& part : model.parts)
     if (model.rigid_material(part) && !meshed.contains(part.id))
       for (const auto& p : model.sph_elements)
         if (p.pid == part.id)
           fail_at(part.where, "*PART", fmt::format("part {}: *MAT_RIGID on SPH particles is not supported (rigid bodies "
-                                                "are meshed with solid elements)", part.id));
+                                                "are meshed with solid or shell elements)", part.id));
   RigidBodies bodies;
+  using discretization::CellShape;
+  for (const auto& e : model.solid_elements)
+    if (is_rigid_part(model, e.pid)) {
+      std::array<Index, 8> corners;
+      for (int a = 0; a < 8; ++a) corners[a] = index_of_node.at(e.n[a]);
+      const bool tetrahedron = e.is_tetrahedron();
+      bodies.add_cell(tetrahedron ? CellShape::tetrahedron : CellShape::hexahedron, e.eid,
+                      std::span<const Index>(corners.data(), tetrahedron ? 4 : 8));
+    }
+  for (const auto& e : model.shell_elements) {
+    std::array<Index, 4> corners;
+    for (int a = 0; a < 4; ++a) corners[a] = index_of_node.at(e.n[a]);
+    const bool triangle = e.is_triangle();
+    bodies.add_cell(triangle ? CellShape::triangle : CellShape::quadrilateral, e.eid,
+                    std::span<const Index>(corners.data(), triangle ? 3 : 4));
+  }
   for (const auto& [pid, node_set] : body_nodes) {
     const model::Part& part = *model.find_part(pid);
     const model::MatRigid& card = *model.rigid_material(part);
@@ -156,7 +204,7 @@ RigidBodies build_rigid_bodies(const model::Model& model, const std::unordered_m
               lead_card.contains(pm.id)
                ? fmt::format("PID {}: merged into the body of part {} (*CONSTRAINED_RIGID_BODIES); prescribe the "
                              "lead's motion", pm.id, lead_of(pm.id))
-               : fmt::format("PID {}: not a rigid part (*MAT_RIGID meshed with solid elements)", pm.id));
+               : fmt::format("PID {}: not a rigid part (*MAT_RIGID meshed with solid or shell elements)", pm.id));
   return bodies;
 }
 

@@ -32,6 +32,7 @@ FieldSnapshot snapshot_fields(const Problem& problem) {
     node_id[i] = nodes.id[i];
   }
   for (const auto& f : problem.formulations) f->write_fields(set, nodes);
+  problem.rigid_bodies.write_fields(set);
 
   // The nodes with mass, and those of cells: an eroded element's cell is written (flagged) after
   // its nodes lost their mass.

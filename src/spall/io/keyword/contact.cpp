@@ -100,7 +100,7 @@ ContactSurface read_surface(const Card& card, int side, Contact::Kind kind) {
   const int type = static_cast<int>(card.integer(2 + side, type_name, 0));
   const std::string type_text = quoted(card.text(2 + side));
   if (type == 1)
-    card.fail(type_name, type_text + ": shell element sets (*SET_SHELL) are not supported (Spall has no shells)");
+    card.fail(type_name, type_text + ": shell element sets (*SET_SHELL) are not read; give the shells' part or part set");
   if (type == 7) card.fail(type_name, type_text + ": branches (*SET_PART_TREE) are not supported");
   if (type == 4 && !a)
     card.fail(type_name, type_text + ": a node set is a side A type only (the nodes that meet side B's segments)");
@@ -164,12 +164,12 @@ void read_card2(const Card& card, Contact& contact) {
 void read_card3(const Card& card, Contact& contact) {
   contact.sfsa = zero_means_default(non_negative(card, 0, "SFSA", 0.0), 1.0);
   contact.sfsb = zero_means_default(non_negative(card, 1, "SFSB", 0.0), 1.0);
-  refuse_nonzero(card, 2, "SAST", "a contact thickness of shell and beam segments; Spall has no shells");
-  refuse_nonzero(card, 3, "SBST", "a contact thickness of shell and beam segments; Spall has no shells");
-  for (const auto& [field, name] : {std::pair{4, "SFSAT"}, std::pair{5, "SFSBT"}})
-    if (zero_means_default(non_negative(card, field, name, 0.0), 1.0) != 1.0)
-      card.fail(name, quoted(card.text(field)) + ": it scales the thickness of shell segments, which Spall does not "
-                                                 "have (only 1, or blank or 0)");
+  // The contact thickness of each side's shell segments: SAST / SBST when given, else the shells'
+  // own, scaled by SFSAT / SFSBT.
+  contact.sast = non_negative(card, 2, "SAST", 0.0);
+  contact.sbst = non_negative(card, 3, "SBST", 0.0);
+  contact.sfsat = zero_means_default(non_negative(card, 4, "SFSAT", 0.0), 1.0);
+  contact.sfsbt = zero_means_default(non_negative(card, 5, "SFSBT", 0.0), 1.0);
   contact.fsf = zero_means_default(non_negative(card, 6, "FSF", 0.0), 1.0);
   contact.vsf = zero_means_default(non_negative(card, 7, "VSF", 0.0), 1.0);
 }
@@ -205,13 +205,18 @@ void read_card_a(const Card& card, Contact& contact) {
 
 void read_card_b(const Card& card, Contact& contact) {
   contact.penmax = non_negative(card, 0, "PENMAX", 0.0);
-  refuse_nonzero(card, 1, "THKOPT", "a shell-thickness option; Spall has no shells");
-  refuse_nonzero(card, 2, "SHLTHK", "a shell-thickness option; Spall has no shells");
+  refuse_nonzero(card, 1, "THKOPT", "the thickness options of shell segments are not implemented");
+  if (!card.blank(2)) {
+    const auto shlthk = card.integer(2, "SHLTHK", 0);
+    if (shlthk < 0 || shlthk > 2) card.fail("SHLTHK", quoted(card.text(2)) + " is not 0, 1 or 2");
+    contact.shlthk = static_cast<int>(shlthk);
+  }
   // SNLOG 1 switches off LS-DYNA's shooting-node logic, a detail of its search.
   const auto snlog = card.integer(3, "SNLOG", 0);
   if (snlog != 0 && snlog != 1) card.fail("SNLOG", quoted(card.text(3)) + " is not 0 or 1");
   refuse_nonzero(card, 4, "ISYM", "leaving out the faces on symmetry planes is not implemented");
-  refuse_nonzero(card, 5, "I2D3D", "it chooses between 2D and 3D shell segments; Spall has no shells");
+  refuse_nonzero(card, 5, "I2D3D", "it prefers solid faces to shells on the same segment, which Spall does not "
+                                   "compare");
   refuse_nonzero(card, 6, "SLDTHK", "a contact thickness of solid segments is not implemented");
   contact.sldstf = non_negative(card, 7, "SLDSTF", 0.0);
 }
@@ -356,15 +361,18 @@ void read_control_contact(CardCursor& cursor, const KeywordCall&, model::Model& 
   card1.real(1, "RWPNAL", 0.0);
   // ISLCHK: LS-DYNA's report of initial penetrations at start-up.
   card1.integer(2, "ISLCHK", 0);
-  // SHLTHK, THKCHG: shell thickness in contact; Spall has no shells.
-  card1.integer(3, "SHLTHK", 0);
+  // SHLTHK: the shell thickness in the non-automatic contacts: 0 not, 1 but not of rigid bodies, 2
+  // of every shell. Spall's shells are all rigid, so 1 reads as 0.
+  const auto shlthk = card1.integer(3, "SHLTHK", 0);
+  if (shlthk < 0 || shlthk > 2) card1.fail("SHLTHK", quoted(card1.text(3)) + " is not 0, 1 or 2");
+  control.shlthk = static_cast<int>(shlthk);
   const auto penopt = card1.integer(4, "PENOPT", 0);
   if (penopt == 4 || penopt == 5)
     card1.fail("PENOPT", quoted(card1.text(4)) + ": the area- or mass-weighted node stiffness (for metal forming) "
                                                  "is not implemented");
   if (penopt < 0 || penopt > 5) card1.fail("PENOPT", quoted(card1.text(4)) + " is not 0 to 5");
   control.penopt = penopt == 0 ? 1 : static_cast<int>(penopt);
-  card1.integer(5, "THKCHG", 0);
+  card1.integer(5, "THKCHG", 0);  // thickness changes of deformable shells: Spall's are rigid
   // ORIEN: LS-DYNA's reorientation of segments at start-up. Spall builds the segments of parts
   // from the faces of solid elements, which always face outward.
   card1.integer(6, "ORIEN", 0);
@@ -377,7 +385,8 @@ void read_control_contact(CardCursor& cursor, const KeywordCall&, model::Model& 
     card->integer(2, "NSBCS", 0);   // cycles between searches: Spall searches every cycle
     card->integer(3, "INTERM", 0);  // intermittent search of the old surface-to-surface contact
     control.xpene = zero_means_default(non_negative(*card, 4, "XPENE", 0.0), 4.0);
-    card->integer(5, "SSTHK", 0);    // shell thickness in single surface contact
+    // SSTHK: the single-surface contact takes the shells' actual thickness (as SSTHK 1) in Spall.
+    card->integer(5, "SSTHK", 0);
     card->integer(6, "ECDT", 0);     // eroding contact's part in the time step
     card->integer(7, "TIEDPRJ", 0);  // tied contact
   }

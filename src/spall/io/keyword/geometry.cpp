@@ -1,4 +1,4 @@
-// *NODE, *ELEMENT_SOLID, *ELEMENT_SPH, *PART, and the local coordinate systems
+// *NODE, *ELEMENT_SOLID, *ELEMENT_SHELL, *ELEMENT_SPH, *PART, and the local coordinate systems
 // (*DEFINE_COORDINATE_SYSTEM, _VECTOR, _NODES).
 #include <array>
 #include <cmath>
@@ -15,6 +15,9 @@ constexpr std::array<int, 6> node_fields = {8, 16, 16, 16, 8, 8};
 constexpr std::array<int, 10> solid_legacy_fields = {8, 8, 8, 8, 8, 8, 8, 8, 8, 8};
 constexpr std::array<int, 2> solid_header_fields = {8, 8};
 constexpr std::array<int, 10> solid_nodes_fields = {8, 8, 8, 8, 8, 8, 8, 8, 8, 8};
+// *ELEMENT_SHELL: EID PID N1..N8 i8; the _THICKNESS card THIC1..THIC4 BETA/MCID e16.
+constexpr std::array<int, 10> shell_fields = {8, 8, 8, 8, 8, 8, 8, 8, 8, 8};
+constexpr std::array<int, 5> shell_thickness_fields = {16, 16, 16, 16, 16};
 // *ELEMENT_SPH: NID PID i8, MASS e16, NEND i8.
 constexpr std::array<int, 4> sph_fields = {8, 8, 16, 8};
 constexpr const char* node_names[10] = {"N1", "N2", "N3", "N4", "N5",
@@ -93,6 +96,41 @@ void read_element_solid(CardCursor& cursor, const KeywordCall&, model::Model& mo
       element.n[k] = nodes[k];
     }
     model.solid_elements.push_back(std::move(element));
+  }
+}
+
+// EID PID N1..N8 (i8); _THICKNESS, _BETA and _MCID add THIC1-THIC4 and BETA or MCID (e16), the
+// last of which orients material axes that a rigid part does not have.
+void read_element_shell(CardCursor& cursor, const KeywordCall& call, model::Model& model) {
+  const bool thickness_card = call.base != "ELEMENT_SHELL";
+  while (true) {
+    cursor.skip_blank_lines();
+    if (cursor.done()) break;
+    const Card card = cursor.next(shell_fields, "element card (EID PID N1..N8)");
+    model::ElementShell element;
+    element.eid = card.required_integer(0, "EID");
+    element.pid = card.required_integer(1, "PID");
+    element.where = card.where();
+    for (int k = 0; k < 4; ++k) {
+      element.n[k] = card.integer(2 + k, node_names[k], 0);
+      if (element.n[k] <= 0 && !(k == 3 && element.n[k] == 0))
+        card.fail(node_names[k], "element " + std::to_string(element.eid) + ": " + node_names[k] +
+                                     " is blank or not a node ID; a shell needs N1-N3, and N4 (or N3 repeated)");
+    }
+    if (element.n[3] == 0) element.n[3] = element.n[2];  // a triangle
+    for (int k = 4; k < 8; ++k)
+      if (card.integer(2 + k, node_names[k], 0) != 0)
+        card.fail(node_names[k], "element " + std::to_string(element.eid) +
+                                     ": eight-node (quadratic) shells are not supported");
+    if (thickness_card) {
+      const Card thick = cursor.next(shell_thickness_fields, "card 2 (THIC1 THIC2 THIC3 THIC4 BETA/MCID)");
+      static constexpr const char* names[] = {"THIC1", "THIC2", "THIC3", "THIC4"};
+      for (int k = 0; k < 4; ++k) {
+        element.thickness[k] = thick.real(k, names[k], 0.0);
+        if (element.thickness[k] < 0) thick.fail(names[k], quoted(thick.text(k)) + ": a thickness cannot be negative");
+      }
+    }
+    model.shell_elements.push_back(std::move(element));
   }
 }
 

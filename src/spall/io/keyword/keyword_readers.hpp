@@ -55,6 +55,7 @@ Id checked_node_id(const Card& card, const char* name, Id id);
 void read_node(CardCursor&, const KeywordCall&, model::Model&);
 void read_element_solid(CardCursor&, const KeywordCall&, model::Model&);
 void read_element_sph(CardCursor&, const KeywordCall&, model::Model&);
+void read_element_shell(CardCursor&, const KeywordCall&, model::Model&);
 void read_part(CardCursor&, const KeywordCall&, model::Model&);
 void read_define_coordinate_system(CardCursor&, const KeywordCall&, model::Model&);
 void read_define_coordinate_vector(CardCursor&, const KeywordCall&, model::Model&);
@@ -73,6 +74,7 @@ double particles_so_far(const model::Model& model);
 void read_section_solid(CardCursor&, const KeywordCall&, model::Model&);
 void read_section_solid_spg(CardCursor&, const KeywordCall&, model::Model&);
 void read_section_sph(CardCursor&, const KeywordCall&, model::Model&);
+void read_section_shell(CardCursor&, const KeywordCall&, model::Model&);
 void read_mat_elastic(CardCursor&, const KeywordCall&, model::Model&);
 void read_mat_rigid(CardCursor&, const KeywordCall&, model::Model&);
 // True for the keywords of thermal materials (`MAT_THERMAL_...`, `MAT_Tnn...`, without `*`).

@@ -130,6 +130,47 @@ void read_section_sph(CardCursor& cursor, const KeywordCall& call, model::Model&
   }
 }
 
+// Card 1 SECID ELFORM SHRF NIP PROPT QR/IRID ICOMP SETYP, card 2 T1 T2 T3 T4 NLOC MAREA IDOF EDGSET,
+// then with ICOMP 1 the NIP layer angles, eight a line. Spall runs shells only as rigid geometry
+// (model.hpp): what a rigid part cannot use is read for the layout.
+void read_section_shell(CardCursor& cursor, const KeywordCall& call, model::Model& model) {
+  while (true) {
+    cursor.skip_blank_lines();
+    if (cursor.done()) break;
+    if (call.title) cursor.next_text("title");
+    const Card card1 = cursor.next(standard_fields, "card 1 (SECID ELFORM SHRF NIP PROPT QR ICOMP SETYP)");
+    model::SectionShell section;
+    section.id = card1.required_integer(0, "SECID");
+    const std::int64_t elform = card1.integer(1, "ELFORM", 2);
+    section.elform = elform == 0 ? 2 : static_cast<int>(elform);
+    // These formulations add cards of their own (user integration, meshfree shells).
+    if ((section.elform >= 41 && section.elform <= 44) || (section.elform >= 101 && section.elform <= 105))
+      card1.fail("ELFORM", quoted(card1.text(1)) + ": this shell formulation's extra cards are not read");
+    const std::int64_t nip = card1.integer(3, "NIP", 2);
+    const Real icomp = card1.real(6, "ICOMP", 0.0);
+    if (icomp != 0.0 && icomp != 1.0) card1.fail("ICOMP", quoted(card1.text(6)) + " is not 0 or 1");
+    if (nip < 0 || nip > 100) card1.fail("NIP", quoted(card1.text(3)) + " is not a number of integration points (0-100)");
+    section.where = card1.where();
+    const Card card2 = cursor.next(standard_fields, "card 2 (T1 T2 T3 T4 NLOC MAREA IDOF EDGSET)");
+    section.t[0] = card2.real(0, "T1", 0.0);
+    if (!(section.t[0] > 0))
+      card2.fail("T1", quoted(card2.text(0)) + ": a shell needs a thickness > 0 (its mass and contact surface)");
+    for (int k = 1; k < 4; ++k) {
+      static constexpr const char* names[] = {"T1", "T2", "T3", "T4"};
+      section.t[k] = zero_means_default(card2.real(k, names[k], 0.0), section.t[0]);
+      if (!(section.t[k] > 0)) card2.fail(names[k], quoted(card2.text(k)) + ": a thickness must be > 0");
+    }
+    if (card2.real(4, "NLOC", 0.0) != 0.0)
+      card2.fail("NLOC", quoted(card2.text(4)) + ": a reference surface off the mid-surface is not implemented (0)");
+    section.marea = card2.real(5, "MAREA", 0.0);
+    if (section.marea < 0) card2.fail("MAREA", quoted(card2.text(5)) + ": a mass per area cannot be negative");
+    section.where_card2 = card2.where();
+    if (icomp == 1.0)
+      for (std::int64_t angles = 0; angles < (nip == 0 ? 2 : nip); angles += 8) cursor.next(standard_fields, "layer angles");
+    insert_unique(model.sections, section.id, section, card1, "section");
+  }
+}
+
 void read_mat_elastic(CardCursor& cursor, const KeywordCall& call, model::Model& model) {
   while (true) {
     cursor.skip_blank_lines();

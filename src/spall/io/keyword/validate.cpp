@@ -56,6 +56,8 @@ class Validator {
     require_unique(model_.parts, [](const auto& p) { return p.id; }, "*PART", "part");
     require_unique(model_.solid_elements, [](const auto& e) { return e.eid; }, "*ELEMENT_SOLID",
                    "element");
+    require_unique(model_.shell_elements, [](const auto& e) { return e.eid; }, "*ELEMENT_SHELL",
+                   "shell element");
     require_unique(model_.sph_elements, [](const auto& e) { return e.nid; }, "*ELEMENT_SPH",
                    "particle");
     check_ids_against_unsupported();
@@ -117,6 +119,15 @@ class Validator {
                                " is not defined");
       first_solid_.try_emplace(element.pid, &element.where);
     }
+    for (const auto& element : model_.shell_elements) {
+      require_part(element.pid, element.where, "*ELEMENT_SHELL", "shell element " + std::to_string(element.eid));
+      for (int k = 0; k < 4; ++k)
+        if (!node_ids_.contains(element.n[k]))
+          throw InputError(element.where, "*ELEMENT_SHELL",
+                           "shell element " + std::to_string(element.eid) + ": node N" + std::to_string(k + 1) +
+                               " = " + std::to_string(element.n[k]) + " is not defined");
+      first_shell_.try_emplace(element.pid, &element.where);
+    }
     for (const auto& particle : model_.sph_elements) {
       require_part(particle.pid, particle.where, "*ELEMENT_SPH",
                    "particle " + std::to_string(particle.nid));
@@ -143,7 +154,8 @@ class Validator {
   // part may name an unsupported one (it was reported as unsupported already) but not a missing one.
   void check_parts() const {
     for (const auto& part : model_.parts) {
-      const bool used = first_solid_.contains(part.id) || first_sph_.contains(part.id);
+      const bool used =
+          first_solid_.contains(part.id) || first_sph_.contains(part.id) || first_shell_.contains(part.id);
       const auto section = model_.sections.find(part.secid);
       if (section == model_.sections.end())
         refuse_reference(part, used, "*SECTION_", "section", part.secid);
@@ -168,6 +180,24 @@ class Validator {
                          "part " + std::to_string(part.id) + " has *ELEMENT_SPH particles (" +
                              location_text(*it->second) + ") but its section " +
                              std::to_string(part.secid) + " is not a *SECTION_SPH");
+      const bool shell_section = std::holds_alternative<model::SectionShell>(section->second);
+      if (auto it = first_shell_.find(part.id); it != first_shell_.end()) {
+        if (!shell_section)
+          throw InputError(part.where, "*PART",
+                           "part " + std::to_string(part.id) + " has *ELEMENT_SHELL elements (" +
+                               location_text(*it->second) + ") but its section " + std::to_string(part.secid) +
+                               " is not a *SECTION_SHELL");
+        if (!model_.rigid_material(part))
+          throw InputError(part.where, "*PART",
+                           "part " + std::to_string(part.id) + " has *ELEMENT_SHELL elements (" +
+                               location_text(*it->second) + ") but material " + std::to_string(part.mid) +
+                               " is not *MAT_RIGID: Spall runs shells only as rigid geometry (deformable shells "
+                               "are not implemented)");
+      }
+      if (shell_section && (first_solid_.contains(part.id) || first_sph_.contains(part.id)))
+        throw InputError(part.where, "*PART",
+                         "part " + std::to_string(part.id) + " has solid elements or particles but its section " +
+                             std::to_string(part.secid) + " is a *SECTION_SHELL");
       if (auto it = first_solid_.find(part.id);
           it != first_solid_.end() && std::holds_alternative<model::SectionSph>(section->second))
         throw InputError(part.where, "*PART",
@@ -411,6 +441,7 @@ class Validator {
   std::unordered_set<Id> part_ids_;
   std::unordered_map<Id, const SourceLocation*> first_solid_;  // part -> its first solid element
   std::unordered_map<Id, const SourceLocation*> first_sph_;    // part -> its first particle
+  std::unordered_map<Id, const SourceLocation*> first_shell_;  // part -> its first shell element
 };
 
 }  // namespace
