@@ -444,6 +444,38 @@ TEST(keyword_cards, RigidShellSectionsAndElements) {
   EXPECT_EQ(model.shell_thickness(model.shell_elements[0]), section.t);
 }
 
+// *PART_INERTIA: a *PART with cards 3-5, and card 6 with IRCS 1; a lone card 6 after an IRCS 0
+// part is read as card 6 (some writers give it always), not as another part's heading.
+TEST(keyword_cards, PartInertiaCards) {
+  DeckFolder folder;
+  const std::string deck = "*KEYWORD\n*PART_INERTIA\nwheel\n" + row({"4", "1", "2"}) +
+                           row({"1.0", "2.0", "3.0", "5.5", "1", "0"}) + row({"2.0", "0.1", "0.2", "3.0", "0.3", "4.0"}) +
+                           row({"1.0", "", "", "", "", "9.0"}) + row({"0", "1", "0", "0", "0", "1"}) +
+                           "hub\n" + row({"5", "1", "2"}) + row({"", "", "", "1.5", "", "7"}) + row({"1.0"}) + row({}) +
+                           row({"1.0", "0", "0", "0", "1.0", "0"}) + "*END\n";
+  const model::Model model = read_deck(folder.write("inertia.k", deck));
+  ASSERT_EQ(model.parts.size(), 2u);
+  const model::PartInertia& wheel = *model.parts[0].inertia;
+  EXPECT_EQ(model.parts[0].heading, "wheel");
+  EXPECT_EQ(wheel.centre, Vec3(1, 2, 3));
+  EXPECT_EQ(wheel.mass, 5.5);
+  EXPECT_TRUE(wheel.local);
+  EXPECT_EQ(wheel.tensor(0, 1), 0.1);
+  EXPECT_EQ(wheel.tensor(2, 0), 0.2);
+  EXPECT_EQ(wheel.tensor(2, 1), 0.3);
+  EXPECT_EQ(wheel.tensor(2, 2), 4.0);
+  EXPECT_EQ(wheel.velocity, Vec3(1, 0, 0));
+  EXPECT_EQ(wheel.angular_velocity, Vec3(0, 0, 9));
+  EXPECT_EQ(wheel.local_x, Vec3(0, 1, 0));
+  EXPECT_EQ(wheel.local_in_plane, Vec3(0, 0, 1));
+  const model::PartInertia& hub = *model.parts[1].inertia;
+  EXPECT_FALSE(hub.local);
+  EXPECT_EQ(hub.node, 7);
+  EXPECT_EQ(hub.tensor(0, 0), 1.0);
+  EXPECT_EQ(model.parts[1].where.line, 10);
+  EXPECT_EQ(hub.local_x, Vec3(1, 0, 0));  // read, and of no use with IRCS 0
+}
+
 TEST(keyword_cards, UnsupportedKeywordsAreRecordedWithNameLineAndId) {
   DeckFolder folder;
   const std::string deck = "*KEYWORD\n*MAT_SOIL_AND_FOAM\n" + row({"6", "1.0e-9"}) +

@@ -25,6 +25,22 @@ struct Node {
   SourceLocation where;
 };
 
+// *PART_INERTIA: a rigid part's mass properties, in place of those of its elements (fem-contact.md
+// §1.5). The tensor's entries IXX IXY IXZ IYY IYZ IZZ are the inertia tensor's (the manual's "xy
+// component of the inertia tensor"), about the centre, in global axes (IRCS 0) or in the local axes
+// local_x, local_in_plane (IRCS 1).
+struct PartInertia {
+  Vec3 centre = Vec3::Zero();  // XC YC ZC
+  Real mass = 0;               // TM
+  Id node = 0;                 // NODEID: the centre is this node's position instead (0: none)
+  Mat3 tensor = Mat3::Zero();
+  bool local = false;          // IRCS 1
+  Vec3 local_x = Vec3::Zero(), local_in_plane = Vec3::Zero();  // XL YL ZL, XLIP YLIP ZLIP
+  Id cid = 0;                  // CID: the local axes from a coordinate system instead
+  Vec3 velocity = Vec3::Zero(), angular_velocity = Vec3::Zero();  // VTX VTY VTZ, VRX VRY VRZ
+  SourceLocation where;        // card 3
+};
+
 struct Part {
   Id id = 0;
   std::string heading;
@@ -33,6 +49,7 @@ struct Part {
   Id eosid = 0;
   Id hgid = 0;
   Id tmid = 0;  // a thermal material (*MAT_THERMAL_*), used only by a thermal or coupled solution
+  std::optional<PartInertia> inertia;  // *PART_INERTIA
   SourceLocation where;
 };
 

@@ -49,7 +49,7 @@ Mat3 rotation_of(const Vec3& phi) {
   return Mat3::Identity() + (std::sin(angle) / angle) * K + ((1 - std::cos(angle)) / (angle * angle)) * K * K;
 }
 
-void RigidBodies::add(RigidBody body, discretization::NodeStore& nodes) {
+void RigidBodies::add(RigidBody body, discretization::NodeStore& nodes, const MassProperties* given) {
   body.mass = 0;
   Vec3 moment = Vec3::Zero(), momentum = Vec3::Zero();
   for (Index i : body.node) {
@@ -71,8 +71,35 @@ void RigidBodies::add(RigidBody body, discretization::NodeStore& nodes) {
   }
   body.rotation.setIdentity();
   body.angular_velocity = body.inertia.inverse() * body.angular_momentum;
+  if (given) {
+    // The nodes now carry the given mass and centre (to round-off); the inertia is the given one.
+    body.mass = given->mass;
+    body.centre = given->centre;
+    for (std::size_t k = 0; k < body.node.size(); ++k) body.offset[k] = nodes.x[body.node[k]] - body.centre;
+    body.inertia = given->inertia;
+    body.angular_momentum = body.inertia * body.angular_velocity;
+  }
   body.initial_centre = body.step_centre = body.centre;
+  body.last_velocity = body.velocity;
+  body.last_angular_momentum = body.angular_momentum;
+  body.last_angular_velocity = body.angular_velocity;
   bodies_.push_back(std::move(body));
+}
+
+RigidBodies::Energies RigidBodies::energies(Real weight, Real reaction_weight, Real dt_mid) const {
+  Energies e;
+  for (const RigidBody& b : bodies_) {
+    const Vec3 dv = b.velocity - b.last_velocity, dL = b.angular_momentum - b.last_angular_momentum;
+    const Vec3 dw = b.angular_velocity - b.last_angular_velocity;
+    const Vec3 v = b.last_velocity + weight * dv, w = b.last_angular_velocity + weight * dw;
+    e.kinetic += Real(0.5) * b.mass * v.squaredNorm() + Real(0.5) * w.dot(b.last_angular_momentum + weight * dL);
+    if (dt_mid > 0) {
+      const Vec3 reaction = b.mass * dv / dt_mid - b.force, reaction_moment = dL / dt_mid - b.moment;
+      e.reaction_power += reaction.dot(b.last_velocity + reaction_weight * dv) +
+                          reaction_moment.dot(b.last_angular_velocity + reaction_weight * dw);
+    }
+  }
+  return e;
 }
 
 void RigidBodies::add_cell(discretization::CellShape shape, Id element_id, std::span<const Index> corners) {
@@ -99,6 +126,8 @@ void RigidBodies::advance(discretization::NodeStore& nodes, Real time, Real dt, 
       M += (nodes.x[i] - b.centre).cross(nodes.f[i]);
     }
     b.force = F, b.moment = M, b.step_centre = b.centre;
+    b.last_velocity = b.velocity, b.last_angular_momentum = b.angular_momentum;
+    b.last_angular_velocity = b.angular_velocity;
     b.velocity += (dt_mid / b.mass) * F;
     b.angular_momentum += dt_mid * M;  // L is conserved exactly when no moment acts
 

@@ -46,24 +46,49 @@ struct RigidBody {
   std::vector<PrescribedMotion> motions;
   Vec3 force = Vec3::Zero(), moment = Vec3::Zero();  // of the nodes' forces at the last step
   Vec3 step_centre = Vec3::Zero();  // x_c at the last step's start, where force and moment act
+  // v_c, L and omega at the half step before the last update (for the energies at t^n).
+  Vec3 last_velocity = Vec3::Zero(), last_angular_momentum = Vec3::Zero(), last_angular_velocity = Vec3::Zero();
 
   // J in the world's frame at the rotation R: R J0 R^T.
   Mat3 world_inertia(const Mat3& R) const { return R * inertia * R.transpose(); }
 
   // The motion; the nodes, mass properties and prescribed motions are the deck's.
   void checkpoint(Archive& a) {
-    a(centre, angle, rotation, velocity, angular_momentum, angular_velocity, force, moment, step_centre);
+    a(centre, angle, rotation, velocity, angular_momentum, angular_velocity, force, moment, step_centre,
+      last_velocity, last_angular_momentum, last_angular_velocity);
   }
 };
 
 // The rotation by the angle |phi| about phi / |phi| (Rodrigues' formula).
 Mat3 rotation_of(const Vec3& phi);
 
+// A body's mass, centre and inertia about it (world axes) given rather than summed from its nodes
+// (*PART_INERTIA).
+struct MassProperties {
+  Real mass = 0;
+  Vec3 centre = Vec3::Zero();
+  Mat3 inertia = Mat3::Zero();
+};
+
 class RigidBodies {
  public:
   // Mass, centre, inertia, velocity and angular momentum from the nodes' masses, positions and
-  // velocities at the start; marks the nodes' body in `nodes.body`.
-  void add(RigidBody body, discretization::NodeStore& nodes);
+  // velocities at the start; marks the nodes' body in `nodes.body`. With `given` properties (whose
+  // mass and centre the nodes' masses must carry: rigid/setup.cpp) the inertia is the given one,
+  // and the angular momentum J omega for the omega of the nodes' velocities.
+  void add(RigidBody body, discretization::NodeStore& nodes, const MassProperties* given = nullptr);
+
+  // The bodies' share of the energy ledger at t^n, their nodes' left out of the time loop's sums:
+  // the kinetic energy 1/2 m v_c.v_c + 1/2 omega.L at the point `weight` of the way from the last
+  // half step to this one, and the power of the constraints and prescribed motions (the momentum
+  // and angular momentum they added over dt_mid, against the body's forces) at the point
+  // `reaction_weight`. The body's own mass properties, not its nodes', so that *PART_INERTIA
+  // counts as it moves.
+  struct Energies {
+    Real kinetic = 0;
+    Real reaction_power = 0;
+  };
+  Energies energies(Real weight, Real reaction_weight, Real dt_mid) const;
 
   // The constraints phase of step n: nodes at x^n with forces f^n, velocities v^{n+1/2} from the
   // velocity update (which the bodies overwrite for their nodes). `time` is t^n, `dt` the step

@@ -1,7 +1,11 @@
 #include "spall/rigid/setup.hpp"
 
 #include <fmt/format.h>
+#include <Eigen/Dense>
+#include <cmath>
+#include <limits>
 #include <map>
+#include <optional>
 #include <set>
 
 #include "spall/fem/solid_elements.hpp"
@@ -42,6 +46,66 @@ PrescribedMotion prescribed_motion(const model::Model& model, const model::Presc
   m.birth = pm.birth;
   m.death = pm.death;
   return m;
+}
+
+// *PART_INERTIA (fem-contact.md §1.5): TM, the centre (XC YC ZC, or node NODEID's position) and the
+// tensor, turned from its local axes (IRCS 1: XL YL ZL the local x, XLIP YLIP ZLIP in the local x-y
+// plane, or CID's axes) to the world's. VTX..VRZ, when not all 0, set the body's initial velocity
+// and angular velocity about the centre (over any *INITIAL_VELOCITY of its nodes).
+MassProperties mass_properties(const model::Model& model, const model::PartInertia& card,
+                               const std::unordered_map<Id, Index>& index_of_node, const std::vector<Index>& body_nodes,
+                               discretization::NodeStore& nodes) {
+  const char* keyword = "*PART_INERTIA";
+  MassProperties p;
+  p.mass = card.mass;
+  p.centre = card.centre;
+  if (card.node != 0) {
+    auto it = index_of_node.find(card.node);
+    if (it == index_of_node.end()) fail_at(card.where, keyword, fmt::format("NODEID: node {} does not exist", card.node));
+    p.centre = nodes.x[it->second];
+  }
+  Mat3 Q = Mat3::Identity();  // columns: the local axes in world coordinates
+  if (card.local && card.cid != 0) {
+    model.require_global_axes(card.cid, card.where, keyword, "CID", false);
+  } else if (card.local) {
+    const Vec3 x = card.local_x.normalized();
+    const Vec3 y = (card.local_in_plane - card.local_in_plane.dot(x) * x).normalized();
+    Q.col(0) = x, Q.col(1) = y, Q.col(2) = x.cross(y);
+  }
+  p.inertia = Q * card.tensor * Q.transpose();
+  const Eigen::SelfAdjointEigenSolver<Mat3> principal(p.inertia);
+  const Vec3 J = principal.eigenvalues();  // ascending
+  if (!(J[0] > 0) || J[2] > J[0] + J[1] * (1 + 1e-12))
+    fail_at(card.where, keyword,
+            fmt::format("IXX..IZZ: principal moments {:.6g} {:.6g} {:.6g}: an inertia tensor's are positive and each at "
+                        "most the sum of the other two", J[0], J[1], J[2]));
+  // The nodes' masses m_I (1 + a + b . x_I): the smallest change, in proportion to each mass and
+  // linear in space, that gives them the mass TM and the centre (four equations for a and b), so
+  // that a base acceleration (*LOAD_BODY) and the contacts act on the body with TM at its centre.
+  Eigen::Matrix4d A = Eigen::Matrix4d::Zero();
+  Eigen::Vector4d b(p.mass, p.mass * p.centre.x(), p.mass * p.centre.y(), p.mass * p.centre.z()), carried = -b;
+  for (Index i : body_nodes) {
+    const Eigen::Vector4d x(1, nodes.x[i].x(), nodes.x[i].y(), nodes.x[i].z());
+    A += nodes.mass[i] * x * x.transpose();
+    b -= nodes.mass[i] * x;
+  }
+  const Eigen::Vector4d c = A.completeOrthogonalDecomposition().solve(b);
+  Real lightest = std::numeric_limits<Real>::infinity();
+  for (Index i : body_nodes) {
+    nodes.mass[i] *= 1 + c[0] + c.tail<3>().dot(nodes.x[i]);
+    lightest = std::min(lightest, nodes.mass[i]);
+    carried += nodes.mass[i] * Eigen::Vector4d(1, nodes.x[i].x(), nodes.x[i].y(), nodes.x[i].z());
+  }
+  Real size = 0;  // the body's extent about the centre: the scale of its first moment
+  for (Index i : body_nodes) size = std::max(size, (nodes.x[i] - p.centre).norm());
+  if (!(lightest > 0) || std::abs(carried[0]) > 1e-9 * p.mass || carried.tail<3>().norm() > 1e-9 * p.mass * size)
+    fail_at(card.where, keyword,
+            fmt::format("XC YC ZC ({:.6g}, {:.6g}, {:.6g}): the part's nodes cannot carry the mass TM {:.6g} with its "
+                        "centre there (a centre outside the part's elements, or off the plane of a flat part)",
+                        p.centre.x(), p.centre.y(), p.centre.z(), p.mass));
+  if (!card.velocity.isZero(0) || !card.angular_velocity.isZero(0))
+    for (Index i : body_nodes) nodes.v[i] = card.velocity + card.angular_velocity.cross(nodes.x[i] - p.centre);
+  return p;
 }
 
 }  // namespace
@@ -187,6 +251,13 @@ RigidBodies build_rigid_bodies(const model::Model& model, const std::unordered_m
       body.fixed_translation = axes(card.con1);
       body.fixed_rotation = axes(card.con2);
     }
+    std::optional<MassProperties> given;
+    for (const auto& [constrained, merge] : lead_card)
+      if (lead_of(constrained) == pid && model.find_part(constrained)->inertia)
+        fail_at(model.find_part(constrained)->inertia->where, "*PART_INERTIA",
+                fmt::format("part {} is merged into the body of part {} (*CONSTRAINED_RIGID_BODIES): give the "
+                            "merged body's mass properties on the lead part", constrained, pid));
+    if (part.inertia) given = mass_properties(model, *part.inertia, index_of_node, body.node, nodes);
     for (const auto& pm : model.prescribed_motions)
       if (pm.target == model::Target::part && pm.id == pid) {
         body.motions.push_back(prescribed_motion(model, pm));
@@ -196,7 +267,7 @@ RigidBodies build_rigid_bodies(const model::Model& model, const std::unordered_m
                   fmt::format("DOF {}: part {}'s *MAT_RIGID (CMO 1, {} {}) holds that degree of freedom", pm.dof, pid,
                            dof < 3 ? "CON1" : "CON2", dof < 3 ? card.con1 : card.con2));
       }
-    bodies.add(std::move(body), nodes);
+    bodies.add(std::move(body), nodes, given ? &*given : nullptr);
   }
   for (const auto& pm : model.prescribed_motions)
     if (pm.target == model::Target::part && !body_nodes.contains(pm.id))

@@ -267,9 +267,11 @@ class TimeLoop::Step {
           term[3] = runaway(i);
           const Vec3 v_start = v_old_[i], dv = nodes_.v[i] - v_start;
           v_n[i] += weight * dv;
-          term[2] = Real(0.5) * nodes_.mass[i] * v_n[i].squaredNorm();
           if (nodes_.mass[i] <= 0) return term;
           term[0] = -load_force(i, v_start).dot(v_start + weight * dv);
+          // A rigid body's nodes: its kinetic energy and constraint work are the body's (below).
+          if (nodes_.body[i] != discretization::NodeStore::no_body) return term;
+          term[2] = Real(0.5) * nodes_.mass[i] * v_n[i].squaredNorm();
           if (dt_mid > 0) {
             const Vec3 reaction = nodes_.mass[i] * dv / dt_mid - nodes_.f[i];
             term[1] = reaction.dot(v_start + reaction_weight * dv);
@@ -277,10 +279,12 @@ class TimeLoop::Step {
           return term;
         },
         Sums<4>{});
-    ledger_.set(EnergyLedger::kinetic_energy, Role::kinetic, sums[2]);
+    const rigid::RigidBodies::Energies bodies = problem_.rigid_bodies.energies(weight, reaction_weight, dt_mid);
+    ledger_.set(EnergyLedger::kinetic_energy, Role::kinetic, sums[2] + bodies.kinetic);
     for (const auto& f : problem_.formulations) f->book_energies(ledger_, v_n, dt_mid);
     for (const auto& c : problem_.contacts) c.book_energies(ledger_, v_n, dt_mid);
-    ledger_.add(EnergyLedger::external_work_name, Role::external, dt_mid * (sums[0] + sums[1]));
+    ledger_.add(EnergyLedger::external_work_name, Role::external,
+                dt_mid * (sums[0] + sums[1] + bodies.reaction_power));
     if (step_.step == 0) ledger_.set_initial_total();
     if (sums[3] > 0) throw_runaway();
   }

@@ -169,18 +169,78 @@ void read_element_sph(CardCursor& cursor, const KeywordCall& call, model::Model&
   }
 }
 
+namespace {
+Vec3 point(const Card& card, int first, const char* const names[3]) {
+  return Vec3(card.real(first, names[0], 0.0), card.real(first + 1, names[1], 0.0),
+              card.real(first + 2, names[2], 0.0));
+}
+
+// The heading and card 2 (PID SECID MID EOSID HGID GRAV ADPOPT TMID) of *PART and its options.
+model::Part read_part_cards(CardCursor& cursor) {
+  model::Part part;
+  part.heading = cursor.next_text("heading card");
+  const Card card = cursor.next(standard_fields, "card 2 (PID SECID MID ...)");
+  part.id = card.required_integer(0, "PID");
+  part.secid = card.required_integer(1, "SECID");
+  part.mid = card.required_integer(2, "MID");
+  part.eosid = card.integer(3, "EOSID", 0);
+  part.hgid = card.integer(4, "HGID", 0);
+  part.tmid = card.integer(7, "TMID", 0);
+  part.where = card.where();
+  return part;
+}
+}  // namespace
+
 void read_part(CardCursor& cursor, const KeywordCall&, model::Model& model) {
-  while (!cursor.done()) {
-    model::Part part;
-    part.heading = cursor.next_text("heading card");
-    const Card card = cursor.next(standard_fields, "card 2 (PID SECID MID ...)");
-    part.id = card.required_integer(0, "PID");
-    part.secid = card.required_integer(1, "SECID");
-    part.mid = card.required_integer(2, "MID");
-    part.eosid = card.integer(3, "EOSID", 0);
-    part.hgid = card.integer(4, "HGID", 0);
-    part.tmid = card.integer(7, "TMID", 0);
-    part.where = card.where();
+  while (!cursor.done()) model.parts.push_back(read_part_cards(cursor));
+}
+
+// Card 3 XC YC ZC TM IRCS NODEID, card 4 IXX IXY IXZ IYY IYZ IZZ, card 5 VTX VTY VTZ VRX VRY VRZ,
+// and with IRCS 1 card 6 XL YL ZL XLIP YLIP ZLIP CID. Some writers give card 6 with IRCS 0 too: a
+// lone line left after card 5 is taken as it (and has no use), not as the next part's heading.
+void read_part_inertia(CardCursor& cursor, const KeywordCall&, model::Model& model) {
+  while (true) {
+    cursor.skip_blank_lines();
+    if (cursor.done()) break;
+    model::Part part = read_part_cards(cursor);
+    model::PartInertia inertia;
+    const Card card3 = cursor.next(standard_fields, "card 3 (XC YC ZC TM IRCS NODEID)");
+    static constexpr const char* centre[] = {"XC", "YC", "ZC"};
+    inertia.centre = point(card3, 0, centre);
+    inertia.mass = card3.required_real(3, "TM");
+    if (!(inertia.mass > 0)) card3.fail("TM", quoted(card3.text(3)) + ": the mass must be > 0");
+    const std::int64_t ircs = card3.integer(4, "IRCS", 0);
+    if (ircs != 0 && ircs != 1) card3.fail("IRCS", quoted(card3.text(4)) + " is not 0 (global axes) or 1 (local)");
+    inertia.local = ircs == 1;
+    inertia.node = card3.integer(5, "NODEID", 0);
+    if (inertia.node < 0) card3.fail("NODEID", quoted(card3.text(5)) + " is not a node ID");
+    inertia.where = card3.where();
+    const Card card4 = cursor.next(standard_fields, "card 4 (IXX IXY IXZ IYY IYZ IZZ)");
+    static constexpr const char* names[] = {"IXX", "IXY", "IXZ", "IYY", "IYZ", "IZZ"};
+    static constexpr int row_of[] = {0, 0, 0, 1, 1, 2}, column_of[] = {0, 1, 2, 1, 2, 2};
+    for (int k = 0; k < 6; ++k)
+      inertia.tensor(row_of[k], column_of[k]) = inertia.tensor(column_of[k], row_of[k]) =
+          k == 0 ? card4.required_real(k, names[k]) : card4.real(k, names[k], 0.0);
+    const Card card5 = cursor.next(standard_fields, "card 5 (VTX VTY VTZ VRX VRY VRZ)");
+    static constexpr const char* translation[] = {"VTX", "VTY", "VTZ"};
+    static constexpr const char* rotation[] = {"VRX", "VRY", "VRZ"};
+    inertia.velocity = point(card5, 0, translation);
+    inertia.angular_velocity = point(card5, 3, rotation);
+    cursor.skip_blank_lines();
+    const bool lone_line = !cursor.done() && cursor.context().block.data.back().line == cursor.peek().line;
+    if (inertia.local || lone_line) {
+      const Card card6 = cursor.next(standard_fields, "card 6 (XL YL ZL XLIP YLIP ZLIP CID)");
+      static constexpr const char* axis[] = {"XL", "YL", "ZL"};
+      static constexpr const char* plane[] = {"XLIP", "YLIP", "ZLIP"};
+      inertia.local_x = point(card6, 0, axis);
+      inertia.local_in_plane = point(card6, 3, plane);
+      inertia.cid = card6.integer(6, "CID", 0);
+      if (inertia.local && inertia.cid == 0 &&
+          !(inertia.local_x.cross(inertia.local_in_plane).norm() > 0))
+        card6.fail("XL", "the local x axis (XL YL ZL) and the in-plane vector (XLIP YLIP ZLIP) must be nonzero and "
+                         "not parallel, or CID given");
+    }
+    part.inertia = inertia;
     model.parts.push_back(std::move(part));
   }
 }
@@ -201,11 +261,6 @@ void read_coordinate_systems(CardCursor& cursor, const KeywordCall& call, model:
     if (system.id <= 0) card.fail("CID", quoted(card.text(0)) + " is not a coordinate system ID (> 0)");
     insert_unique(model.coordinate_systems, system.id, std::move(system), card, "coordinate system");
   }
-}
-
-Vec3 point(const Card& card, int first, const char* const names[3]) {
-  return Vec3(card.real(first, names[0], 0.0), card.real(first + 1, names[1], 0.0),
-              card.real(first + 2, names[2], 0.0));
 }
 
 }  // namespace

@@ -57,6 +57,7 @@ void read_element_solid(CardCursor&, const KeywordCall&, model::Model&);
 void read_element_sph(CardCursor&, const KeywordCall&, model::Model&);
 void read_element_shell(CardCursor&, const KeywordCall&, model::Model&);
 void read_part(CardCursor&, const KeywordCall&, model::Model&);
+void read_part_inertia(CardCursor&, const KeywordCall&, model::Model&);
 void read_define_coordinate_system(CardCursor&, const KeywordCall&, model::Model&);
 void read_define_coordinate_vector(CardCursor&, const KeywordCall&, model::Model&);
 void read_define_coordinate_nodes(CardCursor&, const KeywordCall&, model::Model&);

@@ -27,6 +27,7 @@ struct SupportedKeyword {
 constexpr SupportedKeyword supported_keywords[] = {
     {"NODE", read_node},
     {"PART", read_part},
+    {"PART_INERTIA", read_part_inertia},
     {"ELEMENT_SOLID", read_element_solid},
     {"ELEMENT_SHELL", read_element_shell},
     {"ELEMENT_SHELL_THICKNESS", read_element_shell},

@@ -180,6 +180,10 @@ class Validator {
                          "part " + std::to_string(part.id) + " has *ELEMENT_SPH particles (" +
                              location_text(*it->second) + ") but its section " +
                              std::to_string(part.secid) + " is not a *SECTION_SPH");
+      if (part.inertia && !model_.rigid_material(part))
+        throw InputError(part.inertia->where, "*PART_INERTIA",
+                         "part " + std::to_string(part.id) + ": material " + std::to_string(part.mid) +
+                             " is not *MAT_RIGID: Spall takes given mass properties for rigid bodies only");
       const bool shell_section = std::holds_alternative<model::SectionShell>(section->second);
       if (auto it = first_shell_.find(part.id); it != first_shell_.end()) {
         if (!shell_section)
