@@ -222,6 +222,36 @@ TEST(RigidBodies, WhatSpallCannotRunIsRefused) {
   EXPECT_NE(error_of(m).find("CMO -1"), std::string::npos);
 }
 
+TEST(RigidBodies, CmoMinusOneHoldsAlongItsSystemsAxes) {
+  // A cube (its lumped inertia isotropic, so a free spin keeps its axis) with *MAT_RIGID CMO -1,
+  // CON1 a system whose x axis is (1, 1, 0) / sqrt 2 and y (-1, 1, 0) / sqrt 2, CON2 100010: the
+  // translation along local x and the rotation about local y held. Under a base acceleration g
+  // along global x (a force -m g x) the centre moves in the plane normal to local x,
+  // v = -g t (x - (x . e) e) = -g t (1/2, -1/2, 0); a spin of 1 rad/s about global x keeps only its
+  // component about local x, (x . e) e = (1/2, 1/2, 0) rad/s.
+  log::set_quiet(true);
+  const Real T = 1e-3, g = 9.81;
+  model::Model m = rigid_brick(Vec3(0.1, 0.1, 0.1), {2, 2, 2}, T, 1e-5);
+  model::CoordinateSystem system;
+  system.id = 5, system.keyword = "*DEFINE_COORDINATE_VECTOR";
+  system.axis = Vec3(1, 1, 0), system.in_plane = Vec3(-1, 1, 0);
+  m.coordinate_systems[5] = system;
+  auto& card = std::get<model::MatRigid>(m.materials[1].params);
+  card.cmo = -1, card.con1 = 5, card.con2 = 100010;
+  model::Curve one;
+  one.id = 1, one.points = {{0.0, 1.0}, {1.0, 1.0}};
+  m.curves[1] = one;
+  m.body_loads.push_back({0, 1, g, 0, Vec3::Zero(), 0, {}});
+  model::InitialVelocityGeneration spin;
+  spin.id = 1, spin.styp = 2, spin.omega = 1.0, spin.axis = Vec3(1, 0, 0);
+  m.initial_velocity_generations.push_back(spin);
+  solver::Problem p = solver::build_problem(m);
+  solver::run(p, solver::Observer{});
+  const rigid::RigidBody& body = p.rigid_bodies.bodies().at(0);
+  EXPECT_NEAR((body.velocity - (-g * T) * Vec3(0.5, -0.5, 0)).norm(), 0.0, 1e-12 * g * T) << body.velocity.transpose();
+  EXPECT_NEAR((body.angular_velocity - Vec3(0.5, 0.5, 0)).norm(), 0.0, 1e-12) << body.angular_velocity.transpose();
+}
+
 TEST(RigidBodies, HistoryRowsAtTheRbdoutInterval) {
   // *DATABASE_RBDOUT DT: rbdout.csv rows at t = 0, DT, 2 DT ... and at the end (docs/OUTPUT.md),
   // whatever the GLSTAT interval; without the card, GLSTAT's interval.

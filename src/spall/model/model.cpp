@@ -30,9 +30,8 @@ std::string location_text(const SourceLocation& where) { return where.file + ":"
 
 }  // namespace
 
-void Model::require_global_axes(Id cid, const SourceLocation& where, const std::string& keyword,
-                                const std::string& field, bool initial_only) const {
-  if (cid == 0) return;
+Mat3 Model::axes(Id cid, const SourceLocation& where, const std::string& keyword, const std::string& field) const {
+  if (cid == 0) return Mat3::Identity();
   const auto it = coordinate_systems.find(cid);
   if (it == coordinate_systems.end())
     fail_at(where, keyword, fmt::format("{}: coordinate system {} is not defined", field, cid));
@@ -55,21 +54,29 @@ void Model::require_global_axes(Id cid, const SourceLocation& where, const std::
     fail_at(system.where, system.keyword,
             fmt::format("coordinate system {}: its two vectors are parallel (or zero), so they give no axes", cid));
   // The local axes in order axis_index, +1, +2 (cyclic): a, then (a x w) x a, then a x w.
-  Vec3 local[3];
-  local[system.axis_index] = axis.normalized();
-  local[(system.axis_index + 2) % 3] = normal.normalized();
-  local[(system.axis_index + 1) % 3] = local[(system.axis_index + 2) % 3].cross(local[system.axis_index]);
+  Mat3 local;
+  local.col(system.axis_index) = axis.normalized();
+  local.col((system.axis_index + 2) % 3) = normal.normalized();
+  local.col((system.axis_index + 1) % 3) = local.col((system.axis_index + 2) % 3).cross(local.col(system.axis_index));
+  return local;
+}
+
+void Model::require_global_axes(Id cid, const SourceLocation& where, const std::string& keyword,
+                                const std::string& field, bool initial_only) const {
+  if (cid == 0) return;
+  const Mat3 local = axes(cid, where, keyword, field);
+  const CoordinateSystem& system = coordinate_systems.at(cid);
   // Global within 1e-9 of the cosine (an angle of 4.5e-5 rad): the round-off of coordinates written
   // with 7 or more digits, well below any rotation a user means.
   bool global = true;
-  for (int d = 0; d < 3; ++d) global = global && local[d][d] >= 1 - 1e-9;
+  for (int d = 0; d < 3; ++d) global = global && local(d, d) >= 1 - 1e-9;
   const std::string named = fmt::format("{}: coordinate system {} ({} at {})", field, cid, system.keyword,
                                         location_text(system.where));
   if (!global)
     fail_at(where, keyword,
             fmt::format("{} has local x axis ({:.6g}, {:.6g}, {:.6g}), not the global one: Spall applies this card "
                         "in global axes only",
-                        named, local[0].x(), local[0].y(), local[0].z()));
+                        named, local(0, 0), local(1, 0), local(2, 0)));
   if (system.follows_nodes && !initial_only)
     fail_at(where, keyword,
             fmt::format("{} turns with its nodes during the run (FLAG 1), which Spall cannot follow; give FLAG 0",

@@ -679,6 +679,10 @@ struct Model {
   // The thickness at a shell element's four corners: its THICn where given, else its section's Tn.
   // The element's part must have a *SECTION_SHELL (validate() checks it).
   std::array<Real, 4> shell_thickness(const ElementShell& element) const;
+  // The axes of the coordinate system `cid` (the columns: local x, y, z in global coordinates; the
+  // identity for 0), for a card of `keyword` whose `field` names it; an InputError at `where` when it
+  // is not defined or its vectors give no axes.
+  Mat3 axes(Id cid, const SourceLocation& where, const std::string& keyword, const std::string& field) const;
   // For a card of `keyword` whose `field` names the coordinate system `cid`: nothing when cid is 0
   // or a system with the global axes; otherwise an InputError at `where`, saying whether the system
   // is undefined, turned, or (with `initial_only` false) turning with its nodes during the run.

@@ -40,6 +40,15 @@ bool prescribed(const PrescribedMotion& m, Real time, Real dt, Real dt_mid, Real
   return true;
 }
 
+// `value` with its components along the held columns of `axes` set to 0.
+Vec3 held(const Vec3& value, const std::array<bool, 3>& fixed, const Mat3& axes) {
+  if (!(fixed[0] || fixed[1] || fixed[2])) return value;
+  Vec3 local = axes.transpose() * value;
+  for (int d = 0; d < 3; ++d)
+    if (fixed[d]) local[d] = 0;
+  return axes * local;
+}
+
 }  // namespace
 
 Mat3 rotation_of(const Vec3& phi) {
@@ -138,8 +147,7 @@ void RigidBodies::advance(discretization::NodeStore& nodes, Real time, Real dt, 
         if (prescribed(m, time, dt, dt_mid, b.velocity[m.dof], b.centre[m.dof] - b.initial_centre[m.dof], v))
           b.velocity[m.dof] = v;
       }
-    for (int d = 0; d < 3; ++d)
-      if (b.fixed_translation[d]) b.velocity[d] = 0;
+    b.velocity = held(b.velocity, b.fixed_translation, b.constraint_axes);
 
     // Rotation: omega^{n+1/2} = J^{n+1/2, -1} L with J at the middle of the step, found by fixed
     // point from the last omega (the implicit midpoint rule for Euler's equations: L exactly
@@ -153,8 +161,7 @@ void RigidBodies::advance(discretization::NodeStore& nodes, Real time, Real dt, 
         Real w;
         if (prescribed(m, time, dt, dt_mid, b.angular_velocity[d], b.angle[d], w)) imposed[d] = true, imposed_value[d] = w;
       }
-    for (int d = 0; d < 3; ++d)
-      if (b.fixed_rotation[d]) imposed[d] = true, imposed_value[d] = 0;
+    const bool rotation_held = b.fixed_rotation[0] || b.fixed_rotation[1] || b.fixed_rotation[2];
     Vec3 omega = b.angular_velocity;
     Mat3 J_half;
     for (int iteration = 0; iteration < 4; ++iteration) {
@@ -162,8 +169,9 @@ void RigidBodies::advance(discretization::NodeStore& nodes, Real time, Real dt, 
       omega = J_half.ldlt().solve(b.angular_momentum);
       for (int d = 0; d < 3; ++d)
         if (imposed[d]) omega[d] = imposed_value[d];
+      omega = held(omega, b.fixed_rotation, b.constraint_axes);
     }
-    if (imposed[0] || imposed[1] || imposed[2]) b.angular_momentum = J_half * omega;
+    if (imposed[0] || imposed[1] || imposed[2] || rotation_held) b.angular_momentum = J_half * omega;
     b.angular_velocity = omega;
     b.angle += dt * omega;
 

@@ -42,7 +42,10 @@ struct RigidBody {
   Vec3 velocity = Vec3::Zero();          // v_c at the half step
   Vec3 angular_momentum = Vec3::Zero();  // L about the centre, world frame, at the half step
   Vec3 angular_velocity = Vec3::Zero();  // omega at the half step
-  std::array<bool, 3> fixed_translation{}, fixed_rotation{};  // *MAT_RIGID CMO 1, CON1 and CON2
+  // *MAT_RIGID CMO 1 (CON1, CON2) or -1 (CON2's digits): the components held, along the columns of
+  // constraint_axes (the world's, or CMO -1's coordinate system CON1).
+  std::array<bool, 3> fixed_translation{}, fixed_rotation{};
+  Mat3 constraint_axes = Mat3::Identity();
   std::vector<PrescribedMotion> motions;
   Vec3 force = Vec3::Zero(), moment = Vec3::Zero();  // of the nodes' forces at the last step
   Vec3 step_centre = Vec3::Zero();  // x_c at the last step's start, where force and moment act

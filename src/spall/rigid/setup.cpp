@@ -234,9 +234,12 @@ RigidBodies build_rigid_bodies(const model::Model& model, const std::unordered_m
         fail_at(part.where, "*PART", fmt::format("part {}: node {} belongs to another rigid body too (merge the two "
                                               "with *CONSTRAINED_RIGID_BODIES)", pid, nodes.id[i]));
     if (card.cmo == -1) {
-      // CON1 is a coordinate system and CON2 six digits (x y z translation, x y z rotation; 1 held,
-      // 100000 holds x): in a system with the global axes, the constraints of CMO 1.
-      model.require_global_axes(card.con1, where, "*MAT_RIGID", "CON1", false);
+      // CON1 is a coordinate system and CON2 six digits (x y z translation, x y z rotation about the
+      // system's axes; 1 held, 100000 holds x). The system keeps its first axes.
+      body.constraint_axes = model.axes(card.con1, where, "*MAT_RIGID", "CON1");
+      if (card.con1 != 0 && model.coordinate_systems.at(card.con1).follows_nodes)
+        fail_at(where, "*MAT_RIGID", fmt::format("CON1: coordinate system {} turns with its nodes during the run (FLAG "
+                                                 "1), which Spall cannot follow; give FLAG 0", card.con1));
       int code = card.con2;
       bool digits = code >= 0;
       for (int d = 5; d >= 0; --d, code /= 10) {
@@ -262,6 +265,11 @@ RigidBodies build_rigid_bodies(const model::Model& model, const std::unordered_m
       if (pm.target == model::Target::part && pm.id == pid) {
         body.motions.push_back(prescribed_motion(model, pm));
         const int dof = body.motions.back().dof;
+        if (!body.constraint_axes.isIdentity(0) && (dof < 3 ? body.fixed_translation : body.fixed_rotation) !=
+                                                       std::array<bool, 3>{})
+          fail_at(pm.where, "*BOUNDARY_PRESCRIBED_MOTION_RIGID",
+                  fmt::format("DOF {}: part {}'s *MAT_RIGID holds components in the local axes of CMO -1's system {}; "
+                              "prescribed motion (global axes) with them is not supported", pm.dof, pid, card.con1));
         if (dof < 3 ? body.fixed_translation[dof] : body.fixed_rotation[dof - 3])
           fail_at(pm.where, "*BOUNDARY_PRESCRIBED_MOTION_RIGID",
                   fmt::format("DOF {}: part {}'s *MAT_RIGID (CMO 1, {} {}) holds that degree of freedom", pm.dof, pid,
