@@ -147,6 +147,16 @@ TEST(keyword_errors, ShellCardsAndDeformableShells) {
                 "are not implemented)");
 }
 
+TEST(keyword_errors, DefineVector) {
+  DeckFolder folder;
+  EXPECT_EQ(read_error(folder, "*DEFINE_VECTOR_TITLE\naxis\n" + row({"3", "1.0", "2.0", "3.0", "1.0", "2.0", "3.0"})),
+            prefix(folder, 3, "*DEFINE_VECTOR_TITLE") + "field XH: the head is the tail: the vector has no direction");
+  const auto model = read_deck(folder.write("ok.k", "*DEFINE_VECTOR\n" + row({"3", "1.0", "2.0", "3.0", "1.0", "2.0",
+                                                                              "4.0", "7"})));
+  EXPECT_EQ(model.vectors.at(3).head - model.vectors.at(3).tail, Vec3(0, 0, 1));
+  EXPECT_EQ(model.vectors.at(3).cid, 7);
+}
+
 TEST(keyword_errors, ValidateCrossReferences) {
   DeckFolder folder;
   const std::string base = termination + "*NODE\n" + row({"1", "0", "0", "0"}, node_widths) +

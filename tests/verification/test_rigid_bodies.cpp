@@ -206,8 +206,11 @@ TEST(RigidBodies, WhatSpallCannotRunIsRefused) {
   model::Curve c;
   c.id = 1, c.points = {{0.0, 1.0}, {1.0, 1.0}};
   m.curves[1] = c;
-  m.prescribed_motions.push_back({model::Target::part, 1, 8, 0, 1, 1.0, 0, 1e28, 0, {}});
-  EXPECT_NE(error_of(m).find("DOF 8: only translations"), std::string::npos) << error_of(m);
+  m.prescribed_motions.push_back({model::Target::part, 1, -4, 0, 1, 1.0, 0, 1e28, 0, {}});
+  EXPECT_NE(error_of(m).find("DOF -4: only translations"), std::string::npos) << error_of(m);
+  m.prescribed_motions.back().dof = 8;
+  EXPECT_NE(error_of(m).find("VID 0: DOF 8 takes its direction from a *DEFINE_VECTOR"), std::string::npos)
+      << error_of(m);
   m.prescribed_motions.back().dof = 7, m.prescribed_motions.back().vad = 3;
   EXPECT_NE(error_of(m).find("VAD 3"), std::string::npos);
   m.prescribed_motions.back().vad = 0, m.prescribed_motions.back().id = 5;
@@ -220,6 +223,35 @@ TEST(RigidBodies, WhatSpallCannotRunIsRefused) {
   m.prescribed_motions.clear();
   card.cmo = -1;
   EXPECT_NE(error_of(m).find("CMO -1"), std::string::npos);
+}
+
+TEST(RigidBodies, PrescribedMotionAlongAVector) {
+  // DOF 8 turns a cube at 2 rad/s about the *DEFINE_VECTOR (1, 1, 0) (tail (1, 1, 1), head
+  // (2, 2, 1)) through its centre, and DOF 4 with VAD 2 moves its centre 3 mm along (0, 3, 4) / 5 by
+  // t = T: after T the centre is 3 mm along that direction (the motion normal to it is free and
+  // nothing pushes it), and a corner r0 is at x_c + R r0 with R the rotation by 2 T about the axis
+  // (Rodrigues' formula). A cube, whose lumped inertia is isotropic: about an axis that is not
+  // principal the free rotation normal to it would wobble, as it should.
+  log::set_quiet(true);
+  const Real T = 0.01;
+  model::Model m = rigid_brick(Vec3(0.1, 0.1, 0.1), {2, 2, 2}, T, 1e-5);
+  m.vectors[3] = model::Vector{3, Vec3(1, 1, 1), Vec3(2, 2, 1), 0, {}};
+  m.vectors[4] = model::Vector{4, Vec3::Zero(), Vec3(0, 3, 4), 0, {}};
+  model::Curve spin, plunge;
+  spin.id = 1, spin.points = {{0.0, 2.0}, {1.0, 2.0}};
+  plunge.id = 2, plunge.points = {{0.0, 0.0}, {T, 0.003}, {1.0, 0.003}};
+  m.curves[1] = spin, m.curves[2] = plunge;
+  m.prescribed_motions.push_back({model::Target::part, 1, 8, 0, 1, 1.0, 3, 1e28, 0, {}});
+  m.prescribed_motions.push_back({model::Target::part, 1, 4, 2, 2, 1.0, 4, 1e28, 0, {}});
+  solver::Problem p = solver::build_problem(m);
+  const Vec3 corner0 = p.nodes.x[0];
+  solver::run(p, solver::Observer{});
+  const rigid::RigidBody& body = p.rigid_bodies.bodies().at(0);
+  EXPECT_NEAR((body.centre - 0.003 * Vec3(0, 0.6, 0.8)).norm(), 0.0, 1e-12);
+  const Vec3 axis = Vec3(1, 1, 0).normalized();
+  const Vec3 expected = body.centre + rigid::rotation_of(2.0 * T * axis) * corner0;
+  EXPECT_NEAR((p.nodes.x[0] - expected).norm(), 0.0, 1e-9) << p.nodes.x[0].transpose() << " vs "
+                                                           << expected.transpose();
 }
 
 TEST(RigidBodies, CmoMinusOneHoldsAlongItsSystemsAxes) {

@@ -68,6 +68,15 @@ struct CoordinateSystem {
   SourceLocation where;
 };
 
+// *DEFINE_VECTOR: a direction, from the tail (XT YT ZT) to the head (XH YH ZH), in the axes of the
+// coordinate system CID (0: global).
+struct Vector {
+  Id id = 0;
+  Vec3 tail = Vec3::Zero(), head = Vec3::Zero();
+  Id cid = 0;
+  SourceLocation where;
+};
+
 // A *MAT_THERMAL_* card: its own ID space in LS-DYNA (*PART TMID), apart from the structural
 // materials. Spall solves no heat equation, so only the ID is kept, for TMID references.
 struct ThermalMaterial {
@@ -630,6 +639,7 @@ struct Model {
   std::map<Id, Material> materials;
   std::map<Id, ThermalMaterial> thermal_materials;
   std::map<Id, CoordinateSystem> coordinate_systems;
+  std::map<Id, Vector> vectors;
   std::map<Id, Eos> eos;
   std::vector<ElementSph> sph_elements;
   std::vector<ElementSolid> solid_elements;

@@ -142,10 +142,10 @@ void RigidBodies::advance(discretization::NodeStore& nodes, Real time, Real dt, 
 
     // Translations: prescribed, or held (CMO 1, CON1), else free.
     for (const PrescribedMotion& m : b.motions)
-      if (m.dof < 3) {
+      if (!m.rotation) {
         Real v;
-        if (prescribed(m, time, dt, dt_mid, b.velocity[m.dof], b.centre[m.dof] - b.initial_centre[m.dof], v))
-          b.velocity[m.dof] = v;
+        if (prescribed(m, time, dt, dt_mid, m.along(b.velocity), m.along(b.centre - b.initial_centre), v))
+          m.set_along(b.velocity, v);
       }
     b.velocity = held(b.velocity, b.fixed_translation, b.constraint_axes);
 
@@ -153,25 +153,24 @@ void RigidBodies::advance(discretization::NodeStore& nodes, Real time, Real dt, 
     // point from the last omega (the implicit midpoint rule for Euler's equations: L exactly
     // conserved, the energy to O(dt^2) without drift); then the components that are prescribed
     // or held, and L made to match them.
-    std::array<bool, 3> imposed{};
-    Vec3 imposed_value = Vec3::Zero();
-    for (const PrescribedMotion& m : b.motions)
-      if (m.dof >= 3) {
-        const int d = m.dof - 3;
-        Real w;
-        if (prescribed(m, time, dt, dt_mid, b.angular_velocity[d], b.angle[d], w)) imposed[d] = true, imposed_value[d] = w;
-      }
+    std::array<std::pair<const PrescribedMotion*, Real>, 8> imposed;
+    std::size_t imposed_count = 0;
+    for (const PrescribedMotion& m : b.motions) {
+      Real w;
+      if (m.rotation && imposed_count < imposed.size() &&
+          prescribed(m, time, dt, dt_mid, m.along(b.angular_velocity), m.along(b.angle), w))
+        imposed[imposed_count++] = {&m, w};
+    }
     const bool rotation_held = b.fixed_rotation[0] || b.fixed_rotation[1] || b.fixed_rotation[2];
     Vec3 omega = b.angular_velocity;
     Mat3 J_half;
     for (int iteration = 0; iteration < 4; ++iteration) {
       J_half = b.world_inertia(rotation_of(Real(0.5) * dt * omega) * b.rotation);
       omega = J_half.ldlt().solve(b.angular_momentum);
-      for (int d = 0; d < 3; ++d)
-        if (imposed[d]) omega[d] = imposed_value[d];
+      for (std::size_t k = 0; k < imposed_count; ++k) imposed[k].first->set_along(omega, imposed[k].second);
       omega = held(omega, b.fixed_rotation, b.constraint_axes);
     }
-    if (imposed[0] || imposed[1] || imposed[2] || rotation_held) b.angular_momentum = J_half * omega;
+    if (imposed_count > 0 || rotation_held) b.angular_momentum = J_half * omega;
     b.angular_velocity = omega;
     b.angle += dt * omega;
 

@@ -18,15 +18,27 @@
 
 namespace spall::rigid {
 
-// A prescribed motion of one degree of freedom of a body (*BOUNDARY_PRESCRIBED_MOTION_RIGID):
-// DOF 0-2 translation along x, y, z; 3-5 rotation about the global x, y, z axes through the
-// centre of mass.
+// A prescribed motion of one degree of freedom of a body (*BOUNDARY_PRESCRIBED_MOTION_RIGID): the
+// translation of its centre, or its rotation about an axis through the centre, along `direction`
+// (a unit vector: DOF 1-3 and 5-7 the global axes, numbered `axis` 0-2, set exactly; DOF 4 and 8
+// a *DEFINE_VECTOR, axis -1, the motion normal to it free).
 struct PrescribedMotion {
-  int dof = 0;
+  bool rotation = false;
+  int axis = 0;
+  Vec3 direction = Vec3::UnitX();
   int vad = 0;  // 0 velocity, 1 acceleration, 2 displacement (for rotations: angle)
   const model::Curve* curve = nullptr;
   Real sf = 1;
   Real birth = 0, death = 1e28;
+
+  // The component of a vector along the motion's direction, and setting it to `value`.
+  Real along(const Vec3& x) const { return axis >= 0 ? x[axis] : x.dot(direction); }
+  void set_along(Vec3& x, Real value) const {
+    if (axis >= 0)
+      x[axis] = value;
+    else
+      x += (value - x.dot(direction)) * direction;
+  }
 };
 
 struct RigidBody {
@@ -37,7 +49,7 @@ struct RigidBody {
   Mat3 inertia = Mat3::Zero();  // J about the centre, in the body's frame (the world's at t = 0)
   Vec3 centre = Vec3::Zero();   // x_c
   Vec3 initial_centre = Vec3::Zero();
-  Vec3 angle = Vec3::Zero();    // the rotation about x, y, z so far, sum of dt omega (VAD 2)
+  Vec3 angle = Vec3::Zero();    // the rotation so far, sum of dt omega (VAD 2: its component along the axis)
   Mat3 rotation = Mat3::Identity();
   Vec3 velocity = Vec3::Zero();          // v_c at the half step
   Vec3 angular_momentum = Vec3::Zero();  // L about the centre, world frame, at the half step

@@ -20,24 +20,38 @@ std::array<bool, 3> axes(int code) {
   return {(mask & 1) != 0, (mask & 2) != 0, (mask & 4) != 0};
 }
 
-// *BOUNDARY_PRESCRIBED_MOTION_RIGID (fem-contact.md §1.4): DOF 1-3 translations, 5-7 rotations
-// about the global axes through the centre of mass; VAD 0 velocity, 1 acceleration, 2
-// displacement (or angle).
+// *BOUNDARY_PRESCRIBED_MOTION_RIGID (fem-contact.md §1.4): DOF 1-3 translations along, 5-7
+// rotations about, the global axes through the centre of mass; DOF 4 and 8 the same along the
+// *DEFINE_VECTOR VID, the motion normal to it free; VAD 0 velocity, 1 acceleration, 2 displacement
+// (or angle).
 PrescribedMotion prescribed_motion(const model::Model& model, const model::PrescribedMotion& pm) {
   const char* keyword = "*BOUNDARY_PRESCRIBED_MOTION_RIGID";
   PrescribedMotion m;
-  if (pm.dof >= 1 && pm.dof <= 3)
-    m.dof = pm.dof - 1;
-  else if (pm.dof >= 5 && pm.dof <= 7)
-    m.dof = pm.dof - 2;
-  else
+  if ((pm.dof >= 1 && pm.dof <= 3) || (pm.dof >= 5 && pm.dof <= 7)) {
+    m.rotation = pm.dof >= 5;
+    m.axis = (pm.dof - 1) % 4;
+    m.direction = Vec3::Unit(m.axis);
+    if (pm.vid != 0)
+      fail_at(pm.where, keyword, fmt::format("VID {}: a vector gives the direction of DOF 4 and 8 only (DOF {} is a "
+                                             "global axis)", pm.vid, pm.dof));
+  } else if (pm.dof == 4 || pm.dof == 8) {
+    m.rotation = pm.dof == 8;
+    m.axis = -1;
+    auto vector = model.vectors.find(pm.vid);
+    if (vector == model.vectors.end())
+      fail_at(pm.where, keyword, fmt::format("VID {}: DOF {} takes its direction from a *DEFINE_VECTOR, and vector {} "
+                                             "is not defined", pm.vid, pm.dof, pm.vid));
+    const model::Vector& v = vector->second;
+    m.direction = (model.axes(v.cid, v.where, "*DEFINE_VECTOR", "CID") * (v.head - v.tail)).normalized();
+  } else {
     fail_at(pm.where, keyword,
-            fmt::format("DOF {}: only translations (1, 2, 3) and rotations about the global axes through the centre of "
-                     "mass (5, 6, 7) are supported", pm.dof));
+            fmt::format("DOF {}: only translations (1, 2, 3, and 4 along VID) and rotations about axes through the "
+                        "centre of mass (5, 6, 7, and 8 about VID) apply to a rigid body here (-4 and -8 need *MAT_RIGID "
+                        "CMO 2, which is not supported)", pm.dof));
+  }
   if (pm.vad < 0 || pm.vad > 2)
     fail_at(pm.where, keyword,
             fmt::format("VAD {}: only velocity (0), acceleration (1) and displacement (2) are supported", pm.vad));
-  if (pm.vid != 0) fail_at(pm.where, keyword, fmt::format("VID {}: local directions are not supported", pm.vid));
   auto curve = model.curves.find(pm.lcid);
   if (curve == model.curves.end()) fail_at(pm.where, keyword, fmt::format("LCID: curve {} does not exist", pm.lcid));
   m.vad = pm.vad;
@@ -264,16 +278,18 @@ RigidBodies build_rigid_bodies(const model::Model& model, const std::unordered_m
     for (const auto& pm : model.prescribed_motions)
       if (pm.target == model::Target::part && pm.id == pid) {
         body.motions.push_back(prescribed_motion(model, pm));
-        const int dof = body.motions.back().dof;
-        if (!body.constraint_axes.isIdentity(0) && (dof < 3 ? body.fixed_translation : body.fixed_rotation) !=
-                                                       std::array<bool, 3>{})
+        const PrescribedMotion& motion = body.motions.back();
+        const auto& held = motion.rotation ? body.fixed_rotation : body.fixed_translation;
+        if (!body.constraint_axes.isIdentity(0) && held != std::array<bool, 3>{})
           fail_at(pm.where, "*BOUNDARY_PRESCRIBED_MOTION_RIGID",
                   fmt::format("DOF {}: part {}'s *MAT_RIGID holds components in the local axes of CMO -1's system {}; "
                               "prescribed motion (global axes) with them is not supported", pm.dof, pid, card.con1));
-        if (dof < 3 ? body.fixed_translation[dof] : body.fixed_rotation[dof - 3])
-          fail_at(pm.where, "*BOUNDARY_PRESCRIBED_MOTION_RIGID",
-                  fmt::format("DOF {}: part {}'s *MAT_RIGID (CMO 1, {} {}) holds that degree of freedom", pm.dof, pid,
-                           dof < 3 ? "CON1" : "CON2", dof < 3 ? card.con1 : card.con2));
+        for (int d = 0; d < 3; ++d)
+          if (held[d] && motion.direction[d] != 0)
+            fail_at(pm.where, "*BOUNDARY_PRESCRIBED_MOTION_RIGID",
+                    fmt::format("DOF {}: part {}'s *MAT_RIGID (CMO {}, {} {}) holds {} degree of freedom", pm.dof, pid,
+                                card.cmo, motion.rotation ? "CON2" : "CON1", motion.rotation ? card.con2 : card.con1,
+                                motion.axis >= 0 ? "that" : "a component of that"));
       }
     bodies.add(std::move(body), nodes, given ? &*given : nullptr);
   }

@@ -297,6 +297,28 @@ void read_define_coordinate_vector(CardCursor& cursor, const KeywordCall& call, 
   });
 }
 
+// VID XT YT ZT XH YH ZH CID, repeated (after a title line each with _TITLE).
+void read_define_vector(CardCursor& cursor, const KeywordCall& call, model::Model& model) {
+  while (true) {
+    cursor.skip_blank_lines();
+    if (cursor.done()) break;
+    if (call.title) cursor.next_text("title");
+    const Card card = cursor.next(standard_fields, "card 1 (VID XT YT ZT XH YH ZH CID)");
+    model::Vector vector;
+    vector.id = card.required_integer(0, "VID");
+    if (vector.id <= 0) card.fail("VID", quoted(card.text(0)) + " is not a vector ID (> 0)");
+    static constexpr const char* tail[3] = {"XT", "YT", "ZT"};
+    static constexpr const char* head[3] = {"XH", "YH", "ZH"};
+    vector.tail = point(card, 1, tail);
+    vector.head = point(card, 4, head);
+    vector.cid = card.integer(7, "CID", 0);
+    vector.where = card.where();
+    if (!((vector.head - vector.tail).norm() > 0))
+      card.fail("XH", "the head is the tail: the vector has no direction");
+    insert_unique(model.vectors, vector.id, std::move(vector), card, "vector");
+  }
+}
+
 // N1 -> N2 is the axis DIR (X, Y or Z; blank X), N3 lies in the plane of that axis and the next.
 void read_define_coordinate_nodes(CardCursor& cursor, const KeywordCall& call, model::Model& model) {
   read_coordinate_systems(cursor, call, model, [&](model::CoordinateSystem& system) {

@@ -61,6 +61,7 @@ void read_part_inertia(CardCursor&, const KeywordCall&, model::Model&);
 void read_define_coordinate_system(CardCursor&, const KeywordCall&, model::Model&);
 void read_define_coordinate_vector(CardCursor&, const KeywordCall&, model::Model&);
 void read_define_coordinate_nodes(CardCursor&, const KeywordCall&, model::Model&);
+void read_define_vector(CardCursor&, const KeywordCall&, model::Model&);
 // sph_mesh_box.cpp
 void read_define_sph_mesh_box(CardCursor&, const KeywordCall&, model::Model&);
 // After the whole deck is read: the nodes and particles of every *DEFINE_SPH_MESH_BOX.

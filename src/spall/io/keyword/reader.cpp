@@ -39,6 +39,7 @@ constexpr SupportedKeyword supported_keywords[] = {
     {"DEFINE_COORDINATE_SYSTEM", read_define_coordinate_system, true},
     {"DEFINE_COORDINATE_VECTOR", read_define_coordinate_vector, true},
     {"DEFINE_COORDINATE_NODES", read_define_coordinate_nodes, true},
+    {"DEFINE_VECTOR", read_define_vector, true},
     {"SECTION_SOLID", read_section_solid, true},
     {"SECTION_SOLID_SPG", read_section_solid_spg, true},
     {"SECTION_SPH", read_section_sph, true},
