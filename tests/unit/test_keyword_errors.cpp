@@ -36,6 +36,17 @@ TEST(keyword_errors, IntegerFieldRejectsFraction) {
             prefix(folder, 2, "*SECTION_SOLID") + "field ELFORM: '1.5' is not an integer");
 }
 
+// A flag or count beyond 32 bits is refused, not cut to its low 32 bits (2^32 + 1 would read as 1).
+TEST(keyword_errors, IntegerFieldBeyond32BitsIsRefused) {
+  DeckFolder folder;
+  EXPECT_EQ(read_error(folder, "*SECTION_SOLID\n" + row({"1", "4294967297"})),
+            prefix(folder, 2, "*SECTION_SOLID") +
+                "field ELFORM: '4294967297' is beyond the range of this field (a 32-bit integer)");
+  // An eight-column field cannot hold such a number; a free-format line can.
+  EXPECT_EQ(read_error(folder, "*NODE\n1,0.0,0.0,0.0,-4294967295\n"),
+            prefix(folder, 2, "*NODE") + "field TC: '-4294967295' is beyond the range of this field (a 32-bit integer)");
+}
+
 TEST(keyword_errors, MissingMandatoryEndtim) {
   DeckFolder folder;
   EXPECT_EQ(read_error(folder, "*KEYWORD\n*CONTROL_TERMINATION\n" + row({"", "100"})),

@@ -69,8 +69,8 @@ void read_boundary_prescribed_motion(CardCursor& cursor, const KeywordCall& call
     model::PrescribedMotion motion;
     motion.target = target;
     motion.id = card.required_integer(0, id_name);
-    motion.dof = static_cast<int>(card.required_integer(1, "DOF"));
-    motion.vad = static_cast<int>(card.integer(2, "VAD", 0));
+    motion.dof = card.required_int32(1, "DOF");
+    motion.vad = card.int32(2, "VAD", 0);
     motion.lcid = card.required_integer(3, "LCID");
     // Blank and 0 read alike in LS-DYNA, so 0 takes the defaults SF = 1, DEATH = 1e28.
     motion.sf = card.real(4, "SF", 0.0);
@@ -95,7 +95,7 @@ void read_initial_velocity(CardCursor& cursor, const KeywordCall&, model::Model&
   velocity.nsid = card1.integer(0, "NSID", 0);
   velocity.nsidex = card1.integer(1, "NSIDEX", 0);
   velocity.boxid = card1.integer(2, "BOXID", 0);
-  velocity.irigid = static_cast<int>(card1.integer(3, "IRIGID", 0));
+  velocity.irigid = card1.int32(3, "IRIGID", 0);
   velocity.icid = card1.integer(4, "ICID", 0);
   velocity.where = card1.where();
   const Card card2 = cursor.next(standard_fields, "card 2 (VX VY VZ VXR VYR VZR)");
@@ -132,7 +132,7 @@ void read_initial_velocity_generation(CardCursor& cursor, const KeywordCall&, mo
     const Card card1 = cursor.next(standard_fields, "card 1 (ID STYP OMEGA VX VY VZ IVATN ICID)");
     model::InitialVelocityGeneration generation;
     generation.id = card1.integer(0, "ID", 0);
-    generation.styp = static_cast<int>(card1.required_integer(1, "STYP"));
+    generation.styp = card1.required_int32(1, "STYP");
     if (generation.styp < 1 || generation.styp > 3)
       card1.fail("STYP", quoted(card1.text(1)) + " is not 1 (part set), 2 (part) or 3 (node set)");
     generation.omega = card1.real(2, "OMEGA", 0.0);
@@ -144,8 +144,8 @@ void read_initial_velocity_generation(CardCursor& cursor, const KeywordCall&, mo
     generation.xc = read_vec3(card2, 0, "XC", "YC", "ZC");
     // NX = -999 makes NY and NZ two node IDs on the axis; kept as read for the solver.
     generation.axis = read_vec3(card2, 3, "NX", "NY", "NZ");
-    generation.phase = static_cast<int>(card2.integer(6, "PHASE", 0));
-    generation.irigid = static_cast<int>(card2.integer(7, "IRIGID", 0));
+    generation.phase = card2.int32(6, "PHASE", 0);
+    generation.irigid = card2.int32(7, "IRIGID", 0);
     model.initial_velocity_generations.push_back(std::move(generation));
   }
 }

@@ -1,8 +1,9 @@
 #include "spall/io/keyword/card.hpp"
 
-#include "spall/io/keyword/numbers.hpp"
-
 #include <cmath>
+#include <limits>
+
+#include "spall/io/keyword/numbers.hpp"
 
 namespace spall::io::keyword {
 
@@ -114,6 +115,23 @@ std::int64_t Card::required_integer(int field, std::string_view name) const {
   const auto value = whole_number(field, name);
   if (!value) fail(name, "is blank but has no default; a value is required");
   return *value;
+}
+
+namespace {
+int narrowed(const Card& card, int field, std::string_view name, std::int64_t value) {
+  if (value < std::numeric_limits<int>::min() || value > std::numeric_limits<int>::max())
+    card.fail(name, quoted(card.text(field)) + " is beyond the range of this field (a 32-bit integer)");
+  return static_cast<int>(value);
+}
+}  // namespace
+
+int Card::int32(int field, std::string_view name, int fallback) const {
+  const auto value = whole_number(field, name);
+  return value ? narrowed(*this, field, name, *value) : fallback;
+}
+
+int Card::required_int32(int field, std::string_view name) const {
+  return narrowed(*this, field, name, required_integer(field, name));
 }
 
 Card CardCursor::next(std::span<const int> widths, std::string_view card) {

@@ -54,6 +54,10 @@ class Card {
   Real required_real(int field, std::string_view name) const;
   std::int64_t integer(int field, std::string_view name, std::int64_t fallback) const;
   std::int64_t required_integer(int field, std::string_view name) const;
+  // An integer field that a 32-bit int holds (flags, options, counts): a value beyond it is an
+  // error, never its low 32 bits.
+  int int32(int field, std::string_view name, int fallback) const;
+  int required_int32(int field, std::string_view name) const;
 
   [[noreturn]] void fail(std::string_view name, const std::string& message) const;
 

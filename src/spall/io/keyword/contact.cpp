@@ -97,7 +97,7 @@ ContactSurface read_surface(const Card& card, int side, Contact::Kind kind) {
   const bool a = side == 0;
   const char* id_name = a ? "SURFA" : "SURFB";
   const char* type_name = a ? "SURFATYP" : "SURFBTYP";
-  const int type = static_cast<int>(card.integer(2 + side, type_name, 0));
+  const int type = card.int32(2 + side, type_name, 0);
   const std::string type_text = quoted(card.text(2 + side));
   if (type == 1)
     card.fail(type_name, type_text + ": shell element sets (*SET_SHELL) are not read; give the shells' part or part set");
@@ -195,9 +195,8 @@ void read_card_a(const Card& card, Contact& contact) {
   card.integer(4, "SBOPT", 0);
   card.integer(5, "DEPTH", 0);
   // BSORT: LS-DYNA's cycles between bucket sorts. Spall sorts every cycle, which any BSORT allows.
-  const auto bsort = card.integer(6, "BSORT", 0);
-  if (bsort < 0) card.fail("BSORT", quoted(card.text(6)) + ": a curve of the sort interval is not supported");
-  contact.bsort = static_cast<int>(bsort);
+  contact.bsort = card.int32(6, "BSORT", 0);
+  if (contact.bsort < 0) card.fail("BSORT", quoted(card.text(6)) + ": a curve of the sort interval is not supported");
   const auto frcfrq = card.integer(7, "FRCFRQ", 0);
   if (frcfrq != 0 && frcfrq != 1)
     card.fail("FRCFRQ", quoted(card.text(7)) + ": Spall updates contact forces every cycle (only 0 or 1)");
@@ -398,7 +397,7 @@ void read_control_contact(CardCursor& cursor, const KeywordCall&, model::Model& 
   }
   if (const auto card = cursor.next_if_any(standard_fields)) {
     // IGNORE: the default of the contacts' IGNORE; validate() refuses it where a contact would use it.
-    control.ignore = static_cast<int>(card->integer(0, "IGNORE", 0));
+    control.ignore = card->int32(0, "IGNORE", 0);
     card->integer(1, "FRCENG", 0);  // Spall always computes the friction energy
     // SKIPRWG (display of walls), OUTSEG SPOTSTP SPOTDEL SPOTHIN (spot welds), DIR_TIE (tied contact).
   }

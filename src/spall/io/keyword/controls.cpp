@@ -29,7 +29,7 @@ void read_control_termination(CardCursor& cursor, const KeywordCall&, model::Mod
   termination.endtim = card.required_real(0, "ENDTIM");
   if (termination.endtim <= 0.0)
     card.fail("ENDTIM", quoted(card.text(0)) + " must be greater than 0");
-  termination.endcyc = static_cast<int>(card.integer(1, "ENDCYC", 0));
+  termination.endcyc = card.int32(1, "ENDCYC", 0);
   termination.dtmin = card.real(2, "DTMIN", 0.0);
   termination.endeng = card.real(3, "ENDENG", 0.0);
   termination.endmas = zero_means_default(card.real(4, "ENDMAS", 0.0), 1.0e8);
@@ -57,16 +57,16 @@ void read_control_timestep(CardCursor& cursor, const KeywordCall&, model::Model&
   timestep.tssfac = zero_means_default(card.real(1, "TSSFAC", 0.0), 0.9);
   if (timestep.tssfac < 0 && (timestep.tssfac != std::trunc(timestep.tssfac) || timestep.tssfac < -largest_id))
     card.fail("TSSFAC", quoted(card.text(1)) + ": a negative TSSFAC is a curve ID, a whole number");
-  timestep.isdo = static_cast<int>(card.integer(2, "ISDO", 0));
+  timestep.isdo = card.int32(2, "ISDO", 0);
   timestep.tslimt = card.real(3, "TSLIMT", 0.0);
   timestep.dt2ms = card.real(4, "DT2MS", 0.0);
   timestep.lctm = card.integer(5, "LCTM", 0);
   // ERODE: its digits switch erosion on for solids (units), shells (tens) and beams (hundreds).
-  timestep.erode = static_cast<int>(card.integer(6, "ERODE", 0));
+  timestep.erode = card.int32(6, "ERODE", 0);
   const int e = timestep.erode;
   if (e < 0 || e > 111 || e % 10 > 1 || e / 10 % 10 > 1)
     card.fail("ERODE", quoted(card.text(6)) + " is not 0, 1, 10, 11, 100, 101, 110 or 111");
-  timestep.ms1st = static_cast<int>(card.integer(7, "MS1ST", 0));
+  timestep.ms1st = card.int32(7, "MS1ST", 0);
   timestep.where = card.where();
   model.timestep = timestep;
 }
@@ -76,7 +76,7 @@ void read_control_bulk_viscosity(CardCursor& cursor, const KeywordCall&, model::
   model::ControlBulkViscosity viscosity;
   viscosity.q1 = zero_means_default(card.real(0, "Q1", 0.0), 1.5);
   viscosity.q2 = zero_means_default(card.real(1, "Q2", 0.0), 0.06);
-  viscosity.type = static_cast<int>(card.integer(2, "TYPE", 0));
+  viscosity.type = card.int32(2, "TYPE", 0);
   if (viscosity.type == 0) viscosity.type = 1;
   if (viscosity.type < -2 || viscosity.type > 2)
     card.fail("TYPE", quoted(card.text(2)) + " is not -2, -1, 1 or 2");
@@ -114,14 +114,14 @@ void read_control_sph(CardCursor& cursor, const KeywordCall&, model::Model& mode
                 model.control_sph ? model.control_sph->where : SourceLocation{});
   model::ControlSph sph;
   const Card card1 = cursor.next(standard_fields, "card 1 (NCBS BOXID DT IDIM NMNEIGH FORM START MAXV)");
-  sph.ncbs = static_cast<int>(card1.integer(0, "NCBS", 1));
+  sph.ncbs = card1.int32(0, "NCBS", 1);
   if (sph.ncbs == 0) sph.ncbs = 1;
   sph.boxid = card1.integer(1, "BOXID", 0);
   sph.dt = zero_means_default(card1.real(2, "DT", 0.0), 1.0e20);
-  sph.idim = static_cast<int>(card1.integer(3, "IDIM", 3));
+  sph.idim = card1.int32(3, "IDIM", 3);
   if (sph.idim == 0) sph.idim = 3;
-  sph.nmneigh = static_cast<int>(card1.integer(4, "NMNEIGH", 150));
-  sph.form = static_cast<int>(card1.integer(5, "FORM", 1));
+  sph.nmneigh = card1.int32(4, "NMNEIGH", 150);
+  sph.form = card1.int32(5, "FORM", 1);
   sph.start = card1.real(6, "START", 0.0);
   sph.maxv = zero_means_default(card1.real(7, "MAXV", 0.0), 1.0e15);
   if (sph.ncbs < 0) card1.fail("NCBS", quoted(card1.text(0)) + " is negative");
@@ -130,21 +130,21 @@ void read_control_sph(CardCursor& cursor, const KeywordCall&, model::Model& mode
   sph.where = card1.where();
   sph.card_where[0] = card1.where();
   if (auto card2 = cursor.next_if_any(standard_fields)) {
-    sph.cont = static_cast<int>(card2->integer(0, "CONT", 0));
-    sph.deriv = static_cast<int>(card2->integer(1, "DERIV", 0));
-    sph.ini = static_cast<int>(card2->integer(2, "INI", 0));
-    sph.ishow = static_cast<int>(card2->integer(3, "ISHOW", 0));
-    sph.ierod = static_cast<int>(card2->integer(4, "IEROD", 0));
-    sph.icont = static_cast<int>(card2->integer(5, "ICONT", 0));
-    sph.iavis = static_cast<int>(card2->integer(6, "IAVIS", 0));
-    sph.isymp = static_cast<int>(card2->integer(7, "ISYMP", 100));
+    sph.cont = card2->int32(0, "CONT", 0);
+    sph.deriv = card2->int32(1, "DERIV", 0);
+    sph.ini = card2->int32(2, "INI", 0);
+    sph.ishow = card2->int32(3, "ISHOW", 0);
+    sph.ierod = card2->int32(4, "IEROD", 0);
+    sph.icont = card2->int32(5, "ICONT", 0);
+    sph.iavis = card2->int32(6, "IAVIS", 0);
+    sph.isymp = card2->int32(7, "ISYMP", 100);
     sph.card_where[1] = card2->where();
     if (auto card3 = cursor.next_if_any(standard_fields)) {
-      sph.ithk = static_cast<int>(card3->integer(0, "ITHK", 0));
-      sph.istab = static_cast<int>(card3->integer(1, "ISTAB", 0));
+      sph.ithk = card3->int32(0, "ITHK", 0);
+      sph.istab = card3->int32(1, "ISTAB", 0);
       sph.ql = zero_means_default(card3->real(2, "QL", 0.0), 0.01);
-      sph.sphsort = static_cast<int>(card3->integer(4, "SPHSORT", 0));
-      sph.ishift = static_cast<int>(card3->integer(5, "ISHIFT", 0));
+      sph.sphsort = card3->int32(4, "SPHSORT", 0);
+      sph.ishift = card3->int32(5, "ISHIFT", 0);
       sph.card_where[2] = card3->where();
     }
   }
@@ -175,13 +175,13 @@ void read_spall_sph_colour_field(CardCursor& cursor, const KeywordCall&, model::
     const Card card = cursor.next(standard_fields, "card 1 (PID TREAT NFRAC NTHRESH LAYERS INTERVAL TFORM TAU)");
     model::SphColourField colour;
     colour.pid = card.integer(0, "PID", 0);
-    colour.treat = static_cast<int>(card.integer(1, "TREAT", 0));
+    colour.treat = card.int32(1, "TREAT", 0);
     colour.neighbour_fraction = zero_means_default(card.real(2, "NFRAC", 0.0), 0.8);
     colour.normal_threshold = zero_means_default(card.real(3, "NTHRESH", 0.0), 0.3);
-    colour.layers = static_cast<int>(card.integer(4, "LAYERS", 1));
-    colour.interval = static_cast<int>(card.integer(5, "INTERVAL", 1));
+    colour.layers = card.int32(4, "LAYERS", 1);
+    colour.interval = card.int32(5, "INTERVAL", 1);
     if (colour.interval == 0) colour.interval = 1;
-    colour.form = static_cast<int>(card.integer(6, "TFORM", 0));
+    colour.form = card.int32(6, "TFORM", 0);
     if (colour.form == 0) colour.form = 1;
     colour.relaxation = zero_means_default(card.real(7, "TAU", 0.0), 100.0);
     if (colour.pid < 0) card.fail("PID", quoted(card.text(0)) + " is negative");
@@ -207,7 +207,7 @@ void read_spall_sph_timestep(CardCursor& cursor, const KeywordCall&, model::Mode
                 model.sph_timestep ? model.sph_timestep->where : SourceLocation{});
   const Card card = cursor.next(standard_fields, "card 1 (RULE)");
   model::SphTimestep timestep;
-  timestep.rule = static_cast<int>(card.integer(0, "RULE", 0));
+  timestep.rule = card.int32(0, "RULE", 0);
   if (timestep.rule != 0 && timestep.rule != 1) card.fail("RULE", quoted(card.text(0)) + " is not 0 or 1");
   timestep.where = card.where();
   model.sph_timestep = timestep;
@@ -221,7 +221,7 @@ void read_spall_residual_stress(CardCursor& cursor, const KeywordCall&, model::M
   if (auto card = cursor.next_if_any(standard_fields)) {
     residual.yield_fraction = zero_means_default(card->real(0, "FRAC", 0.0), 0.5);
     residual.strain_rate = card->real(1, "RATE", 0.0);
-    residual.at_output = static_cast<int>(card->integer(2, "OUTPUT", 0));
+    residual.at_output = card->int32(2, "OUTPUT", 0);
     if (residual.yield_fraction < 0) card->fail("FRAC", quoted(card->text(0)) + " is negative");
     if (residual.strain_rate < 0) card->fail("RATE", quoted(card->text(1)) + " is negative");
     if (residual.at_output != 0 && residual.at_output != 1)
@@ -236,8 +236,8 @@ void read_database_binary_d3plot(CardCursor& cursor, const KeywordCall&, model::
   model::OutputInterval output;
   output.dt = card.real(0, "DT", 0.0);
   output.lcdt = card.integer(1, "LCDT", 0);
-  output.beam = static_cast<int>(card.integer(2, "BEAM", 0));
-  output.npltc = static_cast<int>(card.integer(3, "NPLTC", 0));
+  output.beam = card.int32(2, "BEAM", 0);
+  output.npltc = card.int32(3, "NPLTC", 0);
   if (output.dt < 0.0) card.fail("DT", quoted(card.text(0)) + " is negative");
   output.where = card.where();
   model.d3plot = output;
@@ -249,7 +249,7 @@ void read_database_binary_runrsf(CardCursor& cursor, const KeywordCall&, model::
   const Card card = cursor.next(standard_fields, "card 1 (CYCL NR BEAM NPLTC PSETID)");
   model::RestartOutput output;
   output.cycles = card.integer(0, "CYCL", 0);
-  output.files = static_cast<int>(card.integer(1, "NR", 1));
+  output.files = card.int32(1, "NR", 1);
   if (output.cycles <= 0) card.fail("CYCL", quoted(card.text(0)) + " is not a positive number of cycles");
   if (output.files == 0) output.files = 1;
   if (output.files < 0 || output.files > 99) card.fail("NR", quoted(card.text(1)) + " is not 1 to 99 files");
@@ -280,7 +280,7 @@ model::OutputInterval read_force_history(CardCursor& cursor) {
   output.dt = card.real(0, "DT", 0.0);
   output.lcdt = card.integer(2, "LCUR", 0);
   // Blank and 0 read alike: IOOPT 1, the next output LCUR(now) after this one.
-  output.ioopt = static_cast<int>(card.integer(3, "IOOPT", 0));
+  output.ioopt = card.int32(3, "IOOPT", 0);
   if (output.ioopt == 0) output.ioopt = 1;
   if (output.dt < 0.0) card.fail("DT", quoted(card.text(0)) + " is negative");
   if (output.ioopt < 1 || output.ioopt > 3)

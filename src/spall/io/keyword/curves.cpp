@@ -17,7 +17,7 @@ void read_define_curve(CardCursor& cursor, const KeywordCall& call, model::Model
   const Card card = cursor.next(standard_fields, "card 1 (LCID SIDR SFA SFO OFFA OFFO DATTYP)");
   model::Curve curve;
   curve.id = card.required_integer(0, "LCID");
-  curve.sidr = static_cast<int>(card.integer(1, "SIDR", 0));
+  curve.sidr = card.int32(1, "SIDR", 0);
   // SFA and SFO: 0 (or blank) means 1.0, as the manual says.
   curve.sfa = card.real(2, "SFA", 0.0);
   if (curve.sfa == 0.0) curve.sfa = 1.0;

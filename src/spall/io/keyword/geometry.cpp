@@ -54,8 +54,8 @@ void read_node(CardCursor& cursor, const KeywordCall&, model::Model& model) {
     model::Node node;
     node.id = checked_node_id(card, "NID", card.required_integer(0, "NID"));
     node.x = Vec3(card.real(1, "X", 0.0), card.real(2, "Y", 0.0), card.real(3, "Z", 0.0));
-    node.tc = static_cast<int>(card.integer(4, "TC", 0));
-    node.rc = static_cast<int>(card.integer(5, "RC", 0));
+    node.tc = card.int32(4, "TC", 0);
+    node.rc = card.int32(5, "RC", 0);
     node.where = card.where();
     model.nodes.push_back(std::move(node));
   }

@@ -65,7 +65,7 @@ void read_mat_plastic_kinematic(CardCursor& cursor, const KeywordCall& call, mod
     plastic.src = card2->real(0, "SRC", 0.0);
     plastic.srp = card2->real(1, "SRP", 0.0);
     plastic.fs = card2->real(2, "FS", 0.0);
-    plastic.vp = static_cast<int>(card2->integer(3, "VP", 0));
+    plastic.vp = card2->int32(3, "VP", 0);
     if (plastic.src < 0) card2->fail("SRC", fmt::format("{:g} is negative", plastic.src));
     if (plastic.src > 0 && !(plastic.srp > 0))
       card2->fail("SRP",
@@ -112,7 +112,7 @@ void read_mat_piecewise_linear_plasticity(CardCursor& cursor, const KeywordCall&
   plastic.p = card2.real(1, "P", 0.0);
   plastic.lcss = card2.integer(2, "LCSS", 0);
   plastic.lcsr = card2.integer(3, "LCSR", 0);
-  plastic.vp = static_cast<int>(card2.integer(4, "VP", 0));
+  plastic.vp = card2.int32(4, "VP", 0);
   if (plastic.c < 0) card2.fail("C", fmt::format("{:g} is negative", plastic.c));
   if (plastic.c > 0 && !(plastic.p > 0))
     card2.fail("P", fmt::format("{:g}: the Cowper-Symonds exponent must be positive when C > 0",
@@ -179,8 +179,8 @@ void read_mat_johnson_cook(CardCursor& cursor, const KeywordCall& call, model::M
   jc.e = card1.real(3, "E", 0.0);
   jc.pr = card1.real(4, "PR", 0.0);
   jc.dtf = card1.real(5, "DTF", 0.0);
-  jc.vp = static_cast<int>(card1.integer(6, "VP", 0));
-  jc.rateop = static_cast<int>(card1.integer(7, "RATEOP", 0));
+  jc.vp = card1.int32(6, "VP", 0);
+  jc.rateop = card1.int32(7, "RATEOP", 0);
   require_positive(card1, "RO", jc.ro);
   require_positive(card1, "G", jc.g);
   if (jc.e < 0) card1.fail("E", fmt::format("{:g} is negative", jc.e));
@@ -218,9 +218,9 @@ void read_mat_johnson_cook(CardCursor& cursor, const KeywordCall& call, model::M
   const Card card3 = cursor.next(standard_fields, "card 3 (CP PC SPALL IT D1 D2 D3 D4)");
   jc.cp = card3.required_real(0, "CP");
   jc.pc = card3.real(1, "PC", 0.0);
-  jc.spall = static_cast<int>(card3.integer(2, "SPALL", 2));
+  jc.spall = card3.int32(2, "SPALL", 2);
   if (jc.spall == 0) jc.spall = 2;  // LS-DYNA: 0 means the default, 2
-  jc.it = static_cast<int>(card3.integer(3, "IT", 0));
+  jc.it = card3.int32(3, "IT", 0);
   jc.d1 = card3.real(4, "D1", 0.0);
   jc.d2 = card3.real(5, "D2", 0.0);
   jc.d3 = card3.real(6, "D3", 0.0);

@@ -21,9 +21,9 @@ void read_section_solid(CardCursor& cursor, const KeywordCall& call, model::Mode
     const Card card = cursor.next(standard_fields, "card 1 (SECID ELFORM AET)");
     model::SectionSolid section;
     section.id = card.required_integer(0, "SECID");
-    section.elform = static_cast<int>(card.integer(1, "ELFORM", 1));
+    section.elform = card.int32(1, "ELFORM", 1);
     if (section.elform == 0) section.elform = 1;
-    section.aet = static_cast<int>(card.integer(2, "AET", 0));
+    section.aet = card.int32(2, "AET", 0);
     section.where = card.where();
     // User-defined elements carry cards 2-5 of integration-point data that Spall cannot use.
     if (section.elform >= 101 && section.elform <= 105)
@@ -45,17 +45,17 @@ void read_section_solid_spg(CardCursor& cursor, const KeywordCall& call, model::
     const Card card1 = cursor.next(standard_fields, "card 1 (SECID ELFORM AET)");
     model::SectionSolidSpg section;
     section.id = card1.required_integer(0, "SECID");
-    section.elform = static_cast<int>(card1.integer(1, "ELFORM", 0));
+    section.elform = card1.int32(1, "ELFORM", 0);
     if (section.elform != 47)
       card1.fail("ELFORM", (card1.blank(1) ? std::string("blank") : quoted(card1.text(1))) +
                                ": *SECTION_SOLID_SPG needs ELFORM 47 (SPG)");
-    section.aet = static_cast<int>(card1.integer(2, "AET", 0));
+    section.aet = card1.int32(2, "AET", 0);
     section.cohoff = card1.real(6, "COHOFF", 0.0);
     section.gaskett = card1.real(7, "GASKETT", 0.0);
     section.where = card1.where();
 
     const Card card2 = cursor.next(standard_fields, "card 2 (DX DY DZ ISPLINE KERNEL LSCALE SMSTEP SWTIME/MSC)");
-    section.kernel = static_cast<int>(card2.integer(4, "KERNEL", 0));
+    section.kernel = card2.int32(4, "KERNEL", 0);
     if (section.kernel < 0 || section.kernel > 2)
       card2.fail("KERNEL", quoted(card2.text(4)) +
                                " is not a kernel update scheme (0 updated Lagrangian, 1 Eulerian, 2 "
@@ -72,18 +72,18 @@ void read_section_solid_spg(CardCursor& cursor, const KeywordCall& call, model::
                                          " is below 1.0, which LS-DYNA does not allow (1.4 to 1.8 "
                                          "are recommended)");
     }
-    section.ispline = static_cast<int>(card2.integer(3, "ISPLINE", 0));
+    section.ispline = card2.int32(3, "ISPLINE", 0);
     if (section.ispline < 0 || section.ispline > 2)
       card2.fail("ISPLINE", quoted(card2.text(3)) + " is not a kernel function (0, 1 or 2)");
     section.lscale = card2.real(5, "LSCALE", 0.0);
-    const auto smstep = card2.integer(6, "SMSTEP", 0);
+    const int smstep = card2.int32(6, "SMSTEP", 0);
     if (smstep < 0) card2.fail("SMSTEP", quoted(card2.text(6)) + ": the interval must be positive");
-    section.smstep = smstep == 0 ? default_smstep[section.kernel] : static_cast<int>(smstep);
+    section.smstep = smstep == 0 ? default_smstep[section.kernel] : smstep;
     section.column8 = card2.real(7, "SWTIME/MSC", 0.0);
     section.where_card2 = card2.where();
 
     const Card card3 = cursor.next(standard_fields, "card 3 (IDAM FS STRETCH ITB ...)");
-    section.idam = static_cast<int>(card3.integer(0, "IDAM", 1));
+    section.idam = card3.int32(0, "IDAM", 1);
     static constexpr int known_idam[] = {0, 1, 2, 3, 4, 5, 7, 8, 11, 13};
     if (std::find(std::begin(known_idam), std::end(known_idam), section.idam) == std::end(known_idam))
       card3.fail("IDAM", quoted(card3.text(0)) + " is not a bond-failure option (0-5, 7, 8, 11, 13)");
@@ -119,7 +119,7 @@ void read_section_sph(CardCursor& cursor, const KeywordCall& call, model::Model&
     section.sphini = card.real(4, "SPHINI", 0.0);
     section.death = zero_means_default(card.real(5, "DEATH", 0.0), 1.0e20);
     section.start = card.real(6, "START", 0.0);
-    section.sphkern = static_cast<int>(card.integer(7, "SPHKERN", 0));
+    section.sphkern = card.int32(7, "SPHKERN", 0);
     section.where = card.where();
     if (section.cslh < 1.0)
       card.fail("CSLH", "CSLH " + std::string(card.text(1)) +
@@ -141,8 +141,8 @@ void read_section_shell(CardCursor& cursor, const KeywordCall& call, model::Mode
     const Card card1 = cursor.next(standard_fields, "card 1 (SECID ELFORM SHRF NIP PROPT QR ICOMP SETYP)");
     model::SectionShell section;
     section.id = card1.required_integer(0, "SECID");
-    const std::int64_t elform = card1.integer(1, "ELFORM", 2);
-    section.elform = elform == 0 ? 2 : static_cast<int>(elform);
+    const int elform = card1.int32(1, "ELFORM", 2);
+    section.elform = elform == 0 ? 2 : elform;
     // These formulations add cards of their own (user integration, meshfree shells).
     if ((section.elform >= 41 && section.elform <= 44) || (section.elform >= 101 && section.elform <= 105))
       card1.fail("ELFORM", quoted(card1.text(1)) + ": this shell formulation's extra cards are not read");
@@ -211,8 +211,8 @@ void read_mat_rigid(CardCursor& cursor, const KeywordCall& call, model::Model& m
 
   const Card card2 = cursor.next(standard_fields, "card 2 (CMO CON1 CON2)");
   rigid.cmo = card2.real(0, "CMO", 0.0);
-  rigid.con1 = static_cast<int>(card2.integer(1, "CON1", 0));
-  rigid.con2 = static_cast<int>(card2.integer(2, "CON2", 0));
+  rigid.con1 = card2.int32(1, "CON1", 0);
+  rigid.con2 = card2.int32(2, "CON2", 0);
   if (rigid.cmo != 0.0 && rigid.cmo != 1.0 && rigid.cmo != -1.0)
     card2.fail("CMO", quoted(card2.text(0)) + ": only 0, +1 and -1 are supported");
   // With CMO = -1, CON1 is a coordinate system and CON2 a digit code: only +1 has codes 0..7.
