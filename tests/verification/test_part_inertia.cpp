@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 
 #include "spall/core/log.hpp"
@@ -72,6 +73,8 @@ TEST(PartInertia, SymmetricTopPrecessesAboutItsAngularMomentumAtLOverA) {
   const Vec3 n = L0.normalized();
   const Vec3 axis0 = local_z - local_z.dot(n) * n, axis = body.rotation * local_z - (body.rotation * local_z).dot(n) * n;
   const Real turned = std::atan2(n.dot(axis0.cross(axis)), axis0.dot(axis));
+  std::printf("symmetric top: turned %.6f rad, |L| T / A = %.6f; kinetic energy %.9f of the start, L within %.2g\n",
+              turned, L0.norm() * T / A, kinetic / kinetic0, (body.angular_momentum - L0).norm() / L0.norm());
   EXPECT_NEAR(turned / (L0.norm() * T / A), 1.0, 1e-4) << turned << " rad";
 }
 

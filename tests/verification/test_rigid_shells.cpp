@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "spall/core/log.hpp"
 #include "spall/io/keyword/reader.hpp"
@@ -76,6 +77,9 @@ TEST(RigidShells, ThinWalledCubeHasItsMassAndInertia) {
   const Real mass = (density * t + marea) * 6 * a * a;
   EXPECT_NEAR(body.mass / mass, 1.0, 1e-12);
   EXPECT_NEAR((body.centre - Vec3::Constant(a / 2)).norm(), 0.0, 1e-12 * a);
+  std::printf("thin-walled cube: mass %.15f of RO t A, inertia %.5f %.5f %.5f of 5/18 m a^2\n", body.mass / mass,
+              body.inertia(0, 0) / (5.0 / 18 * mass * a * a), body.inertia(1, 1) / (5.0 / 18 * mass * a * a),
+              body.inertia(2, 2) / (5.0 / 18 * mass * a * a));
   for (int d = 0; d < 3; ++d) {
     EXPECT_NEAR(body.inertia(d, d) / (5.0 / 18 * mass * a * a), 1.0, 0.01) << "axis " << d;
     EXPECT_NEAR(body.inertia(d, (d + 1) % 3) / (mass * a * a), 0.0, 1e-12);
@@ -148,6 +152,8 @@ TEST(RigidShells, BlockSlidingOnAShellPlateStopsAfterVSquaredOverTwoMuG) {
   Real lowest = 1;
   for (Index i = 0; i < nodes.size(); ++i)
     if (problem.part_of_node[i] == 1) lowest = std::min(lowest, nodes.x[i].z());
+  std::printf("sliding on shells: %.5f m (%.5f of v0^2/(2 mu g)), lowest node %.3g t, energy ratio %.6f\n",
+              centre_x() - x0, (centre_x() - x0) / expected, lowest / t, ratio);
   // On the offset surface z = 0 (the weight presses it in by m g / k, far below 0.1 t), not on the
   // mid-surface -t / 2.
   EXPECT_GT(lowest, -0.1 * t);
@@ -202,6 +208,8 @@ TEST(RigidShells, AutomaticContactMeetsAShellFromEitherSideAtHalfItsThickness) {
   const Real t = 0.006, gap = t / 2 + 0.002;
   for (bool normal_up : {true, false}) {
     const Rebound r = rebound("*CONTACT_AUTOMATIC_NODES_TO_SURFACE", normal_up, t, gap);
+    std::printf("automatic, normal %s: rebound %.4f v0, turned %.3f t from the offset surface, energy ratio %.6f\n",
+                normal_up ? "up" : "down", r.velocity / launch, (r.highest - (gap - t / 2)) / t, r.ratio);
     EXPECT_NEAR(r.velocity / launch, -1.0, 0.1) << (normal_up ? "normal up" : "normal down");
     EXPECT_NEAR(r.ratio, 1.0, 0.01);
     // It turned on the surface t / 2 below the mid-surface: it reached it (to 0.1 t) and went no
@@ -214,6 +222,8 @@ TEST(RigidShells, AutomaticContactMeetsAShellFromEitherSideAtHalfItsThickness) {
 TEST(RigidShells, OldNodesToSurfaceMeetsTheShellOnItsNormalsSideAtTheMidSurface) {
   const Real t = 0.006, gap = 0.002;
   const Rebound r = rebound("*CONTACT_NODES_TO_SURFACE", false, t, gap);
+  std::printf("old type: rebound %.4f v0, turned %.3f t from the mid-surface, energy ratio %.6f\n", r.velocity / launch,
+              (r.highest - gap) / t, r.ratio);
   EXPECT_NEAR(r.velocity / launch, -1.0, 0.1);
   EXPECT_NEAR(r.ratio, 1.0, 0.01);
   EXPECT_GT(r.highest, gap - 0.1 * t);
