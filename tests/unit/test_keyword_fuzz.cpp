@@ -1,6 +1,7 @@
 // The keyword reader's fuzz target in the normal build: its entry (fuzz/deck_check.cpp) compiled by
-// GCC, without libFuzzer. Every seed, corpus input and regression either reads or fails with a
-// one-line InputError, and a short deterministic mutation run over the seeds does the same. The
+// GCC, without libFuzzer. Every seed, corpus input and regression either reads and builds (the
+// solver's set-up, which the libFuzzer target leaves out) or fails with a one-line InputError, and a
+// short deterministic mutation run over the seeds does the same. The
 // long libFuzzer run (make fuzz, docs/RELIABILITY.md) explores far more; this keeps what it found.
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -15,7 +16,10 @@
 
 #include "deck_check.hpp"
 #include "spall/core/error.hpp"
+#include "spall/core/log.hpp"
 #include "spall/core/memory.hpp"
+#include "spall/io/keyword/reader.hpp"
+#include "spall/solver/problem.hpp"
 
 namespace spall::fuzz {
 namespace {
@@ -47,10 +51,14 @@ std::size_t line_start(const std::string& text, std::size_t at) {
 
 enum class Outcome { read, input_error, bug };
 
-// What the fuzz target makes of `input`; `what` says why for an error.
+// What the fuzz target makes of `input`, and then the problem's set-up as `spall check` builds it
+// (every formulation's, rigid body's and contact's; the libFuzzer target stops at the reader's
+// checks); `what` says why for an error.
 Outcome check(const std::string& input, std::string& what) {
   try {
     check_deck_text(input);
+    log::set_quiet(true);  // the set-up's notes, thousands of times
+    solver::build_problem(io::keyword::read_deck_text(input, "fuzz.k"));
     return Outcome::read;
   } catch (const InputError& error) {
     what = error.what();

@@ -79,11 +79,20 @@ class Builder {
     return nodes;
   }
 
+  static constexpr Real max_coordinate = 1e100;
+
   // The nodes are stored in cell order, so that neighbouring particles are close in memory.
   void build_nodes() {
     const Index n = static_cast<Index>(model_.nodes.size());
     std::vector<Vec3> x(n);
-    for (Index i = 0; i < n; ++i) x[i] = model_.nodes[i].x;
+    for (Index i = 0; i < n; ++i) {
+      x[i] = model_.nodes[i].x;
+      // Squared distances (and the box's volume) of such coordinates would overflow a double.
+      if (!(x[i].cwiseAbs().maxCoeff() <= max_coordinate))
+        fail_at(model_.nodes[i].where, "*NODE",
+                fmt::format("node {} at ({:.6g}, {:.6g}, {:.6g}): coordinates beyond +-{:g} are not supported",
+                            model_.nodes[i].id, x[i].x(), x[i].y(), x[i].z(), max_coordinate));
+    }
     Real cell = 0;
     if (n > 0) {
       Vec3 lo = x[0], hi = x[0];
