@@ -29,8 +29,10 @@ const Vec3 local_x(1, 0, 0), local_y(0, std::cos(angle), std::sin(angle));
 
 // A 0.3 x 0.2 x 0.1 m brick of 3 x 2 x 1 hexahedra of steel (part 1, centred at the origin) with a
 // *PART_INERTIA of mass `tm`, centre `centre`, the symmetric top's tensor in the turned axes and
-// the angular velocity `omega` (world axes); LCTM holds the step at 1e-5 s.
-std::string top_deck(Real tm, const Vec3& centre, const Vec3& omega, Real end_time, const std::string& extra = "") {
+// the angular velocity `omega` (world axes), card 6 the axes unless `card6` is given; LCTM holds the
+// step at 1e-5 s.
+std::string top_deck(Real tm, const Vec3& centre, const Vec3& omega, Real end_time, const std::string& extra = "",
+                     const std::string& card6 = "") {
   std::string deck = "*KEYWORD\n*CONTROL_TERMINATION\n" + row({number(end_time)}) + "*CONTROL_TIMESTEP\n" +
                      row({"", "", "", "", "", "9"}) + "*DEFINE_CURVE\n" + row({"9"}) +
                      row({"0.0", "1e-5"}, {20, 20}) + row({"100.0", "1e-5"}, {20, 20});
@@ -38,8 +40,9 @@ std::string top_deck(Real tm, const Vec3& centre, const Vec3& omega, Real end_ti
           row({number(centre.x()), number(centre.y()), number(centre.z()), number(tm), "1"}) +
           row({"0.1", "0.0", "0.0", "0.1", "0.0", "0.15"}) +
           row({"0.0", "0.0", "0.0", number(omega.x()), number(omega.y()), number(omega.z())}) +
-          row({number(local_x.x()), number(local_x.y()), number(local_x.z()), number(local_y.x()),
-               number(local_y.y()), number(local_y.z())});
+          (card6.empty() ? row({number(local_x.x()), number(local_x.y()), number(local_x.z()), number(local_y.x()),
+                                number(local_y.y()), number(local_y.z())})
+                         : card6);
   deck += "*SECTION_SOLID\n" + row({"1", "1"}) + "*MAT_RIGID\n" + row({"1", "7850", "2e11", "0.3"}) + row({});
   deck += hex_box(1, Vec3(-0.15, -0.1, -0.05), Vec3(0.3, 0.2, 0.1), {3, 2, 1}, 1, 1);
   return deck + extra + "*END\n";
@@ -91,6 +94,24 @@ TEST(PartInertia, NodesCarryTheMassWithItsCentre) {
   EXPECT_NEAR(m, 4.5, 1e-12);
   EXPECT_NEAR((first / m - centre).norm(), 0.0, 1e-12);
   EXPECT_NEAR((problem.rigid_bodies.bodies().at(0).centre - centre).norm(), 0.0, 1e-15);
+}
+
+TEST(PartInertia, LocalAxesFromACoordinateSystem) {
+  // IRCS 1 with CID: the axes of a *DEFINE_COORDINATE_VECTOR instead of XL..ZLIP give the same tensor.
+  log::set_quiet(true);
+  test::DeckFolder folder;
+  const auto inertia_of = [&](const std::string& deck) {
+    const model::Model model = io::keyword::read_deck(folder.write("top.k", deck));
+    return solver::build_problem(model).rigid_bodies.bodies().at(0).inertia;
+  };
+  const Mat3 by_vectors = inertia_of(top_deck(10, Vec3::Zero(), Vec3::Zero(), 1e-3));
+  const std::string system =
+      "*DEFINE_COORDINATE_VECTOR\n" + row({"5", number(local_x.x()), number(local_x.y()), number(local_x.z()),
+                                           number(local_y.x()), number(local_y.y()), number(local_y.z())});
+  const Mat3 by_system =
+      inertia_of(top_deck(10, Vec3::Zero(), Vec3::Zero(), 1e-3, system, row({"", "", "", "", "", "", "5"})));
+  EXPECT_NEAR((by_system - by_vectors).norm() / by_vectors.norm(), 0.0, 1e-12);
+  EXPECT_GT((by_vectors - Mat3(Vec3(0.1, 0.1, 0.15).asDiagonal())).norm(), 0.01);  // turned: not the global axes
 }
 
 TEST(PartInertia, WhatSpallCannotRunIsRefused) {

@@ -64,7 +64,7 @@ PrescribedMotion prescribed_motion(const model::Model& model, const model::Presc
 
 // *PART_INERTIA (fem-contact.md §1.5): TM, the centre (XC YC ZC, or node NODEID's position) and the
 // tensor, turned from its local axes (IRCS 1: XL YL ZL the local x, XLIP YLIP ZLIP in the local x-y
-// plane, or CID's axes) to the world's. VTX..VRZ, when not all 0, set the body's initial velocity
+// plane, or CID's first axes) to the world's. VTX..VRZ, when not all 0, set the body's initial velocity
 // and angular velocity about the centre (over any *INITIAL_VELOCITY of its nodes).
 MassProperties mass_properties(const model::Model& model, const model::PartInertia& card,
                                const std::unordered_map<Id, Index>& index_of_node, const std::vector<Index>& body_nodes,
@@ -80,7 +80,7 @@ MassProperties mass_properties(const model::Model& model, const model::PartInert
   }
   Mat3 Q = Mat3::Identity();  // columns: the local axes in world coordinates
   if (card.local && card.cid != 0) {
-    model.require_global_axes(card.cid, card.where, keyword, "CID", false);
+    Q = model.axes(card.cid, card.where, keyword, "CID");  // the tensor is given once: the first axes
   } else if (card.local) {
     const Vec3 x = card.local_x.normalized();
     const Vec3 y = (card.local_in_plane - card.local_in_plane.dot(x) * x).normalized();
