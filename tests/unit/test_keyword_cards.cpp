@@ -449,7 +449,8 @@ TEST(keyword_cards, RigidShellSectionsAndElements) {
 TEST(keyword_cards, PartInertiaCards) {
   DeckFolder folder;
   const std::string deck = "*KEYWORD\n*PART_INERTIA\nwheel\n" + row({"4", "1", "2"}) +
-                           row({"1.0", "2.0", "3.0", "5.5", "1", "0"}) + row({"2.0", "0.1", "0.2", "3.0", "0.3", "4.0"}) +
+                           row({"1.0", "2.0", "3.0", "5.5", "1", "0"}) +
+                           row({"2.0", "0.1", "0.2", "3.0", "0.3", "4.0"}) +
                            row({"1.0", "", "", "", "", "9.0"}) + row({"0", "1", "0", "0", "0", "1"}) +
                            "hub\n" + row({"5", "1", "2"}) + row({"", "", "", "1.5", "", "7"}) + row({"1.0"}) + row({}) +
                            row({"1.0", "0", "0", "0", "1.0", "0"}) + "*END\n";

@@ -44,7 +44,8 @@ TEST(keyword_errors, IntegerFieldBeyond32BitsIsRefused) {
                 "field ELFORM: '4294967297' is beyond the range of this field (a 32-bit integer)");
   // An eight-column field cannot hold such a number; a free-format line can.
   EXPECT_EQ(read_error(folder, "*NODE\n1,0.0,0.0,0.0,-4294967295\n"),
-            prefix(folder, 2, "*NODE") + "field TC: '-4294967295' is beyond the range of this field (a 32-bit integer)");
+            prefix(folder, 2, "*NODE") +
+                "field TC: '-4294967295' is beyond the range of this field (a 32-bit integer)");
 }
 
 TEST(keyword_errors, MissingMandatoryEndtim) {
@@ -139,15 +140,17 @@ TEST(keyword_errors, ShellCardsAndDeformableShells) {
             prefix(folder, 3, "*SECTION_SHELL") +
                 "field NLOC: '1': a reference surface off the mid-surface is not implemented (0)");
   EXPECT_EQ(read_error(folder, "*SECTION_SHELL\n" + row({"3", "101"}) + row({"1.0"})),
-            prefix(folder, 2, "*SECTION_SHELL") + "field ELFORM: '101': this shell formulation's extra cards are not read");
+            prefix(folder, 2, "*SECTION_SHELL") +
+                "field ELFORM: '101': this shell formulation's extra cards are not read");
   EXPECT_EQ(read_error(folder, "*ELEMENT_SHELL\n" + row({"1", "3", "1", "2", "3", "4", "5"}, {8, 8, 8, 8, 8, 8, 8})),
-            prefix(folder, 2, "*ELEMENT_SHELL") + "field N5: element 1: eight-node (quadratic) shells are not supported");
+            prefix(folder, 2, "*ELEMENT_SHELL") +
+                "field N5: element 1: eight-node (quadratic) shells are not supported");
   EXPECT_EQ(read_error(folder, "*ELEMENT_SHELL\n" + row({"1", "3", "1", "2"}, {8, 8, 8, 8})),
             prefix(folder, 2, "*ELEMENT_SHELL") +
                 "field N3: element 1: N3 is blank or not a node ID; a shell needs N1-N3, and N4 (or N3 repeated)");
   // Spall runs shells as rigid geometry only: a deformable shell part stops the check.
-  const std::string nodes = "*NODE\n" + row({"1", "0", "0", "0"}, node_widths) + row({"2", "1", "0", "0"}, node_widths) +
-                            row({"3", "1", "1", "0"}, node_widths);
+  const std::string nodes = "*NODE\n" + row({"1", "0", "0", "0"}, node_widths) +
+                            row({"2", "1", "0", "0"}, node_widths) + row({"3", "1", "1", "0"}, node_widths);
   EXPECT_EQ(validate_error(folder, termination + nodes + "*SECTION_SHELL\n" + row({"3", "2"}) + row({"1.0"}) +
                                        "*MAT_ELASTIC\n" + row({"1", "1.0", "1.0"}) + "*PART\nskin\n" +
                                        row({"3", "3", "1"}) + "*ELEMENT_SHELL\n" +

@@ -74,7 +74,8 @@ TEST(PartInertia, SymmetricTopPrecessesAboutItsAngularMomentumAtLOverA) {
   EXPECT_NEAR((body.angular_momentum - L0).norm() / L0.norm(), 0.0, 1e-6);
   // The symmetry axis, projected on the plane normal to L, turned by |L| T / A.
   const Vec3 n = L0.normalized();
-  const Vec3 axis0 = local_z - local_z.dot(n) * n, axis = body.rotation * local_z - (body.rotation * local_z).dot(n) * n;
+  const Vec3 turned_z = body.rotation * local_z;
+  const Vec3 axis0 = local_z - local_z.dot(n) * n, axis = turned_z - turned_z.dot(n) * n;
   const Real turned = std::atan2(n.dot(axis0.cross(axis)), axis0.dot(axis));
   std::printf("symmetric top: turned %.6f rad, |L| T / A = %.6f; kinetic energy %.9f of the start, L within %.2g\n",
               turned, L0.norm() * T / A, kinetic / kinetic0, (body.angular_momentum - L0).norm() / L0.norm());
@@ -90,7 +91,8 @@ TEST(PartInertia, NodesCarryTheMassWithItsCentre) {
   solver::Problem problem = solver::build_problem(model);
   Real m = 0;
   Vec3 first = Vec3::Zero();
-  for (Index i = 0; i < problem.nodes.size(); ++i) m += problem.nodes.mass[i], first += problem.nodes.mass[i] * problem.nodes.x[i];
+  for (Index i = 0; i < problem.nodes.size(); ++i)
+    m += problem.nodes.mass[i], first += problem.nodes.mass[i] * problem.nodes.x[i];
   EXPECT_NEAR(m, 4.5, 1e-12);
   EXPECT_NEAR((first / m - centre).norm(), 0.0, 1e-12);
   EXPECT_NEAR((problem.rigid_bodies.bodies().at(0).centre - centre).norm(), 0.0, 1e-15);

@@ -44,7 +44,8 @@ std::string cube_surface(Real a, int n) {
     for (int j = 0; j <= n; ++j)
       for (int i = 0; i <= n; ++i)
         if (i == 0 || j == 0 || k == 0 || i == n || j == n || k == n)
-          deck += row({std::to_string(id(i, j, k)), coordinate(a * i / n), coordinate(a * j / n), coordinate(a * k / n)},
+          deck += row({std::to_string(id(i, j, k)), coordinate(a * i / n), coordinate(a * j / n),
+                       coordinate(a * k / n)},
                       {8, 16, 16, 16});
   deck += "*ELEMENT_SHELL\n";
   int eid = 1;

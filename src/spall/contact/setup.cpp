@@ -141,7 +141,8 @@ class Builder {
     for (const auto& part : model.parts) part_index_[part.id] = &part;
     for (std::size_t e = 0; e < model.shell_elements.size(); ++e) {
       Corners f;
-      for (int k = 0; k < 4; ++k) f[k] = node(model.shell_elements[e].n[k], model.shell_elements[e].where, "*ELEMENT_SHELL");
+      const model::ElementShell& shell = model.shell_elements[e];
+      for (int k = 0; k < 4; ++k) f[k] = node(shell.n[k], shell.where, "*ELEMENT_SHELL");
       shells_.emplace(key_of(f), e);
     }
   }

@@ -46,8 +46,8 @@ PrescribedMotion prescribed_motion(const model::Model& model, const model::Presc
   } else {
     fail_at(pm.where, keyword,
             fmt::format("DOF {}: only translations (1, 2, 3, and 4 along VID) and rotations about axes through the "
-                        "centre of mass (5, 6, 7, and 8 about VID) apply to a rigid body here (-4 and -8 need *MAT_RIGID "
-                        "CMO 2, which is not supported)", pm.dof));
+                        "centre of mass (5, 6, 7, and 8 about VID) apply to a rigid body here (-4 and -8 need "
+                        "*MAT_RIGID CMO 2, which is not supported)", pm.dof));
   }
   if (pm.vad < 0 || pm.vad > 2)
     fail_at(pm.where, keyword,
@@ -75,7 +75,8 @@ MassProperties mass_properties(const model::Model& model, const model::PartInert
   p.centre = card.centre;
   if (card.node != 0) {
     auto it = index_of_node.find(card.node);
-    if (it == index_of_node.end()) fail_at(card.where, keyword, fmt::format("NODEID: node {} does not exist", card.node));
+    if (it == index_of_node.end())
+      fail_at(card.where, keyword, fmt::format("NODEID: node {} does not exist", card.node));
     p.centre = nodes.x[it->second];
   }
   Mat3 Q = Mat3::Identity();  // columns: the local axes in world coordinates
@@ -91,8 +92,8 @@ MassProperties mass_properties(const model::Model& model, const model::PartInert
   const Vec3 J = principal.eigenvalues();  // ascending
   if (!(J[0] > 0) || J[2] > J[0] + J[1] * (1 + 1e-12))
     fail_at(card.where, keyword,
-            fmt::format("IXX..IZZ: principal moments {:.6g} {:.6g} {:.6g}: an inertia tensor's are positive and each at "
-                        "most the sum of the other two", J[0], J[1], J[2]));
+            fmt::format("IXX..IZZ: principal moments {:.6g} {:.6g} {:.6g}: an inertia tensor's are positive and each "
+                        "at most the sum of the other two", J[0], J[1], J[2]));
   // The nodes' masses m_I (1 + a + b . x_I): the smallest change, in proportion to each mass and
   // linear in space, that gives them the mass TM and the centre (four equations for a and b), so
   // that a base acceleration (*LOAD_BODY) and the contacts act on the body with TM at its centre.
@@ -168,7 +169,8 @@ void add_rigid_masses(const model::Model& model, const std::unordered_map<Id, In
       x[a] = nodes.x[it->second];
     }
     // Half the cross product of the diagonals (of two edges for a triangle).
-    const Real area = Real(0.5) * (per == 3 ? (x[1] - x[0]).cross(x[2] - x[0]) : (x[2] - x[0]).cross(x[3] - x[1])).norm();
+    const Vec3 twice_area = per == 3 ? (x[1] - x[0]).cross(x[2] - x[0]) : (x[2] - x[0]).cross(x[3] - x[1]);
+    const Real area = Real(0.5) * twice_area.norm();
     if (!(area > 0))
       fail_at(e.where, "*ELEMENT_SHELL", fmt::format("shell element {}: zero area (rigid part {})", e.eid, e.pid));
     const std::array<Real, 4> t = model.shell_thickness(e);

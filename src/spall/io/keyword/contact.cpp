@@ -100,7 +100,8 @@ ContactSurface read_surface(const Card& card, int side, Contact::Kind kind) {
   const int type = card.int32(2 + side, type_name, 0);
   const std::string type_text = quoted(card.text(2 + side));
   if (type == 1)
-    card.fail(type_name, type_text + ": shell element sets (*SET_SHELL) are not read; give the shells' part or part set");
+    card.fail(type_name,
+              type_text + ": shell element sets (*SET_SHELL) are not read; give the shells' part or part set");
   if (type == 7) card.fail(type_name, type_text + ": branches (*SET_PART_TREE) are not supported");
   if (type == 4 && !a)
     card.fail(type_name, type_text + ": a node set is a side A type only (the nodes that meet side B's segments)");

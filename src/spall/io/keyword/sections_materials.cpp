@@ -149,7 +149,8 @@ void read_section_shell(CardCursor& cursor, const KeywordCall& call, model::Mode
     const std::int64_t nip = card1.integer(3, "NIP", 2);
     const Real icomp = card1.real(6, "ICOMP", 0.0);
     if (icomp != 0.0 && icomp != 1.0) card1.fail("ICOMP", quoted(card1.text(6)) + " is not 0 or 1");
-    if (nip < 0 || nip > 100) card1.fail("NIP", quoted(card1.text(3)) + " is not a number of integration points (0-100)");
+    if (nip < 0 || nip > 100)
+      card1.fail("NIP", quoted(card1.text(3)) + " is not a number of integration points (0-100)");
     section.where = card1.where();
     const Card card2 = cursor.next(standard_fields, "card 2 (T1 T2 T3 T4 NLOC MAREA IDOF EDGSET)");
     section.t[0] = card2.real(0, "T1", 0.0);
@@ -166,7 +167,8 @@ void read_section_shell(CardCursor& cursor, const KeywordCall& call, model::Mode
     if (section.marea < 0) card2.fail("MAREA", quoted(card2.text(5)) + ": a mass per area cannot be negative");
     section.where_card2 = card2.where();
     if (icomp == 1.0)
-      for (std::int64_t angles = 0; angles < (nip == 0 ? 2 : nip); angles += 8) cursor.next(standard_fields, "layer angles");
+      for (std::int64_t angles = 0; angles < (nip == 0 ? 2 : nip); angles += 8)
+        cursor.next(standard_fields, "layer angles");
     insert_unique(model.sections, section.id, section, card1, "section");
   }
 }
