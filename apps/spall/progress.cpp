@@ -17,6 +17,12 @@ Progress::Progress(spall::Real end_time, long long nodes, Environment environmen
     : environment_(std::move(environment)), end_time_(end_time), nodes_(nodes), start_(environment_.now()),
       last_print_(start_) {}
 
+void Progress::continue_from(const spall::solver::StepInfo& step) {
+  first_step_ = step.step;
+  first_time_ = step.time;
+  while (next_decile_ < 10 && step.time >= next_decile_ * 0.1 * end_time_ * (1 - 1e-9)) ++next_decile_;
+}
+
 double Progress::elapsed_seconds() const {
   return std::chrono::duration<double>(environment_.now() - start_).count();
 }
@@ -46,9 +52,11 @@ void Progress::finish(const spall::solver::StepInfo& step) {
 
 void Progress::print(const spall::solver::StepInfo& step, bool final) {
   const double seconds = elapsed_seconds();
-  const double rate = seconds > 0 ? nodes_ * double(step.step) / seconds : 0;
+  const double rate = seconds > 0 ? nodes_ * double(steps_taken(step)) / seconds : 0;
   const double fraction = end_time_ > 0 ? step.time / end_time_ : 1;
-  const double eta = fraction > 0 ? seconds * (1 - fraction) / fraction : 0;
+  // The rest of the run at the pace of this process's part of it.
+  const double done = step.time - first_time_, left = end_time_ - step.time;
+  const double eta = done > 0 ? seconds * left / done : 0;
   const std::string line =
       fmt::format("t {:.4e} ({:5.1f}%)  step {}  dt {:.3e}  {:.3e} node-steps/s  ETA {:.0f} s",
                   step.time, 100 * fraction, step.step, last_dt_, rate, eta);

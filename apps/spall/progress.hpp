@@ -26,9 +26,14 @@ class Progress {
   static constexpr std::chrono::seconds quiet_limit{60};
 
   Progress(spall::Real end_time, long long nodes, Environment environment = Environment::standard());
+  // A restarted run: its rate and ETA count the steps and time from `step` on, which this process
+  // takes, not those of the run it continues; the deciles already passed print no line.
+  void continue_from(const spall::solver::StepInfo& step);
   void update(const spall::solver::StepInfo& step);
   void finish(const spall::solver::StepInfo& step);
   double elapsed_seconds() const;
+  // Steps this process has taken by `step`.
+  long long steps_taken(const spall::solver::StepInfo& step) const { return step.step - first_step_; }
 
  private:
   void print(const spall::solver::StepInfo& step, bool final);
@@ -40,6 +45,8 @@ class Progress {
   Clock::time_point last_print_;
   spall::Real last_dt_ = 0;
   int next_decile_ = 1;
+  long long first_step_ = 0;  // where this process started: 0, or the restart's step
+  spall::Real first_time_ = 0;
 };
 
 }  // namespace spall::cli

@@ -189,6 +189,7 @@ int run_deck(const RunOptions& options) {
       throw InputError(fmt::format("{}: the checkpoint is longer than this deck's state", restart->file.string()));
     log::info(fmt::format("continuing from {} at step {}, t = {:g}", restart->file.string(), restart->header.step,
                           restart->header.time));
+    progress.continue_from(last_step);
   }
 
   // Running restart files: every CYCL steps (--checkpoint-every overrides the deck), NR in turn.
@@ -240,8 +241,9 @@ int run_deck(const RunOptions& options) {
       // At rest the ratio is not a number (docs/OUTPUT.md): "n/a", not a quotient of round-off.
       log::info(fmt::format("done: {} steps to t = {:g} in {:.2f} s, {:.3e} node-steps/s, energy ratio {}",
                             summary.steps, summary.end_time, progress.elapsed_seconds(),
-                            progress.elapsed_seconds() > 0 ? nodes * double(summary.steps) / progress.elapsed_seconds()
-                                                           : 0.0,
+                            progress.elapsed_seconds() > 0
+                                ? nodes * double(progress.steps_taken(last_step)) / progress.elapsed_seconds()
+                                : 0.0,
                             std::isfinite(info.energy_ratio) ? fmt::format("{:.6f}", info.energy_ratio) : "n/a"));
     }
   } catch (const InstabilityError& e) {

@@ -23,7 +23,8 @@ class ProgressLines {
     environment.terminal = false;
     return environment;
   }
-  void advance(std::chrono::seconds seconds) { now_ += seconds; }
+  void advance(Progress::Clock::duration elapsed) { now_ += elapsed; }
+  std::FILE* file() const { return file_; }
   int count() const {
     std::rewind(file_);
     int lines = 0;
@@ -66,6 +67,25 @@ TEST(progress, OffATerminalALineAtLeastEveryMinute) {
   progress.update(at(0.12, 53));
   EXPECT_EQ(lines.count(), 12);
   EXPECT_DOUBLE_EQ(progress.elapsed_seconds(), 50 * 12 + 61);
+}
+
+TEST(progress, ARestartedRunCountsItsOwnStepsAndTime) {
+  // Continued at step 600, t = 0.6 (of 1.0); then 100 steps to t = 0.7 in 10 s: 100 nodes x 100
+  // steps / 10 s = 1000 node-steps/s, and 0.3 left at 0.1 per 10 s: ETA 30 s. The 70 % line is the
+  // first one this process prints (60 % was passed before the restart).
+  ProgressLines lines;
+  Progress progress(1.0, 100, lines.environment());
+  progress.continue_from(at(0.6, 600));
+  for (int step = 601; step <= 700; ++step) {
+    lines.advance(std::chrono::milliseconds(100));
+    progress.update(at(step * 1e-3, step));
+  }
+  EXPECT_EQ(lines.count(), 1);
+  EXPECT_EQ(progress.steps_taken(at(0.7, 700)), 100);
+  std::rewind(lines.file());
+  char text[256] = {};
+  ASSERT_NE(std::fgets(text, sizeof text, lines.file()), nullptr);
+  EXPECT_NE(std::string(text).find("1.000e+03 node-steps/s  ETA 30 s"), std::string::npos) << text;
 }
 
 }  // namespace
