@@ -140,7 +140,7 @@ class Builder {
     if (model.control_contact) control_ = *model.control_contact;
     for (const auto& part : model.parts) part_index_[part.id] = &part;
     for (std::size_t e = 0; e < model.shell_elements.size(); ++e) {
-      Corners f;
+      Corners& f = shell_corners_.emplace_back();
       const model::ElementShell& shell = model.shell_elements[e];
       for (int k = 0; k < 4; ++k) f[k] = node(shell.n[k], shell.where, "*ELEMENT_SHELL");
       shells_.emplace(key_of(f), e);
@@ -343,11 +343,7 @@ class Builder {
       const std::set<Id> parts = parts_of(side, field);
       faces = faces_.exterior([&](std::size_t e) { return parts.count(model_.solid_elements[e].pid) > 0; });
       for (std::size_t e = 0; e < model_.shell_elements.size(); ++e)
-        if (parts.count(model_.shell_elements[e].pid)) {
-          Corners corners;
-          for (int k = 0; k < 4; ++k) corners[k] = index_of_node_.at(model_.shell_elements[e].n[k]);
-          shells.emplace_back(e, corners);
-        }
+        if (parts.count(model_.shell_elements[e].pid)) shells.emplace_back(e, shell_corners_[e]);
     }
     std::vector<Segment> out;
     const auto& x = nodes_.x;
@@ -363,7 +359,7 @@ class Builder {
       const Id pid = model_.solid_elements[face.element].pid;
       const Real modulus = contact_->sldstf > 0 ? contact_->sldstf : stiffness(pid).bulk_modulus;
       s.stiffness = control_.slsfac * scale * modulus * s.area * s.area / volume;
-      s.thickness = old_type ? shortest_diagonal(s) / 20 : volume / s.area;
+      s.thickness = old_type ? diagonals(s).first / 20 : volume / s.area;
       out.push_back(s);
     }
     for (const auto& [element, corners] : shells)
@@ -372,14 +368,17 @@ class Builder {
     return out;
   }
 
-  // 1/20 of a face's shortest diagonal (a triangle's shortest edge): the old node-to-surface
-  // type's segment thickness.
-  Real shortest_diagonal(const Segment& s) const {
+  // The shortest and longest diagonal of a segment (a triangle's edges): 1/20 of the shortest is
+  // the old node-to-surface type's segment thickness, the longest sets a shell's stiffness.
+  std::pair<Real, Real> diagonals(const Segment& s) const {
     const auto& x = nodes_.x;
-    if (!s.triangle()) return std::min((x[s.node[2]] - x[s.node[0]]).norm(), (x[s.node[3]] - x[s.node[1]]).norm());
-    Real shortest = std::numeric_limits<Real>::infinity();
-    for (int k = 0; k < 3; ++k) shortest = std::min(shortest, (x[s.node[(k + 1) % 3]] - x[s.node[k]]).norm());
-    return shortest;
+    if (!s.triangle()) return std::minmax((x[s.node[2]] - x[s.node[0]]).norm(), (x[s.node[3]] - x[s.node[1]]).norm());
+    Real shortest = std::numeric_limits<Real>::infinity(), longest = 0;
+    for (int k = 0; k < 3; ++k) {
+      const Real edge = (x[s.node[(k + 1) % 3]] - x[s.node[k]]).norm();
+      shortest = std::min(shortest, edge), longest = std::max(longest, edge);
+    }
+    return {shortest, longest};
   }
 
   // A shell as a segment (fem-contact.md §1.6-1.7): its thickness t is the side's SAST / SBST when
@@ -402,17 +401,12 @@ class Builder {
       for (int k = 0; k < s.corners(); ++k) thickness += t[k] / s.corners();
     }
     thickness *= thickness_scale;
-    Real longest = 0;
-    if (s.triangle()) {
-      for (int k = 0; k < 3; ++k) longest = std::max(longest, (x[corners[(k + 1) % 3]] - x[corners[k]]).norm());
-    } else {
-      longest = std::max((x[corners[2]] - x[corners[0]]).norm(), (x[corners[3]] - x[corners[1]]).norm());
-    }
+    const auto [shortest, longest] = diagonals(s);
     s.stiffness = control_.slsfac * scale * stiffness(element.pid).bulk_modulus * s.area / longest;
     const int shlthk = contact_->shlthk >= 0 ? contact_->shlthk : control_.shlthk;
     s.two_sided = !old_type;
     s.offset = !old_type || shlthk == 2 ? thickness / 2 : 0;
-    s.thickness = old_type ? shortest_diagonal(s) / 20 : thickness;
+    s.thickness = old_type ? shortest / 20 : thickness;
     return s;
   }
 
@@ -447,6 +441,7 @@ class Builder {
   model::ControlContact control_;
   std::unordered_map<Id, const model::Part*> part_index_;
   std::unordered_map<Id, PartStiffness> stiffness_;
+  std::vector<Corners> shell_corners_;     // of each shell element, in the deck's node order
   std::map<Corners, std::size_t> shells_;  // key_of(corners) -> its index in model.shell_elements
   const Contact* contact_ = nullptr;
   std::vector<Real> slave_stiffness_;
