@@ -5,12 +5,15 @@
 // for these functions, not a second copy of the physics. Bodies must not allocate, throw or keep
 // thread_local scratch.
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <concepts>
 #include <limits>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
+#include "spall/core/exact_sum.hpp"
 #include "spall/core/types.hpp"
 
 namespace spall {
@@ -20,6 +23,7 @@ namespace spall {
 // forwarding (most of the time loop's energy pass; docs/PERFORMANCE.md).
 template <int N>
 struct Sums {
+  static constexpr int size = N;
   Real value[N] = {};
   Real& operator[](int i) { return value[i]; }
   Real operator[](int i) const { return value[i]; }
@@ -53,7 +57,7 @@ void for_each(I n, Body&& body, Schedule schedule = {}) {
 
 // combine(... combine(identity, term(0)) ..., term(n - 1)) in some order: only for operations
 // whose result does not depend on the order (min, max, logical or, integer sums); sums of reals
-// go through ordered_sum.
+// go through exact_sum.
 template <std::integral I, typename T, class Term, class Combine>
 T reduce_exact(I n, T identity, Term&& term, Combine&& combine, Schedule schedule = {}) {
   T result = identity;
@@ -164,26 +168,44 @@ void region(Body&& body, bool in_parallel = true) {
   }
 }
 
-// sum_{i < n} term(i); T is Real or Sums<N> (several sums in one pass). The sums do not depend on
-// the thread count: the range is cut into fixed blocks, each block is summed in index order (the
-// blocks in parallel), and the block sums are added in block order. An OpenMP reduction would add
-// the threads' partial sums in an order that depends on how many there are, so the energies' last
-// digits would follow the thread count.
-template <typename T, typename Term>
-T ordered_sum(Index n, Term&& term, T zero) {
-  constexpr Index block = 4096;
-  const Index blocks = (n + block - 1) / block;
-  std::vector<T> partial(blocks, zero);
-#pragma omp parallel for schedule(static)
-  for (Index k = 0; k < blocks; ++k) {
-    T sum = zero;
-    const Index end = std::min(n, (k + 1) * block);
-    for (Index i = k * block; i < end; ++i) sum += term(i);
-    partial[k] = sum;
+// sum_{i < n} term(i), where term returns a Real or a Sums<N> (several sums in one pass): each sum
+// exact until it is rounded once at the end (ExactSum), so it does not depend on the thread count,
+// on the order of the terms or on how they are split (ranks, threads). An OpenMP reduction of
+// doubles would follow the thread count in the last digits; summing fixed index blocks in order
+// would not, but would still follow the storage order, which MPI changes (docs/SCALING.md §2).
+template <typename Term>
+auto exact_sum(Index n, Term&& term) {
+  using T = std::invoke_result_t<Term&, Index>;
+  constexpr int parts = [] {
+    if constexpr (std::is_same_v<T, Real>)
+      return 1;
+    else
+      return T::size;
+  }();
+  const auto part = [](const T& t, int k) {
+    if constexpr (std::is_same_v<T, Real>)
+      return t;
+    else
+      return t[k];
+  };
+  std::array<ExactSum, parts> total;
+#pragma omp parallel
+  {
+    std::array<ExactSum, parts> local;
+#pragma omp for schedule(static) nowait
+    for (Index i = 0; i < n; ++i) {
+      const T t = term(i);
+      for (int k = 0; k < parts; ++k) local[k] += part(t, k);
+    }
+#pragma omp critical(spall_parallel_exact_sum)
+    for (int k = 0; k < parts; ++k) total[k] += local[k];
   }
-  T total = zero;
-  for (const T& p : partial) total += p;
-  return total;
+  T result{};
+  if constexpr (std::is_same_v<T, Real>)
+    result = total[0].value();
+  else
+    for (int k = 0; k < parts; ++k) result[k] = total[k].value();
+  return result;
 }
 
 // The number of threads the loops above run on, and setting it (the CLI's --threads).

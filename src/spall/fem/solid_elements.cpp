@@ -550,8 +550,7 @@ void SolidElements::compute_forces(discretization::NodeStore& nodes, Real dt) {
   if (mass_scaling_.active) {
     Real added = 0;
     for (const Block& block : blocks_)
-      added += parallel::ordered_sum(block.size(), [&](Index e) { return (block.mass_scale[e] - 1) * block.mass[e]; },
-                                     Real(0));
+      added += parallel::exact_sum(block.size(), [&](Index e) { return (block.mass_scale[e] - 1) * block.mass[e]; });
     mass_scaling_.record(added);
   } else {
     mass_scaling_.idle();
@@ -576,14 +575,14 @@ void SolidElements::book_energies(discretization::EnergyLedger& ledger, std::spa
   // The work of each share of the internal forces at the mid-step velocities: the stress's is
   // stored, the bulk viscosity's and the hourglass control's are their own terms.
   const bool hourglass = !hourglass_force_.empty();
-  const Sums<3> work = parallel::ordered_sum(static_cast<Index>(node_.size()), [&](Index k) {
+  const Sums<3> work = parallel::exact_sum(static_cast<Index>(node_.size()), [&](Index k) {
     const Vec3& u = v[node_[k]];
     Sums<3> w;
     w[0] = -force_[k].dot(u);
     w[1] = -bulk_force_[k].dot(u);
     w[2] = hourglass ? -hourglass_force_[k].dot(u) : 0;
     return w;
-  }, Sums<3>{});
+  });
   ledger.add(Ledger::internal_energy, Ledger::Role::stored, dt * work[0] - eroded_internal_step_);
   ledger.add(Ledger::artificial_viscosity_energy, Ledger::Role::dissipated, dt * work[1]);
   if (hourglass) ledger.add(Ledger::hourglass_energy, Ledger::Role::dissipated, dt * work[2]);

@@ -69,7 +69,7 @@ class TimeLoop::Step {
     rcforc_ = {controls_.rcforc_dt, controls_.rcforc_dt_curve};
     rbdout_ = {controls_.rbdout_dt, controls_.rbdout_dt_curve};
     runaway_speed_limit_ = runaway_speed_limit();
-    initial_mass_ = parallel::ordered_sum(nodes_.size(), [&](Index i) { return nodes_.mass[i]; }, Real(0));
+    initial_mass_ = parallel::exact_sum(nodes_.size(), [&](Index i) { return nodes_.mass[i]; });
     parallel::for_each(nodes_.size(), [&](Index i) { nodes_.f[i] = Vec3::Zero(); });
   }
 
@@ -254,13 +254,13 @@ class TimeLoop::Step {
   // The reactions' power on the first step is taken at the mean of v^0 and v^{1/2} instead: a
   // constraint that changes the initial velocity (a wall stopping a node that starts on it, a
   // motion that starts at once) acts as an impulse at t^0, whose work is m/2 (v^{1/2}² - v^0²).
-  // One pass sums (load power, reaction power, kinetic energy, runaway nodes), each in an order
-  // independent of the thread count; v_old becomes v^n on the way.
+  // One pass sums (load power, reaction power, kinetic energy, runaway nodes), each exactly (the same
+  // for any thread count or order of the nodes); v_old becomes v^n on the way.
   void energies() {
     const Real weight = velocity_weight_, dt_mid = dt_mid_;
     const Real reaction_weight = step_.step == 0 ? Real(0.5) : weight;
     std::vector<Vec3>& v_n = v_old_;
-    const Sums<4> sums = parallel::ordered_sum(
+    const Sums<4> sums = parallel::exact_sum(
         nodes_.size(),
         [&](Index i) {
           Sums<4> term;
@@ -277,8 +277,7 @@ class TimeLoop::Step {
             term[1] = reaction.dot(v_start + reaction_weight * dv);
           }
           return term;
-        },
-        Sums<4>{});
+        });
     const rigid::RigidBodies::Energies bodies = problem_.rigid_bodies.energies(weight, reaction_weight, dt_mid);
     ledger_.set(EnergyLedger::kinetic_energy, Role::kinetic, sums[2] + bodies.kinetic);
     for (const auto& f : problem_.formulations) f->book_energies(ledger_, v_n, dt_mid);

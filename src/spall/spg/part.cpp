@@ -489,7 +489,7 @@ void Part::scale_masses(discretization::NodeStore& nodes) {
       mass_scale_[i] = ratio * ratio;
     }
   }, particle_loops);
-  const Real added = parallel::ordered_sum(n, [&](Index i) { return (mass_scale_[i] - 1) * mass_[i]; }, Real(0));
+  const Real added = parallel::exact_sum(n, [&](Index i) { return (mass_scale_[i] - 1) * mass_[i]; });
   mass_scaling_.record(added);
 }
 

@@ -963,8 +963,8 @@ Real FluidFormulation::stable_time_step(const discretization::NodeStore&) const 
 
 discretization::InternalPower FluidFormulation::internal_power(std::span<const Vec3> v) const {
   // Stored (compression) energy grows by -f_pressure . v; viscosity dissipates -f_viscous . v.
-  // In an order independent of the thread count.
-  const Sums<2> sums = parallel::ordered_sum(
+  // Exact sums: independent of the thread count and of the particles' order.
+  const Sums<2> sums = parallel::exact_sum(
       particle_count(),
       [&](Index a) {
         const Vec3& va = v[node_[a]];
@@ -974,8 +974,7 @@ discretization::InternalPower FluidFormulation::internal_power(std::span<const V
           term[1] += Real(viscous_force_[3 * a + d]) * va[d];
         }
         return term;
-      },
-      Sums<2>{});
+      });
   discretization::InternalPower p;
   p.stored = -sums[0];
   p.dissipated = -sums[1];

@@ -973,14 +973,13 @@ Real SolidFormulation::stable_time_step(const discretization::NodeStore& nodes) 
 
 discretization::InternalPower SolidFormulation::internal_power(std::span<const Vec3> v) const {
   // Work of the internal forces on the nodes: strain energy grows by -f_stress . v, and the
-  // artificial viscosity dissipates -f_visc . v >= 0. In an order independent of the thread count.
-  const Sums<2> sums = parallel::ordered_sum(
+  // artificial viscosity dissipates -f_visc . v >= 0. Exact sums (parallel::exact_sum).
+  const Sums<2> sums = parallel::exact_sum(
       particle_count(),
       [&](Index a) {
         const Vec3& va = v[node_[a]];
         return Sums<2>{{(force_[a].head<3>() - viscous_force_[a]).dot(va), viscous_force_[a].dot(va)}};
-      },
-      Sums<2>{});
+      });
   discretization::InternalPower p;
   p.stored = -sums[0];
   p.dissipated = -sums[1];
