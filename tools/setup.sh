@@ -13,6 +13,7 @@ else
     libeigen3-dev libfmt-dev libcli11-dev
     libgtest-dev libbenchmark-dev
     libopenvdb-dev libboost-iostreams-dev
+    libopenmpi-dev openmpi-bin
     python3-vtk9 python3-numpy python3-matplotlib
   )
 fi

@@ -7,6 +7,7 @@
 
 #include "run_command.hpp"
 #include "surface_command.hpp"
+#include "spall/core/communicator.hpp"
 #include "spall/core/error.hpp"
 #include "spall/core/log.hpp"
 #include "spall/core/memory.hpp"
@@ -15,6 +16,7 @@
 
 int main(int argc, char** argv) {
   spall::parallel::wait_politely(argv);
+  const spall::parallel::Session mpi;
   CLI::App app{"Spall: meshfree explicit dynamics for solids and fluids (LS-DYNA keyword input)"};
   app.set_version_flag("--version", std::string("spall ") + spall::version);
   app.require_subcommand(1);

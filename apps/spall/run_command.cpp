@@ -7,13 +7,13 @@
 #include <fmt/format.h>
 #include <map>
 #include <optional>
-#include <cstdlib>
 #include <string.h>
 
 #include "interrupt.hpp"
 #include "progress.hpp"
 #include "restart_file.hpp"
 #include "run_outputs.hpp"
+#include "spall/core/communicator.hpp"
 #include "spall/core/error.hpp"
 #include "spall/core/log.hpp"
 #include "spall/core/parallel.hpp"
@@ -114,18 +114,6 @@ std::string where_the_time_went(const solver::PhaseTimes& phases) {
   return line;
 }
 
-// The number of processes an MPI launcher started this one among (Open MPI's mpirun, and the PMI of
-// MPICH, Intel MPI and Slurm's srun say so in the environment), 1 when none did.
-long launched_ranks() {
-  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"})
-    if (const char* value = std::getenv(name)) {
-      char* end = nullptr;
-      const long ranks = std::strtol(value, &end, 10);
-      if (end != value && *end == '\0' && ranks > 0) return ranks;
-    }
-  return 1;
-}
-
 }  // namespace
 
 int check_deck(const std::string& deck, const std::vector<std::string>& skip) {
@@ -140,7 +128,7 @@ int check_deck(const std::string& deck, const std::vector<std::string>& skip) {
 
 int run_deck(const RunOptions& options) {
   // Started as one of several ranks, every rank would run the whole deck into the same files.
-  if (const long ranks = launched_ranks(); ranks > 1)
+  if (const int ranks = parallel::launched_ranks(); ranks > 1)
     throw InputError(fmt::format("spall run was started as one of {} MPI ranks (mpirun -np {}): distributed runs are "
                                  "not implemented yet; run spall as one process (--threads sets the cores it uses)",
                                  ranks, ranks));

@@ -1,0 +1,115 @@
+#include "spall/core/communicator.hpp"
+
+#include <algorithm>
+#include <cstdlib>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#ifdef SPALL_WITH_MPI
+#define OMPI_SKIP_MPICXX 1
+#define MPICH_SKIP_MPICXX 1
+#include <mpi.h>
+#endif
+
+namespace spall::parallel {
+namespace {
+
+Communicator& the_world() {
+  static Communicator world;
+  return world;
+}
+
+#ifdef SPALL_WITH_MPI
+bool mpi_started = false;
+
+void check(int status, const char* what) {
+  if (status != MPI_SUCCESS) throw std::runtime_error(std::string("MPI: ") + what + " failed");
+}
+#endif
+
+}  // namespace
+
+int launched_ranks() {
+  for (const char* name : {"OMPI_COMM_WORLD_SIZE", "PMI_SIZE"})
+    if (const char* value = std::getenv(name)) {
+      char* end = nullptr;
+      const long ranks = std::strtol(value, &end, 10);
+      if (end != value && *end == '\0' && ranks > 0 && ranks <= (1L << 30)) return static_cast<int>(ranks);
+    }
+  return 1;
+}
+
+#ifdef SPALL_WITH_MPI
+
+bool built_with_mpi() { return true; }
+
+Session::Session() {
+  if (launched_ranks() <= 1) return;
+  int provided = 0;
+  check(MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided), "MPI_Init_thread");
+  mpi_started = true;
+  if (provided < MPI_THREAD_FUNNELED) throw std::runtime_error("MPI: the library does not support MPI_THREAD_FUNNELED");
+  Communicator& world = the_world();
+  check(MPI_Comm_rank(MPI_COMM_WORLD, &world.rank_), "MPI_Comm_rank");
+  check(MPI_Comm_size(MPI_COMM_WORLD, &world.size_), "MPI_Comm_size");
+}
+
+Session::~Session() {
+  if (!mpi_started) return;
+  MPI_Finalize();
+  mpi_started = false;
+  the_world() = Communicator{};
+}
+
+void Communicator::minimum(std::span<double> values) const {
+  if (size_ == 1 || values.empty()) return;
+  check(MPI_Allreduce(MPI_IN_PLACE, values.data(), static_cast<int>(values.size()), MPI_DOUBLE, MPI_MIN,
+                      MPI_COMM_WORLD),
+        "MPI_Allreduce (minimum)");
+}
+
+void Communicator::sum(std::span<std::int64_t> values) const {
+  if (size_ == 1 || values.empty()) return;
+  check(MPI_Allreduce(MPI_IN_PLACE, values.data(), static_cast<int>(values.size()), MPI_INT64_T, MPI_SUM,
+                      MPI_COMM_WORLD),
+        "MPI_Allreduce (sum)");
+}
+
+// Each sum's chunks, normalized (each below 2^32 but the signed top one), added as integers: with
+// fewer than 2^31 ranks no chunk overflows. The non-finite flags are or-ed, as a sum of bits
+// that each rank sets at most once would not be: they travel as a separate bitwise-or.
+void Communicator::sum(std::span<ExactSum> sums) const {
+  if (size_ == 1 || sums.empty()) return;
+  constexpr int n = ExactSum::chunk_count;
+  std::vector<std::int64_t> chunks(sums.size() * n);
+  std::vector<std::uint32_t> special(sums.size());
+  for (std::size_t s = 0; s < sums.size(); ++s) {
+    sums[s].normalize();
+    std::copy(sums[s].chunks().begin(), sums[s].chunks().end(), chunks.begin() + s * n);
+    special[s] = sums[s].special();
+  }
+  sum(chunks);
+  check(MPI_Allreduce(MPI_IN_PLACE, special.data(), static_cast<int>(special.size()), MPI_UINT32_T, MPI_BOR,
+                      MPI_COMM_WORLD),
+        "MPI_Allreduce (flags)");
+  for (std::size_t s = 0; s < sums.size(); ++s) {
+    std::copy(chunks.begin() + s * n, chunks.begin() + (s + 1) * n, sums[s].chunks().begin());
+    sums[s].special() = special[s];
+  }
+}
+
+#else
+
+bool built_with_mpi() { return false; }
+Session::Session() = default;
+Session::~Session() = default;
+void Communicator::minimum(std::span<double>) const {}
+void Communicator::sum(std::span<std::int64_t>) const {}
+void Communicator::sum(std::span<ExactSum>) const {}
+
+#endif
+
+const Communicator& world() { return the_world(); }
+
+}  // namespace spall::parallel

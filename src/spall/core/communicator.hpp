@@ -1,0 +1,53 @@
+#pragma once
+// The processes of one run (MPI ranks) and the collective operations the step needs from them
+// (docs/SCALING.md). Physics never names MPI: it asks the communicator for a global minimum or an
+// exact sum, and a run of one process gets the same answers without MPI. Built with MPI
+// (SPALL_MPI, the default), the run's communicator is MPI_COMM_WORLD when an MPI launcher started
+// the process as one of several; otherwise it is this process alone.
+#include <cstdint>
+#include <span>
+
+#include "spall/core/exact_sum.hpp"
+
+namespace spall::parallel {
+
+// How many processes an MPI launcher started this one among (Open MPI's mpirun, and the PMI of
+// MPICH, Intel MPI and Slurm's srun, say so in the environment), 1 when none did.
+int launched_ranks();
+
+// Whether this build can run as several ranks.
+bool built_with_mpi();
+
+class Communicator {
+ public:
+  int rank() const { return rank_; }
+  int size() const { return size_; }
+
+  // In place, element by element: the minimum over the ranks (exact: no rounding). Maxima travel
+  // negated and flags as 0 / -1, so one call takes every global decision of a step.
+  void minimum(std::span<double> values) const;
+  // In place, element by element: the sum over the ranks of each rank's partial sums (exact).
+  void sum(std::span<ExactSum> sums) const;
+  void sum(std::span<std::int64_t> values) const;
+
+ private:
+  friend class Session;
+  int rank_ = 0;
+  int size_ = 1;
+};
+
+// MPI's lifetime: the constructor starts it when the process was launched as one of several ranks
+// and Spall was built with it (MPI_THREAD_FUNNELED: only the thread that started MPI calls it,
+// outside OpenMP regions), the destructor ends it. One in main, before anything uses world().
+class Session {
+ public:
+  Session();
+  ~Session();
+  Session(const Session&) = delete;
+  Session& operator=(const Session&) = delete;
+};
+
+// The run's ranks: every rank while a Session that started MPI lives, this process alone otherwise.
+const Communicator& world();
+
+}  // namespace spall::parallel

@@ -1,0 +1,98 @@
+// The communicator's collectives (core/communicator.hpp), run as 1, 2 and 3 ranks: a global
+// minimum and exact sums give on every rank the answer one process computes from all the data,
+// bit for bit, however the data are split among the ranks. Every rank draws the same random
+// numbers, keeps its share, and checks the collective against the whole.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <random>
+#include <vector>
+
+#include "spall/core/communicator.hpp"
+
+namespace spall::parallel {
+namespace {
+
+TEST(Communicator, HasTheRanksTheLauncherStarted) {
+  const Communicator& ranks = world();
+  EXPECT_EQ(ranks.size(), built_with_mpi() ? launched_ranks() : 1);
+  EXPECT_GE(ranks.rank(), 0);
+  EXPECT_LT(ranks.rank(), ranks.size());
+}
+
+TEST(Communicator, MinimumOfEveryRanksValues) {
+  const Communicator& ranks = world();
+  std::mt19937_64 random(35);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  constexpr int n = 7;
+  // Rank r holds row r of a table with a row per rank; the minimum is each column's.
+  std::vector<std::vector<double>> table(ranks.size(), std::vector<double>(n));
+  for (auto& row : table)
+    for (double& x : row) x = normal(random);
+  table[0][3] = -std::numeric_limits<double>::infinity();
+  std::vector<double> mine = table[ranks.rank()];
+  ranks.minimum(mine);
+  for (int j = 0; j < n; ++j) {
+    double expected = table[0][j];
+    for (const auto& row : table) expected = std::min(expected, row[j]);
+    EXPECT_EQ(mine[j], expected) << "column " << j;
+  }
+}
+
+TEST(Communicator, ExactSumsDoNotDependOnHowTheTermsAreSplit) {
+  const Communicator& ranks = world();
+  std::mt19937_64 random(1729);
+  std::lognormal_distribution<double> size(0.0, 6.0);
+  std::vector<double> terms(50000);
+  for (double& x : terms) x = (random() & 1 ? 1.0 : -1.0) * size(random);
+  ExactSum whole[2];
+  for (double x : terms) {
+    whole[0] += x;
+    whole[1] += x * x;
+  }
+  // Terms dealt to the ranks at random (the same draw on every rank), in a shuffled order.
+  std::shuffle(terms.begin(), terms.end(), random);
+  std::vector<ExactSum> mine(2);
+  for (double x : terms)
+    if (static_cast<int>(random() % ranks.size()) == ranks.rank()) {
+      mine[0] += x;
+      mine[1] += x * x;
+    }
+  ranks.sum(mine);
+  EXPECT_EQ(mine[0].value(), whole[0].value());
+  EXPECT_EQ(mine[1].value(), whole[1].value());
+}
+
+TEST(Communicator, NonFiniteTermsOnOneRankReachEveryRank) {
+  const Communicator& ranks = world();
+  std::vector<ExactSum> sums(2);
+  sums[0] += 1.0;
+  if (ranks.rank() == ranks.size() - 1) {
+    sums[0] += std::numeric_limits<double>::quiet_NaN();
+    sums[1] += -std::numeric_limits<double>::infinity();
+  }
+  sums[1] += 2.0;
+  ranks.sum(sums);
+  EXPECT_TRUE(std::isnan(sums[0].value()));
+  EXPECT_EQ(sums[1].value(), -std::numeric_limits<double>::infinity());
+}
+
+TEST(Communicator, IntegerSums) {
+  const Communicator& ranks = world();
+  std::vector<std::int64_t> counts = {ranks.rank() + 1, std::int64_t(1) << 40};
+  ranks.sum(counts);
+  EXPECT_EQ(counts[0], std::int64_t(ranks.size()) * (ranks.size() + 1) / 2);
+  EXPECT_EQ(counts[1], ranks.size() * (std::int64_t(1) << 40));
+}
+
+}  // namespace
+}  // namespace spall::parallel
+
+int main(int argc, char** argv) {
+  const spall::parallel::Session session;
+  testing::InitGoogleTest(&argc, argv);
+  return RUN_ALL_TESTS();
+}
