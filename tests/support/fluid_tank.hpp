@@ -4,8 +4,11 @@
 // particles on the same lattice, under gravity g along -z. With fluid.dimension == 2 the problem
 // is the x-z section of the 3D one laid in the x-y plane (plane strain, as LS-DYNA's IDIM = 2):
 // the vertical is y, every particle at z = 0, masses per unit thickness.
+#include <algorithm>
 #include <cmath>
 #include <memory>
+#include <numeric>
+#include <random>
 
 #include "spall/model/curve.hpp"
 #include "spall/solver/problem.hpp"
@@ -23,6 +26,9 @@ struct FluidTank {
   Real gravity = 9.81;
   sph::FluidParameters fluid;  // its material's density is the particles' density
   Real end_time = 0.1;
+  // Nonzero: the nodes are stored, and the particles listed, in orders shuffled with this seed
+  // (node IDs as unshuffled), as another card order or a rank's share of them would store them.
+  unsigned shuffle_seed = 0;
 };
 
 // The problem and the curve its gravity load points to.
@@ -75,12 +81,21 @@ inline FluidTankProblem fluid_tank_problem(const FluidTank& t) {
   const Index n = static_cast<Index>(x.size());
   nodes.resize(n);
   out.problem.part_of_node.assign(n, 1);
-  for (Index i = 0; i < n; ++i) {
-    nodes.id[i] = i + 1;
-    nodes.x0[i] = nodes.x[i] = x[i];
+  std::vector<Index> slot(n), particles(n);  // node p (ID p + 1) is stored at slot[p]
+  std::iota(slot.begin(), slot.end(), Index(0));
+  std::iota(particles.begin(), particles.end(), Index(0));
+  if (t.shuffle_seed != 0) {
+    std::mt19937 random(t.shuffle_seed);
+    std::shuffle(slot.begin(), slot.end(), random);
+    std::shuffle(particles.begin(), particles.end(), random);
+  }
+  for (Index p = 0; p < n; ++p) {
+    const Index i = slot[p];
+    nodes.id[i] = p + 1;
+    nodes.x0[i] = nodes.x[i] = x[p];
     nodes.mass[i] = t.fluid.material.density * volume;
     if (plane) nodes.fixed[i] = 4;  // plane strain: the particles stay in their plane
-    if (wall[i]) {
+    if (wall[p]) {
       nodes.fixed[i] = 7;
       out.problem.part_of_node[i] = 2;
       out.wall_nodes.push_back(i);
@@ -88,8 +103,6 @@ inline FluidTankProblem fluid_tank_problem(const FluidTank& t) {
       out.fluid_nodes.push_back(i);
     }
   }
-  std::vector<Index> particles(n);
-  for (Index i = 0; i < n; ++i) particles[i] = i;
   out.problem.formulations.push_back(
       std::make_unique<sph::FluidFormulation>(t.fluid, particles, nodes));
   out.gravity_curve = std::make_unique<model::Curve>();

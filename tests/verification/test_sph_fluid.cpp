@@ -10,7 +10,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 #include <omp.h>
+#include <utility>
+#include <vector>
 
 #include "spall/core/log.hpp"
 #include "spall/solver/simulation.hpp"
@@ -112,6 +115,48 @@ TEST(SphFluidDeterminism, SameResultOnOneAndTwoThreads) {
     const auto two = run_with(2);
     ASSERT_EQ(one.size(), two.size());
     for (std::size_t i = 0; i < one.size(); ++i) ASSERT_EQ(one[i], two[i]) << dimension << "D, node " << i;
+  }
+}
+
+// The storage order of the nodes and of the particles (the deck's card order; with MPI, each
+// rank's share) changes no bit: a cell's particles are taken by node ID and every sum over the
+// nodes is exact. The serial stand-in for results that do not depend on the rank count
+// (docs/SCALING.md §5, step 3). Compared by node ID: positions, velocities and every energy term.
+TEST(SphFluidPermutation, StorageOrderChangesNoBit) {
+  log::set_quiet(true);
+  for (int dimension : {2, 3}) {
+    struct Result {
+      std::map<Id, std::pair<Vec3, Vec3>> state;
+      std::vector<Real> energies;
+      long long steps = 0;
+    };
+    auto run_with = [&](unsigned seed, int threads) {
+      omp_set_num_threads(threads);
+      test_support::FluidTank t = small_dam_break(dimension, 0.03);
+      t.shuffle_seed = seed;
+      auto tank = test_support::fluid_tank_problem(t);
+      Result r;
+      solver::Observer observer;
+      observer.on_history = [&](const solver::StepInfo&, const discretization::EnergyLedger& e) {
+        r.energies.clear();
+        for (const auto& term : e.terms()) r.energies.push_back(term.value);
+      };
+      r.steps = solver::run(tank.problem, observer).steps;
+      const auto& nodes = tank.problem.nodes;
+      for (Index i = 0; i < nodes.size(); ++i) r.state[nodes.id[i]] = {nodes.x[i], nodes.v[i]};
+      return r;
+    };
+    const Result stored = run_with(0, 1), shuffled = run_with(35, 2), reshuffled = run_with(7, 1);
+    omp_set_num_threads(1);
+    ASSERT_GT(stored.steps, 100);
+    for (const Result* other : {&shuffled, &reshuffled}) {
+      ASSERT_EQ(other->steps, stored.steps);
+      ASSERT_EQ(other->energies, stored.energies) << dimension << "D";
+      for (const auto& [id, xv] : stored.state) {
+        ASSERT_EQ(other->state.at(id).first, xv.first) << dimension << "D, node " << id;
+        ASSERT_EQ(other->state.at(id).second, xv.second) << dimension << "D, node " << id;
+      }
+    }
   }
 }
 

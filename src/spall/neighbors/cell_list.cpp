@@ -56,7 +56,7 @@ void sort_by_key(std::vector<CellKey>& key, std::vector<Index>& particle) {
 
 }  // namespace
 
-void CellList::build(std::span<const Vec3> x, Real cell_size) {
+void CellList::build(std::span<const Vec3> x, Real cell_size, std::span<const Id> tie) {
   if (!(cell_size > 0) || !std::isfinite(cell_size)) {
     throw std::invalid_argument("neighbour search: cell size must be positive and finite, got " +
                                 std::to_string(cell_size));
@@ -100,6 +100,17 @@ void CellList::build(std::span<const Vec3> x, Real cell_size) {
     particle_key[i] = key(ic[0], ic[1], ic[2]);
     order_[i] = static_cast<Index>(i);
   });
+  if (!tie.empty()) {
+    // In tie order first; the stable sort by cell keeps it within each cell. Keys from the least,
+    // so that the sort takes only the digits their spread needs.
+    const Id least = *std::min_element(tie.begin(), tie.end());
+    std::vector<CellKey> tie_key(n);
+    for (std::int64_t i = 0; i < n; ++i)
+      tie_key[i] = static_cast<std::uint64_t>(tie[i]) - static_cast<std::uint64_t>(least);
+    sort_by_key(tie_key, order_);
+    for (std::int64_t k = 0; k < n; ++k) tie_key[k] = particle_key[order_[k]];
+    particle_key.swap(tie_key);
+  }
   sort_by_key(particle_key, order_);
 
   for (std::int64_t k = 0; k < n; ++k) {

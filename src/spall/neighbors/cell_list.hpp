@@ -33,9 +33,13 @@ class CellList {
  public:
   // Bins the particles into cells of edge at least `cell_size` (> 0). Throws InstabilityError
   // when a position is not finite: a NaN in the positions means the run has already blown up.
-  void build(std::span<const Vec3> x, Real cell_size);
+  // With `tie` (a key a particle, e.g. its node ID), the particles of a cell are in ascending tie
+  // order, so the cell order depends on the positions and the keys alone, not on the input order
+  // (the storage order, which MPI changes: docs/SCALING.md §2).
+  void build(std::span<const Vec3> x, Real cell_size, std::span<const Id> tie = {});
 
-  // order()[k] is the particle at position k in cell order; within a cell, input order is kept.
+  // order()[k] is the particle at position k in cell order; within a cell, in ascending tie or,
+  // without ties, in input order.
   std::span<const Index> order() const { return order_; }
   // Hands order() over (it is empty afterwards), for a caller that puts its particles in cell
   // order and from then on only needs the cells: their positions in order() are then particle

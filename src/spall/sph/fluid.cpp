@@ -156,8 +156,14 @@ FluidFormulation::FluidFormulation(const FluidParameters& parameters,
 void FluidFormulation::rebuild_cells(const discretization::NodeStore& nodes) {
   const Index n = particle_count();
   std::vector<Vec3> x(n);
-  parallel::for_each(n, [&](Index a) { x[a] = nodes.x[node_[a]]; });
-  cells_.build(x, (1 + parameters_.skin) * support_ / stencil_reach);
+  std::vector<Id> id(n);
+  parallel::for_each(n, [&](Index a) {
+    x[a] = nodes.x[node_[a]];
+    id[a] = nodes.id[node_[a]];
+  });
+  // Within a cell by node ID: the order, and so every sum over neighbours, is the same however the
+  // particles were stored (the deck's card order, earlier rebuilds, a rank's share of them).
+  cells_.build(x, (1 + parameters_.skin) * support_ / stencil_reach, id);
   // The cell list keeps no order: from here on the particles are in cell order.
   const std::vector<Index> order = cells_.take_order();
   permute(node_, order);
