@@ -18,7 +18,8 @@ int main(int argc, char** argv) {
   spall::parallel::wait_politely(argv);
   const spall::parallel::Session mpi;
   CLI::App app{"Spall: meshfree explicit dynamics for solids and fluids (LS-DYNA keyword input)"};
-  app.set_version_flag("--version", std::string("spall ") + spall::version);
+  app.set_version_flag("--version", std::string("spall ") + spall::version +
+                                        (spall::parallel::built_with_mpi() ? " (MPI)" : ""));
   app.require_subcommand(1);
 
   spall::cli::RunOptions options;

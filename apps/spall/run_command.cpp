@@ -114,6 +114,25 @@ std::string where_the_time_went(const solver::PhaseTimes& phases) {
   return line;
 }
 
+// Under MPI, only what can run on several ranks: formulations that deal their nodes out, and none of
+// the things that act on nodes of every rank at once (walls, contacts, rigid bodies).
+void refuse_what_is_not_distributed(const solver::Problem& problem, int ranks) {
+  std::string what;
+  for (const auto& f : problem.formulations)
+    if (!f->distributable()) {
+      what = fmt::format("the {} formulation", f->name());
+      break;
+    }
+  if (what.empty() && !problem.rigid_walls.empty()) what = "a rigid wall (*RIGIDWALL)";
+  if (what.empty() && !problem.contacts.empty()) what = "a contact (*CONTACT_...)";
+  if (what.empty() && !problem.rigid_bodies.bodies().empty()) what = "a rigid body (*MAT_RIGID)";
+  if (what.empty()) return;
+  throw InputError(fmt::format("spall run was started as one of {} MPI ranks (mpirun -np {}), but {} is not "
+                               "distributed yet (only the SPH fluid is; docs/SCALING.md): run this deck as one "
+                               "process (--threads sets the cores it uses)",
+                               ranks, ranks, what));
+}
+
 }  // namespace
 
 int check_deck(const std::string& deck, const std::vector<std::string>& skip) {
@@ -127,11 +146,20 @@ int check_deck(const std::string& deck, const std::vector<std::string>& skip) {
 }
 
 int run_deck(const RunOptions& options) {
-  // Started as one of several ranks, every rank would run the whole deck into the same files.
-  if (const int ranks = parallel::launched_ranks(); ranks > 1)
-    throw InputError(fmt::format("spall run was started as one of {} MPI ranks (mpirun -np {}): distributed runs are "
-                                 "not implemented yet; run spall as one process (--threads sets the cores it uses)",
-                                 ranks, ranks));
+  // Several ranks (mpirun -np N): each holds the whole problem and computes a block of its nodes
+  // (docs/SCALING.md); rank 0 writes every file.
+  const parallel::Communicator& ranks = parallel::world();
+  const int launched = parallel::launched_ranks();
+  if (launched > 1 && ranks.size() == 1)
+    throw InputError(fmt::format("spall run was started as one of {} MPI ranks (mpirun -np {}), but this spall was "
+                                 "built without MPI (SPALL_MPI=OFF): run it as one process",
+                                 launched, launched));
+  if (ranks.size() > 1 && !options.restart_dir.empty())
+    throw InputError(fmt::format("spall run --restart was started as one of {} MPI ranks: a run continues on one "
+                                 "process for now (its restart files hold the whole state)",
+                                 ranks.size()));
+  const bool writes = ranks.rank() == 0;
+  if (!writes) log::set_quiet(true);
   // A restart reads the deck the run copied into its folder, and continues in that folder.
   std::optional<Restart> restart;
   if (!options.restart_dir.empty()) restart.emplace(read_newest_restart(options.restart_dir));
@@ -140,24 +168,28 @@ int run_deck(const RunOptions& options) {
   const std::vector<std::string>& skip = restart ? restart->header.skip : options.skip;
   const model::Model model = read_and_check(deck, skip);
   solver::Problem problem = build_something(model, deck);
+  if (ranks.size() > 1) refuse_what_is_not_distributed(problem, ranks.size());
 
   const fs::path out = restart                      ? fs::path(options.restart_dir)
                        : options.output_dir.empty() ? fs::current_path() / (fs::path(deck).stem().string() + ".out")
                                                     : fs::path(options.output_dir);
-  fs::create_directories(out);
-  if (!restart) copy_deck(model, deck, out);
+  if (writes) {
+    fs::create_directories(out);
+    if (!restart) copy_deck(model, deck, out);
+  }
 
   const long long nodes = moving_node_count(problem);
   log::info(fmt::format("spall {}: {} with {} nodes (particles and element nodes) on {} threads, to {}", version, deck,
                         nodes, parallel::thread_count(), out.string()));
 
-  RunOutputs outputs(out, problem, model, restart.has_value());
+  std::optional<RunOutputs> outputs;
+  if (writes) outputs.emplace(out, problem, model, restart.has_value());
   Progress progress(problem.controls.end_time, nodes);
   solver::StepInfo last_step;
-  solver::Observer observer = outputs.observer();
+  solver::Observer observer = writes ? outputs->observer() : solver::Observer{};
   observer.on_step = [&](const solver::StepInfo& step) {
     last_step = step;
-    progress.update(step);
+    if (writes) progress.update(step);
   };
   solver::TimeLoop loop(problem, observer);
 
@@ -165,7 +197,7 @@ int run_deck(const RunOptions& options) {
   double wall_seconds_before = 0;  // of the runs this one continues
   const auto state = [&](Archive& a) {
     loop.checkpoint(a);
-    outputs.checkpoint(a);
+    outputs->checkpoint(a);
     a.section("run");
     double wall_seconds = wall_seconds_before + progress.elapsed_seconds();
     a(wall_seconds, last_step);
@@ -187,31 +219,36 @@ int run_deck(const RunOptions& options) {
   RestartFiles restart_files(out, model.runrsf ? model.runrsf->files : 1);
   const auto write_checkpoint = [&](const solver::StepInfo& step) {
     const RestartHeader header{version, fs::path(deck).filename().string(), skip, step.step, step.time};
-    return restart_files.write(header, state);
+    return writes ? restart_files.write(header, state) : fs::path();
   };
 
   io::output::RunInfo info;
   info.version = version;
   info.deck = fs::absolute(deck).string();
   info.threads = parallel::thread_count();
+  info.ranks = ranks.size();
   info.nodes = nodes;
   for (Real m : problem.nodes.mass) info.initial_mass += m;
   int code = exit_success;
   const InterruptWatch interrupts;
   try {
     std::optional<solver::StepInfo> stopped;
+    int signal = 0;
     const auto summary = loop.run([&](const solver::StepInfo& step) {
-      if (interrupts.received()) {
+      // Every rank stops at the same step, on the signal any of them received.
+      double negated_signal = -interrupts.received();
+      ranks.minimum({&negated_signal, 1});
+      if (negated_signal < 0) {
         stopped = step;
+        signal = static_cast<int>(-negated_signal);
         return false;
       }
       if (cycles > 0 && step.step % cycles == 0) write_checkpoint(step);
       return true;
     });
     if (stopped) {
-      const int signal = interrupts.received();
       const fs::path file = write_checkpoint(*stopped);
-      outputs.write_fields(*stopped, problem);  // after the checkpoint: a restart writes its own
+      if (writes) outputs->write_fields(*stopped, problem);  // after the checkpoint: a restart writes its own
       log::warning(fmt::format("interrupted ({}) at step {}, t = {:g}: the state is in {}; continue with `spall run "
                                "--restart {}`",
                                strsignal(signal), stopped->step, stopped->time, file.string(), out.string()));
@@ -224,7 +261,8 @@ int run_deck(const RunOptions& options) {
       info.steps = summary.steps;
       info.end_time = summary.end_time;
       info.status = "completed";
-      if (const auto residual = outputs.finish(summary.end_time)) log::info(*residual);
+      if (writes)
+        if (const auto residual = outputs->finish(summary.end_time)) log::info(*residual);
       info.energy_ratio = summary.energies.ratio();
       // At rest the ratio is not a number (docs/OUTPUT.md): "n/a", not a quotient of round-off.
       log::info(fmt::format("done: {} steps to t = {:g} in {:.2f} s, {:.3e} node-steps/s, energy ratio {}",
@@ -235,9 +273,11 @@ int run_deck(const RunOptions& options) {
                             std::isfinite(info.energy_ratio) ? fmt::format("{:.6f}", info.energy_ratio) : "n/a"));
     }
   } catch (const InstabilityError& e) {
-    outputs.write_fields(last_step, problem);  // the last state, for the post-mortem
-    log::error(e.what());
-    log::error(fmt::format("the last state is in {}", outputs.last_field_file().string()));
+    if (writes) {
+      outputs->write_fields(last_step, problem);  // the last state, for the post-mortem
+      log::error(e.what());
+      log::error(fmt::format("the last state is in {}", outputs->last_field_file().string()));
+    }
     info.steps = last_step.step;
     info.end_time = last_step.time;
     info.status = "unstable";
@@ -253,8 +293,9 @@ int run_deck(const RunOptions& options) {
     }
     throw;
   }
+  if (!writes) return code;
   info.wall_seconds = wall_seconds_before + progress.elapsed_seconds();
-  info.masses = outputs.masses();
+  info.masses = outputs->masses();
   for (int p = 0; p < static_cast<int>(solver::Phase::count); ++p) {
     const auto phase = static_cast<solver::Phase>(p);
     info.phases.emplace_back(solver::phase_name(phase), loop.phases()[phase]);

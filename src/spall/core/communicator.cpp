@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -99,9 +100,34 @@ void Communicator::sum(std::span<ExactSum> sums) const {
   }
 }
 
+bool Communicator::any(bool flag) const {
+  if (size_ == 1) return flag;
+  int value = flag ? 1 : 0;
+  check(MPI_Allreduce(MPI_IN_PLACE, &value, 1, MPI_INT, MPI_LOR, MPI_COMM_WORLD), "MPI_Allreduce (or)");
+  return value != 0;
+}
+
+void Communicator::share_bytes(std::byte* items, std::size_t item_bytes, std::span<const Index> offsets) const {
+  if (size_ == 1) return;
+  std::vector<int> counts(size_), displacements(size_);
+  for (int r = 0; r < size_; ++r) {
+    const auto begin = static_cast<std::size_t>(offsets[r]) * item_bytes;
+    const auto bytes = static_cast<std::size_t>(offsets[r + 1] - offsets[r]) * item_bytes;
+    if (begin > std::size_t(std::numeric_limits<int>::max()) || bytes > std::size_t(std::numeric_limits<int>::max()))
+      throw std::runtime_error("MPI: a rank's share is beyond 2 GB");
+    displacements[r] = static_cast<int>(begin);
+    counts[r] = static_cast<int>(bytes);
+  }
+  check(MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, items, counts.data(), displacements.data(), MPI_BYTE,
+                       MPI_COMM_WORLD),
+        "MPI_Allgatherv");
+}
+
 #else
 
 bool built_with_mpi() { return false; }
+bool Communicator::any(bool flag) const { return flag; }
+void Communicator::share_bytes(std::byte*, std::size_t, std::span<const Index>) const {}
 Session::Session() = default;
 Session::~Session() = default;
 void Communicator::minimum(std::span<double>) const {}

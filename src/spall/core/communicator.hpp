@@ -4,10 +4,13 @@
 // exact sum, and a run of one process gets the same answers without MPI. Built with MPI
 // (SPALL_MPI, the default), the run's communicator is MPI_COMM_WORLD when an MPI launcher started
 // the process as one of several; otherwise it is this process alone.
+#include <cstddef>
 #include <cstdint>
 #include <span>
+#include <vector>
 
 #include "spall/core/exact_sum.hpp"
+#include "spall/core/types.hpp"
 
 namespace spall::parallel {
 
@@ -17,6 +20,18 @@ int launched_ranks();
 
 // Whether this build can run as several ranks.
 bool built_with_mpi();
+
+// The first of rank `rank`'s items when `count` items are dealt to `ranks` ranks in contiguous
+// blocks of sizes differing by at most one (rank == ranks gives count).
+inline Index block_begin(Index count, int rank, int ranks) {
+  return static_cast<Index>(static_cast<long double>(count) * rank / ranks);
+}
+// Every rank's first item, and count at the end (ranks + 1 entries).
+inline std::vector<Index> block_offsets(Index count, int ranks) {
+  std::vector<Index> offsets(ranks + 1);
+  for (int r = 0; r <= ranks; ++r) offsets[r] = block_begin(count, r, ranks);
+  return offsets;
+}
 
 class Communicator {
  public:
@@ -29,9 +44,19 @@ class Communicator {
   // In place, element by element: the sum over the ranks of each rank's partial sums (exact).
   void sum(std::span<ExactSum> sums) const;
   void sum(std::span<std::int64_t> values) const;
+  // Whether `flag` is set on any rank.
+  bool any(bool flag) const;
+  // Every rank's items in, in place: rank r holds items [offsets[r], offsets[r + 1]) of `items`
+  // (offsets.size() == size() + 1) and receives everyone else's (MPI_Allgatherv). For state that
+  // every rank holds whole while each computes its own share (docs/SCALING.md, "Replicated").
+  template <typename T>
+  void share(std::span<T> items, std::span<const Index> offsets) const {
+    share_bytes(reinterpret_cast<std::byte*>(items.data()), sizeof(T), offsets);
+  }
 
  private:
   friend class Session;
+  void share_bytes(std::byte* items, std::size_t item_bytes, std::span<const Index> offsets) const;
   int rank_ = 0;
   int size_ = 1;
 };

@@ -13,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "spall/core/communicator.hpp"
 #include "spall/core/exact_sum.hpp"
 #include "spall/core/types.hpp"
 
@@ -173,8 +174,9 @@ void region(Body&& body, bool in_parallel = true) {
 // on the order of the terms or on how they are split (ranks, threads). An OpenMP reduction of
 // doubles would follow the thread count in the last digits; summing fixed index blocks in order
 // would not, but would still follow the storage order, which MPI changes (docs/SCALING.md §2).
+// With `across`, each sum is taken over the terms of every rank (each rank's own n and terms).
 template <typename Term>
-auto exact_sum(Index n, Term&& term) {
+auto exact_sum(Index n, Term&& term, const Communicator* across = nullptr) {
   using T = std::invoke_result_t<Term&, Index>;
   constexpr int parts = [] {
     if constexpr (std::is_same_v<T, Real>)
@@ -200,6 +202,7 @@ auto exact_sum(Index n, Term&& term) {
 #pragma omp critical(spall_parallel_exact_sum)
     for (int k = 0; k < parts; ++k) total[k] += local[k];
   }
+  if (across) across->sum(total);
   T result{};
   if constexpr (std::is_same_v<T, Real>)
     result = total[0].value();

@@ -2,8 +2,8 @@
 // The one node store every discretization shares (DESIGN: "every discretization owns its points as
 // nodes"): SPH particles, SPG particles and hexahedron corners are all nodes here, so coupling
 // through shared nodes needs no extra machinery: two formulations that use a node both add their
-// force to it. Structure of arrays, dense indices; the owned nodes first, then (under MPI) the
-// ghost copies of other ranks' nodes.
+// force to it. Structure of arrays, dense indices. Under MPI every rank holds every node (replicated
+// state, docs/SCALING.md) and computes its own share of them.
 #include <cstdint>
 #include <vector>
 
@@ -25,7 +25,11 @@ struct NodeStore {
   std::vector<std::uint8_t> fixed;    // bit d set: translation d is held by an SPC
   std::vector<std::uint8_t> active;   // 0 once every element or particle on the node has eroded
   std::vector<std::int32_t> body;     // the rigid body the node moves with, or no_body
-  Index owned = 0;                    // nodes [0, owned) are this rank's; the rest are ghosts
+  // The nodes this process computes, [owned_begin, owned_end): all of them, unless an MPI run deals
+  // them out to its ranks; each rank then computes the forces and new velocities of its own nodes
+  // and shares them with the others every step (the time loop's halo phase).
+  Index owned_begin = 0;
+  Index owned_end = 0;
 
   Index size() const { return static_cast<Index>(id.size()); }
 
@@ -40,13 +44,16 @@ struct NodeStore {
     fixed.assign(n, 0);
     active.assign(n, 1);
     body.assign(n, no_body);
-    owned = n;
+    owned_begin = 0;
+    owned_end = n;
   }
 
-  // Everything but the IDs (the deck's), which must match.
+  bool owns(Index i) const { return i >= owned_begin && i < owned_end; }
+
+  // Everything but the IDs (the deck's), which must match, and the share of a rank (the run's).
   void checkpoint(Archive& a) {
     a.expect_size("nodes", id.size());
-    a(x0, x, v, f, mass, fixed, active, body, owned);
+    a(x0, x, v, f, mass, fixed, active, body);
   }
 };
 

@@ -15,8 +15,8 @@ using discretization::EnergyLedger;
 using Role = EnergyLedger::Role;
 
 std::string_view phase_name(Phase phase) {
-  static constexpr std::string_view names[] = {"halo", "internal_forces", "contact", "loads", "stable_step",
-                                               "velocity_update", "constraints", "energies", "output",
+  static constexpr std::string_view names[] = {"internal_forces", "contact", "loads", "stable_step",
+                                               "velocity_update", "constraints", "halo", "energies", "output",
                                                "position_update"};
   static_assert(std::size(names) == static_cast<std::size_t>(Phase::count));
   return names[static_cast<std::size_t>(phase)];
@@ -70,18 +70,22 @@ class TimeLoop::Step {
     rbdout_ = {controls_.rbdout_dt, controls_.rbdout_dt_curve};
     runaway_speed_limit_ = runaway_speed_limit();
     initial_mass_ = parallel::exact_sum(nodes_.size(), [&](Index i) { return nodes_.mass[i]; });
+    // Under MPI each rank computes a block of the nodes and holds them all (docs/SCALING.md).
+    const parallel::Communicator& ranks = parallel::world();
+    nodes_.owned_begin = parallel::block_begin(nodes_.size(), ranks.rank(), ranks.size());
+    nodes_.owned_end = parallel::block_begin(nodes_.size(), ranks.rank() + 1, ranks.size());
     parallel::for_each(nodes_.size(), [&](Index i) { nodes_.f[i] = Vec3::Zero(); });
   }
 
   // Advances by one step; false once the run has ended (after the last output).
   bool advance() {
-    timed(Phase::halo, [] {});  // ghost nodes in: nothing to do without MPI
     timed(Phase::internal_forces, [&] { internal_forces(); });
     timed(Phase::contact, [&] { contact(); });
     timed(Phase::loads, [&] { loads(); });
     timed(Phase::stable_step, [&] { stable_step(); });
     timed(Phase::velocity_update, [&] { velocity_update(); });
     timed(Phase::constraints, [&] { constraints(); });
+    timed(Phase::halo, [&] { halo(); });
     timed(Phase::energies, [&] { energies(); });
     bool more = true;
     timed(Phase::output, [&] { more = output(); });
@@ -246,6 +250,16 @@ class TimeLoop::Step {
     for (auto& wall : problem_.rigid_walls) wall.enforce(nodes_, t_mid, dt, dt_mid_);
   }
 
+  // Under MPI: every rank's new velocities v^{n+1/2} of its own nodes, and the formulations' state
+  // of them, to every rank. Positions need nothing: each rank advances every node by the same
+  // arithmetic from the same velocities.
+  void halo() {
+    const parallel::Communicator& ranks = parallel::world();
+    if (ranks.size() == 1) return;
+    ranks.share(std::span(nodes_.v), parallel::block_offsets(nodes_.size(), ranks.size()));
+    for (auto& f : problem_.formulations) f->share_state(nodes_);
+  }
+
   // The ledger at t^n. v^n = v^{n-1/2} + a^n dt^{n-1/2} / 2 is the point dt^{n-1/2} /
   // (dt^{n-1/2} + dt^{n+1/2}) of the way from v^{n-1/2} to v^{n+1/2} (the mean of the two only
   // when the steps are equal; v^0 at the start, v^{n+1/2} at the shortened last step). External
@@ -264,9 +278,10 @@ class TimeLoop::Step {
         nodes_.size(),
         [&](Index i) {
           Sums<4> term;
-          term[3] = runaway(i);
           const Vec3 v_start = v_old_[i], dv = nodes_.v[i] - v_start;
           v_n[i] += weight * dv;
+          if (!nodes_.owns(i)) return term;  // another rank's
+          term[3] = runaway(i);
           if (nodes_.mass[i] <= 0) return term;
           term[0] = -load_force(i, v_start).dot(v_start + weight * dv);
           // A rigid body's nodes: its kinetic energy and constraint work are the body's (below).
@@ -277,7 +292,8 @@ class TimeLoop::Step {
             term[1] = reaction.dot(v_start + reaction_weight * dv);
           }
           return term;
-        });
+        },
+        &parallel::world());
     const rigid::RigidBodies::Energies bodies = problem_.rigid_bodies.energies(weight, reaction_weight, dt_mid);
     ledger_.set(EnergyLedger::kinetic_energy, Role::kinetic, sums[2] + bodies.kinetic);
     for (const auto& f : problem_.formulations) f->book_energies(ledger_, v_n, dt_mid);

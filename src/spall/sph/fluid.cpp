@@ -280,10 +280,12 @@ void FluidFormulation::for_each_particle_candidates(const parallel::Team& team, 
       // The cell's moving particles (the cluster), its walls, and the bounding box of them all.
       cluster.clear(), walls.clear();
       Vec3 lower = Vec3::Constant(std::numeric_limits<Real>::infinity()), upper = -lower;
+      // Another rank's particles bound the box (the runs are those of the serial run) but are its to compute.
       for (Index a = own.begin; a < own.end; ++a) {
-        (moving_lanes(moving_.data(), a) & 1u ? cluster : walls).push_back(a);
         const FluidRecord& r = record_[a];
         lower = lower.cwiseMin(Vec3(r.x, r.y, r.z)), upper = upper.cwiseMax(Vec3(r.x, r.y, r.z));
+        if (node_[a] < owned_begin_ || node_[a] >= owned_end_) continue;
+        (moving_lanes(moving_.data(), a) & 1u ? cluster : walls).push_back(a);
       }
       // Inactive cells (walls only) have no moving particle within reach.
       int range_count = 0;
@@ -935,9 +937,32 @@ void FluidFormulation::pair_pass(discretization::NodeStore& nodes, Real dt) {
       max_mu = std::max(max_mu, max_mu_here);
     });
   });
-  max_acceleration_ = max_acceleration;
-  max_mu_ = max_mu;
+  // Over every rank's particles (MPI): the step is global.
+  double negated_maxima[2] = {-max_acceleration, -max_mu};
+  parallel::world().minimum(negated_maxima);
+  max_acceleration_ = -negated_maxima[0];
+  max_mu_ = -negated_maxima[1];
   first_pass_ = false;
+}
+
+// The continuity state of the other ranks' particles, by node: every rank's share in, in place.
+void FluidFormulation::share_state(const discretization::NodeStore& nodes) {
+  const parallel::Communicator& ranks = parallel::world();
+  if (ranks.size() == 1) return;
+  struct Continuity {
+    Real density;
+    float rate, previous_rate;
+  };
+  std::vector<Continuity> by_node(nodes.size());
+  const Index n = particle_count();
+  parallel::for_each(n, [&](Index a) {
+    if (nodes.owns(node_[a])) by_node[node_[a]] = {density_[a], rate_[a], previous_rate_[a]};
+  });
+  ranks.share(std::span(by_node), parallel::block_offsets(nodes.size(), ranks.size()));
+  parallel::for_each(n, [&](Index a) {
+    const Continuity& c = by_node[node_[a]];
+    density_[a] = c.density, rate_[a] = c.rate, previous_rate_[a] = c.previous_rate;
+  });
 }
 
 void FluidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt) {
@@ -947,6 +972,7 @@ void FluidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt)
       n, Real(0), [&](Index a) { return nodes.v[node_[a]].norm(); }, [](Real x, Real y) { return std::max(x, y); });
   max_speed_ = max_speed;
   travelled_ += dt * max_speed;
+  owned_begin_ = nodes.owned_begin, owned_end_ = nodes.owned_end;
   // Two particles approach each other by at most twice the bound; the search also widens by the
   // rounding margin, and all of it must stay within the skin (see for_each_particle_candidates).
   if (!cells_built_ || 2 * travelled_ + rounding_margin_ > parameters_.skin * support_) rebuild_cells(nodes);
@@ -969,18 +995,20 @@ Real FluidFormulation::stable_time_step(const discretization::NodeStore&) const 
 
 discretization::InternalPower FluidFormulation::internal_power(std::span<const Vec3> v) const {
   // Stored (compression) energy grows by -f_pressure . v; viscosity dissipates -f_viscous . v.
-  // Exact sums: independent of the thread count and of the particles' order.
+  // Exact sums over every rank's own particles: independent of threads, ranks and the particles' order.
   const Sums<2> sums = parallel::exact_sum(
       particle_count(),
       [&](Index a) {
         const Vec3& va = v[node_[a]];
         Sums<2> term;
+        if (node_[a] < owned_begin_ || node_[a] >= owned_end_) return term;  // another rank's
         for (int d = 0; d < 3; ++d) {
           term[0] += Real(pressure_force_[3 * a + d]) * va[d];
           term[1] += Real(viscous_force_[3 * a + d]) * va[d];
         }
         return term;
-      });
+      },
+      &parallel::world());
   discretization::InternalPower p;
   p.stored = -sums[0];
   p.dissipated = -sums[1];

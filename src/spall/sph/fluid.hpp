@@ -101,6 +101,8 @@ class FluidFormulation final : public discretization::Formulation {
   // The power of the last internal forces at the node velocities v.
   discretization::InternalPower internal_power(std::span<const Vec3> v) const;
   Real max_wave_speed() const override;
+  bool distributable() const override { return true; }
+  void share_state(const discretization::NodeStore& nodes) override;
   void checkpoint(Archive& archive) override;
 
   Index particle_count() const { return static_cast<Index>(node_.size()); }
@@ -161,6 +163,7 @@ class FluidFormulation final : public discretization::Formulation {
   Real max_speed_ = 0;
   Real max_sound_speed_ = 0;
   Real max_acceleration_ = 0;
+  Index owned_begin_ = 0, owned_end_ = 0;  // the nodes this rank computes (NodeStore::owns)
   Real max_mu_ = 0;  // largest |mu_ab| of an approaching pair (Monaghan's viscosity)
 };
 
