@@ -44,7 +44,8 @@ same_folder() {  # every file the single process wrote, the same in the other fo
 cut_deck "$source_dir/examples/dam_break/dam_break_2d.k" 0.05 100 >"$work/d2.k"
 cut_deck "$source_dir/examples/dam_break/dam_break.k" 0.02 >"$work/d3.k"
 for deck in d2 d3; do
-  "$cli" run "$work/$deck.k" -o "$work/$deck.serial" --threads 1 2>"$work/$deck.log" || { cat "$work/$deck.log"; fail "$deck"; }
+  "$cli" run "$work/$deck.k" -o "$work/$deck.serial" --threads 1 2>"$work/$deck.log" ||
+    { cat "$work/$deck.log"; fail "$deck"; }
   steps=$(grep -o '"steps": [0-9]*' "$work/$deck.serial/run.json" | grep -o '[0-9]*$')
   [ "$steps" -gt 100 ] || fail "$deck: only $steps steps"
 done

@@ -75,8 +75,8 @@ TEST(ExactSum, EqualsTheRoundedExactSumOfScaledIntegers) {
         const std::int64_t term = (random() & 1) ? -magnitude : magnitude;
         // Each term must itself be a double: keep its 53 leading bits.
         const int width = std::bit_width(static_cast<std::uint64_t>(magnitude));
-        const std::int64_t kept = width > 53 ? term / (std::int64_t(1) << (width - 53)) * (std::int64_t(1) << (width - 53))
-                                             : term;
+        const std::int64_t unit = width > 53 ? std::int64_t(1) << (width - 53) : 1;
+        const std::int64_t kept = term / unit * unit;
         exact += kept;
         s += std::ldexp(static_cast<double>(kept), scale);
       }
