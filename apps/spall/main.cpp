@@ -96,7 +96,8 @@ int main(int argc, char** argv) {
     if (*surface) return spall::cli::reconstruct_surface(surface_options);
     return spall::cli::run_deck(options);
   } catch (const spall::InputError& e) {
-    spall::log::error(e.what());
+    // Every MPI rank reads the same deck and finds the same error: one line, from rank 0.
+    if (spall::parallel::world().rank() == 0) spall::log::error(e.what());
     return spall::exit_bad_input;
   } catch (const spall::OutputError& e) {
     // A full disk or a folder without write permission: what was written before is whole.

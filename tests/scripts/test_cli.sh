@@ -101,6 +101,7 @@ launch 2 "$cli" run "$work/bar.k" -o "$work/mpi_out" >"$work/mpi.log" 2>&1
 code=$?
 set -e
 [ "$code" -eq 2 ] && grep -q 'one of 2 MPI ranks' "$work/mpi.log" || fail "two MPI ranks: exit $code, $(cat "$work/mpi.log")"
+[ "$(grep -c '^error: ' "$work/mpi.log")" -eq 1 ] || fail "two MPI ranks: not one error line: $(cat "$work/mpi.log")"
 [ ! -e "$work/mpi_out" ] || fail "output written by a run started as two MPI ranks"
 launch 1 "$cli" run "$work/bar.k" -o "$work/mpi1_out" >/dev/null 2>&1 || fail "one MPI rank"
 
