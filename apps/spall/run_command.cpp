@@ -179,8 +179,9 @@ int run_deck(const RunOptions& options) {
   }
 
   const long long nodes = moving_node_count(problem);
-  log::info(fmt::format("spall {}: {} with {} nodes (particles and element nodes) on {} threads, to {}", version, deck,
-                        nodes, parallel::thread_count(), out.string()));
+  log::info(fmt::format("spall {}: {} with {} nodes (particles and element nodes) on {}{} threads, to {}", version,
+                        deck, nodes, ranks.size() > 1 ? fmt::format("{} MPI ranks x ", ranks.size()) : "",
+                        parallel::thread_count(), out.string()));
 
   std::optional<RunOutputs> outputs;
   if (writes) outputs.emplace(out, problem, model, restart.has_value());
