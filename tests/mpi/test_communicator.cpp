@@ -1,6 +1,7 @@
 // The communicator's collectives (core/communicator.hpp), run as 1, 2 and 3 ranks: a global
 // minimum and exact sums give on every rank the answer one process computes from all the data,
-// bit for bit, however the data are split among the ranks. Every rank draws the same random
+// bit for bit, however the data are split among the ranks; share() gives every rank every block
+// (a rank with none included); any() agrees. Every rank draws the same random
 // numbers, keeps its share, and checks the collective against the whole.
 #include <gtest/gtest.h>
 
@@ -86,6 +87,38 @@ TEST(Communicator, IntegerSums) {
   ranks.sum(counts);
   EXPECT_EQ(counts[0], std::int64_t(ranks.size()) * (ranks.size() + 1) / 2);
   EXPECT_EQ(counts[1], ranks.size() * (std::int64_t(1) << 40));
+}
+
+TEST(Communicator, ShareGivesEveryRankEveryBlock) {
+  const Communicator& ranks = world();
+  struct Item {
+    double value;
+    float extra;
+    int rank;
+  };
+  // 10 items a rank less one: blocks of unequal sizes, and none for a rank when there are more
+  // ranks than items.
+  for (const Index count : {Index(10 * ranks.size() - 1), Index(ranks.size() - 1)}) {
+    const std::vector<Index> offsets = block_offsets(count, ranks.size());
+    ASSERT_EQ(offsets.front(), 0);
+    ASSERT_EQ(offsets.back(), count);
+    std::vector<Item> items(count, Item{-1.0, -1.0f, -1});
+    for (Index i = offsets[ranks.rank()]; i < offsets[ranks.rank() + 1]; ++i)
+      items[i] = Item{0.5 * i, 0.25f * i, ranks.rank()};
+    ranks.share(std::span(items), offsets);
+    for (int r = 0; r < ranks.size(); ++r)
+      for (Index i = offsets[r]; i < offsets[r + 1]; ++i) {
+        EXPECT_EQ(items[i].value, 0.5 * i);
+        EXPECT_EQ(items[i].extra, 0.25f * i);
+        EXPECT_EQ(items[i].rank, r);
+      }
+  }
+}
+
+TEST(Communicator, AnyIsTrueOnEveryRankWhenOneRankSaysSo) {
+  const Communicator& ranks = world();
+  EXPECT_FALSE(ranks.any(false));
+  EXPECT_TRUE(ranks.any(ranks.rank() == ranks.size() - 1));
 }
 
 }  // namespace
