@@ -1,7 +1,7 @@
 // The communicator's collectives (core/communicator.hpp), run as 1, 2 and 3 ranks: a global
 // minimum and exact sums give on every rank the answer one process computes from all the data,
 // bit for bit, however the data are split among the ranks; share() gives every rank every block
-// (a rank with none included); any() agrees. Every rank draws the same random
+// (a rank with none included). Every rank draws the same random
 // numbers, keeps its share, and checks the collective against the whole.
 #include <gtest/gtest.h>
 
@@ -113,12 +113,6 @@ TEST(Communicator, ShareGivesEveryRankEveryBlock) {
         EXPECT_EQ(items[i].rank, r);
       }
   }
-}
-
-TEST(Communicator, AnyIsTrueOnEveryRankWhenOneRankSaysSo) {
-  const Communicator& ranks = world();
-  EXPECT_FALSE(ranks.any(false));
-  EXPECT_TRUE(ranks.any(ranks.rank() == ranks.size() - 1));
 }
 
 }  // namespace

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cstdlib>
-#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -78,8 +77,8 @@ void Communicator::sum(std::span<std::int64_t> values) const {
 }
 
 // Each sum's chunks, normalized (each below 2^32 but the signed top one), added as integers: with
-// fewer than 2^31 ranks no chunk overflows. The non-finite flags are or-ed, as a sum of bits
-// that each rank sets at most once would not be: they travel as a separate bitwise-or.
+// fewer than 2^31 ranks no chunk overflows. The non-finite flags travel in a bitwise or (a sum
+// would carry one flag into the next).
 void Communicator::sum(std::span<ExactSum> sums) const {
   if (size_ == 1 || sums.empty()) return;
   constexpr int n = ExactSum::chunk_count;
@@ -100,33 +99,26 @@ void Communicator::sum(std::span<ExactSum> sums) const {
   }
 }
 
-bool Communicator::any(bool flag) const {
-  if (size_ == 1) return flag;
-  int value = flag ? 1 : 0;
-  check(MPI_Allreduce(MPI_IN_PLACE, &value, 1, MPI_INT, MPI_LOR, MPI_COMM_WORLD), "MPI_Allreduce (or)");
-  return value != 0;
-}
-
+// Counts and displacements in items (Index, as MPI's int), with an item as one contiguous type.
 void Communicator::share_bytes(std::byte* items, std::size_t item_bytes, std::span<const Index> offsets) const {
   if (size_ == 1) return;
   std::vector<int> counts(size_), displacements(size_);
   for (int r = 0; r < size_; ++r) {
-    const auto begin = static_cast<std::size_t>(offsets[r]) * item_bytes;
-    const auto bytes = static_cast<std::size_t>(offsets[r + 1] - offsets[r]) * item_bytes;
-    if (begin > std::size_t(std::numeric_limits<int>::max()) || bytes > std::size_t(std::numeric_limits<int>::max()))
-      throw std::runtime_error("MPI: a rank's share is beyond 2 GB");
-    displacements[r] = static_cast<int>(begin);
-    counts[r] = static_cast<int>(bytes);
+    displacements[r] = offsets[r];
+    counts[r] = offsets[r + 1] - offsets[r];
   }
-  check(MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, items, counts.data(), displacements.data(), MPI_BYTE,
-                       MPI_COMM_WORLD),
-        "MPI_Allgatherv");
+  MPI_Datatype item;
+  check(MPI_Type_contiguous(static_cast<int>(item_bytes), MPI_BYTE, &item), "MPI_Type_contiguous");
+  check(MPI_Type_commit(&item), "MPI_Type_commit");
+  const int status = MPI_Allgatherv(MPI_IN_PLACE, 0, MPI_DATATYPE_NULL, items, counts.data(), displacements.data(),
+                                    item, MPI_COMM_WORLD);
+  MPI_Type_free(&item);
+  check(status, "MPI_Allgatherv");
 }
 
 #else
 
 bool built_with_mpi() { return false; }
-bool Communicator::any(bool flag) const { return flag; }
 void Communicator::share_bytes(std::byte*, std::size_t, std::span<const Index>) const {}
 Session::Session() = default;
 Session::~Session() = default;

@@ -44,8 +44,6 @@ class Communicator {
   // In place, element by element: the sum over the ranks of each rank's partial sums (exact).
   void sum(std::span<ExactSum> sums) const;
   void sum(std::span<std::int64_t> values) const;
-  // Whether `flag` is set on any rank.
-  bool any(bool flag) const;
   // Every rank's items in, in place: rank r holds items [offsets[r], offsets[r + 1]) of `items`
   // (offsets.size() == size() + 1) and receives everyone else's (MPI_Allgatherv). For state that
   // every rank holds whole while each computes its own share (docs/SCALING.md, "Replicated").
