@@ -26,7 +26,7 @@ esac
 
 # name: options (on top of the mesh's; the default is m2, COF 0.2, FS 0.4, DX 1.6). The coarse runs update the
 # kernel every 15 steps, seed 001 §3's value and the base of its Fig. 8; the full ones every 5, its Fig. 2's card
-# and the example's deck (at 15 the full model blows up halfway: examples/friction_drilling/README.md).
+# and the example's deck (examples/friction_drilling/README.md).
 mesh+=(--smstep "$smstep")
 runs=(
   "base:--time-scale $fast"
