@@ -284,7 +284,7 @@ void FluidFormulation::for_each_particle_candidates(const parallel::Team& team, 
       for (Index a = own.begin; a < own.end; ++a) {
         const FluidRecord& r = record_[a];
         lower = lower.cwiseMin(Vec3(r.x, r.y, r.z)), upper = upper.cwiseMax(Vec3(r.x, r.y, r.z));
-        if (node_[a] < owned_begin_ || node_[a] >= owned_end_) continue;
+        if (!owns(a)) continue;
         (moving_lanes(moving_.data(), a) & 1u ? cluster : walls).push_back(a);
       }
       // Inactive cells (walls only) have no moving particle within reach.
@@ -1001,7 +1001,7 @@ discretization::InternalPower FluidFormulation::internal_power(std::span<const V
       [&](Index a) {
         const Vec3& va = v[node_[a]];
         Sums<2> term;
-        if (node_[a] < owned_begin_ || node_[a] >= owned_end_) return term;  // another rank's
+        if (!owns(a)) return term;  // another rank's
         for (int d = 0; d < 3; ++d) {
           term[0] += Real(pressure_force_[3 * a + d]) * va[d];
           term[1] += Real(viscous_force_[3 * a + d]) * va[d];

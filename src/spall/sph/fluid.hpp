@@ -164,6 +164,7 @@ class FluidFormulation final : public discretization::Formulation {
   Real max_sound_speed_ = 0;
   Real max_acceleration_ = 0;
   Index owned_begin_ = 0, owned_end_ = 0;  // the nodes this rank computes (NodeStore::owns)
+  bool owns(Index particle) const { return node_[particle] >= owned_begin_ && node_[particle] < owned_end_; }
   Real max_mu_ = 0;  // largest |mu_ab| of an approaching pair (Monaghan's viscosity)
 };
 
