@@ -114,8 +114,9 @@ std::string where_the_time_went(const solver::PhaseTimes& phases) {
   return line;
 }
 
-// Under MPI, only what can run on several ranks: formulations that deal their nodes out, and none of
-// the things that act on nodes of every rank at once (walls, contacts, rigid bodies).
+// Under MPI, only what can run on several ranks: formulations that deal their nodes out, rigid walls
+// and prescribed motion (every rank applies them to every node alike), and none of what still sums
+// forces of every rank's nodes at once (contacts, rigid bodies).
 void refuse_what_is_not_distributed(const solver::Problem& problem, int ranks) {
   std::string what;
   for (const auto& f : problem.formulations)
@@ -123,12 +124,11 @@ void refuse_what_is_not_distributed(const solver::Problem& problem, int ranks) {
       what = fmt::format("the {} formulation", f->name());
       break;
     }
-  if (what.empty() && !problem.rigid_walls.empty()) what = "a rigid wall (*RIGIDWALL)";
   if (what.empty() && !problem.contacts.empty()) what = "a contact (*CONTACT_...)";
   if (what.empty() && !problem.rigid_bodies.bodies().empty()) what = "a rigid body (*MAT_RIGID)";
   if (what.empty()) return;
   throw InputError(fmt::format("spall run was started as one of {} MPI ranks (mpirun -np {}), but {} is not "
-                               "distributed yet (only the SPH fluid is; docs/SCALING.md): run this deck as one "
+                               "distributed yet (the SPH fluid and the SPH solid are; docs/SCALING.md): run this deck as one "
                                "process (--threads sets the cores it uses)",
                                ranks, ranks, what));
 }

@@ -34,7 +34,7 @@ inline Id spg_node_id(const SpgBlock& b, int i, int j, int k) {
 
 inline model::Model spg_block_model(const SpgBlock& b) {
   model::Model m;
-  m.parts.push_back({1, "block", 1, 1, 0, 0, 0, {}});
+  m.parts.push_back({1, "block", 1, 1, 0, 0, 0, {}, {}});
   if (b.fem) {
     model::SectionSolid section;
     section.id = 1;

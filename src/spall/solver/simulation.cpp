@@ -16,7 +16,7 @@ using Role = EnergyLedger::Role;
 
 std::string_view phase_name(Phase phase) {
   static constexpr std::string_view names[] = {"internal_forces", "contact", "loads", "stable_step",
-                                               "velocity_update", "constraints", "halo", "energies", "output",
+                                               "velocity_update", "halo", "constraints", "energies", "output",
                                                "position_update"};
   static_assert(std::size(names) == static_cast<std::size_t>(Phase::count));
   return names[static_cast<std::size_t>(phase)];
@@ -84,8 +84,8 @@ class TimeLoop::Step {
     timed(Phase::loads, [&] { loads(); });
     timed(Phase::stable_step, [&] { stable_step(); });
     timed(Phase::velocity_update, [&] { velocity_update(); });
-    timed(Phase::constraints, [&] { constraints(); });
     timed(Phase::halo, [&] { halo(); });
+    timed(Phase::constraints, [&] { constraints(); });
     timed(Phase::energies, [&] { energies(); });
     bool more = true;
     timed(Phase::output, [&] { more = output(); });
@@ -252,7 +252,8 @@ class TimeLoop::Step {
 
   // Under MPI: every rank's new velocities v^{n+1/2} of its own nodes, and the formulations' state
   // of them, to every rank. Positions need nothing: each rank advances every node by the same
-  // arithmetic from the same velocities.
+  // arithmetic from the same velocities. Before the constraints, so that every rank applies the
+  // walls and prescribed motions to every node alike (a wall's force is then whole on each).
   void halo() {
     const parallel::Communicator& ranks = parallel::world();
     if (ranks.size() == 1) return;

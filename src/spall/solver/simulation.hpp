@@ -1,8 +1,8 @@
 #pragma once
 // The explicit time loop (central difference) as one step of named phases (docs/ARCHITECTURE.md):
 //   internal forces -> contact (penalty) -> loads -> stable step -> velocity update (with SPCs)
-//   -> constraints (prescribed motion, rigid walls) -> halo (MPI: every rank's new velocities to
-//   every rank) -> energies -> output -> position update
+//   -> halo (MPI: every rank's new velocities to every rank) -> constraints (prescribed motion,
+//   rigid walls) -> energies -> output -> position update
 // The stable step comes before the velocity update because the central difference with a varying
 // step needs dt^{n+1/2} for v^{n+1/2} = v^{n-1/2} + a^n (dt^{n-1/2} + dt^{n+1/2}) / 2.
 #include <array>
@@ -22,7 +22,7 @@ struct StepInfo {
 };
 
 // The phases of a step, in the order they run.
-enum class Phase { internal_forces, contact, loads, stable_step, velocity_update, constraints, halo, energies, output,
+enum class Phase { internal_forces, contact, loads, stable_step, velocity_update, halo, constraints, energies, output,
                    position_update, count };
 std::string_view phase_name(Phase phase);
 

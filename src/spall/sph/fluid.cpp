@@ -167,6 +167,7 @@ void FluidFormulation::rebuild_cells(const discretization::NodeStore& nodes) {
   // The cell list keeps no order: from here on the particles are in cell order.
   const std::vector<Index> order = cells_.take_order();
   permute(node_, order);
+  share_.reset();  // made again for the new order at the next share_state
   permute(mass_, order);
   permute(density_, order);
   permute(rate_, order);
@@ -945,24 +946,11 @@ void FluidFormulation::pair_pass(discretization::NodeStore& nodes, Real dt) {
   first_pass_ = false;
 }
 
-// The continuity state of the other ranks' particles, by node: every rank's share in, in place.
+// The continuity state of the other ranks' particles: every rank's share in, in place.
 void FluidFormulation::share_state(const discretization::NodeStore& nodes) {
-  const parallel::Communicator& ranks = parallel::world();
-  if (ranks.size() == 1) return;
-  struct Continuity {
-    Real density;
-    float rate, previous_rate;
-  };
-  std::vector<Continuity> by_node(nodes.size());
-  const Index n = particle_count();
-  parallel::for_each(n, [&](Index a) {
-    if (nodes.owns(node_[a])) by_node[node_[a]] = {density_[a], rate_[a], previous_rate_[a]};
-  });
-  ranks.share(std::span(by_node), parallel::block_offsets(nodes.size(), ranks.size()));
-  parallel::for_each(n, [&](Index a) {
-    const Continuity& c = by_node[node_[a]];
-    density_[a] = c.density, rate_[a] = c.rate, previous_rate_[a] = c.previous_rate;
-  });
+  if (parallel::world().size() == 1) return;
+  if (!share_) share_.emplace(node_, nodes.size());
+  (*share_)(density_), (*share_)(rate_), (*share_)(previous_rate_);
 }
 
 void FluidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt) {

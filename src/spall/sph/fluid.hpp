@@ -36,12 +36,14 @@
 //   so the term of (a, b) is bitwise minus that of (b, a), and summed in double (the viscous
 //   part alone, kept only to split the energy balance, in single precision).
 #include <limits>
+#include <optional>
 #include <vector>
 
 #include "spall/materials/eos.hpp"
 #include "spall/neighbors/cell_list.hpp"
 #include "spall/core/parallel.hpp"
 #include "spall/discretization/formulation.hpp"
+#include "spall/discretization/particle_share.hpp"
 #include "spall/sph/artificial_viscosity.hpp"
 
 namespace spall::sph {
@@ -165,6 +167,7 @@ class FluidFormulation final : public discretization::Formulation {
   Real max_acceleration_ = 0;
   Index owned_begin_ = 0, owned_end_ = 0;  // the nodes this rank computes (NodeStore::owns)
   bool owns(Index particle) const { return node_[particle] >= owned_begin_ && node_[particle] < owned_end_; }
+  std::optional<discretization::ParticleShare> share_;  // under MPI, from the first share_state
   Real max_mu_ = 0;  // largest |mu_ab| of an approaching pair (Monaghan's viscosity)
 };
 

@@ -434,6 +434,10 @@ Index SolidFormulation::compute_rates(Real dt) {
   parallel::region([&](const parallel::Team& team) {
     RowTerms terms;  // this thread's pair terms, reused row after row
     team.for_each(n, [&](Index a) {
+      if (!owns(a)) {  // another rank's, whose pick the force pass may still need
+        if (force_blocks_ > 0 && block_needed_[a / force_block_length_]) pick_support(list, a, record_.data(), mask, terms);
+        return;
+      }
       const Index padded = pick_support(list, a, record_.data(), mask, terms);
       const Index* neighbour = terms.neighbour.data();
       float *dx_k = terms.dx.data(), *dy_k = terms.dy.data(), *dz_k = terms.dz.data(), *factor_k = terms.factor.data(),
@@ -664,6 +668,7 @@ Index SolidFormulation::update_state(Real dt) {
   const Index first_unsound = parallel::first_failure(
       n,
       [&](Index a) {
+        if (!owns(a)) return false;
         update_particle(a, velocity_gradient_[a], correction_[a], density_rate_[a], dt);
         return !sound(a);
       },
@@ -778,6 +783,25 @@ void SolidFormulation::check_state(const discretization::NodeStore& nodes, Index
   }
 }
 
+void SolidFormulation::share_updated_state() {
+  const discretization::ParticleShare& share = *share_;
+  share(updated_volume_), share(updated_sound_speed_), share(density_), share(pressure_), share(internal_energy_);
+  share(state_), share(stress_), share(plain_stress_), share(artificial_stress_), share(exported_deviator_);
+  share(strain_rate_squared_), share(gradient_amplification_);
+}
+
+void SolidFormulation::choose_force_blocks() {
+  if (force_blocks_ == 0) return;
+  block_needed_.assign(force_blocks_, parallel::world().size() == 1);
+  if (parallel::world().size() == 1) return;
+  for (Index a = 0; a < particle_count(); ++a)
+    if (owns(a)) {
+      const Index block = a / force_block_length_;
+      block_needed_[block] = 1;
+      if (block > 0) block_needed_[block - 1] = 1;
+    }
+}
+
 // Momentum, dual to the (corrected) velocity gradient: with P = sigma B^T,
 //   f_a = sum_b V_a V_b (P_a + P_b) grad_a W_ab  -  sum_b m_a m_b Pi_ab grad_a W_ab
 //         + sum_b m_a m_b f_ab^n (R_a + R_b) grad_a W_ab,
@@ -875,6 +899,7 @@ void SolidFormulation::compute_pair_forces() {
     // about ten blocks a sweep, the sweeps' ends left a thread idle for a block, 3 % of the Taylor
     // bar's step.)
     parallel::for_each_alternating_block(force_blocks_, [&](Index block) {
+      if (!block_needed_[block]) return;
       RowTerms terms;
       const Index last = std::min(n, (block + 1) * force_block_length_);
       for (Index a = block * force_block_length_; a < last; ++a)
@@ -883,8 +908,9 @@ void SolidFormulation::compute_pair_forces() {
   } else {
     parallel::region([&](const parallel::Team& team) {
       RowTerms terms;
-      team.for_each(n, [&](Index a) { force_[a].head<3>() += row_force.template operator()<false>(a, terms); },
-                    {.chunk = 512});
+      team.for_each(n, [&](Index a) {
+        if (owns(a)) force_[a].head<3>() += row_force.template operator()<false>(a, terms);
+      }, {.chunk = 512});
     });
   }
 }
@@ -908,8 +934,14 @@ void SolidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt)
     stable_step_.reset();
     return;
   }
+  const bool distributed = parallel::world().size() > 1;
+  if (distributed) {
+    owned_begin_ = nodes.owned_begin, owned_end_ = nodes.owned_end;
+    if (!share_) share_.emplace(node_, nodes.size());
+  }
   gather_kinematics(nodes);
   update_neighbour_list();
+  choose_force_blocks();
   update_records();
   Index first_unsound = n;
   with_discretization([&](auto kernel, auto corrected) {
@@ -919,8 +951,17 @@ void SolidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt)
     int interval = 1 << 30;
     for (const ColourField& c : options_.colour_field)
       if (c.enabled) interval = std::min(interval, c.interval);
+    if (distributed) {  // the categorization reads the neighbours' colour field
+      (*share_)(colour_), (*share_)(colour_normal_), (*share_)(support_count_);
+    }
     if (step_ % interval == 0) categorize();
     first_unsound = update_state(dt);
+  }
+  if (distributed) {
+    double lowest = static_cast<double>(first_unsound);  // the same particle named on every rank
+    parallel::world().minimum({&lowest, 1});
+    first_unsound = static_cast<Index>(lowest);
+    share_updated_state();
   }
   volume_.swap(updated_volume_);
   sound_speed_.swap(updated_sound_speed_);
@@ -937,8 +978,8 @@ void SolidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt)
   const Found found = parallel::reduce_exact(
       n, Found{},
       [&](Index a) {
-        nodes.f[node_[a]] += force_[a].head<3>();
-        if (dt > 0) {
+        if (owns(a)) nodes.f[node_[a]] += force_[a].head<3>();
+        if (dt > 0) {  // from the density, which every rank holds whole: on every particle
           const Real compression = materials_[material_[a]].density / density_[a];
           const Real scale = options_.dimension == 3 ? cube_root(compression) : std::sqrt(compression);
           const HBounds& bounds = h_bounds_[material_[a]];
@@ -977,9 +1018,11 @@ discretization::InternalPower SolidFormulation::internal_power(std::span<const V
   const Sums<2> sums = parallel::exact_sum(
       particle_count(),
       [&](Index a) {
+        if (!owns(a)) return Sums<2>{};  // another rank's
         const Vec3& va = v[node_[a]];
         return Sums<2>{{(force_[a].head<3>() - viscous_force_[a]).dot(va), viscous_force_[a].dot(va)}};
-      });
+      },
+      &parallel::world());
   discretization::InternalPower p;
   p.stored = -sums[0];
   p.dissipated = -sums[1];

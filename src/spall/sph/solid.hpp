@@ -27,6 +27,7 @@
 // One SPH formulation owns every SPH part; particles of different parts interact through the
 // kernel, with each particle's own material.
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <span>
 #include <vector>
@@ -35,6 +36,7 @@
 #include "spall/materials/material.hpp"
 #include "spall/neighbors/verlet_list.hpp"
 #include "spall/discretization/formulation.hpp"
+#include "spall/discretization/particle_share.hpp"
 #include "spall/sph/artificial_viscosity.hpp"
 
 namespace spall::sph {
@@ -148,6 +150,7 @@ class SolidFormulation final : public discretization::Formulation {
   // The power of the last internal forces at the node velocities v.
   discretization::InternalPower internal_power(std::span<const Vec3> v) const;
   Real max_wave_speed() const override;
+  bool distributable() const override { return true; }
   void checkpoint(Archive& archive) override;
 
   Index particle_count() const { return static_cast<Index>(node_.size()); }
@@ -201,6 +204,12 @@ class SolidFormulation final : public discretization::Formulation {
   template <typename F>
   void with_discretization(F&& f);
   bool active(Real time) const;
+  // Under MPI (replicated state, docs/SCALING.md): every rank's state of its own particles in, after
+  // the state update, so that the force pass and the next step read every neighbour's.
+  void share_updated_state();
+  // Which force blocks this rank runs: those with a particle it owns, and the block before each
+  // (its half rows subtract from the next block's forces). All when the run is one process.
+  void choose_force_blocks();
 
   std::vector<materials::Material> materials_;
   SolidOptions options_;
@@ -282,6 +291,12 @@ class SolidFormulation final : public discretization::Formulation {
   // The force pass's blocks of particles (compute_pair_forces); none when the list spans too much
   // of the particle order for pair-once blocks, and the pass then gathers every row whole.
   Index force_blocks_ = 0, force_block_length_ = 0;
+
+  // The nodes this rank computes (NodeStore::owns); every node when the run is one process.
+  Index owned_begin_ = 0, owned_end_ = std::numeric_limits<Index>::max();
+  bool owns(Index a) const { return node_[a] >= owned_begin_ && node_[a] < owned_end_; }
+  std::optional<discretization::ParticleShare> share_;  // under MPI, from the first compute_forces
+  std::vector<std::uint8_t> block_needed_;               // per force block (choose_force_blocks)
 
   neighbors::VerletList verlet_;
   Real time_ = 0;

@@ -1,0 +1,50 @@
+# What the MPI scripts (test_mpi_*.sh) share; sourced after `cli`, `work` and fail() are set.
+# Skips the script (exit 0) where spall was built without MPI or mpirun is missing.
+if ! "$cli" --version | grep -q '(MPI)' || ! command -v mpirun >/dev/null; then
+  echo "skipped: spall built without MPI, or no mpirun"
+  exit 0
+fi
+# Open MPI refuses root (containers, CI) and more ranks than cores unless told; its shared-memory
+# transport's single-copy mode needs ptrace rights that containers often lack.
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_rmaps_base_oversubscribe=1
+export OMPI_MCA_btl_vader_single_copy_mechanism=none OMP_WAIT_POLICY=passive
+# Under the sanitizers: Open MPI's plugins, unloaded by MPI_Finalize, leave allocations that
+# LeakSanitizer can name only as "unknown module"; address and UB checks stay on.
+mpirun() { ASAN_OPTIONS=detect_leaks=0 command mpirun "$@"; }
+
+# DECK END_TIME [RUNRSF_CYCLES]: the deck with its end time cut, and restart files.
+cut_deck() {
+  python3 - "$@" <<'PY'
+import re, sys
+text = open(sys.argv[1]).read()
+text = re.sub(r"(\*CONTROL_TERMINATION\n(?:\$.*\n)*)\s*\S+", lambda m: m.group(1) + f"{float(sys.argv[2]):10g}", text)
+if len(sys.argv) > 3:
+    text = text.replace("*END", f"*DATABASE_BINARY_RUNRSF\n{int(sys.argv[3]):10d}\n*END")
+sys.stdout.write(text)
+PY
+}
+
+# SERIAL OTHER WHAT: every file the single process wrote (the histories, the .pvd and every .vtu)
+# is byte for byte the same in the other run's folder.
+same_folder() {
+  local f
+  for f in $(cd "$1" && ls *.csv d3plot.pvd d3plot_*.vtu); do
+    cmp -s "$1/$f" "$2/$f" || fail "$f differs from the single process's ($3)"
+  done
+  ls "$2"/d3plot_*.vtu | wc -l | grep -qx "$(ls "$1"/d3plot_*.vtu | wc -l)" || fail "field files ($3)"
+}
+
+# DECK SERIAL_FOLDER "RANKS THREADS" ...: the deck under mpirun on each count of ranks and threads,
+# every file as the single process's, and run.json naming the ranks.
+same_on_ranks() {
+  local deck=$1 serial=$2 run out
+  shift 2
+  for run in "$@"; do
+    set -- $run
+    out="$serial.np$1.t$2"
+    mpirun -np "$1" "$cli" run "$deck" -o "$out" --threads "$2" >"$out.log" 2>&1 ||
+      { tail -20 "$out.log"; fail "$deck on $1 ranks x $2 threads"; }
+    same_folder "$serial" "$out" "$deck on $1 ranks x $2 threads"
+    grep -q "\"ranks\": $1," "$out/run.json" || fail "run.json ranks ($deck, $1 ranks)"
+  done
+}

@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# The SPH solid on several MPI ranks (issue 35; docs/SCALING.md, "Replicated state"), run as one
+# process and under mpirun as 1-4 ranks (oversubscribed on 2 cores) with 1 or 2 threads each: every
+# history (glstat.csv, rwforc.csv), the .pvd and every .vtu are byte for byte the single process's.
+#  - the Taylor bar of examples/taylor_bar, cut short: Johnson-Cook, the corrected gradient, a rigid
+#    wall whose force every rank finds whole, the force pass taking each pair once (in blocks, of
+#    which each rank runs its own and the one before);
+#  - the brittle spall of examples/brittle_spall, cut short: the colour-field categorization (which
+#    reads the neighbours' colour field of every rank) and prescribed motion.
+# Rank 0 writes the restart files with the whole state: the Taylor bar's 2-rank runrsf, continued
+# on one process, ends as the uninterrupted run.
+# Arguments, as CTest passes them: CLI SOURCE_DIR SHARED_DIR.
+set -euo pipefail
+cli=$1
+source_dir=$2
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+fail() { echo "FAIL: $*"; exit 1; }
+
+source "$source_dir/tests/scripts/mpi_common.sh"
+
+cut_deck "$source_dir/examples/taylor_bar/taylor_bar.k" 1e-5 20 >"$work/taylor.k"
+cut_deck "$source_dir/examples/brittle_spall/brittle_spall.k" 0.01 >"$work/spall.k"
+for deck in taylor spall; do
+  "$cli" run "$work/$deck.k" -o "$work/$deck.serial" --threads 1 2>"$work/$deck.log" ||
+    { cat "$work/$deck.log"; fail "$deck"; }
+  steps=$(grep -o '"steps": [0-9]*' "$work/$deck.serial/run.json" | grep -o '[0-9]*$')
+  [ "$steps" -gt 40 ] || fail "$deck: only $steps steps"
+done
+[ -s "$work/taylor.serial/rwforc.csv" ] || fail "the Taylor bar wrote no rwforc.csv"
+same_on_ranks "$work/taylor.k" "$work/taylor.serial" "2 1" "3 1" "4 1" "2 2"
+same_on_ranks "$work/spall.k" "$work/spall.serial" "2 1" "3 2"
+
+# The 2-rank run's last restart file (rank 0 wrote it), continued on one process.
+[ -s "$work/taylor.serial.np2.t1/runrsf" ] || fail "no runrsf from the 2-rank run"
+"$cli" run --restart "$work/taylor.serial.np2.t1" --threads 1 2>"$work/restart.log" ||
+  { cat "$work/restart.log"; fail "restart"; }
+grep -q 'continuing from' "$work/restart.log" || fail "the restart did not continue"
+same_folder "$work/taylor.serial" "$work/taylor.serial.np2.t1" "2 ranks, continued on one process"
+echo "mpi solid: OK"
