@@ -6,7 +6,8 @@
 #    wall whose force every rank finds whole, the force pass taking each pair once (in blocks, of
 #    which each rank runs its own and the one before);
 #  - the brittle spall of examples/brittle_spall, cut short: the colour-field categorization (which
-#    reads the neighbours' colour field of every rank) and prescribed motion.
+#    reads the neighbours' colour field of every rank) and prescribed motion;
+#  - two particles of a bar on three ranks: a rank with none.
 # Rank 0 writes the restart files with the whole state: the Taylor bar's 2-rank runrsf, continued
 # on one process, ends as the uninterrupted run.
 # Arguments, as CTest passes them: CLI SOURCE_DIR SHARED_DIR.
@@ -30,6 +31,10 @@ done
 [ -s "$work/taylor.serial/rwforc.csv" ] || fail "the Taylor bar wrote no rwforc.csv"
 same_on_ranks "$work/taylor.k" "$work/taylor.serial" "2 1" "3 1" "4 1" "2 2"
 same_on_ranks "$work/spall.k" "$work/spall.serial" "2 1" "3 2"
+# Two particles on three ranks: rank 0, which writes every file, owns neither.
+python3 "$source_dir/tools/make_bar_deck.py" --length 0.05 --width 0.025 --spacing 0.025 --periods 2 >"$work/two.k"
+"$cli" run "$work/two.k" -o "$work/two.serial" --threads 1 2>"$work/two.log" || { cat "$work/two.log"; fail "two"; }
+same_on_ranks "$work/two.k" "$work/two.serial" "3 1"
 
 # The 2-rank run's last restart file (rank 0 wrote it), continued on one process.
 [ -s "$work/taylor.serial.np2.t1/runrsf" ] || fail "no runrsf from the 2-rank run"
