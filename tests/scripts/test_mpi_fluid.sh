@@ -5,7 +5,7 @@
 # each: glstat.csv, the .pvd and every .vtu are byte for byte the single process's. Rank 0 writes the
 # restart files with the whole state: a 2-rank run's last runrsf, continued on one process, ends as
 # the uninterrupted run.
-# (test_cli: a deck with what is not distributed, SPG, is refused on 2 ranks; test_mpi_solid: the SPH solid.)
+# (test_cli: a deck with what is not distributed, FEM, is refused on 2 ranks; test_mpi_solid: the solids.)
 # Arguments, as CTest passes them: CLI SOURCE_DIR SHARED_DIR.
 set -euo pipefail
 cli=$1

@@ -257,11 +257,12 @@ void Part::smooth(std::span<const Vec3> field, std::vector<Vec3>& smoothed) cons
 }
 
 // F and L at every particle from the (smoothed) positions and velocities, then the stress update.
-void Part::deformation(std::span<const Vec3> x, std::span<const Vec3> v, Real dt) {
+Index Part::deformation(std::span<const Vec3> x, std::span<const Vec3> v, Real dt) {
   const Index n = particle_count();
   const auto& mat = settings_.material;
   parallel::LowestIndex inverted;
   parallel::for_each(n, [&](Index j) {
+    if (!owns(j)) return;  // another rank's
     if (degraded_[j]) {
       spin_[j] = Mat3::Zero();
       viscous_pressure_[j] = 0;
@@ -304,10 +305,7 @@ void Part::deformation(std::span<const Vec3> x, std::span<const Vec3> v, Real dt
     viscous_pressure_[j] = q;
     viscous_power_[j] = -volume * q * volume_rate;
   }, particle_loops);
-  if (const Index j = inverted.value(); j >= 0)
-    throw InstabilityError(fmt::format("SPG part {}: the deformation gradient at node {} is no longer "
-                                       "invertible (det F <= 0): the particles have inverted",
-                                       settings_.part_id, node_id_[j]));
+  return inverted.value();
 }
 
 // The spring on the part of the motion that the smoothing removes, in rate form so that it keeps
@@ -429,14 +427,17 @@ void Part::internal_forces() {
     weighted_stress_[j] = volume * sigma * F_[j].inverse().transpose();
   }, particle_loops);
   parallel::for_each(n, [&](Index i) {
+    if (!owns(i)) return;
     Vec3 h = weighted_stress_[i] * grad_self_[i];
     for (Index k = bonds_.offsets[i]; k < bonds_.offsets[i + 1]; ++k)
       h.noalias() += weighted_stress_[bonds_.neighbour[k]] * grad_[bonds_.mirror[k]];
     h_[i] = h;
   }, particle_loops);
+  if (share_) (*share_)(h_);
   const bool smoothed = settings_.stabilization == Stabilization::fluid_particle;
   const auto& s = stabilization_total_;
   parallel::for_each(n, [&](Index K) {
+    if (!owns(K)) return;
     // f_K = -sum_I Psi_K(X_I) (h_I - s_I) - s_K, or with ITB 2 -h_K - s_K + sum_I Psi_K(X_I) s_I.
     Vec3 gathered = psi_self_[K] * (smoothed ? Vec3(h_[K] - s[K]) : Vec3(-s[K]));
     for (Index k = bonds_.offsets[K]; k < bonds_.offsets[K + 1]; ++k) {
@@ -453,6 +454,11 @@ void Part::internal_forces() {
 
 void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
   const Index n = particle_count();
+  const parallel::Communicator& ranks = parallel::world();
+  if (ranks.size() > 1) {
+    owned_begin_ = nodes.owned_begin, owned_end_ = nodes.owned_end;
+    if (!share_) share_.emplace(node_, nodes.size());
+  }
   parallel::for_each(n, [&](Index i) {
     x_[i] = nodes.x[node_[i]];
     v_[i] = nodes.v[node_[i]];
@@ -461,13 +467,29 @@ void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
     smooth(v_, vs_);
     const bool smoothed = settings_.stabilization == Stabilization::fluid_particle;
     if (smoothed) smooth(x_, xs_);
-    deformation(smoothed ? std::span<const Vec3>(xs_) : std::span<const Vec3>(x_),
-                smoothed ? std::span<const Vec3>(vs_) : std::span<const Vec3>(v_), dt);
+    Index inverted = deformation(smoothed ? std::span<const Vec3>(xs_) : std::span<const Vec3>(x_),
+                                 smoothed ? std::span<const Vec3>(vs_) : std::span<const Vec3>(v_), dt);
+    if (share_) {
+      double lowest = inverted < 0 ? std::numeric_limits<double>::infinity() : static_cast<double>(inverted);
+      ranks.minimum({&lowest, 1});  // every rank stops, naming the same particle
+      inverted = std::isfinite(lowest) ? static_cast<Index>(lowest) : -1;
+    }
+    if (inverted >= 0)
+      throw InstabilityError(fmt::format("SPG part {}: the deformation gradient at node {} is no longer "
+                                         "invertible (det F <= 0): the particles have inverted",
+                                         settings_.part_id, node_id_[inverted]));
+    if (share_) {
+      const discretization::ParticleShare& share = *share_;
+      share(F_), share(spin_), share(state_), share(specific_energy_), share(density_), share(pressure_);
+      share(sound_speed_), share(viscous_pressure_), share(viscous_power_);
+    }
     update_stabilization(dt);
     if (++steps_since_update_ >= settings_.update_interval) update_kernel();
   }
   internal_forces();
-  parallel::for_each(n, [&](Index i) { nodes.f[node_[i]] += force_[i]; }, particle_loops);
+  parallel::for_each(n, [&](Index i) {
+    if (owns(i)) nodes.f[node_[i]] += force_[i];
+  }, particle_loops);
   if (mass_scaling_.active)
     scale_masses(nodes);
   else
@@ -524,15 +546,18 @@ Real Part::stable_time_step(const discretization::NodeStore& nodes) const {
 }
 
 discretization::InternalPower Part::internal_power(std::span<const Vec3> v) const {
-  // Reduced in index order (deterministic). The viscous share is the stress power of q; the rest
-  // of the work of the internal forces is stored.
+  // The viscous share is the stress power of q and of the dashpot; the rest of the work of the
+  // internal forces is stored. Exact sums over every rank's own particles (parallel::exact_sum).
+  const Sums<2> sums = parallel::exact_sum(
+      particle_count(),
+      [&](Index i) {
+        if (!owns(i)) return Sums<2>{};  // another rank's
+        return Sums<2>{{-force_[i].dot(v[node_[i]]), viscous_power_[i] + stabilization_power_[i]}};
+      },
+      &parallel::world());
   discretization::InternalPower p;
-  Real work = 0;
-  for (Index i = 0; i < particle_count(); ++i) {
-    work -= force_[i].dot(v[node_[i]]);
-    p.dissipated += viscous_power_[i] + stabilization_power_[i];
-  }
-  p.stored = work - p.dissipated;
+  p.dissipated = sums[1];
+  p.stored = sums[0] - sums[1];
   return p;
 }
 

@@ -21,12 +21,15 @@
 // configuration with windows that deform with the material; 1 Eulerian, bonds searched anew in the
 // current configuration; 2 pseudo-Lagrangian, the bonds of the first configuration. With 1 and 2 the
 // windows, in the current configuration, widen with the material's stretch (at most 4 times).
+#include <limits>
+#include <optional>
 #include <vector>
 
 #include "spall/core/error.hpp"
 #include "spall/discretization/energy_ledger.hpp"
 #include "spall/discretization/field_set.hpp"
 #include "spall/discretization/mass_scaling.hpp"
+#include "spall/discretization/particle_share.hpp"
 #include "spall/materials/material.hpp"
 #include "spall/discretization/node_store.hpp"
 #include "spall/spg/bond_failure.hpp"
@@ -111,12 +114,18 @@ class Part {
   void update_kernel();
   void detach_degraded_particles();
   void smooth(std::span<const Vec3> field, std::vector<Vec3>& smoothed) const;
-  void deformation(std::span<const Vec3> x, std::span<const Vec3> v, Real dt);
+  // Returns the first particle whose F inverted (-1: none); the caller stops the run.
+  Index deformation(std::span<const Vec3> x, std::span<const Vec3> v, Real dt);
   void update_stabilization(Real dt);
   void failure_quantity(std::vector<Real>& out) const;
   void internal_forces();
   void scale_masses(discretization::NodeStore& nodes);
   Real current_spacing(Index i) const;
+  // Whether this rank computes particle i's strain and force (NodeStore::owns; every particle when
+  // the run is one process). Under MPI (replicated state, docs/SCALING.md) every rank smooths, runs
+  // the stabilization, the mass scaling and the kernel updates of every particle, from state that
+  // is shared once computed.
+  bool owns(Index i) const { return node_[i] >= owned_begin_ && node_[i] < owned_end_; }
   void correct_integration_constraint(bool at_setup);
 
   PartSettings settings_;
@@ -159,6 +168,9 @@ class Part {
   std::vector<Vec3> x_, v_, xs_, vs_, h_, force_;
   std::vector<Mat3> weighted_stress_;  // V_J P_J
   std::vector<Mat3> spin_;             // W_J
+
+  Index owned_begin_ = 0, owned_end_ = std::numeric_limits<Index>::max();
+  std::optional<discretization::ParticleShare> share_;  // under MPI, from the first compute_forces
 
   int steps_since_update_ = 0;
   long long kernel_updates_ = 0;
