@@ -24,6 +24,15 @@ sys.stdout.write(text)
 PY
 }
 
+# NAME [MIN_STEPS]: $work/NAME.k run as one process on one thread into $work/NAME.serial, which
+# must take at least MIN_STEPS steps.
+run_serial() {
+  "$cli" run "$work/$1.k" -o "$work/$1.serial" --threads 1 2>"$work/$1.log" || { cat "$work/$1.log"; fail "$1"; }
+  local steps
+  steps=$(grep -o '"steps": [0-9]*' "$work/$1.serial/run.json" | grep -o '[0-9]*$')
+  [ "$steps" -ge "${2:-1}" ] || fail "$1: only $steps steps"
+}
+
 # SERIAL OTHER WHAT: every file the single process wrote (the histories, the .pvd and every .vtu)
 # is byte for byte the same in the other run's folder.
 same_folder() {

@@ -18,12 +18,8 @@ source "$source_dir/tests/scripts/mpi_common.sh"
 
 cut_deck "$source_dir/examples/dam_break/dam_break_2d.k" 0.05 100 >"$work/d2.k"
 cut_deck "$source_dir/examples/dam_break/dam_break.k" 0.02 >"$work/d3.k"
-for deck in d2 d3; do
-  "$cli" run "$work/$deck.k" -o "$work/$deck.serial" --threads 1 2>"$work/$deck.log" ||
-    { cat "$work/$deck.log"; fail "$deck"; }
-  steps=$(grep -o '"steps": [0-9]*' "$work/$deck.serial/run.json" | grep -o '[0-9]*$')
-  [ "$steps" -gt 100 ] || fail "$deck: only $steps steps"
-done
+run_serial d2 100
+run_serial d3 100
 same_on_ranks "$work/d2.k" "$work/d2.serial" "1 1" "2 1" "3 1" "4 1" "2 2"
 same_on_ranks "$work/d3.k" "$work/d3.serial" "2 1" "3 2"
 

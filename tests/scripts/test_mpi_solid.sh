@@ -27,26 +27,21 @@ source "$source_dir/tests/scripts/mpi_common.sh"
 
 cut_deck "$source_dir/examples/taylor_bar/taylor_bar.k" 1e-5 20 >"$work/taylor.k"
 cut_deck "$source_dir/examples/brittle_spall/brittle_spall.k" 0.01 >"$work/spall.k"
-for deck in taylor spall; do
-  "$cli" run "$work/$deck.k" -o "$work/$deck.serial" --threads 1 2>"$work/$deck.log" ||
-    { cat "$work/$deck.log"; fail "$deck"; }
-  steps=$(grep -o '"steps": [0-9]*' "$work/$deck.serial/run.json" | grep -o '[0-9]*$')
-  [ "$steps" -gt 40 ] || fail "$deck: only $steps steps"
-done
+run_serial taylor 40
+run_serial spall 40
 [ -s "$work/taylor.serial/rwforc.csv" ] || fail "the Taylor bar wrote no rwforc.csv"
 same_on_ranks "$work/taylor.k" "$work/taylor.serial" "2 1" "3 1" "4 1" "2 2"
 same_on_ranks "$work/spall.k" "$work/spall.serial" "2 1" "3 2"
 # Two particles on three ranks: rank 0, which writes every file, owns neither.
 python3 "$source_dir/tools/make_bar_deck.py" --length 0.05 --width 0.025 --spacing 0.025 --periods 2 >"$work/two.k"
-"$cli" run "$work/two.k" -o "$work/two.serial" --threads 1 2>"$work/two.log" || { cat "$work/two.log"; fail "two"; }
+run_serial two
 same_on_ranks "$work/two.k" "$work/two.serial" "3 1"
 python3 "$source_dir/tools/make_spg_tension_deck.py" --elements 16 --speed 100 --end-time 4e-5 >"$work/spg.k"
 sed -E 's/^( +1\.6){3} +0 +0 +0\.0 +15 +0\.0$/       1.6       1.6       1.6         0         1       0.0        15       0.0/;
         s/^( +1 +0\.6 +1\.2) +1$/\1         2/' "$work/spg.k" >"$work/spg_k1.k"
 [ "$(diff "$work/spg.k" "$work/spg_k1.k" | grep -c '^>')" -eq 2 ] || fail "the KERNEL 1, ITB 2 deck"
 for deck in spg spg_k1; do
-  "$cli" run "$work/$deck.k" -o "$work/$deck.serial" --threads 1 2>"$work/$deck.log" ||
-    { cat "$work/$deck.log"; fail "$deck"; }
+  run_serial $deck 400
   "${read_vtu[@]}" "$(ls "$work/$deck.serial"/d3plot_*.vtu | tail -n 1)" --field broken_bonds >"$work/$deck.bonds"
   grep -Eq '^broken_bonds max [1-9]' "$work/$deck.bonds" || fail "$deck: no bond broke ($(cat "$work/$deck.bonds"))"
 done
