@@ -435,7 +435,8 @@ Index SolidFormulation::compute_rates(Real dt) {
     RowTerms terms;  // this thread's pair terms, reused row after row
     team.for_each(n, [&](Index a) {
       if (!owns(a)) {  // another rank's, whose pick the force pass may still need
-        if (force_blocks_ > 0 && block_needed_[a / force_block_length_]) pick_support(list, a, record_.data(), mask, terms);
+        if (force_blocks_ > 0 && block_needed_[a / force_block_length_])
+          pick_support(list, a, record_.data(), mask, terms);
         return;
       }
       const Index padded = pick_support(list, a, record_.data(), mask, terms);
