@@ -1,7 +1,8 @@
 // discretization::ParticleShare, run as 1, 2 and 3 ranks: each rank fills in the particles whose
 // node it owns (the nodes dealt out in blocks, as the time loop deals them), and after the share
 // every rank holds every particle's value: particles stored in node order (in place), in a
-// shuffled order (gathered by rank and put back), on a few nodes only (ranks with no particle).
+// shuffled order (gathered by rank and put back), on a few nodes only (ranks with no particle),
+// stored anew in another order (planned again).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -10,6 +11,7 @@
 #include <vector>
 
 #include "spall/core/communicator.hpp"
+#include "spall/discretization/node_store.hpp"
 #include "spall/discretization/particle_share.hpp"
 
 namespace spall::discretization {
@@ -20,23 +22,40 @@ struct Value {
   int node;
 };
 
-// Shares, on every rank, the values of particles on `node` (of node_count nodes) and checks them.
-void check_share(const std::vector<Index>& node, Index node_count) {
+// A store of node_count nodes dealt out to the ranks as the time loop deals them.
+NodeStore dealt_nodes(Index node_count) {
   const parallel::Communicator& ranks = parallel::world();
-  const Index begin = parallel::block_begin(node_count, ranks.rank(), ranks.size());
-  const Index end = parallel::block_begin(node_count, ranks.rank() + 1, ranks.size());
-  std::vector<Value> values(node.size(), Value{-1.0, -1});
+  NodeStore nodes;
+  nodes.resize(node_count);
+  nodes.owned_begin = parallel::block_begin(node_count, ranks.rank(), ranks.size());
+  nodes.owned_end = parallel::block_begin(node_count, ranks.rank() + 1, ranks.size());
+  return nodes;
+}
+
+// Fills in, on every rank, the values of its own particles on `node` and shares them.
+void fill_and_share(ParticleShare& share, const std::vector<Index>& node, std::vector<Value>& values) {
+  values.assign(node.size(), Value{-1.0, -1});
   for (std::size_t a = 0; a < node.size(); ++a)
-    if (node[a] >= begin && node[a] < end) values[a] = Value{0.5 * node[a], static_cast<int>(node[a])};
-  const ParticleShare share(node, node_count);
-  share(values);
+    if (share.owns(node[a])) values[a] = Value{0.5 * node[a], static_cast<int>(node[a])};
+  std::vector<Value> none;
+  share(node, values, none);  // none: an array the options switched off, left empty
+  EXPECT_TRUE(none.empty());
+}
+
+void expect_every_value(const std::vector<Index>& node, const std::vector<Value>& values) {
   for (std::size_t a = 0; a < node.size(); ++a) {
     EXPECT_EQ(values[a].x, 0.5 * node[a]) << "particle " << a;
     EXPECT_EQ(values[a].node, node[a]) << "particle " << a;
   }
-  std::vector<Value> none;
-  share(none);  // an array the options switched off: nothing
-  EXPECT_TRUE(none.empty());
+}
+
+// Shares, on every rank, the values of particles on `node` (of node_count nodes) and checks them.
+void check_share(const std::vector<Index>& node, Index node_count) {
+  ParticleShare share;
+  share.bind(dealt_nodes(node_count));
+  std::vector<Value> values;
+  fill_and_share(share, node, values);
+  expect_every_value(node, values);
 }
 
 TEST(ParticleShare, ParticlesInNodeOrderWithNodesOfNoParticle) {
@@ -57,6 +76,26 @@ TEST(ParticleShare, RanksWithoutParticles) {
   std::vector<Index> node = {7, 3, 0, 9, 5};
   check_share(node, 100);
   check_share({}, 100);
+}
+
+TEST(ParticleShare, PlannedAgainWhenTheParticlesAreStoredInAnotherOrder) {
+  std::vector<Index> node(90);
+  std::iota(node.begin(), node.end(), Index(0));
+  ParticleShare share;
+  share.bind(dealt_nodes(90));
+  std::vector<Value> values;
+  fill_and_share(share, node, values);  // in node order: in place
+  expect_every_value(node, values);
+  std::reverse(node.begin(), node.end());
+  share.reorder();
+  fill_and_share(share, node, values);  // reversed: gathered by rank and put back
+  expect_every_value(node, values);
+}
+
+TEST(ParticleShare, EveryParticleOwnedUntilBound) {
+  const ParticleShare share;
+  EXPECT_TRUE(share.owns(0));
+  EXPECT_TRUE(share.owns(1'000'000));
 }
 
 }  // namespace

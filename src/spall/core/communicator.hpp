@@ -4,8 +4,10 @@
 // exact sum, and a run of one process gets the same answers without MPI. Built with MPI
 // (SPALL_MPI, the default), the run's communicator is MPI_COMM_WORLD when an MPI launcher started
 // the process as one of several; otherwise it is this process alone.
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <span>
 #include <vector>
 
@@ -41,6 +43,13 @@ class Communicator {
   // In place, element by element: the minimum over the ranks (exact: no rounding). Maxima travel
   // negated and flags as 0 / -1, so one call takes every global decision of a step.
   void minimum(std::span<double> values) const;
+  // The lowest of the ranks' item indices, or -1 when every rank has none (-1): the item that every
+  // rank then names alike, as when the first failing particle of a step stops the run.
+  Index lowest(Index item) const {
+    double value = item < 0 ? std::numeric_limits<double>::infinity() : static_cast<double>(item);
+    minimum({&value, 1});
+    return std::isfinite(value) ? static_cast<Index>(value) : -1;
+  }
   // In place, element by element: the sum over the ranks of each rank's partial sums (exact).
   void sum(std::span<ExactSum> sums) const;
   void sum(std::span<std::int64_t> values) const;

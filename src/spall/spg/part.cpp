@@ -433,7 +433,7 @@ void Part::internal_forces() {
       h.noalias() += weighted_stress_[bonds_.neighbour[k]] * grad_[bonds_.mirror[k]];
     h_[i] = h;
   }, particle_loops);
-  if (share_) (*share_)(h_);
+  share_(node_, h_);
   const bool smoothed = settings_.stabilization == Stabilization::fluid_particle;
   const auto& s = stabilization_total_;
   parallel::for_each(n, [&](Index K) {
@@ -455,10 +455,7 @@ void Part::internal_forces() {
 void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
   const Index n = particle_count();
   const parallel::Communicator& ranks = parallel::world();
-  if (ranks.size() > 1) {
-    owned_begin_ = nodes.owned_begin, owned_end_ = nodes.owned_end;
-    if (!share_) share_.emplace(node_, nodes.size());
-  }
+  share_.bind(nodes);
   parallel::for_each(n, [&](Index i) {
     x_[i] = nodes.x[node_[i]];
     v_[i] = nodes.v[node_[i]];
@@ -469,20 +466,13 @@ void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
     if (smoothed) smooth(x_, xs_);
     Index inverted = deformation(smoothed ? std::span<const Vec3>(xs_) : std::span<const Vec3>(x_),
                                  smoothed ? std::span<const Vec3>(vs_) : std::span<const Vec3>(v_), dt);
-    if (share_) {
-      double lowest = inverted < 0 ? std::numeric_limits<double>::infinity() : static_cast<double>(inverted);
-      ranks.minimum({&lowest, 1});  // every rank stops, naming the same particle
-      inverted = std::isfinite(lowest) ? static_cast<Index>(lowest) : -1;
-    }
+    inverted = ranks.lowest(inverted);  // every rank stops, naming the same particle
     if (inverted >= 0)
       throw InstabilityError(fmt::format("SPG part {}: the deformation gradient at node {} is no longer "
                                          "invertible (det F <= 0): the particles have inverted",
                                          settings_.part_id, node_id_[inverted]));
-    if (share_) {
-      const discretization::ParticleShare& share = *share_;
-      share(F_), share(spin_), share(state_), share(specific_energy_), share(density_), share(pressure_);
-      share(sound_speed_), share(viscous_pressure_), share(viscous_power_);
-    }
+    share_(node_, F_, spin_, state_, specific_energy_, density_, pressure_, sound_speed_, viscous_pressure_,
+           viscous_power_);
     update_stabilization(dt);
     if (++steps_since_update_ >= settings_.update_interval) update_kernel();
   }

@@ -22,7 +22,6 @@
 // current configuration; 2 pseudo-Lagrangian, the bonds of the first configuration. With 1 and 2 the
 // windows, in the current configuration, widen with the material's stretch (at most 4 times).
 #include <limits>
-#include <optional>
 #include <vector>
 
 #include "spall/core/error.hpp"
@@ -125,7 +124,7 @@ class Part {
   // the run is one process). Under MPI (replicated state, docs/SCALING.md) every rank smooths, runs
   // the stabilization, the mass scaling and the kernel updates of every particle, from state that
   // is shared once computed.
-  bool owns(Index i) const { return node_[i] >= owned_begin_ && node_[i] < owned_end_; }
+  bool owns(Index i) const { return share_.owns(node_[i]); }
   void correct_integration_constraint(bool at_setup);
 
   PartSettings settings_;
@@ -169,8 +168,7 @@ class Part {
   std::vector<Mat3> weighted_stress_;  // V_J P_J
   std::vector<Mat3> spin_;             // W_J
 
-  Index owned_begin_ = 0, owned_end_ = std::numeric_limits<Index>::max();
-  std::optional<discretization::ParticleShare> share_;  // under MPI, from the first compute_forces
+  discretization::ParticleShare share_;  // under MPI: the particles this rank computes, theirs to all
 
   int steps_since_update_ = 0;
   long long kernel_updates_ = 0;

@@ -167,7 +167,7 @@ void FluidFormulation::rebuild_cells(const discretization::NodeStore& nodes) {
   // The cell list keeps no order: from here on the particles are in cell order.
   const std::vector<Index> order = cells_.take_order();
   permute(node_, order);
-  share_.reset();  // made again for the new order at the next share_state
+  share_.reorder();
   permute(mass_, order);
   permute(density_, order);
   permute(rate_, order);
@@ -947,10 +947,8 @@ void FluidFormulation::pair_pass(discretization::NodeStore& nodes, Real dt) {
 }
 
 // The continuity state of the other ranks' particles: every rank's share in, in place.
-void FluidFormulation::share_state(const discretization::NodeStore& nodes) {
-  if (parallel::world().size() == 1) return;
-  if (!share_) share_.emplace(node_, nodes.size());
-  (*share_)(density_), (*share_)(rate_), (*share_)(previous_rate_);
+void FluidFormulation::share_state(const discretization::NodeStore&) {
+  share_(node_, density_, rate_, previous_rate_);
 }
 
 void FluidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt) {
@@ -960,7 +958,7 @@ void FluidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt)
       n, Real(0), [&](Index a) { return nodes.v[node_[a]].norm(); }, [](Real x, Real y) { return std::max(x, y); });
   max_speed_ = max_speed;
   travelled_ += dt * max_speed;
-  owned_begin_ = nodes.owned_begin, owned_end_ = nodes.owned_end;
+  share_.bind(nodes);
   // Two particles approach each other by at most twice the bound; the search also widens by the
   // rounding margin, and all of it must stay within the skin (see for_each_particle_candidates).
   if (!cells_built_ || 2 * travelled_ + rounding_margin_ > parameters_.skin * support_) rebuild_cells(nodes);

@@ -165,9 +165,8 @@ class FluidFormulation final : public discretization::Formulation {
   Real max_speed_ = 0;
   Real max_sound_speed_ = 0;
   Real max_acceleration_ = 0;
-  Index owned_begin_ = 0, owned_end_ = 0;  // the nodes this rank computes (NodeStore::owns)
-  bool owns(Index particle) const { return node_[particle] >= owned_begin_ && node_[particle] < owned_end_; }
-  std::optional<discretization::ParticleShare> share_;  // under MPI, from the first share_state
+  discretization::ParticleShare share_;  // under MPI: the particles this rank computes, theirs to all
+  bool owns(Index particle) const { return share_.owns(node_[particle]); }
   Real max_mu_ = 0;  // largest |mu_ab| of an approaching pair (Monaghan's viscosity)
 };
 

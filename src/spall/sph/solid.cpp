@@ -785,10 +785,8 @@ void SolidFormulation::check_state(const discretization::NodeStore& nodes, Index
 }
 
 void SolidFormulation::share_updated_state() {
-  const discretization::ParticleShare& share = *share_;
-  share(updated_volume_), share(updated_sound_speed_), share(density_), share(pressure_), share(internal_energy_);
-  share(state_), share(stress_), share(plain_stress_), share(artificial_stress_), share(exported_deviator_);
-  share(strain_rate_squared_), share(gradient_amplification_);
+  share_(node_, updated_volume_, updated_sound_speed_, density_, pressure_, internal_energy_, state_, stress_,
+         plain_stress_, artificial_stress_, exported_deviator_, strain_rate_squared_, gradient_amplification_);
 }
 
 void SolidFormulation::choose_force_blocks() {
@@ -935,11 +933,7 @@ void SolidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt)
     stable_step_.reset();
     return;
   }
-  const bool distributed = parallel::world().size() > 1;
-  if (distributed) {
-    owned_begin_ = nodes.owned_begin, owned_end_ = nodes.owned_end;
-    if (!share_) share_.emplace(node_, nodes.size());
-  }
+  share_.bind(nodes);
   gather_kinematics(nodes);
   update_neighbour_list();
   choose_force_blocks();
@@ -952,18 +946,12 @@ void SolidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt)
     int interval = 1 << 30;
     for (const ColourField& c : options_.colour_field)
       if (c.enabled) interval = std::min(interval, c.interval);
-    if (distributed) {  // the categorization reads the neighbours' colour field
-      (*share_)(colour_), (*share_)(colour_normal_), (*share_)(support_count_);
-    }
+    share_(node_, colour_, colour_normal_, support_count_);  // categorize reads the neighbours'
     if (step_ % interval == 0) categorize();
     first_unsound = update_state(dt);
   }
-  if (distributed) {
-    double lowest = static_cast<double>(first_unsound);  // the same particle named on every rank
-    parallel::world().minimum({&lowest, 1});
-    first_unsound = static_cast<Index>(lowest);
-    share_updated_state();
-  }
+  first_unsound = parallel::world().lowest(first_unsound);  // n (none) on every rank, or one particle
+  share_updated_state();
   volume_.swap(updated_volume_);
   sound_speed_.swap(updated_sound_speed_);
   ++step_;

@@ -293,9 +293,8 @@ class SolidFormulation final : public discretization::Formulation {
   Index force_blocks_ = 0, force_block_length_ = 0;
 
   // The nodes this rank computes (NodeStore::owns); every node when the run is one process.
-  Index owned_begin_ = 0, owned_end_ = std::numeric_limits<Index>::max();
-  bool owns(Index a) const { return node_[a] >= owned_begin_ && node_[a] < owned_end_; }
-  std::optional<discretization::ParticleShare> share_;  // under MPI, from the first compute_forces
+  discretization::ParticleShare share_;  // under MPI: the particles this rank computes, theirs to all
+  bool owns(Index a) const { return share_.owns(node_[a]); }
   std::vector<std::uint8_t> block_needed_;               // per force block (choose_force_blocks)
 
   neighbors::VerletList verlet_;
