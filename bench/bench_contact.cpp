@@ -28,7 +28,7 @@ model::Model punch_on_block(bool contact) {
   block.end_time = 1.0;  // the cycle limit ends each run
   model::Model m = test_support::spg_block_model(block);
   // The punch: part 2, *MAT_RIGID, a 12 x 12 x 4 mm box of 4 x 4 x 1 hexahedra over the middle.
-  m.parts.push_back({2, "punch", 2, 2, 0, 0, 0, {}});
+  m.parts.push_back({2, "punch", 2, 2, 0, 0, 0, {}, {}});
   m.sections[2] = model::SectionSolid{2, 1, 0, {}};
   model::Material rigid;
   rigid.id = 2;

@@ -41,7 +41,7 @@ inline Real thin_plate_period() {
 inline model::Model oscillating_plate_model(const OscillatingPlate& p, Id& tip) {
   const Real dx = plate_thickness / p.layers;
   model::Model m;
-  m.parts.push_back({1, "plate", 1, 1, 0, 0, 0, {}});
+  m.parts.push_back({1, "plate", 1, 1, 0, 0, 0, {}, {}});
   model::SectionSph section;
   section.id = 1;
   section.cslh = 1.3;

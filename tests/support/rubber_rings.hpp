@@ -31,8 +31,8 @@ inline Real ring_speed() {
 // Part 1 is the left ring, part 2 the right one (one section and material).
 inline model::Model rubber_rings_model(const RubberRings& r) {
   model::Model m;
-  m.parts.push_back({1, "left ring", 1, 1, 0, 0, 0, {}});
-  m.parts.push_back({2, "right ring", 1, 1, 0, 0, 0, {}});
+  m.parts.push_back({1, "left ring", 1, 1, 0, 0, 0, {}, {}});
+  m.parts.push_back({2, "right ring", 1, 1, 0, 0, 0, {}, {}});
   model::SectionSph section;
   section.id = 1;
   section.cslh = r.cslh;

@@ -15,7 +15,7 @@ struct ElasticBlock {
 
 inline model::Model elastic_block_model(const ElasticBlock& b) {
   model::Model m;
-  m.parts.push_back({1, "block", 1, 1, 0, 0, 0, {}});
+  m.parts.push_back({1, "block", 1, 1, 0, 0, 0, {}, {}});
   model::SectionSph section;
   section.id = 1;
   section.cslh = b.cslh;

@@ -55,7 +55,7 @@ inline void add_rod_hexahedra(model::Model& m, const TaylorBar& bar) {
 
 inline model::Model taylor_bar_model(const TaylorBar& bar) {
   model::Model m;
-  m.parts.push_back({1, "copper rod", 1, 1, 0, 0, 0, {}});
+  m.parts.push_back({1, "copper rod", 1, 1, 0, 0, 0, {}, {}});
   if (bar.elform != 0) {
     m.sections[1] = model::SectionSolid{1, bar.elform, 0, {}};
   } else {

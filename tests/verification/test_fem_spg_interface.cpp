@@ -26,7 +26,7 @@ model::Model half_and_half(test_support::SpgBlock b, int elform, Real split) {
   }
   model::Model m = test_support::spg_block_model(b);
   if (elform == 0) return m;
-  m.parts.push_back({2, "finite elements", 2, 1, 0, 0, 0, {}});
+  m.parts.push_back({2, "finite elements", 2, 1, 0, 0, 0, {}, {}});
   m.sections[2] = model::SectionSolid{2, elform, 0, {}};
   std::map<Id, Vec3> x;
   for (const auto& node : m.nodes) x[node.id] = node.x;

@@ -23,7 +23,7 @@ namespace {
 // A brick a x b x c of nx x ny x nz hexahedra of *MAT_RIGID (part 1), centred at the origin.
 model::Model rigid_brick(Vec3 size, std::array<int, 3> n, Real end_time, Real step) {
   model::Model m;
-  m.parts.push_back({1, "brick", 1, 1, 0, 0, 0, {}});
+  m.parts.push_back({1, "brick", 1, 1, 0, 0, 0, {}, {}});
   m.sections[1] = model::SectionSolid{1, 1, 0, {}};
   model::Material mat;
   mat.id = 1;
@@ -143,7 +143,7 @@ TEST(RigidBodies, ConstrainedRigidBodiesMoveAsOne) {
   // as one body about their common centre, every distance kept.
   const Real end = 0.02;
   model::Model m = rigid_brick(Vec3(0.02, 0.02, 0.02), {1, 1, 1}, end, end / 1000);
-  m.parts.push_back({2, "second brick", 1, 1, 0, 0, 0, {}});
+  m.parts.push_back({2, "second brick", 1, 1, 0, 0, 0, {}, {}});
   const std::size_t node_count = m.nodes.size();
   for (std::size_t k = 0; k < node_count; ++k) {
     model::Node copy = m.nodes[k];

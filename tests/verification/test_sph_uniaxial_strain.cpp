@@ -47,7 +47,7 @@ Id node_id(int i, int j, int k) { return 1 + i + nx * (j + ny * k); }
 
 model::Model bar_model(bool piecewise_linear) {
   model::Model m;
-  m.parts.push_back({1, "bar", 1, 1, 0, 0, 0, {}});
+  m.parts.push_back({1, "bar", 1, 1, 0, 0, 0, {}, {}});
   model::SectionSph section;
   section.id = 1;
   section.cslh = 1.3;
