@@ -1,4 +1,4 @@
-"""What the particle tools share: reading one Spall .vtu with VTK, and a point locator.
+"""What the particle tools share: reading one Spall .vtu (or .pvtu) with VTK, and a point locator.
 
 Imported by render_particles.py and count_fragments.py (run them with /usr/bin/python3, which has
 python3-vtk9).
@@ -11,8 +11,9 @@ from vtk.util.numpy_support import numpy_to_vtk
 
 
 def read_particles(path, tool):
-    """The unstructured grid of a .vtu; exits naming `tool` when VTK finds no particles in it."""
-    reader = vtk.vtkXMLUnstructuredGridReader()
+    """The unstructured grid of a .vtu (or of an MPI run's .pvtu, its pieces joined); exits naming
+    `tool` when VTK finds no particles in it."""
+    reader = vtk.vtkXMLPUnstructuredGridReader() if path.endswith(".pvtu") else vtk.vtkXMLUnstructuredGridReader()
     errors = []
     reader.AddObserver("ErrorEvent", lambda caller, event: errors.append(event))
     reader.SetFileName(path)

@@ -9,6 +9,7 @@
 #include <optional>
 #include <string.h>
 
+#include "field_series.hpp"
 #include "interrupt.hpp"
 #include "progress.hpp"
 #include "restart_file.hpp"
@@ -147,7 +148,7 @@ int check_deck(const std::string& deck, const std::vector<std::string>& skip) {
 
 int run_deck(const RunOptions& options) {
   // Several ranks (mpirun -np N): each holds the whole problem and computes a block of its nodes
-  // (docs/SCALING.md); rank 0 writes every file.
+  // (docs/SCALING.md), and writes its piece of each field output; rank 0 writes every other file.
   const parallel::Communicator& ranks = parallel::world();
   const int launched = parallel::launched_ranks();
   if (launched > 1 && ranks.size() == 1)
@@ -184,10 +185,22 @@ int run_deck(const RunOptions& options) {
                         parallel::thread_count(), out.string()));
 
   std::optional<RunOutputs> outputs;
-  if (writes) outputs.emplace(out, problem, model, restart.has_value());
+  std::optional<FieldSeries> pieces;  // the other ranks' pieces of the field outputs
+  if (writes)
+    outputs.emplace(out, problem, model, restart.has_value());
+  else
+    pieces.emplace(out);
+  const auto write_fields = [&](const solver::StepInfo& step) {
+    if (writes)
+      outputs->write_fields(step, problem);
+    else
+      pieces->write(step, problem);
+  };
   Progress progress(problem.controls.end_time, nodes);
   solver::StepInfo last_step;
   solver::Observer observer = writes ? outputs->observer() : solver::Observer{};
+  if (!writes)
+    observer.on_field_output = [&](const solver::StepInfo& step, const solver::Problem& p) { pieces->write(step, p); };
   observer.on_step = [&](const solver::StepInfo& step) {
     last_step = step;
     if (writes) progress.update(step);
@@ -249,7 +262,7 @@ int run_deck(const RunOptions& options) {
     });
     if (stopped) {
       const fs::path file = write_checkpoint(*stopped);
-      if (writes) outputs->write_fields(*stopped, problem);  // after the checkpoint: a restart writes its own
+      write_fields(*stopped);  // after the checkpoint: a restart writes its own
       log::warning(fmt::format("interrupted ({}) at step {}, t = {:g}: the state is in {}; continue with `spall run "
                                "--restart {}`",
                                strsignal(signal), stopped->step, stopped->time, file.string(), out.string()));
@@ -274,8 +287,8 @@ int run_deck(const RunOptions& options) {
                             std::isfinite(info.energy_ratio) ? fmt::format("{:.6f}", info.energy_ratio) : "n/a"));
     }
   } catch (const InstabilityError& e) {
+    write_fields(last_step);  // the last state, for the post-mortem
     if (writes) {
-      outputs->write_fields(last_step, problem);  // the last state, for the post-mortem
       log::error(e.what());
       log::error(fmt::format("the last state is in {}", outputs->last_field_file().string()));
     }
@@ -289,7 +302,7 @@ int run_deck(const RunOptions& options) {
     info.end_time = last_step.time;
     info.status = "output_failed";
     try {
-      io::output::write_run_json(out / "run.json", info);
+      if (writes) io::output::write_run_json(out / "run.json", info);
     } catch (const OutputError&) {
     }
     throw;

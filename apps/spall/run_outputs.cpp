@@ -1,16 +1,12 @@
 #include "run_outputs.hpp"
 
-#include <fmt/format.h>
-
-#include "spall/solver/field_output.hpp"
-
 namespace spall::cli {
 
 namespace fs = std::filesystem;
 using io::output::Column;
 
 RunOutputs::RunOutputs(const fs::path& out, const solver::Problem& problem, const model::Model& model, bool resume)
-    : out_(out), problem_(problem), series_(out / "d3plot.pvd") {
+    : out_(out), problem_(problem), fields_(out) {
   // glstat.csv: time, dt, the energy ledger's terms (whoever produces a term registers it in the
   // first step, before the first row), the total and the energy ratio.
   glstat_.path = out / "glstat.csv";
@@ -52,14 +48,11 @@ RunOutputs::RunOutputs(const fs::path& out, const solver::Problem& problem, cons
 }
 
 void RunOutputs::write_fields(const solver::StepInfo& step, const solver::Problem& p) {
-  const auto snap = solver::snapshot_fields(p);
-  const std::string name = fmt::format("d3plot_{:05d}.vtu", field_count_++);
-  io::output::write_vtu(out_ / name, snap.points, snap.fields, snap.cell_blocks);
-  series_.add(step.time, name);
+  fields_.write(step, p);
   if (residual_ && residual_options_.at_output == 1) residual_->write(step.time);
 }
 
-fs::path RunOutputs::last_field_file() const { return out_ / fmt::format("d3plot_{:05d}.vtu", field_count_ - 1); }
+fs::path RunOutputs::last_field_file() const { return fields_.last_file(); }
 
 std::optional<std::string> RunOutputs::finish(double end_time) {
   if (!residual_) return std::nullopt;
@@ -123,8 +116,8 @@ solver::Observer RunOutputs::observer() {
 
 void RunOutputs::checkpoint(Archive& a) {
   a.section("output files");
-  io::output::PvdSeries::Entries entries = series_.entries();
-  a(entries, field_count_, masses_, glstat_.columns);
+  fields_.checkpoint(a);
+  a(masses_, glstat_.columns);
   for (History* h : {&glstat_, &rwforc_, &rcforc_, &rbdout_}) {
     std::optional<std::uint64_t> bytes;
     if (h->file) bytes = h->file->bytes();
@@ -134,9 +127,7 @@ void RunOutputs::checkpoint(Archive& a) {
   std::optional<std::uint64_t> residual_bytes;
   if (residual_) residual_bytes = residual_->bytes();
   a(residual_bytes);
-  if (!a.reading()) return;
-  series_.restore(std::move(entries));
-  if (residual_bytes) residual_.emplace(out_ / "residual.csv", *solid_, residual_options_, *residual_bytes);
+  if (a.reading() && residual_bytes) residual_.emplace(out_ / "residual.csv", *solid_, residual_options_, *residual_bytes);
 }
 
 }  // namespace spall::cli

@@ -1,8 +1,8 @@
 #pragma once
-// The files a run writes as it goes: the d3plot series (.vtu per output time, listed in
-// d3plot.pvd), glstat.csv, and where the deck has them rwforc.csv, rcforc.csv, rbdout.csv and the
-// SPH solids' residual.csv; and the observer that writes them. What they hold so far is part of a
-// checkpoint, so that a restart cuts them back to it and carries on.
+// The files rank 0 of a run writes as it goes: the d3plot series (field_series.hpp), glstat.csv,
+// and where the deck has them rwforc.csv, rcforc.csv, rbdout.csv and the SPH solids' residual.csv;
+// and the observer that writes them. What they hold so far is part of a checkpoint, so that a
+// restart cuts them back to it and carries on.
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "field_series.hpp"
 #include "residual_report.hpp"
 #include "spall/core/archive.hpp"
 #include "spall/io/output/history.hpp"
@@ -49,8 +50,7 @@ class RunOutputs {
 
   std::filesystem::path out_;
   const solver::Problem& problem_;
-  io::output::PvdSeries series_;
-  int field_count_ = 0;
+  FieldSeries fields_;
   History glstat_, rwforc_, rcforc_, rbdout_;
   const sph::SolidFormulation* solid_ = nullptr;
   model::SphResidualStress residual_options_;

@@ -1,4 +1,4 @@
-# What the MPI scripts (test_mpi_*.sh) share; sourced after `cli`, `work` and fail() are set.
+# What the MPI scripts (test_mpi_*.sh) share; sourced after `cli`, `source_dir`, `work` and fail() are set.
 # Skips the script (exit 0) where spall was built without MPI or mpirun is missing.
 if ! "$cli" --version | grep -q '(MPI)' || ! command -v mpirun >/dev/null; then
   echo "skipped: spall built without MPI, or no mpirun"
@@ -33,18 +33,20 @@ run_serial() {
   [ "$steps" -ge "${2:-1}" ] || fail "$1: only $steps steps"
 }
 
-# SERIAL OTHER WHAT: every file the single process wrote (the histories, the .pvd and every .vtu)
-# is byte for byte the same in the other run's folder.
+# SERIAL OTHER WHAT: every history the single process wrote is byte for byte the same in the other
+# run's folder, and the other run's field output (under MPI a .pvtu of the ranks' pieces per output
+# time) holds the same times, points and fields bit for bit (tools/same_fields.py, with VTK's readers).
 same_folder() {
   local f
-  for f in $(cd "$1" && ls *.csv d3plot.pvd d3plot_*.vtu); do
+  for f in $(cd "$1" && ls *.csv); do
     cmp -s "$1/$f" "$2/$f" || fail "$f differs from the single process's ($3)"
   done
-  ls "$2"/d3plot_*.vtu | wc -l | grep -qx "$(ls "$1"/d3plot_*.vtu | wc -l)" || fail "field files ($3)"
+  /usr/bin/python3 "$source_dir/tools/same_fields.py" "$1" "$2" >"$2.fields" 2>&1 ||
+    { cat "$2.fields"; fail "field output ($3)"; }
 }
 
 # DECK SERIAL_FOLDER "RANKS THREADS" ...: the deck under mpirun on each count of ranks and threads,
-# every file as the single process's, and run.json naming the ranks.
+# every file as the single process's, a piece of field output per rank, and run.json naming the ranks.
 same_on_ranks() {
   local deck=$1 serial=$2 run out
   shift 2
@@ -54,6 +56,9 @@ same_on_ranks() {
     mpirun -np "$1" "$cli" run "$deck" -o "$out" --threads "$2" >"$out.log" 2>&1 ||
       { tail -20 "$out.log"; fail "$deck on $1 ranks x $2 threads"; }
     same_folder "$serial" "$out" "$deck on $1 ranks x $2 threads"
+    if [ "$1" -gt 1 ]; then
+      [ "$(ls "$out/d3plot_00000" | wc -l)" -eq "$1" ] || fail "not a piece per rank ($deck, $1 ranks)"
+    fi
     grep -q "\"ranks\": $1," "$out/run.json" || fail "run.json ranks ($deck, $1 ranks)"
   done
 }

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The SPH solid and SPG on several MPI ranks (issue 35; docs/SCALING.md, "Replicated state"), run
 # as one process and under mpirun as 1-4 ranks (oversubscribed on 2 cores) with 1 or 2 threads each:
-# every history (glstat.csv, rwforc.csv), the .pvd and every .vtu are byte for byte the single
-# process's.
+# every history (glstat.csv, rwforc.csv) is byte for byte the single process's, and the field output
+# (a .pvtu per output time of each rank's .vtu piece) holds its .vtu files' points and fields bit for
+# bit.
 #  - the Taylor bar of examples/taylor_bar, cut short: Johnson-Cook, the corrected gradient, a rigid
 #    wall whose force every rank finds whole, the force pass taking each pair once (in blocks, of
 #    which each rank runs its own and the one before);

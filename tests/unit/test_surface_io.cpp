@@ -1,7 +1,7 @@
-// The files of `spall surface`: the reader of Spall's own VTU/PVD output must give back exactly
-// what write_vtu and PvdSeries wrote, and refuse other files with the path and the reason; the
-// VTP and PLY writers must produce files whose counts and bytes add up. (VTK's own reader opens
-// a real .vtp in tests/scripts/test_cli_surface.sh.)
+// The files of `spall surface`: the reader of Spall's own VTU/PVTU/PVD output must give back
+// exactly what write_vtu, write_pvtu and PvdSeries wrote, and refuse other files with the path and
+// the reason; the VTP and PLY writers must produce files whose counts and bytes add up. (VTK's own
+// reader opens a real .vtp in tests/scripts/test_cli_surface.sh, a .pvtu in test_mpi_*.sh.)
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -92,6 +92,40 @@ TEST_F(SurfaceIoTest, VtuWithNoPointsReadsBack) {
   EXPECT_TRUE(snap.points.empty());
   ASSERT_EQ(snap.fields.size(), 1u);
   EXPECT_EQ(snap.fields[0].name, "pressure");
+}
+
+// An MPI run's output time: a .pvtu joining the ranks' pieces (one of them empty: a rank with no
+// node), read back as the pieces one after another.
+TEST_F(SurfaceIoTest, PvtuReadsBackItsPiecesInOrder) {
+  const auto piece_fields = [](std::vector<double> pressure, std::vector<std::int64_t> id) {
+    return std::vector<Field>{{"pressure", 1, std::move(pressure)}, {"node_id", 1, std::move(id)}};
+  };
+  fs::create_directories(dir_ / "d3plot_00003");
+  io::output::write_vtu(dir_ / "d3plot_00003/d3plot_00003_0.vtu", {}, piece_fields({}, {}));
+  io::output::write_vtu(dir_ / "d3plot_00003/d3plot_00003_1.vtu", {points[0], points[1]},
+                        piece_fields({1.5, -2}, {10, 11}));
+  io::output::write_vtu(dir_ / "d3plot_00003/d3plot_00003_2.vtu", {points[2]}, piece_fields({1e-300}, {12}));
+  io::output::write_pvtu(dir_ / "d3plot_00003.pvtu",
+                         {"d3plot_00003/d3plot_00003_0.vtu", "d3plot_00003/d3plot_00003_1.vtu",
+                          "d3plot_00003/d3plot_00003_2.vtu"},
+                         piece_fields({}, {}));
+  const std::string pvtu = read_file(dir_ / "d3plot_00003.pvtu");
+  EXPECT_NE(pvtu.find(R"(<PDataArray type="Float64" Name="pressure" NumberOfComponents="1"/>)"), std::string::npos);
+  EXPECT_NE(pvtu.find(R"(<Piece Source="d3plot_00003/d3plot_00003_2.vtu"/>)"), std::string::npos);
+  const auto snap = io::input::read_vtu(dir_ / "d3plot_00003.pvtu");
+  ASSERT_EQ(snap.points.size(), 3u);
+  for (std::size_t i = 0; i < 3; ++i)
+    EXPECT_EQ(std::memcmp(snap.points[i].data(), points[i].data(), sizeof(Vec3)), 0) << "point " << i;
+  EXPECT_EQ(std::get<std::vector<double>>(snap.field("pressure")->values), (std::vector<double>{1.5, -2, 1e-300}));
+  EXPECT_EQ(std::get<std::vector<std::int64_t>>(snap.field("node_id")->values),
+            (std::vector<std::int64_t>{10, 11, 12}));
+
+  // A piece whose fields are not the first piece's is refused, naming it.
+  io::output::write_vtu(dir_ / "d3plot_00003/d3plot_00003_2.vtu", {points[2]},
+                        {{"density", 1, std::vector<double>{1}}, {"node_id", 1, std::vector<std::int64_t>{12}}});
+  EXPECT_NE(input_error([&] { io::input::read_vtu(dir_ / "d3plot_00003.pvtu"); })
+                .find("d3plot_00003_2.vtu: point field 'density' is not the first piece's 'pressure'"),
+            std::string::npos);
 }
 
 TEST_F(SurfaceIoTest, PvdReadsBackTimesAndFiles) {

@@ -13,6 +13,23 @@ std::vector<T> gather(const std::vector<T>& node_values, const std::vector<Index
     for (int c = 0; c < components; ++c) out.push_back(node_values[i * components + c]);
   return out;
 }
+
+// The cells `cells` of `block`, their nodes numbered as points (point_of_node), with their fields.
+discretization::CellBlock piece_of(const discretization::CellBlock& block, const std::vector<Index>& cells,
+                                   const std::vector<Index>& point_of_node) {
+  discretization::CellBlock piece{.shape = block.shape, .connectivity = {}, .fields = {}};
+  const int per_cell = discretization::nodes_per_cell(block.shape);
+  piece.connectivity.reserve(cells.size() * per_cell);
+  for (Index c : cells)
+    for (int k = 0; k < per_cell; ++k)
+      piece.connectivity.push_back(point_of_node[block.connectivity[c * per_cell + k]]);
+  for (const auto& field : block.fields) {
+    auto& out = piece.fields.emplace_back(discretization::Field{
+        .name = field.name, .components = field.components, .values = {}, .component_names = field.component_names});
+    std::visit([&](const auto& values) { out.values = gather(values, cells, field.components); }, field.values);
+  }
+  return piece;
+}
 }  // namespace
 
 FieldSnapshot snapshot_fields(const Problem& problem) {
@@ -34,14 +51,22 @@ FieldSnapshot snapshot_fields(const Problem& problem) {
   for (const auto& f : problem.formulations) f->write_fields(set, nodes);
   problem.rigid_bodies.write_fields(set);
 
-  // The nodes with mass, and those of cells: an eroded element's cell is written (flagged) after
-  // its nodes lost their mass.
+  // The piece's cells, and its nodes: those with mass and those of its cells (an eroded element's
+  // cell is written, flagged, after its nodes lost their mass).
+  std::vector<std::vector<Index>> piece_cells;  // of each block
   std::vector<char> in_cell(nodes.size(), 0);
-  for (const auto& block : set.cell_blocks())
-    for (Index node : block.connectivity) in_cell[node] = 1;
+  for (const auto& block : set.cell_blocks()) {
+    auto& cells = piece_cells.emplace_back();
+    const int per_cell = discretization::nodes_per_cell(block.shape);
+    for (Index c = 0; c < static_cast<Index>(block.cell_count()); ++c) {
+      if (!nodes.owns(block.connectivity[c * per_cell])) continue;
+      cells.push_back(c);
+      for (int k = 0; k < per_cell; ++k) in_cell[block.connectivity[c * per_cell + k]] = 1;
+    }
+  }
   std::vector<Index> written, point_of_node(nodes.size(), -1);
   for (Index i = 0; i < nodes.size(); ++i)
-    if (nodes.mass[i] > 0 || in_cell[i]) {
+    if ((nodes.mass[i] > 0 && nodes.owns(i)) || in_cell[i]) {
       point_of_node[i] = static_cast<Index>(written.size());
       written.push_back(i);
     }
@@ -51,10 +76,8 @@ FieldSnapshot snapshot_fields(const Problem& problem) {
     std::visit([&](auto& values) { values = gather(values, written, field.components); }, field.values);
     snap.fields.push_back(std::move(field));
   }
-  for (const auto& block : set.cell_blocks()) {
-    auto& out = snap.cell_blocks.emplace_back(block);
-    for (Index& node : out.connectivity) node = point_of_node[node];
-  }
+  for (std::size_t b = 0; b < set.cell_blocks().size(); ++b)
+    snap.cell_blocks.push_back(piece_of(set.cell_blocks()[b], piece_cells[b], point_of_node));
   return snap;
 }
 

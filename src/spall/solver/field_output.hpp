@@ -14,7 +14,11 @@ struct FieldSnapshot {
   std::vector<discretization::CellBlock> cell_blocks;  // connectivity in indices of `points`
 };
 
-// Nodes without mass (used by no formulation) are left out.
+// The nodes this process computes (NodeStore::owns: all of them in a run of one process, a rank's
+// share under MPI, its piece of the output) and the cells whose first node is one of them, with
+// the cells' other nodes; nodes without mass (used by no formulation) and in no such cell are left
+// out. Every block of cells is there, with no cells when the piece has none of it, so that every
+// piece has the same fields.
 FieldSnapshot snapshot_fields(const Problem& problem);
 
 }  // namespace spall::solver

@@ -7,6 +7,8 @@
 #include <fstream>
 #include <iterator>
 #include <optional>
+#include <type_traits>
+#include <variant>
 
 #include <fmt/format.h>
 
@@ -106,7 +108,51 @@ const discretization::Field* VtuSnapshot::field(std::string_view name) const {
   return nullptr;
 }
 
+namespace {
+// The pieces of a .pvtu, each read as a .vtu, joined: points and fields one piece after another.
+VtuSnapshot read_pieces(const fs::path& path) {
+  const std::string xml = read_whole_file(path);
+  VtuSnapshot joined;
+  bool parallel = false;
+  int pieces = 0;
+  for (const XmlTag& tag : xml_tags(xml)) {
+    if (tag.name == "VTKFile") {
+      parallel = xml_attribute(tag, "type").value_or("") == "PUnstructuredGrid";
+      continue;
+    }
+    if (tag.name != "Piece") continue;
+    const fs::path source = path.parent_path() / required_attribute(path, tag, "Source");
+    VtuSnapshot piece = read_vtu(source);
+    if (pieces++ == 0) {
+      joined = std::move(piece);
+      continue;
+    }
+    if (piece.fields.size() != joined.fields.size())
+      fail(source, fmt::format("{} point fields, where the first piece of {} has {}", piece.fields.size(),
+                               path.string(), joined.fields.size()));
+    joined.points.insert(joined.points.end(), piece.points.begin(), piece.points.end());
+    for (std::size_t k = 0; k < piece.fields.size(); ++k) {
+      discretization::Field& to = joined.fields[k];
+      const discretization::Field& from = piece.fields[k];
+      if (from.name != to.name || from.components != to.components || from.values.index() != to.values.index())
+        fail(source, fmt::format("point field '{}' is not the first piece's '{}' of {}", from.name, to.name,
+                                 path.string()));
+      std::visit(
+          [&](auto& values) {
+            const auto& more = std::get<std::decay_t<decltype(values)>>(from.values);
+            values.insert(values.end(), more.begin(), more.end());
+          },
+          to.values);
+    }
+  }
+  if (!parallel) fail(path, "not a VTK PUnstructuredGrid (.pvtu) file");
+  if (pieces == 0) fail(path, "no <Piece Source=...>");
+  return joined;
+}
+}  // namespace
+
 VtuSnapshot read_vtu(const fs::path& path) {
+  if (path.extension() == ".pvtu") return read_pieces(path);
   const std::string bytes = read_whole_file(path);
   const std::size_t appended_tag = bytes.find("<AppendedData");
   if (appended_tag == std::string::npos) fail(path, "no <AppendedData> section (not a VTU that Spall wrote)");

@@ -1,6 +1,7 @@
 #pragma once
 // Reads back the files src/spall/io/output/vtu.cpp writes: a .vtu snapshot (VTK XML
-// UnstructuredGrid, raw binary appended data, UInt64 headers, little-endian) and its .pvd series.
+// UnstructuredGrid, raw binary appended data, UInt64 headers, little-endian), a .pvtu that joins
+// such pieces (an MPI run's), and their .pvd series.
 // Post-processing (`spall surface`) reads a run's output with it; it reads no other VTK flavour
 // (no compression, no inline or base64 data) and says so.
 #include <filesystem>
@@ -21,8 +22,8 @@ struct VtuSnapshot {
   const discretization::Field* field(std::string_view name) const;
 };
 
-// Throws InputError ("PATH: what is wrong") for a file it cannot read or that is not in the format
-// above.
+// A .vtu, or the pieces of a .pvtu one after the other. Throws InputError ("PATH: what is wrong")
+// for a file it cannot read or that is not in the format above.
 VtuSnapshot read_vtu(const std::filesystem::path& path);
 
 struct SeriesEntry {

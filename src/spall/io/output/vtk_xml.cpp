@@ -75,8 +75,9 @@ AppendedArray point_field_array(const discretization::Field& field) {
   return array;
 }
 
-std::string AppendedSection::describe(AppendedArray array, std::string_view indent) {
-  std::string xml = fmt::format(R"({}<DataArray type="{}")", indent, array.type);
+// type="..." Name="..." NumberOfComponents="..." ComponentName0="..." ...
+std::string AppendedSection::attributes(const AppendedArray& array) {
+  std::string xml = fmt::format(R"(type="{}")", array.type);
   if (!array.name.empty()) xml += fmt::format(R"( Name="{}")", escaped(array.name));
   xml += fmt::format(R"( NumberOfComponents="{}")", array.components);
   if (array.component_names) {
@@ -84,6 +85,15 @@ std::string AppendedSection::describe(AppendedArray array, std::string_view inde
       xml += fmt::format(R"( ComponentName{}="{}")", i, escaped((*array.component_names)[i]));
     }
   }
+  return xml;
+}
+
+std::string AppendedSection::describe_in_pieces(const AppendedArray& array, std::string_view indent) {
+  return fmt::format("{}<PDataArray {}/>\n", indent, attributes(array));
+}
+
+std::string AppendedSection::describe(AppendedArray array, std::string_view indent) {
+  std::string xml = fmt::format("{}<DataArray {}", indent, attributes(array));
   xml += fmt::format(R"( format="appended" offset="{}"/>)", offset_);
   xml += '\n';
   offset_ += sizeof(std::uint64_t) + array.bytes;

@@ -45,12 +45,17 @@ class AppendedSection {
  public:
   // The <DataArray .../> line of `array` at the next offset, with `indent` before it.
   std::string describe(AppendedArray array, std::string_view indent);
+  // The <PDataArray .../> line of `array` in a parallel file (.pvtu) that lists the pieces which
+  // hold it, with `indent` before it.
+  static std::string describe_in_pieces(const AppendedArray& array, std::string_view indent);
 
   // Writes `header` (the file up to and including the closing tag of the dataset element), the
   // appended section and </VTKFile>, through a temporary file.
   void write_file(const std::filesystem::path& path, const std::string& header) const;
 
  private:
+  static std::string attributes(const AppendedArray& array);
+
   std::vector<AppendedArray> arrays_;
   std::uint64_t offset_ = 0;
 };

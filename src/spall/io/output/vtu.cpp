@@ -167,6 +167,30 @@ void write_vtu(const std::filesystem::path& path, const std::vector<Vec3>& point
   appended.write_file(path, header);
 }
 
+void write_pvtu(const std::filesystem::path& path, const std::vector<std::string>& pieces,
+                const std::vector<discretization::Field>& fields,
+                const std::vector<discretization::CellBlock>& cell_blocks) {
+  using vtk_xml::AppendedSection;
+  std::string xml = vtk_xml::file_opening("PUnstructuredGrid") + "  <PUnstructuredGrid GhostLevel=\"0\">\n";
+  xml += "    <PPointData>\n";
+  for (const auto& field : fields)
+    xml += AppendedSection::describe_in_pieces(vtk_xml::point_field_array(field), "      ");
+  xml += "    </PPointData>\n";
+  const std::vector<discretization::Field> cell_fields = merged_cell_fields(0, cell_blocks);
+  if (!cell_fields.empty()) {
+    xml += "    <PCellData>\n";
+    for (const auto& field : cell_fields)
+      xml += AppendedSection::describe_in_pieces(vtk_xml::point_field_array(field), "      ");
+    xml += "    </PCellData>\n";
+  }
+  xml += "    <PPoints>\n";
+  xml += AppendedSection::describe_in_pieces({.type = "Float64", .components = 3}, "      ");
+  xml += "    </PPoints>\n";
+  for (const auto& piece : pieces) xml += fmt::format("    <Piece Source=\"{}\"/>\n", vtk_xml::escaped(piece));
+  xml += "  </PUnstructuredGrid>\n</VTKFile>\n";
+  replace_file_atomically(path, [&](std::ostream& out) { out << xml; });
+}
+
 void PvdSeries::add(double time, const std::string& relative_file) {
   entries_.emplace_back(time, relative_file);
   try {

@@ -1,7 +1,7 @@
 #pragma once
 // ParaView output: a .vtu file per output time (VTK XML UnstructuredGrid, binary appended data,
-// one vertex cell per point, then the cells of any hexahedron or tetrahedron blocks) and a .pvd
-// series that lists them with their times.
+// one vertex cell per point, then the cells of any hexahedron or tetrahedron blocks), or under MPI
+// a .pvtu that joins the ranks' .vtu pieces, and a .pvd series that lists them with their times.
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -23,6 +23,14 @@ namespace spall::io::output {
 void write_vtu(const std::filesystem::path& path, const std::vector<Vec3>& points,
                const std::vector<discretization::Field>& fields,
                const std::vector<discretization::CellBlock>& cell_blocks = {});
+
+// The .pvtu that makes pieces of one dataset, each a .vtu that write_vtu wrote with these point
+// fields and cell blocks (values aside: only names, types and components count), one dataset in
+// ParaView: an MPI run's output time, a piece per rank. `pieces` are relative to the .pvtu's
+// folder. Through a temporary file; throws OutputError (naming the path) when it cannot be written.
+void write_pvtu(const std::filesystem::path& path, const std::vector<std::string>& pieces,
+                const std::vector<discretization::Field>& fields,
+                const std::vector<discretization::CellBlock>& cell_blocks = {});
 
 class PvdSeries {
  public:
