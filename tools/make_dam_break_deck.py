@@ -76,14 +76,23 @@ def card(*fields):
     w("".join(f"{f:>10}" for f in fields))
 
 
+def length(x):
+    """x in six significant digits, or as many as fit a 10-character field (a negative spacing
+    of many particles across, -0.00625714, needs 11)."""
+    for digits in range(6, 0, -1):
+        text = f"{x:.{digits}g}"
+        if len(text) <= 10:
+            return text
+    raise ValueError(f"{x} does not fit a 10-character field")
+
+
 def box_cards(part, box):
     lower, cells = box
     if plane:
-        card(f"{lower[0] * dp:.6g}", f"{lower[1] * dp:.6g}", "-0.5",
-             f"{cells[0] * dp:.6g}", f"{cells[1] * dp:.6g}", "1.0")
+        card(length(lower[0] * dp), length(lower[1] * dp), "-0.5", length(cells[0] * dp), length(cells[1] * dp), "1.0")
         card(part, cells[0], cells[1], 1, "", 0, "0.0")
     else:
-        card(*(f"{v * dp:.6g}" for v in lower), *(f"{v * dp:.6g}" for v in cells))
+        card(*(length(v * dp) for v in lower), *(length(v * dp) for v in cells))
         card(part, *cells, "", 0, "0.0")
 
 
@@ -116,8 +125,15 @@ w("*PART")
 w("tank walls: fixed particles of the same liquid (dynamic boundary)")
 card(2, 1, 1, 1)
 w("*SECTION_SPH")
-w("$#   secid      cslh      hmin      hmax")
-card(1, "1.3", "1.0", "1.0")
+# h = CSLH x the spacing each part's boxes give; where their lengths, written in 10 characters,
+# do not give the water and the walls one spacing to 1e-9 (many particles across), SPHINI sets h.
+spacings = [float(length(v * dp)) / v for _, cells in walls + [water] for v in cells]
+if max(spacings) - min(spacings) > 1e-10 * dp:
+    w("$#   secid      cslh      hmin      hmax    sphini")
+    card(1, "1.3", "1.0", "1.0", length(1.3 * dp))
+else:
+    w("$#   secid      cslh      hmin      hmax")
+    card(1, "1.3", "1.0", "1.0")
 w("*MAT_NULL")
 w("$ PC 0: no tension (a free surface at zero pressure); MU: water")
 w("$#     mid        ro        pc        mu")
