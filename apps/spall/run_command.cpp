@@ -129,8 +129,8 @@ void refuse_what_is_not_distributed(const solver::Problem& problem, int ranks) {
   if (what.empty() && !problem.rigid_bodies.bodies().empty()) what = "a rigid body (*MAT_RIGID)";
   if (what.empty()) return;
   throw InputError(fmt::format("spall run was started as one of {} MPI ranks (mpirun -np {}), but {} is not "
-                               "distributed yet (the SPH fluid, the SPH solid and SPG are; docs/SCALING.md): run this "
-                               "deck as one process (--threads sets the cores it uses)",
+                               "distributed yet (the SPH fluid, the SPH solid, SPG and solid elements are; "
+                               "docs/SCALING.md): run this deck as one process (--threads sets the cores it uses)",
                                ranks, ranks, what));
 }
 

@@ -161,7 +161,7 @@ set -e
 [ "$code" -eq 2 ] || { cat "$work/spg_idam.log"; fail "SPG IDAM 5: exit $code"; }
 grep -Eq "spg_idam\.k:[0-9]+: \*SECTION_SOLID_SPG: IDAM 5: " "$work/spg_idam.log" || { cat "$work/spg_idam.log"; fail "SPG IDAM message"; }
 
-# Started by an MPI launcher as one of several ranks, a run of what is not distributed yet (FEM;
+# Started by an MPI launcher as one of several ranks, a run of what is not distributed yet (contact;
 # issue 35) stops with exit 2 on every rank before it writes anything. With Open MPI's mpirun where it
 # is installed (allowed to run as root and on more ranks than cores, as in CI), else with what
 # mpirun tells each process.
@@ -174,14 +174,14 @@ else
   launch() { local ranks=$1; shift; OMPI_COMM_WORLD_SIZE=$ranks "$@"; }
 fi
 set +e
-python3 "$source_dir/tools/make_spg_tension_deck.py" --elements 10 --end-time 4e-6 --fem-ends 0.2 >"$work/fem.k"
-launch 2 "$cli" run "$work/fem.k" -o "$work/mpi_out" >"$work/mpi.log" 2>&1
+python3 "$source_dir/tools/make_punch_deck.py" --end-time 2e-6 >"$work/punch.k"
+launch 2 "$cli" run "$work/punch.k" -o "$work/mpi_out" >"$work/mpi.log" 2>&1
 code=$?
 set -e
-[ "$code" -eq 2 ] && grep -q 'one of 2 MPI ranks.*the FEM formulation is not distributed' "$work/mpi.log" || fail "two MPI ranks: exit $code, $(cat "$work/mpi.log")"
+[ "$code" -eq 2 ] && grep -q 'one of 2 MPI ranks.*a contact (\*CONTACT_...) is not distributed' "$work/mpi.log" || fail "two MPI ranks: exit $code, $(cat "$work/mpi.log")"
 [ "$(grep -c '^error: ' "$work/mpi.log")" -eq 1 ] || fail "two MPI ranks: not one error line: $(cat "$work/mpi.log")"
 [ ! -e "$work/mpi_out" ] || fail "output written by a run started as two MPI ranks"
-launch 1 "$cli" run "$work/fem.k" -o "$work/mpi1_out" >/dev/null 2>&1 || fail "one MPI rank"
+launch 1 "$cli" run "$work/punch.k" -o "$work/mpi1_out" >/dev/null 2>&1 || fail "one MPI rank"
 
 # Not a keyword file: a folder or a binary file is one line and exit 2, not a page of warnings.
 set +e

@@ -12,9 +12,13 @@
 #  - two particles of a bar on three ranks: a rank with none;
 #  - the SPG tensile bar of examples/spg_tension, coarse and pulled fast enough that bonds break
 #    within the run (their broken state is every rank's), with KERNEL 0 and ITB 1 as in the example
-#    and with KERNEL 1 (bonds searched anew at each update) and ITB 2.
-# Rank 0 writes the restart files with the whole state: the Taylor bar's 2-rank runrsf, continued
-# on one process, ends as the uninterrupted run.
+#    and with KERNEL 1 (bonds searched anew at each update) and ITB 2;
+#  - solid finite elements, each rank computing the elements with a node it owns: the SPG bar with
+#    hexahedral ends (ELFORM 2, eight points an element, interface nodes shared with SPG), and a bar
+#    of one-point hexahedra (ELFORM 1, hourglass control) that erode (*MAT_ADD_EROSION at 20 %
+#    effective strain: about half the mass) while DT2MS adds mass.
+# Rank 0 writes the restart files with the whole state: the Taylor bar's and the eroding bar's
+# 2-rank runrsf, continued on one process, end as the uninterrupted runs.
 # Arguments, as CTest passes them: CLI SOURCE_DIR SHARED_DIR.
 set -euo pipefail
 cli=$1
@@ -49,10 +53,33 @@ done
 same_on_ranks "$work/spg.k" "$work/spg.serial" "2 1" "3 2"
 same_on_ranks "$work/spg_k1.k" "$work/spg_k1.serial" "3 1"
 
-# The 2-rank run's last restart file (rank 0 wrote it), continued on one process.
-[ -s "$work/taylor.serial.np2.t1/runrsf" ] || fail "no runrsf from the 2-rank run"
-"$cli" run --restart "$work/taylor.serial.np2.t1" --threads 1 2>"$work/restart.log" ||
-  { cat "$work/restart.log"; fail "restart"; }
-grep -q 'continuing from' "$work/restart.log" || fail "the restart did not continue"
-same_folder "$work/taylor.serial" "$work/taylor.serial.np2.t1" "2 ranks, continued on one process"
+python3 "$source_dir/tools/make_spg_tension_deck.py" --elements 16 --speed 100 --end-time 4e-5 --fem-ends 0.25 \
+  >"$work/fem_ends.k"
+python3 "$source_dir/tools/make_spg_tension_deck.py" --elements 16 --speed 100 --end-time 6e-5 --fem-ends 0.5 |
+  python3 -c '
+import re, sys
+deck = sys.stdin.read()
+deck = re.sub(r"\*PART\ntensile bar\n.*\n.*\n", "", deck, count=1)  # every element is part 2
+deck = re.sub(r"\*SECTION_SOLID_SPG\n(?:.*\n){6}", "", deck, count=1)
+deck = deck.replace("         2         2\n", "         2         1\n", 1)  # ELFORM 1
+deck = deck.replace("       0.0       0.9\n", "       0.0       0.9         0       0.0   -1.2e-7\n", 1)  # DT2MS
+deck = deck.replace("*NODE", "*MAT_ADD_EROSION\n         1       0.0       0.0       0.0       0.2\n*NODE", 1)
+sys.stdout.write(deck)' >"$work/eroding.k"
+sed -i 's/^\*END$/*DATABASE_BINARY_RUNRSF\n       100\n*END/' "$work/eroding.k"
+run_serial fem_ends 300
+run_serial eroding 300
+grep -q 'one-point hexahedra' "$work/eroding.log" || fail "the eroding bar is not ELFORM 1"
+tail -n 1 "$work/eroding.serial/glstat.csv" | awk -F, '{ exit !($10 > 1e-4 && $10 < 2e-4 && $11 > 0) }' ||
+  fail "the eroding bar: eroded and added mass $(tail -n 1 "$work/eroding.serial/glstat.csv")"
+same_on_ranks "$work/fem_ends.k" "$work/fem_ends.serial" "2 1" "3 2"
+same_on_ranks "$work/eroding.k" "$work/eroding.serial" "2 1" "3 1" "2 2"
+
+# The 2-rank runs' last restart files (rank 0 wrote them), continued on one process.
+for deck in taylor eroding; do
+  [ -s "$work/$deck.serial.np2.t1/runrsf" ] || fail "no runrsf from the 2-rank run ($deck)"
+  "$cli" run --restart "$work/$deck.serial.np2.t1" --threads 1 2>"$work/restart.log" ||
+    { cat "$work/restart.log"; fail "restart ($deck)"; }
+  grep -q 'continuing from' "$work/restart.log" || fail "the restart did not continue ($deck)"
+  same_folder "$work/$deck.serial" "$work/$deck.serial.np2.t1" "$deck: 2 ranks, continued on one process"
+done
 echo "mpi solid: OK"

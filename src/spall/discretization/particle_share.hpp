@@ -9,6 +9,7 @@
 #include <limits>
 #include <numeric>
 #include <span>
+#include <stdexcept>
 #include <vector>
 
 #include "spall/core/communicator.hpp"
@@ -31,7 +32,8 @@ class ParticleShare {
   bool owns(Index node) const { return node >= owned_begin_ && node < owned_end_; }
 
   // Every rank's values of its own particles (`node`: each particle's node) in, in place; nothing
-  // for an empty array (state that the options switched off) or a run of one process.
+  // for an empty array (state that the options switched off) or a run of one process. An array may
+  // hold several values a particle, one after the other (an element's Gauss points).
   template <typename... T>
   void operator()(std::span<const Index> node, std::vector<T>&... values) {
     if (parallel::world().size() == 1) return;
@@ -63,15 +65,24 @@ class ParticleShare {
   template <typename T>
   void share(std::vector<T>& values) const {
     if (values.empty()) return;
+    const Index n = offsets_.back();
+    if (n == 0 || values.size() % n != 0)
+      throw std::logic_error("ParticleShare: an array that is not a whole number of values a particle");
+    const Index per = static_cast<Index>(values.size() / n);
+    std::vector<Index> offsets(offsets_);
+    for (Index& o : offsets) o *= per;
     if (order_.empty()) {
-      parallel::world().share(std::span(values), offsets_);
+      parallel::world().share(std::span(values), offsets);
       return;
     }
     std::vector<T> by_rank(values.size());
-    const Index n = static_cast<Index>(order_.size());
-    parallel::for_each(n, [&](Index k) { by_rank[k] = values[order_[k]]; });
-    parallel::world().share(std::span(by_rank), offsets_);
-    parallel::for_each(n, [&](Index k) { values[order_[k]] = by_rank[k]; });
+    parallel::for_each(n, [&](Index k) {
+      std::copy_n(values.begin() + order_[k] * per, per, by_rank.begin() + k * per);
+    });
+    parallel::world().share(std::span(by_rank), offsets);
+    parallel::for_each(n, [&](Index k) {
+      std::copy_n(by_rank.begin() + k * per, per, values.begin() + order_[k] * per);
+    });
   }
 
   Index owned_begin_ = 0, owned_end_ = std::numeric_limits<Index>::max(), node_count_ = 0;

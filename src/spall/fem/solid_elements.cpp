@@ -1,14 +1,17 @@
 #include "spall/fem/solid_elements.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <map>
+#include <span>
 #include <stdexcept>
 
 #include <Eigen/Eigenvalues>
 #include <fmt/format.h>
 
+#include "spall/core/communicator.hpp"
 #include "spall/core/cube_root.hpp"
 #include "spall/core/error.hpp"
 #include "spall/core/parallel.hpp"
@@ -467,6 +470,9 @@ bool SolidElements::fails(Block& block, Index e, const Mat3& L, Real dt, Real st
 }
 
 void SolidElements::remove_eroded(discretization::NodeStore& nodes) {
+  // The energies and mass taken out, each an exact sum over the elements of the rank's own, then
+  // over the ranks: the same for any partition.
+  std::array<ExactSum, 3> taken;  // kinetic energy, internal energy, mass
   for (Block& block : blocks_) {
     const int per = block.nodes_per_element, points = block.points_per_element;
     for (Index e = 0; e < block.size(); ++e) {
@@ -476,14 +482,17 @@ void SolidElements::remove_eroded(discretization::NodeStore& nodes) {
       const Real m = block.mass[e];
       // What its nodes lose: the mass DT2MS added too.
       const Real nodal = (block.mass_scale.empty() ? m : block.mass_scale[e] * m) / per;
+      const bool owned = nodes.owns(node_[block.node[per * e]]);
       Real internal = 0;
       for (int g = 0; g < points; ++g)
         internal += block.thermo[points * e + g].specific_energy - part.material.initial_specific_energy;
-      eroded_internal_step_ += m * internal / points;
-      eroded_mass_ += m;
+      if (owned) {
+        taken[1] += m * internal / points;
+        taken[2] += m;
+      }
       for (int a = 0; a < per; ++a) {
         const Index k = block.node[per * e + a], i = node_[k];
-        eroded_kinetic_step_ += Real(0.5) * nodal * nodes.v[i].squaredNorm();
+        if (owned) taken[0] += Real(0.5) * nodal * nodes.v[i].squaredNorm();
         nodes.mass[i] -= nodal;
         if (--live_elements_[k] == 0) {
           nodes.mass[i] = other_mass_[k];  // the share of other formulations, exactly
@@ -492,9 +501,44 @@ void SolidElements::remove_eroded(discretization::NodeStore& nodes) {
       }
     }
   }
+  if (share_) parallel::world().sum(taken);
+  eroded_kinetic_step_ = taken[0].value();
+  eroded_internal_step_ = taken[1].value();
+  eroded_mass_ += taken[2].value();
+}
+
+void SolidElements::distribute(const discretization::NodeStore& nodes) {
+  if (share_ || parallel::world().size() == 1) return;
+  Share& s = share_.emplace();
+  s.nodes.bind(nodes);
+  for (const Block& block : blocks_) {
+    const int per = block.nodes_per_element;
+    auto& computed = s.computed.emplace_back(block.size(), 0);
+    auto& first = s.first_node.emplace_back(block.size());
+    for (Index e = 0; e < block.size(); ++e) {
+      first[e] = node_[block.node[per * e]];
+      for (int a = 0; a < per; ++a) computed[e] |= nodes.owns(node_[block.node[per * e + a]]);
+    }
+    s.elements.emplace_back().bind(nodes);
+  }
+}
+
+void SolidElements::share_owned(discretization::NodeStore& nodes, bool masses_changed) {
+  for (std::size_t k = 0; k < blocks_.size(); ++k) {
+    Block& b = blocks_[k];
+    share_->elements[k](share_->first_node[k], b.mass_scale, b.state, b.thermo, b.volume, b.hourglass_energy,
+                        b.hourglass_force, b.eroded, b.strain, b.effective_strain);
+  }
+  share_->nodes(node_, force_, bulk_force_, hourglass_force_, live_elements_);
+  if (!masses_changed) return;
+  const parallel::Communicator& ranks = parallel::world();
+  const std::vector<Index> offsets = parallel::block_offsets(nodes.size(), ranks.size());
+  ranks.share(std::span(nodes.mass), offsets);
+  ranks.share(std::span(nodes.active), offsets);
 }
 
 void SolidElements::compute_forces(discretization::NodeStore& nodes, Real dt) {
+  distribute(nodes);
   const bool hourglass = !hourglass_force_.empty();
   parallel::for_each(static_cast<Index>(node_.size()), [&](Index k) {
     force_[k] = bulk_force_[k] = Vec3::Zero();
@@ -515,12 +559,13 @@ void SolidElements::compute_forces(discretization::NodeStore& nodes, Real dt) {
   parallel::LowestIndex inverted;
   for (std::size_t k = 0; k < blocks_.size(); ++k) {
     Block& block = blocks_[k];
+    Index inverted_colour = -1;
     const auto run = [&]<Kind kind>() {
       for (std::size_t c = 0; c + 1 < block.colour_offset.size(); ++c) {
         const Index begin = block.colour_offset[c];
         found = combine(found, parallel::reduce_exact(block.colour_offset[c + 1] - begin, none, [&](Index j) {
           const Index e = block.colour_element[begin + j];
-          if (block.eroded[e]) return none;
+          if (block.eroded[e] || !computes(k, e)) return none;
           const Real step = element_step<kind>(block, e, nodes, dt);
           if (step == -2 || (step == -1 && erode_enabled_)) {  // deleted: no forces from now on
             block.eroded[e] = 1;
@@ -533,7 +578,10 @@ void SolidElements::compute_forces(discretization::NodeStore& nodes, Real dt) {
           const Real c_e = block.thermo[block.points_per_element * e].sound_speed;
           return Found{step, c_e, 0};
         }, combine, element_loops));
-        if (inverted.value() >= 0) break;
+        if (inverted.value() >= 0) {
+          inverted_colour = static_cast<Index>(c);
+          break;
+        }
       }
     };
     switch (block.kind) {
@@ -541,12 +589,23 @@ void SolidElements::compute_forces(discretization::NodeStore& nodes, Real dt) {
       case Kind::hexahedron_selective_reduced: run.template operator()<Kind::hexahedron_selective_reduced>(); break;
       case Kind::tetrahedron: run.template operator()<Kind::tetrahedron>(); break;
     }
-    if (const Index e = inverted.value(); e >= 0)
+    Index e = inverted.value();
+    if (share_) {  // the lowest of the first colour with one, over the ranks: as one process finds it
+      const Index colour = parallel::world().lowest(inverted_colour);
+      if (colour >= 0) e = parallel::world().lowest(inverted_colour == colour ? e : -1);
+    }
+    if (e >= 0)
       throw InstabilityError(fmt::format("FEM part {}: element {} has a negative volume: it inverted (*CONTROL_TIMESTEP "
                                          "ERODE 1 deletes inverted elements instead; a smaller TSSFAC or a finer mesh "
                                          "may help)", parts_[block.part[e]].part_id, block.id[e]));
   }
+  if (share_) {  // the smallest step, the fastest wave and whether an element eroded, over the ranks
+    double values[3] = {found.step, -found.sound_speed, found.eroding > 0 ? -1.0 : 0.0};
+    parallel::world().minimum(values);
+    found = {values[0], -values[1], values[2] < 0 ? 1 : 0};
+  }
   if (found.eroding > 0) remove_eroded(nodes);
+  if (share_) share_owned(nodes, found.eroding > 0 || mass_scaling_.active);
   if (mass_scaling_.active) {
     Real added = 0;
     for (const Block& block : blocks_)

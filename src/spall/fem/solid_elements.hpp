@@ -21,6 +21,7 @@
 
 #include "spall/discretization/formulation.hpp"
 #include "spall/discretization/mass_scaling.hpp"
+#include "spall/discretization/particle_share.hpp"
 #include "spall/materials/material.hpp"
 
 namespace spall::fem {
@@ -93,6 +94,7 @@ class SolidElements final : public discretization::Formulation {
   void book_energies(discretization::EnergyLedger& ledger, std::span<const Vec3> v, Real dt) const override;
   void write_fields(discretization::FieldSet& fields, const discretization::NodeStore& nodes) const override;
   Real max_wave_speed() const override { return max_sound_speed_; }
+  bool distributable() const override { return true; }
 
   // rho0 V0 / (nodes per element) to each node of each element (LS-DYNA's lumped mass).
   // Records the mass other formulations gave each node first (what an eroded node keeps).
@@ -155,6 +157,22 @@ class SolidElements final : public discretization::Formulation {
   void remove_eroded(discretization::NodeStore& nodes);
   void colour(Block& block) const;
 
+  // Under MPI (replicated state, docs/SCALING.md): a rank computes every element with a node it owns,
+  // so that each of its nodes sums the forces of all its elements in the serial order (the elements
+  // on a rank boundary are computed by both ranks, alike), and shares what it owns: the elements
+  // whose first node it owns, and its nodes' forces.
+  struct Share {
+    std::vector<std::vector<std::uint8_t>> computed;        // per block, per element
+    std::vector<std::vector<Index>> first_node;             // per block: each element's first node
+    std::vector<discretization::ParticleShare> elements;    // per block, by first node
+    discretization::ParticleShare nodes;                    // the local nodes
+  };
+  bool computes(std::size_t block, Index e) const { return !share_ || share_->computed[block][e]; }
+  // The first call makes share_ when the run has several ranks.
+  void distribute(const discretization::NodeStore& nodes);
+  // Every rank's elements, the forces of its nodes and, when they changed, its nodes' masses.
+  void share_owned(discretization::NodeStore& nodes, bool masses_changed);
+
   std::vector<PartSettings> parts_;
   std::vector<Block> blocks_;
   std::vector<Index> node_;   // local node -> node-store index
@@ -173,6 +191,7 @@ class SolidElements final : public discretization::Formulation {
   discretization::MassScaling mass_scaling_;  // DT2MS
   bool may_erode_ = false;       // some part has an erosion criterion or a material that fails
   bool erode_enabled_ = false;   // ERODE
+  std::optional<Share> share_;   // under MPI
 };
 
 }  // namespace spall::fem
