@@ -2,12 +2,13 @@
 // node it owns (the nodes dealt out in blocks, as the time loop deals them), and after the share
 // every rank holds every particle's value: particles stored in node order (in place), in a
 // shuffled order (gathered by rank and put back), on a few nodes only (ranks with no particle),
-// stored anew in another order (planned again).
+// stored anew in another order (planned again), several values a particle.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <numeric>
 #include <random>
+#include <stdexcept>
 #include <vector>
 
 #include "spall/core/communicator.hpp"
@@ -90,6 +91,24 @@ TEST(ParticleShare, PlannedAgainWhenTheParticlesAreStoredInAnotherOrder) {
   share.reorder();
   fill_and_share(share, node, values);  // reversed: gathered by rank and put back
   expect_every_value(node, values);
+}
+
+TEST(ParticleShare, SeveralValuesAParticle) {
+  // Three values a particle (an element's points), the particles in a shuffled order.
+  std::vector<Index> node(61);
+  std::iota(node.begin(), node.end(), Index(0));
+  std::shuffle(node.begin(), node.end(), std::mt19937(36));
+  ParticleShare share;
+  share.bind(dealt_nodes(61));
+  std::vector<double> values(3 * node.size(), -1.0);
+  for (std::size_t a = 0; a < node.size(); ++a)
+    if (share.owns(node[a]))
+      for (int k = 0; k < 3; ++k) values[3 * a + k] = 10.0 * node[a] + k;
+  share(node, values);
+  for (std::size_t a = 0; a < node.size(); ++a)
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(values[3 * a + k], 10.0 * node[a] + k) << "particle " << a;
+  std::vector<double> ragged(node.size() + 1);  // not a whole number of values a particle
+  if (parallel::world().size() > 1) EXPECT_THROW(share(node, ragged), std::logic_error);
 }
 
 TEST(ParticleShare, EveryParticleOwnedUntilBound) {
