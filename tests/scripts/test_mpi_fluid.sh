@@ -5,7 +5,8 @@
 # each: glstat.csv is byte for byte the single process's, and the field output (a .pvtu per output
 # time, each rank's piece a .vtu) holds its .vtu files' points and fields bit for bit. Rank 0 writes
 # the restart files with the whole state: a 2-rank run's last runrsf, continued on one process, ends
-# as the uninterrupted run, also when a rank was killed mid-run. A rank that cannot write its piece
+# as the uninterrupted run, also when a rank was killed mid-run. `spall surface` of a 2-rank run's
+# output is the single process's, byte for byte. A rank that cannot write its piece
 # stops every rank (exit 4).
 # (test_cli: a deck with what is not distributed, FEM, is refused on 2 ranks; test_mpi_solid: the solids.)
 # Arguments, as CTest passes them: CLI SOURCE_DIR SHARED_DIR.
@@ -24,6 +25,14 @@ run_serial d2 100
 run_serial d3 100
 same_on_ranks "$work/d2.k" "$work/d2.serial" "1 1" "2 1" "3 1" "4 1" "2 2"
 same_on_ranks "$work/d3.k" "$work/d3.serial" "2 1" "3 2"
+# spall surface reads the 2-rank run's .pvtu (its pieces joined) as the single process's .vtu.
+for run in d3.serial d3.serial.np2.t1; do
+  "$cli" surface "$work/$run" --threads 1 >"$work/$run.surface.log" 2>&1 ||
+    { cat "$work/$run.surface.log"; fail "surface of $run"; }
+done
+for f in $(cd "$work/d3.serial" && ls surface_*); do
+  cmp -s "$work/d3.serial/$f" "$work/d3.serial.np2.t1/$f" || fail "surface of the 2-rank run: $f differs"
+done
 
 # The 2-rank run's last restart file (rank 0 wrote it), continued on one process.
 [ -s "$work/d2.serial.np2.t1/runrsf" ] || fail "no runrsf from the 2-rank run"
