@@ -115,25 +115,6 @@ std::string where_the_time_went(const solver::PhaseTimes& phases) {
   return line;
 }
 
-// Under MPI, only what can run on several ranks: formulations that deal their nodes out, rigid walls
-// and prescribed motion (every rank applies them to every node alike), and none of what still sums
-// forces of every rank's nodes at once (contacts, rigid bodies).
-void refuse_what_is_not_distributed(const solver::Problem& problem, int ranks) {
-  std::string what;
-  for (const auto& f : problem.formulations)
-    if (!f->distributable()) {
-      what = fmt::format("the {} formulation", f->name());
-      break;
-    }
-  if (what.empty() && !problem.contacts.empty()) what = "a contact (*CONTACT_...)";
-  if (what.empty() && !problem.rigid_bodies.bodies().empty()) what = "a rigid body (*MAT_RIGID)";
-  if (what.empty()) return;
-  throw InputError(fmt::format("spall run was started as one of {} MPI ranks (mpirun -np {}), but {} is not "
-                               "distributed yet (the SPH fluid, the SPH solid, SPG and solid elements are; "
-                               "docs/SCALING.md): run this deck as one process (--threads sets the cores it uses)",
-                               ranks, ranks, what));
-}
-
 }  // namespace
 
 int check_deck(const std::string& deck, const std::vector<std::string>& skip) {
@@ -169,7 +150,6 @@ int run_deck(const RunOptions& options) {
   const std::vector<std::string>& skip = restart ? restart->header.skip : options.skip;
   const model::Model model = read_and_check(deck, skip);
   solver::Problem problem = build_something(model, deck);
-  if (ranks.size() > 1) refuse_what_is_not_distributed(problem, ranks.size());
 
   const fs::path out = restart                      ? fs::path(options.restart_dir)
                        : options.output_dir.empty() ? fs::current_path() / (fs::path(deck).stem().string() + ".out")

@@ -8,7 +8,7 @@
 # as the uninterrupted run, also when a rank was killed mid-run. `spall surface` of a 2-rank run's
 # output is the single process's, byte for byte. A rank that cannot write its piece
 # stops every rank (exit 4).
-# (test_cli: a deck with what is not distributed, FEM, is refused on 2 ranks; test_mpi_solid: the solids.)
+# (test_mpi_solid: the solids; test_mpi_contact: contact and rigid bodies.)
 # Arguments, as CTest passes them: CLI SOURCE_DIR SHARED_DIR.
 set -euo pipefail
 cli=$1

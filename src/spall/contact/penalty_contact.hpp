@@ -8,7 +8,7 @@
 // mu f_n (and <= VC A). The reaction goes to the segment's corners with the weights of the contact
 // point. The slave node may be of any formulation (SPH, SPG, FEM, rigid), the segments faces of
 // any solid mesh (FEM, SPG, rigid). Forces are gathered in slave order: the same for any thread
-// count.
+// count, and for any MPI rank count (every rank computes every touch: solver/simulation.cpp).
 #include <cstdint>
 #include <span>
 #include <vector>

@@ -50,12 +50,10 @@ class Formulation {
   // scale its mass.
   virtual bool scale_mass_below(Real /*step*/, bool /*first_step_only*/) { return false; }
 
-  // Whether the formulation runs with its nodes dealt out to MPI ranks (NodeStore::owns; replicated
-  // state, docs/SCALING.md): it computes the forces and the state of its owned nodes only, takes
-  // global decisions over the ranks, and share_state() brings its state of the other ranks' nodes
-  // up to date. `spall run` refuses to run a formulation that cannot on several ranks.
-  virtual bool distributable() const { return false; }
-  // Every rank's new state of its own nodes in, once a step (the time loop's halo phase).
+  // Under MPI the nodes are dealt out to the ranks (NodeStore::owns; replicated state,
+  // docs/SCALING.md): a formulation computes the forces and the state of its owned nodes only, takes
+  // global decisions over the ranks, and here brings in every rank's new state of its own nodes,
+  // once a step (the time loop's halo phase).
   virtual void share_state(const NodeStore& /*nodes*/) {}
   // Writes (or reads back) everything the formulation carries from one step to the next, so that a
   // run continued from a checkpoint is bitwise the uninterrupted one (core/archive.hpp).

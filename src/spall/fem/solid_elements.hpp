@@ -94,7 +94,6 @@ class SolidElements final : public discretization::Formulation {
   void book_energies(discretization::EnergyLedger& ledger, std::span<const Vec3> v, Real dt) const override;
   void write_fields(discretization::FieldSet& fields, const discretization::NodeStore& nodes) const override;
   Real max_wave_speed() const override { return max_sound_speed_; }
-  bool distributable() const override { return true; }
 
   // rho0 V0 / (nodes per element) to each node of each element (LS-DYNA's lumped mass).
   // Records the mass other formulations gave each node first (what an eroded node keeps).

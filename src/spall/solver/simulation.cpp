@@ -155,7 +155,9 @@ class TimeLoop::Step {
   }
 
   // Penalty contact forces at x^n, from the slip of v^{n-1/2} over the last step. The soft
-  // constraint's stiffness takes the first step, known only now.
+  // constraint's stiffness takes the first step, known only now. Under MPI every rank computes every
+  // contact whole from the same positions, velocities and masses, so that each adds to its own
+  // nodes what one process adds, in the same order (replicated state, docs/SCALING.md).
   void contact() {
     if (step_.step == 0 && !problem_.contacts.empty()) {
       const Real dt = step_limit();
@@ -253,11 +255,14 @@ class TimeLoop::Step {
   // Under MPI: every rank's new velocities v^{n+1/2} of its own nodes, and the formulations' state
   // of them, to every rank. Positions need nothing: each rank advances every node by the same
   // arithmetic from the same velocities. Before the constraints, so that every rank applies the
-  // walls and prescribed motions to every node alike (a wall's force is then whole on each).
+  // walls, prescribed motions and rigid bodies to every node alike (a wall's force is then whole on
+  // each). A rigid body sums the forces of all its nodes: with bodies, the nodes' forces too.
   void halo() {
     const parallel::Communicator& ranks = parallel::world();
     if (ranks.size() == 1) return;
-    ranks.share(std::span(nodes_.v), parallel::block_offsets(nodes_.size(), ranks.size()));
+    const std::vector<Index> blocks = parallel::block_offsets(nodes_.size(), ranks.size());
+    ranks.share(std::span(nodes_.v), blocks);
+    if (!problem_.rigid_bodies.empty()) ranks.share(std::span(nodes_.f), blocks);
     for (auto& f : problem_.formulations) f->share_state(nodes_);
   }
 

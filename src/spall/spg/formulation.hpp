@@ -22,7 +22,6 @@ class SpgFormulation final : public discretization::Formulation {
   discretization::InternalPower internal_power(std::span<const Vec3> v) const;
   Real max_wave_speed() const override;
   bool scale_mass_below(Real step, bool first_step_only) override;
-  bool distributable() const override { return true; }
   void checkpoint(Archive& archive) override;
 
   const std::vector<Part>& parts() const { return parts_; }

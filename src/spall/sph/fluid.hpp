@@ -103,7 +103,6 @@ class FluidFormulation final : public discretization::Formulation {
   // The power of the last internal forces at the node velocities v.
   discretization::InternalPower internal_power(std::span<const Vec3> v) const;
   Real max_wave_speed() const override;
-  bool distributable() const override { return true; }
   void share_state(const discretization::NodeStore& nodes) override;
   void checkpoint(Archive& archive) override;
 

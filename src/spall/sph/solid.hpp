@@ -150,7 +150,6 @@ class SolidFormulation final : public discretization::Formulation {
   // The power of the last internal forces at the node velocities v.
   discretization::InternalPower internal_power(std::span<const Vec3> v) const;
   Real max_wave_speed() const override;
-  bool distributable() const override { return true; }
   void checkpoint(Archive& archive) override;
 
   Index particle_count() const { return static_cast<Index>(node_.size()); }

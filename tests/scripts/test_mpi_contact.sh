@@ -1,0 +1,103 @@
+#!/usr/bin/env bash
+# Contact and rigid bodies on several MPI ranks (issue 35; docs/SCALING.md, "Replicated state"): every
+# rank computes every contact whole from the same positions, velocities and masses, and a rigid body
+# sums its nodes' forces after every rank has shared its own. Run as one process and under mpirun
+# as 2-3 ranks (oversubscribed on 2 cores) with 1 or 2 threads each, every history (glstat.csv,
+# rcforc.csv, rbdout.csv) is byte for byte the single process's and the .pvtu pieces hold its fields
+# bit for bit:
+#  - the rotating punch of tools/make_punch_deck.py: a rigid cylinder (*MAT_RIGID, prescribed
+#    plunge and spin) pressed into a block of hexahedra through *CONTACT_AUTOMATIC_NODES_TO_SURFACE
+#    with Coulomb friction (thrust and friction torque in rcforc.csv, the body's force in rbdout.csv);
+#  - the same punch left free to turn (only the plunge prescribed): its spin is the friction
+#    torque's, summed over the forces of every rank's nodes;
+#  - a rigid cap on an SPG column, sharing nodes with it: the body's motion is the sum of forces
+#    that several ranks computed;
+#  - the coarse friction-drilling deck of test_drilling, cut after the tool has entered the sheet:
+#    SPG and hexahedra sharing nodes, bonds breaking, the rigid drill in frictional contact.
+# The 2-rank punch's runrsf, continued on one process, ends as the uninterrupted run.
+# Arguments, as CTest passes them: CLI SOURCE_DIR SHARED_DIR.
+set -euo pipefail
+cli=$1
+source_dir=$2
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+fail() { echo "FAIL: $*"; exit 1; }
+
+source "$source_dir/tests/scripts/mpi_common.sh"
+
+python3 "$source_dir/tools/make_punch_deck.py" --end-time 2e-5 --outputs 4 >"$work/punch.k"
+sed -i 's/^\*END$/*DATABASE_BINARY_RUNRSF\n       200\n*END/' "$work/punch.k"
+run_serial punch 400
+# Pressed in: the thrust on the block (side 1, fz) and the friction torque about the axis (mz).
+awk -F, '$3 == 1 { last = $0; fz = $6; mz = $9 } END { print last; exit !(fz < -1000 && mz > 0.1) }' \
+  "$work/punch.serial/rcforc.csv" >"$work/punch.last" || fail "the punch does not press and turn: $(cat "$work/punch.last")"
+same_on_ranks "$work/punch.k" "$work/punch.serial" "2 1" "3 1" "2 2"
+
+# The spin prescribed until 1e-5 s (DEATH on its *BOUNDARY_PRESCRIBED_MOTION_RIGID DOF 7 card): then
+# the moment of the contact forces on the punch's nodes alone turns it (the punch, stuck to the block
+# by friction, rings against the block's torsional stiffness).
+python3 - "$work/punch.k" >"$work/free.k" <<'PY'
+import re, sys
+deck = open(sys.argv[1]).read()
+spin = re.compile(r"(\*BOUNDARY_PRESCRIBED_MOTION_RIGID\n(?:\$.*\n)*\s*\d+\s+7\s.*)\n")
+assert len(spin.findall(deck)) == 1, "one prescribed spin"
+sys.stdout.write(spin.sub(lambda m: m.group(1) + "         0    1.0e-5\n", deck))
+PY
+run_serial free 400
+awk -F, '$1 > 1.1e-5 { w = $11 > 0 ? $11 : -$11; if (w > most) most = w } END { exit !(most > 100) }' \
+  "$work/free.serial/rbdout.csv" || fail "the released punch does not turn"
+same_on_ranks "$work/free.k" "$work/free.serial" "2 1" "3 2"
+
+# A rigid cap of hexahedra (*MAT_RIGID) on an elastic SPG column (*SECTION_SOLID_SPG), sharing its
+# top nodes, thrown down at 20 m/s onto the column held at its foot: the cap slows and rebounds by
+# the SPG forces on the shared nodes, which each rank computes for its own nodes only (the halo
+# brings the other ranks' in before the body sums them).
+python3 - >"$work/cap.k" <<'PY'
+n, h = 2, 2.5e-3  # elements across, element size
+layers = 16     # the column's; the cap is one more
+print("*KEYWORD\n*CONTROL_TERMINATION\n    3.0e-5\n*DATABASE_BINARY_D3PLOT\n    1.0e-5\n*DATABASE_GLSTAT\n    1.0e-6")
+print("*DATABASE_RBDOUT\n    1.0e-6")
+print("*PART\ncolumn\n         1         1         1\n*PART\ncap\n         2         2         2")
+print("*SECTION_SOLID_SPG\n         1        47\n       1.6       1.6       1.6         0         0       0.0        15")
+print("         1       0.6       1.2         1\n*SECTION_SOLID\n         2         1")
+print("*MAT_ELASTIC\n         1    7850.0   2.0e+11       0.3")
+print("*MAT_RIGID\n         2   78500.0   2.0e+11       0.3\n       0.0         0         0\n       0.0")
+node = lambda i, j, k: 1 + i + (n + 1) * (j + (n + 1) * k)
+print("*NODE")
+for k in range(layers + 2):
+    for j in range(n + 1):
+        for i in range(n + 1):
+            print(f"{node(i, j, k):8d}{i * h:16.8e}{j * h:16.8e}{k * h:16.8e}")
+print("*ELEMENT_SOLID")
+e = 0
+for k in range(layers + 1):
+    for j in range(n):
+        for i in range(n):
+            e += 1
+            corners = [node(i, j, k), node(i + 1, j, k), node(i + 1, j + 1, k), node(i, j + 1, k)]
+            corners += [c + (n + 1) ** 2 for c in corners]
+            print(f"{e:8d}{2 if k == layers else 1:8d}" + "".join(f"{c:8d}" for c in corners))
+print("*SET_NODE_LIST\n         1\n" + "".join(f"{node(i, j, 0):10d}" for j in range(n + 1) for i in range(n + 1)))
+print("*BOUNDARY_SPC_SET\n         1         0         1         1         1         0         0         0")
+print("*INITIAL_VELOCITY_GENERATION\n         2         2       0.0       0.0       0.0     -20.0\n       0.0       0.0       0.0")
+print("*END")
+PY
+run_serial cap 60
+awk -F, 'NR > 1 { vz = $8 } END { exit !(vz > -15) }' "$work/cap.serial/rbdout.csv" ||
+  fail "the cap does not slow down: $(tail -n 1 "$work/cap.serial/rbdout.csv")"
+same_on_ranks "$work/cap.k" "$work/cap.serial" "2 1" "3 1"
+
+python3 "$source_dir/tools/make_drilling_deck.py" --spacing 0.4e-3 --layers 4 --ring-layers 3 --segments 24 \
+  --time-scale 2000 --dt2ms=-2e-7 --smstep 15 --outputs 2 --histories 200 >"$work/drill_full.k"
+cut_deck "$work/drill_full.k" 3e-4 >"$work/drill.k"
+run_serial drill 1000
+awk -F, '$3 == 2 { last = $0; fz = $6 } END { print last; exit !(fz > 500) }' "$work/drill.serial/rcforc.csv" \
+  >"$work/drill.last" || fail "the drill does not press on the sheet: $(cat "$work/drill.last")"
+same_on_ranks "$work/drill.k" "$work/drill.serial" "2 1" "3 2"
+
+[ -s "$work/punch.serial.np2.t1/runrsf" ] || fail "no runrsf from the 2-rank punch"
+"$cli" run --restart "$work/punch.serial.np2.t1" --threads 1 2>"$work/restart.log" ||
+  { cat "$work/restart.log"; fail "restart"; }
+grep -q 'continuing from' "$work/restart.log" || fail "the restart did not continue"
+same_folder "$work/punch.serial" "$work/punch.serial.np2.t1" "the punch: 2 ranks, continued on one process"
+echo "mpi contact: OK"
