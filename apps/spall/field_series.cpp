@@ -44,7 +44,8 @@ void FieldSeries::write(const solver::StepInfo& step, const solver::Problem& pro
   double written = failure.empty() ? 0 : -1;
   ranks.minimum({&written, 1});
   if (written < 0)
-    throw OutputError(failure.empty() ? fmt::format("{}: another rank could not write its piece", name) : failure);
+    throw OutputError(failure.empty() ? fmt::format("{}: another rank could not write its piece", name) : failure,
+                      true);
   if (ranks.rank() != 0) return;
   std::vector<std::string> pieces;
   for (int r = 0; r < ranks.size(); ++r) pieces.push_back(piece(r));
@@ -59,7 +60,8 @@ fs::path FieldSeries::last_file() const {
 void FieldSeries::checkpoint(Archive& a) {
   io::output::PvdSeries::Entries entries = pvd_.entries();
   a(entries, count_);
-  if (a.reading()) pvd_.restore(std::move(entries));
+  // Rank 0 writes the .pvd (and the other ranks never do).
+  if (a.reading() && parallel::world().rank() == 0) pvd_.restore(std::move(entries));
 }
 
 }  // namespace spall::cli

@@ -21,7 +21,7 @@ class FieldSeries {
   // The last file written (rank 0: the .vtu, or the .pvtu under MPI).
   std::filesystem::path last_file() const;
 
-  // The series' entries and count; read back, the .pvd is written over to list what they list.
+  // The series' entries and count; read back, rank 0 writes the .pvd over to list what they list.
   void checkpoint(Archive& a);
 
  private:

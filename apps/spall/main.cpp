@@ -103,9 +103,11 @@ int main(int argc, char** argv) {
     // A full disk or a folder without write permission: what was written before is whole.
     spall::log::error(fmt::format("{} (the files written before it are complete; d3plot.pvd lists the states on disk)",
                                   e.what()));
+    if (!e.every_rank()) spall::parallel::world().abort(spall::exit_output);
     return spall::exit_output;
   } catch (const std::exception& e) {
     spall::log::error(fmt::format("internal error (please report it with the deck): {}", e.what()));
+    spall::parallel::world().abort(spall::exit_internal);
     return spall::exit_internal;
   }
 }

@@ -136,10 +136,6 @@ int run_deck(const RunOptions& options) {
     throw InputError(fmt::format("spall run was started as one of {} MPI ranks (mpirun -np {}), but this spall was "
                                  "built without MPI (SPALL_MPI=OFF): run it as one process",
                                  launched, launched));
-  if (ranks.size() > 1 && !options.restart_dir.empty())
-    throw InputError(fmt::format("spall run --restart was started as one of {} MPI ranks: a run continues on one "
-                                 "process for now (its restart files hold the whole state)",
-                                 ranks.size()));
   const bool writes = ranks.rank() == 0;
   if (!writes) log::set_quiet(true);
   // A restart reads the deck the run copied into its folder, and continues in that folder.
@@ -187,19 +183,27 @@ int run_deck(const RunOptions& options) {
   };
   solver::TimeLoop loop(problem, observer);
 
-  // The run's state between two steps: the loop's, then the output files' and the wall time so far.
+  // The run's state between two steps: the loop's (the whole problem's, which every rank holds),
+  // the wall time so far, the field series (every rank's, of its pieces), then the histories rank 0
+  // writes. Rank 0 writes it; under MPI every rank reads it back, whatever the ranks that wrote it.
   double wall_seconds_before = 0;  // of the runs this one continues
+  FieldSeries& series = writes ? outputs->field_series() : *pieces;
   const auto state = [&](Archive& a) {
     loop.checkpoint(a);
-    outputs->checkpoint(a);
     a.section("run");
     double wall_seconds = wall_seconds_before + progress.elapsed_seconds();
     a(wall_seconds, last_step);
     if (a.reading()) wall_seconds_before = wall_seconds;
+    a.section("field output");
+    series.checkpoint(a);
+    if (writes) outputs->checkpoint(a);
   };
   if (restart) {
     state(restart->state);
-    if (!restart->state.at_end())
+    // Only rank 0 reads the checkpoint to its end (the histories): it tells the others.
+    double whole = !writes || restart->state.at_end() ? 0 : -1;
+    ranks.minimum({&whole, 1});
+    if (whole < 0)
       throw InputError(fmt::format("{}: the checkpoint is longer than this deck's state", restart->file.string()));
     log::info(fmt::format("continuing from {} at step {}, t = {:g}", restart->file.string(), restart->header.step,
                           restart->header.time));

@@ -116,7 +116,6 @@ solver::Observer RunOutputs::observer() {
 
 void RunOutputs::checkpoint(Archive& a) {
   a.section("output files");
-  fields_.checkpoint(a);
   a(masses_, glstat_.columns);
   for (History* h : {&glstat_, &rwforc_, &rcforc_, &rbdout_}) {
     std::optional<std::uint64_t> bytes;

@@ -36,8 +36,11 @@ class RunOutputs {
   // The masses of glstat's last row (eroded_mass, added_mass, ...), for run.json.
   const std::vector<std::pair<std::string, double>>& masses() const { return masses_; }
 
-  // The files' lengths and the series' entries, written; read back, the files are cut to those
-  // lengths and opened to append.
+  // The d3plot series, which every rank has (the others' their pieces'): checkpointed on its own.
+  FieldSeries& field_series() { return fields_; }
+
+  // The histories' lengths, written; read back, the files are cut to those lengths and opened to
+  // append.
   void checkpoint(Archive& a);
 
  private:

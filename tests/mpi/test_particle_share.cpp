@@ -108,7 +108,9 @@ TEST(ParticleShare, SeveralValuesAParticle) {
   for (std::size_t a = 0; a < node.size(); ++a)
     for (int k = 0; k < 3; ++k) EXPECT_EQ(values[3 * a + k], 10.0 * node[a] + k) << "particle " << a;
   std::vector<double> ragged(node.size() + 1);  // not a whole number of values a particle
-  if (parallel::world().size() > 1) EXPECT_THROW(share(node, ragged), std::logic_error);
+  if (parallel::world().size() > 1) {
+    EXPECT_THROW(share(node, ragged), std::logic_error);
+  }
 }
 
 TEST(ParticleShare, EveryParticleOwnedUntilBound) {

@@ -45,6 +45,15 @@ same_folder() {
     { cat "$2.fields"; fail "field output ($3)"; }
 }
 
+# FOLDER RANKS SERIAL: the run in $work/FOLDER continued from its newest restart file on RANKS ranks
+# (1: one process), which then holds the same results as the single process's run in $work/SERIAL.
+continue_run() {
+  mpirun -np "$2" "$cli" run --restart "$work/$1" --threads 1 >"$work/$1.restart.log" 2>&1 ||
+    { cat "$work/$1.restart.log"; fail "restart of $1 on $2 ranks"; }
+  grep -q 'continuing from' "$work/$1.restart.log" || fail "the restart of $1 on $2 ranks did not continue"
+  same_folder "$work/$3" "$work/$1" "$1, continued on $2 ranks"
+}
+
 # DECK SERIAL_FOLDER "RANKS THREADS" ...: the deck under mpirun on each count of ranks and threads,
 # every file as the single process's, a piece of field output per rank, and run.json naming the ranks.
 same_on_ranks() {

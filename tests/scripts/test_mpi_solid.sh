@@ -77,9 +77,6 @@ same_on_ranks "$work/eroding.k" "$work/eroding.serial" "2 1" "3 1" "2 2"
 # The 2-rank runs' last restart files (rank 0 wrote them), continued on one process.
 for deck in taylor eroding; do
   [ -s "$work/$deck.serial.np2.t1/runrsf" ] || fail "no runrsf from the 2-rank run ($deck)"
-  "$cli" run --restart "$work/$deck.serial.np2.t1" --threads 1 2>"$work/restart.log" ||
-    { cat "$work/restart.log"; fail "restart ($deck)"; }
-  grep -q 'continuing from' "$work/restart.log" || fail "the restart did not continue ($deck)"
-  same_folder "$work/$deck.serial" "$work/$deck.serial.np2.t1" "$deck: 2 ranks, continued on one process"
+  continue_run $deck.serial.np2.t1 1 $deck.serial
 done
 echo "mpi solid: OK"

@@ -62,6 +62,10 @@ Session::~Session() {
   the_world() = Communicator{};
 }
 
+void Communicator::abort(int code) const {
+  if (size_ > 1) MPI_Abort(MPI_COMM_WORLD, code);
+}
+
 void Communicator::minimum(std::span<double> values) const {
   if (size_ == 1 || values.empty()) return;
   check(MPI_Allreduce(MPI_IN_PLACE, values.data(), static_cast<int>(values.size()), MPI_DOUBLE, MPI_MIN,
@@ -122,6 +126,7 @@ bool built_with_mpi() { return false; }
 void Communicator::share_bytes(std::byte*, std::size_t, std::span<const Index>) const {}
 Session::Session() = default;
 Session::~Session() = default;
+void Communicator::abort(int) const {}
 void Communicator::minimum(std::span<double>) const {}
 void Communicator::sum(std::span<std::int64_t>) const {}
 void Communicator::sum(std::span<ExactSum>) const {}

@@ -40,6 +40,9 @@ class Communicator {
   int rank() const { return rank_; }
   int size() const { return size_; }
 
+  // Ends every rank of the job now with exit code `code` (MPI_Abort): for an error one rank found
+  // alone, which the others, waiting in a collective, would never hear of. Nothing on one process.
+  void abort(int code) const;
   // In place, element by element: the minimum over the ranks (exact: no rounding). Maxima travel
   // negated and flags as 0 / -1, so one call takes every global decision of a step.
   void minimum(std::span<double> values) const;

@@ -42,10 +42,17 @@ class InstabilityError : public std::runtime_error {
 };
 
 // "cannot write PATH: why". Every output file is written whole or not at all (io/output), so the
-// files written before stay complete.
+// files written before stay complete. Under MPI, `every_rank` when every rank throws it alike (they
+// agreed on it by a reduction) and all end with it; any other is one rank's, and ends the whole job
+// at once (apps/spall/main.cpp) rather than leave the other ranks waiting for it.
 class OutputError : public std::runtime_error {
  public:
-  using std::runtime_error::runtime_error;
+  explicit OutputError(const std::string& what, bool every_rank = false)
+      : std::runtime_error(what), every_rank_(every_rank) {}
+  bool every_rank() const { return every_rank_; }
+
+ private:
+  bool every_rank_ = false;
 };
 
 }  // namespace spall
