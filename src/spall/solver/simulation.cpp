@@ -62,7 +62,7 @@ class TimeLoop::Step {
  public:
   Step(Problem& problem, const Observer& observer)
       : problem_(problem), nodes_(problem.nodes), controls_(problem.controls), observer_(observer),
-        v_old_(nodes_.size()) {
+        v_old_(nodes_.size()), node_blocks_(parallel::block_offsets(nodes_.size(), parallel::world().size())) {
     field_output_ = {controls_.d3plot_dt, controls_.d3plot_dt_curve};
     history_ = {controls_.glstat_dt, nullptr};
     rwforc_ = {controls_.rwforc_dt, controls_.rwforc_dt_curve};
@@ -71,9 +71,9 @@ class TimeLoop::Step {
     runaway_speed_limit_ = runaway_speed_limit();
     initial_mass_ = parallel::exact_sum(nodes_.size(), [&](Index i) { return nodes_.mass[i]; });
     // Under MPI each rank computes a block of the nodes and holds them all (docs/SCALING.md).
-    const parallel::Communicator& ranks = parallel::world();
-    nodes_.owned_begin = parallel::block_begin(nodes_.size(), ranks.rank(), ranks.size());
-    nodes_.owned_end = parallel::block_begin(nodes_.size(), ranks.rank() + 1, ranks.size());
+    const int rank = parallel::world().rank();
+    nodes_.owned_begin = node_blocks_[rank];
+    nodes_.owned_end = node_blocks_[rank + 1];
     parallel::for_each(nodes_.size(), [&](Index i) { nodes_.f[i] = Vec3::Zero(); });
   }
 
@@ -260,9 +260,8 @@ class TimeLoop::Step {
   void halo() {
     const parallel::Communicator& ranks = parallel::world();
     if (ranks.size() == 1) return;
-    const std::vector<Index> blocks = parallel::block_offsets(nodes_.size(), ranks.size());
-    ranks.share(std::span(nodes_.v), blocks);
-    if (!problem_.rigid_bodies.empty()) ranks.share(std::span(nodes_.f), blocks);
+    ranks.share(std::span(nodes_.v), node_blocks_);
+    if (!problem_.rigid_bodies.empty()) ranks.share(std::span(nodes_.f), node_blocks_);
     for (auto& f : problem_.formulations) f->share_state(nodes_);
   }
 
@@ -376,6 +375,7 @@ class TimeLoop::Step {
   const RunControls& controls_;
   const Observer& observer_;
   std::vector<Vec3> v_old_;  // v^{n-1/2} during the update, then v^n (energies)
+  const std::vector<Index> node_blocks_;  // each rank's first node, and the count at the end
   StepInfo step_;
   Real dt_previous_ = 0, dt_first_ = 0, dt_mid_ = 0, velocity_weight_ = 0.5;
   Vec3 base_acceleration_ = Vec3::Zero(), damping_ = Vec3::Zero();
