@@ -183,5 +183,31 @@ TEST(PenaltyContact, ViscousDampingResistsTheApproach) {
   }
 }
 
+TEST(PenaltyContact, ANodeCaughtDeepIsPushedOnlyBeyondTheDepthItWasFoundAt) {
+  // A node found behind the segment deeper than its approach over the last step brings it (let go
+  // below the release depth and caught again as the tool moved on) pushes only with the depth
+  // beyond the one it was found at, which shrinks as it comes out (THEORY §12.3): k d at d = 0.3
+  // would shoot it out at d sqrt(k / m).
+  NodeOnSquare scene(-0.01);  // in front: the contact's first step finds nothing
+  auto contact = scene.contact({}, 1e4, 1e4);
+  const Real dt = 1e-3;
+  contact.apply(scene.nodes, 0, dt);
+  ASSERT_EQ(contact.touching(), 0);
+  auto push_at = [&](Real depth) {
+    scene.nodes.x[4].z() = -depth;
+    scene.nodes.f[4] = Vec3::Zero();
+    contact.apply(scene.nodes, 0, dt);
+    return scene.nodes.f[4].z();
+  };
+  EXPECT_EQ(push_at(0.3), 0);                           // found at rest 0.3 deep
+  EXPECT_NEAR(push_at(0.35), 1e4 * 0.05, 1e-9);         // pushed 0.05 deeper
+  EXPECT_EQ(push_at(0.1), 0);                           // comes out: the tracked depth follows
+  EXPECT_NEAR(push_at(0.12), 1e4 * 0.02, 1e-9);         // and pushes from there
+  EXPECT_EQ(push_at(-0.01), 0);                         // leaves
+  // A node arriving at speed 1 is found at most 1 dt deep: pushed with its whole depth.
+  scene.nodes.v[4] = Vec3(0, 0, -1);
+  EXPECT_NEAR(push_at(0.8 * dt), 1e4 * 0.8 * dt, 1e-9);
+}
+
 }  // namespace
 }  // namespace spall::contact

@@ -53,11 +53,13 @@ void PenaltyContact::apply(NodeStore& nodes, Real t, Real dt) {
   for (auto& state : passes_) {
     if (!alive) {
       state.touches.clear();  // friction history ends with the contact
+      state.started = false;
       continue;
     }
     search(state, nodes);
     respond(state, nodes, dt);
     gather(state, nodes);
+    state.started = true;
   }
 }
 
@@ -111,8 +113,10 @@ void PenaltyContact::search(PassState& state, const NodeStore& nodes) const {
     touch.slave = k;
     touch.segment = state.found[k];
     while (before < state.previous.size() && state.previous[before].slave < k) ++before;
-    if (before < state.previous.size() && state.previous[before].slave == k)
+    if (before < state.previous.size() && state.previous[before].slave == k) {
       touch.friction = state.previous[before].friction;
+      touch.tracked_depth = state.previous[before].tracked_depth;
+    }
     state.touches.push_back(touch);
   }
 }
@@ -129,7 +133,7 @@ void PenaltyContact::respond(PassState& state, const NodeStore& nodes, Real dt) 
     touch.weight = p.weight;
     const Segment::Contact side = segment.contact_at(p.normal.dot(nodes.x[i] - p.point));
     const Vec3& n = touch.normal = side.sign * p.normal;
-    const Real penetration = side.penetration;
+    Real penetration = side.penetration;
 
     Vec3 v_rel = nodes.v[i];
     Real master_mass = 0;
@@ -153,6 +157,15 @@ void PenaltyContact::respond(PassState& state, const NodeStore& nodes, Real dt) 
       k = std::max(k, Real(0.5) * d.soft_scale * stiff_mass / (stiffness_step_ * stiffness_step_));
 
     const Real v_n = n.dot(v_rel);  // > 0: separating
+    // A node found deeper than its approach over the last step could have taken it (let go below
+    // the release depth, then caught again as the tool moved on) is not shot out at k times that
+    // depth (at SOFT 1 that leaves it at about depth sqrt(k / m), hundreds of m/s inside a drill):
+    // the depth it was found at is tracked, shrinks as it comes out, and only the depth beyond
+    // it pushes. Nodes touching on the contact's first step (initial interference) are pushed out.
+    if (touch.tracked_depth < 0)
+      touch.tracked_depth = state.started && penetration > 2 * std::max(-v_n, Real(0)) * dt ? penetration : 0;
+    touch.tracked_depth = std::min(touch.tracked_depth, penetration);
+    penetration -= touch.tracked_depth;
     const Real damping = d.damping * 2 * std::sqrt(k * damped_mass);
     touch.normal_force = std::max(Real(0), k * penetration - damping * v_n);
 

@@ -109,7 +109,11 @@ class PenaltyContact {
     Vec3 normal = Vec3::UnitZ();
     Real normal_force = 0;            // >= 0, along the normal, on the slave
     Vec3 friction = Vec3::Zero();     // tangential force on the slave
-    void checkpoint(Archive& a) { a(slave, segment, weight, normal, normal_force, friction); }
+    // The depth at which a node was found deeper than one step's approach brings it (a node the
+    // contact had let go of, caught again), shrinking as it comes out: only the depth beyond it
+    // pushes (THEORY §12.3). Negative until the first response.
+    Real tracked_depth = -1;
+    void checkpoint(Archive& a) { a(slave, segment, weight, normal, normal_force, friction, tracked_depth); }
   };
 
   struct PassState {
@@ -119,8 +123,9 @@ class PenaltyContact {
     std::vector<Real> grow;           // how far the grid grows each segment's box: reach + offset
     std::vector<std::int32_t> found;  // per slave: the segment it touches, or -1
     std::vector<Touch> touches, previous;
+    bool started = false;  // a step of this contact has been taken: the first step's touches are not tracked
     // The touches of the last step (their friction carries over); the grid is rebuilt every step.
-    void checkpoint(Archive& a) { a(reach, found, touches, previous); }
+    void checkpoint(Archive& a) { a(reach, found, touches, previous, started); }
   };
 
   void search(PassState& state, const discretization::NodeStore& nodes) const;
