@@ -6,7 +6,7 @@
 #   Fig. 6: bond failure at effective plastic strain 0.4 vs 0.7 (m1, COF 0.3)
 #   Fig. 7: COF 0.15 vs 0.20, materials m1 and m2
 #   Fig. 8: kernel update every 15 (full: 5) vs 30 steps;  Fig. 9: support 1.6 vs 1.8 (m2, COF 0.2)
-#   scaling: the plunge 1000 vs 2000 times the test's (the coarse model: 2000 vs 4000)
+#   scaling: the plunge 2000 vs 1000 times the test's (the example's deck and the coarse base: 2000)
 #   Fig. 4b: the whole disk in FEM with erosion at effective strain 0.4 vs the coupled model
 # Usage: tools/drilling_study.sh [OUT]   (LEVEL=coarse, the default: 0.4 mm particles, about 2 min a run on one
 # core; LEVEL=full: the example's 0.2 mm, about an hour a run on two)
@@ -20,7 +20,7 @@ case $level in
   coarse) smstep=15
           mesh=(--spacing 0.4e-3 --layers 4 --ring-layers 3 --segments 24 --dt2ms=-2e-7 --outputs 8 --histories 200)
           fast=2000 ;;
-  full) smstep=5; mesh=(--outputs 20); fast=1000 ;;
+  full) smstep=5; mesh=(--outputs 20); fast=2000 ;;
   *) echo "LEVEL is coarse or full" >&2; exit 2 ;;
 esac
 

@@ -36,7 +36,7 @@ p.add_argument("--fail-strain", type=float, default=0.4, help="bond failure at t
 p.add_argument("--smstep", type=int, default=5,
                help="steps between Eulerian kernel updates (seed 001 Fig. 2's card: 5; its §3 text: 15)")
 p.add_argument("--support", type=float, default=1.6, help="normalized support DX = DY = DZ")
-p.add_argument("--time-scale", type=float, default=1000.0, help="speed-up of the plunge over the test's")
+p.add_argument("--time-scale", type=float, default=2000.0, help="speed-up of the plunge over the test's")
 p.add_argument("--spin-ratio", type=float, default=20.0,
                help="the tool's surface speed over its plunge speed (0: the test's, 510, at every time scale)")
 p.add_argument("--dt2ms", type=float, default=-1.0e-7, help="*CONTROL_TIMESTEP DT2MS (0: no mass scaling)")
