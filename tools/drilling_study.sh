@@ -9,7 +9,7 @@
 #   scaling: the plunge 2000 vs 1000 times the test's (the example's deck and the coarse base: 2000)
 #   Fig. 4b: the whole disk in FEM with erosion at effective strain 0.4 vs the coupled model
 # Usage: tools/drilling_study.sh [OUT]   (LEVEL=coarse, the default: 0.4 mm particles, about 2 min a run on one
-# core; LEVEL=full: the example's 0.2 mm, about an hour a run on two)
+# core; LEVEL=full: the example's 0.2 mm, about 40 minutes a run on two, the slower plunge twice that)
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 spall=${SPALL:-$here/../build/release/bin/spall}
