@@ -57,6 +57,7 @@ struct DamBreak {
   Real L = 0.146;  // the experiment's column width
   int particles_across = 16;  // particles across the column width L
   int dimension = 2;          // 2: plane strain (x-y); 3: a tank L deep between side walls
+  kernels::KernelKind kernel = kernels::KernelKind::cubic_spline;
   Real g = 9.81;
 };
 
@@ -74,6 +75,7 @@ inline std::vector<SurgeFrontPoint> run_dam_break(const DamBreak& d) {
   // Water, c0 = 10 x the largest free-fall speed (Mach <= 0.1), mu of water.
   t.fluid.material = sph::FluidMaterial::tait(1000, 10 * std::sqrt(2 * d.g * 2 * L), 7, 1e-3);
   t.fluid.smoothing_length = 1.3 * t.spacing;
+  t.fluid.kernel = d.kernel;
   t.fluid.viscosity.alpha = 0.1;  // PySPH's dam break settings (validation.md §8)
   t.fluid.viscosity.beta = 0;
   const Real time_scale = std::sqrt(L / (2 * d.g));

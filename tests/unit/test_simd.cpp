@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <random>
+#include <vector>
 
 #include "spall/core/simd.hpp"
 #include "spall/kernels/kernel.hpp"
@@ -77,7 +78,23 @@ TYPED_TEST(VectorLanes, EveryOperationMatchesTheScalarLanesExactly) {
     EXPECT_EQ(lanes_of(fma(va, vb, vc)), lanes_of(fma(sa, sb, sc)));
     EXPECT_EQ((va < vb).lanes(), (sa < sb).lanes());
     EXPECT_EQ(lanes_of(P(a[0])), lanes_of(S(a[0])));
+    // The neighbour stencil's row reach (neighbors/trimmed_stencil.hpp).
+    EXPECT_EQ(lanes_of(max(va, vb)), lanes_of(max(sa, sb)));
+    EXPECT_EQ(lanes_of(min(va, vb)), lanes_of(min(sa, sb)));
+    EXPECT_EQ(lanes_of(sqrt(max(va, P(0)))), lanes_of(sqrt(max(sa, S(0)))));
+    EXPECT_EQ(lanes_of(floor(va * P(100))), lanes_of(floor(sa * S(100))));
+    EXPECT_EQ(lanes_of(select(va < vb, va, vc)), lanes_of(select(sa < sb, sa, sc)));
   }
+  // A NaN lane: max and min take their second operand, as the x86 instructions do.
+  std::array<Real, W> nan;
+  nan.fill(std::nan(""));
+  EXPECT_EQ(lanes_of(min(max(P::load(nan.data()), P(0)), P(3))), lanes_of(S(0)));
+  EXPECT_EQ(lanes_of(min(max(S::load(nan.data()), S(0)), S(3))), lanes_of(S(0)));
+  const Real table[7] = {0.5, 1.5, 2.5, 3.5, 4.5, 5.5, 6.5};
+  Index rows[W];
+  for (int i = 0; i < W; ++i) rows[i] = (3 * i + 1) % 7;
+  EXPECT_EQ(lanes_of(P::template gather<1>(table, rows)), lanes_of(S::template gather<1>(table, rows)));
+  for (int i = 0; i < W; ++i) EXPECT_EQ(lanes_of(P::template gather<1>(table, rows))[i], table[rows[i]]);
 }
 
 TYPED_TEST(VectorLanes, CompressOfIndicesKeepsTheSelectedLanesInOrder) {
@@ -228,5 +245,76 @@ TEST(FloatLanes, TransposedLoadsGathersCompressionAndComparisonsPickTheRightElem
     Index padded[8];
     P::padded_indices(rows, count, -1, padded);
     for (int i = 0; i < 8; ++i) EXPECT_EQ(padded[i], i < count ? rows[i] : -1) << "count " << count << " lane " << i;
+  }
+}
+
+// The fluid's pack (simd::FloatPack: sixteen floats with AVX-512, eight with AVX2, else the
+// scalar lanes) against the scalar lanes of its width: what the fluid's pair loops
+// (sph/fluid_pairs.hpp) take of it.
+TEST(FloatPackLanes, WhatTheFluidsPairLoopsTakeMatchesTheScalarLanes) {
+  using P = simd::FloatPack;
+  constexpr int W = P::width;
+  using S = simd::lanes::Pack<W, float>;
+  const auto floats_of = [](auto v) {
+    std::array<float, W> out;
+    v.store(out.data());
+    return out;
+  };
+  std::mt19937_64 rng(17);
+  for (int trial = 0; trial < 200; ++trial) {
+    std::array<float, W> a, b, c;
+    const auto fill = [&](std::array<float, W>& v) {
+      const auto d = random_lanes<W>(rng);
+      for (int i = 0; i < W; ++i) v[i] = static_cast<float>(d[i]);
+    };
+    fill(a), fill(b), fill(c);
+    const P va = P::load(a.data()), vb = P::load(b.data()), vc = P::load(c.data());
+    const S sa = S::load(a.data()), sb = S::load(b.data()), sc = S::load(c.data());
+    EXPECT_EQ(floats_of(va + vb), floats_of(sa + sb));
+    EXPECT_EQ(floats_of(va - vb), floats_of(sa - sb));
+    EXPECT_EQ(floats_of(va * vb), floats_of(sa * sb));
+    EXPECT_EQ(floats_of(-va), floats_of(-sa));
+    EXPECT_EQ(floats_of(fma(va, vb, vc)), floats_of(fma(sa, sb, sc)));
+    EXPECT_EQ(floats_of(min(va, vb)), floats_of(min(sa, sb)));
+    EXPECT_EQ(floats_of(max(va, vb)), floats_of(max(sa, sb)));
+    EXPECT_EQ(floats_of(select(va < vb, va, vc)), floats_of(select(sa < sb, sa, sc)));
+    EXPECT_EQ((va < vb).lanes(), (sa < sb).lanes());
+    for (int i = 0; i < W; ++i) {
+      const float estimate[2] = {floats_of(reciprocal(abs(va)))[i], floats_of(reciprocal_sqrt(abs(va)))[i]};
+      const float exact[2] = {1 / std::abs(a[i]), 1 / std::sqrt(std::abs(a[i]))};
+      for (int k = 0; k < 2; ++k) EXPECT_NEAR(estimate[k], exact[k], 4 * 0x1p-23f * exact[k]);
+    }
+    EXPECT_EQ(va.sum(), sa.sum());
+    simd::WideFloatSum wide;
+    simd::lanes::WideSum<W> wide_lanes;
+    wide.add(va), wide.add(vb), wide_lanes.add(sa), wide_lanes.add(sb);
+    EXPECT_EQ(wide.sum(), wide_lanes.sum());
+  }
+  // Records of eight floats, element (row, column) = 100 row + column: transposed loads by index
+  // and of consecutive rows, the gather of masses, the left-pack of consecutive indices.
+  struct alignas(32) Row {  // as sph::FluidRecord
+    float v[8];
+  };
+  std::vector<Row> table(64);
+  for (int row = 0; row < 64; ++row)
+    for (int column = 0; column < 8; ++column) table[row].v[column] = float(100 * row + column);
+  const float* records = table[0].v;
+  Index rows[W];
+  for (int i = 0; i < W; ++i) rows[i] = (37 * i + 5) % 64;
+  P fields[8], positions[3];
+  load_rows<8>(records, rows, 0, fields);
+  load_consecutive_rows<8>(table[8].v, positions);
+  const auto masses = floats_of(P::template gather<1>(records, rows));
+  for (int i = 0; i < W; ++i) {
+    for (int j = 0; j < 8; ++j) EXPECT_EQ(floats_of(fields[j])[i], 100 * rows[i] + j);
+    for (int j = 0; j < 3; ++j) EXPECT_EQ(floats_of(positions[j])[i], 100 * (8 + i) + j);
+    EXPECT_EQ(masses[i], records[rows[i]]);
+  }
+  for (int lanes : {0, 1, 5, 0x30, W == 16 ? 0xA5F0 : 0xF0, (1 << W) - 1}) {
+    Index packed[W];
+    P::compress_consecutive(40, lanes, packed);
+    int k = 0;
+    for (int lane = 0; lane < W; ++lane)
+      if (lanes & (1 << lane)) EXPECT_EQ(packed[k++], 40 + lane) << "lanes " << lanes;
   }
 }

@@ -12,10 +12,18 @@
 
 using namespace spall;
 
-TEST(DamBreak, SurgeFrontMatchesExperimentsPlaneStrain) {
+// With every kernel SPHKERN offers (0 cubic spline, 1 quintic spline, 4 Wendland C2).
+class DamBreak : public ::testing::TestWithParam<kernels::KernelKind> {};
+
+TEST_P(DamBreak, SurgeFrontMatchesExperimentsPlaneStrain) {
   log::set_quiet(true);
   test_support::DamBreak d;
   d.dimension = 2;
   d.particles_across = 16;
+  d.kernel = GetParam();
   test_support::expect_surge_front_within_experiments(test_support::run_dam_break(d));
 }
+
+INSTANTIATE_TEST_SUITE_P(Kernels, DamBreak,
+                         ::testing::Values(kernels::KernelKind::cubic_spline, kernels::KernelKind::quintic_spline,
+                                           kernels::KernelKind::wendland_c2));

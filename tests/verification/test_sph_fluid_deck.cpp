@@ -111,8 +111,15 @@ TEST(SphFluidDeck, RefusesWhatTheFluidCannotRun) {
     return (folder.path() / "column.k").lexically_normal().string() + ":" + std::to_string(line) +
            ": " + keyword + ": ";
   };
-  EXPECT_EQ(build_error(folder, column_deck(row({"1", "1.3", "1.0", "1.0", "", "", "", "1"}))),
-            at(15, "*SECTION_SPH") + "SPHKERN 1: the SPH fluid (part 2) has the cubic spline (0) only");
+  EXPECT_EQ(build_error(folder, column_deck(row({"1", "1.3", "1.0", "1.0", "", "", "", "2"}))),
+            at(15, "*SECTION_SPH") + "SPHKERN 2: not implemented (0 cubic spline, 1 quintic spline, 4 Wendland C2)");
+  // The water (part 1, section 1) with the cubic spline, its walls (part 2, section 2) with the quintic.
+  EXPECT_EQ(build_error(folder, column_deck(row({"1", "1.3", "1.0", "1.0"}) + "*SECTION_SPH\n" +
+                                                row({"2", "1.3", "1.0", "1.0", "", "", "", "1"}),
+                                            row({"2", "2", "1", "1"}))),
+            at(15, "*SECTION_SPH") +
+                "part 1: SPHKERN 0, but SPH fluid part 2 has SPHKERN 1: the SPH fluid's particles interact "
+                "through one kernel");
   EXPECT_EQ(build_error(folder, column_deck(row({"1", "1.3", "1.0", "1.0"}), row({"2", "1", "2", "1"}))),
             at(10, "*PART") +
                 "part 1: MID 1 EOSID 1, but SPH fluid part 2 has MID 2 EOSID 1: the SPH fluid takes "

@@ -17,9 +17,6 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
-#if defined(__AVX2__)
-#include <immintrin.h>
-#endif
 
 #include "spall/core/simd.hpp"
 #include "spall/core/types.hpp"
@@ -84,18 +81,19 @@ class TrimmedStencil {
   std::array<Index, (2 * max_reach + 2) * range_capacity> start_{};
 };
 
-// Called once per particle or box: inline, eight rows at a time with AVX-512 (double precision)
-// or AVX2 (single precision, the reach widened to cover its rounding), without a branch per row.
+// Called once per particle or box: inline, a pack of rows at a time (simd::Pack: eight doubles
+// with AVX-512, four with AVX2), without a branch per row.
 int TrimmedStencil::trimmed(const Vec3& lower, const Vec3& upper, Real radius, Ranges& ranges) const {
-  // The slabs of the widest block, and one more: the AVX-512 path holds all eight in a register.
-  constexpr int slab_count = 2 * max_reach + 2;
+  using P = simd::Pack;
+  static_assert(range_capacity % P::width == 0);
+  constexpr int slab_count = 2 * max_reach + 1;
   const int width = 2 * reach_ + 1;
   // The box relative to the block corner, in cell units: cell (i, j, k) of the block covers
   // [i, i + 1) x [j, j + 1) x [k, k + 1).
   const Vec3 lo = lower * inverse_edge_ - corner_, hi = upper * inverse_edge_ - corner_;
   const Real reach = radius * inverse_edge_ * (1 + 1e-9) + slack_;
   // Squared distance from the box to the slab of cells j along y (and along z).
-  alignas(64) std::array<Real, slab_count> gap_y, gap_z;
+  std::array<Real, slab_count> gap_y, gap_z;
   for (int j = 0; j < slab_count; ++j) {
     const Real y = std::max({Real(0), j - hi.y(), lo.y() - (j + 1)});
     const Real z = std::max({Real(0), j - hi.z(), lo.z() - (j + 1)});
@@ -104,83 +102,20 @@ int TrimmedStencil::trimmed(const Vec3& lower, const Vec3& upper, Real radius, R
   }
   // Row r reaches when left = reach^2 - gap_y^2 - gap_z^2 >= 0; its cells i in reach are those
   // with [i, i + 1] meeting [lo.x - sqrt(left), hi.x + sqrt(left)]. A row out of reach gets
-  // first = past_last; min after max keeps a NaN inside the block.
-  const Real last_cell = width - 1;
-#if defined(SPALL_SIMD_AVX512)
-  const __m512d lx = _mm512_set1_pd(lo.x()), hx = _mm512_set1_pd(hi.x()), r2 = _mm512_set1_pd(reach * reach);
-  const __m512d zero = _mm512_setzero_pd(), one = _mm512_set1_pd(1), last = _mm512_set1_pd(last_cell);
-  const __m512d all_gap_y = _mm512_load_pd(gap_y.data()), all_gap_z = _mm512_load_pd(gap_z.data());
-  const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
-  const __m256i stride = _mm256_set1_epi32(range_capacity);
-  // Lane 2i of a pair of begins and ends is begin i, lane 2i + 1 end i (of the second operand).
-  const __m512i interleave = _mm512_setr_epi32(0, 16, 1, 17, 2, 18, 3, 19, 4, 20, 5, 21, 6, 22, 7, 23);
-  for (int r = 0; r < row_count_; r += 8) {
-    const __m512i y = _mm512_cvtepi32_epi64(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(&row_y_[r])));
-    const __m512i z = _mm512_cvtepi32_epi64(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(&row_z_[r])));
-    const __m512d left = _mm512_sub_pd(_mm512_sub_pd(r2, _mm512_permutexvar_pd(y, all_gap_y)),
-                                       _mm512_permutexvar_pd(z, all_gap_z));
-    const __m512d half = _mm512_sqrt_pd(_mm512_max_pd(left, zero));
-    const __m512d first = _mm512_min_pd(_mm512_max_pd(_mm512_floor_pd(_mm512_sub_pd(lx, half)), zero), last);
-    const __m512d past_last = _mm512_mask_add_pd(
-        first, _mm512_cmp_pd_mask(left, zero, _CMP_GE_OQ),
-        _mm512_min_pd(_mm512_max_pd(_mm512_floor_pd(_mm512_add_pd(hx, half)), zero), last), one);
-    // Index of start(k, r) for the eight rows.
-    const __m256i row = _mm256_add_epi32(_mm256_set1_epi32(r), lane);
-    const __m256i begin = _mm256_i32gather_epi32(
-        start_.data(), _mm256_add_epi32(_mm256_mullo_epi32(_mm512_cvttpd_epi32(first), stride), row), 4);
-    const __m256i end = _mm256_i32gather_epi32(
-        start_.data(), _mm256_add_epi32(_mm256_mullo_epi32(_mm512_cvttpd_epi32(past_last), stride), row), 4);
-    _mm512_storeu_si512(&ranges[r], _mm512_permutex2var_epi32(_mm512_castsi256_si512(begin), interleave,
-                                                               _mm512_castsi256_si512(end)));
+  // first = past_last. min after max keeps a NaN inside the block (max takes its second operand
+  // where a lane is NaN).
+  const P lx(lo.x()), hx(hi.x()), r2(reach * reach), zero(0), one(1), last(width - 1);
+  for (int r = 0; r < row_count_; r += P::width) {
+    const P left = r2 - P::template gather<1>(gap_y.data(), &row_y_[r]) - P::template gather<1>(gap_z.data(), &row_z_[r]);
+    const P half = sqrt(max(left, zero));
+    const P first = min(max(floor(lx - half), zero), last);
+    const P past_last = select(left < zero, first, min(max(floor(hx + half), zero), last) + one);
+    alignas(64) Real firsts[P::width], pasts[P::width];
+    first.store(firsts);
+    past_last.store(pasts);
+    for (int i = 0; i < P::width; ++i)
+      ranges[r + i] = {start(static_cast<int>(firsts[i]), r + i), start(static_cast<int>(pasts[i]), r + i)};
   }
-#elif defined(__AVX2__)
-  // Eight rows at a time in single precision: the slab gaps of the block (at most eight slabs,
-  // one register) picked by row with a permute, one 8-lane square root where double precision
-  // took two 4-lane ones and four gathers. Single precision errs by about 1e-6 of the cell, so
-  // the reach is widened by 1e-4 of a cell: the runs stay a superset (a particle within 1e-4
-  // of a cell from the ball's edge may add that cell).
-  static_assert(slab_count == 8 && range_capacity % 8 == 0);
-  const float widened = static_cast<float>(reach + 1e-4);
-  const __m256 lx = _mm256_set1_ps(static_cast<float>(lo.x())), hx = _mm256_set1_ps(static_cast<float>(hi.x()));
-  const __m256 r2 = _mm256_set1_ps(widened * widened);
-  const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1), last = _mm256_set1_ps(static_cast<float>(last_cell));
-  const auto to_floats = [](const Real* eight) {
-    return _mm256_set_m128(_mm256_cvtpd_ps(_mm256_load_pd(eight + 4)), _mm256_cvtpd_ps(_mm256_load_pd(eight)));
-  };
-  const __m256 all_gap_y = to_floats(gap_y.data()), all_gap_z = to_floats(gap_z.data());
-  const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
-  const __m256i stride = _mm256_set1_epi32(range_capacity);
-  for (int r = 0; r < row_count_; r += 8) {
-    const __m256i y = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&row_y_[r]));
-    const __m256i z = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&row_z_[r]));
-    const __m256 left = _mm256_sub_ps(_mm256_sub_ps(r2, _mm256_permutevar8x32_ps(all_gap_y, y)),
-                                      _mm256_permutevar8x32_ps(all_gap_z, z));
-    const __m256 half = _mm256_sqrt_ps(_mm256_max_ps(left, zero));
-    const __m256 first = _mm256_min_ps(_mm256_max_ps(_mm256_floor_ps(_mm256_sub_ps(lx, half)), zero), last);
-    __m256 past_last = _mm256_add_ps(
-        _mm256_min_ps(_mm256_max_ps(_mm256_floor_ps(_mm256_add_ps(hx, half)), zero), last), one);
-    past_last = _mm256_blendv_ps(first, past_last, _mm256_cmp_ps(left, zero, _CMP_GE_OQ));
-    // Index of start(k, r) for the eight rows.
-    const __m256i row = _mm256_add_epi32(_mm256_set1_epi32(r), lane);
-    const __m256i begin = _mm256_i32gather_epi32(
-        start_.data(), _mm256_add_epi32(_mm256_mullo_epi32(_mm256_cvttps_epi32(first), stride), row), 4);
-    const __m256i end = _mm256_i32gather_epi32(
-        start_.data(), _mm256_add_epi32(_mm256_mullo_epi32(_mm256_cvttps_epi32(past_last), stride), row), 4);
-    // (begin, end) pairs of rows r .. r + 7: unpack within the 128-bit lanes gives rows 0, 1, 4, 5
-    // and 2, 3, 6, 7; the lane swap puts them in order.
-    const __m256i low = _mm256_unpacklo_epi32(begin, end), high = _mm256_unpackhi_epi32(begin, end);
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(&ranges[r]), _mm256_permute2x128_si256(low, high, 0x20));
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(&ranges[r + 4]), _mm256_permute2x128_si256(low, high, 0x31));
-  }
-#else
-  for (int r = 0; r < row_count_; ++r) {
-    const Real left = reach * reach - gap_y[row_y_[r]] - gap_z[row_z_[r]];
-    const Real half = std::sqrt(std::fmax(left, Real(0)));
-    const Real first = std::fmin(std::fmax(std::floor(lo.x() - half), Real(0)), last_cell);
-    const Real past_last = left >= 0 ? std::fmin(std::fmax(std::floor(hi.x() + half), Real(0)), last_cell) + 1 : first;
-    ranges[r] = {start(static_cast<int>(first), r), start(static_cast<int>(past_last), r)};
-  }
-#endif
   return row_count_;
 }
 

@@ -7,35 +7,24 @@
 #include <functional>
 #include <stdexcept>
 #include <type_traits>
-#if defined(__AVX2__)
-#include <immintrin.h>
-#endif
 
 #include <fmt/format.h>
 
 #include "spall/core/error.hpp"
 #include "spall/core/parallel.hpp"
 #include "spall/core/simd.hpp"
-#include "spall/kernels/cubic_spline.hpp"
+#include "spall/kernels/kernel.hpp"
 #include "spall/neighbors/trimmed_stencil.hpp"
+#include "spall/sph/fluid_pairs.hpp"
 
 namespace spall::sph {
+
+using namespace fluid_pairs;
 
 namespace {
 
 // All three translations held: a dynamic boundary (wall) particle.
 constexpr std::uint8_t all_translations = 7;
-
-// Bit i set where particle b + i moves, for i < 16, from the bits of FluidFormulation::moving_.
-inline unsigned moving_lanes(const std::uint8_t* moving, Index b) {
-  std::uint32_t word;
-  std::memcpy(&word, moving + b / 8, sizeof word);
-  return (word >> (b % 8)) & 0xFFFFu;
-}
-// The same, for the slots b .. min(b + 16, end) only (end > b).
-inline unsigned moving_lanes(const std::uint8_t* moving, Index b, Index end) {
-  return moving_lanes(moving, b) & (0xFFFFu >> (16 - std::min<Index>(end - b, 16)));
-}
 
 // Shrinks each range to the span from its first to its last moving particle, dropping the ranges
 // without one, in place; returns how many are left.
@@ -69,7 +58,8 @@ int moving_spans(const std::uint8_t* moving, Ranges& ranges, int count) {
 
 // Time-step factors. Courant: the predictor-corrector density update is stable for w dt < 0.72
 // and the fastest SPH acoustic mode has w ~ 1.04 c / h (cubic spline), so h / (c + |v| + the
-// viscous signal speed) is scaled by 0.4 (w dt ~ 0.42). Force: Monaghan 1992,
+// viscous signal speed) is scaled by 0.4 (w dt ~ 0.42); another kernel's fastest mode is faster
+// (kernels::fastest_acoustic_mode) and its factor smaller in proportion. Force: Monaghan 1992,
 // dt <= 0.25 sqrt(h / |a|). Viscous: Morris et al. 1997, dt <= 0.125 h^2 / nu.
 constexpr Real courant_factor = 0.4;
 constexpr Real force_factor = 0.25;
@@ -78,16 +68,16 @@ constexpr Real viscous_factor = 0.125;
 // Cells of edge (support + skin) / 2, searched by the trimmed stencil: each particle screens only
 // the runs of cells that can reach its support (neighbors/trimmed_stencil.hpp).
 constexpr int stencil_reach = 2;
-// Lanes of the pair loops (16 single-precision lanes where the build targets AVX-512, else 8 with
-// AVX2, else scalar). The records have this many past the last particle, plus one, so that the
-// screen's last loads of a range stay inside them (the lanes past the range are masked).
-#if defined(SPALL_SIMD_AVX512)
-constexpr Index simd_width = 16;
-#else
-constexpr Index simd_width = 8;
-#endif
-// Walls whose continuity sums run side by side, one per single-precision lane (wall_rates).
-constexpr int wall_group = 8;
+// The pack of the pair loops: the widest single-precision pack of the build (simd::FloatPack,
+// sixteen lanes with AVX-512, else eight) and its double accumulator. The records have this many
+// past the last particle, plus one, so that the screen's last loads of a range stay inside them
+// (the lanes past the range are masked).
+using Lanes = simd::FloatPack;
+using WideLanes = simd::WideFloatSum;
+// Walls whose continuity sums run side by side, one per lane of a pack of eight (wall_rates).
+using WallLanes = simd::Float8;
+constexpr int wall_group = WallLanes::width;
+constexpr Index simd_width = Lanes::width;
 
 template <typename T>
 void permute(std::vector<T>& values, std::span<const Index> order) {
@@ -149,6 +139,14 @@ FluidFormulation::FluidFormulation(const FluidParameters& parameters,
   pressure_force_.assign(3 * n, 0);
   viscous_force_.assign(3 * n, 0);
   max_sound_speed_ = m.reference_sound_speed();
+  // The Courant factor keeps w dt of the fastest acoustic mode where the cubic spline's 0.4 puts it.
+  const auto fastest = [&](kernels::KernelKind kind) {
+    return kernels::with_kernel(kind, parameters_.dimension,
+                                [](auto kernel) { return kernels::fastest_acoustic_mode<decltype(kernel)>(); });
+  };
+  courant_factor_ = parameters_.kernel == kernels::KernelKind::cubic_spline
+                        ? courant_factor
+                        : courant_factor * fastest(kernels::KernelKind::cubic_spline) / fastest(parameters_.kernel);
 }
 
 // Bins the particles into cells of edge (support + skin) / 2 and puts every per-particle array in
@@ -307,578 +305,19 @@ void FluidFormulation::for_each_particle_candidates(const parallel::Team& team, 
   }, {.chunk = 16});
 }
 
-namespace {
-
-// What the pair loop reads, in cell order.
-struct PairInputs {
-  const FluidRecord* record;
-  const float* mass;
-  float uniform_mass;           // FluidFormulation::uniform_mass_
-  const std::uint8_t* moving;  // FluidFormulation::moving_
-};
-
-#if defined(__AVX2__)
-// Unpacks and in-lane shuffles act on each 128-bit lane alike, for 256- and 512-bit registers.
-inline __m256 unpack_low(__m256 a, __m256 b) { return _mm256_unpacklo_ps(a, b); }
-inline __m256 unpack_high(__m256 a, __m256 b) { return _mm256_unpackhi_ps(a, b); }
-template <int Pattern>
-inline __m256 shuffle(__m256 a, __m256 b) { return _mm256_shuffle_ps(a, b, Pattern); }
-#if defined(SPALL_SIMD_AVX512)
-inline __m512 unpack_low(__m512 a, __m512 b) { return _mm512_unpacklo_ps(a, b); }
-inline __m512 unpack_high(__m512 a, __m512 b) { return _mm512_unpackhi_ps(a, b); }
-template <int Pattern>
-inline __m512 shuffle(__m512 a, __m512 b) { return _mm512_shuffle_ps(a, b, Pattern); }
-#endif
-
-// The in-lane half of the 8 x 8 transpose of the records row(0) .. row(7): s[k] (k < 4) holds
-// field k of rows 0-3 in each even 128-bit lane and field k + 4 in each odd one; s[k + 4] the
-// same of rows 4-7. A 512-bit row holds two records, one per 256-bit half.
-template <typename V, typename Row>
-[[gnu::always_inline]] inline void transpose_in_lanes(const Row& row, V (&s)[8]) {
-  for (int g = 0; g < 2; ++g) {
-    const V r0 = row(4 * g), r1 = row(4 * g + 1), r2 = row(4 * g + 2), r3 = row(4 * g + 3);
-    const V t0 = unpack_low(r0, r1), t1 = unpack_high(r0, r1);
-    const V t2 = unpack_low(r2, r3), t3 = unpack_high(r2, r3);
-    s[4 * g + 0] = shuffle<_MM_SHUFFLE(1, 0, 1, 0)>(t0, t2);
-    s[4 * g + 1] = shuffle<_MM_SHUFFLE(3, 2, 3, 2)>(t0, t2);
-    s[4 * g + 2] = shuffle<_MM_SHUFFLE(1, 0, 1, 0)>(t1, t3);
-    s[4 * g + 3] = shuffle<_MM_SHUFFLE(3, 2, 3, 2)>(t1, t3);
-  }
-}
-#endif
-
-#if defined(SPALL_SIMD_AVX512)
-// The positions x, y, z of the sixteen consecutive records r[0..15], lane i from r[i]: eight
-// loads and eleven two-source permutes (the three fields of four records per register, then of
-// eight, then of sixteen). This is what the records cost the screen, which read three contiguous
-// arrays before; the pair terms gain far more (docs/PERFORMANCE.md, session 12).
-[[gnu::always_inline]] inline void load_positions(const FluidRecord* r, __m512& first, __m512& second,
-                                                  __m512& third) {
-  const float* p = &r->x;
-  // Records 4j .. 4j + 3: the fields in lanes 0-3, 4-7 and 8-11 (lanes 12-15 are not used).
-  const __m512i of_four = _mm512_setr_epi32(0, 8, 16, 24, 1, 9, 17, 25, 2, 10, 18, 26, 0, 8, 16, 24);
-  __m512 four[4];
-  for (int j = 0; j < 4; ++j)
-    four[j] = _mm512_permutex2var_ps(_mm512_loadu_ps(p + 32 * j), of_four, _mm512_loadu_ps(p + 32 * j + 16));
-  // Of eight records: the first two fields in lanes 0-7 and 8-15, and the third in lanes 0-7.
-  const __m512i two_of_eight = _mm512_setr_epi32(0, 1, 2, 3, 16, 17, 18, 19, 4, 5, 6, 7, 20, 21, 22, 23);
-  const __m512i third_of_eight = _mm512_setr_epi32(8, 9, 10, 11, 24, 25, 26, 27, 8, 9, 10, 11, 24, 25, 26, 27);
-  const __m512 low = _mm512_permutex2var_ps(four[0], two_of_eight, four[1]);
-  const __m512 high = _mm512_permutex2var_ps(four[2], two_of_eight, four[3]);
-  const __m512 third_low = _mm512_permutex2var_ps(four[0], third_of_eight, four[1]);
-  const __m512 third_high = _mm512_permutex2var_ps(four[2], third_of_eight, four[3]);
-  first = _mm512_shuffle_f32x4(low, high, _MM_SHUFFLE(1, 0, 1, 0));
-  second = _mm512_shuffle_f32x4(low, high, _MM_SHUFFLE(3, 2, 3, 2));
-  third = _mm512_shuffle_f32x4(third_low, third_high, _MM_SHUFFLE(1, 0, 1, 0));
+void FluidFormulation::pair_pass(discretization::NodeStore& nodes, Real dt) {
+  kernels::with_kernel(parameters_.kernel, parameters_.dimension,
+                       [&](auto kernel) { pair_pass<decltype(kernel)>(nodes, dt); });
 }
 
-// The eight fields of the records r[index[0..15]], transposed: field k in out[k]. Lane order
-// index 0-3, 8-11, 4-7, 12-15 (lane_order), the same for every field: sixteen loads and 32
-// shuffles where eight gathers would take about 28 cycles each.
-constexpr int lane_order[16] = {0, 1, 2, 3, 8, 9, 10, 11, 4, 5, 6, 7, 12, 13, 14, 15};
-[[gnu::always_inline]] inline void load_records(const FluidRecord* r, const Index* index, __m512 (&out)[8]) {
-  const auto rows = [&](int i) {  // record index[i] in lanes 0-7, index[i + 8] in lanes 8-15
-    return _mm512_insertf32x8(_mm512_castps256_ps512(_mm256_load_ps(&r[index[i]].x)),
-                              _mm256_load_ps(&r[index[i + 8]].x), 1);
-  };
-  // Within each 256-bit half: s[k] holds field k of records 0-3 and 8-11 in its 128-bit lanes 0
-  // and 2, field k + 4 in lanes 1 and 3; s[k + 4] the same of records 4-7 and 12-15.
-  __m512 s[8];
-  transpose_in_lanes(rows, s);
-  for (int k = 0; k < 4; ++k) {
-    out[k] = _mm512_shuffle_f32x4(s[k], s[k + 4], _MM_SHUFFLE(2, 0, 2, 0));
-    out[k + 4] = _mm512_shuffle_f32x4(s[k], s[k + 4], _MM_SHUFFLE(3, 1, 3, 1));
-  }
-}
-#elif defined(__AVX2__)
-// The positions x, y, z of the eight consecutive records r[0..7], lane i from r[i]: the first
-// halves of records i and i + 4 in one register (four loads and inserts), then the 4 x 4
-// transpose within the 128-bit lanes, seven shuffles where the whole 8 x 8 one takes seventeen.
-[[gnu::always_inline]] inline void load_positions(const FluidRecord* r, __m256& x, __m256& y, __m256& z) {
-  const auto rows = [&](int i) {
-    return _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_load_ps(&r[i].x)), _mm_load_ps(&r[i + 4].x), 1);
-  };
-  const __m256 r0 = rows(0), r1 = rows(1), r2 = rows(2), r3 = rows(3);
-  const __m256 xy01 = _mm256_unpacklo_ps(r0, r1), xy23 = _mm256_unpacklo_ps(r2, r3);
-  const __m256 zw01 = _mm256_unpackhi_ps(r0, r1), zw23 = _mm256_unpackhi_ps(r2, r3);
-  x = _mm256_shuffle_ps(xy01, xy23, _MM_SHUFFLE(1, 0, 1, 0));
-  y = _mm256_shuffle_ps(xy01, xy23, _MM_SHUFFLE(3, 2, 3, 2));
-  z = _mm256_shuffle_ps(zw01, zw23, _MM_SHUFFLE(1, 0, 1, 0));
-}
-
-// The 8 x 8 transpose of the eight records row(0) .. row(7): field k of the eight in out[k].
-template <typename Row>
-[[gnu::always_inline]] inline void transpose_records(const Row& row, __m256 (&out)[8]) {
-  __m256 s[8];
-  transpose_in_lanes(row, s);
-  for (int k = 0; k < 4; ++k) {
-    out[k] = _mm256_permute2f128_ps(s[k], s[k + 4], 0x20);
-    out[k + 4] = _mm256_permute2f128_ps(s[k], s[k + 4], 0x31);
-  }
-}
-#endif
-
-// Constants of the pair terms, in single precision.
-struct PairConstants {
-  float support_squared;  // H^2
-  float inverse_support;  // 1 / H
-  float kernel;           // k = sigma / H^(d+2): F = k (18 q - 12) or -6 k (1 - q)^2 / q
-  float h;                // smoothing length
-  float eta2;             // (eta h)^2: regularises 1 / r^2 in Monaghan's and Morris's terms
-  float alpha_c;          // alpha c0
-  float beta;
-  float two_mu;           // mu_a + mu_b
-};
-
-// F = (dW/dr) / r of the cubic spline (seed 000 eq. 3 differentiated) from r^2 and 1 / r:
-// k (18 q - 12) for q = r / H <= 1/2, -6 k (1 - q)^2 / q beyond, with 1 / q = H / r.
-inline float gradient_factor(float r2, float inverse_r, const PairConstants& c) {
-  const float q = std::min(r2 * inverse_r * c.inverse_support, 1.0f);
-  return q <= 0.5f ? 18 * c.kernel * q - 12 * c.kernel
-                   : -(6 * c.kernel / c.inverse_support) * ((1 - q) * (1 - q)) * inverse_r;
-}
-#if defined(__AVX2__)
-// 1 / r and 1 / x of eight pairs from the estimates and one Newton step (simd::Float8): the
-// square root and the division queue on one port (docs/PERFORMANCE.md, session 17).
-[[gnu::always_inline]] inline __m256 inverse_sqrt(__m256 r2) { return reciprocal_sqrt(simd::Float8(r2)).v; }
-[[gnu::always_inline]] inline __m256 inverse(__m256 x) { return reciprocal(simd::Float8(x)).v; }
-// gradient_factor of eight pairs, by the same operations.
-[[gnu::always_inline]] inline __m256 gradient_factor(__m256 r2, __m256 inverse_r, const PairConstants& c) {
-  const __m256 one = _mm256_set1_ps(1), half = _mm256_set1_ps(0.5f);
-  const __m256 q = _mm256_min_ps(_mm256_mul_ps(_mm256_mul_ps(r2, inverse_r), _mm256_set1_ps(c.inverse_support)), one);
-  const __m256 near = _mm256_sub_ps(_mm256_mul_ps(_mm256_set1_ps(18 * c.kernel), q), _mm256_set1_ps(12 * c.kernel));
-  const __m256 one_minus_q = _mm256_sub_ps(one, q);
-  const __m256 far = _mm256_mul_ps(
-      _mm256_mul_ps(_mm256_set1_ps(-(6 * c.kernel / c.inverse_support)), _mm256_mul_ps(one_minus_q, one_minus_q)),
-      inverse_r);
-  return _mm256_blendv_ps(far, near, _mm256_cmp_ps(q, half, _CMP_LE_OQ));
-}
-#endif
-
-// The force is summed in double (momentum cancels pair by pair); its viscous part, which only
-// splits the energy balance into stored and dissipated, may be summed in single precision.
-struct PairSums {
-  Real rate = 0;
-  Real fx = 0, fy = 0, fz = 0;     // pressure + viscous force
-  Real fvx = 0, fvy = 0, fvz = 0;  // its viscous part
-  float max_mu = 0;                // largest -mu_ab of an approaching pair (Monaghan's time step)
-};
-
-// The particles within H of each moving particle cluster[0, k) of one cell (except itself), over
-// runs that hold each one's trimmed runs (those of the cell's bounding box). The vector paths load
-// each pack of simd_width candidates once (up to simd_width past a run's end: the records are
-// padded, and those lanes are masked off) and test it against every particle of the cluster, up
-// to max_cluster at a time; the runs are trimmed once per cell (docs/PERFORMANCE.md, session 21).
-// Particle cluster[i]'s neighbours go to found + i * stride, count[i] of them, as its own runs
-// alone would give them: the rows are the same and in the same order, and a candidate outside the
-// particle's own runs lies beyond its support. Every path tests by the same fused operations, so
-// the pair (a, b) of two moving particles is found from both sides or from neither. Each list
-// needs simd_width spare slots after it (the vector paths write simd_width entries at a time).
-template <typename Ranges>
-void screen_cluster(const PairInputs& in, float H2, const Index* cluster, int k, const Ranges& ranges,
-                    int range_count, Index* found, Index stride, Index* count) {
-#if defined(SPALL_SIMD_AVX512) || (defined(__AVX2__) && defined(__BMI2__))
-  // The cluster's positions, each broadcast from here (a cell of the usual lattice holds 5-10).
-  constexpr int max_cluster = 64;
-  alignas(64) float own[3][max_cluster];
-  for (int from = 0; from < k; from += max_cluster) {
-    const Index* chunk = cluster + from;
-    Index* chunk_found = found + from * stride;
-    Index* chunk_count = count + from;
-    const int size = std::min(k - from, max_cluster);
-    for (int i = 0; i < size; ++i) {
-      const FluidRecord& r = in.record[chunk[i]];
-      own[0][i] = r.x, own[1][i] = r.y, own[2][i] = r.z;
-      chunk_count[i] = 0;
-    }
-    // test(b, valid, may_hold_self) screens the pack of candidates b .. b + pack, the first valid
-    // of them in the run, against the cluster; may_hold_self: whether the pack overlaps its slots.
-#if defined(SPALL_SIMD_AVX512)
-    constexpr Index pack = 16;
-    const __m512 vH2 = _mm512_set1_ps(H2);
-    const __m512i lane = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15);
-    const auto test = [&](Index b, Index valid, auto may_hold_self) {
-      __m512 xb, yb, zb;
-      load_positions(in.record + b, xb, yb, zb);
-      const __m512i index = _mm512_add_epi32(_mm512_set1_epi32(b), lane);
-      const unsigned in_range = 0xFFFFu >> (16 - valid);
-      for (int i = 0; i < size; ++i) {
-        const __m512 dx = _mm512_sub_ps(_mm512_set1_ps(own[0][i]), xb);
-        const __m512 dy = _mm512_sub_ps(_mm512_set1_ps(own[1][i]), yb);
-        const __m512 dz = _mm512_sub_ps(_mm512_set1_ps(own[2][i]), zb);
-        const __m512 r2 = _mm512_fmadd_ps(dz, dz, _mm512_fmadd_ps(dy, dy, _mm512_mul_ps(dx, dx)));
-        unsigned lanes = in_range;
-        if constexpr (decltype(may_hold_self)::value) {
-          const Index self = chunk[i];
-          if (self >= b && self < b + pack) lanes &= ~(1u << (self - b));
-        }
-        const __mmask16 mask = _mm512_mask_cmp_ps_mask(static_cast<__mmask16>(lanes), r2, vH2, _CMP_LT_OQ);
-        // Left-pack in a register and store all 16 lanes (the list has the spare slots): the
-        // compressing store to memory is no faster on Intel cores and microcoded, far slower, on
-        // AMD Zen 4.
-        _mm512_storeu_si512(chunk_found + i * stride + chunk_count[i], _mm512_maskz_compress_epi32(mask, index));
-        chunk_count[i] += std::popcount(static_cast<unsigned>(mask));
-      }
-    };
-#else
-    constexpr Index pack = 8;
-    const __m256 vH2 = _mm256_set1_ps(H2);
-    const auto test = [&](Index b, Index valid, auto may_hold_self) {
-      __m256 xb, yb, zb;
-      load_positions(in.record + b, xb, yb, zb);
-      const __m256i base = _mm256_set1_epi32(b);
-      for (int i = 0; i < size; ++i) {
-        const __m256 dx = _mm256_sub_ps(_mm256_broadcast_ss(&own[0][i]), xb);
-        const __m256 dy = _mm256_sub_ps(_mm256_broadcast_ss(&own[1][i]), yb);
-        const __m256 dz = _mm256_sub_ps(_mm256_broadcast_ss(&own[2][i]), zb);
-        const __m256 r2 = _mm256_fmadd_ps(dz, dz, _mm256_fmadd_ps(dy, dy, _mm256_mul_ps(dx, dx)));
-        unsigned mask = _bzhi_u32(static_cast<unsigned>(_mm256_movemask_ps(_mm256_cmp_ps(r2, vH2, _CMP_LT_OQ))),
-                                  static_cast<unsigned>(valid));
-        if constexpr (decltype(may_hold_self)::value) {
-          const Index self = chunk[i];
-          if (self >= b && self < b + pack) mask &= ~(1u << (self - b));
-        }
-        // Left-pack the lanes whose bit is set: their numbers from the table, one byte each (a load
-        // where pdep, a multiplication and pext made a chain of three).
-        const std::uint64_t lanes = simd::avx2::compress_lanes8.order[mask];
-        const __m256i index = _mm256_add_epi32(base, _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(static_cast<long long>(lanes))));
-        _mm256_storeu_si256(reinterpret_cast<__m256i*>(chunk_found + i * stride + chunk_count[i]), index);
-        chunk_count[i] += std::popcount(mask);
-      }
-    };
-#endif
-    // Only the packs that overlap the cluster's own slots hold a particle of it.
-    const Index first_own = chunk[0], past_own = chunk[size - 1] + 1;
-    for (int r = 0; r < range_count; ++r) {
-      const Index end = ranges[r].end;
-      for (Index b = ranges[r].begin; b < end; b += pack) {
-        const Index valid = std::min<Index>(end - b, pack);
-        if (b < past_own && b + pack > first_own) test(b, valid, std::true_type{});
-        else test(b, valid, std::false_type{});
-      }
-    }
-  }
-#else
-  for (int i = 0; i < k; ++i) {
-    const Index self = cluster[i];
-    const FluidRecord& own = in.record[self];
-    Index* list = found + i * stride;
-    count[i] = 0;
-    for (int r = 0; r < range_count; ++r)
-      for (Index b = ranges[r].begin; b < ranges[r].end; ++b) {
-        const FluidRecord& other = in.record[b];
-        const float dx = own.x - other.x, dy = own.y - other.y, dz = own.z - other.z;
-        list[count[i]] = b;
-        count[i] += (std::fma(dz, dz, std::fma(dy, dy, dx * dx)) < H2) & (b != self);
-      }
-  }
-#endif
-}
-
-// The pair sums of particle a over its neighbours found[0, count). The terms are evaluated in
-// single precision by one sequence of operations for every pair (x_ba = -x_ab and v_ba = -v_ab
-// bitwise), so the term of (a, b) is exactly minus the term of (b, a); the force is summed in
-// double (PairSums).
-// `count` is a multiple of simd_width, padded with a itself, whose terms are exactly zero
-// (x_aa = 0, v_aa = 0). The vector paths take 1 / r and 1 / (r^2 + (eta h)^2) from the
-// hardware's estimates refined by a Newton step, where the scalar path divides and takes a square
-// root; one build runs one path, so the pair (a, b) and the pair (b, a) always see the same
-// operations. Within a path, the order of the double sums is fixed. uniform_mass: every particle
-// has the mass in.uniform_mass, so that m_b and the products with m_a m_b are loop constants.
-template <bool uniform_mass>
-PairSums interact(const PairInputs& in, const PairConstants& c, Index a, const Index* found,
-                  Index count) {
-  const FluidRecord& own = in.record[a];
-  const float xa = own.x, ya = own.y, za = own.z;
-  const float vxa = own.vx, vya = own.vy, vza = own.vz;
-  const float m_a = in.mass[a], inverse_rho_a = own.inverse_density, P_a = own.pressure_term;
-  PairSums sums;
-  Index s = 0;
-#if defined(SPALL_SIMD_AVX512)
-  // gradient_factor's constants.
-  const float k18 = 18 * c.kernel, k12 = 12 * c.kernel, k6H = 6 * c.kernel / c.inverse_support;
-  const auto splat = [](float v) { return _mm512_set1_ps(v); };
-  const __m512 one = splat(1), half = splat(0.5f), tiny = splat(1e-30f), zero = _mm512_setzero_ps();
-  // (The zero-masked estimates with every lane on: GCC 12 warns on the unmasked forms, simd.hpp.)
-  constexpr __mmask16 all_lanes = 0xFFFF;
-  // Lanes 0-7 of a term go to sum[0], lanes 8-15 to sum[1], each in 8 doubles.
-  __m512d fp[3][2] = {}, fv[3][2] = {};
-  __m512 rate = zero;  // the density rate needs no double sum (momentum does not depend on it)
-  __m512 max_mu = zero;
-  const auto accumulate = [](__m512d (&sum)[2], __m512 v) {
-    sum[0] = _mm512_add_pd(sum[0], _mm512_cvtps_pd(_mm512_castps512_ps256(v)));
-    sum[1] = _mm512_add_pd(sum[1], _mm512_cvtps_pd(_mm512_extractf32x8_ps(v, 1)));
-  };
-  const __m512i lanes_of_records = _mm512_loadu_si512(lane_order);
-  for (; s < count; s += 16) {
-    __m512 field[8];
-    load_records(in.record, found + s, field);
-    const __m512 dx = _mm512_sub_ps(splat(xa), field[0]);
-    const __m512 dy = _mm512_sub_ps(splat(ya), field[1]);
-    const __m512 dz = _mm512_sub_ps(splat(za), field[2]);
-    const __m512 r2 = _mm512_max_ps(
-        _mm512_fmadd_ps(dz, dz, _mm512_fmadd_ps(dy, dy, _mm512_mul_ps(dx, dx))), tiny);
-    // 1 / r and 1 / (r^2 + (eta h)^2) from the 14-bit estimates and one Newton step each (to a
-    // few single-precision ulp): multiplications on two ports, where a square root and a division
-    // queued on the one port that does those (+4 % on the dam break's pass, docs/PERFORMANCE.md).
-    const __m512 r2e = _mm512_add_ps(r2, splat(c.eta2));
-    const __m512 y = _mm512_maskz_rsqrt14_ps(all_lanes, r2);  // y (3/2 - r^2/2 y^2)
-    const __m512 inverse_r =
-        _mm512_mul_ps(y, _mm512_fnmadd_ps(_mm512_mul_ps(half, r2), _mm512_mul_ps(y, y), splat(1.5f)));
-    const __m512 z = _mm512_maskz_rcp14_ps(all_lanes, r2e);  // z + z (1 - r2e z)
-    const __m512 inverse_r2e = _mm512_fmadd_ps(z, _mm512_fnmadd_ps(r2e, z, one), z);
-    const __m512 q = _mm512_min_ps(_mm512_mul_ps(_mm512_mul_ps(r2, inverse_r), splat(c.inverse_support)), one);
-    const __m512 near = _mm512_sub_ps(_mm512_mul_ps(splat(k18), q), splat(k12));
-    const __m512 one_minus_q = _mm512_sub_ps(one, q);
-    const __m512 far = _mm512_mul_ps(_mm512_mul_ps(splat(-k6H), _mm512_mul_ps(one_minus_q, one_minus_q)), inverse_r);
-    const __m512 F = _mm512_mask_blend_ps(_mm512_cmp_ps_mask(q, half, _CMP_LE_OQ), far, near);
-    const __m512 dvx = _mm512_sub_ps(splat(vxa), field[3]);
-    const __m512 dvy = _mm512_sub_ps(splat(vya), field[4]);
-    const __m512 dvz = _mm512_sub_ps(splat(vza), field[5]);
-    const __m512 vr = _mm512_fmadd_ps(dvz, dz, _mm512_fmadd_ps(dvy, dy, _mm512_mul_ps(dvx, dx)));
-    const __m512 m_b =
-        uniform_mass
-            ? splat(in.uniform_mass)
-            : _mm512_i32gather_ps(_mm512_permutexvar_epi32(lanes_of_records, _mm512_loadu_si512(found + s)), in.mass, 4);
-    rate = _mm512_fmadd_ps(_mm512_mul_ps(m_b, F), vr, rate);
-    const __m512 mm = _mm512_mul_ps(splat(m_a), m_b);
-    const __m512 inverse_rho_b = field[6];
-    const __m512 radial =
-        _mm512_mul_ps(_mm512_mul_ps(_mm512_sub_ps(zero, mm), _mm512_add_ps(splat(P_a), field[7])), F);
-    const __m512 mu = _mm512_mul_ps(_mm512_mul_ps(splat(c.h), vr), inverse_r2e);
-    const __mmask16 approaching = _mm512_cmp_ps_mask(vr, zero, _CMP_LT_OQ);
-    const __m512 Pi = _mm512_maskz_mul_ps(
-        approaching,
-        _mm512_fmadd_ps(splat(c.beta), _mm512_mul_ps(mu, mu), _mm512_mul_ps(splat(-c.alpha_c), mu)),
-        _mm512_mul_ps(half, _mm512_add_ps(splat(inverse_rho_a), inverse_rho_b)));
-    max_mu = _mm512_mask_max_ps(max_mu, approaching, _mm512_sub_ps(zero, mu), max_mu);
-    const __m512 viscous_radial = _mm512_mul_ps(_mm512_mul_ps(_mm512_sub_ps(zero, mm), Pi), F);
-    const __m512 laminar = _mm512_mul_ps(
-        _mm512_mul_ps(_mm512_mul_ps(mm, splat(c.two_mu)),
-                      _mm512_mul_ps(splat(inverse_rho_a), inverse_rho_b)),
-        _mm512_mul_ps(_mm512_mul_ps(F, r2), inverse_r2e));
-    const __m512 d[3] = {dx, dy, dz}, dv[3] = {dvx, dvy, dvz};
-    for (int i = 0; i < 3; ++i) {
-      accumulate(fp[i], _mm512_mul_ps(radial, d[i]));
-      accumulate(fv[i], _mm512_fmadd_ps(viscous_radial, d[i], _mm512_mul_ps(laminar, dv[i])));
-    }
-  }
-  const auto total = [](const __m512d (&sum)[2]) {
-    alignas(64) double lanes[8];
-    _mm512_store_pd(lanes, _mm512_add_pd(sum[0], sum[1]));
-    return ((lanes[0] + lanes[1]) + (lanes[2] + lanes[3])) + ((lanes[4] + lanes[5]) + (lanes[6] + lanes[7]));
-  };
-  {
-    alignas(64) float lanes[16];
-    _mm512_store_ps(lanes, rate);
-    for (float lane : lanes) sums.rate += Real(lane);
-  }
-  sums.fvx = total(fv[0]), sums.fvy = total(fv[1]), sums.fvz = total(fv[2]);
-  sums.fx = total(fp[0]) + sums.fvx, sums.fy = total(fp[1]) + sums.fvy, sums.fz = total(fp[2]) + sums.fvz;
-  alignas(64) float lanes[16];
-  _mm512_store_ps(lanes, max_mu);
-  sums.max_mu = *std::max_element(lanes, lanes + 16);
-#elif defined(__AVX2__)
-  const auto splat = [](float v) { return _mm256_set1_ps(v); };
-  const __m256 half = splat(0.5f), tiny = splat(1e-30f), zero = _mm256_setzero_ps();
-  // The force in one 4-double sum per component, lanes i and i + 4 added first (twelve sums of
-  // pressure and viscous parts apart spilled to the stack with sixteen registers); the viscous
-  // part in floats.
-  __m256d f[3] = {};
-  __m256 fv[3] = {zero, zero, zero};
-  __m256 rate = zero;  // the density rate needs no double sum (momentum does not depend on it)
-  // The most negative mu of an approaching pair (0 if none): mu < 0 exactly where v_ab . x_ab < 0.
-  __m256 min_mu = zero;
-  // m_b, m_a m_b, -m_a m_b and m_a m_b (mu_a + mu_b) of every pair, when all masses are equal.
-  const float mm_uniform = m_a * in.uniform_mass;
-  const __m256 uniform_mb = splat(in.uniform_mass), uniform_mm = splat(mm_uniform),
-               uniform_minus_mm = splat(-mm_uniform), uniform_mm_mu = splat(mm_uniform * c.two_mu);
-  const auto accumulate = [](__m256d& sum, __m256 v) {
-    sum = _mm256_add_pd(sum, _mm256_add_pd(_mm256_cvtps_pd(_mm256_castps256_ps128(v)),
-                                           _mm256_cvtps_pd(_mm256_extractf128_ps(v, 1))));
-  };
-  for (; s < count; s += 8) {
-    __m256 field[8];
-    transpose_records([&](int i) { return _mm256_load_ps(&in.record[found[s + i]].x); }, field);
-    const __m256 dx = _mm256_sub_ps(splat(xa), field[0]);
-    const __m256 dy = _mm256_sub_ps(splat(ya), field[1]);
-    const __m256 dz = _mm256_sub_ps(splat(za), field[2]);
-    const __m256 r2 = _mm256_max_ps(
-        _mm256_fmadd_ps(dz, dz, _mm256_fmadd_ps(dy, dy, _mm256_mul_ps(dx, dx))), tiny);
-    // 1 / r and 1 / (r^2 + (eta h)^2) from the 12-bit estimates and one Newton step each, as on
-    // AVX-512.
-    const __m256 r2e = _mm256_add_ps(r2, splat(c.eta2));
-    const __m256 inverse_r = inverse_sqrt(r2);
-    const __m256 inverse_r2e = inverse(r2e);
-    const __m256 F = gradient_factor(r2, inverse_r, c);
-    const __m256 dvx = _mm256_sub_ps(splat(vxa), field[3]);
-    const __m256 dvy = _mm256_sub_ps(splat(vya), field[4]);
-    const __m256 dvz = _mm256_sub_ps(splat(vza), field[5]);
-    const __m256 vr = _mm256_fmadd_ps(dvz, dz, _mm256_fmadd_ps(dvy, dy, _mm256_mul_ps(dvx, dx)));
-    const __m256 m_b =
-        uniform_mass ? uniform_mb
-                     : _mm256_i32gather_ps(in.mass, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(found + s)), 4);
-    rate = _mm256_fmadd_ps(_mm256_mul_ps(m_b, F), vr, rate);
-    const __m256 mm = uniform_mass ? uniform_mm : _mm256_mul_ps(splat(m_a), m_b);
-    const __m256 minus_mm = uniform_mass ? uniform_minus_mm : _mm256_sub_ps(zero, mm);
-    const __m256 mm_mu = uniform_mass ? uniform_mm_mu : _mm256_mul_ps(mm, splat(c.two_mu));
-    const __m256 inverse_rho_b = field[6];
-    const __m256 radial = _mm256_mul_ps(_mm256_mul_ps(minus_mm, _mm256_add_ps(splat(P_a), field[7])), F);
-    // mu of an approaching pair, else 0, which makes Pi exactly 0 (+0, as a blend would).
-    const __m256 mu = _mm256_min_ps(_mm256_mul_ps(_mm256_mul_ps(splat(c.h), vr), inverse_r2e), zero);
-    const __m256 Pi = _mm256_mul_ps(
-        _mm256_fmadd_ps(splat(c.beta), _mm256_mul_ps(mu, mu), _mm256_mul_ps(splat(-c.alpha_c), mu)),
-        _mm256_mul_ps(half, _mm256_add_ps(splat(inverse_rho_a), inverse_rho_b)));
-    min_mu = _mm256_min_ps(min_mu, mu);
-    const __m256 viscous_radial = _mm256_mul_ps(_mm256_mul_ps(minus_mm, Pi), F);
-    const __m256 laminar = _mm256_mul_ps(_mm256_mul_ps(mm_mu, _mm256_mul_ps(splat(inverse_rho_a), inverse_rho_b)),
-                                         _mm256_mul_ps(_mm256_mul_ps(F, r2), inverse_r2e));
-    const __m256 both_radial = _mm256_add_ps(radial, viscous_radial);
-    const __m256 d[3] = {dx, dy, dz}, dv[3] = {dvx, dvy, dvz};
-    for (int i = 0; i < 3; ++i) {
-      const __m256 along_dv = _mm256_mul_ps(laminar, dv[i]);
-      accumulate(f[i], _mm256_fmadd_ps(both_radial, d[i], along_dv));
-      fv[i] = _mm256_add_ps(fv[i], _mm256_fmadd_ps(viscous_radial, d[i], along_dv));
-    }
-  }
-  const auto total = [](__m256d sum) {
-    alignas(32) double lanes[4];
-    _mm256_store_pd(lanes, sum);
-    return (lanes[0] + lanes[1]) + (lanes[2] + lanes[3]);
-  };
-  const auto float_total = [](__m256 sum) {  // the lanes in order, added in double
-    alignas(32) float lanes[8];
-    _mm256_store_ps(lanes, sum);
-    Real total = 0;
-    for (float lane : lanes) total += Real(lane);
-    return total;
-  };
-  sums.rate = float_total(rate);
-  sums.fx = total(f[0]), sums.fy = total(f[1]), sums.fz = total(f[2]);
-  sums.fvx = float_total(fv[0]), sums.fvy = float_total(fv[1]), sums.fvz = float_total(fv[2]);
-  alignas(32) float lanes[8];
-  _mm256_store_ps(lanes, min_mu);
-  sums.max_mu = -*std::min_element(lanes, lanes + 8);
-#endif
-  for (; s < count; ++s) {
-    const Index b = found[s];
-    const FluidRecord& other = in.record[b];
-    const float dx = xa - other.x, dy = ya - other.y, dz = za - other.z;
-    const float r2 = std::max(std::fma(dz, dz, std::fma(dy, dy, dx * dx)), 1e-30f);
-    const float r = std::sqrt(r2);
-    const float r2e = r2 + c.eta2;
-    const float inverse_product = 1.0f / (r * r2e);
-    const float F = gradient_factor(r2, inverse_product * r2e, c);
-    const float dvx = vxa - other.vx, dvy = vya - other.vy, dvz = vza - other.vz;
-    const float vr = std::fma(dvz, dz, std::fma(dvy, dy, dvx * dx));
-    const float m_b = in.mass[b];
-    sums.rate += Real(m_b * F * vr);
-    const float mm = m_a * m_b;
-    const float inverse_rho_b = other.inverse_density;
-    const float radial = (-mm * (P_a + other.pressure_term)) * F;
-    const float inverse_r2e = inverse_product * r;
-    const float mu = (c.h * vr) * inverse_r2e;
-    const float Pi = vr < 0 ? std::fma(c.beta, mu * mu, -c.alpha_c * mu) * (0.5f * (inverse_rho_a + inverse_rho_b)) : 0.0f;
-    if (vr < 0) sums.max_mu = std::max(sums.max_mu, -mu);
-    const float viscous_radial = (-mm * Pi) * F;
-    const float laminar = ((mm * c.two_mu) * (inverse_rho_a * inverse_rho_b)) * ((F * r2) * inverse_r2e);
-    const float both_radial = radial + viscous_radial;
-    sums.fx += Real(std::fma(both_radial, dx, laminar * dvx));
-    sums.fy += Real(std::fma(both_radial, dy, laminar * dvy));
-    sums.fz += Real(std::fma(both_radial, dz, laminar * dvz));
-    sums.fvx += Real(std::fma(viscous_radial, dx, laminar * dvx));
-    sums.fvy += Real(std::fma(viscous_radial, dy, laminar * dvy));
-    sums.fvz += Real(std::fma(viscous_radial, dz, laminar * dvz));
-  }
-  return sums;
-}
-
-// The continuity rates of the walls w[0, count) (count <= wall_group) of one cell, from the moving
-// particles of the runs `spans` (their block, cut to moving spans): rate_w = sum_b m_b F_wb
-// v_wb . x_wb over the moving b with r_wb < H, each pair's term by the operations interact uses,
-// into rates[0, count). Walls see only moving particles, as DualSPHysics' boundary particles see
-// only the fluid: walls rest (their translations are held), so a term with another wall is
-// exactly zero. The walls take lanes and each moving neighbour is broadcast to all of
-// them, so that a cell's walls read the spans once where each screened them on its own, about
-// half the walls' cost (docs/PERFORMANCE.md, session 19). A wall's sum runs in single precision
-// in span order: the walls' density needs no exact cancellation.
-template <typename Ranges>
-void wall_rates(const PairInputs& in, const PairConstants& c, const Index* w, int count, const Ranges& spans,
-                int span_count, Real* rates) {
-#if defined(__AVX2__)
-  alignas(32) float lanes[7][wall_group];
-  for (int k = 0; k < wall_group; ++k) {  // lanes past count repeat the last wall
-    const FluidRecord& own = in.record[w[std::min(k, count - 1)]];
-    lanes[0][k] = own.x, lanes[1][k] = own.y, lanes[2][k] = own.z;
-    lanes[3][k] = own.vx, lanes[4][k] = own.vy, lanes[5][k] = own.vz;
-  }
-  const auto splat = [](float v) { return _mm256_set1_ps(v); };
-  const __m256 xa = _mm256_load_ps(lanes[0]), ya = _mm256_load_ps(lanes[1]), za = _mm256_load_ps(lanes[2]);
-  const __m256 vxa = _mm256_load_ps(lanes[3]), vya = _mm256_load_ps(lanes[4]), vza = _mm256_load_ps(lanes[5]);
-  const __m256 tiny = splat(1e-30f), H2 = splat(c.support_squared);
-  __m256 rate = _mm256_setzero_ps();
-  for (int r = 0; r < span_count; ++r) {
-    const Index end = spans[r].end;
-    for (Index first = spans[r].begin; first < end; first += 16) {
-      unsigned moving = moving_lanes(in.moving, first, end);
-      for (; moving != 0; moving &= moving - 1) {
-        const Index b = first + std::countr_zero(moving);
-        const FluidRecord& other = in.record[b];
-        const __m256 dx = _mm256_sub_ps(xa, splat(other.x));
-        const __m256 dy = _mm256_sub_ps(ya, splat(other.y));
-        const __m256 dz = _mm256_sub_ps(za, splat(other.z));
-        const __m256 r2_exact = _mm256_fmadd_ps(dz, dz, _mm256_fmadd_ps(dy, dy, _mm256_mul_ps(dx, dx)));
-        const __m256 inside = _mm256_cmp_ps(r2_exact, H2, _CMP_LT_OQ);
-        const __m256 r2 = _mm256_max_ps(r2_exact, tiny);
-        const __m256 F = gradient_factor(r2, inverse_sqrt(r2), c);
-        const __m256 dvx = _mm256_sub_ps(vxa, splat(other.vx));
-        const __m256 dvy = _mm256_sub_ps(vya, splat(other.vy));
-        const __m256 dvz = _mm256_sub_ps(vza, splat(other.vz));
-        const __m256 vr = _mm256_fmadd_ps(dvz, dz, _mm256_fmadd_ps(dvy, dy, _mm256_mul_ps(dvx, dx)));
-        const float m_b = in.uniform_mass > 0 ? in.uniform_mass : in.mass[b];
-        rate = _mm256_add_ps(rate, _mm256_and_ps(inside, _mm256_mul_ps(_mm256_mul_ps(splat(m_b), F), vr)));
-      }
-    }
-  }
-  _mm256_store_ps(lanes[6], rate);
-  for (int k = 0; k < count; ++k) rates[k] = Real(lanes[6][k]);
-#else
-  for (int k = 0; k < count; ++k) {
-    const FluidRecord& own = in.record[w[k]];
-    float rate = 0;
-    for (int r = 0; r < span_count; ++r)
-      for (Index b = spans[r].begin; b < spans[r].end; ++b) {
-        if (!(moving_lanes(in.moving, b) & 1u)) continue;
-        const FluidRecord& other = in.record[b];
-        const float dx = own.x - other.x, dy = own.y - other.y, dz = own.z - other.z;
-        const float r2_exact = std::fma(dz, dz, std::fma(dy, dy, dx * dx));
-        if (!(r2_exact < c.support_squared)) continue;
-        const float r2 = std::max(r2_exact, 1e-30f);
-        const float r = std::sqrt(r2);
-        const float F = gradient_factor(r2, (1.0f / (r * (r2 + c.eta2))) * (r2 + c.eta2), c);  // as interact
-        const float vr = std::fma(own.vz - other.vz, dz, std::fma(own.vy - other.vy, dy, (own.vx - other.vx) * dx));
-        rate += in.mass[b] * F * vr;
-      }
-    rates[k] = Real(rate);
-  }
-#endif
-}
-
-}  // namespace
-
+template <typename Kernel>
 void FluidFormulation::pair_pass(discretization::NodeStore& nodes, Real dt) {
   const auto& m = parameters_.material;
   const auto& av = parameters_.viscosity;
   const Real H = support_;
   const Real h = parameters_.smoothing_length;
-  // grad_a W_ab = F(r) x_ab with F = (dW/dr) / r = k (18 q - 12) for q <= 1/2 and
-  // -6 k (1 - q)^2 / q beyond, k = sigma / H^(d+2) (seed 000 eq. 3 differentiated).
-  const Real k = parameters_.dimension == 2
-                     ? kernels::CubicSpline<2>::normalisation() / (H * H * H * H)
-                     : kernels::CubicSpline<3>::normalisation() / (H * H * H * H * H);
   const PairConstants constants{static_cast<float>(H * H),
                                 static_cast<float>(1 / H),
-                                static_cast<float>(k),
                                 static_cast<float>(h),
                                 static_cast<float>(av.eta * av.eta * h * h),
                                 static_cast<float>(av.alpha * m.reference_sound_speed()),
@@ -898,8 +337,9 @@ void FluidFormulation::pair_pass(discretization::NodeStore& nodes, Real dt) {
     };
     const auto moving_particle = [&](Index a, Index* neighbours, Index count) {
       while (count % simd_width != 0) neighbours[count++] = a;
-      const PairSums sums = uniform_mass_ > 0 ? interact<true>(in, constants, a, neighbours, count)
-                                              : interact<false>(in, constants, a, neighbours, count);
+      const PairSums sums = uniform_mass_ > 0
+                                ? interact<Kernel, Lanes, WideLanes, true>(in, constants, a, neighbours, count)
+                                : interact<Kernel, Lanes, WideLanes, false>(in, constants, a, neighbours, count);
       const Vec3 f(sums.fx, sums.fy, sums.fz), fv(sums.fvx, sums.fvy, sums.fvz);
       nodes.f[node_[a]] += f;
       for (int d = 0; d < 3; ++d) {
@@ -917,14 +357,15 @@ void FluidFormulation::pair_pass(discretization::NodeStore& nodes, Real dt) {
       const Index stride = candidates + 2 * simd_width;
       if (found.size() < static_cast<std::size_t>(stride) * k) found.resize(static_cast<std::size_t>(stride) * k);
       if (counts.size() < static_cast<std::size_t>(k)) counts.resize(k);
-      screen_cluster(in, constants.support_squared, cluster, k, ranges, range_count, found.data(), stride, counts.data());
+      screen_cluster<Lanes>(in, constants.support_squared, cluster, k, ranges, range_count, found.data(), stride,
+                            counts.data());
       for (int i = 0; i < k; ++i) moving_particle(cluster[i], found.data() + i * stride, counts[i]);
     };
 
     // Walls rest and feel no force; their density follows continuity and never goes below rho0.
     const auto walls = [&](const Index* w, int count, const auto& spans, int span_count) {
       Real rates[wall_group];
-      wall_rates(in, constants, w, count, spans, span_count, rates);
+      wall_rates<Kernel, WallLanes>(in, constants, w, count, spans, span_count, rates);
       for (int k = 0; k < count; ++k) {
         const Index a = w[k];
         for (int d = 0; d < 3; ++d) pressure_force_[3 * a + d] = viscous_force_[3 * a + d] = 0;
@@ -971,7 +412,7 @@ Real FluidFormulation::stable_time_step(const discretization::NodeStore&) const 
   // Monaghan 1992: the artificial viscosity adds the signal speed 1.2 (alpha c + beta max mu_ab).
   const auto& av = parameters_.viscosity;
   const Real viscous_signal = 1.2 * (av.alpha * max_sound_speed_ + av.beta * max_mu_);
-  Real dt = courant_factor * h / (max_sound_speed_ + max_speed_ + viscous_signal);
+  Real dt = courant_factor_ * h / (max_sound_speed_ + max_speed_ + viscous_signal);
   if (max_acceleration_ > 0) dt = std::min(dt, force_factor * std::sqrt(h / max_acceleration_));
   const auto& m = parameters_.material;
   if (m.dynamic_viscosity > 0)

@@ -39,6 +39,7 @@
 #include <optional>
 #include <vector>
 
+#include "spall/kernels/kernel.hpp"
 #include "spall/materials/eos.hpp"
 #include "spall/neighbors/cell_list.hpp"
 #include "spall/core/parallel.hpp"
@@ -82,6 +83,7 @@ struct alignas(32) FluidRecord {
 struct FluidParameters {
   FluidMaterial material;
   Real smoothing_length = 0;  // LS-DYNA's h, one for every particle; the kernel support is 2h
+  kernels::KernelKind kernel = kernels::KernelKind::cubic_spline;  // *SECTION_SPH SPHKERN
   ArtificialViscosity viscosity;
   Real skin = 0.1;  // cell edge = (1 + skin) * support
   // 3, or 2 for plane strain in x-y: every particle at one z, masses per unit thickness, the
@@ -118,6 +120,9 @@ class FluidFormulation final : public discretization::Formulation {
  private:
   void rebuild_cells(const discretization::NodeStore& nodes);
   void gather(const discretization::NodeStore& nodes, Real dt);
+  // The pair pass with the kernel of the parameters.
+  void pair_pass(discretization::NodeStore& nodes, Real dt);
+  template <typename Kernel>
   void pair_pass(discretization::NodeStore& nodes, Real dt);
   // Calls visit(a, ranges, range count) for every particle a, in an `omp for` over the cells: the
   // ranges hold every particle within the support of a. For the pair pass (pair_pass), the
@@ -131,6 +136,7 @@ class FluidFormulation final : public discretization::Formulation {
 
   FluidParameters parameters_;
   Real support_ = 0;  // H = 2h
+  Real courant_factor_ = 0;  // of the kernel (fluid.cpp)
 
   // Per particle, in cell order (structure of arrays).
   std::vector<Index> node_;

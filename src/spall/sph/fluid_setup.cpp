@@ -28,10 +28,10 @@ FluidPart resolve_fluid_part(const model::Model& model, Id pid) {
             fmt::format("part {} has SPH particles but section {} is not a *SECTION_SPH", part.id,
                      part.secid));
   const auto& section = std::get<model::SectionSph>(sec->second);
-  if (section.sphkern != 0)
+  if (section.sphkern != 0 && section.sphkern != 1 && section.sphkern != 4)
     fail_at(section.where, "*SECTION_SPH",
-            fmt::format("SPHKERN {}: the SPH fluid (part {}) has the cubic spline (0) only",
-                     section.sphkern, part.id));
+            fmt::format("SPHKERN {}: not implemented (0 cubic spline, 1 quintic spline, 4 Wendland C2)",
+                     section.sphkern));
   if (section.death < 1e20 || section.start > 0)
     fail_at(section.where, "*SECTION_SPH", "DEATH/START: particle birth and death are not implemented yet");
   if (part.hgid != 0)
@@ -104,6 +104,11 @@ std::unique_ptr<FluidFormulation> build_fluid(const model::Model& model,
       // One liquid: the parts (fluid and its dynamic-boundary walls) share one material.
       if (!first) {
         first = &part;
+      } else if (part.section->sphkern != first->section->sphkern) {
+        fail_at(part.section->where, "*SECTION_SPH",
+                fmt::format("part {}: SPHKERN {}, but SPH fluid part {} has SPHKERN {}: the SPH fluid's "
+                            "particles interact through one kernel",
+                            part.part->id, part.section->sphkern, first->part->id, first->section->sphkern));
       } else if (part.part->mid != first->part->mid || part.part->eosid != first->part->eosid) {
         fail_at(part.part->where, "*PART",
                 fmt::format("part {}: MID {} EOSID {}, but SPH fluid part {} has MID {} EOSID {}: "
@@ -141,6 +146,7 @@ std::unique_ptr<FluidFormulation> build_fluid(const model::Model& model,
   FluidParameters parameters;
   parameters.material = first->material;
   parameters.smoothing_length = h;
+  parameters.kernel = static_cast<kernels::KernelKind>(first->section->sphkern);
   parameters.viscosity = viscosity;
   parameters.dimension = dimension;
   std::vector<Index> particle_nodes;
