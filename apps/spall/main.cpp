@@ -15,7 +15,6 @@
 #include "spall/core/version.hpp"
 
 int main(int argc, char** argv) {
-  spall::parallel::wait_politely(argv);
   const spall::parallel::Session mpi;
   CLI::App app{"Spall: meshfree explicit dynamics for solids and fluids (LS-DYNA keyword input)"};
   app.set_version_flag("--version", std::string("spall ") + spall::version +

@@ -211,19 +211,43 @@ auto exact_sum(Index n, Term&& term, const Communicator* across = nullptr) {
   return result;
 }
 
-// The number of threads the loops above run on, and setting it (the CLI's --threads).
+// The number of threads the loops above run on, and setting it (the CLI's --threads). A count
+// set here or by OMP_NUM_THREADS is the user's: CoreShare keeps it.
 int thread_count();
 void set_thread_count(int threads);
+bool thread_count_fixed();
 
-// Idle threads of one run must not spin against the working threads of another: two runs on a
-// 2-core machine took 9x their time alone with the OpenMP runtime's default (libgomp spins about
-// 3e5 iterations at each barrier before it sleeps). libgomp reads its policy from the environment
-// once, as it loads, before main; so, unless the user set OMP_WAIT_POLICY or GOMP_SPINCOUNT, this
-// sets GOMP_SPINCOUNT to `polite_spin_count` and executes the program again with the same
-// arguments (argv as main received it). Returns only when nothing is to be done or exec failed.
-// Measured: docs/PERFORMANCE.md, "Two runs on one machine".
-inline constexpr const char* polite_spin_count = "3000";
-void wait_politely(char** argv);
+// Fewer threads while the machine is oversubscribed. Idle OpenMP threads spin at the barriers
+// between loops before they sleep (libgomp: about 3e5 iterations), which is fastest for a run
+// alone and ruinous for runs that share the cores: the spinning threads of one take the cores the
+// working threads of the other need (two runs on a 2-core machine took 9x their time alone). A
+// run sees that it shares its cores by its threads being preempted: the kernel switches them out
+// involuntarily (getrusage's ru_nivcsw) hundreds of times a second then, a few times alone.
+// Asked between steps by the time loop, CoreShare halves the threads of the loops above while
+// that rate is high, and tries the full count again after a wait that doubles with every try
+// that finds the cores still shared (1 s to 16 s). Results do not depend on the thread count, so
+// neither do they on this. The thread count in force when it is made is the most it uses, and is
+// restored when it ends; a count the user fixed is kept (adapt false). Measured:
+// docs/PERFORMANCE.md, "Two runs on one machine".
+class CoreShare {
+ public:
+  explicit CoreShare(bool adapt = !thread_count_fixed());
+  ~CoreShare();
+  CoreShare(const CoreShare&) = delete;
+  CoreShare& operator=(const CoreShare&) = delete;
+  // Cheap (a clock read) but for every tenth of a second, when it reads the process's usage.
+  void between_steps();
+  int threads() const { return threads_; }
+
+ private:
+  bool adapt_ = true;
+  int most_ = 1, threads_ = 1;
+  double window_start_ = 0;     // seconds, steady clock
+  long switches_at_start_ = 0;  // involuntary context switches of the process
+  double cpu_at_start_ = 0;     // processor seconds of the process
+  double next_try_ = 0;         // when to try most_ threads again
+  double wait_ = 1;             // seconds before the next try
+};
 
 }  // namespace parallel
 }  // namespace spall

@@ -390,8 +390,11 @@ TimeLoop::TimeLoop(Problem& problem, const Observer& observer) : step_(std::make
 TimeLoop::~TimeLoop() = default;
 
 RunSummary TimeLoop::run(const std::function<bool(const StepInfo&)>& between_steps) {
-  while (step_->advance())
+  parallel::CoreShare cores;  // fewer threads while other work shares the machine's cores
+  while (step_->advance()) {
+    cores.between_steps();
     if (between_steps && !between_steps(step_->info())) break;
+  }
   return step_->summary();
 }
 
