@@ -36,6 +36,36 @@ std::array<Real, W> random_lanes(std::mt19937_64& rng) {
   return v;
 }
 
+template <int W>
+std::array<float, W> random_float_lanes(std::mt19937_64& rng) {
+  const auto d = random_lanes<W>(rng);
+  std::array<float, W> v;
+  for (int i = 0; i < W; ++i) v[i] = static_cast<float>(d[i]);
+  return v;
+}
+
+template <typename P>
+std::array<float, P::width> floats_of(P v) {
+  std::array<float, P::width> out;
+  v.store(out.data());
+  return out;
+}
+
+// The exactly rounded operations of a float pack P against the scalar lanes S of its width, on
+// the lanes a, b, c.
+template <typename P, typename S, std::size_t W>
+void expect_exact_float_arithmetic(const std::array<float, W>& a, const std::array<float, W>& b,
+                                   const std::array<float, W>& c) {
+  const P va = P::load(a.data()), vb = P::load(b.data()), vc = P::load(c.data());
+  const S sa = S::load(a.data()), sb = S::load(b.data()), sc = S::load(c.data());
+  EXPECT_EQ(floats_of(va + vb), floats_of(sa + sb));
+  EXPECT_EQ(floats_of(va - vb), floats_of(sa - sb));
+  EXPECT_EQ(floats_of(va * vb), floats_of(sa * sb));
+  EXPECT_EQ(floats_of(fma(va, vb, vc)), floats_of(fma(sa, sb, sc)));
+  EXPECT_EQ(floats_of(select(va < vb, va, vc)), floats_of(select(sa < sb, sa, sc)));
+  EXPECT_EQ((va <= vb).lanes(), (sa <= sb).lanes());
+}
+
 // The sum of the lanes of a and b, each widened to double. Out of line and out of
 // interprocedural analysis: GCC 12 at -O3 -march=x86-64-v4 inlined, added the doubles that the
 // floats had been rounded from (the disassembly of the test, session 21), and the exact sum then
@@ -151,25 +181,12 @@ TYPED_TEST(KernelLanes, GradientFactorOfEightFloatPairsIsTheScalarOneToFloatRoun
 TEST(FloatLanes, EveryOperationMatchesTheScalarLanesExactly) {
   using P = simd::Float8;
   using S = simd::lanes::Pack<8, float>;
-  const auto floats_of = [](auto v) {
-    std::array<float, 8> out;
-    v.store(out.data());
-    return out;
-  };
   std::mt19937_64 rng(13);
   for (int trial = 0; trial < 200; ++trial) {
-    std::array<float, 8> a, b, c;
-    const auto fill = [&](std::array<float, 8>& v) {
-      const auto d = random_lanes<8>(rng);
-      for (int i = 0; i < 8; ++i) v[i] = static_cast<float>(d[i]);
-    };
-    fill(a), fill(b), fill(c);
-    const P va = P::load(a.data()), vb = P::load(b.data()), vc = P::load(c.data());
-    const S sa = S::load(a.data()), sb = S::load(b.data()), sc = S::load(c.data());
-    EXPECT_EQ(floats_of(va + vb), floats_of(sa + sb));
-    EXPECT_EQ(floats_of(va - vb), floats_of(sa - sb));
-    EXPECT_EQ(floats_of(va * vb), floats_of(sa * sb));
-    EXPECT_EQ(floats_of(fma(va, vb, vc)), floats_of(fma(sa, sb, sc)));
+    const auto a = random_float_lanes<8>(rng), b = random_float_lanes<8>(rng), c = random_float_lanes<8>(rng);
+    expect_exact_float_arithmetic<P, S>(a, b, c);
+    const P va = P::load(a.data()), vb = P::load(b.data());
+    const S sa = S::load(a.data()), sb = S::load(b.data());
     // The reciprocals: estimates refined by a Newton step in the vector pack, within 4 ulp of
     // the division and square root.
     const auto within_4_ulp = [](std::array<float, 8> estimate, std::array<float, 8> exact) {
@@ -177,8 +194,6 @@ TEST(FloatLanes, EveryOperationMatchesTheScalarLanesExactly) {
     };
     within_4_ulp(floats_of(reciprocal(abs(va))), floats_of(reciprocal(abs(sa))));
     within_4_ulp(floats_of(reciprocal_sqrt(abs(va))), floats_of(reciprocal_sqrt(abs(sa))));
-    EXPECT_EQ(floats_of(select(va < vb, va, vc)), floats_of(select(sa < sb, sa, sc)));
-    EXPECT_EQ((va <= vb).lanes(), (sa <= sb).lanes());
     EXPECT_EQ(va.sum(), sa.sum());
     simd::WideSum8 wide;
     simd::lanes::WideSum<8> wide_lanes;
@@ -205,11 +220,6 @@ TEST(FloatLanes, TransposedLoadsGathersCompressionAndComparisonsPickTheRightElem
   for (int row = 0; row < 12; ++row)
     for (int column = 0; column < 12; ++column) table[12 * row + column] = float(100 * row + column);
   const Index rows[8] = {7, 0, 11, 3, 5, 10, 1, 8};
-  const auto floats_of = [](P v) {
-    std::array<float, 8> out;
-    v.store(out.data());
-    return out;
-  };
   P eight[8], four[4], two[2];
   simd::load_rows<12>(table.data(), rows, 0, eight);
   simd::load_rows<12>(table.data(), rows, 8, four);
@@ -255,29 +265,15 @@ TEST(FloatPackLanes, WhatTheFluidsPairLoopsTakeMatchesTheScalarLanes) {
   using P = simd::FloatPack;
   constexpr int W = P::width;
   using S = simd::lanes::Pack<W, float>;
-  const auto floats_of = [](auto v) {
-    std::array<float, W> out;
-    v.store(out.data());
-    return out;
-  };
   std::mt19937_64 rng(17);
   for (int trial = 0; trial < 200; ++trial) {
-    std::array<float, W> a, b, c;
-    const auto fill = [&](std::array<float, W>& v) {
-      const auto d = random_lanes<W>(rng);
-      for (int i = 0; i < W; ++i) v[i] = static_cast<float>(d[i]);
-    };
-    fill(a), fill(b), fill(c);
-    const P va = P::load(a.data()), vb = P::load(b.data()), vc = P::load(c.data());
-    const S sa = S::load(a.data()), sb = S::load(b.data()), sc = S::load(c.data());
-    EXPECT_EQ(floats_of(va + vb), floats_of(sa + sb));
-    EXPECT_EQ(floats_of(va - vb), floats_of(sa - sb));
-    EXPECT_EQ(floats_of(va * vb), floats_of(sa * sb));
+    const auto a = random_float_lanes<W>(rng), b = random_float_lanes<W>(rng), c = random_float_lanes<W>(rng);
+    expect_exact_float_arithmetic<P, S>(a, b, c);
+    const P va = P::load(a.data()), vb = P::load(b.data());
+    const S sa = S::load(a.data()), sb = S::load(b.data());
     EXPECT_EQ(floats_of(-va), floats_of(-sa));
-    EXPECT_EQ(floats_of(fma(va, vb, vc)), floats_of(fma(sa, sb, sc)));
     EXPECT_EQ(floats_of(min(va, vb)), floats_of(min(sa, sb)));
     EXPECT_EQ(floats_of(max(va, vb)), floats_of(max(sa, sb)));
-    EXPECT_EQ(floats_of(select(va < vb, va, vc)), floats_of(select(sa < sb, sa, sc)));
     EXPECT_EQ((va < vb).lanes(), (sa < sb).lanes());
     for (int i = 0; i < W; ++i) {
       const float estimate[2] = {floats_of(reciprocal(abs(va)))[i], floats_of(reciprocal_sqrt(abs(va)))[i]};
@@ -314,7 +310,10 @@ TEST(FloatPackLanes, WhatTheFluidsPairLoopsTakeMatchesTheScalarLanes) {
     Index packed[W];
     P::compress_consecutive(40, lanes, packed);
     int k = 0;
-    for (int lane = 0; lane < W; ++lane)
-      if (lanes & (1 << lane)) EXPECT_EQ(packed[k++], 40 + lane) << "lanes " << lanes;
+    for (int lane = 0; lane < W; ++lane) {
+      if (lanes & (1 << lane)) {
+        EXPECT_EQ(packed[k++], 40 + lane) << "lanes " << lanes;
+      }
+    }
   }
 }
