@@ -38,8 +38,7 @@ RunOutputs::RunOutputs(const fs::path& out, const solver::Problem& problem, cons
   }
   // Residual stress of the SPH solids per part and category (seed 000), at the end of the run and,
   // on request, at every field output.
-  for (const auto& f : problem.formulations)
-    if (const auto* s = dynamic_cast<const sph::SolidFormulation*>(f.get())) solid_ = s;
+  solid_ = problem.sph_solid;
   residual_options_ = model.sph_residual_stress.value_or(model::SphResidualStress{});
   if (resume) return;
   for (History* h : {&rwforc_, &rcforc_, &rbdout_})

@@ -35,6 +35,10 @@ grep -c '<DataSet' "$work/out/d3plot.pvd" | awk '{ exit !($1 >= 5) }' || fail "p
 head -n 1 "$work/out/glstat.csv" | grep -q '^time \[time\],dt \[time\],kinetic_energy' || fail "glstat header"
 grep -q '"status": "completed"' "$work/out/run.json" || fail "run.json"
 cmp -s "$work/bar.k" "$work/out/deck/bar.k" || fail "deck copy"
+# The SPH solid's residual-stress report (seed 000): a row per part and particle category at the end.
+head -n 1 "$work/out/residual.csv" | grep -q '^time \[time\],part,category,particles' || fail "residual.csv header"
+awk -F, 'NR > 1 && $2 == 1 && $4 > 0 { rows++ } END { exit !(rows >= 1) }' "$work/out/residual.csv" ||
+  fail "residual.csv has no row of part 1"
 # The energies do not depend on the thread count either (exact sums, parallel::exact_sum; a bar
 # of more than 8192 nodes, so that each thread sums thousands of them).
 python3 "$source_dir/tools/make_bar_deck.py" --spacing 0.01 --width 0.1 --periods 0.02 >"$work/bar_threads.k"

@@ -232,8 +232,9 @@ class Builder {
     // Keep the particles in node (cell) order for memory locality.
     std::sort(particles.begin(), particles.end(),
               [](const auto& a, const auto& b) { return a.node < b.node; });
-    problem_.formulations.push_back(
-        std::make_unique<sph::SolidFormulation>(std::move(table), particles, options, problem_.nodes));
+    auto solid = std::make_unique<sph::SolidFormulation>(std::move(table), particles, options, problem_.nodes);
+    problem_.sph_solid = solid.get();
+    problem_.formulations.push_back(std::move(solid));
   }
 
   // *SPALL_SPH_COLOUR_FIELD per SPH part (indexed like the material table: one entry per part);

@@ -12,6 +12,10 @@
 #include "spall/discretization/node_store.hpp"
 #include "spall/rigid/rigid_bodies.hpp"
 
+namespace spall::sph {
+class SolidFormulation;
+}
+
 namespace spall::solver {
 
 // A prescribed translation of one node in one direction (*BOUNDARY_PRESCRIBED_MOTION_NODE/_SET).
@@ -60,6 +64,8 @@ struct RunControls {
 struct Problem {
   discretization::NodeStore nodes;
   std::vector<std::unique_ptr<discretization::Formulation>> formulations;
+  // The SPH solid among them, if the deck has one: its residual-stress report (seed 000) reads it.
+  const sph::SolidFormulation* sph_solid = nullptr;
   std::vector<NodalMotion> motions;
   std::vector<BaseAcceleration> base_accelerations;
   std::vector<contact::RigidWall> rigid_walls;
