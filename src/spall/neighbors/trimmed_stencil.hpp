@@ -28,7 +28,7 @@ class TrimmedStencil {
  public:
   static constexpr int max_reach = 3;
   static constexpr int max_rows = (2 * max_reach + 1) * (2 * max_reach + 1);
-  // Room trimmed() needs: max_rows rounded up to the eight lanes it works in.
+  // Room trimmed() needs: max_rows rounded up to a multiple of eight (the widest double pack).
   static constexpr int range_capacity = (max_rows + 7) / 8 * 8;
   using Ranges = std::array<ParticleRange, range_capacity>;
 

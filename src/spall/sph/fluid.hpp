@@ -70,8 +70,8 @@ struct FluidMaterial {
 
 // What the pair pass reads of a particle, in one 32-byte record: its position relative to the
 // cells' corner, its velocity, 1 / rho~ and p / rho~^2, single precision. A neighbour's eight
-// numbers are one aligned load; the vector paths transpose sixteen records (eight with AVX2) into
-// lanes, where gathering the eight numbers from eight arrays took eight gather instructions of
+// numbers are one aligned load; the seam's float packs transpose sixteen records (eight with AVX2)
+// into lanes, where gathering the eight numbers from eight arrays took eight gather instructions of
 // about 28 cycles each on the hosts measured (docs/PERFORMANCE.md, session 12).
 struct alignas(32) FluidRecord {
   float x, y, z;
