@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
 
 #include "spall/kernels/cubic_spline.hpp"
@@ -15,6 +16,18 @@ namespace spall::kernels {
 // SPHKERN 0 and 1 are LS-DYNA's codes; 4 is a Spall extension (LS-DYNA's 2 quadratic and
 // 3 quartic are not implemented).
 enum class KernelKind { cubic_spline = 0, quintic_spline = 1, wendland_c2 = 4 };
+
+// The kernel of a *SECTION_SPH SPHKERN code, if Spall has it; kernel_codes names those it has,
+// for the message that refuses another.
+inline std::optional<KernelKind> kernel_of_code(int sphkern) {
+  switch (sphkern) {
+    case 0: return KernelKind::cubic_spline;
+    case 1: return KernelKind::quintic_spline;
+    case 4: return KernelKind::wendland_c2;
+    default: return std::nullopt;
+  }
+}
+inline constexpr const char* kernel_codes = "0 cubic spline, 1 quintic spline, 4 Wendland C2";
 
 // Calls f(K{}) with K the kernel of `kind` in `dimension` (2 or 3) space dimensions.
 template <typename F>

@@ -138,10 +138,9 @@ class Builder {
     if (section.cslh < 1.0)
       fail_at(section.where, "*SECTION_SPH",
               fmt::format("CSLH: {} is inadmissible (less than 1; 1.05 to 1.3 are recommended)", section.cslh));
-    if (section.sphkern != 0 && section.sphkern != 1 && section.sphkern != 4)
+    if (!kernels::kernel_of_code(section.sphkern))
       fail_at(section.where, "*SECTION_SPH",
-              fmt::format("SPHKERN {}: not implemented (0 cubic spline, 1 quintic spline, 4 Wendland C2)",
-                       section.sphkern));
+              fmt::format("SPHKERN {}: not implemented ({})", section.sphkern, kernels::kernel_codes));
     if (!(section.hmin > 0 && section.hmin <= 1 && section.hmax >= 1))
       fail_at(section.where, "*SECTION_SPH",
               fmt::format("HMIN {} HMAX {}: need 0 < HMIN <= 1 <= HMAX (factors on the initial h)",
@@ -213,7 +212,7 @@ class Builder {
                          p.smoothing_length));
       p.h_min_factor = section.hmin;
       p.h_max_factor = section.hmax;
-      const auto kind = static_cast<kernels::KernelKind>(section.sphkern);
+      const auto kind = *kernels::kernel_of_code(section.sphkern);  // checked by resolve_sph_part
       if (kernel && *kernel != kind)
         fail_at(section.where, "*SECTION_SPH",
                 fmt::format("SPHKERN {}: every SPH part must use the same kernel (particles of "

@@ -5,6 +5,7 @@
 #include <unordered_map>
 
 #include "spall/core/log.hpp"
+#include "spall/kernels/kernel.hpp"
 #include "spall/materials/make_material.hpp"
 
 namespace spall::sph {
@@ -28,10 +29,9 @@ FluidPart resolve_fluid_part(const model::Model& model, Id pid) {
             fmt::format("part {} has SPH particles but section {} is not a *SECTION_SPH", part.id,
                      part.secid));
   const auto& section = std::get<model::SectionSph>(sec->second);
-  if (section.sphkern != 0 && section.sphkern != 1 && section.sphkern != 4)
+  if (!kernels::kernel_of_code(section.sphkern))
     fail_at(section.where, "*SECTION_SPH",
-            fmt::format("SPHKERN {}: not implemented (0 cubic spline, 1 quintic spline, 4 Wendland C2)",
-                     section.sphkern));
+            fmt::format("SPHKERN {}: not implemented ({})", section.sphkern, kernels::kernel_codes));
   if (section.death < 1e20 || section.start > 0)
     fail_at(section.where, "*SECTION_SPH", "DEATH/START: particle birth and death are not implemented yet");
   if (part.hgid != 0)
@@ -146,7 +146,7 @@ std::unique_ptr<FluidFormulation> build_fluid(const model::Model& model,
   FluidParameters parameters;
   parameters.material = first->material;
   parameters.smoothing_length = h;
-  parameters.kernel = static_cast<kernels::KernelKind>(first->section->sphkern);
+  parameters.kernel = *kernels::kernel_of_code(first->section->sphkern);  // checked by resolve_fluid_part
   parameters.viscosity = viscosity;
   parameters.dimension = dimension;
   std::vector<Index> particle_nodes;
