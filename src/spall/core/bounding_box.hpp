@@ -31,17 +31,9 @@ struct BoundingBox {
 // The box of point(i) for i in [0, n) (empty for n = 0).
 template <std::integral I, class PointAt>
 BoundingBox bounding_box(I n, PointAt&& point) {
-  return parallel::reduce_exact(
-      n, BoundingBox{},
-      [&](I i) {
-        BoundingBox b;
-        b.include(point(i));
-        return b;
-      },
-      [](BoundingBox a, const BoundingBox& b) {
-        a.include(b);
-        return a;
-      });
+  return parallel::fold_exact(
+      n, BoundingBox{}, [&](BoundingBox& box, I i) { box.include(point(i)); },
+      [](BoundingBox& box, const BoundingBox& other) { box.include(other); });
 }
 
 }  // namespace spall

@@ -6,7 +6,7 @@
 namespace spall {
 
 void ExactSum::flush() {
-  for (int e = 1; e < 2047; ++e) {
+  for (int e = lowest_bin_; e <= highest_bin_; ++e) {
     if (bin_[e] == 0) continue;
     // bin 2^e, cut at the chunk boundaries: two 32-bit pieces and a signed rest (below 2^31).
     __int128 rest = static_cast<__int128>(bin_[e]) << (e % chunk_bits);
@@ -17,6 +17,7 @@ void ExactSum::flush() {
     chunk[2] += static_cast<std::int64_t>(rest >> chunk_bits);
     bin_[e] = 0;
   }
+  lowest_bin_ = 2047, highest_bin_ = 0;
   room_ = terms_per_flush;
   if (++flushes_ == flushes_per_carry) normalize();
 }

@@ -8,6 +8,7 @@
 // integer add a term; 1024 of them fit in a bin. Then the bins are flushed into the "small"
 // accumulator, 32-bit chunks of the whole binary range held in signed 64-bit integers, which
 // takes 2^24 flushes before its carries must be moved up. Integer adds are exact and associative.
+#include <algorithm>
 #include <array>
 #include <bit>
 #include <cstdint>
@@ -28,7 +29,9 @@ class ExactSum {
     if (exponent != 0) significand |= std::uint64_t(1) << 52;
     if (significand == 0) return;
     const auto m = static_cast<std::int64_t>(significand);
-    bin_[exponent == 0 ? 1 : exponent] += bits >> 63 ? -m : m;  // subnormals: the smallest normal's scale
+    const int e = exponent == 0 ? 1 : exponent;  // subnormals: the smallest normal's scale
+    bin_[e] += bits >> 63 ? -m : m;
+    lowest_bin_ = std::min(lowest_bin_, e), highest_bin_ = std::max(highest_bin_, e);
     if (--room_ == 0) flush();
   }
   ExactSum& operator+=(double x) {
@@ -62,6 +65,9 @@ class ExactSum {
 
   std::array<std::int64_t, 2048> bin_{};
   std::array<std::int64_t, chunk_count> chunk_{};
+  // The bins a flush visits: those added to since the last (a sum's terms span a few dozen
+  // binades; visiting all 2046 bins cost two loads a term).
+  int lowest_bin_ = 2047, highest_bin_ = 0;
   std::int32_t room_ = terms_per_flush;          // terms the bins take before a flush
   std::int32_t flushes_ = 0;                     // since the chunks were last normalized
   std::uint32_t special_ = 0;

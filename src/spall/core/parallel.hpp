@@ -56,26 +56,36 @@ void for_each(I n, Body&& body, Schedule schedule = {}) {
   }
 }
 
-// combine(... combine(identity, term(0)) ..., term(n - 1)) in some order: only for operations
-// whose result does not depend on the order (min, max, logical or, integer sums); sums of reals
-// go through exact_sum.
-template <std::integral I, typename T, class Term, class Combine>
-T reduce_exact(I n, T identity, Term&& term, Combine&& combine, Schedule schedule = {}) {
+// Each thread folds its share of [0, n) into its own T, starting from identity, with add(t, i);
+// then the threads' Ts are merged with merge(t, other) in some order: only for operations whose
+// result does not depend on the order (min, max, logical or, integer sums); sums of reals go
+// through exact_sum. In place, for a T of several parts (a box, a minimum and a flag): a T built
+// per item and combined cost twice the work (measured on the neighbour list's motion check).
+template <std::integral I, typename T, class Add, class Merge>
+T fold_exact(I n, T identity, Add&& add, Merge&& merge, Schedule schedule = {}) {
   T result = identity;
 #pragma omp parallel if (std::cmp_greater_equal(n, schedule.serial_below))
   {
     T local = identity;
     if (schedule.chunk > 0) {
 #pragma omp for schedule(dynamic, schedule.chunk) nowait
-      for (I i = 0; i < n; ++i) local = combine(local, term(i));
+      for (I i = 0; i < n; ++i) add(local, i);
     } else {
 #pragma omp for schedule(static) nowait
-      for (I i = 0; i < n; ++i) local = combine(local, term(i));
+      for (I i = 0; i < n; ++i) add(local, i);
     }
 #pragma omp critical(spall_parallel_reduce_exact)
-    result = combine(result, local);
+    merge(result, local);
   }
   return result;
+}
+
+// combine(... combine(identity, term(0)) ..., term(n - 1)) in some order, under fold_exact's rule.
+template <std::integral I, typename T, class Term, class Combine>
+T reduce_exact(I n, T identity, Term&& term, Combine&& combine, Schedule schedule = {}) {
+  return fold_exact(
+      n, identity, [&](T& t, I i) { t = combine(t, term(i)); }, [&](T& t, const T& other) { t = combine(t, other); },
+      schedule);
 }
 
 // body(block) for every block in [0, blocks), where a block may write to its own and the next

@@ -134,18 +134,15 @@ bool close_pairs_moved_together(std::span<const Vec3> x, std::span<const Vec3> b
   struct Boxes {
     Box position, displacement;
   };
-  const auto [position, displacement] = parallel::reduce_exact(
+  const auto [position, displacement] = parallel::fold_exact(
       n, Boxes{},
-      [&](std::int64_t i) {
-        Boxes b;
+      [&](Boxes& b, std::int64_t i) {
         b.position.include(x[i]);
         b.displacement.include(x[i] - before[i]);
-        return b;
       },
-      [](Boxes a, const Boxes& b) {
-        a.position.include(b.position);
-        a.displacement.include(b.displacement);
-        return a;
+      [](Boxes& b, const Boxes& other) {
+        b.position.include(other.position);
+        b.displacement.include(other.displacement);
       });
   if (!displacement.finite) return false;
   if (within_half_limit_of_centre(x, before, displacement, limit)) return true;
