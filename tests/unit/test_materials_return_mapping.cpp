@@ -27,6 +27,13 @@ Material with_strength(Strength strength, Real g = shear) {
 
 // Random strain-rate tensors D (symmetric, with a volumetric part) large enough to yield, from
 // random starting states that are already plastic. Deterministic seed.
+// A material point with the back stress its formulation would keep beside it (zero unless the
+// material keeps one).
+struct Point {
+  PointState state;
+  Mat3 back_stress;
+};
+
 template <class Check>
 void for_random_plastic_steps(const Material& material, Real strain_scale, Check check) {
   std::mt19937_64 random(20240601);
@@ -40,23 +47,24 @@ void for_random_plastic_steps(const Material& material, Real strain_scale, Check
   const Real dt = 1e-6;
   int plastic_steps = 0;
   for (int trial = 0; trial < 200; ++trial) {
-    PointState state = initial_state(material);
+    Point point{initial_state(material), Mat3::Zero()};
     // Two steps: the first makes a plastic (and, with BETA < 1, back-stressed) start.
     for (int k = 0; k < 2; ++k) {
-      const PointState before = state;
+      const Point before = point;
       const Mat3 d = random_rate() / dt;
-      update_deviatoric_stress(material, state, d, dt, material.density, 0.0);
-      if (state.plastic_strain > before.plastic_strain) {
+      update_deviatoric_stress(material, point.state, d, dt, material.density, 0.0,
+                               keeps_back_stress(material) ? &point.back_stress : nullptr);
+      if (point.state.plastic_strain > before.state.plastic_strain) {
         ++plastic_steps;
-        check(before, state, d, dt);
+        check(before, point, d, dt);
       }
     }
   }
   EXPECT_GT(plastic_steps, 300);  // most steps are plastic: the check ran
 }
 
-Real relative_equivalent(const PointState& s) {
-  return von_mises(s.deviatoric_stress - s.back_stress);
+Real relative_equivalent(const Point& p) {
+  return von_mises(p.state.deviatoric_stress - p.back_stress);
 }
 
 TEST(materials_return_mapping, PlasticKinematicIsotropicKinematicMixedWithRate) {
@@ -68,19 +76,19 @@ TEST(materials_return_mapping, PlasticKinematicIsotropicKinematicMixedWithRate) 
     const Material material = with_strength(PlasticKinematic{sigy, ep, beta, rate, 0});
     for_random_plastic_steps(
         material, 1e-2,
-        [&](const PointState& before, const PointState& after, const Mat3& d, Real dt) {
+        [&](const Point& before, const Point& after, const Mat3& d, Real dt) {
           // R = [1 + (eps_rate/C)^(1/P)] (SIGY + BETA Ep eps_p), eps_rate = sqrt(2/3 D:D)
           const Real eps_rate = std::sqrt(2.0 / 3.0 * d.cwiseProduct(d).sum());
           const Real factor = 1 + std::pow(eps_rate / 40.4, 1 / 5.0);
-          const Real radius = factor * (sigy + beta * ep * after.plastic_strain);
+          const Real radius = factor * (sigy + beta * ep * after.state.plastic_strain);
           ASSERT_NEAR(relative_equivalent(after), radius, 1e-12 * radius) << "beta " << beta;
           // Linear hardening: dp = (q_trial - R_n) / (3G + (1 - BETA) Ep + factor BETA Ep) exactly.
           const Mat3 dev = d - d.trace() / 3 * Mat3::Identity();
           const Real q_trial =
-              von_mises(before.deviatoric_stress + 2 * shear * dt * dev - before.back_stress);
-          const Real expected_dp = (q_trial - factor * (sigy + beta * ep * before.plastic_strain)) /
+              von_mises(before.state.deviatoric_stress + 2 * shear * dt * dev - before.back_stress);
+          const Real expected_dp = (q_trial - factor * (sigy + beta * ep * before.state.plastic_strain)) /
                                    (3 * shear + (1 - beta) * ep + factor * beta * ep);
-          ASSERT_NEAR(after.plastic_strain - before.plastic_strain, expected_dp,
+          ASSERT_NEAR(after.state.plastic_strain - before.state.plastic_strain, expected_dp,
                       1e-12 * expected_dp);
           (void)dt;
         });
@@ -104,11 +112,11 @@ TEST(materials_return_mapping, PiecewiseLinearCurveWithRate) {
     return y0 + (y1 - y0) / (x1 - x0) * (eps - x0);
   };
   for_random_plastic_steps(
-      material, 2e-2, [&](const PointState&, const PointState& after, const Mat3& d, Real) {
+      material, 2e-2, [&](const Point&, const Point& after, const Mat3& d, Real) {
         const Real factor =
             1 + std::pow(std::sqrt(2.0 / 3.0 * d.cwiseProduct(d).sum()) / 6500, 1 / 4.0);
-        const Real radius = factor * sigma_y(after.plastic_strain);
-        ASSERT_NEAR(von_mises(after.deviatoric_stress), radius, 1e-12 * radius);
+        const Real radius = factor * sigma_y(after.state.plastic_strain);
+        ASSERT_NEAR(von_mises(after.state.deviatoric_stress), radius, 1e-12 * radius);
       });
 }
 
@@ -128,14 +136,14 @@ TEST(materials_return_mapping, JohnsonCookWithRateFromTheIncrement) {
   // Rate term on the increment's own plastic strain rate.
   const Material material = johnson_cook_copper();
   for_random_plastic_steps(
-      material, 3e-3, [&](const PointState& before, const PointState& after, const Mat3&, Real dt) {
+      material, 3e-3, [&](const Point& before, const Point& after, const Mat3&, Real dt) {
         // sigma_y = (A + B eps_p^N)(1 + C ln max(eps_rate/EPSO, 1))(1 - T*^M), T at the step start
-        const Real dp = after.plastic_strain - before.plastic_strain;
+        const Real dp = after.state.plastic_strain - before.state.plastic_strain;
         const Real rate = std::max(dp / dt / 1.0, 1.0);
-        const Real t_star = (before.temperature - 298) / (1356 - 298);
-        const Real radius = (90e6 + 292e6 * std::pow(after.plastic_strain, 0.31)) *
+        const Real t_star = (before.state.temperature - 298) / (1356 - 298);
+        const Real radius = (90e6 + 292e6 * std::pow(after.state.plastic_strain, 0.31)) *
                             (1 + 0.025 * std::log(rate)) * (1 - std::pow(t_star, 1.09));
-        ASSERT_NEAR(von_mises(after.deviatoric_stress), radius, 1e-12 * radius);
+        ASSERT_NEAR(von_mises(after.state.deviatoric_stress), radius, 1e-12 * radius);
       });
 }
 

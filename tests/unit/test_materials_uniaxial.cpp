@@ -55,7 +55,7 @@ class UniaxialStress {
       d1 = d2, r1 = residual(axial, d1);
     }
     ASSERT_LT(std::abs(r1), 1e-6);
-    update(state_, axial, d1);
+    update(state_, back_stress_, axial, d1);
     strain_ += axial;
     volume_ += axial + 2 * d1;
   }
@@ -64,18 +64,21 @@ class UniaxialStress {
   const PointState& state() const { return state_; }
 
  private:
-  void update(PointState& state, Real axial, Real lateral) const {
+  void update(PointState& state, Mat3& back_stress, Real axial, Real lateral) const {
     const Mat3 d = Vec3(axial, lateral, lateral).asDiagonal();
-    update_deviatoric_stress(material_, state, d, 1.0, material_.density, 0.0);
+    update_deviatoric_stress(material_, state, d, 1.0, material_.density, 0.0,
+                             keeps_back_stress(material_) ? &back_stress : nullptr);
   }
   Real residual(Real axial, Real lateral) const {
     PointState trial = state_;
-    update(trial, axial, lateral);
+    Mat3 trial_back_stress = back_stress_;
+    update(trial, trial_back_stress, axial, lateral);
     return trial.deviatoric_stress(1, 1) + bulk * (volume_ + axial + 2 * lateral);
   }
 
   Material material_;
   PointState state_;
+  Mat3 back_stress_ = Mat3::Zero();  // kept beside the state, as a formulation keeps it
   Real strain_ = 0;
   Real volume_ = 0;
 };

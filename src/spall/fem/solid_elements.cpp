@@ -112,7 +112,7 @@ SolidElements::SolidElements(std::vector<PartSettings> parts, const std::vector<
     block.kind = kind;
     block.nodes_per_element = kind == Kind::tetrahedron ? 4 : 8;
     block.points_per_element = kind == Kind::hexahedron_selective_reduced ? 8 : 1;
-    bool stiffness = false, needs_strain = false;
+    bool stiffness = false, needs_strain = false, kinematic = false;
     for (const auto& e : elements) {
       if (kind_of(e) != kind) continue;
       const PartSettings& part = parts_[e.part];
@@ -132,12 +132,14 @@ SolidElements::SolidElements(std::vector<PartSettings> parts, const std::vector<
       }
       stiffness |= kind == Kind::hexahedron && part.hourglass.form == HourglassForm::stiffness;
       needs_strain |= part.erosion.needs_strain();
+      kinematic |= materials::keeps_back_stress(m);
     }
     if (block.id.empty()) continue;
     const std::size_t n = block.id.size();
     if (kind == Kind::hexahedron) block.hourglass_energy.assign(n, 0);
     if (stiffness) block.hourglass_force.assign(hourglass_modes * n, Vec3::Zero());
     block.eroded.assign(n, 0);
+    if (kinematic) block.back_stress.assign(block.state.size(), Mat3::Zero());
     if (needs_strain) {
       block.strain.assign(n, Mat3::Zero());
       block.effective_strain.assign(n, 0);
@@ -248,7 +250,7 @@ Real SolidElements::element_step<Kind::hexahedron>(Block& block, Index e, discre
   const Real volume_rate = L.trace();
   materials::PointState& state = block.state[e];
   materials::PointThermo& thermo = block.thermo[e];
-  if (dt > 0) materials::advance_point(part.material, state, thermo, L, dt, rho);
+  if (dt > 0) materials::advance_point(part.material, state, thermo, L, dt, rho, block.back_stress_of(e));
   const Real c = thermo.sound_speed;
   const Real stable_step = scaled_step(block, e, hex_characteristic_length(a, now.g, volume), c, volume_rate, nodes);
   if (fails(block, e, L, dt, stable_step)) return -2;
@@ -340,7 +342,7 @@ Real SolidElements::element_step<Kind::hexahedron_selective_reduced>(Block& bloc
       Mat3 Lg = Mat3::Zero();
       for (int n = 0; n < 8; ++n) Lg.noalias() += v[n] * grad[n].transpose();
       Lg.diagonal().array() += (volume_rate - Lg.trace()) / 3;
-      materials::advance_point(part.material, state[g], thermo[g], Lg, dt, rho);
+      materials::advance_point(part.material, state[g], thermo[g], Lg, dt, rho, block.back_stress_of(8 * e + g));
     }
     const Real J = hex_point_gradients(x, g, grad);
     if (!(J > 0)) return -1;
@@ -387,7 +389,7 @@ Real SolidElements::element_step<Kind::tetrahedron>(Block& block, Index e, discr
   const Real volume_rate = L.trace();
   materials::PointState& state = block.state[e];
   materials::PointThermo& thermo = block.thermo[e];
-  if (dt > 0) materials::advance_point(part.material, state, thermo, L, dt, rho);
+  if (dt > 0) materials::advance_point(part.material, state, thermo, L, dt, rho, block.back_stress_of(e));
   const Real c = thermo.sound_speed;
   const Real stable_step = scaled_step(block, e, tet_characteristic_length(now), c, volume_rate, nodes);
   if (fails(block, e, L, dt, stable_step)) return -2;
@@ -526,8 +528,8 @@ void SolidElements::distribute(const discretization::NodeStore& nodes) {
 void SolidElements::share_owned(discretization::NodeStore& nodes, bool masses_changed) {
   for (std::size_t k = 0; k < blocks_.size(); ++k) {
     Block& b = blocks_[k];
-    share_->elements[k](share_->first_node[k], b.mass_scale, b.state, b.thermo, b.volume, b.hourglass_energy,
-                        b.hourglass_force, b.eroded, b.strain, b.effective_strain);
+    share_->elements[k](share_->first_node[k], b.mass_scale, b.state, b.thermo, b.back_stress, b.volume,
+                        b.hourglass_energy, b.hourglass_force, b.eroded, b.strain, b.effective_strain);
   }
   share_->nodes(node_, force_, bulk_force_, hourglass_force_, live_elements_);
   if (!masses_changed) return;
@@ -742,6 +744,7 @@ std::size_t SolidElements::memory_bytes() const {
                       bytes(live_elements_) + bytes(other_mass_);
   for (const Block& b : blocks_)
     total += bytes(b.node) + bytes(b.part) + bytes(b.id) + bytes(b.mass) + bytes(b.state) + bytes(b.thermo) +
+             bytes(b.back_stress) +
              bytes(b.volume) + bytes(b.hourglass_energy) + bytes(b.hourglass_force) +
              bytes(b.colour_offset) + bytes(b.colour_element) + bytes(b.eroded) + bytes(b.strain) +
              bytes(b.effective_strain) + bytes(b.mass_scale);

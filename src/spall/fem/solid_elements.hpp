@@ -126,6 +126,7 @@ class SolidElements final : public discretization::Formulation {
     std::vector<Real> mass_scale;  // DT2MS: the factor f >= 1 on the element's mass (empty without)
     std::vector<materials::PointState> state;   // points_per_element per element
     std::vector<materials::PointThermo> thermo;  // points_per_element per element
+    std::vector<Mat3> back_stress;  // per point where a part keeps one (MAT_003 BETA < 1), else empty
     std::vector<Real> volume;
     std::vector<Real> hourglass_energy;  // per element, for output
     std::vector<Vec3> hourglass_force;              // stiffness forms: Q_alpha, 4 per element
@@ -135,10 +136,12 @@ class SolidElements final : public discretization::Formulation {
     std::vector<Real> effective_strain;   // sum of dt sqrt(2/3 dev D : dev D) (EFFEPS)
     std::vector<Index> colour_offset, colour_element;  // the elements of colour c, in order
     Index size() const { return static_cast<Index>(id.size()); }
+    Mat3* back_stress_of(Index point) { return back_stress.empty() ? nullptr : &back_stress[point]; }
     // The elements' state; the connectivity and the colours are the deck's.
     void checkpoint(Archive& a) {
       a.expect_size("elements in a block", id.size());
-      a(mass, mass_scale, state, thermo, volume, hourglass_energy, hourglass_force, eroded, strain, effective_strain);
+      a(mass, mass_scale, state, thermo, back_stress, volume, hourglass_energy, hourglass_force, eroded, strain,
+        effective_strain);
     }
   };
 

@@ -21,7 +21,7 @@ Real eos_pressure(const Material& material, Real density, Real specific_energy) 
 }
 
 Real update_deviatoric_stress(const Material& material, PointState& state, const Mat3& strain_rate,
-                              Real dt, Real density, Real pressure) {
+                              Real dt, Real density, Real pressure, Mat3* back_stress) {
   Real work = 0;
   if (!state.failed) {
     const Real g = material.shear_modulus;
@@ -29,12 +29,13 @@ Real update_deviatoric_stress(const Material& material, PointState& state, const
       PointState& state;
       const Mat3& d;
       Real dt, density, pressure, g;
+      Mat3* back_stress;
       Real operator()(const Elastic&) const {
         state.deviatoric_stress += 2 * g * dt * deviator(d);
         return 0;
       }
       Real operator()(const PlasticKinematic& m) const {
-        return update_plastic_kinematic(m, g, state, d, dt);
+        return update_plastic_kinematic(m, g, state, d, dt, back_stress);
       }
       Real operator()(const PiecewiseLinear& m) const {
         return update_piecewise_linear(m, g, state, d, dt);
@@ -47,16 +48,16 @@ Real update_deviatoric_stress(const Material& material, PointState& state, const
         return 0;
       }
     };
-    work = std::visit(Visitor{state, strain_rate, dt, density, pressure, g}, material.strength);
+    work = std::visit(Visitor{state, strain_rate, dt, density, pressure, g, back_stress}, material.strength);
   }
   if (state.failed) {
     state.deviatoric_stress.setZero();
-    state.back_stress.setZero();
+    if (back_stress) back_stress->setZero();
   }
   return work;
 }
 
-Real apply_tensile_limit(const Material& material, PointState& state, Real pressure) {
+Real apply_tensile_limit(const Material& material, PointState& state, Real pressure, Mat3* back_stress) {
   switch (material.tensile_limit) {
     case TensileLimit::none:
       break;
@@ -79,7 +80,7 @@ Real apply_tensile_limit(const Material& material, PointState& state, Real press
   }
   if (state.failed) {
     state.deviatoric_stress.setZero();
-    state.back_stress.setZero();
+    if (back_stress) back_stress->setZero();
     pressure = std::max(pressure, Real(0));
   }
   return pressure;
@@ -94,22 +95,22 @@ Real longitudinal_wave_speed(const Material& material, const EosValue& eos, Real
 }  // namespace
 
 StressUpdate update_stress(const Material& material, PointState& state, const Mat3& strain_rate,
-                           Real dt, Real density, Real specific_energy) {
+                           Real dt, Real density, Real specific_energy, Mat3* back_stress) {
   const EosValue eos = evaluate_eos(material.eos, material.density, density, specific_energy);
-  const Real work = update_deviatoric_stress(material, state, strain_rate, dt, density, eos.pressure);
-  return {apply_tensile_limit(material, state, eos.pressure), work, longitudinal_wave_speed(material, eos, density)};
+  const Real work = update_deviatoric_stress(material, state, strain_rate, dt, density, eos.pressure, back_stress);
+  return {apply_tensile_limit(material, state, eos.pressure, back_stress), work,
+          longitudinal_wave_speed(material, eos, density)};
 }
 
 Real advance_point(const Material& material, PointState& state, PointThermo& thermo, const Mat3& L, Real dt,
-                   Real density) {
+                   Real density, Mat3* back_stress) {
   const Mat3 W = Real(0.5) * (L - L.transpose());
   const Mat3 D = Real(0.5) * (L + L.transpose());
   const Mat3 sigma_old = state.deviatoric_stress - thermo.pressure * Mat3::Identity();
   state.deviatoric_stress += dt * (W * state.deviatoric_stress - state.deviatoric_stress * W);
-  // Only kinematic hardening (MAT_003 BETA < 1) moves the back stress away from zero.
-  if (!state.back_stress.isZero(0)) state.back_stress += dt * (W * state.back_stress - state.back_stress * W);
+  if (back_stress) *back_stress += dt * (W * *back_stress - *back_stress * W);
   const Real e_predicted = thermo.specific_energy + dt * sigma_old.cwiseProduct(D).sum() / density;
-  const StressUpdate update = update_stress(material, state, D, dt, density, e_predicted);
+  const StressUpdate update = update_stress(material, state, D, dt, density, e_predicted, back_stress);
   const Mat3 sigma = state.deviatoric_stress - update.pressure * Mat3::Identity();
   thermo.specific_energy += Real(0.5) * dt * (sigma_old + sigma).cwiseProduct(D).sum() / density;
   thermo.pressure = update.pressure;
@@ -121,6 +122,11 @@ Real max_principal_stress(const Mat3& sigma) {
   Eigen::SelfAdjointEigenSolver<Mat3> solver;
   solver.computeDirect(sigma, Eigen::EigenvaluesOnly);
   return solver.eigenvalues().maxCoeff();
+}
+
+bool keeps_back_stress(const Material& material) {
+  const auto* m = std::get_if<PlasticKinematic>(&material.strength);
+  return m != nullptr && moves_back_stress(*m);
 }
 
 bool erodes_element(const Material& material, const PointState& state) {

@@ -6,7 +6,7 @@
 //
 // A step for one point (advance_point does all four; the SPH solid does them apart, because its
 // energy equation uses the stress its pair forces passed on, docs/THEORY.md §3):
-//   1. rotate state.deviatoric_stress and state.back_stress by its objective rate over dt
+//   1. rotate state.deviatoric_stress and the back stress by its objective rate over dt
 //      (Jaumann: + dt (W S - S W));
 //   2. {p, w} = update_stress(material, state, D, dt, rho, e)   (D = sym(grad v) of the step);
 //   3. Cauchy stress sigma = state.deviatoric_stress - p I;
@@ -66,8 +66,10 @@ struct StressUpdate {
 // the deviatoric update (elastic predictor, return mapping, hardening, heating and damage, which
 // uses that pressure); then the tensile limit and failure (a failed point keeps no deviatoric
 // stress and no tension: S = 0, p >= 0).
+// `back_stress` (here and below): the point's back stress where keeps_back_stress(material), else
+// null.
 StressUpdate update_stress(const Material& material, PointState& state, const Mat3& strain_rate,
-                           Real dt, Real density, Real specific_energy);
+                           Real dt, Real density, Real specific_energy, Mat3* back_stress = nullptr);
 
 // The state of a point besides its PointState: what the energy equation and the time step carry.
 struct PointThermo {
@@ -82,15 +84,19 @@ struct PointThermo {
 // predicting the energy the EOS sees). The one point update of SPG particles and finite elements'
 // integration points. Returns the plastic work of the step per unit volume.
 Real advance_point(const Material& material, PointState& state, PointThermo& thermo, const Mat3& L, Real dt,
-                   Real density);
+                   Real density, Mat3* back_stress = nullptr);
 
 // The three parts of update_stress, for callers and tests that need them apart.
 Real eos_pressure(const Material& material, Real density, Real specific_energy);
 // Returns the plastic work per unit volume. `pressure` is used by the Johnson-Cook damage only.
 Real update_deviatoric_stress(const Material& material, PointState& state, const Mat3& strain_rate,
-                              Real dt, Real density, Real pressure);
+                              Real dt, Real density, Real pressure, Mat3* back_stress = nullptr);
 // Returns the pressure to use; may mark the point failed (spall) and then clears its deviator.
-Real apply_tensile_limit(const Material& material, PointState& state, Real pressure);
+Real apply_tensile_limit(const Material& material, PointState& state, Real pressure, Mat3* back_stress = nullptr);
+
+// Whether the material's points keep a back stress (MAT_003 with BETA < 1): their formulation
+// holds one a point and passes it to the updates above.
+bool keeps_back_stress(const Material& material);
 
 // Whether the point failed in a way that deletes a finite element (LS-DYNA): the plastic strain
 // reached *MAT_003 FS or *MAT_024 FAIL, or the Johnson-Cook damage reached 1 with EROD 0. (Spall

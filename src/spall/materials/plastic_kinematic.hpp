@@ -19,9 +19,15 @@ struct PlasticKinematic {
   Real failure_strain = 0;     // FS; 0: no failure
 };
 
+// Whether the model moves a back stress (BETA < 1 with hardening): its points need one.
+inline bool moves_back_stress(const PlasticKinematic& model) {
+  return model.beta < 1 && model.hardening_modulus != 0;
+}
+
 // Elastic predictor S + 2G dt dev(D), then the return. Returns the plastic work per unit volume
-// of the step, S_new : d(eps^p).
+// of the step, S_new : d(eps^p). `back_stress`: the point's alpha, required when
+// moves_back_stress(model) (std::logic_error otherwise), else may be null (alpha = 0).
 Real update_plastic_kinematic(const PlasticKinematic& model, Real shear_modulus, PointState& state,
-                              const Mat3& strain_rate, Real dt);
+                              const Mat3& strain_rate, Real dt, Mat3* back_stress);
 
 }  // namespace spall::materials

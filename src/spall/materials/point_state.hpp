@@ -14,7 +14,9 @@ struct PowerAnchor {
 
 struct PointState {
   Mat3 deviatoric_stress = Mat3::Zero();  // S, the deviator of the Cauchy stress
-  Mat3 back_stress = Mat3::Zero();        // alpha: kinematic hardening (MAT_003 BETA < 1)
+  // The back stress alpha of kinematic hardening (MAT_003 BETA < 1) is not here: only those points
+  // keep one, in an array of their formulation (materials::keeps_back_stress), 72 bytes a point
+  // that every other point would carry.
   Real plastic_strain = 0;                // effective plastic strain
   Real temperature = 0;                   // MAT_015: starts at TR, rises by adiabatic heating
   Real damage = 0;                        // MAT_015 Johnson-Cook damage D; fails at 1

@@ -84,6 +84,7 @@ Part::Part(PartSettings settings, const std::vector<ParticleSetup>& particles,
   F_.assign(n, Mat3::Identity());
   F_total_.assign(n, Mat3::Identity());
   state_.assign(n, materials::initial_state(mat));
+  if (materials::keeps_back_stress(mat)) back_stress_.assign(n, Mat3::Zero());
   specific_energy_.assign(n, mat.initial_specific_energy);
   pressure_.assign(n, materials::eos_pressure(mat, mat.density, mat.initial_specific_energy));
   density_.assign(n, mat.density);
@@ -288,7 +289,7 @@ Index Part::deformation(std::span<const Vec3> x, std::span<const Vec3> v, Real d
     spin_[j] = Real(0.5) * (L - L.transpose());
     const Real rho = mass_[j] / (volume_ref_[j] * det);
     materials::PointThermo thermo{specific_energy_[j], pressure_[j], sound_speed_[j]};
-    materials::advance_point(mat, state_[j], thermo, L, dt, rho);
+    materials::advance_point(mat, state_[j], thermo, L, dt, rho, back_stress_.empty() ? nullptr : &back_stress_[j]);
     specific_energy_[j] = thermo.specific_energy;
     density_[j] = rho;
     pressure_[j] = thermo.pressure;
@@ -471,7 +472,7 @@ void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
       throw InstabilityError(fmt::format("SPG part {}: the deformation gradient at node {} is no longer "
                                          "invertible (det F <= 0): the particles have inverted",
                                          settings_.part_id, node_id_[inverted]));
-    share_(node_, F_, spin_, state_, specific_energy_, density_, pressure_, sound_speed_, viscous_pressure_,
+    share_(node_, F_, spin_, state_, back_stress_, specific_energy_, density_, pressure_, sound_speed_, viscous_pressure_,
            viscous_power_);
     update_stabilization(dt);
     if (++steps_since_update_ >= settings_.update_interval) update_kernel();
@@ -584,8 +585,8 @@ void Part::write_fields(discretization::FieldSet& fields) const {
 void Part::checkpoint(Archive& a) {
   a.section("spg part");
   a.expect_size("SPG particles", node_.size());
-  a(mass_, volume0_, volume_ref_, support_, spacing_, mean_spacing_, stiffness_, F_, F_total_, state_, pressure_,
-    density_, sound_speed_, specific_energy_, viscous_pressure_, viscous_power_, stabilization_force_, dashpot_,
+  a(mass_, volume0_, volume_ref_, support_, spacing_, mean_spacing_, stiffness_, F_, F_total_, state_, back_stress_,
+    pressure_, density_, sound_speed_, specific_energy_, viscous_pressure_, viscous_power_, stabilization_force_, dashpot_,
     stabilization_total_, stabilization_power_, initial_bond_count_, degraded_, psi_self_, grad_self_, psi_, grad_,
     bonds_, broken_pairs_, on_surface_, correction_, x_, v_, xs_, vs_, h_, force_, weighted_stress_, spin_,
     steps_since_update_, kernel_updates_, mass_scaling_, mass_scale_);
@@ -602,7 +603,7 @@ std::size_t Part::memory_bytes() const {
          bytes(support_) + bytes(initial_support_) + bytes(spacing_) + bytes(mean_spacing_) +
          bytes(stiffness_) +
          bytes(viscous_pressure_) + bytes(viscous_power_) + bytes(F_) + bytes(F_total_) +
-         bytes(state_) + bytes(pressure_) + bytes(density_) + bytes(sound_speed_) +
+         bytes(state_) + bytes(back_stress_) + bytes(pressure_) + bytes(density_) + bytes(sound_speed_) +
          bytes(specific_energy_) + bytes(stabilization_force_) + bytes(stabilization_total_) +
          bytes(stabilization_power_) + bytes(dashpot_) + bytes(initial_bond_count_) +
          bytes(degraded_) + bytes(on_surface_) + bytes(correction_.self) +

@@ -144,6 +144,7 @@ class Part {
   std::vector<Mat3> F_;              // deformation gradient since the last kernel update
   std::vector<Mat3> F_total_;        // from the initial configuration to the last kernel update
   std::vector<materials::PointState> state_;
+  std::vector<Mat3> back_stress_;  // where the material keeps one (materials::keeps_back_stress), else empty
   std::vector<Real> pressure_, density_, sound_speed_, specific_energy_;
   std::vector<Real> viscous_pressure_;  // bulk viscosity q, added to the pressure
   std::vector<Real> viscous_power_;     // V q (-tr D): the rate of energy it dissipates

@@ -275,6 +275,7 @@ SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
     return kernels::gradient_norm_integral<decltype(kernel)>();
   });
   if (options_.artificial_stress.enabled) artificial_stress_.assign(n, Mat3::Zero());
+  if (std::any_of(materials_.begin(), materials_.end(), materials::keeps_back_stress)) back_stress_.assign(n, Mat3::Zero());
   strain_rate_squared_.assign(n, 0);
   viscous_heating_.assign(n, 0);
   force_.assign(n, Eigen::Vector4d::Zero());
@@ -695,13 +696,13 @@ void SolidFormulation::update_particle(Index a, const Mat3& L, const Mat3& corre
     updated_volume_[a] = mass_[a] / density_[a];
     // Objective (Jaumann) rotation of the stress deviator and back stress, then the material.
     state.deviatoric_stress += dt * materials::jaumann_rotation(L, state.deviatoric_stress);
-    // Only kinematic hardening (MAT_003 BETA < 1) moves the back stress away from zero.
-    if (!state.back_stress.isZero(0)) state.back_stress += dt * materials::jaumann_rotation(L, state.back_stress);
+    Mat3* back_stress = back_stress_.empty() ? nullptr : &back_stress_[a];
+    if (back_stress) *back_stress += dt * materials::jaumann_rotation(L, *back_stress);
     const Mat3 D = Real(0.5) * (L + L.transpose());
     const Mat3 D_dev = materials::deviator(D);
     // For residual_stress, squared: its square root is taken there, not at every step.
     strain_rate_squared_[a] = materials::effective_strain_rate_squared(D_dev);
-    const materials::StressUpdate update = materials::update_stress(m, state, D, dt, density_[a], internal_energy_[a]);
+    const materials::StressUpdate update = materials::update_stress(m, state, D, dt, density_[a], internal_energy_[a], back_stress);
     pressure_[a] = update.pressure;
     if (relaxed) relax_exported_deviator(a, L, D_dev, treated, colour.relaxation, dt);  // with the c of the step start
     updated_sound_speed_[a] = update.sound_speed;
@@ -787,7 +788,7 @@ void SolidFormulation::check_state(const discretization::NodeStore& nodes, Index
 }
 
 void SolidFormulation::share_updated_state() {
-  share_(node_, updated_volume_, updated_sound_speed_, density_, pressure_, internal_energy_, state_, stress_,
+  share_(node_, updated_volume_, updated_sound_speed_, density_, pressure_, internal_energy_, state_, back_stress_, stress_,
          plain_stress_, artificial_stress_, exported_deviator_, strain_rate_squared_, gradient_amplification_);
 }
 
@@ -1089,7 +1090,7 @@ void SolidFormulation::checkpoint(Archive& a) {
   a.expect_size("SPH solid particles", node_.size());
   a(node_, material_, mass_, uniform_mass_, smoothing_length_, record_, viscosity_record_, record_mass_,
     record_origin_, stress_, plain_stress_, list_reach_, initial_smoothing_length_, spacing_, density_, volume_,
-    updated_volume_, pressure_, sound_speed_, updated_sound_speed_, internal_energy_, state_,
+    updated_volume_, pressure_, sound_speed_, updated_sound_speed_, internal_energy_, state_, back_stress_,
     gradient_amplification_, full_support_gradient_, correction_, artificial_stress_, exported_deviator_, colour_,
     colour_normal_, support_count_, full_support_count_, category_, x_copy_, v_copy_, density_rate_,
     velocity_gradient_, strain_rate_squared_, support_mask_, viscous_heating_, viscous_force_, force_,
@@ -1103,7 +1104,7 @@ std::size_t SolidFormulation::memory_bytes() const {
          bytes(record_mass_) + bytes(stress_) + bytes(plain_stress_) + bytes(list_reach_) +
          bytes(initial_smoothing_length_) + bytes(h_bounds_) + bytes(spacing_) +
          bytes(density_) + bytes(volume_) + bytes(updated_volume_) + bytes(pressure_) + bytes(sound_speed_) + bytes(updated_sound_speed_) + bytes(internal_energy_) +
-         bytes(state_) + bytes(gradient_amplification_) + bytes(correction_) +
+         bytes(state_) + bytes(back_stress_) + bytes(gradient_amplification_) + bytes(correction_) +
          bytes(artificial_stress_) + bytes(exported_deviator_) + bytes(colour_) + bytes(colour_normal_) +
          bytes(support_count_) + bytes(full_support_count_) + bytes(category_) + bytes(x_copy_) + bytes(v_copy_) + bytes(density_rate_) + bytes(support_mask_) +
          bytes(viscous_heating_) + bytes(velocity_gradient_) + bytes(strain_rate_squared_) + bytes(force_) +

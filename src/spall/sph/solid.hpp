@@ -254,6 +254,7 @@ class SolidFormulation final : public discretization::Formulation {
   std::vector<Real> updated_sound_speed_;
   std::vector<Real> internal_energy_;  // specific (per unit mass)
   std::vector<materials::PointState> state_;  // deviatoric stress, plastic strain, temperature, ...
+  std::vector<Mat3> back_stress_;  // where a material keeps one (materials::keeps_back_stress), else empty
   std::vector<Real> gradient_amplification_;      // s_a of the stable step (stable_time_step)
   Real full_support_gradient_ = 0;                // H sum_b V_b |grad W| of a full support
   // B_a (identity without correction) between compute_rates and update_state, when categorizing.
