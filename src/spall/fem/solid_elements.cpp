@@ -250,7 +250,8 @@ Real SolidElements::element_step<Kind::hexahedron>(Block& block, Index e, discre
   const Real volume_rate = L.trace();
   materials::PointState& state = block.state[e];
   materials::PointThermo& thermo = block.thermo[e];
-  if (dt > 0) materials::advance_point(part.material, state, thermo, L, dt, rho, block.back_stress_of(e));
+  Mat3* back_stress = materials::kept_back_stress(block.back_stress, e);
+  if (dt > 0) materials::advance_point(part.material, state, thermo, L, dt, rho, back_stress);
   const Real c = thermo.sound_speed;
   const Real stable_step = scaled_step(block, e, hex_characteristic_length(a, now.g, volume), c, volume_rate, nodes);
   if (fails(block, e, L, dt, stable_step)) return -2;
@@ -342,7 +343,8 @@ Real SolidElements::element_step<Kind::hexahedron_selective_reduced>(Block& bloc
       Mat3 Lg = Mat3::Zero();
       for (int n = 0; n < 8; ++n) Lg.noalias() += v[n] * grad[n].transpose();
       Lg.diagonal().array() += (volume_rate - Lg.trace()) / 3;
-      materials::advance_point(part.material, state[g], thermo[g], Lg, dt, rho, block.back_stress_of(8 * e + g));
+      materials::advance_point(part.material, state[g], thermo[g], Lg, dt, rho,
+                               materials::kept_back_stress(block.back_stress, 8 * e + g));
     }
     const Real J = hex_point_gradients(x, g, grad);
     if (!(J > 0)) return -1;
@@ -389,7 +391,8 @@ Real SolidElements::element_step<Kind::tetrahedron>(Block& block, Index e, discr
   const Real volume_rate = L.trace();
   materials::PointState& state = block.state[e];
   materials::PointThermo& thermo = block.thermo[e];
-  if (dt > 0) materials::advance_point(part.material, state, thermo, L, dt, rho, block.back_stress_of(e));
+  Mat3* back_stress = materials::kept_back_stress(block.back_stress, e);
+  if (dt > 0) materials::advance_point(part.material, state, thermo, L, dt, rho, back_stress);
   const Real c = thermo.sound_speed;
   const Real stable_step = scaled_step(block, e, tet_characteristic_length(now), c, volume_rate, nodes);
   if (fails(block, e, L, dt, stable_step)) return -2;

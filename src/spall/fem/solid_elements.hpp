@@ -136,7 +136,6 @@ class SolidElements final : public discretization::Formulation {
     std::vector<Real> effective_strain;   // sum of dt sqrt(2/3 dev D : dev D) (EFFEPS)
     std::vector<Index> colour_offset, colour_element;  // the elements of colour c, in order
     Index size() const { return static_cast<Index>(id.size()); }
-    Mat3* back_stress_of(Index point) { return back_stress.empty() ? nullptr : &back_stress[point]; }
     // The elements' state; the connectivity and the colours are the deck's.
     void checkpoint(Archive& a) {
       a.expect_size("elements in a block", id.size());

@@ -14,6 +14,7 @@
 //      is part of it), and take sound_speed(material, rho, e) for the time step.
 // initial_state() and Material::initial_specific_energy give the start of the run.
 #include <variant>
+#include <vector>
 
 #include "spall/materials/eos.hpp"
 #include "spall/materials/johnson_cook.hpp"
@@ -97,6 +98,11 @@ Real apply_tensile_limit(const Material& material, PointState& state, Real press
 // Whether the material's points keep a back stress (MAT_003 with BETA < 1): their formulation
 // holds one a point and passes it to the updates above.
 bool keeps_back_stress(const Material& material);
+// Point i's back stress in a formulation's array of them, null where the array is empty (no
+// material of the formulation keeps one).
+inline Mat3* kept_back_stress(std::vector<Mat3>& back_stress, Index i) {
+  return back_stress.empty() ? nullptr : &back_stress[i];
+}
 
 // Whether the point failed in a way that deletes a finite element (LS-DYNA): the plastic strain
 // reached *MAT_003 FS or *MAT_024 FAIL, or the Johnson-Cook damage reached 1 with EROD 0. (Spall

@@ -289,7 +289,7 @@ Index Part::deformation(std::span<const Vec3> x, std::span<const Vec3> v, Real d
     spin_[j] = Real(0.5) * (L - L.transpose());
     const Real rho = mass_[j] / (volume_ref_[j] * det);
     materials::PointThermo thermo{specific_energy_[j], pressure_[j], sound_speed_[j]};
-    materials::advance_point(mat, state_[j], thermo, L, dt, rho, back_stress_.empty() ? nullptr : &back_stress_[j]);
+    materials::advance_point(mat, state_[j], thermo, L, dt, rho, materials::kept_back_stress(back_stress_, j));
     specific_energy_[j] = thermo.specific_energy;
     density_[j] = rho;
     pressure_[j] = thermo.pressure;
@@ -472,8 +472,8 @@ void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
       throw InstabilityError(fmt::format("SPG part {}: the deformation gradient at node {} is no longer "
                                          "invertible (det F <= 0): the particles have inverted",
                                          settings_.part_id, node_id_[inverted]));
-    share_(node_, F_, spin_, state_, back_stress_, specific_energy_, density_, pressure_, sound_speed_, viscous_pressure_,
-           viscous_power_);
+    share_(node_, F_, spin_, state_, back_stress_, specific_energy_, density_, pressure_, sound_speed_,
+           viscous_pressure_, viscous_power_);
     update_stabilization(dt);
     if (++steps_since_update_ >= settings_.update_interval) update_kernel();
   }
@@ -586,9 +586,9 @@ void Part::checkpoint(Archive& a) {
   a.section("spg part");
   a.expect_size("SPG particles", node_.size());
   a(mass_, volume0_, volume_ref_, support_, spacing_, mean_spacing_, stiffness_, F_, F_total_, state_, back_stress_,
-    pressure_, density_, sound_speed_, specific_energy_, viscous_pressure_, viscous_power_, stabilization_force_, dashpot_,
-    stabilization_total_, stabilization_power_, initial_bond_count_, degraded_, psi_self_, grad_self_, psi_, grad_,
-    bonds_, broken_pairs_, on_surface_, correction_, x_, v_, xs_, vs_, h_, force_, weighted_stress_, spin_,
+    pressure_, density_, sound_speed_, specific_energy_, viscous_pressure_, viscous_power_, stabilization_force_,
+    dashpot_, stabilization_total_, stabilization_power_, initial_bond_count_, degraded_, psi_self_, grad_self_, psi_,
+    grad_, bonds_, broken_pairs_, on_surface_, correction_, x_, v_, xs_, vs_, h_, force_, weighted_stress_, spin_,
     steps_since_update_, kernel_updates_, mass_scaling_, mass_scale_);
 }
 

@@ -275,7 +275,8 @@ SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
     return kernels::gradient_norm_integral<decltype(kernel)>();
   });
   if (options_.artificial_stress.enabled) artificial_stress_.assign(n, Mat3::Zero());
-  if (std::any_of(materials_.begin(), materials_.end(), materials::keeps_back_stress)) back_stress_.assign(n, Mat3::Zero());
+  if (std::any_of(materials_.begin(), materials_.end(), materials::keeps_back_stress))
+    back_stress_.assign(n, Mat3::Zero());
   strain_rate_squared_.assign(n, 0);
   viscous_heating_.assign(n, 0);
   force_.assign(n, Eigen::Vector4d::Zero());
@@ -696,13 +697,14 @@ void SolidFormulation::update_particle(Index a, const Mat3& L, const Mat3& corre
     updated_volume_[a] = mass_[a] / density_[a];
     // Objective (Jaumann) rotation of the stress deviator and back stress, then the material.
     state.deviatoric_stress += dt * materials::jaumann_rotation(L, state.deviatoric_stress);
-    Mat3* back_stress = back_stress_.empty() ? nullptr : &back_stress_[a];
+    Mat3* back_stress = materials::kept_back_stress(back_stress_, a);
     if (back_stress) *back_stress += dt * materials::jaumann_rotation(L, *back_stress);
     const Mat3 D = Real(0.5) * (L + L.transpose());
     const Mat3 D_dev = materials::deviator(D);
     // For residual_stress, squared: its square root is taken there, not at every step.
     strain_rate_squared_[a] = materials::effective_strain_rate_squared(D_dev);
-    const materials::StressUpdate update = materials::update_stress(m, state, D, dt, density_[a], internal_energy_[a], back_stress);
+    const materials::StressUpdate update =
+        materials::update_stress(m, state, D, dt, density_[a], internal_energy_[a], back_stress);
     pressure_[a] = update.pressure;
     if (relaxed) relax_exported_deviator(a, L, D_dev, treated, colour.relaxation, dt);  // with the c of the step start
     updated_sound_speed_[a] = update.sound_speed;
@@ -788,8 +790,8 @@ void SolidFormulation::check_state(const discretization::NodeStore& nodes, Index
 }
 
 void SolidFormulation::share_updated_state() {
-  share_(node_, updated_volume_, updated_sound_speed_, density_, pressure_, internal_energy_, state_, back_stress_, stress_,
-         plain_stress_, artificial_stress_, exported_deviator_, strain_rate_squared_, gradient_amplification_);
+  share_(node_, updated_volume_, updated_sound_speed_, density_, pressure_, internal_energy_, state_, back_stress_,
+         stress_, plain_stress_, artificial_stress_, exported_deviator_, strain_rate_squared_, gradient_amplification_);
 }
 
 void SolidFormulation::choose_force_blocks() {
