@@ -2,7 +2,8 @@
 // node it owns (the nodes dealt out in blocks, as the time loop deals them), and after the share
 // every rank holds every particle's value: particles stored in node order (in place), in a
 // shuffled order (gathered by rank and put back), on a few nodes only (ranks with no particle),
-// stored anew in another order (planned again), several values a particle.
+// stored anew in another order (planned again), several values a particle, rows of different
+// lengths (shared whole, or completed from the rows each rank made for its own particles).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -111,6 +112,54 @@ TEST(ParticleShare, SeveralValuesAParticle) {
   if (parallel::world().size() > 1) {
     EXPECT_THROW(share(node, ragged), std::logic_error);
   }
+}
+
+// Rows of different lengths (SPG bonds): particle a has a % 4 entries, entry e of it worth
+// 100 a + e. rows() shares whole rows each rank filled in; complete_rows() starts from rows that
+// only this rank's particles have (the others empty) and ends with every row in place.
+std::vector<Index> row_offsets_of(Index n) {
+  std::vector<Index> offsets(n + 1, 0);
+  for (Index a = 0; a < n; ++a) offsets[a + 1] = offsets[a] + a % 4;
+  return offsets;
+}
+
+void expect_every_row(const std::vector<Index>& offsets, const std::vector<double>& entries) {
+  ASSERT_EQ(offsets, row_offsets_of(static_cast<Index>(offsets.size()) - 1));
+  ASSERT_EQ(entries.size(), static_cast<std::size_t>(offsets.back()));
+  for (Index a = 0; a + 1 < static_cast<Index>(offsets.size()); ++a)
+    for (Index k = offsets[a]; k < offsets[a + 1]; ++k) EXPECT_EQ(entries[k], 100.0 * a + (k - offsets[a]));
+}
+
+TEST(ParticleShare, RowsOfEveryRank) {
+  std::vector<Index> node(70);
+  for (Index a = 0; a < 70; ++a) node[a] = 2 * a;  // in node order, every other node
+  ParticleShare share;
+  share.bind(dealt_nodes(140));
+  const std::vector<Index> offsets = row_offsets_of(70);
+  std::vector<double> entries(offsets.back(), -1.0);
+  for (Index a = 0; a < 70; ++a)
+    if (share.owns(node[a]))
+      for (Index k = offsets[a]; k < offsets[a + 1]; ++k) entries[k] = 100.0 * a + (k - offsets[a]);
+  share.rows(node, offsets, entries);
+  expect_every_row(offsets, entries);
+}
+
+TEST(ParticleShare, CompleteRowsFromEachRanksOwn) {
+  std::vector<Index> node(70);
+  for (Index a = 0; a < 70; ++a) node[a] = 2 * a;
+  ParticleShare share;
+  share.bind(dealt_nodes(140));
+  std::vector<Index> offsets(71, 0);
+  std::vector<double> entries;
+  for (Index a = 0; a < 70; ++a) {
+    if (share.owns(node[a]))
+      for (Index e = 0; e < a % 4; ++e) entries.push_back(100.0 * a + e);
+    offsets[a + 1] = static_cast<Index>(entries.size());
+  }
+  std::vector<double> none;  // an array the options switched off stays empty
+  share.complete_rows(node, offsets, entries, none);
+  expect_every_row(offsets, entries);
+  EXPECT_TRUE(none.empty());
 }
 
 TEST(ParticleShare, EveryParticleOwnedUntilBound) {

@@ -206,6 +206,24 @@ TEST(neighbors, SameListForOneAndTwoThreads) {
   EXPECT_EQ(order_one, order_two);
 }
 
+// A rank's own rows (VerletList::build with rows): those rows as brute force finds them, every other
+// row empty; a range that holds no particle gives an empty list.
+TEST(neighbors, RowsOfARangeOnlyMatchBruteForce) {
+  const std::vector<Vec3> x = random_set(3000, Vec3(0, 0, 0), Vec3(2, 1.5, 1), 12);
+  const Real cutoff = 0.15, skin = 0.02;
+  const NeighborList expected = brute_force(x, cutoff + skin);
+  const auto n = static_cast<Index>(x.size());
+  for (const ParticleRange rows : {ParticleRange{0, 1000}, ParticleRange{1000, 2200}, ParticleRange{2200, n},
+                                   ParticleRange{n, n}}) {
+    VerletList verlet;
+    verlet.build(x, cutoff, skin, rows);
+    for (Index i = 0; i < n; ++i) {
+      const bool asked = i >= rows.begin && i < rows.end;
+      EXPECT_EQ(row(verlet.list(), i), asked ? row(expected, i) : std::vector<Index>{}) << "row " << i;
+    }
+  }
+}
+
 TEST(neighbors, RebuildOnlyAfterAMoveBeyondTheSkin) {
   const Real cutoff = 0.3, skin = 0.06;
   std::vector<Vec3> x = random_set(1500, Vec3(0, 0, 0), Vec3(2, 2, 2), 12);

@@ -25,20 +25,68 @@ class ParticleShare {
   void bind(const NodeStore& nodes) {
     owned_begin_ = nodes.owned_begin, owned_end_ = nodes.owned_end;
     node_count_ = nodes.size();
+    bound_ = true;
   }
   // The particles are now stored in another order: the next share plans the exchange again.
   void reorder() { offsets_.clear(); }
 
   bool owns(Index node) const { return node >= owned_begin_ && node < owned_end_; }
+  // The ranks a sum over the particles this rank computes must be taken across: none until bound
+  // (every rank computes every particle then, as in the set-up).
+  const parallel::Communicator* across() const { return bound_ ? &parallel::world() : nullptr; }
 
   // Every rank's values of its own particles (`node`: each particle's node) in, in place; nothing
-  // for an empty array (state that the options switched off) or a run of one process. An array may
-  // hold several values a particle, one after the other (an element's Gauss points).
+  // for an empty array (state that the options switched off), a run of one process or before
+  // bind. An array may hold several values a particle, one after the other (an element's Gauss
+  // points).
   template <typename... T>
   void operator()(std::span<const Index> node, std::vector<T>&... values) {
-    if (parallel::world().size() == 1) return;
+    if (!bound_ || parallel::world().size() == 1) return;
     if (offsets_.empty()) plan(node);
     (share(values), ...);
+  }
+
+  // The same for arrays of rows of different lengths: particle a's entries are
+  // [row_offsets[a], row_offsets[a + 1]) (compressed rows, the SPG bonds). The particles must be
+  // stored in node order, so that every rank's rows are one block of entries.
+  template <typename... T>
+  void rows(std::span<const Index> node, std::span<const Index> row_offsets, std::vector<T>&... values) {
+    if (!bound_ || parallel::world().size() == 1) return;
+    if (offsets_.empty()) plan(node);
+    if (!order_.empty() || row_offsets.size() != node.size() + 1)
+      throw std::logic_error("ParticleShare::rows: particles not in node order, or rows not one a particle");
+    std::vector<Index> entries(offsets_.size());
+    for (std::size_t r = 0; r < offsets_.size(); ++r) entries[r] = row_offsets[offsets_[r]];
+    (share_entries(values, entries), ...);
+  }
+
+  // Rows that each rank has made for its own particles alone (the others' rows empty in
+  // `row_offsets`) become every particle's rows: the offsets are rebuilt from every rank's row
+  // lengths and each array's entries shared. Particles in node order, as for rows().
+  template <typename... T>
+  void complete_rows(std::span<const Index> node, std::vector<Index>& row_offsets, std::vector<T>&... values) {
+    if (!bound_ || parallel::world().size() == 1) return;
+    if (offsets_.empty()) plan(node);
+    const Index n = static_cast<Index>(node.size());
+    if (!order_.empty() || static_cast<Index>(row_offsets.size()) != n + 1)
+      throw std::logic_error("ParticleShare::complete_rows: particles not in node order, or rows not one a particle");
+    const int rank = parallel::world().rank();
+    const Index first = offsets_[rank], last = offsets_[rank + 1];
+    const Index own_begin = row_offsets[first], own_end = row_offsets[last];
+    std::vector<Index> length(n);
+    for (Index a = 0; a < n; ++a) length[a] = row_offsets[a + 1] - row_offsets[a];
+    (*this)(node, length);
+    for (Index a = 0; a < n; ++a) row_offsets[a + 1] = row_offsets[a] + length[a];
+    // This rank's entries move up to where the rows before them end (they only grow: the rows
+    // before were empty), then every rank's come in.
+    const auto move_own = [&](auto& array) {
+      if (array.empty()) return;
+      array.resize(row_offsets[n]);
+      std::copy_backward(array.begin() + own_begin, array.begin() + own_end,
+                         array.begin() + row_offsets[first] + (own_end - own_begin));
+    };
+    (move_own(values), ...);
+    rows(node, row_offsets, values...);
   }
 
  private:
@@ -85,7 +133,16 @@ class ParticleShare {
     });
   }
 
+  template <typename T>
+  static void share_entries(std::vector<T>& values, std::span<const Index> entries) {
+    if (values.empty()) return;
+    if (static_cast<Index>(values.size()) != entries.back())
+      throw std::logic_error("ParticleShare::rows: an array that is not one value an entry");
+    parallel::world().share(std::span(values), entries);
+  }
+
   Index owned_begin_ = 0, owned_end_ = std::numeric_limits<Index>::max(), node_count_ = 0;
+  bool bound_ = false;
   std::vector<Index> order_;    // the particles grouped by rank, when not stored so (else empty)
   std::vector<Index> offsets_;  // each rank's first particle in that order, then the count; empty
                                 // until planned for the particles' present order

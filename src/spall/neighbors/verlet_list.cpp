@@ -136,7 +136,7 @@ void size_storage(std::vector<Index>& storage, std::size_t total) {
 
 }  // namespace
 
-void VerletList::build(std::span<const Vec3> x, Real cutoff, Real skin) {
+void VerletList::build(std::span<const Vec3> x, Real cutoff, Real skin, ParticleRange rows) {
   if (!(cutoff > 0) || !(skin >= 0)) {
     throw std::invalid_argument("neighbour search: need cutoff > 0 and skin >= 0, got cutoff " +
                                 std::to_string(cutoff) + " and skin " + std::to_string(skin));
@@ -146,7 +146,7 @@ void VerletList::build(std::span<const Vec3> x, Real cutoff, Real skin) {
   ++builds_;
   const Real radius = cutoff + skin;
   build_rows(x, radius, [&](std::span<const Index>) { return UniformRadius{radius, radius * radius}; },
-             RowOrder::ascending);
+             RowOrder::ascending, rows);
 }
 
 void VerletList::build(std::span<const Vec3> x, std::span<const Real> reach, Real skin, RowOrder order) {
@@ -163,12 +163,12 @@ void VerletList::build(std::span<const Vec3> x, std::span<const Real> reach, Rea
   ++builds_;
   build_rows(x, cutoff_ + skin,
              [&](std::span<const Index> cell_order) { return PairRadius(reach, cell_order, largest, skin); },
-             order);
+             order, {0, static_cast<Index>(x.size())});
 }
 
 template <typename MakeRadius>
 void VerletList::build_rows(std::span<const Vec3> x, Real radius, const MakeRadius& make_radius,
-                            RowOrder row_order) {
+                            RowOrder row_order, ParticleRange rows) {
   x_at_build_.assign(x.begin(), x.end());
   const auto n = static_cast<Index>(x.size());
   list_.offsets.assign(n + 1, 0);
@@ -195,7 +195,8 @@ void VerletList::build_rows(std::span<const Vec3> x, Real radius, const MakeRadi
       stencil.prepare(c);
       const ParticleRange own = cells.cell(c);
       for (Index k = own.begin; k < own.end; ++k)
-        visit(k, ranges, stencil.trimmed(p.offset(k), pair_radius.largest(k), ranges));
+        if (order[k] >= rows.begin && order[k] < rows.end)  // else a row not asked for: left empty
+          visit(k, ranges, stencil.trimmed(p.offset(k), pair_radius.largest(k), ranges));
     }, {.chunk = 64});
   };
 

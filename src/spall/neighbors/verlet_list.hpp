@@ -2,11 +2,13 @@
 // Neighbour search: a cell-linked list (cell_list.hpp) builds Verlet lists with a skin; particles
 // can be put in cell order for memory locality. OpenMP inside; the result never depends on the
 // thread count.
+#include <limits>
 #include <span>
 #include <vector>
 
 #include "spall/core/archive.hpp"
 #include "spall/core/types.hpp"
+#include "spall/neighbors/cell_list.hpp"
 
 namespace spall::neighbors {
 
@@ -31,8 +33,11 @@ class VerletList {
  public:
   // Lists every pair closer than cutoff + skin (cutoff > 0, skin >= 0). The list stays valid
   // (contains every pair closer than cutoff) while needs_rebuild() is false. Throws
-  // InstabilityError when a position is not finite.
-  void build(std::span<const Vec3> x, Real cutoff, Real skin);
+  // InstabilityError when a position is not finite. With `rows`, only the rows of the particles
+  // [rows.begin, rows.end) are searched, the others left empty: a rank's own particles under MPI,
+  // whose rows the other ranks share (the SPG bonds).
+  void build(std::span<const Vec3> x, Real cutoff, Real skin,
+             ParticleRange rows = {0, std::numeric_limits<Index>::max()});
   // Per-particle reach (every reach_i > 0): lists every pair closer than reach_i + reach_j + skin,
   // and stays valid for the pairs closer than reach_i + reach_j while needs_rebuild() is false.
   // Particles of very different reach then share a list without the small ones listing as far as
@@ -62,7 +67,8 @@ class VerletList {
   // Lists the pairs within make_radius(cell order).squared(k, j), radius being the largest pair
   // radius.
   template <typename MakeRadius>
-  void build_rows(std::span<const Vec3> x, Real radius, const MakeRadius& make_radius, RowOrder order);
+  void build_rows(std::span<const Vec3> x, Real radius, const MakeRadius& make_radius, RowOrder order,
+                  ParticleRange rows);
 
   NeighborList list_;
   std::vector<Vec3> x_at_build_;

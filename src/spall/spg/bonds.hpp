@@ -43,6 +43,11 @@ using BondPair = std::pair<Index, Index>;
 template <typename Keep>
 BondList make_bonds(const neighbors::NeighborList& list, std::span<const Vec3> x, Keep&& keep,
                     const BondList* previous, std::span<const BondPair> broken_pairs);
+// The same without the mirrors: for rows that are completed elsewhere (under MPI each rank makes
+// the rows of its own particles, and link_mirrors follows once every row is in).
+template <typename Keep>
+BondList make_bond_rows(const neighbors::NeighborList& list, std::span<const Vec3> x, Keep&& keep,
+                        const BondList* previous, std::span<const BondPair> broken_pairs);
 
 // Adds the broken bonds of `bonds` to the sorted list `broken_pairs`.
 void record_broken_pairs(const BondList& bonds, std::vector<BondPair>& broken_pairs);
@@ -64,8 +69,8 @@ void link_mirrors(BondList& bonds);
 Real previous_rest_length(const BondList& previous, Index i, Index j, bool& found);
 
 template <typename Keep>
-BondList make_bonds(const neighbors::NeighborList& list, std::span<const Vec3> x, Keep&& keep,
-                    const BondList* previous, std::span<const BondPair> broken_pairs) {
+BondList make_bond_rows(const neighbors::NeighborList& list, std::span<const Vec3> x, Keep&& keep,
+                        const BondList* previous, std::span<const BondPair> broken_pairs) {
   const Index n = static_cast<Index>(list.offsets.size()) - 1;
   BondList bonds;
   bonds.offsets.assign(n + 1, 0);
@@ -92,6 +97,13 @@ BondList make_bonds(const neighbors::NeighborList& list, std::span<const Vec3> x
       ++out;
     }
   }, particle_loops);
+  return bonds;
+}
+
+template <typename Keep>
+BondList make_bonds(const neighbors::NeighborList& list, std::span<const Vec3> x, Keep&& keep,
+                    const BondList* previous, std::span<const BondPair> broken_pairs) {
+  BondList bonds = make_bond_rows(list, x, keep, previous, broken_pairs);
   link_mirrors(bonds);
   return bonds;
 }

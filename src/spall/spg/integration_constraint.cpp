@@ -3,7 +3,9 @@
 #include "spall/spg/parallel.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <utility>
 
 #include <Eigen/LU>
 
@@ -25,36 +27,51 @@ struct Multipliers {
   }
 };
 
-// Per gradient component i: sum over particles of lambda_i lambda'_i + mu_i . mu'_i, summed in
-// fixed chunks and then chunk by chunk, so that the result does not depend on the thread count.
-Vec3 dot(const Multipliers& a, const Multipliers& b) {
-  const Index n = static_cast<Index>(a.lambda.size());
-  constexpr Index chunk = 1024;
-  const Index chunks = (n + chunk - 1) / chunk;
-  std::vector<Vec3> partial(chunks, Vec3::Zero());
-  parallel::for_each(chunks, [&](Index c) {
-    Vec3 s = Vec3::Zero();
-    for (Index j = c * chunk; j < std::min(n, (c + 1) * chunk); ++j)
-      s += a.lambda[j].cwiseProduct(b.lambda[j]) + a.mu[j].cwiseProduct(b.mu[j]).rowwise().sum();
-    partial[c] = s;
-  }, particle_loops);
-  Vec3 total = Vec3::Zero();
-  for (const Vec3& s : partial) total += s;
-  return total;
+// Which particles this rank computes, and the ranks a sum over them is taken across.
+struct Ownership {
+  discretization::ParticleShare& share;
+  std::span<const Index> node;
+  bool owns(Index j) const { return share.owns(node[j]); }
+};
+
+// Per gradient component i: sum over the particles of lambda_i lambda'_i + mu_i . mu'_i, for each
+// of the K pairs (a, b), as exact sums over every rank's particles (one reduction for all K).
+template <std::size_t K>
+std::array<Vec3, K> dots(const std::array<std::pair<const Multipliers*, const Multipliers*>, K>& pairs,
+                         const Ownership& own) {
+  const Index n = static_cast<Index>(pairs[0].first->lambda.size());
+  const auto sums = parallel::exact_sum(n, [&](Index j) {
+    Sums<3 * static_cast<int>(K)> t{};
+    if (!own.owns(j)) return t;
+    for (std::size_t p = 0; p < K; ++p) {
+      const Multipliers& a = *pairs[p].first;
+      const Multipliers& b = *pairs[p].second;
+      const Vec3 s = a.lambda[j].cwiseProduct(b.lambda[j]) + a.mu[j].cwiseProduct(b.mu[j]).rowwise().sum();
+      for (int i = 0; i < 3; ++i) t[3 * p + i] = s[i];
+    }
+    return t;
+  }, own.share.across());
+  std::array<Vec3, K> result;
+  for (std::size_t p = 0; p < K; ++p) result[p] = Vec3(sums[3 * p], sums[3 * p + 1], sums[3 * p + 2]);
+  return result;
+}
+
+Vec3 dot(const Multipliers& a, const Multipliers& b, const Ownership& own) {
+  return dots<1>({{{&a, &b}}}, own)[0];
 }
 
 class NormalEquations {
  public:
   NormalEquations(const BondList& bonds, std::span<const Vec3> X, std::span<const std::uint8_t> interior,
-                  std::span<const std::uint8_t> active)
-      : bonds_(bonds), X_(X), interior_(interior), active_(active) {
+                  std::span<const std::uint8_t> active, const Ownership& own)
+      : bonds_(bonds), X_(X), interior_(interior), active_(active), own_(own) {
     const Index n = bonds.size();
     // Block-Jacobi preconditioner: the particle's own 4 x 4 block sum_L [1; d][1; d]^T (3 x 3
     // without the divergence row where the particle is not interior), the same for every
     // gradient component.
     preconditioner_.assign(n, Mat4::Zero());
     parallel::for_each(n, [&](Index j) {
-      if (!active_[j]) return;
+      if (!active_[j] || !own_.owns(j)) return;
       Mat4 P = Mat4::Zero();
       for (Index k = bonds.offsets[j]; k < bonds.offsets[j + 1]; ++k) {
         if (!usable(j, k)) continue;
@@ -87,10 +104,12 @@ class NormalEquations {
     return (z.lambda[j] - z.lambda[l]) + (z.mu[j] + z.mu[l]) * (X_[l] - X_[j]);
   }
 
-  // y = R R^T z: per particle the divergence (interior only) and first moment of the fluxes.
+  // y = R R^T z: per particle the divergence (interior only) and first moment of the fluxes (this
+  // rank's particles; z whole).
   void apply(const Multipliers& z, Multipliers& y) const {
     const Index n = bonds_.size();
     parallel::for_each(n, [&](Index j) {
+      if (!own_.owns(j)) return;
       Vec3 div = Vec3::Zero();
       Mat3 moment = Mat3::Zero();
       if (active_[j])
@@ -108,6 +127,7 @@ class NormalEquations {
   void precondition(const Multipliers& r, Multipliers& z) const {
     const Index n = bonds_.size();
     parallel::for_each(n, [&](Index j) {
+      if (!own_.owns(j)) return;
       for (int i = 0; i < 3; ++i) {
         Vec4 b;
         b << r.lambda[j][i], r.mu[j].row(i).transpose();
@@ -123,13 +143,15 @@ class NormalEquations {
   std::span<const Vec3> X_;
   std::span<const std::uint8_t> interior_;
   std::span<const std::uint8_t> active_;
+  const Ownership& own_;
   std::vector<Mat4> preconditioner_;
 };
 
-// z += a r per gradient component (a_i scales component i).
-void axpy(const Vec3& a, const Multipliers& r, Multipliers& z) {
+// z += a r per gradient component (a_i scales component i), for this rank's particles.
+void axpy(const Vec3& a, const Multipliers& r, Multipliers& z, const Ownership& own) {
   const Index n = static_cast<Index>(z.lambda.size());
   parallel::for_each(n, [&](Index j) {
+    if (!own.owns(j)) return;
     z.lambda[j] += a.cwiseProduct(r.lambda[j]);
     z.mu[j] += a.asDiagonal() * r.mu[j];
   }, particle_loops);
@@ -177,9 +199,11 @@ void remove_row_moment(const BondList& bonds, std::span<const Vec3> X, Index j, 
 
 void correct_integration(const BondList& bonds, std::span<const Vec3> X, std::span<const Real> volume,
                          std::span<const std::uint8_t> interior, std::span<const std::uint8_t> active,
-                         std::span<const Vec3> defect, int max_iterations, IntegrationCorrection& correction) {
+                         std::span<const Vec3> defect, int max_iterations, discretization::ParticleShare& share,
+                         std::span<const Index> node, IntegrationCorrection& correction) {
   const Index n = bonds.size();
-  const NormalEquations equations(bonds, X, interior, active);
+  const Ownership own{share, node};
+  const NormalEquations equations(bonds, X, interior, active, own);
   Multipliers z, r, p, q, s;
   z.resize(n);
   if (static_cast<Index>(correction.lambda.size()) == n) {
@@ -201,7 +225,7 @@ void correct_integration(const BondList& bonds, std::span<const Vec3> X, std::sp
     r.lambda[j] = b.lambda[j] - q.lambda[j];
     r.mu[j] = -q.mu[j];
   }
-  const Vec3 b_norm = dot(b, b).cwiseSqrt();
+  const Vec3 b_norm = dot(b, b, own).cwiseSqrt();
   // The natural size of the column sums, V_J / h_J ~ V_J^(2/3) per particle.
   Real reference = 0;
   for (Index j = 0; j < n; ++j) reference += std::pow(volume[j], Real(4) / 3);
@@ -211,28 +235,32 @@ void correct_integration(const BondList& bonds, std::span<const Vec3> X, std::sp
       if (std::sqrt(rr[i]) > std::max(tolerance * b_norm[i], floor)) return false;
     return true;
   };
+  // The search direction is the one vector whose neighbours' values a rank reads (apply).
+  auto share_direction = [&] { share(node, p.lambda, p.mu); };
   equations.precondition(r, s);
   p = s;
-  Vec3 rs = dot(r, s);
+  share_direction();
+  auto [rs, rr] = dots<2>({{{&r, &s}, {&r, &r}}}, own);
   int iteration = 0;
-  Vec3 rr = dot(r, r);
   while (!converged(rr) && iteration < max_iterations) {
     equations.apply(p, q);
-    const Vec3 pq = dot(p, q);
+    const Vec3 pq = dot(p, q, own);
     Vec3 alpha = Vec3::Zero();
     for (int i = 0; i < 3; ++i) alpha[i] = pq[i] > 0 ? rs[i] / pq[i] : 0;
-    axpy(alpha, p, z);
-    axpy(-alpha, q, r);
+    axpy(alpha, p, z, own);
+    axpy(-alpha, q, r, own);
     equations.precondition(r, s);
-    const Vec3 rs_next = dot(r, s);
+    const auto [rs_next, rr_next] = dots<2>({{{&r, &s}, {&r, &r}}}, own);
     Vec3 beta = Vec3::Zero();
     for (int i = 0; i < 3; ++i) beta[i] = rs[i] > 0 ? rs_next[i] / rs[i] : 0;
     rs = rs_next;
+    rr = rr_next;
     parallel::for_each(n, [&](Index j) {
+      if (!own.owns(j)) return;
       p.lambda[j] = s.lambda[j] + beta.cwiseProduct(p.lambda[j]);
       p.mu[j] = s.mu[j] + beta.asDiagonal() * p.mu[j];
     }, particle_loops);
-    rr = dot(r, r);
+    share_direction();
     ++iteration;
   }
   correction.iterations = iteration;
@@ -240,6 +268,7 @@ void correct_integration(const BondList& bonds, std::span<const Vec3> X, std::sp
   for (int i = 0; i < 3; ++i)
     if (b_norm[i] > 0) worst = std::max(worst, std::sqrt(rr[i]) / b_norm[i]);
   correction.relative_residual = worst;
+  share(node, z.lambda, z.mu);  // the fluxes read the neighbours' multipliers, the next solve starts from all
   correction.lambda = z.lambda;
   correction.mu = z.mu;
 
@@ -249,6 +278,7 @@ void correct_integration(const BondList& bonds, std::span<const Vec3> X, std::sp
     std::vector<Vec3> row;
     std::vector<std::uint8_t> usable;
     team.for_each(n, [&](Index j) {
+      if (!own.owns(j)) return;
       const Index count = bonds.count(j);
       row.assign(count, Vec3::Zero());
       usable.assign(count, 0);
@@ -267,6 +297,8 @@ void correct_integration(const BondList& bonds, std::span<const Vec3> X, std::sp
       correction.self[j] = self;
     });
   }, n > parallel_threshold);
+  share(node, correction.self);
+  share.rows(node, bonds.offsets, correction.bond);
 }
 
 }  // namespace spall::spg

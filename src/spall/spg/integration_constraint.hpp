@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "spall/core/types.hpp"
+#include "spall/discretization/particle_share.hpp"
 #include "spall/spg/bonds.hpp"
 
 namespace spall::spg {
@@ -43,8 +44,13 @@ struct IntegrationCorrection {
 // part), and the defect e_K = sum_J V_J D_JK of the uncorrected operator. At most max_iterations
 // conjugate-gradient iterations: the rows always keep zero sums and zero first moments (momentum,
 // exact constant strain); only the integration constraint carries what the solve left.
+// Under MPI (replicated state, docs/SCALING.md) a rank solves for the particles whose node it owns
+// (`share`, `node`: the particles' nodes, in node order) and shares the search direction once an
+// iteration and the correction's rows at the end; the dot products are exact sums, so the result
+// does not depend on the number of ranks or threads.
 void correct_integration(const BondList& bonds, std::span<const Vec3> X, std::span<const Real> volume,
                          std::span<const std::uint8_t> interior, std::span<const std::uint8_t> active,
-                         std::span<const Vec3> defect, int max_iterations, IntegrationCorrection& correction);
+                         std::span<const Vec3> defect, int max_iterations, discretization::ParticleShare& share,
+                         std::span<const Index> node, IntegrationCorrection& correction);
 
 }  // namespace spall::spg

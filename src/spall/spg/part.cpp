@@ -114,17 +114,23 @@ Part::Part(PartSettings settings, const std::vector<ParticleSetup>& particles,
 }
 
 // Bonds: the pairs in which one particle lies inside the other's support, in the current positions.
+// Under MPI each rank searches the rows of its own particles and the rows are then shared.
 void Part::search_bonds(const BondList* previous) {
   Real radius = 0;
   for (const auto& a : support_) radius = std::max(radius, support_radius(settings_.shape, a));
+  neighbors::ParticleRange own{0, 0};  // the particles are in node order: this rank's are one range
+  while (own.begin < particle_count() && !owns(own.begin)) ++own.begin;
+  for (own.end = own.begin; own.end < particle_count() && owns(own.end);) ++own.end;
   neighbors::VerletList verlet;
-  verlet.build(x_, radius, 0);
+  verlet.build(x_, radius, 0, own);
   const auto shape = settings_.shape;
   auto covers = [&](Index i, Index j) {
     return kernel_value(shape, x_[i] - x_[j], support_[j]).value > 0 ||
            kernel_value(shape, x_[j] - x_[i], support_[i]).value > 0;
   };
-  bonds_ = make_bonds(verlet.list(), x_, covers, previous, broken_pairs_);
+  bonds_ = make_bond_rows(verlet.list(), x_, covers, previous, broken_pairs_);
+  share_.complete_rows(node_, bonds_.offsets, bonds_.neighbour, bonds_.broken, bonds_.rest_length);
+  link_mirrors(bonds_);
 }
 
 // RK shape functions of every particle's row in the current positions, which become the reference
@@ -150,6 +156,7 @@ void Part::build_shape_functions(bool at_setup) {
     std::vector<Real> psi;
     std::vector<Vec3> grad;
     team.for_each(n, [&](Index j) {
+      if (!owns(j)) return;  // another rank's, shared below
       samples.clear();
       entry.clear();
       auto add = [&](Index i) {
@@ -192,6 +199,8 @@ void Part::build_shape_functions(bool at_setup) {
       }
     });
   }, n > parallel_threshold);
+  share_(node_, psi_self_, grad_self_, degraded_);
+  share_.rows(node_, bonds_.offsets, psi_, grad_);
   if (const Index j = singular.value(); j >= 0) {
     throw InputError(settings_.where, "*SECTION_SOLID_SPG",
                      fmt::format("part {}: node {} has {} particles in its kernel support, too few (or "
@@ -244,7 +253,7 @@ void Part::correct_integration_constraint(bool at_setup) {
   // Set-up: solve to round-off (the patch test of the mesh as given). Kernel updates: the geometry
   // has moved little since the last solve, whose multipliers start a short one.
   const int iterations = at_setup ? setup_iterations : update_iterations;
-  correct_integration(bonds_, x_, volume_ref_, interior, active, defect, iterations, correction_);
+  correct_integration(bonds_, x_, volume_ref_, interior, active, defect, iterations, share_, node_, correction_);
 }
 
 void Part::smooth(std::span<const Vec3> field, std::vector<Vec3>& smoothed) const {
