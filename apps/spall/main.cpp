@@ -40,6 +40,13 @@ int main(int argc, char** argv) {
   output->excludes(restart);
   run->add_option("--threads", options.threads, "OpenMP threads (default: all cores)")
       ->check(CLI::PositiveNumber);
+  run->add_option("--balance-every", options.balance_every,
+                  "Under mpirun: compare the ranks' work every N steps (default 100)")
+      ->check(CLI::PositiveNumber);
+  run->add_option("--balance-threshold", options.balance_threshold,
+                  "Under mpirun: deal the nodes out anew when the busiest rank works this fraction more than the "
+                  "mean (default 0.1: 10 %; 0: at every check)")
+      ->check(CLI::NonNegativeNumber);
 
   run->add_option("--skip", options.skip,
                   "Run without this unsupported physics keyword (e.g. CONTACT_AUTOMATIC_SINGLE_SURFACE, or CONTACT for "

@@ -181,7 +181,7 @@ int run_deck(const RunOptions& options) {
     last_step = step;
     if (writes) progress.update(step);
   };
-  solver::TimeLoop loop(problem, observer);
+  solver::TimeLoop loop(problem, observer, {options.balance_every, options.balance_threshold});
 
   // The run's state between two steps: the loop's (the whole problem's, which every rank holds),
   // the wall time so far, the field series (every rank's, of its pieces), then the histories rank 0
@@ -293,6 +293,7 @@ int run_deck(const RunOptions& options) {
   }
   if (!writes) return code;
   info.wall_seconds = wall_seconds_before + progress.elapsed_seconds();
+  info.rebalances = loop.rebalances();
   info.masses = outputs->masses();
   for (int p = 0; p < static_cast<int>(solver::Phase::count); ++p) {
     const auto phase = static_cast<solver::Phase>(p);

@@ -11,6 +11,10 @@ struct RunOptions {
   std::vector<std::string> skip;  // physics keywords to run without (--skip)
   std::string restart_dir;        // --restart: continue the run of this output folder
   long long checkpoint_every = 0;  // --checkpoint-every: steps between restart files (0: the deck's)
+  // Under MPI (solver::LoadBalance): steps between checks of the ranks' work (--balance-every), and
+  // the excess of the busiest rank over the mean that deals the nodes anew (--balance-threshold).
+  long long balance_every = 100;
+  double balance_threshold = 0.1;
 };
 
 // Reads, checks and runs a deck, or continues a run from its restart file; writes the output

@@ -56,18 +56,25 @@ continue_run() {
 
 # DECK SERIAL_FOLDER "RANKS THREADS" ...: the deck under mpirun on each count of ranks and threads,
 # every file as the single process's, a piece of field output per rank, and run.json naming the ranks.
+# "RANKS THREADS rebalanced" deals the nodes out anew every 5 steps (--balance-threshold 0), which
+# must happen and change no bit either.
 same_on_ranks() {
-  local deck=$1 serial=$2 run out
+  local deck=$1 serial=$2 run out balance
   shift 2
   for run in "$@"; do
     set -- $run
-    out="$serial.np$1.t$2"
-    mpirun -np "$1" "$cli" run "$deck" -o "$out" --threads "$2" >"$out.log" 2>&1 ||
-      { tail -20 "$out.log"; fail "$deck on $1 ranks x $2 threads"; }
-    same_folder "$serial" "$out" "$deck on $1 ranks x $2 threads"
+    out="$serial.np$1.t$2${3:+.$3}"
+    balance=()
+    [ "${3:-}" = rebalanced ] && balance=(--balance-every 5 --balance-threshold 0)
+    mpirun -np "$1" "$cli" run "$deck" -o "$out" --threads "$2" "${balance[@]}" >"$out.log" 2>&1 ||
+      { tail -20 "$out.log"; fail "$deck on $1 ranks x $2 threads ${3:-}"; }
+    same_folder "$serial" "$out" "$deck on $1 ranks x $2 threads ${3:-}"
     if [ "$1" -gt 1 ]; then
       [ "$(ls "$out/d3plot_00000" | wc -l)" -eq "$1" ] || fail "not a piece per rank ($deck, $1 ranks)"
     fi
     grep -q "\"ranks\": $1," "$out/run.json" || fail "run.json ranks ($deck, $1 ranks)"
+    if [ -n "${balance[*]}" ]; then
+      grep -q '"rebalances": [1-9]' "$out/run.json" || fail "no rebalancing ($deck, $1 ranks): $(grep rebal "$out/run.json")"
+    fi
   done
 }

@@ -277,7 +277,8 @@ TEST_F(OutputTest, RunJsonEscapesStrings) {
   info.version = "0.1.0";
   info.deck = "C:\\decks\\\"taylor\" bar\n\t\x01.k";
   info.threads = 2;
-  info.ranks = 1;
+  info.ranks = 4;
+  info.rebalances = 7;
   info.steps = 123456789012LL;
   info.end_time = 0.1;
   info.wall_seconds = std::numeric_limits<double>::quiet_NaN();
@@ -292,7 +293,8 @@ TEST_F(OutputTest, RunJsonEscapesStrings) {
             "  \"version\": \"0.1.0\",\n"
             "  \"deck\": \"C:\\\\decks\\\\\\\"taylor\\\" bar\\n\\t\\u0001.k\",\n"
             "  \"threads\": 2,\n"
-            "  \"ranks\": 1,\n"
+            "  \"ranks\": 4,\n"
+            "  \"rebalances\": 7,\n"
             "  \"steps\": 123456789012,\n"
             "  \"end_time\": 0.10000000000000001,\n"
             "  \"wall_seconds\": null,\n"

@@ -26,6 +26,19 @@ bool mpi_started = false;
 void check(int status, const char* what) {
   if (status != MPI_SUCCESS) throw std::runtime_error(std::string("MPI: ") + what + " failed");
 }
+
+// Adds the seconds of its lifetime to `total`: the time a collective spends, waiting included.
+class Stopwatch {
+ public:
+  explicit Stopwatch(double& total) : total_(total), start_(MPI_Wtime()) {}
+  ~Stopwatch() { total_ += MPI_Wtime() - start_; }
+  Stopwatch(const Stopwatch&) = delete;
+  Stopwatch& operator=(const Stopwatch&) = delete;
+
+ private:
+  double& total_;
+  double start_;
+};
 #endif
 
 }  // namespace
@@ -68,6 +81,7 @@ void Communicator::abort(int code) const {
 
 void Communicator::minimum(std::span<double> values) const {
   if (size_ == 1 || values.empty()) return;
+  const Stopwatch stopwatch(communicating_);
   check(MPI_Allreduce(MPI_IN_PLACE, values.data(), static_cast<int>(values.size()), MPI_DOUBLE, MPI_MIN,
                       MPI_COMM_WORLD),
         "MPI_Allreduce (minimum)");
@@ -75,6 +89,7 @@ void Communicator::minimum(std::span<double> values) const {
 
 void Communicator::sum(std::span<std::int64_t> values) const {
   if (size_ == 1 || values.empty()) return;
+  const Stopwatch stopwatch(communicating_);
   check(MPI_Allreduce(MPI_IN_PLACE, values.data(), static_cast<int>(values.size()), MPI_INT64_T, MPI_SUM,
                       MPI_COMM_WORLD),
         "MPI_Allreduce (sum)");
@@ -94,9 +109,12 @@ void Communicator::sum(std::span<ExactSum> sums) const {
     special[s] = sums[s].special();
   }
   sum(chunks);
-  check(MPI_Allreduce(MPI_IN_PLACE, special.data(), static_cast<int>(special.size()), MPI_UINT32_T, MPI_BOR,
-                      MPI_COMM_WORLD),
-        "MPI_Allreduce (flags)");
+  {
+    const Stopwatch stopwatch(communicating_);
+    check(MPI_Allreduce(MPI_IN_PLACE, special.data(), static_cast<int>(special.size()), MPI_UINT32_T, MPI_BOR,
+                        MPI_COMM_WORLD),
+          "MPI_Allreduce (flags)");
+  }
   for (std::size_t s = 0; s < sums.size(); ++s) {
     std::copy(chunks.begin() + s * n, chunks.begin() + (s + 1) * n, sums[s].chunks().begin());
     sums[s].special() = special[s];
@@ -106,6 +124,7 @@ void Communicator::sum(std::span<ExactSum> sums) const {
 // Counts and displacements in items (Index, as MPI's int), with an item as one contiguous type.
 void Communicator::share_bytes(std::byte* items, std::size_t item_bytes, std::span<const Index> offsets) const {
   if (size_ == 1) return;
+  const Stopwatch stopwatch(communicating_);
   std::vector<int> counts(size_), displacements(size_);
   for (int r = 0; r < size_; ++r) {
     displacements[r] = offsets[r];

@@ -63,12 +63,16 @@ class Communicator {
   void share(std::span<T> items, std::span<const Index> offsets) const {
     share_bytes(reinterpret_cast<std::byte*>(items.data()), sizeof(T), offsets);
   }
+  // Seconds spent in the collectives above so far, waiting for the other ranks included: the rest
+  // of a rank's time is its own work, what load balancing evens out.
+  double communicating_seconds() const { return communicating_; }
 
  private:
   friend class Session;
   void share_bytes(std::byte* items, std::size_t item_bytes, std::span<const Index> offsets) const;
   int rank_ = 0;
   int size_ = 1;
+  mutable double communicating_ = 0;
 };
 
 // MPI's lifetime: the constructor starts it when the process was launched as one of several ranks

@@ -5,6 +5,7 @@
 // force to it. Structure of arrays, dense indices. Under MPI every rank holds every node (replicated
 // state, docs/SCALING.md) and computes its own share of them.
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "spall/core/archive.hpp"
@@ -30,6 +31,11 @@ struct NodeStore {
   // and shares them with the others every step (the time loop's halo phase).
   Index owned_begin = 0;
   Index owned_end = 0;
+  // Under MPI: every rank's first node, then size() (ranks + 1 entries; empty for one process).
+  // The time loop deals the blocks anew when the ranks' loads drift apart (docs/SCALING.md);
+  // `partition` counts the deals, so that what was planned for a partition knows when it is stale.
+  std::vector<Index> rank_begin;
+  long long partition = 0;
 
   Index size() const { return static_cast<Index>(id.size()); }
 
@@ -49,6 +55,14 @@ struct NodeStore {
   }
 
   bool owns(Index i) const { return i >= owned_begin && i < owned_end; }
+
+  // Rank `rank` computes the nodes [begins[rank], begins[rank + 1]).
+  void deal(std::vector<Index> begins, int rank) {
+    rank_begin = std::move(begins);
+    owned_begin = rank_begin[rank];
+    owned_end = rank_begin[rank + 1];
+    ++partition;
+  }
 
   // Everything but the IDs (the deck's), which must match, and the share of a rank (the run's).
   void checkpoint(Archive& a) {

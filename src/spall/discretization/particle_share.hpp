@@ -1,7 +1,7 @@
 #pragma once
 // Under MPI with replicated state (docs/SCALING.md): which of a formulation's particles this rank
 // computes (those whose node it owns, NodeStore::owns), and its per-particle arrays, each rank's
-// own particles in to every rank. The ranks own blocks of nodes (parallel::block_offsets); when the
+// own particles in to every rank. The ranks own blocks of nodes (NodeStore::rank_begin); when the
 // particles are stored in increasing node order, as the problem builder makes them, every rank's
 // particles are one block of the array too and go in place. Otherwise (the fluid's cell order) they
 // are gathered by rank first and put back.
@@ -23,8 +23,11 @@ class ParticleShare {
  public:
   // The nodes this rank computes, from the store the particles' nodes are in; until then, all.
   void bind(const NodeStore& nodes) {
+    if (bound_ && partition_ == nodes.partition) return;
     owned_begin_ = nodes.owned_begin, owned_end_ = nodes.owned_end;
-    node_count_ = nodes.size();
+    rank_begin_ = nodes.rank_begin;
+    partition_ = nodes.partition;
+    offsets_.clear();  // planned again for the new blocks
     bound_ = true;
   }
   // The particles are now stored in another order: the next share plans the exchange again.
@@ -62,7 +65,8 @@ class ParticleShare {
 
   // Rows that each rank has made for its own particles alone (the others' rows empty in
   // `row_offsets`) become every particle's rows: the offsets are rebuilt from every rank's row
-  // lengths and each array's entries shared. Particles in node order, as for rows().
+  // lengths and each array's entries shared. Particles in node order, as for rows(). Every array
+  // is taken as in use: it is empty on a rank whose particles have no entries (or that has none).
   template <typename... T>
   void complete_rows(std::span<const Index> node, std::vector<Index>& row_offsets, std::vector<T>&... values) {
     if (!bound_ || parallel::world().size() == 1) return;
@@ -80,7 +84,6 @@ class ParticleShare {
     // This rank's entries move up to where the rows before them end (they only grow: the rows
     // before were empty), then every rank's come in.
     const auto move_own = [&](auto& array) {
-      if (array.empty()) return;
       array.resize(row_offsets[n]);
       std::copy_backward(array.begin() + own_begin, array.begin() + own_end,
                          array.begin() + row_offsets[first] + (own_end - own_begin));
@@ -93,11 +96,12 @@ class ParticleShare {
   void plan(std::span<const Index> node) {
     const int ranks = parallel::world().size();
     const Index n = static_cast<Index>(node.size());
-    const std::vector<Index> node_offsets = parallel::block_offsets(node_count_, ranks);
+    if (static_cast<int>(rank_begin_.size()) != ranks + 1)
+      throw std::logic_error("ParticleShare: the nodes were not dealt out to the ranks");
     std::vector<int> rank(n);
     parallel::for_each(n, [&](Index a) {
-      rank[a] = static_cast<int>(std::upper_bound(node_offsets.begin(), node_offsets.end(), node[a]) -
-                                 node_offsets.begin()) - 1;
+      rank[a] = static_cast<int>(std::upper_bound(rank_begin_.begin(), rank_begin_.end(), node[a]) -
+                                 rank_begin_.begin()) - 1;
     });
     offsets_.assign(ranks + 1, 0);
     for (Index a = 0; a < n; ++a) ++offsets_[rank[a] + 1];
@@ -141,7 +145,9 @@ class ParticleShare {
     parallel::world().share(std::span(values), entries);
   }
 
-  Index owned_begin_ = 0, owned_end_ = std::numeric_limits<Index>::max(), node_count_ = 0;
+  Index owned_begin_ = 0, owned_end_ = std::numeric_limits<Index>::max();
+  std::vector<Index> rank_begin_;  // NodeStore::rank_begin of the partition bound to
+  long long partition_ = 0;
   bool bound_ = false;
   std::vector<Index> order_;    // the particles grouped by rank, when not stored so (else empty)
   std::vector<Index> offsets_;  // each rank's first particle in that order, then the count; empty

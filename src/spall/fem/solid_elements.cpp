@@ -513,8 +513,9 @@ void SolidElements::remove_eroded(discretization::NodeStore& nodes) {
 }
 
 void SolidElements::distribute(const discretization::NodeStore& nodes) {
-  if (share_ || parallel::world().size() == 1) return;
+  if ((share_ && share_->partition == nodes.partition) || parallel::world().size() == 1) return;
   Share& s = share_.emplace();
+  s.partition = nodes.partition;
   s.nodes.bind(nodes);
   for (const Block& block : blocks_) {
     const int per = block.nodes_per_element;
@@ -537,9 +538,8 @@ void SolidElements::share_owned(discretization::NodeStore& nodes, bool masses_ch
   share_->nodes(node_, force_, bulk_force_, hourglass_force_, live_elements_);
   if (!masses_changed) return;
   const parallel::Communicator& ranks = parallel::world();
-  const std::vector<Index> offsets = parallel::block_offsets(nodes.size(), ranks.size());
-  ranks.share(std::span(nodes.mass), offsets);
-  ranks.share(std::span(nodes.active), offsets);
+  ranks.share(std::span(nodes.mass), nodes.rank_begin);
+  ranks.share(std::span(nodes.active), nodes.rank_begin);
 }
 
 void SolidElements::compute_forces(discretization::NodeStore& nodes, Real dt) {

@@ -167,9 +167,10 @@ class SolidElements final : public discretization::Formulation {
     std::vector<std::vector<Index>> first_node;             // per block: each element's first node
     std::vector<discretization::ParticleShare> elements;    // per block, by first node
     discretization::ParticleShare nodes;                    // the local nodes
+    long long partition = 0;                                // NodeStore::partition planned for
   };
   bool computes(std::size_t block, Index e) const { return !share_ || share_->computed[block][e]; }
-  // The first call makes share_ when the run has several ranks.
+  // Makes share_ when the run has several ranks, again when the nodes were dealt anew.
   void distribute(const discretization::NodeStore& nodes);
   // Every rank's elements, the forces of its nodes and, when they changed, its nodes' masses.
   void share_owned(discretization::NodeStore& nodes, bool masses_changed);

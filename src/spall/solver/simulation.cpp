@@ -5,6 +5,9 @@
 #include <cmath>
 #include <fmt/format.h>
 #include <limits>
+#include <numeric>
+#include <span>
+#include <vector>
 
 #include "spall/core/log.hpp"
 #include "spall/core/parallel.hpp"
@@ -60,9 +63,9 @@ struct OutputSchedule {
 // to the next (time, last step, energies, output schedules) is its members.
 class TimeLoop::Step {
  public:
-  Step(Problem& problem, const Observer& observer)
-      : problem_(problem), nodes_(problem.nodes), controls_(problem.controls), observer_(observer),
-        v_old_(nodes_.size()), node_blocks_(parallel::block_offsets(nodes_.size(), parallel::world().size())) {
+  Step(Problem& problem, const Observer& observer, const LoadBalance& balance)
+      : problem_(problem), nodes_(problem.nodes), controls_(problem.controls), observer_(observer), balance_(balance),
+        v_old_(nodes_.size()) {
     field_output_ = {controls_.d3plot_dt, controls_.d3plot_dt_curve};
     history_ = {controls_.glstat_dt, nullptr};
     rwforc_ = {controls_.rwforc_dt, controls_.rwforc_dt_curve};
@@ -71,14 +74,15 @@ class TimeLoop::Step {
     runaway_speed_limit_ = runaway_speed_limit();
     initial_mass_ = parallel::exact_sum(nodes_.size(), [&](Index i) { return nodes_.mass[i]; });
     // Under MPI each rank computes a block of the nodes and holds them all (docs/SCALING.md).
-    const int rank = parallel::world().rank();
-    nodes_.owned_begin = node_blocks_[rank];
-    nodes_.owned_end = node_blocks_[rank + 1];
+    const parallel::Communicator& ranks = parallel::world();
+    if (ranks.size() > 1) nodes_.deal(parallel::block_offsets(nodes_.size(), ranks.size()), ranks.rank());
+    checked_at_ = std::chrono::steady_clock::now();
     parallel::for_each(nodes_.size(), [&](Index i) { nodes_.f[i] = Vec3::Zero(); });
   }
 
   // Advances by one step; false once the run has ended (after the last output).
   bool advance() {
+    balance();
     timed(Phase::internal_forces, [&] { internal_forces(); });
     timed(Phase::contact, [&] { contact(); });
     timed(Phase::loads, [&] { loads(); });
@@ -95,6 +99,7 @@ class TimeLoop::Step {
   }
 
   RunSummary summary() const { return {step_.step, step_.time, ledger_, phases_}; }
+  long long rebalances() const { return rebalances_; }
   const PhaseTimes& phases() const { return phases_; }
   const StepInfo& info() const { return step_; }
 
@@ -119,6 +124,28 @@ class TimeLoop::Step {
   }
 
  private:
+  // Under MPI, every balance_.interval steps: each rank's own work since the last check (LoadBalance);
+  // past the threshold, the node blocks are dealt anew. Every rank takes the decision from the same
+  // numbers, so all take it alike.
+  void balance() {
+    const parallel::Communicator& ranks = parallel::world();
+    if (ranks.size() == 1 || balance_.interval <= 0 || step_.step == 0 || step_.step % balance_.interval != 0)
+      return;
+    const auto now = std::chrono::steady_clock::now();
+    std::vector<double> work(ranks.size());
+    work[ranks.rank()] = std::chrono::duration<double>(now - checked_at_).count() -
+                         (ranks.communicating_seconds() - communicating_at_check_);
+    std::vector<Index> one_each(ranks.size() + 1);
+    std::iota(one_each.begin(), one_each.end(), Index(0));
+    ranks.share(std::span(work), one_each);
+    checked_at_ = now;
+    communicating_at_check_ = ranks.communicating_seconds();
+    const double mean = std::accumulate(work.begin(), work.end(), 0.0) / ranks.size();
+    if (!(*std::max_element(work.begin(), work.end()) > (1 + balance_.threshold) * mean)) return;
+    nodes_.deal(balanced_blocks(nodes_.rank_begin, work), ranks.rank());
+    ++rebalances_;
+  }
+
   template <class Work>
   void timed(Phase phase, Work&& work) {
     const auto start = std::chrono::steady_clock::now();
@@ -260,8 +287,8 @@ class TimeLoop::Step {
   void halo() {
     const parallel::Communicator& ranks = parallel::world();
     if (ranks.size() == 1) return;
-    ranks.share(std::span(nodes_.v), node_blocks_);
-    if (!problem_.rigid_bodies.empty()) ranks.share(std::span(nodes_.f), node_blocks_);
+    ranks.share(std::span(nodes_.v), nodes_.rank_begin);
+    if (!problem_.rigid_bodies.empty()) ranks.share(std::span(nodes_.f), nodes_.rank_begin);
     for (auto& f : problem_.formulations) f->share_state(nodes_);
   }
 
@@ -374,8 +401,12 @@ class TimeLoop::Step {
   discretization::NodeStore& nodes_;
   const RunControls& controls_;
   const Observer& observer_;
+  const LoadBalance balance_;
   std::vector<Vec3> v_old_;  // v^{n-1/2} during the update, then v^n (energies)
-  const std::vector<Index> node_blocks_;  // each rank's first node, and the count at the end
+  // The last check of the ranks' work (balance()): when, and the time in collectives until then.
+  std::chrono::steady_clock::time_point checked_at_;
+  double communicating_at_check_ = 0;
+  long long rebalances_ = 0;
   StepInfo step_;
   Real dt_previous_ = 0, dt_first_ = 0, dt_mid_ = 0, velocity_weight_ = 0.5;
   Vec3 base_acceleration_ = Vec3::Zero(), damping_ = Vec3::Zero();
@@ -386,7 +417,8 @@ class TimeLoop::Step {
   PhaseTimes phases_;
 };
 
-TimeLoop::TimeLoop(Problem& problem, const Observer& observer) : step_(std::make_unique<Step>(problem, observer)) {}
+TimeLoop::TimeLoop(Problem& problem, const Observer& observer, const LoadBalance& balance)
+    : step_(std::make_unique<Step>(problem, observer, balance)) {}
 TimeLoop::~TimeLoop() = default;
 
 RunSummary TimeLoop::run(const std::function<bool(const StepInfo&)>& between_steps) {
@@ -401,6 +433,8 @@ RunSummary TimeLoop::run(const std::function<bool(const StepInfo&)>& between_ste
 void TimeLoop::checkpoint(Archive& archive) { step_->checkpoint(archive); }
 
 const PhaseTimes& TimeLoop::phases() const { return step_->phases(); }
+
+long long TimeLoop::rebalances() const { return step_->rebalances(); }
 
 RunSummary run(Problem& problem, const Observer& observer) { return TimeLoop(problem, observer).run(); }
 

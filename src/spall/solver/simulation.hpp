@@ -11,6 +11,7 @@
 #include <string_view>
 
 #include "spall/discretization/energy_ledger.hpp"
+#include "spall/solver/load_balance.hpp"
 #include "spall/solver/problem.hpp"
 
 namespace spall::solver {
@@ -65,10 +66,12 @@ struct RunSummary {
 // phases() holds the time spent in each phase so far, also after such an error.
 class TimeLoop {
  public:
-  TimeLoop(Problem& problem, const Observer& observer);
+  TimeLoop(Problem& problem, const Observer& observer, const LoadBalance& balance = {});
   ~TimeLoop();
   RunSummary run(const std::function<bool(const StepInfo&)>& between_steps = {});
   const PhaseTimes& phases() const;
+  // How often the node blocks were dealt anew to even the ranks' work (LoadBalance).
+  long long rebalances() const;
   // Between two steps (in between_steps, or before run()): writes the state of the problem and of
   // the loop into the archive, or reads it back over a problem built from the same deck, which
   // then continues bitwise as the run that wrote it (core/archive.hpp).

@@ -14,6 +14,7 @@ struct RunInfo {
   std::string deck;
   int threads = 1;
   int ranks = 1;
+  long long rebalances = 0;  // under MPI: how often the nodes were dealt anew (solver::LoadBalance)
   long long steps = 0;
   double end_time = 0;
   double wall_seconds = 0;
