@@ -217,6 +217,7 @@ int run_deck(const RunOptions& options) {
   RestartFiles restart_files(out, model.runrsf ? model.runrsf->files : 1);
   const auto write_checkpoint = [&](const solver::StepInfo& step) {
     const RestartHeader header{version, fs::path(deck).filename().string(), skip, step.step, step.time};
+    loop.complete_state();  // every rank: rank 0 writes the whole state
     return writes ? restart_files.write(header, state) : fs::path();
   };
 

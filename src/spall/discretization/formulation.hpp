@@ -55,6 +55,10 @@ class Formulation {
   // global decisions over the ranks, and here brings in every rank's new state of its own nodes,
   // once a step (the time loop's halo phase).
   virtual void share_state(const NodeStore& /*nodes*/) {}
+  // Under MPI, on every rank before one of them writes a checkpoint: brings in what the
+  // formulation keeps current only where a rank computes it (the state of solid elements with no
+  // node of the rank's), so that the state is whole.
+  virtual void complete_state() {}
   // Writes (or reads back) everything the formulation carries from one step to the next, so that a
   // run continued from a checkpoint is bitwise the uninterrupted one (core/archive.hpp).
   virtual void checkpoint(Archive& archive) = 0;

@@ -514,6 +514,7 @@ void SolidElements::remove_eroded(discretization::NodeStore& nodes) {
 
 void SolidElements::distribute(const discretization::NodeStore& nodes) {
   if ((share_ && share_->partition == nodes.partition) || parallel::world().size() == 1) return;
+  if (share_) share_elements();  // by the old blocks, before they change what each rank computes
   Share& s = share_.emplace();
   s.partition = nodes.partition;
   s.nodes.bind(nodes);
@@ -529,12 +530,19 @@ void SolidElements::distribute(const discretization::NodeStore& nodes) {
   }
 }
 
-void SolidElements::share_owned(discretization::NodeStore& nodes, bool masses_changed) {
+void SolidElements::share_elements() {
   for (std::size_t k = 0; k < blocks_.size(); ++k) {
     Block& b = blocks_[k];
     share_->elements[k](share_->first_node[k], b.mass_scale, b.state, b.thermo, b.back_stress, b.volume,
                         b.hourglass_energy, b.hourglass_force, b.eroded, b.strain, b.effective_strain);
   }
+}
+
+void SolidElements::complete_state() {
+  if (share_) share_elements();
+}
+
+void SolidElements::share_owned(discretization::NodeStore& nodes, bool masses_changed) {
   share_->nodes(node_, force_, bulk_force_, hourglass_force_, live_elements_);
   if (!masses_changed) return;
   const parallel::Communicator& ranks = parallel::world();
@@ -612,9 +620,14 @@ void SolidElements::compute_forces(discretization::NodeStore& nodes, Real dt) {
   if (found.eroding > 0) remove_eroded(nodes);
   if (share_) share_owned(nodes, found.eroding > 0 || mass_scaling_.active);
   if (mass_scaling_.active) {
+    // Over the elements whose first node each rank owns (only those it computes are current there).
     Real added = 0;
-    for (const Block& block : blocks_)
-      added += parallel::exact_sum(block.size(), [&](Index e) { return (block.mass_scale[e] - 1) * block.mass[e]; });
+    for (const Block& block : blocks_) {
+      const int per = block.nodes_per_element;
+      added += parallel::exact_sum(block.size(), [&](Index e) {
+        return nodes.owns(node_[block.node[per * e]]) ? (block.mass_scale[e] - 1) * block.mass[e] : Real(0);
+      }, share_ ? &parallel::world() : nullptr);
+    }
     mass_scaling_.record(added);
   } else {
     mass_scaling_.idle();

@@ -106,10 +106,11 @@ class SolidElements final : public discretization::Formulation {
     erosion_step_ = step;
   }
   bool scale_mass_below(Real step, bool first_step_only) override;
+  void complete_state() override;
   void checkpoint(Archive& archive) override;
 
   Index element_count() const;
-  Index eroded_count() const;
+  Index eroded_count() const;  // under MPI: of the elements this rank computes, all after complete_state()
   std::size_t memory_bytes() const;
   const std::vector<PartSettings>& parts() const { return parts_; }
 
@@ -160,8 +161,10 @@ class SolidElements final : public discretization::Formulation {
 
   // Under MPI (replicated state, docs/SCALING.md): a rank computes every element with a node it owns,
   // so that each of its nodes sums the forces of all its elements in the serial order (the elements
-  // on a rank boundary are computed by both ranks, alike), and shares what it owns: the elements
-  // whose first node it owns, and its nodes' forces.
+  // on a rank boundary are computed by both ranks, alike), and shares its nodes' forces every step.
+  // The state of an element no node of the rank's touches is read by nobody there, so the elements
+  // (each by the owner of its first node) are shared only when the state must be whole: before a
+  // checkpoint, and before the nodes are dealt anew (a rank may then compute other elements).
   struct Share {
     std::vector<std::vector<std::uint8_t>> computed;        // per block, per element
     std::vector<std::vector<Index>> first_node;             // per block: each element's first node
@@ -170,9 +173,12 @@ class SolidElements final : public discretization::Formulation {
     long long partition = 0;                                // NodeStore::partition planned for
   };
   bool computes(std::size_t block, Index e) const { return !share_ || share_->computed[block][e]; }
-  // Makes share_ when the run has several ranks, again when the nodes were dealt anew.
+  // Makes share_ when the run has several ranks, again (after share_elements) when the nodes were
+  // dealt anew.
   void distribute(const discretization::NodeStore& nodes);
-  // Every rank's elements, the forces of its nodes and, when they changed, its nodes' masses.
+  // Every rank's elements (those whose first node it owns) to every rank.
+  void share_elements();
+  // The forces of every rank's nodes and, when they changed, its nodes' masses.
   void share_owned(discretization::NodeStore& nodes, bool masses_changed);
 
   std::vector<PartSettings> parts_;

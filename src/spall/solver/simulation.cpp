@@ -103,6 +103,10 @@ class TimeLoop::Step {
   const PhaseTimes& phases() const { return phases_; }
   const StepInfo& info() const { return step_; }
 
+  void complete_state() {
+    for (auto& f : problem_.formulations) f->complete_state();
+  }
+
   // Between two steps: the problem's state (nodes, formulations, walls, contacts, bodies), then the
   // loop's own (time, last steps, energies, output schedules, the time spent in each phase).
   void checkpoint(Archive& a) {
@@ -429,6 +433,8 @@ RunSummary TimeLoop::run(const std::function<bool(const StepInfo&)>& between_ste
   }
   return step_->summary();
 }
+
+void TimeLoop::complete_state() { step_->complete_state(); }
 
 void TimeLoop::checkpoint(Archive& archive) { step_->checkpoint(archive); }
 

@@ -74,7 +74,9 @@ class TimeLoop {
   long long rebalances() const;
   // Between two steps (in between_steps, or before run()): writes the state of the problem and of
   // the loop into the archive, or reads it back over a problem built from the same deck, which
-  // then continues bitwise as the run that wrote it (core/archive.hpp).
+  // then continues bitwise as the run that wrote it (core/archive.hpp). Under MPI every rank calls
+  // complete_state() first (a collective), then one rank writes.
+  void complete_state();
   void checkpoint(Archive& archive);
 
  private:
