@@ -14,6 +14,25 @@
 #include "spall/core/parallel.hpp"
 #include "spall/core/version.hpp"
 
+namespace {
+
+// A number above (or, with `zero_allowed`, at least) zero, with a message that says so (CLI11's
+// own names the whole range of a double).
+CLI::Validator sign_check(bool zero_allowed) {
+  return CLI::Validator(
+      [zero_allowed](std::string& input) -> std::string {
+        double value = 0;
+        if (!CLI::detail::lexical_cast(input, value)) return "not a number: " + input;
+        if (value > 0 || (zero_allowed && value == 0)) return {};
+        return (zero_allowed ? "must be zero or more, got " : "must be more than zero, got ") + input;
+      },
+      zero_allowed ? "NONNEGATIVE" : "POSITIVE");
+}
+const CLI::Validator positive = sign_check(false);
+const CLI::Validator non_negative = sign_check(true);
+
+}  // namespace
+
 int main(int argc, char** argv) {
   const spall::parallel::Session mpi;
   CLI::App app{"Spall: meshfree explicit dynamics for solids and fluids (LS-DYNA keyword input)"};
@@ -31,22 +50,22 @@ int main(int argc, char** argv) {
   double memory_limit_gb = 0;
   run->add_option("--memory-limit", memory_limit_gb,
                   "Refuse a deck whose particles would need more than this many GB (default: the memory available)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive);
   run->add_option("--checkpoint-every", options.checkpoint_every,
                   "Write a restart file every N steps (overrides *DATABASE_BINARY_RUNRSF's CYCL)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive);
   auto* output = run->add_option("-o,--output", options.output_dir,
                                  "Output folder (default: the deck's name with .out, in the working folder)");
   output->excludes(restart);
   run->add_option("--threads", options.threads, "OpenMP threads (default: all cores)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive);
   run->add_option("--balance-every", options.balance_every,
                   "Under mpirun: compare the ranks' work every N steps (default 100)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive);
   run->add_option("--balance-threshold", options.balance_threshold,
                   "Under mpirun: deal the nodes out anew when the busiest rank works this fraction more than the "
                   "mean (default 0.1: 10 %; 0: at every check)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(non_negative);
 
   run->add_option("--skip", options.skip,
                   "Run without this unsupported physics keyword (e.g. CONTACT_AUTOMATIC_SINGLE_SURFACE, or CONTACT for "
@@ -56,7 +75,7 @@ int main(int argc, char** argv) {
   auto* check = app.add_subcommand("check", "Read and check a deck without running it");
   check->add_option("deck", check_deck, "LS-DYNA keyword deck (.k)")->required();
   check->add_option("--skip", check_skip, "As for run: check without this unsupported physics keyword");
-  check->add_option("--memory-limit", memory_limit_gb, "As for run")->check(CLI::PositiveNumber);
+  check->add_option("--memory-limit", memory_limit_gb, "As for run")->check(positive);
 
   spall::cli::SurfaceOptions surface_options;
   int surface_threads = 0;
@@ -68,10 +87,10 @@ int main(int argc, char** argv) {
                       "Snapshot at this time, or the last before it (default: the last snapshot)");
   surface->add_option("--iso", surface_options.iso,
                       "Colour-field value on the surface (default 0.5: half the interior colour)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive);
   surface->add_option("--cell", surface_options.cell,
                       "Grid spacing in the deck's length unit (default: half the median smoothing length)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive);
   // One name per --field, so that a field name is never taken for the folder.
   surface->add_option("--field", surface_options.fields,
                       "Point field to carry onto the surface's vertices; repeat --field for more (default: every field)")
@@ -79,7 +98,7 @@ int main(int argc, char** argv) {
   surface->add_option("--part", surface_options.parts,
                       "Only the particles of this part (PID); repeat --part for more (default: every SPH particle)")
       ->allow_extra_args(false);
-  surface->add_option("--threads", surface_threads, "Threads (default: all cores)")->check(CLI::PositiveNumber);
+  surface->add_option("--threads", surface_threads, "Threads (default: all cores)")->check(positive);
 
   try {
     app.parse(argc, argv);

@@ -188,6 +188,13 @@ set -e
 [ "$binary_code" -eq 2 ] && grep -q 'not a keyword file (binary data' "$work/binary.err" &&
   [ "$(wc -l <"$work/binary.err")" -eq 1 ] || { cat "$work/binary.err"; fail "a binary file as the deck"; }
 
+# A bad option value: one line naming the option and what it must be, exit 2.
+set +e
+"$cli" run "$work/punch.k" -o "$work/bad_option" --balance-threshold -1 >/dev/null 2>"$work/option.err"; option_code=$?
+set -e
+[ "$option_code" -eq 2 ] && grep -q '^--balance-threshold: must be zero or more, got -1$' "$work/option.err" ||
+  { cat "$work/option.err"; fail "a negative --balance-threshold"; }
+
 # A rigid tool turning at 3000 rpm (*MAT_RIGID, *BOUNDARY_PRESCRIBED_MOTION_RIGID DOF 7, LCTM
 # holding the step): rbdout.csv has the body's angular velocity, 314.16 rad/s about z.
 {
