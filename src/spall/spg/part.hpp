@@ -122,8 +122,8 @@ class Part {
   Real current_spacing(Index i) const;
   // Whether this rank computes particle i's strain and force (NodeStore::owns; every particle when
   // the run is one process). Under MPI (replicated state, docs/SCALING.md) every rank smooths, runs
-  // the stabilization, the mass scaling, the bond search and the bond failure of every particle,
-  // from state that is shared once computed; of a kernel update, the shape functions and the
+  // the stabilization, the mass scaling and the bond failure of every particle, from state that is
+  // shared once computed; of a kernel update, the bond search, the shape functions and the
   // integration-constraint solve are each rank's for its own particles, and shared.
   bool owns(Index i) const { return share_.owns(node_[i]); }
   void correct_integration_constraint(bool at_setup);
