@@ -91,8 +91,9 @@ using VectorImplementations = ::testing::Types<simd::lanes::Pack<4>
                                                >;
 TYPED_TEST_SUITE(VectorLanes, VectorImplementations);
 
-// The double packs carry the neighbour search's distance test (neighbors/verlet_list.cpp) and
-// nothing more: arithmetic, the fused multiply-add, the comparison and the left-pack of indices.
+// The double packs carry the neighbour search's distance test (neighbors/verlet_list.cpp) and the
+// one-point hexahedra (fem/solid_elements.cpp): arithmetic, the fused multiply-add, the comparison,
+// abs, max, min, sqrt and the left-pack of indices.
 TYPED_TEST(VectorLanes, EveryOperationMatchesTheScalarLanesExactly) {
   using P = TypeParam;
   constexpr int W = P::width;
@@ -105,6 +106,9 @@ TYPED_TEST(VectorLanes, EveryOperationMatchesTheScalarLanesExactly) {
     EXPECT_EQ(lanes_of(va + vb), lanes_of(sa + sb));
     EXPECT_EQ(lanes_of(va - vb), lanes_of(sa - sb));
     EXPECT_EQ(lanes_of(va * vb), lanes_of(sa * sb));
+    EXPECT_EQ(lanes_of(va / vb), lanes_of(sa / sb));
+    EXPECT_EQ(lanes_of(-va), lanes_of(-sa));
+    EXPECT_EQ(lanes_of(abs(va)), lanes_of(abs(sa)));
     EXPECT_EQ(lanes_of(fma(va, vb, vc)), lanes_of(fma(sa, sb, sc)));
     EXPECT_EQ((va < vb).lanes(), (sa < sb).lanes());
     EXPECT_EQ(lanes_of(P(a[0])), lanes_of(S(a[0])));

@@ -1,6 +1,6 @@
 #pragma once
 // A pack of doubles processed as one (simd::Pack): the lanes of the neighbour search's distance
-// tests, with just the operations that search takes. Eight lanes with AVX-512 (x86-64-v4, chosen
+// tests and of the one-point hexahedra (fem/solid_elements.cpp, an element a lane). Eight lanes with AVX-512 (x86-64-v4, chosen
 // by the build where the machine has it), four with AVX2 and FMA (x86-64-v3), otherwise four
 // scalars with the same operations lane by lane, so that a loop is written once (the trimmed
 // stencil's row reach takes the same pack). The solid's pair loops and the kernels' gradient
@@ -197,6 +197,11 @@ struct Real4 {
   friend Real4 operator+(Real4 a, Real4 b) { return {_mm256_add_pd(a.v, b.v)}; }
   friend Real4 operator-(Real4 a, Real4 b) { return {_mm256_sub_pd(a.v, b.v)}; }
   friend Real4 operator*(Real4 a, Real4 b) { return {_mm256_mul_pd(a.v, b.v)}; }
+  friend Real4 operator/(Real4 a, Real4 b) { return {_mm256_div_pd(a.v, b.v)}; }
+  friend Real4 operator-(Real4 a) { return {_mm256_xor_pd(a.v, _mm256_set1_pd(-0.0))}; }
+  Real4& operator+=(Real4 b) { return *this = *this + b; }
+  Real4& operator-=(Real4 b) { return *this = *this - b; }
+  friend Real4 abs(Real4 a) { return {_mm256_andnot_pd(_mm256_set1_pd(-0.0), a.v)}; }
   friend Mask4 operator<(Real4 a, Real4 b) { return {_mm256_cmp_pd(a.v, b.v, _CMP_LT_OQ)}; }
   // a + b c, rounded once.
   friend Real4 fma(Real4 b, Real4 c, Real4 a) { return {_mm256_fmadd_pd(b.v, c.v, a.v)}; }
@@ -483,11 +488,18 @@ struct Real8 {
   friend Real8 operator+(Real8 a, Real8 b) { return {_mm512_add_pd(a.v, b.v)}; }
   friend Real8 operator-(Real8 a, Real8 b) { return {_mm512_sub_pd(a.v, b.v)}; }
   friend Real8 operator*(Real8 a, Real8 b) { return {_mm512_mul_pd(a.v, b.v)}; }
+  friend Real8 operator/(Real8 a, Real8 b) { return {_mm512_div_pd(a.v, b.v)}; }
+  friend Real8 operator-(Real8 a) { return {_mm512_xor_pd(a.v, _mm512_set1_pd(-0.0))}; }
+  Real8& operator+=(Real8 b) { return *this = *this + b; }
+  Real8& operator-=(Real8 b) { return *this = *this - b; }
+  friend Real8 abs(Real8 a) { return {_mm512_abs_pd(a.v)}; }
   friend Mask8 operator<(Real8 a, Real8 b) { return {_mm512_cmp_pd_mask(a.v, b.v, _CMP_LT_OQ)}; }
   // a + b c, rounded once.
   friend Real8 fma(Real8 b, Real8 c, Real8 a) { return {_mm512_fmadd_pd(b.v, c.v, a.v)}; }
-  friend Real8 max(Real8 a, Real8 b) { return {_mm512_max_pd(a.v, b.v)}; }
-  friend Real8 min(Real8 a, Real8 b) { return {_mm512_min_pd(a.v, b.v)}; }
+  // The zero-masked forms of max, min and gather: GCC 12 warns that the plain ones' undefined
+  // pass-through operand is used uninitialized where they inline (GCC bug 105593); same instructions.
+  friend Real8 max(Real8 a, Real8 b) { return {_mm512_maskz_max_pd(0xFF, a.v, b.v)}; }
+  friend Real8 min(Real8 a, Real8 b) { return {_mm512_maskz_min_pd(0xFF, a.v, b.v)}; }
   friend Real8 sqrt(Real8 a) { return {_mm512_sqrt_pd(a.v)}; }
   friend Real8 floor(Real8 a) { return {_mm512_floor_pd(a.v)}; }
   friend Real8 select(Mask8 m, Real8 a, Real8 b) { return {_mm512_mask_blend_pd(m.bits, b.v, a.v)}; }
@@ -496,7 +508,7 @@ struct Real8 {
   static Real8 gather(const Real* base, const Index* index, int offset = 0) {
     __m256i i = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(index));
     if constexpr (Stride != 1) i = _mm256_mullo_epi32(i, _mm256_set1_epi32(Stride));
-    return {_mm512_i32gather_pd(i, base + offset, 8)};
+    return {_mm512_mask_i32gather_pd(_mm512_setzero_pd(), 0xFF, i, base + offset, 8)};
   }
   // Writes the indices in[i] whose bit i is set in `lanes` to out[0..], in order; writes all
   // eight. Compressed in a register and stored whole: a compressing store to memory is several

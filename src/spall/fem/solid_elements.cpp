@@ -16,6 +16,7 @@
 #include "spall/core/error.hpp"
 #include "spall/core/parallel.hpp"
 #include "spall/fem/hexahedron.hpp"
+#include "spall/fem/lanes.hpp"
 #include "spall/fem/tetrahedron.hpp"
 #include "spall/materials/elastic.hpp"
 #include "spall/materials/radial_return.hpp"
@@ -88,6 +89,7 @@ SolidElements::SolidElements(std::vector<PartSettings> parts, const std::vector<
     }
   force_.assign(node_.size(), Vec3::Zero());
   for (const auto& p : parts_) {
+    hourglass_ |= p.elform == 1 && p.hourglass.form != HourglassForm::none;
     const Erosion& er = p.erosion;
     may_erode_ |= er.max_pressure || er.min_pressure || er.max_principal_stress || er.von_mises ||
                   er.max_principal_strain || er.min_principal_strain || er.effective_strain ||
@@ -97,11 +99,6 @@ SolidElements::SolidElements(std::vector<PartSettings> parts, const std::vector<
     failed.damage = 1;
     may_erode_ |= er.material_failure && materials::erodes_element(p.material, failed);
   }
-  bulk_force_.assign(node_.size(), Vec3::Zero());
-  if (std::any_of(parts_.begin(), parts_.end(), [](const PartSettings& p) {
-        return p.elform == 1 && p.hourglass.form != HourglassForm::none;
-      }))
-    hourglass_force_.assign(node_.size(), Vec3::Zero());
 
   const auto kind_of = [&](const ElementSetup& e) {
     const int elform = parts_[e.part].elform;
@@ -139,6 +136,7 @@ SolidElements::SolidElements(std::vector<PartSettings> parts, const std::vector<
     if (kind == Kind::hexahedron) block.hourglass_energy.assign(n, 0);
     if (stiffness) block.hourglass_force.assign(hourglass_modes * n, Vec3::Zero());
     block.eroded.assign(n, 0);
+    block.dissipation.assign(2 * n, 0);
     if (kinematic) block.back_stress.assign(block.state.size(), Mat3::Zero());
     if (needs_strain) {
       block.strain.assign(n, Mat3::Zero());
@@ -223,52 +221,130 @@ HexStep hex_step(const std::array<Vec3, 8>& x, const std::array<Vec3, 8>& v, Rea
   return s;
 }
 
-// sum_k u_k (x) g_k over k = 1..6: V times the mean gradient of the field whose basis
-// coefficients are u (hexahedron.hpp).
-Mat3 basis_gradient(const HexVectors& u, const HexVectors& g) {
-  Mat3 m = Mat3::Zero();
-  for (int k = 1; k < 7; ++k) m.noalias() += u[k] * g[k].transpose();
+Mat3 to_mat3(const LaneMatrix<Real>& a) {
+  Mat3 m;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) m(i, j) = a.m[i][j];
   return m;
+}
+
+// The one-point hexahedra run side by side, an element a lane.
+using Lane = simd::Pack;
+constexpr int lanes = Lane::width;
+using LaneVec = LaneVector<Lane>;
+
+// values[index[l]] of every lane l.
+LaneVec gather_lanes(const std::vector<Vec3>& values, const Index* index) {
+  const Real* base = values.data()->data();
+  return {Lane::gather<3>(base, index, 0), Lane::gather<3>(base, index, 1), Lane::gather<3>(base, index, 2)};
+}
+
+// The lanes of a pack, and a pack of lanes.
+struct LaneValues {
+  alignas(64) Real v[lanes];
+  LaneValues() = default;
+  explicit LaneValues(Lane p) { p.store(v); }
+  Real operator[](int l) const { return v[l]; }
+};
+
+// Adds the nodal vectors f of the live lanes to their elements' nodes (local node indices).
+void scatter_lanes(const HexArray<LaneVec>& f, const Index* const* local, const bool* live, std::vector<Vec3>& to) {
+  for (int a = 0; a < 8; ++a) {
+    const LaneValues x(f[a][0]), y(f[a][1]), z(f[a][2]);
+    for (int l = 0; l < lanes; ++l)
+      if (live[l]) to[local[l][a]] += Vec3(x[l], y[l], z[l]);
+  }
 }
 
 }  // namespace
 
-// One element over the step: its strain rate at the middle of the step (x^{n-1/2} = x^n - dt/2
-// v^{n-1/2}), the material update of its points, and its forces at x^n added to the three force
-// shares. Returns its stable step, or -1 when its volume is no longer positive.
-template <>
-Real SolidElements::element_step<Kind::hexahedron>(Block& block, Index e, discretization::NodeStore& nodes, Real dt) {
-  const Index* local = &block.node[8 * e];
-  const PartSettings& part = parts_[block.part[e]];
-  const auto [x, v] = gather<8>(local, node_, nodes);
-  // Everything in the element's basis.
-  const HexStep geometry = hex_step(x, v, dt);
-  if (geometry.inverted()) return -1;
-  const auto& [a, av, now, half] = geometry;
-  const Real volume = now.volume, rho = block.mass[e] / volume;
-  const Mat3 L = basis_gradient(av, half.g) / half.volume;
-  const Real volume_rate = L.trace();
-  materials::PointState& state = block.state[e];
-  materials::PointThermo& thermo = block.thermo[e];
-  Mat3* back_stress = materials::kept_back_stress(block.back_stress, e);
-  if (dt > 0) materials::advance_point(part.material, state, thermo, L, dt, rho, back_stress);
-  const Real c = thermo.sound_speed;
-  const Real stable_step = scaled_step(block, e, hex_characteristic_length(a, now.g, volume), c, volume_rate, nodes);
-  if (fails(block, e, L, dt, stable_step)) return -2;
-  const Real l = cube_root(volume);  // the length of the bulk viscosity and the hourglass control
-  const Real q = bulk_viscosity(rho, l, c, volume_rate, part);
-  // f_I = -sigma b_I = sum_k c_kI (-sigma g_k / 8): the shares' basis coefficients, then nodal.
-  const Mat3 sigma = state.deviatoric_stress - thermo.pressure * Mat3::Identity();
-  HexVectors stress;
-  stress[0] = stress[7] = Vec3::Zero();
-  for (int k = 1; k < 7; ++k) stress[k] = Real(-0.125) * (sigma * now.g[k]);
-  scatter(hex_nodal(stress), local, force_);
-  if (q != 0) {  // only while the element shrinks
-    HexVectors bulk;
-    bulk[0] = bulk[7] = Vec3::Zero();
-    for (int k = 1; k < 7; ++k) bulk[k] = Real(0.125) * q * now.g[k];
-    scatter(hex_nodal(bulk), local, bulk_force_);
+// One-point hexahedra of one part (count <= the pack's lanes), an element a lane; the lanes past
+// count repeat the first element, and what they compute is dropped. Each element: its strain rate
+// at the middle of the step (x^{n-1/2} = x^n - dt/2 v^{n-1/2}), the material update of its point
+// (one lane at a time), and its forces at x^n added to its nodes. steps[l]: element
+// l's stable step, -1 when its volume is no longer positive, -2 when it fails.
+void SolidElements::hexahedra(Block& block, const Index* elements, int count, discretization::NodeStore& nodes,
+                              Real dt, Real* steps) {
+  const PartSettings& part = parts_[block.part[elements[0]]];
+  Index e[lanes];
+  const Index* local[lanes];
+  alignas(64) Index node[8][lanes];  // node a of each lane's element, in the node store
+  for (int l = 0; l < lanes; ++l) {
+    e[l] = elements[l < count ? l : 0];
+    local[l] = &block.node[8 * e[l]];
+    for (int a = 0; a < 8; ++a) node[a][l] = node_[local[l][a]];
   }
+  HexArray<LaneVec> x, v;
+  for (int a = 0; a < 8; ++a) x[a] = gather_lanes(nodes.x, node[a]), v[a] = gather_lanes(nodes.v, node[a]);
+  // Everything in the element's basis: a(x^n), a(v), and the volume gradients at x^n and at
+  // x^{n-1/2}, whose coefficients are a(x^n) - dt/2 a(v) (the map is linear in the nodes).
+  const HexArray<LaneVec> a = hex_coefficients(x), av = hex_coefficients(v);
+  HexArray<LaneVec> a_half;
+  const Lane half_step(Real(0.5) * dt);
+  for (int k = 0; k < 8; ++k) a_half[k] = a[k] - half_step * av[k];
+  const auto now = hex_volume_gradient(a), half = hex_volume_gradient(a_half);
+  alignas(64) Real mass[lanes];
+  for (int l = 0; l < lanes; ++l) mass[l] = block.mass[e[l]];
+  const Lane volume = now.volume, rho = Lane::load(mass) / volume;
+  const LaneMatrix<Lane> L = basis_gradient(av, half.g) / half.volume;
+  const Lane volume_rate = L.trace();
+  const LaneValues volume_of(volume), half_volume_of(half.volume), rho_of(rho), rate_of(volume_rate),
+      length_of(hex_characteristic_length(a, now.g, volume));
+  LaneValues L_of[3][3];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) L_of[i][j] = LaneValues(L.m[i][j]);
+
+  // The material, lane by lane: the stress, sound speed, length and bulk viscosity of each element.
+  bool live[lanes] = {};
+  LaneValues sigma_of[3][3], c_of, l_of, q_of;
+  for (int l = 0; l < lanes; ++l) {
+    for (auto& row : sigma_of)
+      for (auto& s : row) s.v[l] = 0;
+    c_of.v[l] = l_of.v[l] = q_of.v[l] = 0;
+    if (l >= count) continue;
+    steps[l] = -1;
+    if (!(volume_of[l] > 0) || !(half_volume_of[l] > 0)) continue;
+    Mat3 Ll;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) Ll(i, j) = L_of[i][j][l];
+    materials::PointState& state = block.state[e[l]];
+    materials::PointThermo& thermo = block.thermo[e[l]];
+    if (dt > 0)
+      materials::advance_point(part.material, state, thermo, Ll, dt, rho_of[l],
+                               materials::kept_back_stress(block.back_stress, e[l]));
+    const Real c = thermo.sound_speed;
+    const Real stable_step = scaled_step(block, e[l], length_of[l], c, rate_of[l], nodes);
+    if (fails(block, e[l], Ll, dt, stable_step)) {
+      steps[l] = -2;
+      continue;
+    }
+    const Real length = cube_root(volume_of[l]);  // of the bulk viscosity and the hourglass control
+    c_of.v[l] = c, l_of.v[l] = length;
+    q_of.v[l] = bulk_viscosity(rho_of[l], length, c, rate_of[l], part);
+    const Mat3 sigma = state.deviatoric_stress - thermo.pressure * Mat3::Identity();
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) sigma_of[i][j].v[l] = sigma(i, j);
+    steps[l] = stable_step;
+    live[l] = true;
+  }
+
+  // f_I = -(sigma - q I) b_I = sum_k c_kI (-(sigma - q I) g_k / 8), the bulk viscosity q acting only
+  // while the element shrinks: the basis coefficients of the forces, the hourglass control's added
+  // below, then nodal. Minus the power of q's forces at the element's rates, -sum_I q b_I . v_I =
+  // -q sum_k g_k . a_k(v), is what it dissipates (book_energies).
+  LaneMatrix<Lane> sigma;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) sigma.m[i][j] = Lane::load(sigma_of[i][j].v);
+  const Lane q = Lane::load(q_of.v);
+  for (int d = 0; d < 3; ++d) sigma.m[d][d] = sigma.m[d][d] - q;
+  HexArray<LaneVec> force;
+  force[0] = force[7] = zero_vector<LaneVec>();
+  Lane bulk_power(0);
+  for (int k = 1; k < 7; ++k) {
+    force[k] = Lane(-0.125) * (sigma * now.g[k]);
+    bulk_power += dot(av[k], now.g[k]);
+  }
+  const LaneValues bulk_power_of(-(q * bulk_power));
 
   // Hourglass control (Flanagan & Belytschko 1981): the rates qdot_alpha = sum_I v_I gamma_alphaI on
   // gamma_alphaI = Gamma_alphaI - (h_alpha . b_I) / V, h_alpha = sum_J x_J Gamma_alphaJ = 8 a_{4+alpha},
@@ -280,37 +356,52 @@ Real SolidElements::element_step<Kind::hexahedron>(Block& block, Index e, discre
   // -Q_alpha of monomial 4 + alpha, and sum_alpha Q_alpha (h_alpha . b_I) / V = M b_I / V with
   // M = sum_alpha Q_alpha (x) h_alpha adds M g_k / (8 V) to the others.
   const HourglassControl& hg = part.hourglass;
+  LaneValues hourglass_power_of(Lane(0));
   if (hg.form != HourglassForm::none) {
     const bool orthogonal = hg.form != HourglassForm::viscous_base;
-    const Mat3 velocity_gradient = orthogonal ? Mat3(basis_gradient(av, now.g) / volume) : Mat3::Zero();
-    const Real viscous = hg.coefficient * rho * c * l * l / 4;
-    const Real stiffness = hg.coefficient * 2 * part.material.shear_modulus * l / 4;
-    HexVectors hourglass;
-    Mat3 M = Mat3::Zero();
-    Real power = 0;
+    const bool stiffness_form = hg.form == HourglassForm::stiffness;
+    const LaneMatrix<Lane> velocity_gradient =
+        orthogonal ? basis_gradient(av, now.g) / volume : LaneMatrix<Lane>::zero();
+    const Lane c = Lane::load(c_of.v), length = Lane::load(l_of.v);
+    const Lane viscous = Lane(hg.coefficient) * rho * c * length * length / Lane(4);
+    const Lane stiffness = Lane(hg.coefficient * 2 * part.material.shear_modulus) * length / Lane(4);
+    LaneMatrix<Lane> M = LaneMatrix<Lane>::zero();
+    Lane power(0);
     for (int alpha = 0; alpha < hourglass_modes; ++alpha) {
-      const Vec3 h = 8 * a[4 + alpha];
-      const Vec3 rate = 8 * av[4 + alpha] - velocity_gradient * h;
-      Vec3 Q;
-      if (hg.form == HourglassForm::stiffness) {
-        Vec3& stored = block.hourglass_force[hourglass_modes * e + alpha];
-        stored += (stiffness * dt) * rate;
-        Q = stored;
+      const LaneVec h = Lane(8) * a[4 + alpha];
+      const LaneVec rate = Lane(8) * av[4 + alpha] - velocity_gradient * h;
+      LaneVec Q;
+      if (stiffness_form) {
+        LaneValues stored[3];
+        for (int l = 0; l < lanes; ++l)
+          for (int d = 0; d < 3; ++d) stored[d].v[l] = block.hourglass_force[hourglass_modes * e[l] + alpha][d];
+        Q = LaneVec(Lane::load(stored[0].v), Lane::load(stored[1].v), Lane::load(stored[2].v)) +
+            (stiffness * Lane(dt)) * rate;
+        const LaneValues qx(Q[0]), qy(Q[1]), qz(Q[2]);
+        for (int l = 0; l < lanes; ++l)
+          if (live[l]) block.hourglass_force[hourglass_modes * e[l] + alpha] = Vec3(qx[l], qy[l], qz[l]);
       } else {
         Q = viscous * rate;
       }
-      hourglass[4 + alpha] = -Q;
-      if (orthogonal) M.noalias() += Q * h.transpose();
-      power += Q.dot(rate);
+      force[4 + alpha] = force[4 + alpha] - Q;
+      if (orthogonal) M.add_outer(Q, h);
+      power += dot(Q, rate);
     }
-    hourglass[0] = Vec3::Zero();
-    for (int k = 1; k < 4; ++k) hourglass[k] = M * now.g[k] / (8 * volume);
-    for (int k = 4; k < 7; ++k) hourglass[k] += M * now.g[k] / (8 * volume);
-    scatter(hex_nodal(hourglass), local, hourglass_force_);
-    block.hourglass_energy[e] += dt * power;  // for output: at the step's own rates
+    const Lane eight_volume = Lane(8) * volume;
+    for (int k = 1; k < 7; ++k) {
+      const LaneVec m = M * now.g[k];
+      force[k] += LaneVec(m[0] / eight_volume, m[1] / eight_volume, m[2] / eight_volume);
+    }
+    hourglass_power_of = LaneValues(power);
   }
-  block.volume[e] = volume;
-  return stable_step;
+  scatter_lanes(hex_nodal(force), local, live, force_);
+  for (int l = 0; l < lanes; ++l) {
+    if (!live[l]) continue;
+    block.volume[e[l]] = volume_of[l];
+    block.dissipation[2 * e[l]] = bulk_power_of[l];
+    block.dissipation[2 * e[l] + 1] = hourglass_power_of[l];
+    block.hourglass_energy[e[l]] += dt * hourglass_power_of[l];  // for output
+  }
 }
 
 // The fully integrated hexahedron (ELFORM 2): at each of the 2 x 2 x 2 Gauss points its own
@@ -355,21 +446,22 @@ Real SolidElements::element_step<Kind::hexahedron_selective_reduced>(Block& bloc
   }
   pressure /= volume;  // the Gauss points' weights sum to the volume (det J integrated exactly)
   const Real stable_step = scaled_step(block, e, hex_characteristic_length(a, now.g, volume), c, volume_rate, nodes);
-  const Mat3 L = part.erosion.needs_strain() ? Mat3(basis_gradient(av, half.g) / half.volume) : Mat3::Zero();
+  const Mat3 L = part.erosion.needs_strain() ? to_mat3(basis_gradient(av, half.g) / half.volume) : Mat3::Zero();
   if (fails(block, e, L, dt, stable_step)) return -2;
+  // The mean pressure's and the bulk viscosity's p b_I + q b_I (q only while the element shrinks;
+  // minus its power at the element's rates, -q sum_k g_k . a_k(v), is what it dissipates).
   const Real q = bulk_viscosity(rho, cube_root(volume), c, volume_rate, part);
   HexVectors pressure_share;
   pressure_share[0] = pressure_share[7] = Vec3::Zero();
-  for (int k = 1; k < 7; ++k) pressure_share[k] = Real(0.125) * pressure * now.g[k];
+  Real bulk_power = 0;
+  for (int k = 1; k < 7; ++k) {
+    pressure_share[k] = Real(0.125) * (pressure + q) * now.g[k];
+    bulk_power += av[k].dot(now.g[k]);
+  }
   const HexVectors p_b = hex_nodal(pressure_share);
   for (int n = 0; n < 8; ++n) f[n] += p_b[n];
   scatter(f, local, force_);
-  if (q != 0) {  // only while the element shrinks
-    HexVectors bulk;
-    bulk[0] = bulk[7] = Vec3::Zero();
-    for (int k = 1; k < 7; ++k) bulk[k] = Real(0.125) * q * now.g[k];
-    scatter(hex_nodal(bulk), local, bulk_force_);
-  }
+  block.dissipation[2 * e] = -(q * bulk_power);
   block.volume[e] = volume;
   return stable_step;
 }
@@ -397,11 +489,17 @@ Real SolidElements::element_step<Kind::tetrahedron>(Block& block, Index e, discr
   const Real stable_step = scaled_step(block, e, tet_characteristic_length(now), c, volume_rate, nodes);
   if (fails(block, e, L, dt, stable_step)) return -2;
   const Real q = bulk_viscosity(rho, cube_root(volume), c, volume_rate, part);
-  const Mat3 sigma = state.deviatoric_stress - thermo.pressure * Mat3::Identity();
-  std::array<Vec3, 4> f, f_bulk;
-  for (int n = 0; n < 4; ++n) f[n] = -(sigma * now.b[n]), f_bulk[n] = q * now.b[n];
+  // The stress's and the bulk viscosity's forces, -(sigma - q I) b_I; minus the power of q's at the
+  // element's rates is what it dissipates.
+  const Mat3 sigma = state.deviatoric_stress - (thermo.pressure + q) * Mat3::Identity();
+  std::array<Vec3, 4> f;
+  Real bulk_power = 0;
+  for (int n = 0; n < 4; ++n) {
+    f[n] = -(sigma * now.b[n]);
+    bulk_power += now.b[n].dot(v[n]);
+  }
   scatter(f, local, force_);
-  scatter(f_bulk, local, bulk_force_);
+  block.dissipation[2 * e] = -(q * bulk_power);
   block.volume[e] = volume;
   return stable_step;
 }
@@ -543,7 +641,7 @@ void SolidElements::complete_state() {
 }
 
 void SolidElements::share_owned(discretization::NodeStore& nodes, bool masses_changed) {
-  share_->nodes(node_, force_, bulk_force_, hourglass_force_, live_elements_);
+  share_->nodes(node_, force_, live_elements_);
   if (!masses_changed) return;
   const parallel::Communicator& ranks = parallel::world();
   ranks.share(std::span(nodes.mass), nodes.rank_begin);
@@ -552,11 +650,7 @@ void SolidElements::share_owned(discretization::NodeStore& nodes, bool masses_ch
 
 void SolidElements::compute_forces(discretization::NodeStore& nodes, Real dt) {
   distribute(nodes);
-  const bool hourglass = !hourglass_force_.empty();
-  parallel::for_each(static_cast<Index>(node_.size()), [&](Index k) {
-    force_[k] = bulk_force_[k] = Vec3::Zero();
-    if (hourglass) hourglass_force_[k] = Vec3::Zero();
-  }, element_loops);
+  parallel::for_each(static_cast<Index>(node_.size()), [&](Index k) { force_[k] = Vec3::Zero(); }, element_loops);
   time_ += dt;
   eroded_kinetic_step_ = eroded_internal_step_ = 0;
   struct Found {
@@ -570,27 +664,48 @@ void SolidElements::compute_forces(discretization::NodeStore& nodes, Real dt) {
   const Found none{std::numeric_limits<Real>::infinity(), 0, 0};
   Found found = none;
   parallel::LowestIndex inverted;
-  for (std::size_t k = 0; k < blocks_.size(); ++k) {
-    Block& block = blocks_[k];
+  for (std::size_t k_block = 0; k_block < blocks_.size(); ++k_block) {
+    Block& block = blocks_[k_block];
     Index inverted_colour = -1;
+    // What one element's step tells: its stable step, or that it was deleted or inverted.
+    const auto outcome = [&](Index e, Real step) {
+      if (step == -2 || (step == -1 && erode_enabled_)) {  // deleted: no forces from now on
+        block.eroded[e] = 1;
+        return Found{std::numeric_limits<Real>::infinity(), 0, 1};
+      }
+      if (step < 0) {
+        inverted.report(e);
+        return none;
+      }
+      return Found{step, block.thermo[block.points_per_element * e].sound_speed, 0};
+    };
     const auto run = [&]<Kind kind>() {
       for (std::size_t c = 0; c + 1 < block.colour_offset.size(); ++c) {
-        const Index begin = block.colour_offset[c];
-        found = combine(found, parallel::reduce_exact(block.colour_offset[c + 1] - begin, none, [&](Index j) {
-          const Index e = block.colour_element[begin + j];
-          if (block.eroded[e] || !computes(k, e)) return none;
-          const Real step = element_step<kind>(block, e, nodes, dt);
-          if (step == -2 || (step == -1 && erode_enabled_)) {  // deleted: no forces from now on
-            block.eroded[e] = 1;
-            return Found{std::numeric_limits<Real>::infinity(), 0, 1};
-          }
-          if (step < 0) {
-            inverted.report(e);
-            return none;
-          }
-          const Real c_e = block.thermo[block.points_per_element * e].sound_speed;
-          return Found{step, c_e, 0};
-        }, combine, element_loops));
+        const Index begin = block.colour_offset[c], size = block.colour_offset[c + 1] - begin;
+        const Index* colour = &block.colour_element[begin];
+        if constexpr (kind == Kind::hexahedron) {
+          // The colour's elements a pack of lanes at a time, each run of one part together.
+          found = combine(found, parallel::reduce_exact((size + lanes - 1) / lanes, none, [&](Index j) {
+            Index live[lanes];
+            int count = 0;
+            for (Index k = j * lanes; k < std::min(size, (j + 1) * lanes); ++k)
+              if (!block.eroded[colour[k]] && computes(k_block, colour[k])) live[count++] = colour[k];
+            Found result = none;
+            Real steps[lanes];
+            for (int first = 0, last; first < count; first = last) {
+              for (last = first + 1; last < count && block.part[live[last]] == block.part[live[first]];) ++last;
+              hexahedra(block, live + first, last - first, nodes, dt, steps + first);
+            }
+            for (int l = 0; l < count; ++l) result = combine(result, outcome(live[l], steps[l]));
+            return result;
+          }, combine, element_loops));
+        } else {
+          found = combine(found, parallel::reduce_exact(size, none, [&](Index j) {
+            const Index e = colour[j];
+            if (block.eroded[e] || !computes(k_block, e)) return none;
+            return outcome(e, element_step<kind>(block, e, nodes, dt));
+          }, combine, element_loops));
+        }
         if (inverted.value() >= 0) {
           inverted_colour = static_cast<Index>(c);
           break;
@@ -633,7 +748,7 @@ void SolidElements::compute_forces(discretization::NodeStore& nodes, Real dt) {
     mass_scaling_.idle();
   }
   parallel::for_each(static_cast<Index>(node_.size()), [&](Index k) {
-    nodes.f[node_[k]] += force_[k] + bulk_force_[k] + (hourglass ? hourglass_force_[k] : Vec3::Zero());
+    nodes.f[node_[k]] += force_[k];
   }, element_loops);
   stable_step_ = found.step;
   max_sound_speed_ = found.sound_speed;
@@ -649,20 +764,26 @@ bool SolidElements::scale_mass_below(Real step, bool first_step_only) {
 
 void SolidElements::book_energies(discretization::EnergyLedger& ledger, std::span<const Vec3> v, Real dt) const {
   using Ledger = discretization::EnergyLedger;
-  // The work of each share of the internal forces at the mid-step velocities: the stress's is
-  // stored, the bulk viscosity's and the hourglass control's are their own terms.
-  const bool hourglass = !hourglass_force_.empty();
-  const Sums<3> work = parallel::exact_sum(static_cast<Index>(node_.size()), [&](Index k) {
-    const Vec3& u = v[node_[k]];
-    Sums<3> w;
-    w[0] = -force_[k].dot(u);
-    w[1] = -bulk_force_[k].dot(u);
-    w[2] = hourglass ? -hourglass_force_[k].dot(u) : 0;
-    return w;
-  });
-  ledger.add(Ledger::internal_energy, Ledger::Role::stored, dt * work[0] - eroded_internal_step_);
-  ledger.add(Ledger::artificial_viscosity_energy, Ledger::Role::dissipated, dt * work[1]);
-  if (hourglass) ledger.add(Ledger::hourglass_energy, Ledger::Role::dissipated, dt * work[2]);
+  // The work of the internal forces at the mid-step velocities, less what the bulk viscosity and the
+  // hourglass control dissipated (each element's at its own rates, as LS-DYNA books them; an exact
+  // sum over the elements whose first node the rank owns, then over the ranks) is stored.
+  const Real work = parallel::exact_sum(static_cast<Index>(node_.size()),
+                                        [&](Index k) { return -force_[k].dot(v[node_[k]]); });
+  Sums<2> dissipated;
+  for (std::size_t k = 0; k < blocks_.size(); ++k) {
+    const Block& block = blocks_[k];
+    const Sums<2> d = parallel::exact_sum(block.size(), [&](Index e) {
+      Sums<2> term;
+      if (block.eroded[e] || (share_ && !share_->nodes.owns(share_->first_node[k][e]))) return term;
+      term[0] = block.dissipation[2 * e], term[1] = block.dissipation[2 * e + 1];
+      return term;
+    }, share_ ? &parallel::world() : nullptr);
+    dissipated[0] += d[0], dissipated[1] += d[1];
+  }
+  ledger.add(Ledger::internal_energy, Ledger::Role::stored,
+             dt * (work - dissipated[0] - dissipated[1]) - eroded_internal_step_);
+  ledger.add(Ledger::artificial_viscosity_energy, Ledger::Role::dissipated, dt * dissipated[0]);
+  if (hourglass_) ledger.add(Ledger::hourglass_energy, Ledger::Role::dissipated, dt * dissipated[1]);
   if (may_erode_ || erode_enabled_) {
     ledger.add(Ledger::eroded_kinetic_energy, Ledger::Role::dissipated, eroded_kinetic_step_);
     ledger.add(Ledger::eroded_internal_energy, Ledger::Role::dissipated, eroded_internal_step_);
@@ -674,7 +795,7 @@ void SolidElements::book_energies(discretization::EnergyLedger& ledger, std::spa
 void SolidElements::checkpoint(Archive& a) {
   a.section("fem solids");
   a.expect_size("element blocks", blocks_.size());
-  a(blocks_, force_, bulk_force_, hourglass_force_, stable_step_, max_sound_speed_, time_, erosion_step_,
+  a(blocks_, force_, stable_step_, max_sound_speed_, time_, erosion_step_,
     live_elements_, other_mass_, eroded_kinetic_step_, eroded_internal_step_, eroded_mass_, mass_scaling_,
     erode_enabled_);
 }
@@ -756,12 +877,12 @@ Index SolidElements::element_count() const {
 }
 
 std::size_t SolidElements::memory_bytes() const {
-  std::size_t total = bytes(node_) + bytes(force_) + bytes(bulk_force_) + bytes(hourglass_force_) +
+  std::size_t total = bytes(node_) + bytes(force_) +
                       bytes(live_elements_) + bytes(other_mass_);
   for (const Block& b : blocks_)
     total += bytes(b.node) + bytes(b.part) + bytes(b.id) + bytes(b.mass) + bytes(b.state) + bytes(b.thermo) +
              bytes(b.back_stress) +
-             bytes(b.volume) + bytes(b.hourglass_energy) + bytes(b.hourglass_force) +
+             bytes(b.volume) + bytes(b.hourglass_energy) + bytes(b.hourglass_force) + bytes(b.dissipation) +
              bytes(b.colour_offset) + bytes(b.colour_element) + bytes(b.eroded) + bytes(b.strain) +
              bytes(b.effective_strain) + bytes(b.mass_scale);
   return total;

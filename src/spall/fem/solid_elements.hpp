@@ -131,6 +131,9 @@ class SolidElements final : public discretization::Formulation {
     std::vector<Real> volume;
     std::vector<Real> hourglass_energy;  // per element, for output
     std::vector<Vec3> hourglass_force;              // stiffness forms: Q_alpha, 4 per element
+    // Per element, 2 each: the power its bulk viscosity's and its hourglass control's forces take
+    // at its own rates this step (what they dissipate; book_energies).
+    std::vector<Real> dissipation;
     // Erosion: 0 alive, 1 deleted during this step (booked at its end), 2 deleted.
     std::vector<std::uint8_t> eroded;
     std::vector<Mat3> strain;             // the element's strain, Jaumann-rotated (strain criteria)
@@ -146,9 +149,14 @@ class SolidElements final : public discretization::Formulation {
   };
 
  private:
-  // One element's step (solid_elements.cpp): its stable step, or -1 once it inverted.
+  // One element's step (solid_elements.cpp): its stable step, -1 once it inverted, -2 when it fails.
+  // ELFORM 2 and tetrahedra.
   template <Kind kind>
   Real element_step(Block& block, Index e, discretization::NodeStore& nodes, Real dt);
+  // The same for up to a pack's lanes of one-point hexahedra of one part, side by side (an element
+  // a lane of simd::Pack): each element's result in steps[0 .. count).
+  void hexahedra(Block& block, const Index* elements, int count, discretization::NodeStore& nodes, Real dt,
+                 Real* steps);
   // Whether element e fails *MAT_ADD_EROSION or its material's failure after the step with mean
   // velocity gradient L, and (ERODE) whether its stable step is below erosion_step_.
   bool fails(Block& block, Index e, const Mat3& L, Real dt, Real stable_step);
@@ -184,9 +192,8 @@ class SolidElements final : public discretization::Formulation {
   std::vector<PartSettings> parts_;
   std::vector<Block> blocks_;
   std::vector<Index> node_;   // local node -> node-store index
-  // The elements' internal forces on each local node, in three shares for the energy balance:
-  // the stress's, the bulk viscosity's and the hourglass control's (empty without one).
-  std::vector<Vec3> force_, bulk_force_, hourglass_force_;
+  // The elements' internal forces on each local node.
+  std::vector<Vec3> force_;
   Real stable_step_ = 0;
   Real max_sound_speed_ = 0;
   Real time_ = 0;           // the sum of the steps taken (FAILTM)
@@ -198,6 +205,7 @@ class SolidElements final : public discretization::Formulation {
   Real eroded_mass_ = 0;
   discretization::MassScaling mass_scaling_;  // DT2MS
   bool may_erode_ = false;       // some part has an erosion criterion or a material that fails
+  bool hourglass_ = false;       // some part's one-point hexahedra have hourglass control
   bool erode_enabled_ = false;   // ERODE
   std::optional<Share> share_;   // under MPI
 };
