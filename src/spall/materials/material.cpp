@@ -6,6 +6,7 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "spall/materials/elastic.hpp"
 #include "spall/materials/radial_return.hpp"
 
 namespace spall::materials {
@@ -104,11 +105,10 @@ StressUpdate update_stress(const Material& material, PointState& state, const Ma
 
 Real advance_point(const Material& material, PointState& state, PointThermo& thermo, const Mat3& L, Real dt,
                    Real density, Mat3* back_stress) {
-  const Mat3 W = Real(0.5) * (L - L.transpose());
   const Mat3 D = Real(0.5) * (L + L.transpose());
   const Mat3 sigma_old = state.deviatoric_stress - thermo.pressure * Mat3::Identity();
-  state.deviatoric_stress += dt * (W * state.deviatoric_stress - state.deviatoric_stress * W);
-  if (back_stress) *back_stress += dt * (W * *back_stress - *back_stress * W);
+  state.deviatoric_stress += dt * jaumann_rotation(L, state.deviatoric_stress);
+  if (back_stress) *back_stress += dt * jaumann_rotation(L, *back_stress);
   const Real e_predicted = thermo.specific_energy + dt * sigma_old.cwiseProduct(D).sum() / density;
   const StressUpdate update = update_stress(material, state, D, dt, density, e_predicted, back_stress);
   const Mat3 sigma = state.deviatoric_stress - update.pressure * Mat3::Identity();

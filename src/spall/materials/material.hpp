@@ -80,10 +80,11 @@ struct PointThermo {
 };
 
 // Steps 1-4 above over dt for a point with velocity gradient L (at the middle of the step) and
-// density rho at the step's end: the Jaumann rotation by W = skew(L), update_stress with
-// D = sym(L), and the energy equation by the trapezoidal rule in the stress (the old stress
-// predicting the energy the EOS sees). The one point update of SPG particles and finite elements'
-// integration points. Returns the plastic work of the step per unit volume.
+// density rho at the step's end: the Jaumann rotation by W = skew(L) (jaumann_rotation, the SPH
+// solid's too), update_stress with D = sym(L), and the energy equation by the trapezoidal rule in
+// the stress (the old stress predicting the energy the EOS sees). The one point update of SPG
+// particles and finite elements' integration points. Returns the plastic work of the step per
+// unit volume.
 Real advance_point(const Material& material, PointState& state, PointThermo& thermo, const Mat3& L, Real dt,
                    Real density, Mat3* back_stress = nullptr);
 
