@@ -215,7 +215,10 @@ struct Real4 {
   static Real4 gather(const Real* base, const Index* index, int offset = 0) {
     __m128i i = _mm_loadu_si128(reinterpret_cast<const __m128i*>(index));
     if constexpr (Stride != 1) i = _mm_mullo_epi32(i, _mm_set1_epi32(Stride));
-    return {_mm256_i32gather_pd(base + offset, i, 8)};
+    // The masked form with every lane on and a zero source: GCC 12 warns that the plain one's
+    // undefined source may be used uninitialized where it inlines (GCC bug 105593).
+    const __m256d all = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
+    return {_mm256_mask_i32gather_pd(_mm256_setzero_pd(), base + offset, i, all, 8)};
   }
   // Writes the indices in[i] whose bit i is set in `lanes` to out[0..], in order; may write all
   // four.
