@@ -88,6 +88,7 @@ SolidElements::SolidElements(std::vector<PartSettings> parts, const std::vector<
       node_.push_back(i);
     }
   force_.assign(node_.size(), Vec3::Zero());
+  bulk_force_.assign(node_.size(), Vec3::Zero());
   for (const auto& p : parts_) {
     hourglass_ |= p.elform == 1 && p.hourglass.form != HourglassForm::none;
     const Erosion& er = p.erosion;
@@ -133,10 +134,9 @@ SolidElements::SolidElements(std::vector<PartSettings> parts, const std::vector<
     }
     if (block.id.empty()) continue;
     const std::size_t n = block.id.size();
-    if (kind == Kind::hexahedron) block.hourglass_energy.assign(n, 0);
+    if (kind == Kind::hexahedron) block.hourglass_energy.assign(n, 0), block.hourglass_power.assign(n, 0);
     if (stiffness) block.hourglass_force.assign(hourglass_modes * n, Vec3::Zero());
     block.eroded.assign(n, 0);
-    block.dissipation.assign(2 * n, 0);
     if (kinematic) block.back_stress.assign(block.state.size(), Mat3::Zero());
     if (needs_strain) {
       block.strain.assign(n, Mat3::Zero());
@@ -330,8 +330,8 @@ void SolidElements::hexahedra(Block& block, const Index* elements, int count, di
 
   // f_I = -(sigma - q I) b_I = sum_k c_kI (-(sigma - q I) g_k / 8), the bulk viscosity q acting only
   // while the element shrinks: the basis coefficients of the forces, the hourglass control's added
-  // below, then nodal. Minus the power of q's forces at the element's rates, -sum_I q b_I . v_I =
-  // -q sum_k g_k . a_k(v), is what it dissipates (book_energies).
+  // below, then nodal. q's share alone goes to bulk_force_ too, whose work at the nodes' mid-step
+  // velocities is what the bulk viscosity dissipates (book_energies).
   LaneMatrix<Lane> sigma;
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) sigma.m[i][j] = Lane::load(sigma_of[i][j].v);
@@ -339,12 +339,16 @@ void SolidElements::hexahedra(Block& block, const Index* elements, int count, di
   for (int d = 0; d < 3; ++d) sigma.m[d][d] = sigma.m[d][d] - q;
   HexArray<LaneVec> force;
   force[0] = force[7] = zero_vector<LaneVec>();
-  Lane bulk_power(0);
-  for (int k = 1; k < 7; ++k) {
-    force[k] = Lane(-0.125) * (sigma * now.g[k]);
-    bulk_power += dot(av[k], now.g[k]);
+  for (int k = 1; k < 7; ++k) force[k] = Lane(-0.125) * (sigma * now.g[k]);
+  bool compressed[lanes];
+  bool any_compressed = false;
+  for (int l = 0; l < lanes; ++l) any_compressed |= compressed[l] = live[l] && q_of[l] != 0;
+  if (any_compressed) {
+    HexArray<LaneVec> bulk;
+    bulk[0] = bulk[7] = zero_vector<LaneVec>();
+    for (int k = 1; k < 7; ++k) bulk[k] = (Lane(0.125) * q) * now.g[k];
+    scatter_lanes(hex_nodal(bulk), local, compressed, bulk_force_);
   }
-  const LaneValues bulk_power_of(-(q * bulk_power));
 
   // Hourglass control (Flanagan & Belytschko 1981): the rates qdot_alpha = sum_I v_I gamma_alphaI on
   // gamma_alphaI = Gamma_alphaI - (h_alpha . b_I) / V, h_alpha = sum_J x_J Gamma_alphaJ = 8 a_{4+alpha},
@@ -398,8 +402,7 @@ void SolidElements::hexahedra(Block& block, const Index* elements, int count, di
   for (int l = 0; l < lanes; ++l) {
     if (!live[l]) continue;
     block.volume[e[l]] = volume_of[l];
-    block.dissipation[2 * e[l]] = bulk_power_of[l];
-    block.dissipation[2 * e[l] + 1] = hourglass_power_of[l];
+    block.hourglass_power[e[l]] = hourglass_power_of[l];
     block.hourglass_energy[e[l]] += dt * hourglass_power_of[l];  // for output
   }
 }
@@ -448,20 +451,23 @@ Real SolidElements::element_step<Kind::hexahedron_selective_reduced>(Block& bloc
   const Real stable_step = scaled_step(block, e, hex_characteristic_length(a, now.g, volume), c, volume_rate, nodes);
   const Mat3 L = part.erosion.needs_strain() ? to_mat3(basis_gradient(av, half.g) / half.volume) : Mat3::Zero();
   if (fails(block, e, L, dt, stable_step)) return -2;
-  // The mean pressure's and the bulk viscosity's p b_I + q b_I (q only while the element shrinks;
-  // minus its power at the element's rates, -q sum_k g_k . a_k(v), is what it dissipates).
+  // The mean pressure's and the bulk viscosity's p b_I + q b_I (q only while the element shrinks);
+  // q's share alone to bulk_force_ too, for the energies.
   const Real q = bulk_viscosity(rho, cube_root(volume), c, volume_rate, part);
   HexVectors pressure_share;
   pressure_share[0] = pressure_share[7] = Vec3::Zero();
-  Real bulk_power = 0;
-  for (int k = 1; k < 7; ++k) {
-    pressure_share[k] = Real(0.125) * (pressure + q) * now.g[k];
-    bulk_power += av[k].dot(now.g[k]);
-  }
+  for (int k = 1; k < 7; ++k) pressure_share[k] = Real(0.125) * pressure * now.g[k];
   const HexVectors p_b = hex_nodal(pressure_share);
   for (int n = 0; n < 8; ++n) f[n] += p_b[n];
+  if (q != 0) {
+    HexVectors bulk;
+    bulk[0] = bulk[7] = Vec3::Zero();
+    for (int k = 1; k < 7; ++k) bulk[k] = Real(0.125) * q * now.g[k];
+    const HexVectors q_b = hex_nodal(bulk);
+    scatter(q_b, local, bulk_force_);
+    for (int n = 0; n < 8; ++n) f[n] += q_b[n];
+  }
   scatter(f, local, force_);
-  block.dissipation[2 * e] = -(q * bulk_power);
   block.volume[e] = volume;
   return stable_step;
 }
@@ -489,17 +495,13 @@ Real SolidElements::element_step<Kind::tetrahedron>(Block& block, Index e, discr
   const Real stable_step = scaled_step(block, e, tet_characteristic_length(now), c, volume_rate, nodes);
   if (fails(block, e, L, dt, stable_step)) return -2;
   const Real q = bulk_viscosity(rho, cube_root(volume), c, volume_rate, part);
-  // The stress's and the bulk viscosity's forces, -(sigma - q I) b_I; minus the power of q's at the
-  // element's rates is what it dissipates.
-  const Mat3 sigma = state.deviatoric_stress - (thermo.pressure + q) * Mat3::Identity();
-  std::array<Vec3, 4> f;
-  Real bulk_power = 0;
-  for (int n = 0; n < 4; ++n) {
-    f[n] = -(sigma * now.b[n]);
-    bulk_power += now.b[n].dot(v[n]);
-  }
+  // The stress's and the bulk viscosity's forces, -sigma b_I + q b_I; q's share alone to bulk_force_
+  // too, for the energies.
+  const Mat3 sigma = state.deviatoric_stress - thermo.pressure * Mat3::Identity();
+  std::array<Vec3, 4> f, f_bulk;
+  for (int n = 0; n < 4; ++n) f_bulk[n] = q * now.b[n], f[n] = f_bulk[n] - sigma * now.b[n];
   scatter(f, local, force_);
-  block.dissipation[2 * e] = -(q * bulk_power);
+  if (q != 0) scatter(f_bulk, local, bulk_force_);
   block.volume[e] = volume;
   return stable_step;
 }
@@ -641,7 +643,7 @@ void SolidElements::complete_state() {
 }
 
 void SolidElements::share_owned(discretization::NodeStore& nodes, bool masses_changed) {
-  share_->nodes(node_, force_, live_elements_);
+  share_->nodes(node_, force_, bulk_force_, live_elements_);
   if (!masses_changed) return;
   const parallel::Communicator& ranks = parallel::world();
   ranks.share(std::span(nodes.mass), nodes.rank_begin);
@@ -650,7 +652,8 @@ void SolidElements::share_owned(discretization::NodeStore& nodes, bool masses_ch
 
 void SolidElements::compute_forces(discretization::NodeStore& nodes, Real dt) {
   distribute(nodes);
-  parallel::for_each(static_cast<Index>(node_.size()), [&](Index k) { force_[k] = Vec3::Zero(); }, element_loops);
+  parallel::for_each(static_cast<Index>(node_.size()), [&](Index k) { force_[k] = bulk_force_[k] = Vec3::Zero(); },
+                     element_loops);
   time_ += dt;
   eroded_kinetic_step_ = eroded_internal_step_ = 0;
   struct Found {
@@ -764,26 +767,28 @@ bool SolidElements::scale_mass_below(Real step, bool first_step_only) {
 
 void SolidElements::book_energies(discretization::EnergyLedger& ledger, std::span<const Vec3> v, Real dt) const {
   using Ledger = discretization::EnergyLedger;
-  // The work of the internal forces at the mid-step velocities, less what the bulk viscosity and the
-  // hourglass control dissipated (each element's at its own rates, as LS-DYNA books them; an exact
-  // sum over the elements whose first node the rank owns, then over the ranks) is stored.
-  const Real work = parallel::exact_sum(static_cast<Index>(node_.size()),
-                                        [&](Index k) { return -force_[k].dot(v[node_[k]]); });
-  Sums<2> dissipated;
+  // The work of the internal forces and of the bulk viscosity's share at the mid-step velocities;
+  // the hourglass control's dissipation at each element's own rates (as LS-DYNA books it; an exact
+  // sum over the elements whose first node the rank owns, then over the ranks). The rest is stored.
+  const Sums<2> work = parallel::exact_sum(static_cast<Index>(node_.size()), [&](Index k) {
+    const Vec3& u = v[node_[k]];
+    Sums<2> w;
+    w[0] = -force_[k].dot(u);
+    w[1] = -bulk_force_[k].dot(u);
+    return w;
+  });
+  Real hourglass = 0;
   for (std::size_t k = 0; k < blocks_.size(); ++k) {
     const Block& block = blocks_[k];
-    const Sums<2> d = parallel::exact_sum(block.size(), [&](Index e) {
-      Sums<2> term;
-      if (block.eroded[e] || (share_ && !share_->nodes.owns(share_->first_node[k][e]))) return term;
-      term[0] = block.dissipation[2 * e], term[1] = block.dissipation[2 * e + 1];
-      return term;
+    if (block.hourglass_power.empty()) continue;
+    hourglass += parallel::exact_sum(block.size(), [&](Index e) {
+      const bool books = !block.eroded[e] && (!share_ || share_->nodes.owns(share_->first_node[k][e]));
+      return books ? block.hourglass_power[e] : Real(0);
     }, share_ ? &parallel::world() : nullptr);
-    dissipated[0] += d[0], dissipated[1] += d[1];
   }
-  ledger.add(Ledger::internal_energy, Ledger::Role::stored,
-             dt * (work - dissipated[0] - dissipated[1]) - eroded_internal_step_);
-  ledger.add(Ledger::artificial_viscosity_energy, Ledger::Role::dissipated, dt * dissipated[0]);
-  if (hourglass_) ledger.add(Ledger::hourglass_energy, Ledger::Role::dissipated, dt * dissipated[1]);
+  ledger.add(Ledger::internal_energy, Ledger::Role::stored, dt * (work[0] - work[1] - hourglass) - eroded_internal_step_);
+  ledger.add(Ledger::artificial_viscosity_energy, Ledger::Role::dissipated, dt * work[1]);
+  if (hourglass_) ledger.add(Ledger::hourglass_energy, Ledger::Role::dissipated, dt * hourglass);
   if (may_erode_ || erode_enabled_) {
     ledger.add(Ledger::eroded_kinetic_energy, Ledger::Role::dissipated, eroded_kinetic_step_);
     ledger.add(Ledger::eroded_internal_energy, Ledger::Role::dissipated, eroded_internal_step_);
@@ -795,7 +800,7 @@ void SolidElements::book_energies(discretization::EnergyLedger& ledger, std::spa
 void SolidElements::checkpoint(Archive& a) {
   a.section("fem solids");
   a.expect_size("element blocks", blocks_.size());
-  a(blocks_, force_, stable_step_, max_sound_speed_, time_, erosion_step_,
+  a(blocks_, force_, bulk_force_, stable_step_, max_sound_speed_, time_, erosion_step_,
     live_elements_, other_mass_, eroded_kinetic_step_, eroded_internal_step_, eroded_mass_, mass_scaling_,
     erode_enabled_);
 }
@@ -877,12 +882,12 @@ Index SolidElements::element_count() const {
 }
 
 std::size_t SolidElements::memory_bytes() const {
-  std::size_t total = bytes(node_) + bytes(force_) +
+  std::size_t total = bytes(node_) + bytes(force_) + bytes(bulk_force_) +
                       bytes(live_elements_) + bytes(other_mass_);
   for (const Block& b : blocks_)
     total += bytes(b.node) + bytes(b.part) + bytes(b.id) + bytes(b.mass) + bytes(b.state) + bytes(b.thermo) +
              bytes(b.back_stress) +
-             bytes(b.volume) + bytes(b.hourglass_energy) + bytes(b.hourglass_force) + bytes(b.dissipation) +
+             bytes(b.volume) + bytes(b.hourglass_energy) + bytes(b.hourglass_force) + bytes(b.hourglass_power) +
              bytes(b.colour_offset) + bytes(b.colour_element) + bytes(b.eroded) + bytes(b.strain) +
              bytes(b.effective_strain) + bytes(b.mass_scale);
   return total;

@@ -131,9 +131,8 @@ class SolidElements final : public discretization::Formulation {
     std::vector<Real> volume;
     std::vector<Real> hourglass_energy;  // per element, for output
     std::vector<Vec3> hourglass_force;              // stiffness forms: Q_alpha, 4 per element
-    // Per element, 2 each: the power its bulk viscosity's and its hourglass control's forces take
-    // at its own rates this step (what they dissipate; book_energies).
-    std::vector<Real> dissipation;
+    // Per element: the power its hourglass control dissipates at this step's rates (book_energies).
+    std::vector<Real> hourglass_power;
     // Erosion: 0 alive, 1 deleted during this step (booked at its end), 2 deleted.
     std::vector<std::uint8_t> eroded;
     std::vector<Mat3> strain;             // the element's strain, Jaumann-rotated (strain criteria)
@@ -192,8 +191,9 @@ class SolidElements final : public discretization::Formulation {
   std::vector<PartSettings> parts_;
   std::vector<Block> blocks_;
   std::vector<Index> node_;   // local node -> node-store index
-  // The elements' internal forces on each local node.
-  std::vector<Vec3> force_;
+  // The elements' internal forces on each local node, and the bulk viscosity's share of them (its
+  // work at the nodes' mid-step velocities is what the bulk viscosity dissipates).
+  std::vector<Vec3> force_, bulk_force_;
   Real stable_step_ = 0;
   Real max_sound_speed_ = 0;
   Real time_ = 0;           // the sum of the steps taken (FAILTM)
