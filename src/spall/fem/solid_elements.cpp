@@ -261,8 +261,8 @@ void scatter_lanes(const HexArray<LaneVec>& f, const Index* const* local, const 
 // One-point hexahedra of one part (count <= the pack's lanes), an element a lane; the lanes past
 // count repeat the first element, and what they compute is dropped. Each element: its strain rate
 // at the middle of the step (x^{n-1/2} = x^n - dt/2 v^{n-1/2}), the material update of its point
-// (one lane at a time), and its forces at x^n added to its nodes. steps[l]: element
-// l's stable step, -1 when its volume is no longer positive, -2 when it fails.
+// (one lane at a time), and its forces at x^n added to its nodes. steps[l]: element l's stable
+// step, -1 when its volume is no longer positive, -2 when it fails.
 void SolidElements::hexahedra(Block& block, const Index* elements, int count, discretization::NodeStore& nodes,
                               Real dt, Real* steps) {
   const PartSettings& part = parts_[block.part[elements[0]]];
