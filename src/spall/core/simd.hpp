@@ -198,9 +198,7 @@ struct Real4 {
   friend Real4 operator-(Real4 a, Real4 b) { return {_mm256_sub_pd(a.v, b.v)}; }
   friend Real4 operator*(Real4 a, Real4 b) { return {_mm256_mul_pd(a.v, b.v)}; }
   friend Real4 operator/(Real4 a, Real4 b) { return {_mm256_div_pd(a.v, b.v)}; }
-  friend Real4 operator-(Real4 a) { return {_mm256_xor_pd(a.v, _mm256_set1_pd(-0.0))}; }
   Real4& operator+=(Real4 b) { return *this = *this + b; }
-  Real4& operator-=(Real4 b) { return *this = *this - b; }
   friend Real4 abs(Real4 a) { return {_mm256_andnot_pd(_mm256_set1_pd(-0.0), a.v)}; }
   friend Mask4 operator<(Real4 a, Real4 b) { return {_mm256_cmp_pd(a.v, b.v, _CMP_LT_OQ)}; }
   // a + b c, rounded once.
@@ -492,9 +490,7 @@ struct Real8 {
   friend Real8 operator-(Real8 a, Real8 b) { return {_mm512_sub_pd(a.v, b.v)}; }
   friend Real8 operator*(Real8 a, Real8 b) { return {_mm512_mul_pd(a.v, b.v)}; }
   friend Real8 operator/(Real8 a, Real8 b) { return {_mm512_div_pd(a.v, b.v)}; }
-  friend Real8 operator-(Real8 a) { return {_mm512_xor_pd(a.v, _mm512_set1_pd(-0.0))}; }
   Real8& operator+=(Real8 b) { return *this = *this + b; }
-  Real8& operator-=(Real8 b) { return *this = *this - b; }
   friend Real8 abs(Real8 a) { return {_mm512_abs_pd(a.v)}; }
   friend Mask8 operator<(Real8 a, Real8 b) { return {_mm512_cmp_pd_mask(a.v, b.v, _CMP_LT_OQ)}; }
   // a + b c, rounded once.

@@ -27,7 +27,6 @@ struct LaneVector {
   friend LaneVector operator-(const LaneVector& a, const LaneVector& b) {
     return {a[0] - b[0], a[1] - b[1], a[2] - b[2]};
   }
-  friend LaneVector operator-(const LaneVector& a) { return {-a[0], -a[1], -a[2]}; }
   friend LaneVector operator*(T s, const LaneVector& a) { return {s * a[0], s * a[1], s * a[2]}; }
   LaneVector& operator+=(const LaneVector& b) { return *this = *this + b; }
   friend T dot(const LaneVector& a, const LaneVector& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }

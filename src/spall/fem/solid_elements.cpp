@@ -578,7 +578,8 @@ void SolidElements::remove_eroded(discretization::NodeStore& nodes) {
   // The energies and mass taken out, each an exact sum over the elements of the rank's own, then
   // over the ranks: the same for any partition.
   std::array<ExactSum, 3> taken;  // kinetic energy, internal energy, mass
-  for (Block& block : blocks_) {
+  for (std::size_t k_block = 0; k_block < blocks_.size(); ++k_block) {
+    Block& block = blocks_[k_block];
     const int per = block.nodes_per_element, points = block.points_per_element;
     for (Index e = 0; e < block.size(); ++e) {
       if (block.eroded[e] != 1) continue;
@@ -587,7 +588,7 @@ void SolidElements::remove_eroded(discretization::NodeStore& nodes) {
       const Real m = block.mass[e];
       // What its nodes lose: the mass DT2MS added too.
       const Real nodal = (block.mass_scale.empty() ? m : block.mass_scale[e] * m) / per;
-      const bool owned = nodes.owns(node_[block.node[per * e]]);
+      const bool owned = books(k_block, e);
       Real internal = 0;
       for (int g = 0; g < points; ++g)
         internal += block.thermo[points * e + g].specific_energy - part.material.initial_specific_energy;
@@ -738,12 +739,12 @@ void SolidElements::compute_forces(discretization::NodeStore& nodes, Real dt) {
   if (found.eroding > 0) remove_eroded(nodes);
   if (share_) share_owned(nodes, found.eroding > 0 || mass_scaling_.active);
   if (mass_scaling_.active) {
-    // Over the elements whose first node each rank owns (only those it computes are current there).
+    // Over the elements each rank books (only those it computes are current there).
     Real added = 0;
-    for (const Block& block : blocks_) {
-      const int per = block.nodes_per_element;
+    for (std::size_t k = 0; k < blocks_.size(); ++k) {
+      const Block& block = blocks_[k];
       added += parallel::exact_sum(block.size(), [&](Index e) {
-        return nodes.owns(node_[block.node[per * e]]) ? (block.mass_scale[e] - 1) * block.mass[e] : Real(0);
+        return books(k, e) ? (block.mass_scale[e] - 1) * block.mass[e] : Real(0);
       }, share_ ? &parallel::world() : nullptr);
     }
     mass_scaling_.record(added);
@@ -769,7 +770,7 @@ void SolidElements::book_energies(discretization::EnergyLedger& ledger, std::spa
   using Ledger = discretization::EnergyLedger;
   // The work of the internal forces and of the bulk viscosity's share at the mid-step velocities;
   // the hourglass control's dissipation at each element's own rates (as LS-DYNA books it; an exact
-  // sum over the elements whose first node the rank owns, then over the ranks). The rest is stored.
+  // sum over the elements the rank books, then over the ranks). The rest is stored.
   const Sums<2> work = parallel::exact_sum(static_cast<Index>(node_.size()), [&](Index k) {
     const Vec3& u = v[node_[k]];
     Sums<2> w;
@@ -782,8 +783,7 @@ void SolidElements::book_energies(discretization::EnergyLedger& ledger, std::spa
     const Block& block = blocks_[k];
     if (block.hourglass_power.empty()) continue;
     hourglass += parallel::exact_sum(block.size(), [&](Index e) {
-      const bool books = !block.eroded[e] && (!share_ || share_->nodes.owns(share_->first_node[k][e]));
-      return books ? block.hourglass_power[e] : Real(0);
+      return !block.eroded[e] && books(k, e) ? block.hourglass_power[e] : Real(0);
     }, share_ ? &parallel::world() : nullptr);
   }
   ledger.add(Ledger::internal_energy, Ledger::Role::stored, dt * (work[0] - work[1] - hourglass) - eroded_internal_step_);

@@ -180,6 +180,11 @@ class SolidElements final : public discretization::Formulation {
     long long partition = 0;                                // NodeStore::partition planned for
   };
   bool computes(std::size_t block, Index e) const { return !share_ || share_->computed[block][e]; }
+  // Whether this rank accounts for element e (its eroded mass and energies, DT2MS's added mass, its
+  // hourglass dissipation): the owner of its first node, so that each element counts once.
+  bool books(std::size_t block, Index e) const {
+    return !share_ || share_->nodes.owns(share_->first_node[block][e]);
+  }
   // Makes share_ when the run has several ranks, again (after share_elements) when the nodes were
   // dealt anew.
   void distribute(const discretization::NodeStore& nodes);
