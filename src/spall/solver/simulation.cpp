@@ -207,7 +207,12 @@ class TimeLoop::Step {
     damping_ = (controls_.damping_curve ? controls_.damping_curve->value(step_.time) : controls_.damping) *
                controls_.damping_scale;
     if (base_acceleration_.isZero(0) && damping_.isZero(0)) return;
-    parallel::for_each(nodes_.size(), [&](Index i) { nodes_.f[i] -= load_force(i, nodes_.v[i]); });
+    // Under MPI on this rank's nodes: the others' velocities come from their ranks (halo).
+    const Index first = nodes_.owned_begin;
+    parallel::for_each(nodes_.owned_end - first, [&](Index k) {
+      const Index i = first + k;
+      nodes_.f[i] -= load_force(i, nodes_.v[i]);
+    });
   }
 
   Vec3 load_force(Index i, const Vec3& v) const {
@@ -248,12 +253,13 @@ class TimeLoop::Step {
   }
 
   // v^{n+1/2} = v^{n-1/2} + dt^n f / m on the active nodes with mass, with the components an SPC
-  // holds set to zero in the same pass; v^{n-1/2} kept for the energies.
+  // holds set to zero in the same pass; v^{n-1/2} kept for the energies. Under MPI the other
+  // ranks' nodes get theirs in the halo phase.
   void velocity_update() {
     const Real dt_mid = dt_mid_;
     parallel::for_each(nodes_.size(), [&](Index i) {
       v_old_[i] = nodes_.v[i];
-      if (nodes_.mass[i] <= 0 || !nodes_.active[i]) return;
+      if (nodes_.mass[i] <= 0 || !nodes_.active[i] || !nodes_.owns(i)) return;
       Vec3 v_new = nodes_.v[i] + (dt_mid / nodes_.mass[i]) * nodes_.f[i];
       for (int d = 0; d < 3; ++d)
         if (nodes_.fixed[i] & (1u << d)) v_new[d] = 0;

@@ -149,6 +149,28 @@ FluidFormulation::FluidFormulation(const FluidParameters& parameters,
                         : courant_factor * fastest(kernels::KernelKind::cubic_spline) / fastest(parameters_.kernel);
 }
 
+// Per cell: 1 when a particle of which `chosen(a)` holds is in the 5 x 5 x 5 cells around it.
+template <class Chosen>
+std::vector<std::uint8_t> FluidFormulation::cells_near(Chosen&& chosen) const {
+  // Chosen particles before each slot, to tell in O(1) whether a slot range holds one.
+  const Index n = particle_count();
+  std::vector<Index> before(n + 1, 0);
+  for (Index a = 0; a < n; ++a) before[a + 1] = before[a] + (chosen(a) ? 1 : 0);
+  const Index cell_count = cells_.cell_count();
+  std::vector<std::uint8_t> near(cell_count, 0);
+  parallel::region([&](const parallel::Team& team) {
+    neighbors::TrimmedStencil stencil(cells_, stencil_reach);
+    neighbors::TrimmedStencil::Ranges ranges;
+    team.for_each(cell_count, [&](Index c) {
+      stencil.prepare(c);
+      const int range_count = stencil.block(ranges);
+      for (int r = 0; r < range_count; ++r)
+        if (before[ranges[r].end] > before[ranges[r].begin]) near[c] = 1;
+    }, {.chunk = 64});
+  });
+  return near;
+}
+
 // Bins the particles into cells of edge (support + skin) / 2 and puts every per-particle array in
 // cell order, so that the particles of a cell are contiguous.
 void FluidFormulation::rebuild_cells(const discretization::NodeStore& nodes) {
@@ -170,27 +192,14 @@ void FluidFormulation::rebuild_cells(const discretization::NodeStore& nodes) {
   permute(density_, order);
   permute(rate_, order);
   permute(previous_rate_, order);
-  // Moving particles before each slot, to tell in O(1) whether a slot range holds one.
-  std::vector<Index> moving_before(n + 1, 0);
   // Bits to n + simd_width, and the four bytes that moving_lanes reads from the last one.
   moving_.assign((n + simd_width) / 8 + 4, 0);
   for (Index a = 0; a < n; ++a) {
     const bool moving = nodes.fixed[node_[a]] != all_translations;
     moving_[a / 8] |= static_cast<std::uint8_t>(moving << (a % 8));
-    moving_before[a + 1] = moving_before[a] + moving;
   }
-  const Index cell_count = cells_.cell_count();
-  active_cell_.assign(cell_count, 0);
-  parallel::region([&](const parallel::Team& team) {
-    neighbors::TrimmedStencil stencil(cells_, stencil_reach);
-    neighbors::TrimmedStencil::Ranges ranges;
-    team.for_each(cell_count, [&](Index c) {
-      stencil.prepare(c);
-      const int range_count = stencil.block(ranges);
-      for (int r = 0; r < range_count; ++r)
-        if (moving_before[ranges[r].end] > moving_before[ranges[r].begin]) active_cell_[c] = 1;
-    }, {.chunk = 64});
-  });
+  active_cell_ = cells_near([&](Index a) { return nodes.fixed[node_[a]] != all_translations; });
+  near_owned_partition_ = -1;  // marked again for these cells (compute_forces)
   // Positions are taken relative to the grid corner, in single precision: a position and the
   // distance test carry relative errors of a few 2^-24 of the box size and of the support, which
   // the stencil's radius covers with this margin.
@@ -205,7 +214,8 @@ void FluidFormulation::rebuild_cells(const discretization::NodeStore& nodes) {
 // Copies positions and velocities in cell order, predicts the densities and evaluates the
 // equation of state once per particle. The density terms only in the active cells: the walls of
 // a cell without a moving particle in its block (far from the fluid) are read by no pair until
-// the next rebuild (for_each_particle_candidates), and their density does not change.
+// the next rebuild (for_each_particle_candidates), and their density does not change. Under MPI
+// only the cells near this rank's particles: no pair it computes reads the others.
 void FluidFormulation::gather(const discretization::NodeStore& nodes, Real dt) {
   const Index n = particle_count();
   const auto& m = parameters_.material;
@@ -216,6 +226,7 @@ void FluidFormulation::gather(const discretization::NodeStore& nodes, Real dt) {
   const Index cell_count = cells_.cell_count();
   const auto cell_records = [&](Index c) {
     Found found{m.density, n};
+    if (!near_owned_cell_.empty() && !near_owned_cell_[c]) return found;
     const bool active = active_cell_[c];
     const neighbors::ParticleRange own = cells_.cell(c);
     for (Index a = own.begin; a < own.end; ++a) {
@@ -240,10 +251,16 @@ void FluidFormulation::gather(const discretization::NodeStore& nodes, Real dt) {
     }
     return found;
   };
-  const auto [max_density, first_empty] = parallel::reduce_exact(
+  const Found found = parallel::reduce_exact(
       cell_count, Found{m.density, n}, cell_records, [](const Found& x, const Found& y) {
         return Found{std::max(x.max_density, y.max_density), std::min(x.first_empty, y.first_empty)};
       });
+  // Over the ranks (MPI): every particle is in a cell near its own rank's particles, and the cell
+  // order, so the first emptied particle, is every rank's.
+  double extremes[2] = {-found.max_density, static_cast<double>(found.first_empty)};
+  parallel::world().minimum(extremes);
+  const Real max_density = -extremes[0];
+  const auto first_empty = static_cast<Index>(extremes[1]);
   // Continuity can empty a particle that a splash tears from its neighbours under tension; its
   // pressure and volume then mean nothing, so the run stops rather than carry on.
   if (first_empty < n)
@@ -269,9 +286,16 @@ void FluidFormulation::for_each_particle_candidates(const parallel::Team& team, 
   // Chunks of consecutive cells, so that the stencil mostly slides along a row of cells.
   team.for_each(cell_count, [&](Index c) {
     const neighbors::ParticleRange own = cells_.cell(c);
+    // Under MPI a cell of other ranks' particles alone is theirs (and its records may be stale).
+    if (!near_owned_cell_.empty()) {
+      Index a = own.begin;
+      while (a < own.end && !owns(a)) ++a;
+      if (a == own.end) return;
+    }
     if constexpr (!pair_pass) {
       stencil.prepare(c);
       for (Index a = own.begin; a < own.end; ++a) {
+        if (!owns(a)) continue;
         const FluidRecord& r = record_[a];
         visit(a, ranges, stencil.trimmed(Vec3(r.x, r.y, r.z), radius, ranges));
       }
@@ -403,6 +427,10 @@ void FluidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt)
   // Two particles approach each other by at most twice the bound; the search also widens by the
   // rounding margin, and all of it must stay within the skin (see for_each_particle_candidates).
   if (!cells_built_ || 2 * travelled_ + rounding_margin_ > parameters_.skin * support_) rebuild_cells(nodes);
+  if (parallel::world().size() > 1 && near_owned_partition_ != nodes.partition) {
+    near_owned_cell_ = cells_near([&](Index a) { return owns(a); });
+    near_owned_partition_ = nodes.partition;
+  }
   gather(nodes, dt);
   pair_pass(nodes, dt);
 }
@@ -483,7 +511,7 @@ void FluidFormulation::write_fields(discretization::FieldSet& fields, const disc
 std::size_t FluidFormulation::memory_bytes() const {
   std::size_t total = bytes(node_) + bytes(mass_) + bytes(density_) + bytes(rate_) +
                       bytes(previous_rate_) + bytes(record_) + bytes(pressure_force_) +
-                      bytes(viscous_force_) + bytes(moving_) + bytes(active_cell_);
+                      bytes(viscous_force_) + bytes(moving_) + bytes(active_cell_) + bytes(near_owned_cell_);
   return total + cells_.memory_bytes();
 }
 

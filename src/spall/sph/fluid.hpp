@@ -119,6 +119,8 @@ class FluidFormulation final : public discretization::Formulation {
 
  private:
   void rebuild_cells(const discretization::NodeStore& nodes);
+  template <class Chosen>
+  std::vector<std::uint8_t> cells_near(Chosen&& chosen) const;
   void gather(const discretization::NodeStore& nodes, Real dt);
   // The pair pass with the kernel of the parameters.
   void pair_pass(discretization::NodeStore& nodes, Real dt);
@@ -161,6 +163,11 @@ class FluidFormulation final : public discretization::Formulation {
   // particles of other cells have no moving particle in their support until the next rebuild,
   // so their continuity rate is exactly zero and they are skipped.
   std::vector<std::uint8_t> active_cell_;
+  // Under MPI, per cell: 1 when a particle this rank computes is in the 5 x 5 x 5 cells around it,
+  // so that its pair pass reads the cell; marked for the cells and the node partition of
+  // near_owned_partition_ (-1: not yet). Empty in one process (every cell).
+  std::vector<std::uint8_t> near_owned_cell_;
+  long long near_owned_partition_ = -1;
   Vec3 origin_ = Vec3::Zero();  // the cells' grid corner
   Real rounding_margin_ = 0;    // widens the search for the single-precision positions
   bool cells_built_ = false;
