@@ -1,7 +1,7 @@
 // The communicator's collectives (core/communicator.hpp), run as 1, 2 and 3 ranks: a global
 // minimum and exact sums give on every rank the answer one process computes from all the data,
 // bit for bit, however the data are split among the ranks; share() gives every rank every block
-// (a rank with none included). Every rank draws the same random
+// (a rank with none included); exchange() gives each rank what every other sent it. Every rank draws the same random
 // numbers, keeps its share, and checks the collective against the whole.
 #include <gtest/gtest.h>
 
@@ -113,6 +113,33 @@ TEST(Communicator, ShareGivesEveryRankEveryBlock) {
         EXPECT_EQ(items[i].rank, r);
       }
   }
+}
+
+// Rank s sends rank r (s + 1) * (r + 1) - 1 items, none to itself: lists of unequal lengths, an
+// empty one on 1 rank, each item naming its sender, receiver and place.
+TEST(Communicator, ExchangeDeliversEachRanksItemsForAnother) {
+  const Communicator& ranks = world();
+  struct Item {
+    int from, to, k;
+  };
+  const int me = ranks.rank(), size = ranks.size();
+  const auto count = [](int from, int to) { return from == to ? 0 : (from + 1) * (to + 1) - 1; };
+  std::vector<Index> send_offsets(size + 1, 0), receive_offsets(size + 1, 0);
+  for (int r = 0; r < size; ++r) {
+    send_offsets[r + 1] = send_offsets[r] + count(me, r);
+    receive_offsets[r + 1] = receive_offsets[r] + count(r, me);
+  }
+  std::vector<Item> send(send_offsets.back()), receive(receive_offsets.back(), Item{-1, -1, -1});
+  for (int r = 0; r < size; ++r)
+    for (int k = 0; k < count(me, r); ++k) send[send_offsets[r] + k] = Item{me, r, k};
+  ranks.exchange(std::span<const Item>(send), send_offsets, std::span(receive), receive_offsets);
+  for (int r = 0; r < size; ++r)
+    for (int k = 0; k < count(r, me); ++k) {
+      const Item& item = receive[receive_offsets[r] + k];
+      EXPECT_EQ(item.from, r);
+      EXPECT_EQ(item.to, me);
+      EXPECT_EQ(item.k, k);
+    }
 }
 
 }  // namespace

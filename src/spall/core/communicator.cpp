@@ -139,10 +139,32 @@ void Communicator::share_bytes(std::byte* items, std::size_t item_bytes, std::sp
   check(status, "MPI_Allgatherv");
 }
 
+void Communicator::exchange_bytes(const std::byte* send, std::byte* receive, std::size_t item_bytes,
+                                  std::span<const Index> send_offsets, std::span<const Index> receive_offsets) const {
+  if (size_ == 1) return;
+  const Stopwatch stopwatch(communicating_);
+  std::vector<int> send_counts(size_), send_displacements(size_), receive_counts(size_), receive_displacements(size_);
+  for (int r = 0; r < size_; ++r) {
+    send_displacements[r] = send_offsets[r];
+    send_counts[r] = send_offsets[r + 1] - send_offsets[r];
+    receive_displacements[r] = receive_offsets[r];
+    receive_counts[r] = receive_offsets[r + 1] - receive_offsets[r];
+  }
+  MPI_Datatype item;
+  check(MPI_Type_contiguous(static_cast<int>(item_bytes), MPI_BYTE, &item), "MPI_Type_contiguous");
+  check(MPI_Type_commit(&item), "MPI_Type_commit");
+  const int status = MPI_Alltoallv(send, send_counts.data(), send_displacements.data(), item, receive,
+                                   receive_counts.data(), receive_displacements.data(), item, MPI_COMM_WORLD);
+  MPI_Type_free(&item);
+  check(status, "MPI_Alltoallv");
+}
+
 #else
 
 bool built_with_mpi() { return false; }
 void Communicator::share_bytes(std::byte*, std::size_t, std::span<const Index>) const {}
+void Communicator::exchange_bytes(const std::byte*, std::byte*, std::size_t, std::span<const Index>,
+                                  std::span<const Index>) const {}
 Session::Session() = default;
 Session::~Session() = default;
 void Communicator::abort(int) const {}

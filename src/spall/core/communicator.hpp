@@ -63,6 +63,16 @@ class Communicator {
   void share(std::span<T> items, std::span<const Index> offsets) const {
     share_bytes(reinterpret_cast<std::byte*>(items.data()), sizeof(T), offsets);
   }
+  // Each rank's items for each other rank out, theirs for it in (MPI_Alltoallv): `send` holds the
+  // items for rank r at [send_offsets[r], send_offsets[r + 1]), and the items from rank r land at
+  // [receive_offsets[r], receive_offsets[r + 1]) of `receive` (size() + 1 offsets each; the counts
+  // must match the senders'). For a halo: the state of the particles near another rank's.
+  template <typename T>
+  void exchange(std::span<const T> send, std::span<const Index> send_offsets, std::span<T> receive,
+                std::span<const Index> receive_offsets) const {
+    exchange_bytes(reinterpret_cast<const std::byte*>(send.data()), reinterpret_cast<std::byte*>(receive.data()),
+                   sizeof(T), send_offsets, receive_offsets);
+  }
   // Seconds spent in the collectives above so far, waiting for the other ranks included: the rest
   // of a rank's time is its own work, what load balancing evens out.
   double communicating_seconds() const { return communicating_; }
@@ -70,6 +80,8 @@ class Communicator {
  private:
   friend class Session;
   void share_bytes(std::byte* items, std::size_t item_bytes, std::span<const Index> offsets) const;
+  void exchange_bytes(const std::byte* send, std::byte* receive, std::size_t item_bytes,
+                      std::span<const Index> send_offsets, std::span<const Index> receive_offsets) const;
   int rank_ = 0;
   int size_ = 1;
   mutable double communicating_ = 0;

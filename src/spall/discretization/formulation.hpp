@@ -54,11 +54,16 @@ class Formulation {
   // docs/SCALING.md): a formulation computes the forces and the state of its owned nodes only, takes
   // global decisions over the ranks, and here brings in every rank's new state of its own nodes,
   // once a step (the time loop's halo phase).
-  virtual void share_state(const NodeStore& /*nodes*/) {}
+  virtual void share_state(NodeStore& /*nodes*/) {}
+  // True when share_state also brings in the velocities of the other ranks' nodes that the
+  // formulation reads, and those are all it reads of them until it completes them itself: the
+  // time loop then need not share every node's velocity (the halo by reach).
+  virtual bool halo_by_reach() const { return false; }
   // Under MPI, on every rank before one of them writes a checkpoint: brings in what the
   // formulation keeps current only where a rank computes it (the state of solid elements with no
-  // node of the rank's), so that the state is whole.
-  virtual void complete_state() {}
+  // node of the rank's, the positions and velocities of particles far from a rank's), so that the
+  // state is whole.
+  virtual void complete_state(NodeStore& /*nodes*/) {}
   // Writes (or reads back) everything the formulation carries from one step to the next, so that a
   // run continued from a checkpoint is bitwise the uninterrupted one (core/archive.hpp).
   virtual void checkpoint(Archive& archive) = 0;

@@ -32,6 +32,8 @@ class ParticleShare {
   }
   // The particles are now stored in another order: the next share plans the exchange again.
   void reorder() { offsets_.clear(); }
+  // Bound to blocks that the nodes have since been dealt anew from.
+  bool stale(const NodeStore& nodes) const { return bound_ && partition_ != nodes.partition; }
 
   bool owns(Index node) const { return node >= owned_begin_ && node < owned_end_; }
   // The ranks a sum over the particles this rank computes must be taken across: none until bound

@@ -639,7 +639,7 @@ void SolidElements::share_elements() {
   }
 }
 
-void SolidElements::complete_state() {
+void SolidElements::complete_state(discretization::NodeStore&) {
   if (share_) share_elements();
 }
 

@@ -106,7 +106,7 @@ class SolidElements final : public discretization::Formulation {
     erosion_step_ = step;
   }
   bool scale_mass_below(Real step, bool first_step_only) override;
-  void complete_state() override;
+  void complete_state(discretization::NodeStore& nodes) override;
   void checkpoint(Archive& archive) override;
 
   Index element_count() const;

@@ -76,6 +76,11 @@ class TimeLoop::Step {
     // Under MPI each rank computes a block of the nodes and holds them all (docs/SCALING.md).
     const parallel::Communicator& ranks = parallel::world();
     if (ranks.size() > 1) nodes_.deal(parallel::block_offsets(nodes_.size(), ranks.size()), ranks.rank());
+    // Walls, contacts and bodies read every node (each rank computes them whole): with any of them,
+    // or a formulation that reads the other ranks' nodes beyond what it brings in, every velocity.
+    halo_by_reach_ = problem_.rigid_walls.empty() && problem_.contacts.empty() && problem_.rigid_bodies.empty() &&
+                     std::all_of(problem_.formulations.begin(), problem_.formulations.end(),
+                                 [](const auto& f) { return f->halo_by_reach(); });
     checked_at_ = std::chrono::steady_clock::now();
     parallel::for_each(nodes_.size(), [&](Index i) { nodes_.f[i] = Vec3::Zero(); });
   }
@@ -104,7 +109,7 @@ class TimeLoop::Step {
   const StepInfo& info() const { return step_; }
 
   void complete_state() {
-    for (auto& f : problem_.formulations) f->complete_state();
+    for (auto& f : problem_.formulations) f->complete_state(nodes_);
   }
 
   // Between two steps: the problem's state (nodes, formulations, walls, contacts, bodies), then the
@@ -293,11 +298,13 @@ class TimeLoop::Step {
   // of them, to every rank. Positions need nothing: each rank advances every node by the same
   // arithmetic from the same velocities. Before the constraints, so that every rank applies the
   // walls, prescribed motions and rigid bodies to every node alike (a wall's force is then whole on
-  // each). A rigid body sums the forces of all its nodes: with bodies, the nodes' forces too.
+  // each). A rigid body sums the forces of all its nodes: with bodies, the nodes' forces too. When
+  // every formulation brings in the velocities it reads (halo_by_reach), only those travel; the
+  // others' nodes then go stale here until a formulation completes them.
   void halo() {
     const parallel::Communicator& ranks = parallel::world();
     if (ranks.size() == 1) return;
-    ranks.share(std::span(nodes_.v), nodes_.rank_begin);
+    if (!halo_by_reach_) ranks.share(std::span(nodes_.v), nodes_.rank_begin);
     if (!problem_.rigid_bodies.empty()) ranks.share(std::span(nodes_.f), nodes_.rank_begin);
     for (auto& f : problem_.formulations) f->share_state(nodes_);
   }
@@ -316,9 +323,14 @@ class TimeLoop::Step {
     const Real weight = velocity_weight_, dt_mid = dt_mid_;
     const Real reaction_weight = step_.step == 0 ? Real(0.5) : weight;
     std::vector<Vec3>& v_n = v_old_;
+    // v^n of the other ranks' nodes is read only by the contacts, which every rank computes whole;
+    // with the halo by reach there are none, and those nodes' velocities may be stale.
+    const Index first = halo_by_reach_ ? nodes_.owned_begin : 0;
+    const Index count = halo_by_reach_ ? nodes_.owned_end - first : nodes_.size();
     const Sums<4> sums = parallel::exact_sum(
-        nodes_.size(),
-        [&](Index i) {
+        count,
+        [&](Index k) {
+          const Index i = first + k;
           Sums<4> term;
           const Vec3 v_start = v_old_[i], dv = nodes_.v[i] - v_start;
           v_n[i] += weight * dv;
@@ -346,11 +358,22 @@ class TimeLoop::Step {
     if (sums[3] > 0) throw_runaway();
   }
 
-  // Throws for the lowest-numbered node that has run away (the same for any thread count).
+  // Throws for the lowest-numbered node that has run away (the same for any thread or rank count:
+  // under MPI each rank looks at its own nodes, whose velocities only it may hold current).
   [[noreturn]] void throw_runaway() const {
-    Index worst = 0;
-    while (!runaway(worst)) ++worst;
-    const Real s = nodes_.v[worst].norm();
+    Index worst = nodes_.owned_begin;
+    while (worst < nodes_.owned_end && !runaway(worst)) ++worst;
+    const parallel::Communicator& ranks = parallel::world();
+    worst = ranks.lowest(worst < nodes_.owned_end ? worst : -1);
+    // The speed from its rank, -1 for NaN and -2 for infinity (every other rank offers infinity).
+    const Real infinity = std::numeric_limits<Real>::infinity();
+    double speed = infinity;
+    if (nodes_.owns(worst)) {
+      const Real norm = nodes_.v[worst].norm();
+      speed = std::isnan(norm) ? -1 : std::isinf(norm) ? -2 : norm;
+    }
+    ranks.minimum({&speed, 1});
+    const Real s = speed == -1 ? std::numeric_limits<Real>::quiet_NaN() : speed == -2 ? infinity : speed;
     throw InstabilityError(fmt::format(
         "numerical instability at step {}, time {:.6g}: node {} has velocity {:.6g} ({}); last dt {:.6g}", step_.step,
         step_.time, nodes_.id[worst], s,
@@ -417,6 +440,7 @@ class TimeLoop::Step {
   std::chrono::steady_clock::time_point checked_at_;
   double communicating_at_check_ = 0;
   long long rebalances_ = 0;
+  bool halo_by_reach_ = false;  // halo(): the formulations bring in the velocities they read
   StepInfo step_;
   Real dt_previous_ = 0, dt_first_ = 0, dt_mid_ = 0, velocity_weight_ = 0.5;
   Vec3 base_acceleration_ = Vec3::Zero(), damping_ = Vec3::Zero();

@@ -263,12 +263,20 @@ void FluidFormulation::gather(const discretization::NodeStore& nodes, Real dt) {
   const auto first_empty = static_cast<Index>(extremes[1]);
   // Continuity can empty a particle that a splash tears from its neighbours under tension; its
   // pressure and volume then mean nothing, so the run stops rather than carry on.
-  if (first_empty < n)
+  if (first_empty < n) {
+    // Its predicted density from a rank that gathered it (whose copy of its state is current; NaN
+    // travels as a flag, since no minimum takes it).
+    const Index a = first_empty;
+    const Real rho = density_[a] + dt * (2 * Real(rate_[a]) - Real(previous_rate_[a]));
+    const double none = std::numeric_limits<double>::infinity();
+    double found_rho[2] = {none, none};
+    if (found.first_empty == a) found_rho[0] = std::isnan(rho) ? 1 : 0, found_rho[1] = std::isnan(rho) ? 0 : rho;
+    parallel::world().minimum(found_rho);
     throw InstabilityError(fmt::format(
         "SPH fluid: the particle on node {} has density {:.6g}: it was torn from its neighbours "
         "(a pressure cutoff PC on the *MAT_NULL, e.g. 0, keeps a liquid from taking tension)",
-        nodes.id[node_[first_empty]],
-        density_[first_empty] + dt * (2 * Real(rate_[first_empty]) - Real(previous_rate_[first_empty]))));
+        nodes.id[node_[a]], found_rho[0] == 1 ? std::numeric_limits<Real>::quiet_NaN() : found_rho[1]));
+  }
   max_sound_speed_ = m.sound_speed_at(max_density);
 }
 
@@ -411,25 +419,124 @@ void FluidFormulation::pair_pass(discretization::NodeStore& nodes, Real dt) {
   first_pass_ = false;
 }
 
-// The continuity state of the other ranks' particles: every rank's share in, in place.
-void FluidFormulation::share_state(const discretization::NodeStore&) {
-  share_(node_, density_, rate_, previous_rate_);
+namespace {
+// What a particle's rank sends of it to a rank whose particles are near (share_state).
+struct HaloRecord {
+  Vec3 v;
+  Real density;
+  float rate, previous_rate;
+};
+}  // namespace
+
+// The halo by reach: the velocity v^{n+1/2} and the continuity state of the particles in the cells
+// near another rank's particles, from their rank to that one. A rank's pair pass reads nothing
+// else of the other ranks' particles until the cells are rebuilt or the nodes dealt anew, when
+// complete() brings in the rest (positions included: the others' went stale with their velocities).
+void FluidFormulation::share_state(discretization::NodeStore& nodes) {
+  const parallel::Communicator& ranks = parallel::world();
+  if (ranks.size() == 1 || halo_send_offsets_.empty()) return;
+  std::vector<HaloRecord> send(halo_send_.size()), receive(halo_receive_.size());
+  parallel::for_each(static_cast<Index>(send.size()), [&](Index k) {
+    const Index a = halo_send_[k];
+    send[k] = {nodes.v[node_[a]], density_[a], rate_[a], previous_rate_[a]};
+  });
+  ranks.exchange(std::span<const HaloRecord>(send), halo_send_offsets_, std::span(receive), halo_receive_offsets_);
+  parallel::for_each(static_cast<Index>(receive.size()), [&](Index k) {
+    const Index a = halo_receive_[k];
+    nodes.v[node_[a]] = receive[k].v;
+    density_[a] = receive[k].density;
+    rate_[a] = receive[k].rate;
+    previous_rate_[a] = receive[k].previous_rate;
+  });
+  complete_ = false;
+}
+
+void FluidFormulation::complete_state(discretization::NodeStore& nodes) {
+  if (!complete_) complete(nodes);
+}
+
+void FluidFormulation::complete(discretization::NodeStore& nodes) {
+  const Index n = particle_count();
+  std::vector<Vec3> x(n), v(n);
+  parallel::for_each(n, [&](Index a) { x[a] = nodes.x[node_[a]], v[a] = nodes.v[node_[a]]; });
+  share_(node_, x, v, density_, rate_, previous_rate_);
+  parallel::for_each(n, [&](Index a) {
+    if (owns(a)) return;
+    nodes.x[node_[a]] = x[a];
+    nodes.v[node_[a]] = v[a];
+  });
+  complete_ = true;
+}
+
+// Every rank marks the cells near its own particles; each then knows every rank's marks and, the
+// cells being every rank's (built from the same positions), which of its particles each other rank
+// reads and which of theirs it reads, in one order on both sides.
+void FluidFormulation::plan_halo(const discretization::NodeStore& nodes) {
+  const parallel::Communicator& ranks = parallel::world();
+  const int size = ranks.size(), me = ranks.rank();
+  const Index cell_count = cells_.cell_count();
+  std::vector<std::uint8_t> near(static_cast<std::size_t>(size) * cell_count);
+  std::copy(near_owned_cell_.begin(), near_owned_cell_.end(), near.begin() + static_cast<std::size_t>(me) * cell_count);
+  std::vector<Index> offsets(size + 1);
+  for (int r = 0; r <= size; ++r) offsets[r] = r * cell_count;
+  ranks.share(std::span(near), offsets);
+  halo_send_.clear();
+  halo_send_offsets_.assign(size + 1, 0);
+  for (int r = 0; r < size; ++r) {
+    halo_send_offsets_[r] = static_cast<Index>(halo_send_.size());
+    if (r == me) continue;
+    for (Index c = 0; c < cell_count; ++c) {
+      if (!near[static_cast<std::size_t>(r) * cell_count + c]) continue;
+      const neighbors::ParticleRange own = cells_.cell(c);
+      for (Index a = own.begin; a < own.end; ++a)
+        if (owns(a)) halo_send_.push_back(a);
+    }
+  }
+  halo_send_offsets_[size] = static_cast<Index>(halo_send_.size());
+  std::vector<std::vector<Index>> from(size);
+  for (Index c = 0; c < cell_count; ++c) {
+    if (!near_owned_cell_[c]) continue;
+    const neighbors::ParticleRange own = cells_.cell(c);
+    for (Index a = own.begin; a < own.end; ++a) {
+      if (owns(a)) continue;
+      const auto rank = std::upper_bound(nodes.rank_begin.begin(), nodes.rank_begin.end(), node_[a]) -
+                        nodes.rank_begin.begin() - 1;
+      from[rank].push_back(a);
+    }
+  }
+  halo_receive_.clear();
+  halo_receive_offsets_.assign(size + 1, 0);
+  for (int r = 0; r < size; ++r) {
+    halo_receive_offsets_[r] = static_cast<Index>(halo_receive_.size());
+    halo_receive_.insert(halo_receive_.end(), from[r].begin(), from[r].end());
+  }
+  halo_receive_offsets_[size] = static_cast<Index>(halo_receive_.size());
 }
 
 void FluidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt) {
-  // Every particle moved by dt v^{n-1/2} since the last call.
-  const Index n = particle_count();
-  const Real max_speed = parallel::reduce_exact(
-      n, Real(0), [&](Index a) { return nodes.v[node_[a]].norm(); }, [](Real x, Real y) { return std::max(x, y); });
-  max_speed_ = max_speed;
-  travelled_ += dt * max_speed;
+  const bool distributed = parallel::world().size() > 1;
+  // Nodes dealt anew: the state is brought in from the ranks it is current on, the old blocks'.
+  if (distributed && !complete_ && share_.stale(nodes)) complete(nodes);
   share_.bind(nodes);
+  // Every particle moved by dt v^{n-1/2} since the last call (under MPI each rank's own, the
+  // velocities it holds current, then over the ranks).
+  const Index n = particle_count();
+  double negated_speed = -parallel::reduce_exact(
+      n, Real(0), [&](Index a) { return owns(a) ? nodes.v[node_[a]].norm() : Real(0); },
+      [](Real x, Real y) { return std::max(x, y); });
+  parallel::world().minimum({&negated_speed, 1});
+  max_speed_ = -negated_speed;
+  travelled_ += dt * max_speed_;
   // Two particles approach each other by at most twice the bound; the search also widens by the
   // rounding margin, and all of it must stay within the skin (see for_each_particle_candidates).
-  if (!cells_built_ || 2 * travelled_ + rounding_margin_ > parameters_.skin * support_) rebuild_cells(nodes);
-  if (parallel::world().size() > 1 && near_owned_partition_ != nodes.partition) {
+  if (!cells_built_ || 2 * travelled_ + rounding_margin_ > parameters_.skin * support_) {
+    if (distributed && !complete_) complete(nodes);  // every rank bins every particle alike
+    rebuild_cells(nodes);
+  }
+  if (distributed && near_owned_partition_ != nodes.partition) {
     near_owned_cell_ = cells_near([&](Index a) { return owns(a); });
     near_owned_partition_ = nodes.partition;
+    plan_halo(nodes);
   }
   gather(nodes, dt);
   pair_pass(nodes, dt);

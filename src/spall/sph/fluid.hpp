@@ -105,7 +105,9 @@ class FluidFormulation final : public discretization::Formulation {
   // The power of the last internal forces at the node velocities v.
   discretization::InternalPower internal_power(std::span<const Vec3> v) const;
   Real max_wave_speed() const override;
-  void share_state(const discretization::NodeStore& nodes) override;
+  void share_state(discretization::NodeStore& nodes) override;
+  bool halo_by_reach() const override { return true; }
+  void complete_state(discretization::NodeStore& nodes) override;
   void checkpoint(Archive& archive) override;
 
   Index particle_count() const { return static_cast<Index>(node_.size()); }
@@ -121,6 +123,10 @@ class FluidFormulation final : public discretization::Formulation {
   void rebuild_cells(const discretization::NodeStore& nodes);
   template <class Chosen>
   std::vector<std::uint8_t> cells_near(Chosen&& chosen) const;
+  // Under MPI: which particles go to which rank in the halo, and which come from which.
+  void plan_halo(const discretization::NodeStore& nodes);
+  // Under MPI: every rank's particles' positions, velocities and continuity state in.
+  void complete(discretization::NodeStore& nodes);
   void gather(const discretization::NodeStore& nodes, Real dt);
   // The pair pass with the kernel of the parameters.
   void pair_pass(discretization::NodeStore& nodes, Real dt);
@@ -168,6 +174,13 @@ class FluidFormulation final : public discretization::Formulation {
   // near_owned_partition_ (-1: not yet). Empty in one process (every cell).
   std::vector<std::uint8_t> near_owned_cell_;
   long long near_owned_partition_ = -1;
+  // The halo by reach (share_state): this rank's particles in the cells near each other rank's
+  // (grouped by that rank, in cell order), and the other ranks' particles in the cells near this
+  // rank's (grouped by their rank, in cell order), with each rank's first entry, then the count.
+  std::vector<Index> halo_send_, halo_send_offsets_, halo_receive_, halo_receive_offsets_;
+  // Whether every particle's position, velocity and continuity state is current here: from the
+  // set-up, a checkpoint or complete() until the next halo by reach.
+  bool complete_ = true;
   Vec3 origin_ = Vec3::Zero();  // the cells' grid corner
   Real rounding_margin_ = 0;    // widens the search for the single-precision positions
   bool cells_built_ = false;
