@@ -91,6 +91,13 @@ std::size_t bytes(const std::vector<T>& v) {
   return v.capacity() * sizeof(T);
 }
 
+// What a particle's rank sends of it to a rank whose particles are near (share_state).
+struct HaloRecord {
+  Vec3 v;
+  Real density;
+  float rate, previous_rate;
+};
+
 }  // namespace
 
 FluidMaterial FluidMaterial::tait(Real rho0, Real c0, Real gamma, Real mu) {
@@ -418,15 +425,6 @@ void FluidFormulation::pair_pass(discretization::NodeStore& nodes, Real dt) {
   max_mu_ = -negated_maxima[1];
   first_pass_ = false;
 }
-
-namespace {
-// What a particle's rank sends of it to a rank whose particles are near (share_state).
-struct HaloRecord {
-  Vec3 v;
-  Real density;
-  float rate, previous_rate;
-};
-}  // namespace
 
 // The halo by reach: the velocity v^{n+1/2} and the continuity state of the particles in the cells
 // near another rank's particles, from their rank to that one. A rank's pair pass reads nothing
