@@ -36,6 +36,10 @@ class ParticleShare {
   bool stale(const NodeStore& nodes) const { return bound_ && partition_ != nodes.partition; }
 
   bool owns(Index node) const { return node >= owned_begin_ && node < owned_end_; }
+  // The rank that computes a node, in the blocks bound to (once bound, under MPI).
+  int rank_of(Index node) const {
+    return static_cast<int>(std::upper_bound(rank_begin_.begin(), rank_begin_.end(), node) - rank_begin_.begin()) - 1;
+  }
   // The ranks a sum over the particles this rank computes must be taken across: none until bound
   // (every rank computes every particle then, as in the set-up).
   const parallel::Communicator* across() const { return bound_ ? &parallel::world() : nullptr; }
@@ -101,10 +105,7 @@ class ParticleShare {
     if (static_cast<int>(rank_begin_.size()) != ranks + 1)
       throw std::logic_error("ParticleShare: the nodes were not dealt out to the ranks");
     std::vector<int> rank(n);
-    parallel::for_each(n, [&](Index a) {
-      rank[a] = static_cast<int>(std::upper_bound(rank_begin_.begin(), rank_begin_.end(), node[a]) -
-                                 rank_begin_.begin()) - 1;
-    });
+    parallel::for_each(n, [&](Index a) { rank[a] = rank_of(node[a]); });
     offsets_.assign(ranks + 1, 0);
     for (Index a = 0; a < n; ++a) ++offsets_[rank[a] + 1];
     std::partial_sum(offsets_.begin(), offsets_.end(), offsets_.begin());

@@ -469,7 +469,7 @@ void FluidFormulation::complete(discretization::NodeStore& nodes) {
 // Every rank marks the cells near its own particles; each then knows every rank's marks and, the
 // cells being every rank's (built from the same positions), which of its particles each other rank
 // reads and which of theirs it reads, in one order on both sides.
-void FluidFormulation::plan_halo(const discretization::NodeStore& nodes) {
+void FluidFormulation::plan_halo() {
   const parallel::Communicator& ranks = parallel::world();
   const int size = ranks.size(), me = ranks.rank();
   const Index cell_count = cells_.cell_count();
@@ -495,12 +495,8 @@ void FluidFormulation::plan_halo(const discretization::NodeStore& nodes) {
   for (Index c = 0; c < cell_count; ++c) {
     if (!near_owned_cell_[c]) continue;
     const neighbors::ParticleRange own = cells_.cell(c);
-    for (Index a = own.begin; a < own.end; ++a) {
-      if (owns(a)) continue;
-      const auto rank = std::upper_bound(nodes.rank_begin.begin(), nodes.rank_begin.end(), node_[a]) -
-                        nodes.rank_begin.begin() - 1;
-      from[rank].push_back(a);
-    }
+    for (Index a = own.begin; a < own.end; ++a)
+      if (!owns(a)) from[share_.rank_of(node_[a])].push_back(a);
   }
   halo_receive_.clear();
   halo_receive_offsets_.assign(size + 1, 0);
@@ -534,7 +530,7 @@ void FluidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt)
   if (distributed && near_owned_partition_ != nodes.partition) {
     near_owned_cell_ = cells_near([&](Index a) { return owns(a); });
     near_owned_partition_ = nodes.partition;
-    plan_halo(nodes);
+    plan_halo();
   }
   gather(nodes, dt);
   pair_pass(nodes, dt);

@@ -124,7 +124,7 @@ class FluidFormulation final : public discretization::Formulation {
   template <class Chosen>
   std::vector<std::uint8_t> cells_near(Chosen&& chosen) const;
   // Under MPI: which particles go to which rank in the halo, and which come from which.
-  void plan_halo(const discretization::NodeStore& nodes);
+  void plan_halo();
   // Under MPI: every rank's particles' positions, velocities and continuity state in.
   void complete(discretization::NodeStore& nodes);
   void gather(const discretization::NodeStore& nodes, Real dt);
