@@ -3,7 +3,8 @@
 // every rank holds every particle's value: particles stored in node order (in place), in a
 // shuffled order (gathered by rank and put back), on a few nodes only (ranks with no particle),
 // stored anew in another order (planned again), several values a particle, rows of different
-// lengths (shared whole, or completed from the rows each rank made for its own particles).
+// lengths (shared whole, or completed from the rows each rank made for its own particles); and
+// discretization::ReachShare, which brings in only the particles a rank reads.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -15,6 +16,7 @@
 #include "spall/core/communicator.hpp"
 #include "spall/discretization/node_store.hpp"
 #include "spall/discretization/particle_share.hpp"
+#include "spall/discretization/reach_share.hpp"
 
 namespace spall::discretization {
 namespace {
@@ -183,6 +185,46 @@ TEST(ParticleShare, CompleteRowsFromEachRanksOwn) {
   }
   share.complete_rows(node, offsets, entries);
   expect_every_row(offsets, entries);
+}
+
+// ReachShare: each rank reads a few particles of the others' (those within `reach` of its own in
+// a shuffled storage order, and one far away), writes -1 into every particle it does not own, and
+// after the share holds the true values of exactly the particles it reads; the rest stay -1.
+TEST(ReachShare, BringsInWhatEachRankReadsAndNothingElse) {
+  const Index n = 203;
+  std::vector<Index> node(n);
+  std::iota(node.begin(), node.end(), Index(0));
+  std::shuffle(node.begin(), node.end(), std::mt19937(37));  // the same on every rank
+  ParticleShare share;
+  share.bind(dealt_nodes(n));
+  std::vector<std::uint8_t> reads(n, 0);
+  for (Index a = 0; a < n; ++a)
+    for (Index reach = -3; reach <= 3; ++reach)
+      if (share.owns(std::clamp(node[a] + reach, Index(0), n - 1))) reads[a] = 1;
+  reads[std::find(node.begin(), node.end(), Index(0)) - node.begin()] = 1;  // every rank reads node 0
+  ReachShare reach;
+  EXPECT_FALSE(reach.planned());
+  reach.plan(reads, node, share);
+  EXPECT_TRUE(reach.planned());
+  std::vector<Value> values(n, Value{-1.0, -1});
+  std::vector<double> doubled(n, -1.0), none;
+  for (Index a = 0; a < n; ++a)
+    if (share.owns(node[a])) values[a] = Value{0.5 * node[a], static_cast<int>(node[a])}, doubled[a] = 2.0 * node[a];
+  reach(values, none, doubled);
+  EXPECT_TRUE(none.empty());
+  Index read_of_others = 0;
+  for (Index a = 0; a < n; ++a) {
+    const bool known = share.owns(node[a]) || reads[a];
+    read_of_others += reads[a] && !share.owns(node[a]);
+    EXPECT_EQ(values[a].x, known ? 0.5 * node[a] : -1.0) << "particle " << a;
+    EXPECT_EQ(values[a].node, known ? node[a] : -1) << "particle " << a;
+    EXPECT_EQ(doubled[a], known ? 2.0 * node[a] : -1.0) << "particle " << a;
+  }
+  EXPECT_EQ(reach.received(), read_of_others);
+  // What the ranks receive, they send: the totals agree.
+  std::int64_t counts[2] = {reach.sent(), reach.received()};
+  parallel::world().sum(counts);
+  EXPECT_EQ(counts[0], counts[1]);
 }
 
 TEST(ParticleShare, EveryParticleOwnedUntilBound) {

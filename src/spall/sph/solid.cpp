@@ -385,6 +385,7 @@ void SolidFormulation::update_records() {
 void SolidFormulation::update_neighbour_list() {
   const Index n = particle_count();
   if (list_built_ && !h_outgrown_ && !verlet_.needs_rebuild(x_)) return;
+  if (!complete_) complete();  // every rank builds every row alike
   const Real h_largest = parallel::reduce_exact(
       n, Real(0),
       [&](Index a) {
@@ -790,8 +791,32 @@ void SolidFormulation::check_state(const discretization::NodeStore& nodes, Index
 }
 
 void SolidFormulation::share_updated_state() {
-  share_(node_, updated_volume_, updated_sound_speed_, density_, pressure_, internal_energy_, state_, back_stress_,
+  if (parallel::world().size() == 1) return;
+  reach_(updated_volume_, updated_sound_speed_, density_, stress_, plain_stress_, artificial_stress_);
+  complete_ = false;
+}
+
+void SolidFormulation::plan_reach(const discretization::NodeStore& nodes) {
+  const auto& list = verlet_.list();
+  const Index n = particle_count();
+  std::vector<std::uint8_t> reads(n, 0);
+  for (Index a = 0; a < n; ++a) {
+    if (!owns(a) && !(force_blocks_ > 0 && block_needed_[a / force_block_length_])) continue;
+    reads[a] = 1;
+    for (Index k = list.offsets[a]; k < list.offsets[a + 1]; ++k) reads[list.neighbors[k]] = 1;
+  }
+  reach_.plan(reads, node_, share_);
+  reach_partition_ = nodes.partition;
+}
+
+void SolidFormulation::complete() {
+  share_(node_, volume_, sound_speed_, density_, smoothing_length_, pressure_, internal_energy_, state_, back_stress_,
          stress_, plain_stress_, artificial_stress_, exported_deviator_, strain_rate_squared_, gradient_amplification_);
+  complete_ = true;
+}
+
+void SolidFormulation::complete_state(discretization::NodeStore&) {
+  if (!complete_) complete();
 }
 
 void SolidFormulation::choose_force_blocks() {
@@ -938,10 +963,15 @@ void SolidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt)
     stable_step_.reset();
     return;
   }
+  const bool distributed = parallel::world().size() > 1;
+  // Nodes dealt anew: the state is brought in from the ranks it is current on, the old blocks'.
+  if (distributed && !complete_ && share_.stale(nodes)) complete();
   share_.bind(nodes);
   gather_kinematics(nodes);
+  const long long builds = verlet_.builds();
   update_neighbour_list();
   choose_force_blocks();
+  if (distributed && (verlet_.builds() != builds || reach_partition_ != nodes.partition)) plan_reach(nodes);
   update_records();
   Index first_unsound = n;
   with_discretization([&](auto kernel, auto corrected) {
@@ -951,7 +981,8 @@ void SolidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt)
     int interval = 1 << 30;
     for (const ColourField& c : options_.colour_field)
       if (c.enabled) interval = std::min(interval, c.interval);
-    share_(node_, colour_, colour_normal_, support_count_);  // categorize reads the neighbours'
+    // categorize reads the neighbours' and, through their layers, their neighbours' too
+    share_(node_, colour_, colour_normal_, support_count_, smoothing_length_);
     if (step_ % interval == 0) categorize();
     first_unsound = update_state(dt);
   }
@@ -960,6 +991,7 @@ void SolidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt)
   volume_.swap(updated_volume_);
   sound_speed_.swap(updated_sound_speed_);
   ++step_;
+  if (first_unsound < n && !complete_) complete();  // every rank names the particle's own state
   check_state(nodes, first_unsound);
   with_discretization([&](auto kernel, auto corrected) { compute_pair_forces<decltype(kernel), corrected>(); });
   // h follows the density only now, so that both pair passes of a step use one kernel: the force
@@ -972,14 +1004,17 @@ void SolidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt)
   const Found found = parallel::fold_exact(
       n, Found{},
       [&](Found& found, Index a) {
-        if (owns(a)) nodes.f[node_[a]] += force_[a].head<3>();
-        if (dt > 0) {  // from the density, which every rank holds whole: on every particle
+        // h on every particle: under MPI the others' follow the densities that came in, current
+        // for the particles this rank's rows read.
+        if (dt > 0) {
           const Real compression = materials_[material_[a]].density / density_[a];
           const Real scale = options_.dimension == 3 ? cube_root(compression) : std::sqrt(compression);
           const HBounds& bounds = h_bounds_[material_[a]];
           const Real h0 = initial_smoothing_length_[a];
           smoothing_length(a) = std::clamp(h0 * scale, h0 * bounds.lower, h0 * bounds.upper);
         }
+        if (!owns(a)) return;  // another rank's: its rank finds its limit
+        nodes.f[node_[a]] += force_[a].head<3>();
         found.outgrown = found.outgrown || smoothing_length(a) > list_reach_[a];
         found.step = std::min(found.step, stable_step_of(a, nodes.v[node_[a]]));
       },
@@ -987,8 +1022,11 @@ void SolidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt)
         found.outgrown = found.outgrown || other.outgrown;
         found.step = std::min(found.step, other.step);
       });
-  h_outgrown_ = found.outgrown;
-  stable_step_ = found.step;
+  // Over the ranks: the smallest step, and whether any h has outgrown its reach (as 0 / -1).
+  double global[2] = {found.step, found.outgrown ? -1.0 : 0.0};
+  parallel::world().minimum(global);
+  stable_step_ = global[0];
+  h_outgrown_ = global[1] < 0;
 }
 
 // CFL condition dt <= h / (c s + |v|) per particle (docs/THEORY.md §3): the highest frequency of
@@ -1098,6 +1136,8 @@ void SolidFormulation::checkpoint(Archive& a) {
     velocity_gradient_, strain_rate_squared_, support_mask_, viscous_heating_, viscous_force_, force_,
     force_blocks_, force_block_length_, verlet_, time_, step_, list_built_, h_outgrown_, stable_step_,
     has_temperature_);
+  // Written whole (complete_state), read by ranks that plan their reach again.
+  if (a.reading()) complete_ = true, reach_partition_ = -1;
 }
 
 std::size_t SolidFormulation::memory_bytes() const {

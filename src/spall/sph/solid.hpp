@@ -37,6 +37,7 @@
 #include "spall/neighbors/verlet_list.hpp"
 #include "spall/discretization/formulation.hpp"
 #include "spall/discretization/particle_share.hpp"
+#include "spall/discretization/reach_share.hpp"
 #include "spall/sph/artificial_viscosity.hpp"
 
 namespace spall::sph {
@@ -150,6 +151,7 @@ class SolidFormulation final : public discretization::Formulation {
   // The power of the last internal forces at the node velocities v.
   discretization::InternalPower internal_power(std::span<const Vec3> v) const;
   Real max_wave_speed() const override;
+  void complete_state(discretization::NodeStore& nodes) override;
   void checkpoint(Archive& archive) override;
 
   Index particle_count() const { return static_cast<Index>(node_.size()); }
@@ -203,9 +205,18 @@ class SolidFormulation final : public discretization::Formulation {
   template <typename F>
   void with_discretization(F&& f);
   bool active(Real time) const;
-  // Under MPI (replicated state, docs/SCALING.md): every rank's state of its own particles in, after
-  // the state update, so that the force pass and the next step read every neighbour's.
+  // Under MPI (replicated storage, the halo by reach; docs/SCALING.md §3): after the state update,
+  // what the force pass and the next step's rates pass read of the other ranks' particles (their
+  // volume, sound speed, density and the stress records) comes in from their ranks (reach_); the
+  // rest of their state goes stale.
   void share_updated_state();
+  // Which of the other ranks' particles this rank's rows read (plan_reach): the neighbours of its
+  // own particles and of the force blocks it runs. At each list build and each new deal.
+  void plan_reach(const discretization::NodeStore& nodes);
+  // Every rank's whole state of its own particles in (share_, to every rank): before the list is
+  // built, before the nodes are dealt anew, before a checkpoint or a field output, and before a
+  // particle's failure is reported, so that every rank sees every particle alike there.
+  void complete();
   // Which force blocks this rank runs: those with a particle it owns, and the block before each
   // (its half rows subtract from the next block's forces). All when the run is one process.
   void choose_force_blocks();
@@ -296,6 +307,9 @@ class SolidFormulation final : public discretization::Formulation {
   discretization::ParticleShare share_;  // under MPI: the particles this rank computes, theirs to all
   bool owns(Index a) const { return share_.owns(node_[a]); }
   std::vector<std::uint8_t> block_needed_;               // per force block (choose_force_blocks)
+  discretization::ReachShare reach_;  // under MPI: the other ranks' particles this rank's rows read
+  long long reach_partition_ = -1;    // NodeStore::partition that reach_ was planned for
+  bool complete_ = true;              // every particle's state current on this rank (complete())
 
   neighbors::VerletList verlet_;
   Real time_ = 0;

@@ -1,0 +1,72 @@
+#pragma once
+// Under MPI with replicated storage (docs/SCALING.md §3, "The halo by reach"): each step, only the
+// other ranks' particles that this rank's passes read come in, from the ranks that compute them.
+// A formulation marks what its rows read (plan, at each neighbour-list build and each new deal of
+// the nodes); the ranks then tell each other which of their particles they want, by index (the
+// particle order is every rank's), and each step's share sends just those. The rest of the other
+// ranks' particles go stale until the formulation completes its state (ParticleShare, whole).
+#include <cstddef>
+#include <cstring>
+#include <span>
+#include <vector>
+
+#include "spall/core/communicator.hpp"
+#include "spall/core/parallel.hpp"
+#include "spall/core/types.hpp"
+#include "spall/discretization/particle_share.hpp"
+
+namespace spall::discretization {
+
+class ReachShare {
+ public:
+  // `reads[a]` is 1 where this rank's passes read particle a (its own particles are skipped);
+  // `node[a]` is a's node, whose rank `share` knows. Collective: every rank plans at once.
+  void plan(std::span<const std::uint8_t> reads, std::span<const Index> node, const ParticleShare& share);
+  bool planned() const { return !receive_offsets_.empty(); }
+  // Forgets the plan (the particles this rank reads have changed).
+  void clear() { send_offsets_.clear(), receive_offsets_.clear(); }
+  // Particles this rank sends and receives a step (for the docs' halo counts).
+  Index sent() const { return static_cast<Index>(send_.size()); }
+  Index received() const { return static_cast<Index>(receive_.size()); }
+
+  // The planned particles' values of each array (one value a particle; empty arrays are state
+  // the options switched off and travel not) from their ranks, in one message per pair of ranks.
+  // Values travel as their bytes, as MPI sends them: plain structs and Eigen's fixed-size matrices.
+  template <typename... T>
+  void operator()(std::vector<T>&... values) const {
+    if (!planned()) return;
+    const std::size_t record = ((values.empty() ? 0 : sizeof(T)) + ... + 0);
+    if (record == 0) return;
+    std::vector<std::byte> send(send_.size() * record), receive(receive_.size() * record);
+    const auto pack = [&](auto& array, std::size_t& at) {
+      if (array.empty()) return;
+      constexpr std::size_t bytes = sizeof(array[0]);
+      parallel::for_each(static_cast<Index>(send_.size()), [&](Index k) {
+        std::memcpy(send.data() + k * record + at, &array[send_[k]], bytes);
+      });
+      at += bytes;
+    };
+    const auto unpack = [&](auto& array, std::size_t& at) {
+      if (array.empty()) return;
+      constexpr std::size_t bytes = sizeof(array[0]);
+      parallel::for_each(static_cast<Index>(receive_.size()), [&](Index k) {
+        std::memcpy(&array[receive_[k]], receive.data() + k * record + at, bytes);
+      });
+      at += bytes;
+    };
+    std::size_t at = 0;
+    (pack(values, at), ...);
+    std::vector<Index> send_offsets(send_offsets_), receive_offsets(receive_offsets_);
+    for (Index& o : send_offsets) o *= static_cast<Index>(record);
+    for (Index& o : receive_offsets) o *= static_cast<Index>(record);
+    parallel::world().exchange(std::span<const std::byte>(send), send_offsets, std::span(receive), receive_offsets);
+    at = 0;
+    (unpack(values, at), ...);
+  }
+
+ private:
+  std::vector<Index> send_, send_offsets_;        // this rank's particles each other rank reads
+  std::vector<Index> receive_, receive_offsets_;  // the other ranks' particles this rank reads
+};
+
+}  // namespace spall::discretization
