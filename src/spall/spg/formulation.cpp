@@ -39,6 +39,10 @@ bool SpgFormulation::scale_mass_below(Real step, bool first_step_only) {
   return true;
 }
 
+void SpgFormulation::complete_state(discretization::NodeStore&) {
+  for (auto& part : parts_) part.complete_state();
+}
+
 void SpgFormulation::checkpoint(Archive& a) {
   a.expect_size("SPG parts", parts_.size());
   for (auto& part : parts_) part.checkpoint(a);

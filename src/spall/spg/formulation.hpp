@@ -22,6 +22,7 @@ class SpgFormulation final : public discretization::Formulation {
   discretization::InternalPower internal_power(std::span<const Vec3> v) const;
   Real max_wave_speed() const override;
   bool scale_mass_below(Real step, bool first_step_only) override;
+  void complete_state(discretization::NodeStore& nodes) override;
   void checkpoint(Archive& archive) override;
 
   const std::vector<Part>& parts() const { return parts_; }

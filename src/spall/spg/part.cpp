@@ -443,7 +443,7 @@ void Part::internal_forces() {
       h.noalias() += weighted_stress_[bonds_.neighbour[k]] * grad_[bonds_.mirror[k]];
     h_[i] = h;
   }, particle_loops);
-  share_(node_, h_);
+  reach_(h_);
   const bool smoothed = settings_.stabilization == Stabilization::fluid_particle;
   const auto& s = stabilization_total_;
   parallel::for_each(n, [&](Index K) {
@@ -462,10 +462,32 @@ void Part::internal_forces() {
   }, particle_loops);
 }
 
+void Part::plan_reach(const discretization::NodeStore& nodes) {
+  const Index n = particle_count();
+  std::vector<std::uint8_t> reads(n, 0);
+  for (Index j = 0; j < n; ++j) {
+    if (!owns(j)) continue;
+    reads[j] = 1;
+    for (Index k = bonds_.offsets[j]; k < bonds_.offsets[j + 1]; ++k) reads[bonds_.neighbour[k]] = 1;
+  }
+  reach_.plan(reads, node_, share_);
+  reach_partition_ = nodes.partition;
+}
+
+void Part::complete() {
+  share_(node_, F_, spin_, state_, back_stress_, specific_energy_, density_, pressure_, sound_speed_,
+         viscous_pressure_, viscous_power_, stabilization_force_);
+  complete_ = true;
+}
+
 void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
   const Index n = particle_count();
   const parallel::Communicator& ranks = parallel::world();
+  const bool distributed = ranks.size() > 1;
+  // Nodes dealt anew: the state is brought in from the ranks it is current on, the old blocks'.
+  if (distributed && !complete_ && share_.stale(nodes)) complete();
   share_.bind(nodes);
+  if (distributed && reach_partition_ != nodes.partition) plan_reach(nodes);
   parallel::for_each(n, [&](Index i) {
     x_[i] = nodes.x[node_[i]];
     v_[i] = nodes.v[node_[i]];
@@ -481,10 +503,20 @@ void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
       throw InstabilityError(fmt::format("SPG part {}: the deformation gradient at node {} is no longer "
                                          "invertible (det F <= 0): the particles have inverted",
                                          settings_.part_id, node_id_[inverted]));
-    share_(node_, F_, spin_, state_, back_stress_, specific_energy_, density_, pressure_, sound_speed_,
-           viscous_pressure_, viscous_power_);
+    // What the bonded particles of other ranks read (the stress and the spin); a kernel update reads
+    // every particle's state, the bond failure and the stabilization springs whole.
+    const bool updating = steps_since_update_ + 1 >= settings_.update_interval;
+    if (distributed && updating) {
+      complete();
+    } else if (distributed) {
+      reach_(F_, spin_, state_, pressure_, viscous_pressure_);
+      complete_ = false;
+    }
     update_stabilization(dt);
-    if (++steps_since_update_ >= settings_.update_interval) update_kernel();
+    if (++steps_since_update_ >= settings_.update_interval) {
+      update_kernel();
+      if (distributed) plan_reach(nodes);
+    }
   }
   internal_forces();
   parallel::for_each(n, [&](Index i) {
@@ -501,15 +533,20 @@ void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
 // s = alpha h / target (but never below s / 2: a particle faster than s / 2 keeps a step below the
 // target rather than take unbounded mass), (f - 1) m more mass on its node, kept from then on. Its
 // material keeps its density.
+// Under MPI each rank scales its own particles, and every rank adds every particle's new mass to
+// its node (the contacts, every rank's whole, read every node's mass).
 void Part::scale_masses(discretization::NodeStore& nodes) {
   const Index n = particle_count();
+  const std::vector<Real> before = mass_scale_;
   parallel::for_each(n, [&](Index i) {
+    if (!owns(i)) return;
     const Real s = courant_factor * current_spacing(i) / mass_scaling_.step, speed = nodes.v[node_[i]].norm();
     const Real ratio = sound_speed_[i] / std::max(s - speed, s / 2);
-    if (ratio * ratio > mass_scale_[i]) {
-      nodes.mass[node_[i]] += (ratio * ratio - mass_scale_[i]) * mass_[i];
-      mass_scale_[i] = ratio * ratio;
-    }
+    mass_scale_[i] = std::max(mass_scale_[i], ratio * ratio);
+  }, particle_loops);
+  share_(node_, mass_scale_);
+  parallel::for_each(n, [&](Index i) {
+    if (mass_scale_[i] > before[i]) nodes.mass[node_[i]] += (mass_scale_[i] - before[i]) * mass_[i];
   }, particle_loops);
   const Real added = parallel::exact_sum(n, [&](Index i) { return (mass_scale_[i] - 1) * mass_[i]; });
   mass_scaling_.record(added);
@@ -534,15 +571,21 @@ Real Part::current_spacing(Index i) const {
 // CFL condition on the support size (seed 001 §2.1: the SPG step follows the support of the shape
 // functions, not the closest nodal distance, so a distorted neighbourhood does not cut it down):
 // dt <= alpha (a_min / DX) (V / V_0)^(1/3) / (c + |v|).
+// Under MPI, of each rank's own particles, then the least over the ranks (every rank asks for it
+// in the step's limit).
 Real Part::stable_time_step(const discretization::NodeStore& nodes) const {
   const Index n = particle_count();
-  return parallel::reduce_exact(
-      n, std::numeric_limits<Real>::infinity(),
+  const Real infinity = std::numeric_limits<Real>::infinity();
+  double step = parallel::reduce_exact(
+      n, infinity,
       [&](Index i) {
+        if (!owns(i)) return infinity;
         const Real c = mass_scale_.empty() ? sound_speed_[i] : sound_speed_[i] / std::sqrt(mass_scale_[i]);
         return courant_factor * current_spacing(i) / (c + nodes.v[node_[i]].norm());
       },
       [](Real a, Real b) { return std::min(a, b); }, particle_loops);
+  parallel::world().minimum({&step, 1});
+  return step;
 }
 
 discretization::InternalPower Part::internal_power(std::span<const Vec3> v) const {
@@ -599,6 +642,8 @@ void Part::checkpoint(Archive& a) {
     dashpot_, stabilization_total_, stabilization_power_, initial_bond_count_, degraded_, psi_self_, grad_self_, psi_,
     grad_, bonds_, broken_pairs_, on_surface_, correction_, x_, v_, xs_, vs_, h_, force_, weighted_stress_, spin_,
     steps_since_update_, kernel_updates_, mass_scaling_, mass_scale_);
+  // Written whole (complete_state), read by ranks that plan their reach again.
+  if (a.reading()) complete_ = true, reach_partition_ = -1;
 }
 
 Index Part::degraded_count() const {

@@ -29,6 +29,7 @@
 #include "spall/discretization/field_set.hpp"
 #include "spall/discretization/mass_scaling.hpp"
 #include "spall/discretization/particle_share.hpp"
+#include "spall/discretization/reach_share.hpp"
 #include "spall/materials/material.hpp"
 #include "spall/discretization/node_store.hpp"
 #include "spall/spg/bond_failure.hpp"
@@ -103,6 +104,11 @@ class Part {
   long long kernel_updates() const { return kernel_updates_; }
   // Particles whose bonds no longer hold a linear field (Shepard smoothing, no strain of their own).
   Index degraded_count() const;
+  // Under MPI: every rank's state of its own particles in to every rank (the others' go stale
+  // between; complete()), before a checkpoint or a field output.
+  void complete_state() {
+    if (!complete_) complete();
+  }
   // Everything but the settings (the deck's) and the particles' nodes, which must match.
   void checkpoint(Archive& archive);
   std::size_t memory_bytes() const;
@@ -121,11 +127,18 @@ class Part {
   void scale_masses(discretization::NodeStore& nodes);
   Real current_spacing(Index i) const;
   // Whether this rank computes particle i's strain and force (NodeStore::owns; every particle when
-  // the run is one process). Under MPI (replicated state, docs/SCALING.md) every rank smooths, runs
-  // the stabilization, the mass scaling and the bond failure of every particle, from state that is
-  // shared once computed; of a kernel update, the bond search, the shape functions and the
-  // integration-constraint solve are each rank's for its own particles, and shared.
+  // the run is one process). Under MPI (replicated storage, docs/SCALING.md) each step's state of a
+  // rank's particles goes to the ranks whose particles are bonded to them (plan_reach, reach_); every
+  // rank smooths and runs the stabilization of every particle, current where it reads them. A kernel
+  // update starts from the whole state (complete()): the bond failure is every rank's, the bond
+  // search, the shape functions and the integration-constraint solve each rank's for its own
+  // particles, and shared.
   bool owns(Index i) const { return share_.owns(node_[i]); }
+  // The other ranks' particles bonded to this rank's: at each kernel update and each new deal.
+  void plan_reach(const discretization::NodeStore& nodes);
+  // Every rank's whole state of its own particles in (share_): before a kernel update, a new deal,
+  // a checkpoint or a field output.
+  void complete();
   void correct_integration_constraint(bool at_setup);
 
   PartSettings settings_;
@@ -171,6 +184,9 @@ class Part {
   std::vector<Mat3> spin_;             // W_J
 
   discretization::ParticleShare share_;  // under MPI: the particles this rank computes, theirs to all
+  discretization::ReachShare reach_;     // under MPI: the other ranks' particles bonded to this rank's
+  long long reach_partition_ = -1;       // NodeStore::partition that reach_ was planned for
+  bool complete_ = true;                 // every particle's state current on this rank (complete())
 
   int steps_since_update_ = 0;
   long long kernel_updates_ = 0;
