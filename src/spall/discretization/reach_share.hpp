@@ -22,6 +22,19 @@ class ReachShare {
   // `reads[a]` is 1 where this rank's passes read particle a (its own particles are skipped);
   // `node[a]` is a's node, whose rank `share` knows. Collective: every rank plans at once.
   void plan(std::span<const std::uint8_t> reads, std::span<const Index> node, const ParticleShare& share);
+  // The same for passes over rows in compressed form (a neighbour list, SPG's bonds): the rank
+  // reads every row it computes (`computes(a)`) and each particle in it.
+  template <typename Computes>
+  void plan_rows(std::span<const Index> offsets, std::span<const Index> entries, Computes&& computes,
+                 std::span<const Index> node, const ParticleShare& share) {
+    std::vector<std::uint8_t> reads(node.size(), 0);
+    for (Index a = 0; a < static_cast<Index>(node.size()); ++a) {
+      if (!computes(a)) continue;
+      reads[a] = 1;
+      for (Index k = offsets[a]; k < offsets[a + 1]; ++k) reads[entries[k]] = 1;
+    }
+    plan(reads, node, share);
+  }
   bool planned() const { return !receive_offsets_.empty(); }
   // Forgets the plan (the particles this rank reads have changed).
   void clear() { send_offsets_.clear(), receive_offsets_.clear(); }

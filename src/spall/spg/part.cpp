@@ -463,14 +463,7 @@ void Part::internal_forces() {
 }
 
 void Part::plan_reach(const discretization::NodeStore& nodes) {
-  const Index n = particle_count();
-  std::vector<std::uint8_t> reads(n, 0);
-  for (Index j = 0; j < n; ++j) {
-    if (!owns(j)) continue;
-    reads[j] = 1;
-    for (Index k = bonds_.offsets[j]; k < bonds_.offsets[j + 1]; ++k) reads[bonds_.neighbour[k]] = 1;
-  }
-  reach_.plan(reads, node_, share_);
+  reach_.plan_rows(bonds_.offsets, bonds_.neighbour, [&](Index j) { return owns(j); }, node_, share_);
   reach_partition_ = nodes.partition;
 }
 

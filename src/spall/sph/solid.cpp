@@ -798,14 +798,9 @@ void SolidFormulation::share_updated_state() {
 
 void SolidFormulation::plan_reach(const discretization::NodeStore& nodes) {
   const auto& list = verlet_.list();
-  const Index n = particle_count();
-  std::vector<std::uint8_t> reads(n, 0);
-  for (Index a = 0; a < n; ++a) {
-    if (!owns(a) && !(force_blocks_ > 0 && block_needed_[a / force_block_length_])) continue;
-    reads[a] = 1;
-    for (Index k = list.offsets[a]; k < list.offsets[a + 1]; ++k) reads[list.neighbors[k]] = 1;
-  }
-  reach_.plan(reads, node_, share_);
+  reach_.plan_rows(list.offsets, list.neighbors, [&](Index a) {
+    return owns(a) || (force_blocks_ > 0 && block_needed_[a / force_block_length_]);
+  }, node_, share_);
   reach_partition_ = nodes.partition;
 }
 
