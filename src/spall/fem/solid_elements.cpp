@@ -643,9 +643,8 @@ void SolidElements::complete_state(discretization::NodeStore&) {
   if (share_) share_elements();
 }
 
-void SolidElements::share_owned(discretization::NodeStore& nodes, bool masses_changed) {
-  share_->nodes(node_, force_, bulk_force_, live_elements_);
-  if (!masses_changed) return;
+void SolidElements::share_masses(discretization::NodeStore& nodes) {
+  share_->nodes(node_, live_elements_);
   const parallel::Communicator& ranks = parallel::world();
   ranks.share(std::span(nodes.mass), nodes.rank_begin);
   ranks.share(std::span(nodes.active), nodes.rank_begin);
@@ -737,7 +736,7 @@ void SolidElements::compute_forces(discretization::NodeStore& nodes, Real dt) {
     found = {values[0], -values[1], values[2] < 0 ? 1 : 0};
   }
   if (found.eroding > 0) remove_eroded(nodes);
-  if (share_) share_owned(nodes, found.eroding > 0 || mass_scaling_.active);
+  if (share_ && (found.eroding > 0 || mass_scaling_.active)) share_masses(nodes);
   if (mass_scaling_.active) {
     // Over the elements each rank books (only those it computes are current there).
     Real added = 0;
@@ -752,7 +751,7 @@ void SolidElements::compute_forces(discretization::NodeStore& nodes, Real dt) {
     mass_scaling_.idle();
   }
   parallel::for_each(static_cast<Index>(node_.size()), [&](Index k) {
-    nodes.f[node_[k]] += force_[k];
+    if (owns(k)) nodes.f[node_[k]] += force_[k];
   }, element_loops);
   stable_step_ = found.step;
   max_sound_speed_ = found.sound_speed;
@@ -772,12 +771,13 @@ void SolidElements::book_energies(discretization::EnergyLedger& ledger, std::spa
   // the hourglass control's dissipation at each element's own rates (as LS-DYNA books it; an exact
   // sum over the elements the rank books, then over the ranks). The rest is stored.
   const Sums<2> work = parallel::exact_sum(static_cast<Index>(node_.size()), [&](Index k) {
-    const Vec3& u = v[node_[k]];
     Sums<2> w;
+    if (!owns(k)) return w;  // another rank's: its forces are whole only there
+    const Vec3& u = v[node_[k]];
     w[0] = -force_[k].dot(u);
     w[1] = -bulk_force_[k].dot(u);
     return w;
-  });
+  }, share_ ? &parallel::world() : nullptr);
   Real hourglass = 0;
   for (std::size_t k = 0; k < blocks_.size(); ++k) {
     const Block& block = blocks_[k];

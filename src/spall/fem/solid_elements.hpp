@@ -168,8 +168,9 @@ class SolidElements final : public discretization::Formulation {
 
   // Under MPI (replicated state, docs/SCALING.md): a rank computes every element with a node it owns,
   // so that each of its nodes sums the forces of all its elements in the serial order (the elements
-  // on a rank boundary are computed by both ranks, alike), and shares its nodes' forces every step.
-  // The state of an element no node of the rank's touches is read by nobody there, so the elements
+  // on a rank boundary are computed by both ranks, alike); the other nodes' sums are read by nobody
+  // there (the energies sum over each rank's own nodes). The state of an element no node of the
+  // rank's touches is read by nobody there either, so the elements
   // (each by the owner of its first node) are shared only when the state must be whole: before a
   // checkpoint, and before the nodes are dealt anew (a rank may then compute other elements).
   struct Share {
@@ -180,6 +181,8 @@ class SolidElements final : public discretization::Formulation {
     long long partition = 0;                                // NodeStore::partition planned for
   };
   bool computes(std::size_t block, Index e) const { return !share_ || share_->computed[block][e]; }
+  // Whether this rank owns local node k (its forces are whole here); every node on one process.
+  bool owns(Index k) const { return !share_ || share_->nodes.owns(node_[k]); }
   // Whether this rank accounts for element e (its eroded mass and energies, DT2MS's added mass, its
   // hourglass dissipation): the owner of its first node, so that each element counts once.
   bool books(std::size_t block, Index e) const {
@@ -190,8 +193,9 @@ class SolidElements final : public discretization::Formulation {
   void distribute(const discretization::NodeStore& nodes);
   // Every rank's elements (those whose first node it owns) to every rank.
   void share_elements();
-  // The forces of every rank's nodes and, when they changed, its nodes' masses.
-  void share_owned(discretization::NodeStore& nodes, bool masses_changed);
+  // After elements eroded or DT2MS raised masses: every rank's nodes' masses, activity and live
+  // element counts to every rank.
+  void share_masses(discretization::NodeStore& nodes);
 
   std::vector<PartSettings> parts_;
   std::vector<Block> blocks_;
