@@ -36,9 +36,7 @@ class ReachShare {
     plan(reads, node, share);
   }
   bool planned() const { return !receive_offsets_.empty(); }
-  // Forgets the plan (the particles this rank reads have changed).
-  void clear() { send_offsets_.clear(), receive_offsets_.clear(); }
-  // Particles this rank sends and receives a step (for the docs' halo counts).
+  // Particles this rank sends and receives a step.
   Index sent() const { return static_cast<Index>(send_.size()); }
   Index received() const { return static_cast<Index>(receive_.size()); }
 
