@@ -75,6 +75,17 @@ class ReachShare {
     (unpack(values, at), ...);
   }
 
+  // The same for state that is not one array a particle (a velocity stored by node): `pack(a)`
+  // makes the record of this rank's particle a, `unpack(a, record)` stores another rank's.
+  template <typename Record, typename Pack, typename Unpack>
+  void records(Pack&& pack, Unpack&& unpack) const {
+    if (!planned()) return;
+    std::vector<Record> send(send_.size()), receive(receive_.size());
+    parallel::for_each(sent(), [&](Index k) { send[k] = pack(send_[k]); });
+    parallel::world().exchange(std::span<const Record>(send), send_offsets_, std::span(receive), receive_offsets_);
+    parallel::for_each(received(), [&](Index k) { unpack(receive_[k], receive[k]); });
+  }
+
  private:
   std::vector<Index> send_, send_offsets_;        // this rank's particles each other rank reads
   std::vector<Index> receive_, receive_offsets_;  // the other ranks' particles this rank reads

@@ -431,21 +431,15 @@ void FluidFormulation::pair_pass(discretization::NodeStore& nodes, Real dt) {
 // else of the other ranks' particles until the cells are rebuilt or the nodes dealt anew, when
 // complete() brings in the rest (positions included: the others' went stale with their velocities).
 void FluidFormulation::share_state(discretization::NodeStore& nodes) {
-  const parallel::Communicator& ranks = parallel::world();
-  if (ranks.size() == 1 || halo_send_offsets_.empty()) return;
-  std::vector<HaloRecord> send(halo_send_.size()), receive(halo_receive_.size());
-  parallel::for_each(static_cast<Index>(send.size()), [&](Index k) {
-    const Index a = halo_send_[k];
-    send[k] = {nodes.v[node_[a]], density_[a], rate_[a], previous_rate_[a]};
-  });
-  ranks.exchange(std::span<const HaloRecord>(send), halo_send_offsets_, std::span(receive), halo_receive_offsets_);
-  parallel::for_each(static_cast<Index>(receive.size()), [&](Index k) {
-    const Index a = halo_receive_[k];
-    nodes.v[node_[a]] = receive[k].v;
-    density_[a] = receive[k].density;
-    rate_[a] = receive[k].rate;
-    previous_rate_[a] = receive[k].previous_rate;
-  });
+  if (parallel::world().size() == 1 || !halo_.planned()) return;
+  halo_.records<HaloRecord>(
+      [&](Index a) { return HaloRecord{nodes.v[node_[a]], density_[a], rate_[a], previous_rate_[a]}; },
+      [&](Index a, const HaloRecord& record) {
+        nodes.v[node_[a]] = record.v;
+        density_[a] = record.density;
+        rate_[a] = record.rate;
+        previous_rate_[a] = record.previous_rate;
+      });
   complete_ = false;
 }
 
@@ -466,45 +460,15 @@ void FluidFormulation::complete(discretization::NodeStore& nodes) {
   complete_ = true;
 }
 
-// Every rank marks the cells near its own particles; each then knows every rank's marks and, the
-// cells being every rank's (built from the same positions), which of its particles each other rank
-// reads and which of theirs it reads, in one order on both sides.
+// This rank's pair pass reads the particles of the cells near its own.
 void FluidFormulation::plan_halo() {
-  const parallel::Communicator& ranks = parallel::world();
-  const int size = ranks.size(), me = ranks.rank();
-  const Index cell_count = cells_.cell_count();
-  std::vector<std::uint8_t> near(static_cast<std::size_t>(size) * cell_count);
-  std::copy(near_owned_cell_.begin(), near_owned_cell_.end(), near.begin() + static_cast<std::size_t>(me) * cell_count);
-  std::vector<Index> offsets(size + 1);
-  for (int r = 0; r <= size; ++r) offsets[r] = r * cell_count;
-  ranks.share(std::span(near), offsets);
-  halo_send_.clear();
-  halo_send_offsets_.assign(size + 1, 0);
-  for (int r = 0; r < size; ++r) {
-    halo_send_offsets_[r] = static_cast<Index>(halo_send_.size());
-    if (r == me) continue;
-    for (Index c = 0; c < cell_count; ++c) {
-      if (!near[static_cast<std::size_t>(r) * cell_count + c]) continue;
-      const neighbors::ParticleRange own = cells_.cell(c);
-      for (Index a = own.begin; a < own.end; ++a)
-        if (owns(a)) halo_send_.push_back(a);
-    }
-  }
-  halo_send_offsets_[size] = static_cast<Index>(halo_send_.size());
-  std::vector<std::vector<Index>> from(size);
-  for (Index c = 0; c < cell_count; ++c) {
+  std::vector<std::uint8_t> reads(particle_count(), 0);
+  for (Index c = 0; c < cells_.cell_count(); ++c) {
     if (!near_owned_cell_[c]) continue;
     const neighbors::ParticleRange own = cells_.cell(c);
-    for (Index a = own.begin; a < own.end; ++a)
-      if (!owns(a)) from[share_.rank_of(node_[a])].push_back(a);
+    std::fill(reads.begin() + own.begin, reads.begin() + own.end, std::uint8_t{1});
   }
-  halo_receive_.clear();
-  halo_receive_offsets_.assign(size + 1, 0);
-  for (int r = 0; r < size; ++r) {
-    halo_receive_offsets_[r] = static_cast<Index>(halo_receive_.size());
-    halo_receive_.insert(halo_receive_.end(), from[r].begin(), from[r].end());
-  }
-  halo_receive_offsets_[size] = static_cast<Index>(halo_receive_.size());
+  halo_.plan(reads, node_, share_);
 }
 
 void FluidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt) {

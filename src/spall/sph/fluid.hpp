@@ -45,6 +45,7 @@
 #include "spall/core/parallel.hpp"
 #include "spall/discretization/formulation.hpp"
 #include "spall/discretization/particle_share.hpp"
+#include "spall/discretization/reach_share.hpp"
 #include "spall/sph/artificial_viscosity.hpp"
 
 namespace spall::sph {
@@ -123,7 +124,7 @@ class FluidFormulation final : public discretization::Formulation {
   void rebuild_cells(const discretization::NodeStore& nodes);
   template <class Chosen>
   std::vector<std::uint8_t> cells_near(Chosen&& chosen) const;
-  // Under MPI: which particles go to which rank in the halo, and which come from which.
+  // Under MPI: which of the other ranks' particles come in with the halo.
   void plan_halo();
   // Under MPI: every rank's particles' positions, velocities and continuity state in.
   void complete(discretization::NodeStore& nodes);
@@ -174,10 +175,8 @@ class FluidFormulation final : public discretization::Formulation {
   // near_owned_partition_ (-1: not yet). Empty in one process (every cell).
   std::vector<std::uint8_t> near_owned_cell_;
   long long near_owned_partition_ = -1;
-  // The halo by reach (share_state): this rank's particles in the cells near each other rank's
-  // (grouped by that rank, in cell order), and the other ranks' particles in the cells near this
-  // rank's (grouped by their rank, in cell order), with each rank's first entry, then the count.
-  std::vector<Index> halo_send_, halo_send_offsets_, halo_receive_, halo_receive_offsets_;
+  // The halo by reach (share_state): the other ranks' particles in the cells near this rank's.
+  discretization::ReachShare halo_;
   // Whether every particle's position, velocity and continuity state is current here: from the
   // set-up, a checkpoint or complete() until the next halo by reach.
   bool complete_ = true;
