@@ -24,7 +24,7 @@ test: build
 test-fast: build
 	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS) -LE slow
 
-# The whole test suite built with AddressSanitizer and UndefinedBehaviorSanitizer (-O1); slower, so
+# The whole test suite built with AddressSanitizer and UndefinedBehaviorSanitizer (-O2); slower, so
 # a longer timeout per test. The test preset names tools/lsan.supp (libgomp's own allocations).
 test-sanitize: setup
 	@cmake --preset sanitize >/dev/null
