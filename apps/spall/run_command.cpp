@@ -292,6 +292,16 @@ int run_deck(const RunOptions& options) {
     }
     throw;
   }
+  // The bytes each rank received a step of this process's run, mean and largest over the ranks
+  // (collective: every rank is here).
+  if (const long long steps = progress.steps_taken(last_step); ranks.size() > 1 && steps > 0) {
+    std::int64_t total = ranks.received_bytes();
+    double largest = -static_cast<double>(total);
+    ranks.sum({&total, 1});
+    ranks.minimum({&largest, 1});
+    info.received_bytes_mean = static_cast<double>(total) / ranks.size() / static_cast<double>(steps);
+    info.received_bytes_max = -largest / static_cast<double>(steps);
+  }
   if (!writes) return code;
   info.wall_seconds = wall_seconds_before + progress.elapsed_seconds();
   info.rebalances = loop.rebalances();

@@ -105,7 +105,11 @@ TEST(Communicator, ShareGivesEveryRankEveryBlock) {
     std::vector<Item> items(count, Item{-1.0, -1.0f, -1});
     for (Index i = offsets[ranks.rank()]; i < offsets[ranks.rank() + 1]; ++i)
       items[i] = Item{0.5 * i, 0.25f * i, ranks.rank()};
+    const std::int64_t received_before = ranks.received_bytes();
     ranks.share(std::span(items), offsets);
+    // What came in: every other rank's block, and nothing on one process.
+    const Index others = count - (offsets[ranks.rank() + 1] - offsets[ranks.rank()]);
+    EXPECT_EQ(ranks.received_bytes() - received_before, ranks.size() == 1 ? 0 : std::int64_t(others) * sizeof(Item));
     for (int r = 0; r < ranks.size(); ++r)
       for (Index i = offsets[r]; i < offsets[r + 1]; ++i) {
         EXPECT_EQ(items[i].value, 0.5 * i);
@@ -132,7 +136,9 @@ TEST(Communicator, ExchangeDeliversEachRanksItemsForAnother) {
   std::vector<Item> send(send_offsets.back()), receive(receive_offsets.back(), Item{-1, -1, -1});
   for (int r = 0; r < size; ++r)
     for (int k = 0; k < count(me, r); ++k) send[send_offsets[r] + k] = Item{me, r, k};
+  const std::int64_t received_before = ranks.received_bytes();
   ranks.exchange(std::span<const Item>(send), send_offsets, std::span(receive), receive_offsets);
+  EXPECT_EQ(ranks.received_bytes() - received_before, std::int64_t(receive_offsets.back()) * sizeof(Item));
   for (int r = 0; r < size; ++r)
     for (int k = 0; k < count(r, me); ++k) {
       const Item& item = receive[receive_offsets[r] + k];

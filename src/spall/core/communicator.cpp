@@ -129,6 +129,7 @@ void Communicator::share_bytes(std::byte* items, std::size_t item_bytes, std::sp
   for (int r = 0; r < size_; ++r) {
     displacements[r] = offsets[r];
     counts[r] = offsets[r + 1] - offsets[r];
+    if (r != rank_) received_bytes_ += std::int64_t(counts[r]) * std::int64_t(item_bytes);
   }
   MPI_Datatype item;
   check(MPI_Type_contiguous(static_cast<int>(item_bytes), MPI_BYTE, &item), "MPI_Type_contiguous");
@@ -149,6 +150,7 @@ void Communicator::exchange_bytes(const std::byte* send, std::byte* receive, std
     send_counts[r] = send_offsets[r + 1] - send_offsets[r];
     receive_displacements[r] = receive_offsets[r];
     receive_counts[r] = receive_offsets[r + 1] - receive_offsets[r];
+    if (r != rank_) received_bytes_ += std::int64_t(receive_counts[r]) * std::int64_t(item_bytes);
   }
   MPI_Datatype item;
   check(MPI_Type_contiguous(static_cast<int>(item_bytes), MPI_BYTE, &item), "MPI_Type_contiguous");

@@ -76,6 +76,10 @@ class Communicator {
   // Seconds spent in the collectives above so far, waiting for the other ranks included: the rest
   // of a rank's time is its own work, what load balancing evens out.
   double communicating_seconds() const { return communicating_; }
+  // Bytes that came in from the other ranks through share and exchange so far: the halo, the
+  // completions and the plans (the reductions' few numbers are not counted). run.json reports it
+  // a step, the measure of how much of its neighbours' state a rank needs.
+  std::int64_t received_bytes() const { return received_bytes_; }
 
  private:
   friend class Session;
@@ -85,6 +89,7 @@ class Communicator {
   int rank_ = 0;
   int size_ = 1;
   mutable double communicating_ = 0;
+  mutable std::int64_t received_bytes_ = 0;
 };
 
 // MPI's lifetime: the constructor starts it when the process was launched as one of several ranks

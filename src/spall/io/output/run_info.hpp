@@ -15,6 +15,10 @@ struct RunInfo {
   int threads = 1;
   int ranks = 1;
   long long rebalances = 0;  // under MPI: how often the nodes were dealt anew (solver::LoadBalance)
+  // Under MPI: the bytes a rank received from the others a step (Communicator::received_bytes), the
+  // mean and the largest over the ranks; 0 for one process.
+  double received_bytes_mean = 0;
+  double received_bytes_max = 0;
   long long steps = 0;
   double end_time = 0;
   double wall_seconds = 0;
