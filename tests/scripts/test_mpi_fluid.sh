@@ -10,7 +10,9 @@
 # output is the single process's, byte for byte. A rank that cannot write its piece
 # stops every rank (exit 4), as does rank 0 when it cannot write a history (the job aborted).
 # The 2D dam break on 3 ranks once more with the nodes dealt out anew every 5 steps (the load
-# balancing, forced): still bit for bit.
+# balancing, forced): still bit for bit. A droplet that skims a resting water layer from end to end
+# (every rank's halo planned anew around it as it passes), on 4 ranks and on 3 rebalanced, and the
+# droplet over 4 particles of the layer on 10 ranks (two hold none): bit for bit.
 # (test_mpi_solid: the solids; test_mpi_contact: contact and rigid bodies.)
 # Arguments, as CTest passes them: CLI SOURCE_DIR SHARED_DIR.
 set -euo pipefail
@@ -21,6 +23,7 @@ trap 'rm -rf "$work"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
 
 source "$source_dir/tests/scripts/mpi_common.sh"
+read_vtu=("/usr/bin/python3" "$source_dir/tools/read_vtu.py")
 
 cut_deck "$source_dir/examples/dam_break/dam_break_2d.k" 0.05 100 >"$work/d2.k"
 cut_deck "$source_dir/examples/dam_break/dam_break.k" 0.02 >"$work/d3.k"
@@ -28,6 +31,61 @@ run_serial d2 100
 run_serial d3 100
 same_on_ranks "$work/d2.k" "$work/d2.serial" "1 1" "2 1" "3 1" "4 1" "2 2" "3 1 rebalanced"
 same_on_ranks "$work/d3.k" "$work/d3.serial" "2 1" "3 2"
+# DROPLET_SPEED LAYER_COLUMNS: a 2D deck (no gravity) of a resting water layer 4 particles deep and
+# LAYER_COLUMNS long, written column by column so that the ranks' blocks of nodes are stretches of
+# it along x, and a 2 x 2 droplet written last (the last rank's) that skims it at DROPLET_SPEED
+# along x, within the kernel's reach of the layer's top, from before its start to past its end.
+droplet_deck() {
+  python3 - "$@" <<'PY'
+import sys
+speed, columns = float(sys.argv[1]), int(sys.argv[2])
+dx = 0.01
+print("*KEYWORD\n*CONTROL_TERMINATION\n%10g" % ((columns + 6) * dx / speed if speed > 0 else 0.01))
+print("*CONTROL_SPH\n%40d%20d" % (2, 0))
+print("*DATABASE_BINARY_D3PLOT\n%10g\n*DATABASE_GLSTAT\n%10g" % (0.01, 0.001))
+print("*PART\nwater\n%10d%10d%10d%10d" % (1, 1, 1, 1))
+print("*SECTION_SPH\n%10d%10g%10g%10g" % (1, 1.3, 1.0, 1.0))
+print("*MAT_NULL\n%10d%10g%10g%10g\n*EOS_MURNAGHAN\n%10d%10g%10g" % (1, 1000.0, 0.0, 1e-3, 1, 7.0, 81843.4))
+nodes = [(dx * i, dx * j) for i in range(columns) for j in range(4)]
+droplet = [(-3 * dx + dx * i, 4.5 * dx + dx * j) for i in range(2) for j in range(2)]
+print("*NODE")
+for k, (x, y) in enumerate(nodes + droplet):
+    print("%8d%16g%16g%16g" % (k + 1, x, y, 0.0))
+print("*ELEMENT_SPH")
+for k in range(len(nodes + droplet)):
+    print("%8d%8d%16g" % (k + 1, 1, 1000.0 * dx * dx))
+print("*INITIAL_VELOCITY_NODE")
+for k in range(len(droplet)):
+    print("%10d%10g%10g%10g" % (len(nodes) + k + 1, speed, 0.0, 0.0))
+print("*END")
+PY
+}
+# The droplet crosses every rank's stretch of the layer (4 ranks), so that each rank's halo is
+# planned anew around it as it passes: bit for bit the single process's. The droplet over the
+# layer's first column alone, 8 particles on 10 ranks, leaves two ranks without one.
+droplet_deck 10 40 >"$work/droplet.k"
+run_serial droplet 100
+"${read_vtu[@]}" "$(ls "$work/droplet.serial"/d3plot_*.vtu | tail -n 1)" --field displacement >"$work/droplet.last" ||
+  fail "the droplet's last state"
+awk '$1 == "displacement" && $2 == "max" { exit !($3 > 0.43) }' "$work/droplet.last" ||
+  fail "the droplet did not pass the layer's end: $(grep 'displacement max' "$work/droplet.last")"
+same_on_ranks "$work/droplet.k" "$work/droplet.serial" "4 1" "3 1 rebalanced"
+python3 - "$work/droplet.k" >"$work/alone.k" <<'PY'
+import sys
+text = open(sys.argv[1]).read()
+# The layer's first column (nodes 1-4) and the droplet (161-164).
+lines, section = [], ""
+for line in text.splitlines():
+    if line.startswith("*"):
+        section = line
+    elif section in ("*NODE", "*ELEMENT_SPH") and 4 < int(line[:8]) <= 160:
+        continue
+    lines.append(line)
+print("\n".join(lines))
+PY
+run_serial alone 100
+same_on_ranks "$work/alone.k" "$work/alone.serial" "10 1"
+
 # spall surface reads the 2-rank run's .pvtu (its pieces joined) as the single process's .vtu.
 for run in d3.serial d3.serial.np2.t1; do
   "$cli" surface "$work/$run" --threads 1 >"$work/$run.surface.log" 2>&1 ||
