@@ -301,6 +301,39 @@ TEST(neighbors, PerParticleReachMatchesBruteForce) {
   EXPECT_THROW(verlet.build(x, reach, skin), std::invalid_argument);
 }
 
+// Under MPI the SPH solid searches the rows it computes (per-particle reach, search order): each
+// such row must be the whole build's row, entry for entry (the order sets the bits of the sums);
+// search_every_row then makes the whole build's list, and is not counted as a build.
+TEST(neighbors, PerReachRowsOfARangeAreTheWholeBuildsRows) {
+  const std::vector<Vec3> x = random_set(2500, Vec3(0, 0, 0), Vec3(1.5, 1, 1), 21);
+  std::vector<Real> reach(x.size());
+  std::mt19937_64 random(22);
+  std::uniform_real_distribution<Real> uniform(0.04, 0.08);
+  for (Real& r : reach) r = uniform(random);
+  const Real skin = 0.01;
+  const auto n = static_cast<Index>(x.size());
+  VerletList whole;
+  whole.build(x, reach, skin, RowOrder::search);
+  EXPECT_FALSE(whole.partial());
+  for (const ParticleRange rows : {ParticleRange{0, 900}, ParticleRange{900, 1700}, ParticleRange{1700, n},
+                                   ParticleRange{n, n}}) {
+    VerletList part;
+    part.build(x, reach, skin, RowOrder::search, rows);
+    EXPECT_EQ(part.partial(), rows.begin > 0 || rows.end < n);
+    EXPECT_TRUE(part.searched(rows));
+    EXPECT_FALSE(part.searched({rows.begin > 0 ? rows.begin - 1 : rows.end, rows.end + 1}));
+    for (Index i = 0; i < n; ++i) {
+      const bool asked = i >= rows.begin && i < rows.end;
+      EXPECT_EQ(row(part.list(), i), asked ? row(whole.list(), i) : std::vector<Index>{}) << "row " << i;
+    }
+    part.search_every_row(reach);
+    EXPECT_FALSE(part.partial());
+    EXPECT_EQ(part.list().offsets, whole.list().offsets);
+    EXPECT_EQ(part.list().neighbors, whole.list().neighbors);
+    EXPECT_EQ(part.builds(), 1);
+  }
+}
+
 TEST(neighbors, RigidTranslationNeedsNoRebuild) {
   // The rebuild test measures displacements from the centre of their bounding box: a common
   // motion of any size keeps every distance, so the list stays valid.

@@ -23,10 +23,10 @@ class ReachShare {
   // `node[a]` is a's node, whose rank `share` knows. Collective: every rank plans at once.
   void plan(std::span<const std::uint8_t> reads, std::span<const Index> node, const ParticleShare& share);
   // The same for passes over rows in compressed form (a neighbour list, SPG's bonds): the rank
-  // reads every row it computes (`computes(a)`) and each particle in it.
+  // reads every row it computes (`computes(a)`) and each particle in it. Returns those reads.
   template <typename Computes>
-  void plan_rows(std::span<const Index> offsets, std::span<const Index> entries, Computes&& computes,
-                 std::span<const Index> node, const ParticleShare& share) {
+  std::vector<std::uint8_t> plan_rows(std::span<const Index> offsets, std::span<const Index> entries,
+                                      Computes&& computes, std::span<const Index> node, const ParticleShare& share) {
     std::vector<std::uint8_t> reads(node.size(), 0);
     for (Index a = 0; a < static_cast<Index>(node.size()); ++a) {
       if (!computes(a)) continue;
@@ -34,6 +34,7 @@ class ReachShare {
       for (Index k = offsets[a]; k < offsets[a + 1]; ++k) reads[entries[k]] = 1;
     }
     plan(reads, node, share);
+    return reads;
   }
   bool planned() const { return !receive_offsets_.empty(); }
   // Particles this rank sends and receives a step.

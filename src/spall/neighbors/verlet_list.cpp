@@ -149,7 +149,8 @@ void VerletList::build(std::span<const Vec3> x, Real cutoff, Real skin, Particle
              RowOrder::ascending, rows);
 }
 
-void VerletList::build(std::span<const Vec3> x, std::span<const Real> reach, Real skin, RowOrder order) {
+void VerletList::build(std::span<const Vec3> x, std::span<const Real> reach, Real skin, RowOrder order,
+                       ParticleRange rows) {
   if (reach.size() != x.size())
     throw std::invalid_argument("neighbour search: need one reach per particle");
   Real largest = 0;
@@ -160,10 +161,22 @@ void VerletList::build(std::span<const Vec3> x, std::span<const Real> reach, Rea
   if (!(skin >= 0)) throw std::invalid_argument("neighbour search: need skin >= 0, got " + std::to_string(skin));
   cutoff_ = 2 * largest;
   skin_ = skin;
+  order_ = order;
   ++builds_;
+  build_reach(x, reach, rows);
+}
+
+void VerletList::build_reach(std::span<const Vec3> x, std::span<const Real> reach, ParticleRange rows) {
+  const Real largest = cutoff_ / 2, skin = skin_;
   build_rows(x, cutoff_ + skin,
              [&](std::span<const Index> cell_order) { return PairRadius(reach, cell_order, largest, skin); },
-             order, {0, static_cast<Index>(x.size())});
+             order_, rows);
+}
+
+void VerletList::search_every_row(std::span<const Real> reach) {
+  if (!partial()) return;
+  const std::vector<Vec3> x = x_at_build_;  // build_rows keeps its argument as the new x_at_build_
+  build_reach(x, reach, {0, static_cast<Index>(x.size())});
 }
 
 template <typename MakeRadius>
@@ -171,6 +184,7 @@ void VerletList::build_rows(std::span<const Vec3> x, Real radius, const MakeRadi
                             RowOrder row_order, ParticleRange rows) {
   x_at_build_.assign(x.begin(), x.end());
   const auto n = static_cast<Index>(x.size());
+  rows_ = {std::clamp(rows.begin, Index(0), n), std::clamp(rows.end, Index(0), n)};
   list_.offsets.assign(n + 1, 0);
   if (n == 0) {
     list_.neighbors.clear();

@@ -41,9 +41,20 @@ class VerletList {
   // Per-particle reach (every reach_i > 0): lists every pair closer than reach_i + reach_j + skin,
   // and stays valid for the pairs closer than reach_i + reach_j while needs_rebuild() is false.
   // Particles of very different reach then share a list without the small ones listing as far as
-  // the largest. cutoff() is twice the largest reach.
+  // the largest. cutoff() is twice the largest reach. With `rows`, as above: the rows a rank
+  // computes under MPI (the SPH solid's).
   void build(std::span<const Vec3> x, std::span<const Real> reach, Real skin,
-             RowOrder order = RowOrder::ascending);
+             RowOrder order = RowOrder::ascending, ParticleRange rows = {0, std::numeric_limits<Index>::max()});
+  // Whether the last build left rows empty that it was not asked for.
+  bool partial() const { return rows_.begin > 0 || rows_.end < static_cast<Index>(x_at_build_.size()); }
+  // Whether the last build searched every row of `rows`.
+  bool searched(ParticleRange rows) const {
+    return rows.begin >= rows.end || (rows_.begin <= rows.begin && rows.end <= rows_.end);
+  }
+  // After a build with per-particle reach: the rows it was not asked for searched too, from the
+  // positions of that build and the same `reach`, so that the list is the one a build of every row
+  // would have made (what a checkpoint holds). Not a build: builds() does not count it.
+  void search_every_row(std::span<const Real> reach);
   // False while every pair now within the cutoff (reach_i + reach_j) has moved by at most the skin
   // relative to each other since the build, which keeps such pairs in the list (triangle
   // inequality). Checked globally (every displacement within skin / 2 of a common vector: a rigid
@@ -61,7 +72,10 @@ class VerletList {
   std::size_t reference_positions_bytes() const { return x_at_build_.capacity() * sizeof(Vec3); }
 
   // The list as built, and where the particles were then (the next rebuild depends on it).
-  void checkpoint(Archive& a) { a(list_, x_at_build_, cutoff_, skin_, builds_); }
+  void checkpoint(Archive& a) {
+    a(list_, x_at_build_, cutoff_, skin_, builds_);
+    if (a.reading()) rows_ = {0, static_cast<Index>(x_at_build_.size())};  // written whole
+  }
 
  private:
   // Lists the pairs within make_radius(cell order).squared(k, j), radius being the largest pair
@@ -70,8 +84,13 @@ class VerletList {
   void build_rows(std::span<const Vec3> x, Real radius, const MakeRadius& make_radius, RowOrder order,
                   ParticleRange rows);
 
+  // The per-particle reach build's rows (build_reach), searched on every rank alike.
+  void build_reach(std::span<const Vec3> x, std::span<const Real> reach, ParticleRange rows);
+
   NeighborList list_;
   std::vector<Vec3> x_at_build_;
+  ParticleRange rows_;  // the rows the last build searched
+  RowOrder order_ = RowOrder::ascending;
   Real cutoff_ = 0;
   Real skin_ = 0;
   long long builds_ = 0;

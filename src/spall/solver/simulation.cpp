@@ -323,10 +323,12 @@ class TimeLoop::Step {
     const Real weight = velocity_weight_, dt_mid = dt_mid_;
     const Real reaction_weight = step_.step == 0 ? Real(0.5) : weight;
     std::vector<Vec3>& v_n = v_old_;
-    // v^n of the other ranks' nodes is read only by the contacts, which every rank computes whole;
-    // with the halo by reach there are none, and those nodes' velocities may be stale.
-    const Index first = halo_by_reach_ ? nodes_.owned_begin : 0;
-    const Index count = halo_by_reach_ ? nodes_.owned_end - first : nodes_.size();
+    // v^n of the other ranks' nodes is read only by the contacts, which every rank computes whole:
+    // without contacts a rank's own nodes alone (with the halo by reach the others' velocities may
+    // be stale).
+    const bool own_only = halo_by_reach_ || problem_.contacts.empty();
+    const Index first = own_only ? nodes_.owned_begin : 0;
+    const Index count = own_only ? nodes_.owned_end - first : nodes_.size();
     const Sums<4> sums = parallel::exact_sum(
         count,
         [&](Index k) {

@@ -368,6 +368,7 @@ void SolidFormulation::gather_kinematics(const discretization::NodeStore& nodes)
 void SolidFormulation::update_records() {
   const Index n = particle_count();
   parallel::for_each(n, [&](Index a) {
+    if (!current(a)) return;  // read by no row this rank computes
     const Vec3 x = x_[a] - record_origin_;
     const Vec3& v = v_[a];
     record_[a] = {static_cast<float>(x[0]), static_cast<float>(x[1]), static_cast<float>(x[2]),
@@ -385,7 +386,9 @@ void SolidFormulation::update_records() {
 void SolidFormulation::update_neighbour_list() {
   const Index n = particle_count();
   if (list_built_ && !h_outgrown_ && !verlet_.needs_rebuild(x_)) return;
-  if (!complete_) complete();  // every rank builds every row alike
+  // The search reads every particle's reach: h whole (the rest that the new rows read comes after
+  // the plan, compute_forces).
+  if (!complete_) share_(node_, smoothing_length_);
   const Real h_largest = parallel::reduce_exact(
       n, Real(0),
       [&](Index a) {
@@ -393,16 +396,31 @@ void SolidFormulation::update_neighbour_list() {
         return smoothing_length(a);
       },
       [](Real a, Real b) { return std::max(a, b); });
-  verlet_.build(x_, list_reach_, skin_fraction * cutoff_margin * 2 * h_largest, neighbors::RowOrder::search);
+  // Under MPI a rank searches the rows it computes (computed_rows): its own and, with the last
+  // build's blocks of length L, those from 2.5 L before them to 1.25 L after, which hold the rows of
+  // blocks up to 1.25 L long (they grow as a body deforms). The categorization reads its
+  // neighbours' rows too, so with it every row.
+  const bool every_row = parallel::world().size() == 1 || categorizing() || !list_built_;
+  neighbors::ParticleRange rows{0, n};
+  if (!every_row) {
+    rows = computed_rows(0, 0);
+    if (force_blocks_ > 0 && rows.begin < rows.end) {
+      const Index L = force_block_length_;
+      rows = {std::max<Index>(0, rows.begin - (5 * L + 1) / 2), std::min(n, rows.end + (5 * L + 3) / 4)};
+    }
+  }
+  const Real skin = skin_fraction * cutoff_margin * 2 * h_largest;
+  verlet_.build(x_, list_reach_, skin, neighbors::RowOrder::search, rows);
   list_built_ = true;
   // The records' origin: the middle of the particles' bounding box.
   if (n > 0) {
     const Vec3 centre = bounding_box(n, [&](Index a) { return x_[a]; }).centre();
     for (int d = 0; d < 3; ++d) record_origin_[d] = centre[d];
   }
-  // The force pass's blocks (compute_pair_forces): as long as the largest b - a of any pair.
+  // The force pass's blocks (compute_pair_forces): as long as the largest b - a of any pair (every
+  // row is some rank's own: over the ranks, the largest of their rows').
   const auto& list = verlet_.list();
-  const Index span = parallel::reduce_exact(
+  Index span = parallel::reduce_exact(
       n, Index(1),
       [&](Index a) {
         Index longest = 1;
@@ -410,9 +428,28 @@ void SolidFormulation::update_neighbour_list() {
         return longest;
       },
       [](Index a, Index b) { return std::max(a, b); });
+  if (!every_row) {
+    double negated = -static_cast<double>(span);
+    parallel::world().minimum({&negated, 1});
+    span = static_cast<Index>(-negated);
+  }
   force_block_length_ = span;
   force_blocks_ = (n + span - 1) / span;
   if (force_blocks_ < min_force_blocks) force_blocks_ = 0;
+  // Blocks longer than the last build's reach rows it did not search: every row then.
+  if (!every_row && !verlet_.searched(computed_rows(force_blocks_, span))) verlet_.search_every_row(list_reach_);
+}
+
+// The rows this rank computes: its own particles' and, with pair-once blocks of `length`, those of
+// every block that holds one of them and of the block before each (choose_force_blocks).
+neighbors::ParticleRange SolidFormulation::computed_rows(Index blocks, Index length) const {
+  const Index n = particle_count();
+  Index first = 0;
+  while (first < n && !owns(first)) ++first;
+  Index last = n;
+  while (last > first && !owns(last - 1)) --last;
+  if (first == last || blocks == 0) return {first, last};
+  return {std::max<Index>(0, (first / length - 1) * length), std::min(n, ((last - 1) / length + 1) * length)};
 }
 
 // Continuity and velocity gradient, gathered per particle over its full neighbour row, a pack of
@@ -798,7 +835,7 @@ void SolidFormulation::share_updated_state() {
 
 void SolidFormulation::plan_reach(const discretization::NodeStore& nodes) {
   const auto& list = verlet_.list();
-  reach_.plan_rows(list.offsets, list.neighbors, [&](Index a) {
+  current_ = reach_.plan_rows(list.offsets, list.neighbors, [&](Index a) {
     return owns(a) || (force_blocks_ > 0 && block_needed_[a / force_block_length_]);
   }, node_, share_);
   reach_partition_ = nodes.partition;
@@ -962,11 +999,19 @@ void SolidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt)
   // Nodes dealt anew: the state is brought in from the ranks it is current on, the old blocks'.
   if (distributed && !complete_ && share_.stale(nodes)) complete();
   share_.bind(nodes);
+  // Nodes dealt anew: this rank computes other rows, which the last build may not have searched.
+  if (distributed && reach_partition_ != nodes.partition) verlet_.search_every_row(list_reach_);
   gather_kinematics(nodes);
   const long long builds = verlet_.builds();
   update_neighbour_list();
   choose_force_blocks();
-  if (distributed && (verlet_.builds() != builds || reach_partition_ != nodes.partition)) plan_reach(nodes);
+  if (distributed && (verlet_.builds() != builds || reach_partition_ != nodes.partition)) {
+    plan_reach(nodes);
+    // The step-start state of the particles the new rows read, from their ranks. A particle the old
+    // rows did not read lies beyond every support after a rebuild for motion (the skin), but not
+    // always after one for an h that outgrew its reach.
+    if (!complete_) reach_(volume_, sound_speed_, density_);
+  }
   update_records();
   Index first_unsound = n;
   with_discretization([&](auto kernel, auto corrected) {
@@ -999,9 +1044,9 @@ void SolidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt)
   const Found found = parallel::fold_exact(
       n, Found{},
       [&](Found& found, Index a) {
-        // h on every particle: under MPI the others' follow the densities that came in, current
-        // for the particles this rank's rows read.
-        if (dt > 0) {
+        // h on every particle this rank's rows read: under MPI the others' follow the densities
+        // that came in (the rest come in with complete()).
+        if (dt > 0 && current(a)) {
           const Real compression = materials_[material_[a]].density / density_[a];
           const Real scale = options_.dimension == 3 ? cube_root(compression) : std::sqrt(compression);
           const HBounds& bounds = h_bounds_[material_[a]];
@@ -1121,6 +1166,7 @@ std::size_t bytes(const std::vector<T>& v) {
 // Everything but the materials and options (the deck's) and the spans into the node store or the
 // copies, which the next compute_forces gathers again.
 void SolidFormulation::checkpoint(Archive& a) {
+  if (!a.reading()) verlet_.search_every_row(list_reach_);  // every row, for any count of ranks
   a.section("sph solid");
   a.expect_size("SPH solid particles", node_.size());
   a(node_, material_, mass_, uniform_mass_, smoothing_length_, record_, viscosity_record_, record_mass_,

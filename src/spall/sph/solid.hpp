@@ -172,6 +172,7 @@ class SolidFormulation final : public discretization::Formulation {
   void gather_kinematics(const discretization::NodeStore& nodes);
   void update_records();
   void update_neighbour_list();
+  neighbors::ParticleRange computed_rows(Index blocks, Index length) const;
   // corrected: *CONTROL_SPH FORM 1 (the moment and its inverse B), else plain SPH.
   // Returns the first particle whose state update left it unsound (sound()), else
   // particle_count(); none is updated while categorizing.
@@ -308,6 +309,10 @@ class SolidFormulation final : public discretization::Formulation {
   bool owns(Index a) const { return share_.owns(node_[a]); }
   std::vector<std::uint8_t> block_needed_;               // per force block (choose_force_blocks)
   discretization::ReachShare reach_;  // under MPI: the other ranks' particles this rank's rows read
+  // Under MPI: 1 for the particles this rank's rows read (its own among them), whose state and h
+  // it keeps current each step; empty for one process (every particle).
+  std::vector<std::uint8_t> current_;
+  bool current(Index a) const { return current_.empty() || current_[a]; }
   long long reach_partition_ = -1;    // NodeStore::partition that reach_ was planned for
   bool complete_ = true;              // every particle's state current on this rank (complete())
 
