@@ -292,15 +292,21 @@ int run_deck(const RunOptions& options) {
     }
     throw;
   }
-  // The bytes each rank received a step of this process's run, mean and largest over the ranks
-  // (collective: every rank is here).
+  // The bytes each rank received a step of this process's run and its seconds in the collectives,
+  // mean and largest over the ranks (collective: every rank is here).
   if (const long long steps = progress.steps_taken(last_step); ranks.size() > 1 && steps > 0) {
-    std::int64_t total = ranks.received_bytes();
-    double largest = -static_cast<double>(total);
-    ranks.sum({&total, 1});
-    ranks.minimum({&largest, 1});
-    info.received_bytes_mean = static_cast<double>(total) / ranks.size() / static_cast<double>(steps);
-    info.received_bytes_max = -largest / static_cast<double>(steps);
+    std::int64_t bytes = ranks.received_bytes();
+    const double seconds = ranks.communicating_seconds();
+    double largest[2] = {-static_cast<double>(bytes), -seconds};
+    std::vector<ExactSum> seconds_sum(1);
+    seconds_sum[0].add(seconds);
+    ranks.sum({&bytes, 1});
+    ranks.sum(seconds_sum);
+    ranks.minimum(largest);
+    info.received_bytes_mean = static_cast<double>(bytes) / ranks.size() / static_cast<double>(steps);
+    info.received_bytes_max = -largest[0] / static_cast<double>(steps);
+    info.communicating_seconds_mean = seconds_sum[0].value() / ranks.size();
+    info.communicating_seconds_max = -largest[1];
   }
   if (!writes) return code;
   info.wall_seconds = wall_seconds_before + progress.elapsed_seconds();

@@ -281,6 +281,8 @@ TEST_F(OutputTest, RunJsonEscapesStrings) {
   info.rebalances = 7;
   info.received_bytes_mean = 1.5e6;
   info.received_bytes_max = 2097152;
+  info.communicating_seconds_mean = 0.5;
+  info.communicating_seconds_max = 0.75;
   info.steps = 123456789012LL;
   info.end_time = 0.1;
   info.wall_seconds = std::numeric_limits<double>::quiet_NaN();
@@ -298,6 +300,7 @@ TEST_F(OutputTest, RunJsonEscapesStrings) {
             "  \"ranks\": 4,\n"
             "  \"rebalances\": 7,\n"
             "  \"received_bytes_per_step\": {\"mean\": 1500000, \"max\": 2097152},\n"
+            "  \"communicating_seconds\": {\"mean\": 0.5, \"max\": 0.75},\n"
             "  \"steps\": 123456789012,\n"
             "  \"end_time\": 0.10000000000000001,\n"
             "  \"wall_seconds\": null,\n"

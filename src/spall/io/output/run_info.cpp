@@ -57,6 +57,7 @@ void write_run_json(const std::filesystem::path& path, const RunInfo& info) {
       "  \"ranks\": {},\n"
       "  \"rebalances\": {},\n"
       "  \"received_bytes_per_step\": {{\"mean\": {}, \"max\": {}}},\n"
+      "  \"communicating_seconds\": {{\"mean\": {}, \"max\": {}}},\n"
       "  \"steps\": {},\n"
       "  \"end_time\": {},\n"
       "  \"wall_seconds\": {},\n"
@@ -67,7 +68,8 @@ void write_run_json(const std::filesystem::path& path, const RunInfo& info) {
       "  \"status\": {}\n"
       "}}\n",
       json_string(info.version), json_string(info.deck), info.threads, info.ranks, info.rebalances,
-      json_number(info.received_bytes_mean), json_number(info.received_bytes_max), info.steps,
+      json_number(info.received_bytes_mean), json_number(info.received_bytes_max),
+      json_number(info.communicating_seconds_mean), json_number(info.communicating_seconds_max), info.steps,
       json_number(info.end_time), json_number(info.wall_seconds), info.nodes, masses,
       phases, json_number(info.energy_ratio), json_string(info.status));
   replace_file_atomically(path, [&](std::ostream& out) { out << json; });

@@ -19,6 +19,11 @@ struct RunInfo {
   // mean and the largest over the ranks; 0 for one process.
   double received_bytes_mean = 0;
   double received_bytes_max = 0;
+  // Under MPI: a rank's seconds inside the collectives (Communicator::communicating_seconds:
+  // waiting for the other ranks included), the mean and the largest over the ranks; 0 for one
+  // process.
+  double communicating_seconds_mean = 0;
+  double communicating_seconds_max = 0;
   long long steps = 0;
   double end_time = 0;
   double wall_seconds = 0;
