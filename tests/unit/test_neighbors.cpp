@@ -79,6 +79,15 @@ std::vector<Vec3> random_set(std::size_t n, const Vec3& lower, const Vec3& upper
   return x;
 }
 
+// n reaches drawn uniformly from [lower, upper).
+std::vector<Real> random_reach(std::size_t n, Real lower, Real upper, unsigned seed) {
+  std::mt19937_64 random(seed);
+  std::uniform_real_distribution<Real> uniform(lower, upper);
+  std::vector<Real> reach(n);
+  for (Real& r : reach) r = uniform(random);
+  return reach;
+}
+
 // side^3 points of spacing dx from origin, x fastest.
 std::vector<Vec3> cubic_lattice(int side, Real dx, const Vec3& origin = Vec3::Zero()) {
   std::vector<Vec3> x;
@@ -265,10 +274,7 @@ TEST(neighbors, RebuildOnlyAfterAMoveBeyondTheSkin) {
 TEST(neighbors, PerParticleReachMatchesBruteForce) {
   // Reaches from 0.05 to 0.25: pair (i, j) is listed exactly when closer than r_i + r_j + skin.
   const std::vector<Vec3> x = random_set(2500, Vec3(0, 0, 0), Vec3(3, 2, 2), 14);
-  std::vector<Real> reach(x.size());
-  std::mt19937_64 random(15);
-  std::uniform_real_distribution<Real> uniform(0.05, 0.25);
-  for (Real& r : reach) r = uniform(random);
+  std::vector<Real> reach = random_reach(x.size(), 0.05, 0.25, 15);
   const Real skin = 0.02;
   VerletList verlet;
   verlet.build(x, reach, skin);
@@ -306,10 +312,7 @@ TEST(neighbors, PerParticleReachMatchesBruteForce) {
 // search_every_row then makes the whole build's list, and is not counted as a build.
 TEST(neighbors, PerReachRowsOfARangeAreTheWholeBuildsRows) {
   const std::vector<Vec3> x = random_set(2500, Vec3(0, 0, 0), Vec3(1.5, 1, 1), 21);
-  std::vector<Real> reach(x.size());
-  std::mt19937_64 random(22);
-  std::uniform_real_distribution<Real> uniform(0.04, 0.08);
-  for (Real& r : reach) r = uniform(random);
+  const std::vector<Real> reach = random_reach(x.size(), 0.04, 0.08, 22);
   const Real skin = 0.01;
   const auto n = static_cast<Index>(x.size());
   VerletList whole;
