@@ -10,6 +10,9 @@
 #  - the brittle spall of examples/brittle_spall, cut short: the colour-field categorization (which
 #    reads the neighbours' colour field of every rank) and prescribed motion;
 #  - two particles of a bar on three ranks: a rank with none;
+#  - a block of 8 particles driven along a resting elastic layer from before its start to past its
+#    end, near enough to drag it: every rank's list rows and the particles they read change as it
+#    passes (on 4 ranks, 2 x 2 threads, and 3 rebalanced);
 #  - the SPG tensile bar of examples/spg_tension, coarse and pulled fast enough that bonds break
 #    within the run (their broken state is every rank's), with KERNEL 0 and ITB 1 as in the example
 #    and with KERNEL 1 (bonds searched anew at each update) and ITB 2;
@@ -39,6 +42,42 @@ run_serial spall 40
 [ -s "$work/taylor.serial/rwforc.csv" ] || fail "the Taylor bar wrote no rwforc.csv"
 same_on_ranks "$work/taylor.k" "$work/taylor.serial" "2 1" "3 1" "4 1" "2 2" "3 1 rebalanced"
 same_on_ranks "$work/spall.k" "$work/spall.serial" "2 1" "3 2"
+# The skimmer: the layer (3 x 3 x 30 particles, 1 mm apart, soft elastic) and the 2 x 2 x 2 block
+# 1.8 mm beside it (within the kernel's 2.4 mm reach), held in x and y and driven along z at 10 m/s.
+python3 - >"$work/skimmer.k" <<'PY'
+speed, length, dx = 10.0, 30, 1e-3
+end = (length + 10) * dx / speed
+print("*KEYWORD\n*CONTROL_TERMINATION\n%10.4e" % end)
+print("*DATABASE_BINARY_D3PLOT\n%10.4e\n*DATABASE_GLSTAT\n%10.4e" % (end / 4, end / 100))
+print("*PART\nlayer and skimmer\n%10d%10d%10d" % (1, 1, 1))
+print("*SECTION_SPH\n%10d%10g%10g%10g" % (1, 1.2, 1.0, 1.0))
+print("*MAT_ELASTIC\n%10d%10g%10g%10g" % (1, 1000.0, 1.0e6, 0.3))
+layer = [(dx * i, dx * j, dx * k) for k in range(length) for j in range(3) for i in range(3)]
+skimmer = [(3.8 * dx + dx * i, dx * j, -6 * dx + dx * k) for k in range(2) for j in range(2) for i in range(2)]
+print("*NODE")
+for n, (x, y, z) in enumerate(layer + skimmer):
+    print("%8d%16.8e%16.8e%16.8e" % (n + 1, x, y, z))
+print("*ELEMENT_SPH")
+for n in range(len(layer + skimmer)):
+    print("%8d%8d%16.8e" % (n + 1, 1, -dx ** 3))
+print("*DEFINE_CURVE\n%10d\n%20g%20g\n%20g%20g" % (1, 0.0, 1.0, 1.0, 1.0))
+print("*BOUNDARY_PRESCRIBED_MOTION_NODE")
+for n in range(len(skimmer)):
+    print("%10d%10d%10d%10d%10g" % (len(layer) + n + 1, 3, 0, 1, speed))
+print("*BOUNDARY_SPC_NODE")
+for n in range(len(skimmer)):
+    print("%10d%10d%10d%10d%10d" % (len(layer) + n + 1, 0, 1, 1, 0))
+print("*END")
+PY
+run_serial skimmer 100
+"${read_vtu[@]}" "$(ls "$work/skimmer.serial"/d3plot_*.vtu | tail -n 1)" --field displacement >"$work/skimmer.last" ||
+  fail "the skimmer's last state"
+# It ends 5 mm past the layer (displacement 40 mm), and the layer was dragged along (every particle).
+awk '$1 == "displacement" && $2 == "max" { exit !($5 > 0.0399) }' "$work/skimmer.last" ||
+  fail "the skimmer did not pass the layer: $(grep 'displacement max' "$work/skimmer.last")"
+awk '$1 == "displacement" && $2 == "min" { exit !($5 > 0.001) }' "$work/skimmer.last" ||
+  fail "the layer was not dragged: $(grep 'displacement min' "$work/skimmer.last")"
+same_on_ranks "$work/skimmer.k" "$work/skimmer.serial" "4 1" "2 2" "3 1 rebalanced"
 # Two particles on three ranks: rank 0, which writes every file, owns neither.
 python3 "$source_dir/tools/make_bar_deck.py" --length 0.05 --width 0.025 --spacing 0.025 --periods 2 >"$work/two.k"
 run_serial two
