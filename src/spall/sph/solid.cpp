@@ -403,7 +403,7 @@ void SolidFormulation::update_neighbour_list() {
   const bool every_row = parallel::world().size() == 1 || categorizing() || !list_built_;
   neighbors::ParticleRange rows{0, n};
   if (!every_row) {
-    rows = computed_rows(0, 0);
+    rows = computed_rows(0, 0);  // its own
     if (force_blocks_ > 0 && rows.begin < rows.end) {
       const Index L = force_block_length_;
       rows = {std::max<Index>(0, rows.begin - (5 * L + 1) / 2), std::min(n, rows.end + (5 * L + 3) / 4)};
