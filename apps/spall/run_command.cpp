@@ -298,14 +298,14 @@ int run_deck(const RunOptions& options) {
     std::int64_t bytes = ranks.received_bytes();
     const double seconds = ranks.communicating_seconds();
     double largest[2] = {-static_cast<double>(bytes), -seconds};
-    std::vector<ExactSum> seconds_sum(1);
-    seconds_sum[0].add(seconds);
+    ExactSum seconds_sum;
+    seconds_sum.add(seconds);
     ranks.sum({&bytes, 1});
-    ranks.sum(seconds_sum);
+    ranks.sum({&seconds_sum, 1});
     ranks.minimum(largest);
     info.received_bytes_mean = static_cast<double>(bytes) / ranks.size() / static_cast<double>(steps);
     info.received_bytes_max = -largest[0] / static_cast<double>(steps);
-    info.communicating_seconds_mean = seconds_sum[0].value() / ranks.size();
+    info.communicating_seconds_mean = seconds_sum.value() / ranks.size();
     info.communicating_seconds_max = -largest[1];
   }
   if (!writes) return code;

@@ -403,7 +403,7 @@ void SolidFormulation::update_neighbour_list() {
   const bool every_row = parallel::world().size() == 1 || categorizing() || !list_built_;
   neighbors::ParticleRange rows{0, n};
   if (!every_row) {
-    rows = computed_rows(0, 0);  // its own
+    rows = own_particles();
     if (force_blocks_ > 0 && rows.begin < rows.end) {
       const Index L = force_block_length_;
       rows = {std::max<Index>(0, rows.begin - (5 * L + 1) / 2), std::min(n, rows.end + (5 * L + 3) / 4)};
@@ -437,19 +437,27 @@ void SolidFormulation::update_neighbour_list() {
   force_blocks_ = (n + span - 1) / span;
   if (force_blocks_ < min_force_blocks) force_blocks_ = 0;
   // Blocks longer than the last build's reach rows it did not search: every row then.
-  if (!every_row && !verlet_.searched(computed_rows(force_blocks_, span))) verlet_.search_every_row(list_reach_);
+  if (!every_row && !verlet_.searched(computed_rows())) verlet_.search_every_row(list_reach_);
 }
 
-// The rows this rank computes: its own particles' and, with pair-once blocks of `length`, those of
-// every block that holds one of them and of the block before each (choose_force_blocks).
-neighbors::ParticleRange SolidFormulation::computed_rows(Index blocks, Index length) const {
+// From this rank's first particle to its last (the particles are in node order, so its own are
+// these).
+neighbors::ParticleRange SolidFormulation::own_particles() const {
   const Index n = particle_count();
   Index first = 0;
   while (first < n && !owns(first)) ++first;
   Index last = n;
   while (last > first && !owns(last - 1)) --last;
-  if (first == last || blocks == 0) return {first, last};
-  return {std::max<Index>(0, (first / length - 1) * length), std::min(n, ((last - 1) / length + 1) * length)};
+  return {first, last};
+}
+
+// The rows this rank computes: its own particles' and, with pair-once blocks, those of every block
+// that holds one of them and of the block before each (choose_force_blocks).
+neighbors::ParticleRange SolidFormulation::computed_rows() const {
+  const neighbors::ParticleRange own = own_particles();
+  const Index L = force_block_length_;
+  if (own.begin == own.end || force_blocks_ == 0) return own;
+  return {std::max<Index>(0, (own.begin / L - 1) * L), std::min(particle_count(), ((own.end - 1) / L + 1) * L)};
 }
 
 // Continuity and velocity gradient, gathered per particle over its full neighbour row, a pack of

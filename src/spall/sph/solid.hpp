@@ -172,7 +172,8 @@ class SolidFormulation final : public discretization::Formulation {
   void gather_kinematics(const discretization::NodeStore& nodes);
   void update_records();
   void update_neighbour_list();
-  neighbors::ParticleRange computed_rows(Index blocks, Index length) const;
+  neighbors::ParticleRange own_particles() const;
+  neighbors::ParticleRange computed_rows() const;  // for the present force blocks
   // corrected: *CONTROL_SPH FORM 1 (the moment and its inverse B), else plain SPH.
   // Returns the first particle whose state update left it unsound (sound()), else
   // particle_count(); none is updated while categorizing.
