@@ -40,7 +40,7 @@ droplet_deck() {
 import sys
 speed, columns = float(sys.argv[1]), int(sys.argv[2])
 dx = 0.01
-print("*KEYWORD\n*CONTROL_TERMINATION\n%10g" % ((columns + 6) * dx / speed if speed > 0 else 0.01))
+print("*KEYWORD\n*CONTROL_TERMINATION\n%10g" % ((columns + 6) * dx / speed))
 print("*CONTROL_SPH\n%40d%20d" % (2, 0))
 print("*DATABASE_BINARY_D3PLOT\n%10g\n*DATABASE_GLSTAT\n%10g" % (0.01, 0.001))
 print("*PART\nwater\n%10d%10d%10d%10d" % (1, 1, 1, 1))
