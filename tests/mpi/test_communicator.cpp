@@ -150,9 +150,3 @@ TEST(Communicator, ExchangeDeliversEachRanksItemsForAnother) {
 
 }  // namespace
 }  // namespace spall::parallel
-
-int main(int argc, char** argv) {
-  const spall::parallel::Session session;
-  testing::InitGoogleTest(&argc, argv);
-  return RUN_ALL_TESTS();
-}

@@ -235,9 +235,3 @@ TEST(ParticleShare, EveryParticleOwnedUntilBound) {
 
 }  // namespace
 }  // namespace spall::discretization
-
-int main(int argc, char** argv) {
-  const spall::parallel::Session session;
-  testing::InitGoogleTest(&argc, argv);
-  return RUN_ALL_TESTS();
-}
