@@ -40,7 +40,12 @@ namespace spall::neighbors {
 //
 // Cost: three passes over the particles (boxes, global test, binning) and two over the cells
 // (merging the threads' boxes, then 14 neighbour pairs each: the bound is symmetric in A and B). A grid with more cells than
-// particles (a fragment flying far from the rest) is not built: the answer is then false.
+// particles (a fragment flying far from the rest) is not built: the answer is then false. Over
+// several ranks (the grid every rank's: its corner and extent from the merged position box), each
+// bins its own particles and tests the pairs whose lower cell lies from its first occupied cell to
+// its last, with the other ranks' boxes of the cells those pairs reach brought in (their boxes
+// overlap where the ranks' particles meet, a layer of cells between neighbouring ranks' slabs), and
+// the answers are or-ed: the boxes and the answer one process would have.
 namespace {
 
 using Box = BoundingBox;
@@ -55,17 +60,112 @@ Real largest_difference_squared(const Box& a, const Box& b) {
   return sum;
 }
 
+// The particles a rank reads, [first, first + count), and the ranks whose particles make up the
+// whole (none: this process holds them all).
+struct Share {
+  std::int64_t first = 0, count = 0;
+  const parallel::Communicator* ranks = nullptr;
+};
+
+// Each box merged with the other ranks' box of the same place: the minimum of the lower corners
+// and of the negated upper ones, and the finite flags as 0 / -1, in one reduction.
+void merge_over_ranks(std::span<Box> boxes, const Share& share) {
+  if (!share.ranks || share.ranks->size() == 1) return;
+  std::vector<double> bounds(7 * boxes.size());
+  for (std::size_t b = 0; b < boxes.size(); ++b) {
+    for (int k = 0; k < 3; ++k) bounds[7 * b + k] = boxes[b].lower[k], bounds[7 * b + 3 + k] = -boxes[b].upper[k];
+    bounds[7 * b + 6] = boxes[b].finite ? 0 : -1;
+  }
+  share.ranks->minimum(bounds);
+  for (std::size_t b = 0; b < boxes.size(); ++b) {
+    for (int k = 0; k < 3; ++k) boxes[b].lower[k] = bounds[7 * b + k], boxes[b].upper[k] = -bounds[7 * b + 3 + k];
+    boxes[b].finite = bounds[7 * b + 6] == 0;
+  }
+}
+
+// Boxes as 7 doubles each (lower corner, upper corner, finite as 1 / 0), to travel.
+void pack(const Box& box, double* out) {
+  for (int k = 0; k < 3; ++k) out[k] = box.lower[k], out[3 + k] = box.upper[k];
+  out[6] = box.finite ? 1 : 0;
+}
+Box unpack(const double* in) {
+  Box box;
+  for (int k = 0; k < 3; ++k) box.lower[k] = in[k], box.upper[k] = in[3 + k];
+  box.finite = in[6] != 0;
+  return box;
+}
+
+struct CellRange {
+  std::int64_t first = 0, last = 0;
+};
+
+// The cells whose pairs this rank tests, from the first to the last cell its own particles are in;
+// under MPI the other ranks' boxes of the cells those pairs reach (each pair once, towards higher
+// cells: up to `reach` cells further along) are merged into `boxes`. Every pair of occupied cells
+// is then tested by the rank of its lower cell, with the boxes of every rank's particles.
+CellRange merge_reached_cells(std::span<Box> boxes, std::int64_t reach, const Share& share) {
+  const auto cell_count = static_cast<std::int64_t>(boxes.size());
+  CellRange own{0, cell_count};
+  if (!share.ranks || share.ranks->size() == 1) return own;
+  while (own.first < cell_count && boxes[own.first].empty()) ++own.first;
+  own.last = cell_count;
+  while (own.last > own.first && boxes[own.last - 1].empty()) --own.last;
+  const parallel::Communicator& ranks = *share.ranks;
+  const int size = ranks.size(), me = ranks.rank();
+  std::vector<double> ranges(2 * size);
+  ranges[2 * me] = static_cast<double>(own.first), ranges[2 * me + 1] = static_cast<double>(own.last);
+  std::vector<Index> two_each(size + 1);
+  for (int r = 0; r <= size; ++r) two_each[r] = 2 * r;
+  ranks.share(std::span(ranges), two_each);
+  // Rank q's cells that rank r's pairs read: [first_r, last_r + reach) within [first_q, last_q).
+  const auto read = [&](int r, int q) {
+    const auto first = static_cast<std::int64_t>(std::max(ranges[2 * r], ranges[2 * q]));
+    const auto last = static_cast<std::int64_t>(std::min(ranges[2 * r + 1] + reach, ranges[2 * q + 1]));
+    return CellRange{first, std::max(first, last)};
+  };
+  std::vector<Index> send_offsets(size + 1, 0), receive_offsets(size + 1, 0);
+  for (int q = 0; q < size; ++q) {
+    const CellRange out = q == me ? CellRange{} : read(q, me), in = q == me ? CellRange{} : read(me, q);
+    send_offsets[q + 1] = send_offsets[q] + 7 * (out.last - out.first);
+    receive_offsets[q + 1] = receive_offsets[q] + 7 * (in.last - in.first);
+  }
+  std::vector<double> send(send_offsets[size]), receive(receive_offsets[size]);
+  for (int q = 0; q < size; ++q) {
+    if (q == me) continue;
+    const CellRange out = read(q, me);
+    for (std::int64_t c = out.first; c < out.last; ++c) pack(boxes[c], &send[send_offsets[q] + 7 * (c - out.first)]);
+  }
+  ranks.exchange(std::span<const double>(send), send_offsets, std::span(receive), receive_offsets);
+  for (int q = 0; q < size; ++q) {
+    if (q == me) continue;
+    const CellRange in = read(me, q);
+    for (std::int64_t c = in.first; c < in.last; ++c)
+      boxes[c].include(unpack(&receive[receive_offsets[q] + 7 * (c - in.first)]));
+  }
+  return own;
+}
+
+bool any_over_ranks(bool mine, const Share& share) {
+  if (!share.ranks || share.ranks->size() == 1) return mine;
+  double flag = mine ? -1 : 0;
+  share.ranks->minimum({&flag, 1});
+  return flag < 0;
+}
+
 // Global test (1): every displacement within limit / 2 of the centre of their box.
-bool within_half_limit_of_centre(std::span<const Vec3> x, std::span<const Vec3> before, const Box& d,
-                                 Real limit) {
-  const auto n = static_cast<std::int64_t>(x.size());
+bool within_half_limit_of_centre(std::span<const Vec3> x, std::span<const Vec3> before, const Box& d, Real limit,
+                                 const Share& share) {
   const Vec3 centre = d.centre();
   const Real half = limit / 2;
   const Real half_squared = half * half;
   const bool outside = parallel::reduce_exact(
-      n, false, [&](std::int64_t i) { return !((x[i] - before[i] - centre).squaredNorm() <= half_squared); },
+      share.count, false,
+      [&](std::int64_t k) {
+        const std::int64_t i = share.first + k;
+        return !((x[i] - before[i] - centre).squaredNorm() <= half_squared);
+      },
       std::logical_or<>());
-  return !outside;
+  return !any_over_ranks(outside, share);
 }
 
 // Dense grid of cells of edge `edge` over the box of the current positions.
@@ -87,8 +187,7 @@ struct Grid {
 
 // Local test (2), on a grid of at most as many cells as particles.
 bool neighbouring_cells_moved_together(std::span<const Vec3> x, std::span<const Vec3> before,
-                                       const Grid& grid, Real limit) {
-  const auto n = static_cast<std::int64_t>(x.size());
+                                       const Grid& grid, Real limit, const Share& share) {
   const std::int64_t cell_count = grid.count();
   // One box per cell and thread, merged after: min and max are exact, so the merged boxes do not
   // depend on which thread saw which particle.
@@ -96,14 +195,18 @@ bool neighbouring_cells_moved_together(std::span<const Vec3> x, std::span<const 
   std::vector<Box> boxes(static_cast<std::size_t>(threads) * cell_count);
   parallel::region([&](const parallel::Team& team) {
     Box* mine = boxes.data() + static_cast<std::int64_t>(team.index()) * cell_count;
-    team.for_each(n, [&](std::int64_t i) { mine[grid.cell_of(x[i])].include(x[i] - before[i]); });
+    team.for_each(share.count, [&](std::int64_t k) {
+      const std::int64_t i = share.first + k;
+      mine[grid.cell_of(x[i])].include(x[i] - before[i]);
+    });
   });
   parallel::for_each(cell_count, [&](std::int64_t c) {
     for (int t = 1; t < threads; ++t) boxes[c].include(boxes[t * cell_count + c]);
   });
+  const auto [nx, ny, nz] = grid.cells;
+  const CellRange tested = merge_reached_cells(std::span(boxes).first(cell_count), nx * ny + nx + 1, share);
 
   const Real limit_squared = limit * limit;
-  const auto [nx, ny, nz] = grid.cells;
   const auto cell_apart = [&](std::int64_t c) {
     const Box& a = boxes[c];
     if (a.empty()) return false;
@@ -120,13 +223,14 @@ bool neighbouring_cells_moved_together(std::span<const Vec3> x, std::span<const 
         }
     return apart;
   };
-  return !parallel::reduce_exact(cell_count, false, cell_apart, std::logical_or<>());
+  const bool apart = parallel::reduce_exact(
+      tested.last - tested.first, false, [&](std::int64_t k) { return cell_apart(tested.first + k); },
+      std::logical_or<>());
+  return !any_over_ranks(apart, share);
 }
 
-}  // namespace
-
-bool close_pairs_moved_together(std::span<const Vec3> x, std::span<const Vec3> before, Real distance,
-                                Real limit) {
+bool moved_together(std::span<const Vec3> x, std::span<const Vec3> before, Real distance, Real limit,
+                    const Share& share) {
   const auto n = static_cast<std::int64_t>(x.size());
   if (n == 0) return true;
   // Boxes of the positions and of the displacements, and whether every displacement is finite (a
@@ -134,9 +238,10 @@ bool close_pairs_moved_together(std::span<const Vec3> x, std::span<const Vec3> b
   struct Boxes {
     Box position, displacement;
   };
-  const auto [position, displacement] = parallel::fold_exact(
-      n, Boxes{},
-      [&](Boxes& b, std::int64_t i) {
+  auto [position, displacement] = parallel::fold_exact(
+      share.count, Boxes{},
+      [&](Boxes& b, std::int64_t k) {
+        const std::int64_t i = share.first + k;
         b.position.include(x[i]);
         b.displacement.include(x[i] - before[i]);
       },
@@ -144,8 +249,11 @@ bool close_pairs_moved_together(std::span<const Vec3> x, std::span<const Vec3> b
         b.position.include(other.position);
         b.displacement.include(other.displacement);
       });
+  Box both[2] = {position, displacement};
+  merge_over_ranks(both, share);
+  position = both[0], displacement = both[1];
   if (!displacement.finite) return false;
-  if (within_half_limit_of_centre(x, before, displacement, limit)) return true;
+  if (within_half_limit_of_centre(x, before, displacement, limit, share)) return true;
 
   Grid grid;
   grid.origin = position.lower;
@@ -158,7 +266,19 @@ bool close_pairs_moved_together(std::span<const Vec3> x, std::span<const Vec3> b
     if (!(cells <= Real(n))) return false;  // also when the extent overflowed
     grid.cells[a] = static_cast<std::int64_t>(along);
   }
-  return neighbouring_cells_moved_together(x, before, grid, limit);
+  return neighbouring_cells_moved_together(x, before, grid, limit, share);
+}
+
+}  // namespace
+
+bool close_pairs_moved_together(std::span<const Vec3> x, std::span<const Vec3> before, Real distance,
+                                Real limit) {
+  return moved_together(x, before, distance, limit, {0, static_cast<std::int64_t>(x.size()), nullptr});
+}
+
+bool close_pairs_moved_together(std::span<const Vec3> x, std::span<const Vec3> before, Real distance, Real limit,
+                                ParticleRange own, const parallel::Communicator& ranks) {
+  return moved_together(x, before, distance, limit, {own.begin, own.end - own.begin, &ranks});
 }
 
 }  // namespace spall::neighbors

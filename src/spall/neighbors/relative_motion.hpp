@@ -4,7 +4,9 @@
 // count (it is made of exact min/max reductions and comparisons only).
 #include <span>
 
+#include "spall/core/communicator.hpp"
 #include "spall/core/types.hpp"
+#include "spall/neighbors/cell_list.hpp"
 
 namespace spall::neighbors {
 
@@ -14,5 +16,11 @@ namespace spall::neighbors {
 // for a non-finite position. `before` must be finite and as long as x.
 bool close_pairs_moved_together(std::span<const Vec3> x, std::span<const Vec3> before, Real distance,
                                 Real limit);
+
+// The same answer over several ranks, each holding current only the positions of its particles
+// `own` (the others' may be stale): every rank reads its own, the boxes are merged over `ranks`
+// (min and max: exact), and every rank answers alike, as one process would over all of x.
+bool close_pairs_moved_together(std::span<const Vec3> x, std::span<const Vec3> before, Real distance, Real limit,
+                                ParticleRange own, const parallel::Communicator& ranks);
 
 }  // namespace spall::neighbors

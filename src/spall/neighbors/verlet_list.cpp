@@ -276,6 +276,11 @@ bool VerletList::needs_rebuild(std::span<const Vec3> x) const {
   return !close_pairs_moved_together(x, x_at_build_, cutoff_, skin_);
 }
 
+bool VerletList::needs_rebuild(std::span<const Vec3> x, ParticleRange own, const parallel::Communicator& ranks) const {
+  if (list_.offsets.empty() || x.size() != x_at_build_.size()) return true;
+  return !close_pairs_moved_together(x, x_at_build_, cutoff_, skin_, own, ranks);
+}
+
 std::vector<Index> spatial_order(std::span<const Vec3> x, Real cell_size) {
   CellList cells;
   cells.build(x, cell_size);

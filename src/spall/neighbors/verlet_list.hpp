@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "spall/core/archive.hpp"
+#include "spall/core/communicator.hpp"
 #include "spall/core/types.hpp"
 #include "spall/neighbors/cell_list.hpp"
 
@@ -63,6 +64,9 @@ class VerletList {
   // list while neighbouring particles move together. True also for a non-finite position, a
   // changed particle count, or no build.
   bool needs_rebuild(std::span<const Vec3> x) const;
+  // The same over several ranks, each holding current only the positions of its particles `own`:
+  // every rank gets the answer one process would give.
+  bool needs_rebuild(std::span<const Vec3> x, ParticleRange own, const parallel::Communicator& ranks) const;
   const NeighborList& list() const { return list_; }
   Real cutoff() const { return cutoff_; }
   Real skin() const { return skin_; }
