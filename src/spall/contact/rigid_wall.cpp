@@ -37,7 +37,17 @@ bool RigidWall::inside(const Vec3& p) const {
   return true;
 }
 
+void RigidWall::complete_state() { share_(nodes_, state_); }
+
 void RigidWall::enforce(discretization::NodeStore& nodes, Real t_mid, Real dt, Real dt_mid) {
+  // Under MPI with velocities by reach the other ranks' nodes are stale here: a rank's own alone,
+  // their state brought in from the ranks it was current on when the nodes were dealt anew.
+  const bool own_only = nodes.velocities_by_reach;
+  if (own_only) {
+    if (share_.stale(nodes)) complete_state();
+    share_.bind(nodes);
+  }
+  const auto skip = [&](Index i) { return own_only && !nodes.owns(i); };
   force_.setZero();
   normal_force_ = 0;
   active_.clear();
@@ -49,6 +59,7 @@ void RigidWall::enforce(discretization::NodeStore& nodes, Real t_mid, Real dt, R
     // Not there yet (or any more): a node may pass the plane, and is then behind it at birth.
     parallel::for_each(count, [&](Index k) {
       const Index i = nodes_[k];
+      if (skip(i)) return;
       state_[k] = n.dot(nodes.x[i] + dt * nodes.v[i] - origin) >= 0 ? std::uint8_t(in_front)
                                                                     : std::uint8_t(0);
     }, {.serial_below = parallel_from});
@@ -56,6 +67,10 @@ void RigidWall::enforce(discretization::NodeStore& nodes, Real t_mid, Real dt, R
   }
   parallel::for_each(count, [&](Index k) {
     const Index i = nodes_[k];
+    if (skip(i)) {
+      candidate_[k] = 0;
+      return;
+    }
     const Vec3 r = nodes.x[i] - origin;
     const Real d = n.dot(r);
     const Real u = n.dot(nodes.v[i]);
@@ -96,9 +111,11 @@ void RigidWall::enforce(discretization::NodeStore& nodes, Real t_mid, Real dt, R
     impulse_[a] = nodes.mass[i] * (v - v_before);
   }, {.serial_below = parallel_from});
 
-  // Summed in the order of active_, which does not depend on the thread count.
-  Vec3 total = Vec3::Zero();
-  for (const Vec3& j : impulse_) total += j;
+  // Summed exactly: the same for any thread count and, over the ranks, for any partition.
+  const Sums<3> sums = parallel::exact_sum(
+      pushed, [&](Index a) { return Sums<3>{{impulse_[a][0], impulse_[a][1], impulse_[a][2]}}; },
+      own_only ? &parallel::world() : nullptr);
+  const Vec3 total(sums[0], sums[1], sums[2]);
   if (dt_mid > 0) {
     force_ = (Vec3::Zero() - total) / dt_mid;  // 0 - 0 = +0: no "-0" in rwforc.csv
     normal_force_ = n.dot(total) / dt_mid;
@@ -109,6 +126,7 @@ void RigidWall::enforce(discretization::NodeStore& nodes, Real t_mid, Real dt, R
   // the plane beside a finite wall, or was behind it, is behind until it comes back in front.
   if (dt > 0) {
     parallel::for_each(count, [&](Index k) {
+      if (skip(nodes_[k])) return;
       if (candidate_[k] != pushed_now) state_[k] = closing_[k] >= v_wall ? std::uint8_t(in_front) : std::uint8_t(0);
     }, {.serial_below = parallel_from});
   }

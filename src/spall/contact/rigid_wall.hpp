@@ -12,6 +12,7 @@
 #include "spall/core/archive.hpp"
 #include "spall/core/types.hpp"
 #include "spall/discretization/node_store.hpp"
+#include "spall/discretization/particle_share.hpp"
 
 namespace spall::contact {
 
@@ -45,8 +46,15 @@ class RigidWall {
 
   // Corrects the velocities v^{n+1/2} of nodes that would pass the wall over [t^n, t^n + dt]
   // (t_mid = t^n + dt/2 decides birth and death); dt_mid is the step of that velocity update,
-  // over which the impulses become forces.
+  // over which the impulses become forces. Under MPI with velocities by reach
+  // (NodeStore::velocities_by_reach; a fixed wall only) of a rank's own nodes, the force summed
+  // over the ranks; otherwise of every node, on every rank alike.
   void enforce(discretization::NodeStore& nodes, Real t_mid, Real dt, Real dt_mid);
+  // A fixed wall acts on each node alone (a moving one solves for its velocity over all of them).
+  bool fixed() const { return definition_.mass <= 0; }
+  // Under MPI with velocities by reach: every rank's contact state of its own nodes in, so that the
+  // state is whole (a checkpoint; enforce does it itself when the nodes are dealt anew).
+  void complete_state();
   // Moves a moving wall on to t^{n+1} with its new velocity.
   void advance(Real dt);
 
@@ -89,6 +97,8 @@ class RigidWall {
   std::vector<Index> active_;            // positions in nodes_ of the nodes pushed this step
   std::vector<Index> free_;              // moving wall: unwelded candidates, by closing value
   std::vector<Vec3> impulse_;            // m dv of each active node
+  // Under MPI with velocities by reach: the ranks whose nodes' state_ is current on them.
+  discretization::ParticleShare share_;
 };
 
 }  // namespace spall::contact

@@ -36,6 +36,10 @@ struct NodeStore {
   // `partition` counts the deals, so that what was planned for a partition knows when it is stale.
   std::vector<Index> rank_begin;
   long long partition = 0;
+  // Under MPI: true when the halo brings in only the velocities that the formulations read (the
+  // halo by reach, set by the time loop), so that the other ranks' nodes beyond that are stale and
+  // the constraints act on a rank's own nodes; false when every velocity is shared each step.
+  bool velocities_by_reach = false;
 
   Index size() const { return static_cast<Index>(id.size()); }
 

@@ -76,11 +76,15 @@ class TimeLoop::Step {
     // Under MPI each rank computes a block of the nodes and holds them all (docs/SCALING.md).
     const parallel::Communicator& ranks = parallel::world();
     if (ranks.size() > 1) nodes_.deal(parallel::block_offsets(nodes_.size(), ranks.size()), ranks.rank());
-    // Walls, contacts and bodies read every node (each rank computes them whole): with any of them,
-    // or a formulation that reads the other ranks' nodes beyond what it brings in, every velocity.
-    halo_by_reach_ = problem_.rigid_walls.empty() && problem_.contacts.empty() && problem_.rigid_bodies.empty() &&
+    // Contacts, bodies and moving walls read every node (each rank computes them whole): with any
+    // of them, or a formulation that reads the other ranks' nodes beyond what it brings in, every
+    // velocity. A fixed wall acts on each node alone: on a rank's own then.
+    halo_by_reach_ = problem_.contacts.empty() && problem_.rigid_bodies.empty() &&
+                     std::all_of(problem_.rigid_walls.begin(), problem_.rigid_walls.end(),
+                                 [](const auto& wall) { return wall.fixed(); }) &&
                      std::all_of(problem_.formulations.begin(), problem_.formulations.end(),
                                  [](const auto& f) { return f->halo_by_reach(); });
+    nodes_.velocities_by_reach = halo_by_reach_ && ranks.size() > 1;
     checked_at_ = std::chrono::steady_clock::now();
     parallel::for_each(nodes_.size(), [&](Index i) { nodes_.f[i] = Vec3::Zero(); });
   }
@@ -93,8 +97,11 @@ class TimeLoop::Step {
     timed(Phase::loads, [&] { loads(); });
     timed(Phase::stable_step, [&] { stable_step(); });
     timed(Phase::velocity_update, [&] { velocity_update(); });
-    timed(Phase::halo, [&] { halo(); });
+    // By reach each rank constrains its own nodes, whose velocities then travel; otherwise every
+    // rank constrains every node alike, once they have all come in.
+    if (!halo_by_reach_) timed(Phase::halo, [&] { halo(); });
     timed(Phase::constraints, [&] { constraints(); });
+    if (halo_by_reach_) timed(Phase::halo, [&] { halo(); });
     timed(Phase::energies, [&] { energies(); });
     bool more = true;
     timed(Phase::output, [&] { more = output(); });
@@ -110,6 +117,7 @@ class TimeLoop::Step {
 
   void complete_state() {
     for (auto& f : problem_.formulations) f->complete_state(nodes_);
+    for (auto& wall : problem_.rigid_walls) wall.complete_state();
   }
 
   // Between two steps: the problem's state (nodes, formulations, walls, contacts, bodies), then the
@@ -299,8 +307,9 @@ class TimeLoop::Step {
   // arithmetic from the same velocities. Before the constraints, so that every rank applies the
   // walls, prescribed motions and rigid bodies to every node alike (a wall's force is then whole on
   // each). A rigid body sums the forces of all its nodes: with bodies, the nodes' forces too. When
-  // every formulation brings in the velocities it reads (halo_by_reach), only those travel; the
-  // others' nodes then go stale here until a formulation completes them.
+  // every formulation brings in the velocities it reads (halo_by_reach), only those travel, after
+  // the constraints, which each rank then applies to its own nodes (a fixed wall's force summed over
+  // the ranks); the others' nodes go stale until a formulation completes them.
   void halo() {
     const parallel::Communicator& ranks = parallel::world();
     if (ranks.size() == 1) return;

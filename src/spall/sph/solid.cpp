@@ -383,9 +383,17 @@ void SolidFormulation::update_records() {
 // than the skin relative to each other (VerletList::needs_rebuild) and no h_a has outgrown its
 // reach. A per-pair reach keeps the rows of particles with the common h short when a few others
 // (the rim of a splashing foot) expand.
-void SolidFormulation::update_neighbour_list() {
+void SolidFormulation::update_neighbour_list(discretization::NodeStore& nodes) {
   const Index n = particle_count();
-  if (list_built_ && !h_outgrown_ && !verlet_.needs_rebuild(x_)) return;
+  // Under MPI each rank tests its own particles' motion (the others' may be stale), the answer
+  // every rank's (as h_outgrown_ is).
+  const parallel::Communicator& ranks = parallel::world();
+  const auto moved_apart = [&] {
+    return ranks.size() > 1 ? verlet_.needs_rebuild(x_, own_particles(), ranks) : verlet_.needs_rebuild(x_);
+  };
+  if (list_built_ && !h_outgrown_ && !moved_apart()) return;
+  // The search bins every particle: every position current first.
+  complete_kinematics(nodes);
   // The search reads every particle's reach: h whole (the rest that the new rows read comes after
   // the plan, compute_forces).
   if (!complete_) share_(node_, smoothing_length_);
@@ -855,8 +863,31 @@ void SolidFormulation::complete() {
   complete_ = true;
 }
 
-void SolidFormulation::complete_state(discretization::NodeStore&) {
+void SolidFormulation::complete_state(discretization::NodeStore& nodes) {
   if (!complete_) complete();
+  complete_kinematics(nodes);
+}
+
+void SolidFormulation::share_state(discretization::NodeStore& nodes) {
+  if (!nodes.velocities_by_reach || !reach_.planned()) return;
+  reach_.records<Vec3>([&](Index a) { return nodes.v[node_[a]]; },
+                       [&](Index a, const Vec3& v) { nodes.v[node_[a]] = v; });
+  kinematics_complete_ = false;
+}
+
+void SolidFormulation::complete_kinematics(discretization::NodeStore& nodes) {
+  if (kinematics_complete_) return;
+  const Index n = particle_count();
+  std::vector<Vec3> x(n), v(n);
+  parallel::for_each(n, [&](Index a) { x[a] = nodes.x[node_[a]], v[a] = nodes.v[node_[a]]; });
+  share_(node_, x, v);
+  parallel::for_each(n, [&](Index a) {
+    if (owns(a)) return;
+    nodes.x[node_[a]] = x[a];
+    nodes.v[node_[a]] = v[a];
+  });
+  gather_kinematics(nodes);  // x_ and v_ may be copies
+  kinematics_complete_ = true;
 }
 
 void SolidFormulation::choose_force_blocks() {
@@ -1005,13 +1036,16 @@ void SolidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt)
   }
   const bool distributed = parallel::world().size() > 1;
   // Nodes dealt anew: the state is brought in from the ranks it is current on, the old blocks'.
-  if (distributed && !complete_ && share_.stale(nodes)) complete();
+  if (distributed && share_.stale(nodes)) {
+    if (!complete_) complete();
+    complete_kinematics(nodes);
+  }
   share_.bind(nodes);
   // Nodes dealt anew: this rank computes other rows, which the last build may not have searched.
   if (distributed && reach_partition_ != nodes.partition) verlet_.search_every_row(list_reach_);
   gather_kinematics(nodes);
   const long long builds = verlet_.builds();
-  update_neighbour_list();
+  update_neighbour_list(nodes);
   choose_force_blocks();
   if (distributed && (verlet_.builds() != builds || reach_partition_ != nodes.partition)) {
     plan_reach(nodes);
@@ -1039,7 +1073,10 @@ void SolidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt)
   volume_.swap(updated_volume_);
   sound_speed_.swap(updated_sound_speed_);
   ++step_;
-  if (first_unsound < n && !complete_) complete();  // every rank names the particle's own state
+  if (first_unsound < n) {  // every rank names the particle's own state
+    if (!complete_) complete();
+    complete_kinematics(nodes);
+  }
   check_state(nodes, first_unsound);
   with_discretization([&](auto kernel, auto corrected) { compute_pair_forces<decltype(kernel), corrected>(); });
   // h follows the density only now, so that both pair passes of a step use one kernel: the force

@@ -152,6 +152,11 @@ class SolidFormulation final : public discretization::Formulation {
   discretization::InternalPower internal_power(std::span<const Vec3> v) const;
   Real max_wave_speed() const override;
   void complete_state(discretization::NodeStore& nodes) override;
+  // Under MPI with velocities by reach (NodeStore::velocities_by_reach): v^{n+1/2} of the other
+  // ranks' particles this rank's rows read (reach_), from their ranks. The categorization reads
+  // its neighbours' neighbours' positions: with it, every velocity.
+  void share_state(discretization::NodeStore& nodes) override;
+  bool halo_by_reach() const override { return !categorizing(); }
   void checkpoint(Archive& archive) override;
 
   Index particle_count() const { return static_cast<Index>(node_.size()); }
@@ -171,7 +176,7 @@ class SolidFormulation final : public discretization::Formulation {
  private:
   void gather_kinematics(const discretization::NodeStore& nodes);
   void update_records();
-  void update_neighbour_list();
+  void update_neighbour_list(discretization::NodeStore& nodes);
   neighbors::ParticleRange own_particles() const;
   neighbors::ParticleRange computed_rows() const;  // for the present force blocks
   // corrected: *CONTROL_SPH FORM 1 (the moment and its inverse B), else plain SPH.
@@ -219,6 +224,10 @@ class SolidFormulation final : public discretization::Formulation {
   // built, before the nodes are dealt anew, before a checkpoint or a field output, and before a
   // particle's failure is reported, so that every rank sees every particle alike there.
   void complete();
+  // Every rank's positions and velocities of its own particles in (share_), where the halo brought
+  // in only those its rows read: before the list is built, before the nodes are dealt anew and
+  // before a checkpoint, a field output or a failure report.
+  void complete_kinematics(discretization::NodeStore& nodes);
   // Which force blocks this rank runs: those with a particle it owns, and the block before each
   // (its half rows subtract from the next block's forces). All when the run is one process.
   void choose_force_blocks();
@@ -316,6 +325,7 @@ class SolidFormulation final : public discretization::Formulation {
   bool current(Index a) const { return current_.empty() || current_[a]; }
   long long reach_partition_ = -1;    // NodeStore::partition that reach_ was planned for
   bool complete_ = true;              // every particle's state current on this rank (complete())
+  bool kinematics_complete_ = true;   // every particle's x and v current (complete_kinematics())
 
   neighbors::VerletList verlet_;
   Real time_ = 0;
