@@ -406,9 +406,8 @@ void SolidFormulation::update_neighbour_list(discretization::NodeStore& nodes) {
       [](Real a, Real b) { return std::max(a, b); });
   // Under MPI a rank searches the rows it computes (computed_rows): its own and, with the last
   // build's blocks of length L, those from 2.5 L before them to 1.25 L after, which hold the rows of
-  // blocks up to 1.25 L long (they grow as a body deforms). The categorization reads its
-  // neighbours' rows too, so with it every row.
-  const bool every_row = parallel::world().size() == 1 || categorizing() || !list_built_;
+  // blocks up to 1.25 L long (they grow as a body deforms).
+  const bool every_row = parallel::world().size() == 1 || !list_built_;
   neighbors::ParticleRange rows{0, n};
   if (!every_row) {
     rows = own_particles();
@@ -689,7 +688,10 @@ void SolidFormulation::categorize() {
   const auto& list = verlet_.list();
   const Index n = particle_count();
   int layers = 0;
+  // Under MPI each rank its own particles, with the flags of the others' that its rows read
+  // brought in before each layer (reach_).
   parallel::for_each(n, [&](Index a) {
+    if (!owns(a)) return;
     const ColourField& c = options_.colour_field[material_[a]];
     const bool surface = c.enabled &&
                          support_count_[a] < c.neighbour_fraction * full_support_count_[a] &&
@@ -701,8 +703,10 @@ void SolidFormulation::categorize() {
   std::vector<std::uint8_t> previous(n), next(n);
   for (Index a = 0; a < n; ++a) previous[a] = category_[a] == Category::surface;
   for (int layer = 1; layer <= layers; ++layer) {
+    reach_(previous);
     parallel::for_each(n, [&](Index a) {
       next[a] = 0;
+      if (!owns(a)) return;
       const ColourField& c = options_.colour_field[material_[a]];
       if (!c.enabled || layer > c.layers || category_[a] != Category::interior) return;
       // The current spacing: the initial one scaled as h has been.
@@ -859,7 +863,8 @@ void SolidFormulation::plan_reach(const discretization::NodeStore& nodes) {
 
 void SolidFormulation::complete() {
   share_(node_, volume_, sound_speed_, density_, smoothing_length_, pressure_, internal_energy_, state_, back_stress_,
-         stress_, plain_stress_, artificial_stress_, exported_deviator_, strain_rate_squared_, gradient_amplification_);
+         stress_, plain_stress_, artificial_stress_, exported_deviator_, strain_rate_squared_, gradient_amplification_,
+         colour_, colour_normal_, support_count_, category_);
   complete_ = true;
 }
 
@@ -1063,8 +1068,6 @@ void SolidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt)
     int interval = 1 << 30;
     for (const ColourField& c : options_.colour_field)
       if (c.enabled) interval = std::min(interval, c.interval);
-    // categorize reads the neighbours' and, through their layers, their neighbours' too
-    share_(node_, colour_, colour_normal_, support_count_, smoothing_length_);
     if (step_ % interval == 0) categorize();
     first_unsound = update_state(dt);
   }

@@ -153,10 +153,9 @@ class SolidFormulation final : public discretization::Formulation {
   Real max_wave_speed() const override;
   void complete_state(discretization::NodeStore& nodes) override;
   // Under MPI with velocities by reach (NodeStore::velocities_by_reach): v^{n+1/2} of the other
-  // ranks' particles this rank's rows read (reach_), from their ranks. The categorization reads
-  // its neighbours' neighbours' positions: with it, every velocity.
+  // ranks' particles this rank's rows read (reach_), from their ranks.
   void share_state(discretization::NodeStore& nodes) override;
-  bool halo_by_reach() const override { return !categorizing(); }
+  bool halo_by_reach() const override { return true; }
   void checkpoint(Archive& archive) override;
 
   Index particle_count() const { return static_cast<Index>(node_.size()); }
