@@ -4,11 +4,14 @@
 # every history (glstat.csv, rwforc.csv) is byte for byte the single process's, and the field output
 # (a .pvtu per output time of each rank's .vtu piece) holds its .vtu files' points and fields bit for
 # bit.
-#  - the Taylor bar of examples/taylor_bar, cut short: Johnson-Cook, the corrected gradient, a rigid
-#    wall whose force every rank finds whole, the force pass taking each pair once (in blocks, of
-#    which each rank runs its own and the one before);
-#  - the brittle spall of examples/brittle_spall, cut short: the colour-field categorization (which
-#    reads the neighbours' colour field of every rank) and prescribed motion;
+#  - the Taylor bar of examples/taylor_bar, cut short: Johnson-Cook, the corrected gradient, a fixed
+#    rigid wall (each rank's own nodes, the force summed over the ranks; the velocities by reach),
+#    the force pass taking each pair once (in blocks, of which each rank runs its own and the one
+#    before);
+#  - the brittle spall of examples/brittle_spall, cut short: the colour-field categorization (each
+#    rank's own particles, with the layer flags of the others' that it reads) and prescribed motion;
+#  - the compression of examples/compression_iron, cut short: a fixed and a moving rigid wall (which
+#    every rank solves whole from every node's velocity);
 #  - two particles of a bar on three ranks: a rank with none;
 #  - a block of 8 particles driven along a resting elastic layer from before its start to past its
 #    end, near enough to drag it: every rank's list rows and the particles they read change as it
@@ -37,11 +40,16 @@ source "$source_dir/tests/scripts/mpi_common.sh"
 
 cut_deck "$source_dir/examples/taylor_bar/taylor_bar.k" 1e-5 20 >"$work/taylor.k"
 cut_deck "$source_dir/examples/brittle_spall/brittle_spall.k" 0.01 >"$work/spall.k"
+cut_deck "$source_dir/examples/compression_iron/compression_iron.k" 2e-5 >"$work/compression.k"
 run_serial taylor 40
 run_serial spall 40
+run_serial compression 100
 [ -s "$work/taylor.serial/rwforc.csv" ] || fail "the Taylor bar wrote no rwforc.csv"
+awk -F, 'NR > 1 && $2 == 2 && $3 + 0 > 0 { pushed = 1 } END { exit !pushed }' "$work/compression.serial/rwforc.csv" ||
+  fail "the moving wall did not push: $(tail -n 1 "$work/compression.serial/rwforc.csv")"
 same_on_ranks "$work/taylor.k" "$work/taylor.serial" "2 1" "3 1" "4 1" "2 2" "3 1 rebalanced"
 same_on_ranks "$work/spall.k" "$work/spall.serial" "2 1" "3 2"
+same_on_ranks "$work/compression.k" "$work/compression.serial" "2 1" "3 1 rebalanced"
 # The skimmer: the layer (3 x 3 x 30 particles, 1 mm apart, soft elastic) and the 2 x 2 x 2 block
 # 1.8 mm beside it (within the kernel's 2.4 mm reach), held in x and y and driven along z at 10 m/s.
 python3 - >"$work/skimmer.k" <<'PY'
