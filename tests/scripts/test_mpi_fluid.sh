@@ -35,8 +35,8 @@ same_on_ranks "$work/d3.k" "$work/d3.serial" "2 1" "3 2"
 # LAYER_COLUMNS long, written column by column so that the ranks' blocks of nodes are stretches of
 # it along x, and a 2 x 2 droplet written last (the last rank's) that skims it at DROPLET_SPEED
 # along x, within the kernel's reach of the layer's top, from before its start to past its end.
-# With a third argument, the layer lies on a fixed rigid wall and another across its far end stops
-# the droplet there.
+# With a third argument, the layer lies on a moving rigid wall (a floor of 1 kg, pushed down as the
+# droplet passes) and a fixed one across its far end stops the droplet there.
 droplet_deck() {
   python3 - "$@" <<'PY'
 import sys
@@ -60,9 +60,10 @@ for k in range(len(nodes + droplet)):
 print("*INITIAL_VELOCITY_NODE")
 for k in range(len(droplet)):
     print("%10d%10g%10g%10g" % (len(nodes) + k + 1, speed, 0.0, 0.0))
-if walled:  # on every node: under the layer, its normal +y, and across its far end, -x
-    for tail, head in (((0, 0, 0), (0, 1, 0)), ((columns * dx, 0, 0), (columns * dx - 1, 0, 0))):
-        print("*RIGIDWALL_PLANAR\n%10d\n" % 0 + "%10g" * 6 % (tail + head))
+if walled:  # on every node: a floor of 1 kg under the layer (normal +y), free to move along its
+    # normal, and a fixed wall across the layer's far end (normal -x)
+    print("*RIGIDWALL_PLANAR_MOVING\n%10d\n" % 0 + "%10g" * 6 % (0, 0, 0, 0, 1, 0) + "\n%10g%10g" % (1.0, 0.0))
+    print("*RIGIDWALL_PLANAR\n%10d\n" % 0 + "%10g" * 6 % (columns * dx, 0, 0, columns * dx - 1, 0, 0))
     print("*DATABASE_RWFORC\n%10g" % 0.001)
 print("*END")
 PY
@@ -77,9 +78,10 @@ run_serial droplet 100
 awk '$1 == "displacement" && $2 == "max" { exit !($3 > 0.43) }' "$work/droplet.last" ||
   fail "the droplet did not pass the layer's end: $(grep 'displacement max' "$work/droplet.last")"
 same_on_ranks "$work/droplet.k" "$work/droplet.serial" "4 1" "3 1 rebalanced"
-# The same on a floor and stopped by a wall: a fixed wall acts on each rank's own nodes before their
-# velocities travel (the halo by reach), its force summed over the ranks: bit for bit, rwforc.csv
-# too. The floor holds up every rank's stretch of the layer as the droplet passes.
+# The same on a floor and stopped by a wall: a wall acts on each rank's own nodes before their
+# velocities travel (the halo by reach), its force summed over the ranks, the floor's velocity
+# solved from every rank's nodes on it (it holds up every rank's stretch of the layer): bit for
+# bit, rwforc.csv too.
 droplet_deck 10 40 walled >"$work/walled.k"
 run_serial walled 100
 for wall in 1 2; do

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
+#include <span>
 
 namespace spall::contact {
 
@@ -80,6 +82,7 @@ void RigidWall::enforce(discretization::NodeStore& nodes, Real t_mid, Real dt, R
     candidate_[k] = (state_[k] & in_front) && inside(r + dt * nodes.v[i]);
   }, {.serial_below = parallel_from});
 
+  if (own_only && definition_.mass > 0) share_candidates(nodes);
   const Real v_wall = solve_wall_velocity(nodes);
 
   const Friction& friction = definition_.friction;
@@ -89,6 +92,10 @@ void RigidWall::enforce(discretization::NodeStore& nodes, Real t_mid, Real dt, R
   parallel::for_each(pushed, [&](Index a) {
     const Index k = active_[a];
     const Index i = nodes_[k];
+    if (skip(i)) {  // another rank's, which pushes it
+      impulse_[a] = Vec3::Zero();
+      return;
+    }
     Vec3& v = nodes.v[i];
     const Vec3 v_before = v;
     // On the wall at t^{n+1}: u' = V' - d/dt = u + (V' - c).
@@ -130,6 +137,31 @@ void RigidWall::enforce(discretization::NodeStore& nodes, Real t_mid, Real dt, R
       if (candidate_[k] != pushed_now) state_[k] = closing_[k] >= v_wall ? std::uint8_t(in_front) : std::uint8_t(0);
     }, {.serial_below = parallel_from});
   }
+}
+
+// A moving wall's velocity depends on every node it pushes: under MPI with velocities by reach the
+// other ranks' candidates (closing value, flags) come in, so that every rank solves for the same
+// velocity and pushed set as one process (and applies the pushes to its own nodes).
+void RigidWall::share_candidates(const discretization::NodeStore& nodes) {
+  struct Candidate {
+    Index k = 0;
+    std::uint8_t candidate = 0, state = 0;
+    Real closing = 0;
+  };
+  std::vector<Candidate> mine;
+  for (Index k = 0; k < static_cast<Index>(nodes_.size()); ++k)
+    if (candidate_[k] && nodes.owns(nodes_[k])) mine.push_back({k, candidate_[k], state_[k], closing_[k]});
+  const parallel::Communicator& ranks = parallel::world();
+  std::vector<Index> counts(ranks.size() + 1, 0), one_each(ranks.size() + 1);
+  std::iota(one_each.begin(), one_each.end(), Index(0));
+  counts[ranks.rank()] = static_cast<Index>(mine.size());
+  ranks.share(std::span(counts).first(ranks.size()), one_each);
+  std::exclusive_scan(counts.begin(), counts.end(), counts.begin(), Index(0));
+  std::vector<Candidate> all(counts.back());
+  std::copy(mine.begin(), mine.end(), all.begin() + counts[ranks.rank()]);
+  ranks.share(std::span(all), counts);
+  for (const Candidate& c : all)
+    if (!nodes.owns(nodes_[c.k])) candidate_[c.k] = c.candidate, state_[c.k] = c.state, closing_[c.k] = c.closing;
 }
 
 Real RigidWall::solve_wall_velocity(const discretization::NodeStore& nodes) {

@@ -47,11 +47,10 @@ class RigidWall {
   // Corrects the velocities v^{n+1/2} of nodes that would pass the wall over [t^n, t^n + dt]
   // (t_mid = t^n + dt/2 decides birth and death); dt_mid is the step of that velocity update,
   // over which the impulses become forces. Under MPI with velocities by reach
-  // (NodeStore::velocities_by_reach; a fixed wall only) of a rank's own nodes, the force summed
-  // over the ranks; otherwise of every node, on every rank alike.
+  // (NodeStore::velocities_by_reach) of a rank's own nodes, the force summed over the ranks (and a
+  // moving wall's velocity solved from every rank's candidates); otherwise of every node, on every
+  // rank alike.
   void enforce(discretization::NodeStore& nodes, Real t_mid, Real dt, Real dt_mid);
-  // A fixed wall acts on each node alone (a moving one solves for its velocity over all of them).
-  bool fixed() const { return definition_.mass <= 0; }
   // Under MPI with velocities by reach: every rank's contact state of its own nodes in, so that the
   // state is whole (a checkpoint; enforce does it itself when the nodes are dealt anew).
   void complete_state();
@@ -81,6 +80,7 @@ class RigidWall {
   bool inside(const Vec3& p) const;  // within the finite extent (point relative to the origin)
   // The wall's velocity after the impulses, and which candidates are pushed (`active_`).
   Real solve_wall_velocity(const discretization::NodeStore& nodes);
+  void share_candidates(const discretization::NodeStore& nodes);
 
   Definition definition_;
   std::vector<Index> nodes_;

@@ -76,12 +76,10 @@ class TimeLoop::Step {
     // Under MPI each rank computes a block of the nodes and holds them all (docs/SCALING.md).
     const parallel::Communicator& ranks = parallel::world();
     if (ranks.size() > 1) nodes_.deal(parallel::block_offsets(nodes_.size(), ranks.size()), ranks.rank());
-    // Contacts, bodies and moving walls read every node (each rank computes them whole): with any
-    // of them, or a formulation that reads the other ranks' nodes beyond what it brings in, every
-    // velocity. A fixed wall acts on each node alone: on a rank's own then.
+    // Contacts and bodies read every node (each rank computes them whole): with any of them, or a
+    // formulation that reads the other ranks' nodes beyond what it brings in, every velocity. A
+    // rigid wall acts on a rank's own nodes then (a moving one solved from every rank's).
     halo_by_reach_ = problem_.contacts.empty() && problem_.rigid_bodies.empty() &&
-                     std::all_of(problem_.rigid_walls.begin(), problem_.rigid_walls.end(),
-                                 [](const auto& wall) { return wall.fixed(); }) &&
                      std::all_of(problem_.formulations.begin(), problem_.formulations.end(),
                                  [](const auto& f) { return f->halo_by_reach(); });
     nodes_.velocities_by_reach = halo_by_reach_ && ranks.size() > 1;
