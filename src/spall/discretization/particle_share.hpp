@@ -55,6 +55,23 @@ class ParticleShare {
     (share(values), ...);
   }
 
+  // The particles' nodes' positions and velocities from every rank's own particles in (written
+  // back to the store for the other ranks' particles), with `values` as operator() shares them:
+  // for a formulation whose halo brings in only the nodes it reads, where it needs them all.
+  template <typename... T>
+  void complete_nodes(std::span<const Index> node, NodeStore& nodes, std::vector<T>&... values) {
+    if (!bound_ || parallel::world().size() == 1) return;
+    const Index n = static_cast<Index>(node.size());
+    std::vector<Vec3> x(n), v(n);
+    parallel::for_each(n, [&](Index a) { x[a] = nodes.x[node[a]], v[a] = nodes.v[node[a]]; });
+    (*this)(node, x, v, values...);
+    parallel::for_each(n, [&](Index a) {
+      if (owns(node[a])) return;
+      nodes.x[node[a]] = x[a];
+      nodes.v[node[a]] = v[a];
+    });
+  }
+
   // The same for arrays of rows of different lengths: particle a's entries are
   // [row_offsets[a], row_offsets[a + 1]) (compressed rows, the SPG bonds). The particles must be
   // stored in node order, so that every rank's rows are one block of entries.

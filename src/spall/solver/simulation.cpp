@@ -306,8 +306,8 @@ class TimeLoop::Step {
   // walls, prescribed motions and rigid bodies to every node alike (a wall's force is then whole on
   // each). A rigid body sums the forces of all its nodes: with bodies, the nodes' forces too. When
   // every formulation brings in the velocities it reads (halo_by_reach), only those travel, after
-  // the constraints, which each rank then applies to its own nodes (a fixed wall's force summed over
-  // the ranks); the others' nodes go stale until a formulation completes them.
+  // the constraints, which each rank then applies to its own nodes (a wall's force summed over the
+  // ranks); the others' nodes go stale until a formulation completes them.
   void halo() {
     const parallel::Communicator& ranks = parallel::world();
     if (ranks.size() == 1) return;

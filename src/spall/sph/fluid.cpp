@@ -448,15 +448,7 @@ void FluidFormulation::complete_state(discretization::NodeStore& nodes) {
 }
 
 void FluidFormulation::complete(discretization::NodeStore& nodes) {
-  const Index n = particle_count();
-  std::vector<Vec3> x(n), v(n);
-  parallel::for_each(n, [&](Index a) { x[a] = nodes.x[node_[a]], v[a] = nodes.v[node_[a]]; });
-  share_(node_, x, v, density_, rate_, previous_rate_);
-  parallel::for_each(n, [&](Index a) {
-    if (owns(a)) return;
-    nodes.x[node_[a]] = x[a];
-    nodes.v[node_[a]] = v[a];
-  });
+  share_.complete_nodes(node_, nodes, density_, rate_, previous_rate_);
   complete_ = true;
 }
 

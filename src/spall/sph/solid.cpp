@@ -882,15 +882,7 @@ void SolidFormulation::share_state(discretization::NodeStore& nodes) {
 
 void SolidFormulation::complete_kinematics(discretization::NodeStore& nodes) {
   if (kinematics_complete_) return;
-  const Index n = particle_count();
-  std::vector<Vec3> x(n), v(n);
-  parallel::for_each(n, [&](Index a) { x[a] = nodes.x[node_[a]], v[a] = nodes.v[node_[a]]; });
-  share_(node_, x, v);
-  parallel::for_each(n, [&](Index a) {
-    if (owns(a)) return;
-    nodes.x[node_[a]] = x[a];
-    nodes.v[node_[a]] = v[a];
-  });
+  share_.complete_nodes(node_, nodes);
   gather_kinematics(nodes);  // x_ and v_ may be copies
   kinematics_complete_ = true;
 }
