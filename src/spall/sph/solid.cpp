@@ -443,6 +443,7 @@ void SolidFormulation::update_neighbour_list(discretization::NodeStore& nodes) {
   force_block_length_ = span;
   force_blocks_ = (n + span - 1) / span;
   if (force_blocks_ < min_force_blocks) force_blocks_ = 0;
+  choose_force_blocks(nodes);
   // Blocks longer than the last build's reach rows it did not search: every row then.
   if (!every_row && !verlet_.searched(computed_rows())) verlet_.search_every_row(list_reach_);
 }
@@ -458,13 +459,13 @@ neighbors::ParticleRange SolidFormulation::own_particles() const {
   return {first, last};
 }
 
-// The rows this rank computes: its own particles' and, with pair-once blocks, those of every block
-// that holds one of them and of the block before each (choose_force_blocks).
+// The rows this rank computes: from the first of its own particles' rows and its force blocks' to
+// the last (choose_force_blocks).
 neighbors::ParticleRange SolidFormulation::computed_rows() const {
   const neighbors::ParticleRange own = own_particles();
-  const Index L = force_block_length_;
-  if (own.begin == own.end || force_blocks_ == 0) return own;
-  return {std::max<Index>(0, (own.begin / L - 1) * L), std::min(particle_count(), ((own.end - 1) / L + 1) * L)};
+  if (blocks_.last_row() == 0) return own;
+  if (own.begin == own.end) return {blocks_.first_row(), blocks_.last_row()};
+  return {std::min(own.begin, blocks_.first_row()), std::max(own.end, blocks_.last_row())};
 }
 
 // Continuity and velocity gradient, gathered per particle over its full neighbour row, a pack of
@@ -492,8 +493,7 @@ Index SolidFormulation::compute_rates(Real dt) {
     // what it captures after every pack store (they may alias), 7 % of this pass (measured).
     team.for_each(n, [&](Index a) __attribute__((always_inline)) {
       if (!owns(a)) {  // another rank's, whose pick the force pass may still need
-        if (force_blocks_ > 0 && block_needed_[a / force_block_length_])
-          pick_support(list, a, record_.data(), mask, terms);
+        if (blocks_.runs_row(a)) pick_support(list, a, record_.data(), mask, terms);
         return;
       }
       const Index padded = pick_support(list, a, record_.data(), mask, terms);
@@ -614,7 +614,6 @@ Index SolidFormulation::compute_rates(Real dt) {
       Real sums[24];
       for (int i = 0; i < 3; ++i) simd::sum_lanes(lanes[i], sums + 8 * i);
       viscous_force_[a] = Vec3(-visc_x.sum(), -visc_y.sum(), -visc_z.sum());
-      force_[a] = force_row(viscous_force_[a]);  // the force pass adds the stress's pair terms
       viscous_heating_[a] = heating.sum();
       Real drho;
       Mat3 L;
@@ -856,7 +855,7 @@ void SolidFormulation::share_updated_state() {
 void SolidFormulation::plan_reach(const discretization::NodeStore& nodes) {
   const auto& list = verlet_.list();
   current_ = reach_.plan_rows(list.offsets, list.neighbors, [&](Index a) {
-    return owns(a) || (force_blocks_ > 0 && block_needed_[a / force_block_length_]);
+    return owns(a) || blocks_.runs_row(a);
   }, node_, share_);
   reach_partition_ = nodes.partition;
 }
@@ -887,16 +886,14 @@ void SolidFormulation::complete_kinematics(discretization::NodeStore& nodes) {
   kinematics_complete_ = true;
 }
 
-void SolidFormulation::choose_force_blocks() {
-  if (force_blocks_ == 0) return;
-  block_needed_.assign(force_blocks_, parallel::world().size() == 1);
-  if (parallel::world().size() == 1) return;
-  for (Index a = 0; a < particle_count(); ++a)
-    if (owns(a)) {
-      const Index block = a / force_block_length_;
-      block_needed_[block] = 1;
-      if (block > 0) block_needed_[block - 1] = 1;
-    }
+void SolidFormulation::choose_force_blocks(const discretization::NodeStore& nodes) {
+  // Every rank's first particle (the particles are in node order): their nodes' ranks.
+  std::vector<Index> particle_begin;
+  if (parallel::world().size() > 1)
+    for (const Index node : nodes.rank_begin)
+      particle_begin.push_back(std::lower_bound(node_.begin(), node_.end(), node) - node_.begin());
+  blocks_.assign(particle_count(), force_blocks_, force_block_length_, particle_begin, parallel::world().rank());
+  blocks_partition_ = nodes.partition;
 }
 
 // Momentum, dual to the (corrected) velocity gradient: with P = sigma B^T,
@@ -987,28 +984,40 @@ void SolidFormulation::compute_pair_forces() {
     }
     return f;
   };
-  if (force_blocks_ > 0) {
-    // Each pair once: a block of particles adds to its own and the next block's forces only
-    // (blocks as long as the largest b - a of the list), so the even blocks run side by side
-    // without two threads touching one particle, and so do the odd ones; an odd block runs once
-    // the even blocks on either side of it are done. Every force is so summed in one order (its
-    // even block's terms first) whatever the thread count. (Tasks rather than two sweeps: with
-    // about ten blocks a sweep, the sweeps' ends left a thread idle for a block, 3 % of the Taylor
-    // bar's step.)
-    parallel::for_each_alternating_block(force_blocks_, [&](Index block) {
-      if (!block_needed_[block]) return;
-      RowTerms terms;
-      const Index last = std::min(n, (block + 1) * force_block_length_);
-      for (Index a = block * force_block_length_; a < last; ++a)
-        force_[a].head<3>() += row_force.template operator()<true>(a, terms);
-    });
-  } else {
+  const auto run_block = [&](Index block) {
+    RowTerms terms;
+    for (Index a = blocks_.begin(block); a < blocks_.end(block); ++a)
+      force_[a].head<3>() += row_force.template operator()<true>(a, terms);
+  };
+  if (blocks_.count() == 0) {
     parallel::region([&](const parallel::Team& team) {
       RowTerms terms;
       team.for_each(n, [&](Index a) {
-        if (owns(a)) force_[a].head<3>() += row_force.template operator()<false>(a, terms);
+        if (owns(a)) force_[a] = force_row(row_force.template operator()<false>(a, terms));
       }, {.chunk = 512});
     });
+  } else if (parallel::world().size() == 1) {
+    // Each pair once: a block of particles adds to its own and the next block's forces only
+    // (ForceBlocks), so the even blocks run side by side without two threads touching one
+    // particle, and so do the odd ones; an odd block runs once the even blocks on either side of it
+    // are done. (Tasks rather than two sweeps: with about ten blocks a sweep, the sweeps' ends left a
+    // thread idle for a block, 3 % of the Taylor bar's step.)
+    std::fill(force_.begin(), force_.end(), Eigen::Vector4d::Zero());
+    parallel::for_each_alternating_block(blocks_.count(), run_block);
+  } else {
+    // Each block on one rank, the sums handed between the halves (ForceBlocks).
+    const neighbors::ParticleRange own = own_particles();
+    const Index first = std::min(own.begin, blocks_.first_row());
+    const Index last = std::max(own.end, blocks_.last_touched());
+    std::fill(force_.begin() + first, force_.begin() + std::max(first, last), Eigen::Vector4d::Zero());
+    for (int parity = 0; parity < 2; ++parity) {
+      const std::span<const Index> blocks = blocks_.run(parity);
+      parallel::for_each(static_cast<Index>(blocks.size()), [&](Index k) { run_block(blocks[k]); }, {.chunk = 1});
+      if (parity == 0)
+        blocks_.after_even(force_);
+      else
+        blocks_.after_odd(force_);
+    }
   }
 }
 
@@ -1043,7 +1052,7 @@ void SolidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt)
   gather_kinematics(nodes);
   const long long builds = verlet_.builds();
   update_neighbour_list(nodes);
-  choose_force_blocks();
+  if (blocks_partition_ != nodes.partition) choose_force_blocks(nodes);  // a new deal or a restart
   if (distributed && (verlet_.builds() != builds || reach_partition_ != nodes.partition)) {
     plan_reach(nodes);
     // The step-start state of the particles the new rows read, from their ranks. A particle the old
@@ -1094,6 +1103,7 @@ void SolidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt)
           smoothing_length(a) = std::clamp(h0 * scale, h0 * bounds.lower, h0 * bounds.upper);
         }
         if (!owns(a)) return;  // another rank's: its rank finds its limit
+        force_[a].head<3>() += viscous_force_[a];
         nodes.f[node_[a]] += force_[a].head<3>();
         found.outgrown = found.outgrown || smoothing_length(a) > list_reach_[a];
         found.step = std::min(found.step, stable_step_of(a, nodes.v[node_[a]]));
@@ -1218,7 +1228,7 @@ void SolidFormulation::checkpoint(Archive& a) {
     force_blocks_, force_block_length_, verlet_, time_, step_, list_built_, h_outgrown_, stable_step_,
     has_temperature_);
   // Written whole (complete_state), read by ranks that plan their reach again.
-  if (a.reading()) complete_ = true, reach_partition_ = -1;
+  if (a.reading()) complete_ = true, reach_partition_ = blocks_partition_ = -1;
 }
 
 std::size_t SolidFormulation::memory_bytes() const {

@@ -39,6 +39,7 @@
 #include "spall/discretization/particle_share.hpp"
 #include "spall/discretization/reach_share.hpp"
 #include "spall/sph/artificial_viscosity.hpp"
+#include "spall/sph/force_blocks.hpp"
 
 namespace spall::sph {
 
@@ -227,9 +228,9 @@ class SolidFormulation final : public discretization::Formulation {
   // in only those its rows read: before the list is built, before the nodes are dealt anew and
   // before a checkpoint, a field output or a failure report.
   void complete_kinematics(discretization::NodeStore& nodes);
-  // Which force blocks this rank runs: those with a particle it owns, and the block before each
-  // (its half rows subtract from the next block's forces). All when the run is one process.
-  void choose_force_blocks();
+  // Which force blocks this rank runs (ForceBlocks: each block by one rank): at each list build
+  // and each new deal. All when the run is one process.
+  void choose_force_blocks(const discretization::NodeStore& nodes);
 
   std::vector<materials::Material> materials_;
   SolidOptions options_;
@@ -306,17 +307,19 @@ class SolidFormulation final : public discretization::Formulation {
   // The artificial viscosity of the step, from the rates pass (compute_rates).
   std::vector<Real> viscous_heating_;  // 1/2 sum_b m_b Pi_ab v_ab . grad_a W_ab
   std::vector<Vec3> viscous_force_;    // -sum_b m_a m_b Pi_ab grad_a W_ab
-  // Total internal force, viscous_force_ included, as (x, y, z, 0): one 256-bit row a particle,
-  // which the force pass's pair-once subtraction updates whole.
+  // Total internal force as (x, y, z, 0): the pair sums of the force pass, to which the viscous
+  // force is added last; one 256-bit row a particle, which the pair-once subtraction updates whole.
   std::vector<Eigen::Vector4d> force_;
-  // The force pass's blocks of particles (compute_pair_forces); none when the list spans too much
-  // of the particle order for pair-once blocks, and the pass then gathers every row whole.
+  // The force pass's blocks of particles (compute_pair_forces), as the last list build laid them
+  // out; none when the list spans too much of the particle order for pair-once blocks, and the pass
+  // then gathers every row whole. blocks_: which this rank runs (choose_force_blocks).
   Index force_blocks_ = 0, force_block_length_ = 0;
+  ForceBlocks blocks_;
+  long long blocks_partition_ = -1;  // NodeStore::partition that blocks_ was assigned for
 
   // The nodes this rank computes (NodeStore::owns); every node when the run is one process.
   discretization::ParticleShare share_;  // under MPI: the particles this rank computes, theirs to all
   bool owns(Index a) const { return share_.owns(node_[a]); }
-  std::vector<std::uint8_t> block_needed_;               // per force block (choose_force_blocks)
   discretization::ReachShare reach_;  // under MPI: the other ranks' particles this rank's rows read
   // Under MPI: 1 for the particles this rank's rows read (its own among them), whose state and h
   // it keeps current each step; empty for one process (every particle).
