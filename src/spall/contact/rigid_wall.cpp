@@ -152,10 +152,8 @@ void RigidWall::share_candidates(const discretization::NodeStore& nodes) {
   for (Index k = 0; k < static_cast<Index>(nodes_.size()); ++k)
     if (candidate_[k] && nodes.owns(nodes_[k])) mine.push_back({k, candidate_[k], state_[k], closing_[k]});
   const parallel::Communicator& ranks = parallel::world();
-  std::vector<Index> counts(ranks.size() + 1, 0), one_each(ranks.size() + 1);
-  std::iota(one_each.begin(), one_each.end(), Index(0));
-  counts[ranks.rank()] = static_cast<Index>(mine.size());
-  ranks.share(std::span(counts).first(ranks.size()), one_each);
+  std::vector<Index> counts = ranks.each(static_cast<Index>(mine.size()));
+  counts.push_back(0);
   std::exclusive_scan(counts.begin(), counts.end(), counts.begin(), Index(0));
   std::vector<Candidate> all(counts.back());
   std::copy(mine.begin(), mine.end(), all.begin() + counts[ranks.rank()]);

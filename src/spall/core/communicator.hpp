@@ -63,6 +63,17 @@ class Communicator {
   void share(std::span<T> items, std::span<const Index> offsets) const {
     share_bytes(reinterpret_cast<std::byte*>(items.data()), sizeof(T), offsets);
   }
+  // Every rank's `mine`, in rank order (MPI_Allgatherv of one item each): the few numbers of every
+  // other rank that a decision taken alike on every rank needs (its work, its count, its range).
+  template <typename T>
+  std::vector<T> each(const T& mine) const {
+    std::vector<T> all(size_);
+    all[rank_] = mine;
+    std::vector<Index> one_each(size_ + 1);
+    for (int r = 0; r <= size_; ++r) one_each[r] = r;
+    share(std::span(all), one_each);
+    return all;
+  }
   // Each rank's items for each other rank out, theirs for it in (MPI_Alltoallv): `send` holds the
   // items for rank r at [send_offsets[r], send_offsets[r + 1]), and the items from rank r land at
   // [receive_offsets[r], receive_offsets[r + 1]) of `receive` (size() + 1 offsets each; the counts

@@ -112,15 +112,11 @@ CellRange merge_reached_cells(std::span<Box> boxes, std::int64_t reach, const Sh
   while (own.last > own.first && boxes[own.last - 1].empty()) --own.last;
   const parallel::Communicator& ranks = *share.ranks;
   const int size = ranks.size(), me = ranks.rank();
-  std::vector<double> ranges(2 * size);
-  ranges[2 * me] = static_cast<double>(own.first), ranges[2 * me + 1] = static_cast<double>(own.last);
-  std::vector<Index> two_each(size + 1);
-  for (int r = 0; r <= size; ++r) two_each[r] = 2 * r;
-  ranks.share(std::span(ranges), two_each);
+  const std::vector<CellRange> ranges = ranks.each(own);
   // Rank q's cells that rank r's pairs read: [first_r, last_r + reach) within [first_q, last_q).
   const auto read = [&](int r, int q) {
-    const auto first = static_cast<std::int64_t>(std::max(ranges[2 * r], ranges[2 * q]));
-    const auto last = static_cast<std::int64_t>(std::min(ranges[2 * r + 1] + reach, ranges[2 * q + 1]));
+    const std::int64_t first = std::max(ranges[r].first, ranges[q].first);
+    const std::int64_t last = std::min(ranges[r].last + reach, ranges[q].last);
     return CellRange{first, std::max(first, last)};
   };
   std::vector<Index> send_offsets(size + 1, 0), receive_offsets(size + 1, 0);

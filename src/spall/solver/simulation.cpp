@@ -147,12 +147,8 @@ class TimeLoop::Step {
     if (ranks.size() == 1 || balance_.interval <= 0 || step_.step == 0 || step_.step % balance_.interval != 0)
       return;
     const auto now = std::chrono::steady_clock::now();
-    std::vector<double> work(ranks.size());
-    work[ranks.rank()] = std::chrono::duration<double>(now - checked_at_).count() -
-                         (ranks.communicating_seconds() - communicating_at_check_);
-    std::vector<Index> one_each(ranks.size() + 1);
-    std::iota(one_each.begin(), one_each.end(), Index(0));
-    ranks.share(std::span(work), one_each);
+    const std::vector<double> work = ranks.each(std::chrono::duration<double>(now - checked_at_).count() -
+                                                (ranks.communicating_seconds() - communicating_at_check_));
     checked_at_ = now;
     communicating_at_check_ = ranks.communicating_seconds();
     const double mean = std::accumulate(work.begin(), work.end(), 0.0) / ranks.size();
