@@ -1006,9 +1006,11 @@ void SolidFormulation::compute_pair_forces() {
     parallel::for_each_alternating_block(blocks_.count(), run_block);
   } else {
     // Each block on one rank, the sums handed between the halves (ForceBlocks).
+    // Zero from its own particles' first sum and its blocks' to the last of either.
     const neighbors::ParticleRange own = own_particles();
-    const Index first = std::min(own.begin, blocks_.first_row());
-    const Index last = std::max(own.end, blocks_.last_touched());
+    Index first = own.begin, last = own.end;
+    if (blocks_.last_row() > 0)
+      first = std::min(first, blocks_.first_row()), last = std::max(last, blocks_.last_touched());
     std::fill(force_.begin() + first, force_.begin() + std::max(first, last), Eigen::Vector4d::Zero());
     for (int parity = 0; parity < 2; ++parity) {
       const std::span<const Index> blocks = blocks_.run(parity);
