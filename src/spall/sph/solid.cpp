@@ -404,16 +404,18 @@ void SolidFormulation::update_neighbour_list(discretization::NodeStore& nodes) {
         return smoothing_length(a);
       },
       [](Real a, Real b) { return std::max(a, b); });
-  // Under MPI a rank searches the rows it computes (computed_rows): its own and, with the last
-  // build's blocks of length L, those from 2.5 L before them to 1.25 L after, which hold the rows of
-  // blocks up to 1.25 L long (they grow as a body deforms).
+  // Under MPI a rank searches the rows it computes (computed_rows): its own and those of the force
+  // blocks whose middle particle it owns, which reach at most half a block beyond its own. With the
+  // last build's blocks of length L, 0.75 L on either side holds the rows of blocks up to 1.5 L long
+  // (they grow as a body deforms; longer ones have every row searched, below: with 0.625 L the
+  // 10^5-particle Taylor bar's blocks outgrew it once a rank).
   const bool every_row = parallel::world().size() == 1 || !list_built_;
   neighbors::ParticleRange rows{0, n};
   if (!every_row) {
     rows = own_particles();
     if (force_blocks_ > 0 && rows.begin < rows.end) {
-      const Index L = force_block_length_;
-      rows = {std::max<Index>(0, rows.begin - (5 * L + 1) / 2), std::min(n, rows.end + (5 * L + 3) / 4)};
+      const Index margin = (3 * force_block_length_ + 3) / 4;
+      rows = {std::max<Index>(0, rows.begin - margin), std::min(n, rows.end + margin)};
     }
   }
   const Real skin = skin_fraction * cutoff_margin * 2 * h_largest;
