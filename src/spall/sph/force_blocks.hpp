@@ -30,7 +30,6 @@ class ForceBlocks {
   void assign(Index particles, Index count, Index length, std::span<const Index> particle_begin, int rank);
 
   Index count() const { return count_; }
-  Index length() const { return length_; }
   Index begin(Index block) const { return block * length_; }
   Index end(Index block) const { return block + 1 < count_ ? (block + 1) * length_ : particles_; }
   bool runs(Index block) const { return runner_.empty() || runner_[block] == rank_; }

@@ -1007,13 +1007,11 @@ void SolidFormulation::compute_pair_forces() {
     std::fill(force_.begin(), force_.end(), Eigen::Vector4d::Zero());
     parallel::for_each_alternating_block(blocks_.count(), run_block);
   } else {
-    // Each block on one rank, the sums handed between the halves (ForceBlocks).
-    // Zero from its own particles' first sum and its blocks' to the last of either.
-    const neighbors::ParticleRange own = own_particles();
-    Index first = own.begin, last = own.end;
-    if (blocks_.last_row() > 0)
-      first = std::min(first, blocks_.first_row()), last = std::max(last, blocks_.last_touched());
-    std::fill(force_.begin() + first, force_.begin() + std::max(first, last), Eigen::Vector4d::Zero());
+    // Each block on one rank, the sums handed between the halves (ForceBlocks). Zeroed first: the
+    // rows this rank computes and the particles its blocks add to beyond them (the next block's).
+    const neighbors::ParticleRange rows = computed_rows();
+    std::fill(force_.begin() + rows.begin, force_.begin() + std::max(rows.end, blocks_.last_touched()),
+              Eigen::Vector4d::Zero());
     for (int parity = 0; parity < 2; ++parity) {
       const std::span<const Index> blocks = blocks_.run(parity);
       parallel::for_each(static_cast<Index>(blocks.size()), [&](Index k) { run_block(blocks[k]); }, {.chunk = 1});
