@@ -57,7 +57,8 @@ continue_run() {
 # DECK SERIAL_FOLDER "RANKS THREADS" ...: the deck under mpirun on each count of ranks and threads,
 # every file as the single process's, a piece of field output per rank, and run.json naming the ranks.
 # "RANKS THREADS rebalanced" deals the nodes out anew every 5 steps (--balance-threshold 0), which
-# must happen and change no bit either.
+# must happen and change no bit either; "RANKS THREADS fixed" never deals them anew (the first
+# partition stays, or the first regions, between which the nodes then move: migration alone).
 same_on_ranks() {
   local deck=$1 serial=$2 run out balance
   shift 2
@@ -66,6 +67,7 @@ same_on_ranks() {
     out="$serial.np$1.t$2${3:+.$3}"
     balance=()
     [ "${3:-}" = rebalanced ] && balance=(--balance-every 5 --balance-threshold 0)
+    [ "${3:-}" = fixed ] && balance=(--balance-threshold 1e300)
     mpirun -np "$1" "$cli" run "$deck" -o "$out" --threads "$2" "${balance[@]}" >"$out.log" 2>&1 ||
       { tail -20 "$out.log"; fail "$deck on $1 ranks x $2 threads ${3:-}"; }
     same_folder "$serial" "$out" "$deck on $1 ranks x $2 threads ${3:-}"
@@ -73,8 +75,25 @@ same_on_ranks() {
       [ "$(ls "$out/d3plot_00000" | wc -l)" -eq "$1" ] || fail "not a piece per rank ($deck, $1 ranks)"
     fi
     grep -q "\"ranks\": $1," "$out/run.json" || fail "run.json ranks ($deck, $1 ranks)"
-    if [ -n "${balance[*]}" ]; then
+    if [ "${3:-}" = rebalanced ]; then
       grep -q '"rebalances": [1-9]' "$out/run.json" || fail "no rebalancing ($deck, $1 ranks): $(grep rebal "$out/run.json")"
     fi
+    if [ "${3:-}" = fixed ]; then
+      grep -q '"rebalances": 0,' "$out/run.json" || fail "rebalanced ($deck, $1 ranks, fixed): $(grep rebal "$out/run.json")"
+    fi
+  done
+}
+
+# FOLDER: each output time's points a rank's piece holds (the nodes it computed then), a line per
+# output time in time order, a column per rank.
+piece_points() {
+  local d r
+  for d in $(ls -d "$1"/d3plot_[0-9]*/ | sort); do
+    for ((r = 0; ; r++)); do
+      [ -e "$d$(basename "$d")_$r.vtu" ] || break
+      grep -ao 'NumberOfPoints="[0-9]*"' "$d$(basename "$d")_$r.vtu" | head -n 1 | tr -dc '0-9'
+      printf ' '
+    done
+    echo
   done
 }

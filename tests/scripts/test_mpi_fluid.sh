@@ -12,7 +12,10 @@
 # The 2D dam break on 3 ranks once more with the nodes dealt out anew every 5 steps (the load
 # balancing, forced): still bit for bit. A droplet that skims a resting water layer from end to end
 # (every rank's halo planned anew around it as it passes), on 4 ranks and on 3 rebalanced, and the
-# droplet over 4 particles of the layer on 10 ranks (two hold none): bit for bit.
+# droplet over 4 particles of the layer on 10 ranks (two hold none): bit for bit. A deck of fluid
+# alone is dealt by region (RCB) and its particles migrate between the regions as they flow: with
+# the regions fixed, the droplet passes from rank to rank across every boundary, and on 10 ranks
+# the particles of a rank all leave it, bit for bit.
 # (test_mpi_solid: the solids; test_mpi_contact: contact and rigid bodies.)
 # Arguments, as CTest passes them: CLI SOURCE_DIR SHARED_DIR.
 set -euo pipefail
@@ -77,7 +80,17 @@ run_serial droplet 100
   fail "the droplet's last state"
 awk '$1 == "displacement" && $2 == "max" { exit !($3 > 0.43) }' "$work/droplet.last" ||
   fail "the droplet did not pass the layer's end: $(grep 'displacement max' "$work/droplet.last")"
-same_on_ranks "$work/droplet.k" "$work/droplet.serial" "4 1" "3 1 rebalanced"
+same_on_ranks "$work/droplet.k" "$work/droplet.serial" "4 1" "3 1 rebalanced" "4 1 fixed"
+# A deck of fluid alone is dealt by region (RCB), and the particles migrate to the rank of the
+# region they flow into at each rebuild of the cells. The 4 regions stay put in the "fixed" run:
+# the layer's 40 columns cut along x into 10, 10, 10 and 11 columns with the droplet in the first,
+# which then carries it across every boundary into the last (each rank's piece holds the nodes it
+# computes at each output).
+piece_points "$work/droplet.serial.np4.t1.fixed" >"$work/droplet.pieces"
+awk 'NR == 1 { for (r = 1; r <= NF; ++r) first[r] = max[r] = $r }
+     { for (r = 1; r <= NF; ++r) if ($r > max[r]) max[r] = $r; for (r = 1; r <= NF; ++r) last[r] = $r }
+     END { exit !(last[1] == first[1] - 4 && last[4] == first[4] + 4 && max[2] > first[2] && max[3] > first[3]) }' \
+  "$work/droplet.pieces" || fail "the droplet did not move from rank to rank: $(cat "$work/droplet.pieces")"
 # The same on a floor and stopped by a wall: a wall acts on each rank's own nodes before their
 # velocities travel (the halo by reach), its force summed over the ranks, the floor's velocity
 # solved from every rank's nodes on it (it holds up every rank's stretch of the layer): bit for
@@ -103,7 +116,14 @@ for line in text.splitlines():
 print("\n".join(lines))
 PY
 run_serial alone 100
-same_on_ranks "$work/alone.k" "$work/alone.serial" "10 1"
+same_on_ranks "$work/alone.k" "$work/alone.serial" "10 1" "10 1 fixed"
+# With the regions fixed, ranks without a particle from the start, and ranks whose particles all
+# leave (the droplet's: they hold none at the end): still bit for bit.
+piece_points "$work/alone.serial.np10.t1.fixed" >"$work/alone.pieces"
+awk 'NR == 1 { for (r = 1; r <= NF; ++r) { first[r] = $r; if ($r == 0) empty = 1 } }
+     { for (r = 1; r <= NF; ++r) last[r] = $r }
+     END { for (r in first) if (first[r] > 0 && last[r] == 0) emptied = 1; exit !(emptied && empty) }' \
+  "$work/alone.pieces" || fail "no rank empty from the start, or none emptied: $(cat "$work/alone.pieces")"
 
 # spall surface reads the 2-rank run's .pvtu (its pieces joined) as the single process's .vtu.
 for run in d3.serial d3.serial.np2.t1; do

@@ -59,6 +59,11 @@ class Formulation {
   // formulation reads, and those are all it reads of them until it completes them itself: the
   // time loop then need not share every node's velocity (the halo by reach).
   virtual bool halo_by_reach() const { return false; }
+  // True when the formulation's results do not depend on which rank computes which node, nor on
+  // the order it holds them in, and it calls NodeStore::migrate for its nodes whenever every rank
+  // holds their positions current: a deck of such formulations alone has its nodes dealt by region
+  // (docs/SCALING.md §3, "Ownership by region").
+  virtual bool migrates() const { return false; }
   // Under MPI, on every rank before one of them writes a checkpoint: brings in what the
   // formulation keeps current only where a rank computes it (the state of solid elements with no
   // node of the rank's, the positions and velocities of particles far from a rank's), so that the

@@ -4,12 +4,16 @@
 // through shared nodes needs no extra machinery: two formulations that use a node both add their
 // force to it. Structure of arrays, dense indices. Under MPI every rank holds every node (replicated
 // state, docs/SCALING.md) and computes its own share of them.
+#include <algorithm>
 #include <cstdint>
+#include <span>
 #include <utility>
 #include <vector>
 
 #include "spall/core/archive.hpp"
+#include "spall/core/parallel.hpp"
 #include "spall/core/types.hpp"
+#include "spall/discretization/regions.hpp"
 
 namespace spall::discretization {
 
@@ -26,15 +30,24 @@ struct NodeStore {
   std::vector<std::uint8_t> fixed;    // bit d set: translation d is held by an SPC
   std::vector<std::uint8_t> active;   // 0 once every element or particle on the node has eroded
   std::vector<std::int32_t> body;     // the rigid body the node moves with, or no_body
-  // The nodes this process computes, [owned_begin, owned_end): all of them, unless an MPI run deals
-  // them out to its ranks; each rank then computes the forces and new velocities of its own nodes
-  // and shares them with the others every step (the time loop's halo phase).
+  // Under MPI each rank computes the forces and new velocities of its own nodes and shares them
+  // with the others every step (the time loop's halo phase). The nodes are dealt out in blocks of
+  // the node order, or, in a deck of SPH fluid alone, by region (`regions`, docs/SCALING.md §3).
+  // `owner`: every node's rank (empty for one process).
+  std::vector<std::int32_t> owner;
+  int rank = 0;
+  // A range that holds every node this process computes, [owned_begin, owned_end): all of them for
+  // one process or by region, a rank's block otherwise (and then exactly its nodes).
   Index owned_begin = 0;
   Index owned_end = 0;
-  // Under MPI: every rank's first node, then size() (ranks + 1 entries; empty for one process).
-  // The time loop deals the blocks anew when the ranks' loads drift apart (docs/SCALING.md);
-  // `partition` counts the deals, so that what was planned for a partition knows when it is stale.
+  // Dealt in blocks: every rank's first node, then size() (ranks + 1 entries; empty for one process
+  // or by region).
   std::vector<Index> rank_begin;
+  // Dealt by region: the regions' cuts (empty otherwise).
+  Regions regions;
+  // The time loop deals the nodes anew when the ranks' loads drift apart (docs/SCALING.md), and by
+  // region they move between ranks as they flow (migrate); `partition` counts the changes, so that
+  // what was planned for a partition knows when it is stale.
   long long partition = 0;
   // Under MPI: true when the halo brings in only the velocities that the formulations read (the
   // halo by reach, set by the time loop), so that the other ranks' nodes beyond that are stale and
@@ -58,14 +71,52 @@ struct NodeStore {
     owned_end = n;
   }
 
-  bool owns(Index i) const { return i >= owned_begin && i < owned_end; }
+  bool owns(Index i) const { return owner.empty() || owner[i] == rank; }
+  bool by_region() const { return !regions.empty(); }
 
-  // Rank `rank` computes the nodes [begins[rank], begins[rank + 1]).
-  void deal(std::vector<Index> begins, int rank) {
+  // Rank `r` computes the nodes [begins[r], begins[r + 1]); this process is rank `self`.
+  void deal(std::vector<Index> begins, int self) {
     rank_begin = std::move(begins);
+    regions = {};
+    rank = self;
     owned_begin = rank_begin[rank];
     owned_end = rank_begin[rank + 1];
+    owner.resize(size());
+    for (int r = 0; r + 1 < static_cast<int>(rank_begin.size()); ++r)
+      std::fill(owner.begin() + rank_begin[r], owner.begin() + rank_begin[r + 1], r);
     ++partition;
+  }
+
+  // Each node computed by the rank whose region holds its position; this process is rank `self`.
+  void deal(Regions cuts, int self) {
+    regions = std::move(cuts);
+    rank_begin.clear();
+    rank = self;
+    owned_begin = 0;
+    owned_end = size();
+    owner.resize(size());
+    for (Index i = 0; i < size(); ++i) owner[i] = regions.rank_of(x[i]);
+    ++partition;
+  }
+
+  // By region: each of `moving`'s nodes computed from now on by the rank of the region its
+  // position is in (every rank must hold those positions current: the same positions give the same
+  // ranks). Counts as a new partition when a node changed rank; false when none did (or the nodes
+  // are dealt in blocks).
+  bool migrate(std::span<const Index> moving) {
+    if (!by_region()) return false;
+    const bool moved = parallel::reduce_exact(
+        static_cast<Index>(moving.size()), false,
+        [&](Index k) {
+          const Index i = moving[k];
+          const std::int32_t r = regions.rank_of(x[i]);
+          const bool changed = r != owner[i];
+          owner[i] = r;
+          return changed;
+        },
+        [](bool a, bool b) { return a || b; });
+    if (moved) ++partition;
+    return moved;
   }
 
   // Everything but the IDs (the deck's), which must match, and the share of a rank (the run's).

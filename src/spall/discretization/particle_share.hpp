@@ -1,12 +1,12 @@
 #pragma once
 // Under MPI with replicated state (docs/SCALING.md): which of a formulation's particles this rank
 // computes (those whose node it owns, NodeStore::owns), and its per-particle arrays, each rank's
-// own particles in to every rank. The ranks own blocks of nodes (NodeStore::rank_begin); when the
-// particles are stored in increasing node order, as the problem builder makes them, every rank's
-// particles are one block of the array too and go in place. Otherwise (the fluid's cell order) they
-// are gathered by rank first and put back.
+// own particles in to every rank. When the ranks own blocks of nodes (NodeStore::rank_begin) and
+// the particles are stored in increasing node order, as the problem builder makes them, every
+// rank's particles are one block of the array too and go in place. Otherwise (the fluid's cell
+// order, nodes dealt by region) they are gathered by rank first and put back.
 #include <algorithm>
-#include <limits>
+#include <cstdint>
 #include <numeric>
 #include <span>
 #include <stdexcept>
@@ -24,8 +24,8 @@ class ParticleShare {
   // The nodes this rank computes, from the store the particles' nodes are in; until then, all.
   void bind(const NodeStore& nodes) {
     if (bound_ && partition_ == nodes.partition) return;
-    owned_begin_ = nodes.owned_begin, owned_end_ = nodes.owned_end;
-    rank_begin_ = nodes.rank_begin;
+    owner_ = nodes.owner;
+    rank_ = nodes.rank;
     partition_ = nodes.partition;
     offsets_.clear();  // planned again for the new blocks
     bound_ = true;
@@ -35,11 +35,9 @@ class ParticleShare {
   // Bound to blocks that the nodes have since been dealt anew from.
   bool stale(const NodeStore& nodes) const { return bound_ && partition_ != nodes.partition; }
 
-  bool owns(Index node) const { return node >= owned_begin_ && node < owned_end_; }
-  // The rank that computes a node, in the blocks bound to (once bound, under MPI).
-  int rank_of(Index node) const {
-    return static_cast<int>(std::upper_bound(rank_begin_.begin(), rank_begin_.end(), node) - rank_begin_.begin()) - 1;
-  }
+  bool owns(Index node) const { return owner_.empty() || owner_[node] == rank_; }
+  // The rank that computes a node, in the partition bound to (once bound, under MPI).
+  int rank_of(Index node) const { return owner_[node]; }
   // The ranks a sum over the particles this rank computes must be taken across: none until bound
   // (every rank computes every particle then, as in the set-up).
   const parallel::Communicator* across() const { return bound_ ? &parallel::world() : nullptr; }
@@ -119,8 +117,7 @@ class ParticleShare {
   void plan(std::span<const Index> node) {
     const int ranks = parallel::world().size();
     const Index n = static_cast<Index>(node.size());
-    if (static_cast<int>(rank_begin_.size()) != ranks + 1)
-      throw std::logic_error("ParticleShare: the nodes were not dealt out to the ranks");
+    if (owner_.empty()) throw std::logic_error("ParticleShare: the nodes were not dealt out to the ranks");
     std::vector<int> rank(n);
     parallel::for_each(n, [&](Index a) { rank[a] = rank_of(node[a]); });
     offsets_.assign(ranks + 1, 0);
@@ -165,8 +162,8 @@ class ParticleShare {
     parallel::world().share(std::span(values), entries);
   }
 
-  Index owned_begin_ = 0, owned_end_ = std::numeric_limits<Index>::max();
-  std::vector<Index> rank_begin_;  // NodeStore::rank_begin of the partition bound to
+  std::vector<std::int32_t> owner_;  // NodeStore::owner of the partition bound to (empty: every node)
+  int rank_ = 0;
   long long partition_ = 0;
   bool bound_ = false;
   std::vector<Index> order_;    // the particles grouped by rank, when not stored so (else empty)

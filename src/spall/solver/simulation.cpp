@@ -73,16 +73,28 @@ class TimeLoop::Step {
     rbdout_ = {controls_.rbdout_dt, controls_.rbdout_dt_curve};
     runaway_speed_limit_ = runaway_speed_limit();
     initial_mass_ = parallel::exact_sum(nodes_.size(), [&](Index i) { return nodes_.mass[i]; });
-    // Under MPI each rank computes a block of the nodes and holds them all (docs/SCALING.md).
-    const parallel::Communicator& ranks = parallel::world();
-    if (ranks.size() > 1) nodes_.deal(parallel::block_offsets(nodes_.size(), ranks.size()), ranks.rank());
     // Contacts and bodies read every node (each rank computes them whole): with any of them, or a
     // formulation that reads the other ranks' nodes beyond what it brings in, every velocity. A
     // rigid wall acts on a rank's own nodes then (a moving one solved from every rank's).
+    const parallel::Communicator& ranks = parallel::world();
+    const auto every = [&](auto&& is) { return std::all_of(problem_.formulations.begin(), problem_.formulations.end(), is); };
     halo_by_reach_ = problem_.contacts.empty() && problem_.rigid_bodies.empty() &&
-                     std::all_of(problem_.formulations.begin(), problem_.formulations.end(),
-                                 [](const auto& f) { return f->halo_by_reach(); });
+                     every([](const auto& f) { return f->halo_by_reach(); });
     nodes_.velocities_by_reach = halo_by_reach_ && ranks.size() > 1;
+    // Under MPI each rank computes its share of the nodes and holds them all (docs/SCALING.md): by
+    // region when every formulation moves its nodes between the ranks as they flow, else in blocks.
+    if (ranks.size() > 1) {
+      if (halo_by_reach_ && !problem_.formulations.empty() && every([](const auto& f) { return f->migrates(); })) {
+        // The work is in the particles that move (a fluid's fixed wall particles only lend their
+        // density to the pairs): a node with mass weighs 1 unless an SPC holds it still; the
+        // measured work corrects the cuts later (balance()).
+        std::vector<double> weight(nodes_.size());
+        for (Index i = 0; i < nodes_.size(); ++i) weight[i] = nodes_.mass[i] > 0 && (nodes_.fixed[i] & 7u) != 7u ? 1 : 0;
+        nodes_.deal(discretization::Regions::cut(nodes_.x, weight, ranks.size()), ranks.rank());
+      } else {
+        nodes_.deal(parallel::block_offsets(nodes_.size(), ranks.size()), ranks.rank());
+      }
+    }
     checked_at_ = std::chrono::steady_clock::now();
     parallel::for_each(nodes_.size(), [&](Index i) { nodes_.f[i] = Vec3::Zero(); });
   }
@@ -140,8 +152,9 @@ class TimeLoop::Step {
 
  private:
   // Under MPI, every balance_.interval steps: each rank's own work since the last check (LoadBalance);
-  // past the threshold, the node blocks are dealt anew. Every rank takes the decision from the same
-  // numbers, so all take it alike.
+  // past the threshold, the nodes are dealt anew: the blocks moved, or the regions cut again with
+  // each node weighing its rank's work over its rank's nodes (every position brought in first).
+  // Every rank takes the decision from the same numbers, so all take it alike.
   void balance() {
     const parallel::Communicator& ranks = parallel::world();
     if (ranks.size() == 1 || balance_.interval <= 0 || step_.step == 0 || step_.step % balance_.interval != 0)
@@ -153,7 +166,20 @@ class TimeLoop::Step {
     communicating_at_check_ = ranks.communicating_seconds();
     const double mean = std::accumulate(work.begin(), work.end(), 0.0) / ranks.size();
     if (!(*std::max_element(work.begin(), work.end()) > (1 + balance_.threshold) * mean)) return;
-    nodes_.deal(balanced_blocks(nodes_.rank_begin, work), ranks.rank());
+    if (nodes_.by_region()) {
+      complete_state();
+      std::vector<Index> count(ranks.size(), 0);
+      for (Index i = 0; i < nodes_.size(); ++i)
+        if (nodes_.mass[i] > 0) ++count[nodes_.owner[i]];
+      std::vector<double> weight(nodes_.size());
+      for (Index i = 0; i < nodes_.size(); ++i) {
+        const int r = nodes_.owner[i];
+        weight[i] = nodes_.mass[i] > 0 ? std::max(work[r], 0.0) / static_cast<double>(count[r]) : 0;
+      }
+      nodes_.deal(discretization::Regions::cut(nodes_.x, weight, ranks.size()), ranks.rank());
+    } else {
+      nodes_.deal(balanced_blocks(nodes_.rank_begin, work), ranks.rank());
+    }
     ++rebalances_;
   }
 
@@ -218,7 +244,7 @@ class TimeLoop::Step {
     const Index first = nodes_.owned_begin;
     parallel::for_each(nodes_.owned_end - first, [&](Index k) {
       const Index i = first + k;
-      nodes_.f[i] -= load_force(i, nodes_.v[i]);
+      if (nodes_.owns(i)) nodes_.f[i] -= load_force(i, nodes_.v[i]);
     });
   }
 
@@ -337,6 +363,7 @@ class TimeLoop::Step {
         [&](Index k) {
           const Index i = first + k;
           Sums<4> term;
+          if (own_only && !nodes_.owns(i)) return term;  // another rank's (by region the range is every node)
           const Vec3 v_start = v_old_[i], dv = nodes_.v[i] - v_start;
           v_n[i] += weight * dv;
           if (!nodes_.owns(i)) return term;  // another rank's
@@ -367,7 +394,7 @@ class TimeLoop::Step {
   // under MPI each rank looks at its own nodes, whose velocities only it may hold current).
   [[noreturn]] void throw_runaway() const {
     Index worst = nodes_.owned_begin;
-    while (worst < nodes_.owned_end && !runaway(worst)) ++worst;
+    while (worst < nodes_.owned_end && !(nodes_.owns(worst) && runaway(worst))) ++worst;
     const parallel::Communicator& ranks = parallel::world();
     worst = ranks.lowest(worst < nodes_.owned_end ? worst : -1);
     // The speed from its rank, -1 for NaN and -2 for infinity (every other rank offers infinity).

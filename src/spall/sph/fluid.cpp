@@ -481,6 +481,8 @@ void FluidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt)
   // rounding margin, and all of it must stay within the skin (see for_each_particle_candidates).
   if (!cells_built_ || 2 * travelled_ + rounding_margin_ > parameters_.skin * support_) {
     if (distributed && !complete_) complete(nodes);  // every rank bins every particle alike
+    // Nodes dealt by region: each particle to the rank whose region it has flowed into.
+    if (distributed && nodes.migrate(node_)) share_.bind(nodes);
     rebuild_cells(nodes);
   }
   if (distributed && near_owned_partition_ != nodes.partition) {

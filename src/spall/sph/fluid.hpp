@@ -108,6 +108,7 @@ class FluidFormulation final : public discretization::Formulation {
   Real max_wave_speed() const override;
   void share_state(discretization::NodeStore& nodes) override;
   bool halo_by_reach() const override { return true; }
+  bool migrates() const override { return true; }
   void complete_state(discretization::NodeStore& nodes) override;
   void checkpoint(Archive& archive) override;
 

@@ -1,0 +1,188 @@
+// Recursive coordinate bisection (discretization::Regions; Berger & Bokhari 1987): each cut is
+// across the longest side of its points' box, where the weight below it comes nearest the share
+// of the ranks below it, never splitting points of one coordinate. Checked against that
+// specification directly: a brute-force search of every cut a split could have taken, counts a
+// rank within one point a level of its share, whole lattice planes, weights, and the nodes'
+// ranks following their positions (NodeStore::migrate).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <vector>
+
+#include "spall/discretization/node_store.hpp"
+#include "spall/discretization/regions.hpp"
+
+namespace spall::discretization {
+namespace {
+
+std::vector<Vec3> random_points(int n, const Vec3& size, unsigned seed) {
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<Vec3> x(n);
+  for (auto& p : x) p = Vec3(u(random), u(random), u(random)).cwiseProduct(size);
+  return x;
+}
+
+std::vector<int> counts(const Regions& regions, const std::vector<Vec3>& x, int ranks) {
+  std::vector<int> count(ranks, 0);
+  for (const auto& p : x) {
+    const int r = regions.rank_of(p);
+    EXPECT_GE(r, 0);
+    EXPECT_LT(r, ranks);
+    if (r >= 0 && r < ranks) ++count[r];
+  }
+  return count;
+}
+
+// Distinct coordinates: every rank holds n / ranks points to within one point a level of the tree
+// (each cut is off its share by at most half a point, and a side's share rounds once more below).
+TEST(Regions, RandomPointsShareEvenly) {
+  const int n = 1001;
+  const auto x = random_points(n, Vec3(3, 2, 1), 7);
+  const std::vector<double> w(n, 1.0);
+  for (int ranks : {1, 2, 3, 4, 5, 7, 8, 16, 33}) {
+    const Regions regions = Regions::cut(x, w, ranks);
+    EXPECT_EQ(regions.ranks(), ranks);
+    const auto count = counts(regions, x, ranks);
+    const double levels = std::ceil(std::log2(ranks));
+    for (int r = 0; r < ranks; ++r)
+      EXPECT_LE(std::abs(count[r] - double(n) / ranks), levels) << ranks << " ranks, rank " << r;
+  }
+}
+
+// Two ranks: the cut is across x (the longest side) and no other cut along x puts a weight nearer
+// half below it (brute force over every plane between two points).
+TEST(Regions, TwoRanksTakeTheBestCutAlongTheLongestSide) {
+  const int n = 400;
+  auto x = random_points(n, Vec3(1, 4, 2), 11);
+  std::vector<double> w(n);
+  std::mt19937 random(3);
+  std::uniform_real_distribution<double> u(0.5, 2);
+  for (double& wi : w) wi = u(random);
+  const Regions regions = Regions::cut(x, w, 2);
+  double low = 0, total = 0;
+  Real highest_low = -std::numeric_limits<Real>::infinity(), lowest_high = std::numeric_limits<Real>::infinity();
+  for (int i = 0; i < n; ++i) {
+    total += w[i];
+    if (regions.rank_of(x[i]) == 0) {
+      low += w[i];
+      highest_low = std::max(highest_low, x[i][1]);
+    } else {
+      lowest_high = std::min(lowest_high, x[i][1]);
+    }
+  }
+  EXPECT_LT(highest_low, lowest_high) << "the two sides overlap along y";
+  double best = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < n; ++k) {
+    double below = 0;
+    for (int i = 0; i < n; ++i)
+      if (x[i][1] <= x[k][1]) below += w[i];
+    best = std::min(best, std::abs(below - total / 2));
+  }
+  EXPECT_DOUBLE_EQ(std::abs(low - total / 2), best);
+}
+
+// A lattice of 10 x 4 x 4 points on 2 and 3 ranks: whole planes x = const to each rank, the one
+// cut along x nearest the share (2 ranks: 5 planes each; 3 ranks: 3 planes below, 48 points, being
+// nearer 160 / 3 than 4 planes, 64).
+TEST(Regions, LatticePlanesStayWhole) {
+  std::vector<Vec3> x;
+  for (int i = 0; i < 10; ++i)
+    for (int j = 0; j < 4; ++j)
+      for (int k = 0; k < 4; ++k) x.emplace_back(0.1 * i, 0.1 * j, 0.1 * k);
+  const std::vector<double> w(x.size(), 1.0);
+  for (int ranks : {2, 3}) {
+    const Regions regions = Regions::cut(x, w, ranks);
+    for (int i = 0; i < 10; ++i) {
+      const int r = regions.rank_of(Vec3(0.1 * i, 0, 0));
+      for (int j = 0; j < 4; ++j)
+        for (int k = 0; k < 4; ++k) EXPECT_EQ(regions.rank_of(Vec3(0.1 * i, 0.1 * j, 0.1 * k)), r);
+    }
+    const auto count = counts(regions, x, ranks);
+    if (ranks == 2) EXPECT_EQ(count, (std::vector<int>{80, 80}));
+    if (ranks == 3) EXPECT_EQ(count[0], 48);
+  }
+}
+
+// Weights: points of weight 0 count for nothing, heavier ones for more.
+TEST(Regions, WeightsNotCounts) {
+  const int n = 1000;
+  const auto x = random_points(n, Vec3(2, 1, 1), 5);
+  std::vector<double> w(n);
+  for (int i = 0; i < n; ++i) w[i] = x[i][0] < 0.5 ? 3.0 : x[i][0] < 1.5 ? 1.0 : 0.0;
+  for (int ranks : {2, 4}) {
+    const Regions regions = Regions::cut(x, w, ranks);
+    std::vector<double> weight(ranks, 0);
+    double total = 0;
+    for (int i = 0; i < n; ++i) weight[regions.rank_of(x[i])] += w[i], total += w[i];
+    for (int r = 0; r < ranks; ++r) EXPECT_LE(std::abs(weight[r] - total / ranks), 3.0 * 2) << ranks << " " << r;
+  }
+}
+
+// Regions in order along the longest side: a rod along z on 4 ranks.
+TEST(Regions, RodCutAcrossItsLength) {
+  const auto x = random_points(500, Vec3(0.1, 0.2, 5), 9);
+  const Regions regions = Regions::cut(x, std::vector<double>(x.size(), 1.0), 4);
+  int last = 0;
+  for (double z = -1; z <= 6; z += 0.01) {
+    const int r = regions.rank_of(Vec3(0.05, 0.1, z));
+    EXPECT_GE(r, last);
+    last = r;
+  }
+  EXPECT_EQ(last, 3);
+}
+
+// No points, every point in one place, no point with weight, a point that ran away (NaN): every
+// point of space still has a rank.
+TEST(Regions, DegenerateInputsStillCoverSpace) {
+  const std::vector<Vec3> none;
+  const Regions empty = Regions::cut(none, {}, 3);
+  EXPECT_GE(empty.rank_of(Vec3(1, 2, 3)), 0);
+  EXPECT_LT(empty.rank_of(Vec3(1, 2, 3)), 3);
+  const std::vector<Vec3> same(6, Vec3(1, 1, 1));
+  const Regions stacked = Regions::cut(same, std::vector<double>(6, 1.0), 2);
+  EXPECT_EQ(counts(stacked, same, 2), (std::vector<int>{0, 6})) << "points of one coordinate split";
+  const std::vector<Vec3> row{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0), Vec3(3, 0, 0)};
+  const Regions weightless = Regions::cut(row, std::vector<double>(4, 0.0), 2);
+  EXPECT_EQ(counts(weightless, row, 2), (std::vector<int>{2, 2})) << "no weight: each point counts as one";
+  std::vector<Vec3> with_nan = random_points(20, Vec3(1, 1, 1), 1);
+  with_nan[4] = Vec3(std::numeric_limits<Real>::quiet_NaN(), 0, 0);
+  const Regions regions = Regions::cut(with_nan, std::vector<double>(20, 1.0), 5);
+  const auto count = counts(regions, with_nan, 5);
+  EXPECT_EQ(count[0] + count[1] + count[2] + count[3] + count[4], 20);
+}
+
+// NodeStore dealt by region: each node's rank follows its position when it migrates, and the
+// partition changes only when a node changed rank.
+TEST(Regions, NodesMigrateWithTheirPositions) {
+  NodeStore nodes;
+  nodes.resize(4);
+  nodes.x = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0), Vec3(3, 0, 0)};
+  nodes.deal(Regions::cut(nodes.x, std::vector<double>(4, 1.0), 2), 0);
+  EXPECT_TRUE(nodes.by_region());
+  EXPECT_EQ(nodes.owner, (std::vector<std::int32_t>{0, 0, 1, 1}));
+  EXPECT_TRUE(nodes.owns(1));
+  EXPECT_FALSE(nodes.owns(2));
+  const long long dealt = nodes.partition;
+  const std::vector<Index> all{0, 1, 2, 3};
+  nodes.x[0] = Vec3(0.5, 3, 0);
+  EXPECT_FALSE(nodes.migrate(all));
+  EXPECT_EQ(nodes.partition, dealt);
+  nodes.x[0] = Vec3(2.9, 0, 0);
+  nodes.x[3] = Vec3(-5, 0, 0);
+  EXPECT_TRUE(nodes.migrate(std::vector<Index>{0}));  // node 3 not among those migrating
+  EXPECT_EQ(nodes.owner, (std::vector<std::int32_t>{1, 0, 1, 1}));
+  EXPECT_EQ(nodes.partition, dealt + 1);
+  EXPECT_TRUE(nodes.migrate(all));
+  EXPECT_EQ(nodes.owner, (std::vector<std::int32_t>{1, 0, 1, 0}));
+  nodes.deal(std::vector<Index>{0, 3, 4}, 1);  // blocks again
+  EXPECT_FALSE(nodes.by_region());
+  EXPECT_EQ(nodes.owner, (std::vector<std::int32_t>{0, 0, 0, 1}));
+  EXPECT_FALSE(nodes.migrate(all));
+}
+
+}  // namespace
+}  // namespace spall::discretization
