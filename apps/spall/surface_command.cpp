@@ -106,6 +106,13 @@ int reconstruct_surface(const SurfaceOptions& options) {
     if (part_id && std::find(options.parts.begin(), options.parts.end(), (*part_id)[i]) == options.parts.end()) continue;
     sph.push_back(static_cast<Index>(i));
   }
+  // In node ID order where the file has the IDs: the surface is then the same however the points
+  // were split into pieces (an MPI run's ranks each write the nodes they computed).
+  if (const auto* node_id = snap.field("node_id");
+      node_id && node_id->components == 1 && std::holds_alternative<std::vector<std::int64_t>>(node_id->values)) {
+    const auto& id = std::get<std::vector<std::int64_t>>(node_id->values);
+    std::stable_sort(sph.begin(), sph.end(), [&](Index a, Index b) { return id[a] < id[b]; });
+  }
   if (sph.empty())
     throw InputError(fmt::format("{}: no SPH particle (no point with smoothing_length > 0{})", vtu.string(),
                                  part_id ? fmt::format(" in part {}", fmt::join(options.parts, ", ")) : ""));
