@@ -1,7 +1,8 @@
 // discretization::ParticleShare, run as 1, 2 and 3 ranks: each rank fills in the particles whose
 // node it owns (the nodes dealt out in blocks, as the time loop deals them), and after the share
 // every rank holds every particle's value: particles stored in node order (in place), in a
-// shuffled order (gathered by rank and put back), on a few nodes only (ranks with no particle),
+// shuffled order, the same or each rank's own (gathered by rank and node and put back), with the
+// nodes dealt by region, on a few nodes only (ranks with no particle),
 // stored anew in another order (planned again), several values a particle, rows of different
 // lengths (shared whole, or completed from the rows each rank made for its own particles); and
 // discretization::ReachShare, which brings in only the particles a rank reads.
@@ -72,6 +73,30 @@ TEST(ParticleShare, ParticlesInAnyOrder) {
   std::iota(node.begin(), node.end(), Index(0));
   std::shuffle(node.begin(), node.end(), std::mt19937(35));  // the same on every rank
   check_share(node, 300);
+  // Each rank's order its own (the fluid's cells near a rank's region): by node they agree.
+  std::shuffle(node.begin(), node.end(), std::mt19937(36 + parallel::world().rank()));
+  check_share(node, 300);
+}
+
+// Nodes dealt by region (RCB over random positions, so a rank's nodes are no block), the particles
+// stored in an order of each rank's own.
+TEST(ParticleShare, NodesDealtByRegion) {
+  const parallel::Communicator& ranks = parallel::world();
+  const Index n = 211;
+  NodeStore nodes;
+  nodes.resize(n);
+  std::mt19937 random(41);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (auto& p : nodes.x) p = Vec3(u(random), u(random), u(random));
+  nodes.deal(Regions::cut(nodes.x, std::vector<double>(n, 1.0), ranks.size()), ranks.rank());
+  std::vector<Index> node(n);
+  std::iota(node.begin(), node.end(), Index(0));
+  std::shuffle(node.begin(), node.end(), std::mt19937(43 + ranks.rank()));
+  ParticleShare share;
+  share.bind(nodes);
+  std::vector<Value> values;
+  fill_and_share(share, node, values);
+  expect_every_value(node, values);
 }
 
 TEST(ParticleShare, RanksWithoutParticles) {
@@ -187,14 +212,14 @@ TEST(ParticleShare, CompleteRowsFromEachRanksOwn) {
   expect_every_row(offsets, entries);
 }
 
-// ReachShare: each rank reads a few particles of the others' (those within `reach` of its own in
-// a shuffled storage order, and one far away), writes -1 into every particle it does not own, and
+// ReachShare: each rank reads a few particles of the others' (those within `reach` of its own, in
+// a storage order of each rank's own, and one far away), writes -1 into every particle it does not own, and
 // after the share holds the true values of exactly the particles it reads; the rest stay -1.
 TEST(ReachShare, BringsInWhatEachRankReadsAndNothingElse) {
   const Index n = 203;
   std::vector<Index> node(n);
   std::iota(node.begin(), node.end(), Index(0));
-  std::shuffle(node.begin(), node.end(), std::mt19937(37));  // the same on every rank
+  std::shuffle(node.begin(), node.end(), std::mt19937(37 + parallel::world().rank()));  // each rank's own order
   ParticleShare share;
   share.bind(dealt_nodes(n));
   std::vector<std::uint8_t> reads(n, 0);

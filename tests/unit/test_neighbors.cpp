@@ -388,6 +388,64 @@ TEST(neighbors, SpatialOrderIsAStableSortByRowMajorCell) {
   }
 }
 
+// A subset binned in the grid of the whole set's box (under MPI: a rank's particles and those near
+// them) has the whole build's cells, each holding the subset's particles in the whole build's
+// order (in-cell order by tie); and the whole build made again from its particles' keys
+// (build_from_keys, what every rank's keys give) is the same list.
+TEST(neighbors, SubsetInTheWholeGridHasTheWholeBuildsCells) {
+  std::mt19937 random(21);
+  std::uniform_real_distribution<double> u(0, 1);
+  const Index n = 600;
+  std::vector<Vec3> x(n);
+  for (auto& p : x) p = Vec3(2 * u(random), u(random), 0.5 * u(random));
+  std::vector<Id> id(n);
+  std::iota(id.begin(), id.end(), Id{1});
+  std::shuffle(id.begin(), id.end(), random);
+  CellList whole;
+  whole.build(x, 0.11, id);
+  std::vector<CellKey> key(n);
+  for (Index c = 0; c < whole.cell_count(); ++c)
+    for (Index k = whole.cell(c).begin; k < whole.cell(c).end; ++k) key[whole.order()[k]] = whole.cell_key(c);
+
+  std::vector<Index> subset;
+  for (Index i = 0; i < n; ++i)
+    if (x[i].x() > 0.7) subset.push_back(i);
+  std::vector<Vec3> xs;
+  std::vector<Id> ids;
+  for (const Index i : subset) xs.push_back(x[i]), ids.push_back(id[i]);
+  BoundingBox box;
+  for (const auto& p : x) box.include(p);
+  CellList part;
+  part.build(xs, 0.11, ids, &box);
+  EXPECT_EQ(part.lower(), whole.lower());
+  EXPECT_EQ(part.cell_size(), whole.cell_size());
+  EXPECT_EQ(part.cells_along(), whole.cells_along());
+  Index cells_with_subset = 0;
+  for (Index c = 0; c < whole.cell_count(); ++c) {
+    std::vector<Index> expected;
+    for (Index k = whole.cell(c).begin; k < whole.cell(c).end; ++k)
+      if (x[whole.order()[k]].x() > 0.7) expected.push_back(whole.order()[k]);
+    if (expected.empty()) continue;
+    ++cells_with_subset;
+    const Index pc = part.first_cell_near(whole.cell_key(c));
+    ASSERT_LT(pc, part.cell_count());
+    ASSERT_TRUE(part.cell_key(pc) == whole.cell_key(c));
+    std::vector<Index> got;
+    for (Index k = part.cell(pc).begin; k < part.cell(pc).end; ++k) got.push_back(subset[part.order()[k]]);
+    EXPECT_EQ(got, expected) << "cell " << c;
+  }
+  EXPECT_EQ(cells_with_subset, part.cell_count());
+
+  CellList again;
+  again.build_from_keys(key, id, whole.lower(), whole.cell_size(), whole.cells_along());
+  EXPECT_TRUE(std::equal(again.order().begin(), again.order().end(), whole.order().begin(), whole.order().end()));
+  ASSERT_EQ(again.cell_count(), whole.cell_count());
+  for (Index c = 0; c <= whole.cell_count(); ++c) {
+    EXPECT_TRUE(again.cell_key(c) == whole.cell_key(c));
+    EXPECT_EQ(again.cell_start(c), whole.cell_start(c));
+  }
+}
+
 TEST(neighbors, RejectsBadArguments) {
   const std::vector<Vec3> x = cubic_lattice(2, 1.0);
   VerletList verlet;

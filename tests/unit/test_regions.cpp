@@ -122,6 +122,26 @@ TEST(Regions, WeightsNotCounts) {
   }
 }
 
+// Each region's box holds the points of its rank, and a point of space lies in its rank's box (on
+// a face, in both boxes that share it).
+TEST(Regions, BoxesHoldTheirRanksPoints) {
+  const auto x = random_points(600, Vec3(3, 2, 1), 13);
+  const int ranks = 7;
+  const Regions regions = Regions::cut(x, std::vector<double>(x.size(), 1.0), ranks);
+  const auto inside = [](const BoundingBox& b, const Vec3& p) {
+    return (p.array() >= b.lower.array()).all() && (p.array() <= b.upper.array()).all();
+  };
+  for (const auto& p : x) EXPECT_TRUE(inside(regions.box(regions.rank_of(p)), p));
+  const auto far = random_points(2000, Vec3(9, 6, 3), 17);
+  for (const Vec3& q : far) {
+    const Vec3 p = q - Vec3(3, 2, 1);  // points beyond every side too
+    int boxes = 0;
+    for (int r = 0; r < ranks; ++r) boxes += inside(regions.box(r), p);
+    EXPECT_TRUE(inside(regions.box(regions.rank_of(p)), p));
+    EXPECT_EQ(boxes, 1) << "a point off every face lies in one box";
+  }
+}
+
 // Regions in order along the longest side: a rod along z on 4 ranks.
 TEST(Regions, RodCutAcrossItsLength) {
   const auto x = random_points(500, Vec3(0.1, 0.2, 5), 9);
@@ -155,8 +175,8 @@ TEST(Regions, DegenerateInputsStillCoverSpace) {
   EXPECT_EQ(count[0] + count[1] + count[2] + count[3] + count[4], 20);
 }
 
-// NodeStore dealt by region: each node's rank follows its position when it migrates, and the
-// partition changes only when a node changed rank.
+// NodeStore dealt by region: each node's rank follows its position when its rank migrates it, and
+// the partition changes only when a node changed rank.
 TEST(Regions, NodesMigrateWithTheirPositions) {
   NodeStore nodes;
   nodes.resize(4);
@@ -164,6 +184,8 @@ TEST(Regions, NodesMigrateWithTheirPositions) {
   nodes.deal(Regions::cut(nodes.x, std::vector<double>(4, 1.0), 2), 0);
   EXPECT_TRUE(nodes.by_region());
   EXPECT_EQ(nodes.owner, (std::vector<std::int32_t>{0, 0, 1, 1}));
+  EXPECT_EQ(nodes.owned_count(), 2);
+  EXPECT_EQ(nodes.owned_node(1), 1);
   EXPECT_TRUE(nodes.owns(1));
   EXPECT_FALSE(nodes.owns(2));
   const long long dealt = nodes.partition;
@@ -172,15 +194,22 @@ TEST(Regions, NodesMigrateWithTheirPositions) {
   EXPECT_FALSE(nodes.migrate(all));
   EXPECT_EQ(nodes.partition, dealt);
   nodes.x[0] = Vec3(2.9, 0, 0);
+  nodes.x[1] = Vec3(2.5, 0, 0);
   nodes.x[3] = Vec3(-5, 0, 0);
-  EXPECT_TRUE(nodes.migrate(std::vector<Index>{0}));  // node 3 not among those migrating
+  EXPECT_TRUE(nodes.migrate(std::vector<Index>{0, 3}));  // node 1 not among those migrating
+  // Node 3 is rank 1's to move (this process is rank 0): only its owner holds its position current.
   EXPECT_EQ(nodes.owner, (std::vector<std::int32_t>{1, 0, 1, 1}));
+  EXPECT_EQ(nodes.owned, (std::vector<Index>{1}));
   EXPECT_EQ(nodes.partition, dealt + 1);
   EXPECT_TRUE(nodes.migrate(all));
-  EXPECT_EQ(nodes.owner, (std::vector<std::int32_t>{1, 0, 1, 0}));
+  EXPECT_EQ(nodes.owner, (std::vector<std::int32_t>{1, 1, 1, 1}));
+  EXPECT_FALSE(nodes.owns(1));
+  EXPECT_EQ(nodes.owned_count(), 0);
   nodes.deal(std::vector<Index>{0, 3, 4}, 1);  // blocks again
   EXPECT_FALSE(nodes.by_region());
   EXPECT_EQ(nodes.owner, (std::vector<std::int32_t>{0, 0, 0, 1}));
+  EXPECT_EQ(nodes.owned_count(), 1);
+  EXPECT_EQ(nodes.owned_node(0), 3);
   EXPECT_FALSE(nodes.migrate(all));
 }
 

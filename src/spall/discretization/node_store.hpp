@@ -11,7 +11,6 @@
 #include <vector>
 
 #include "spall/core/archive.hpp"
-#include "spall/core/parallel.hpp"
 #include "spall/core/types.hpp"
 #include "spall/discretization/regions.hpp"
 
@@ -43,8 +42,9 @@ struct NodeStore {
   // Dealt in blocks: every rank's first node, then size() (ranks + 1 entries; empty for one process
   // or by region).
   std::vector<Index> rank_begin;
-  // Dealt by region: the regions' cuts (empty otherwise).
+  // Dealt by region: the regions' cuts and this process's nodes, ascending (both empty otherwise).
   Regions regions;
+  std::vector<Index> owned;
   // The time loop deals the nodes anew when the ranks' loads drift apart (docs/SCALING.md), and by
   // region they move between ranks as they flow (migrate); `partition` counts the changes, so that
   // what was planned for a partition knows when it is stale.
@@ -73,11 +73,15 @@ struct NodeStore {
 
   bool owns(Index i) const { return owner.empty() || owner[i] == rank; }
   bool by_region() const { return !regions.empty(); }
+  // The nodes this process computes: owned_node(k) for k in [0, owned_count()), ascending.
+  Index owned_count() const { return by_region() ? static_cast<Index>(owned.size()) : owned_end - owned_begin; }
+  Index owned_node(Index k) const { return by_region() ? owned[k] : owned_begin + k; }
 
   // Rank `r` computes the nodes [begins[r], begins[r + 1]); this process is rank `self`.
   void deal(std::vector<Index> begins, int self) {
     rank_begin = std::move(begins);
     regions = {};
+    owned.clear();
     rank = self;
     owned_begin = rank_begin[rank];
     owned_end = rank_begin[rank + 1];
@@ -96,27 +100,21 @@ struct NodeStore {
     owned_end = size();
     owner.resize(size());
     for (Index i = 0; i < size(); ++i) owner[i] = regions.rank_of(x[i]);
+    list_owned();
     ++partition;
   }
 
-  // By region: each of `moving`'s nodes computed from now on by the rank of the region its
-  // position is in (every rank must hold those positions current: the same positions give the same
-  // ranks). Counts as a new partition when a node changed rank; false when none did (or the nodes
-  // are dealt in blocks).
-  bool migrate(std::span<const Index> moving) {
-    if (!by_region()) return false;
-    const bool moved = parallel::reduce_exact(
-        static_cast<Index>(moving.size()), false,
-        [&](Index k) {
-          const Index i = moving[k];
-          const std::int32_t r = regions.rank_of(x[i]);
-          const bool changed = r != owner[i];
-          owner[i] = r;
-          return changed;
-        },
-        [](bool a, bool b) { return a || b; });
-    if (moved) ++partition;
-    return moved;
+  // By region: each of `moving`'s nodes that this rank computes goes to the rank of the region its
+  // position is in now (only the owner's copy of a position need be current), and every rank
+  // learns every change (the changes alone travel), so that all hold the same owners. Counts as a
+  // new partition when a node changed rank; false when none did (or the nodes are dealt in
+  // blocks). Collective: every rank calls it at once.
+  bool migrate(std::span<const Index> moving);
+  // `owned` from `owner`.
+  void list_owned() {
+    owned.clear();
+    for (Index i = 0; i < size(); ++i)
+      if (owner[i] == rank) owned.push_back(i);
   }
 
   // Everything but the IDs (the deck's), which must match, and the share of a rank (the run's).

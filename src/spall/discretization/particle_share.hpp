@@ -4,7 +4,7 @@
 // own particles in to every rank. When the ranks own blocks of nodes (NodeStore::rank_begin) and
 // the particles are stored in increasing node order, as the problem builder makes them, every
 // rank's particles are one block of the array too and go in place. Otherwise (the fluid's cell
-// order, nodes dealt by region) they are gathered by rank first and put back.
+// order, nodes dealt by region) they are gathered by rank and node first and put back.
 #include <algorithm>
 #include <cstdint>
 #include <numeric>
@@ -124,11 +124,17 @@ class ParticleShare {
     for (Index a = 0; a < n; ++a) ++offsets_[rank[a] + 1];
     std::partial_sum(offsets_.begin(), offsets_.end(), offsets_.begin());
     order_.clear();
-    if (std::is_sorted(rank.begin(), rank.end())) return;  // each rank's particles one block already
-    // Grouped by rank, each group in storage order (a counting sort).
+    // Each rank's particles one block already, in node order (the order every rank agrees on).
+    if (std::is_sorted(rank.begin(), rank.end()) && std::is_sorted(node.begin(), node.end())) return;
+    // Grouped by rank, each group in node order: the particles' storage order may be each rank's own
+    // (the fluid's cells near a rank's region), their nodes are every rank's.
+    const Index nodes = n == 0 ? 0 : *std::max_element(node.begin(), node.end()) + 1;
+    std::vector<Index> particle(nodes, -1);
+    for (Index a = 0; a < n; ++a) particle[node[a]] = a;
     order_.resize(n);
     std::vector<Index> next(offsets_.begin(), offsets_.end() - 1);
-    for (Index a = 0; a < n; ++a) order_[next[rank[a]]++] = a;
+    for (const Index a : particle)
+      if (a >= 0) order_[next[rank[a]]++] = a;
   }
 
   template <typename T>

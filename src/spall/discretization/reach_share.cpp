@@ -1,10 +1,13 @@
 #include "spall/discretization/reach_share.hpp"
 
+#include <algorithm>
+
 namespace spall::discretization {
 
 // What this rank reads of each other rank's particles, in particle order, is what it asks of that
-// rank: first how many (one number to each rank), then which (their indices). What each rank is
-// asked is what it sends, in the asker's order.
+// rank: first how many (one number to each rank), then which, by node (the particles' order may be
+// each rank's own: the fluid's cells near a rank's region). What each rank is asked is what it
+// sends, in the asker's order.
 void ReachShare::plan(std::span<const std::uint8_t> reads, std::span<const Index> node, const ParticleShare& share) {
   const parallel::Communicator& ranks = parallel::world();
   const int size = ranks.size();
@@ -24,8 +27,15 @@ void ReachShare::plan(std::span<const std::uint8_t> reads, std::span<const Index
   ranks.exchange(std::span<const Index>(wanted_count), one_each, std::span(asked), one_each);
   send_offsets_.assign(size + 1, 0);
   for (int r = 0; r < size; ++r) send_offsets_[r + 1] = send_offsets_[r] + asked[r];
+  std::vector<Index> wanted_nodes(receive_.size());
+  for (std::size_t k = 0; k < receive_.size(); ++k) wanted_nodes[k] = node[receive_[k]];
   send_.resize(send_offsets_[size]);
-  ranks.exchange(std::span<const Index>(receive_), receive_offsets_, std::span(send_), send_offsets_);
+  ranks.exchange(std::span<const Index>(wanted_nodes), receive_offsets_, std::span(send_), send_offsets_);
+  // The nodes asked for, as this rank's particles.
+  const Index nodes = node.empty() ? 0 : *std::max_element(node.begin(), node.end()) + 1;
+  std::vector<Index> particle(nodes, -1);
+  for (Index a = 0; a < static_cast<Index>(node.size()); ++a) particle[node[a]] = a;
+  for (Index& k : send_) k = particle[k];
 }
 
 }  // namespace spall::discretization

@@ -2,8 +2,8 @@
 // Under MPI with replicated storage (docs/SCALING.md §3, "The halo by reach"): each step, only the
 // other ranks' particles that this rank's passes read come in, from the ranks that compute them.
 // A formulation marks what its rows read (plan, at each neighbour-list build and each new deal of
-// the nodes); the ranks then tell each other which of their particles they want, by index (the
-// particle order is every rank's), and each step's share sends just those. The rest of the other
+// the nodes); the ranks then tell each other which of their particles they want, by node (each
+// rank may store its particles in an order of its own), and each step's share sends just those. The rest of the other
 // ranks' particles go stale until the formulation completes its state (ParticleShare, whole).
 #include <cstddef>
 #include <cstring>

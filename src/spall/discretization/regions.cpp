@@ -83,4 +83,22 @@ int Regions::rank_of(const Vec3& p) const {
   return splits_[s].first;
 }
 
+BoundingBox Regions::box(int r) const {
+  BoundingBox b;
+  b.lower = Vec3::Constant(-std::numeric_limits<Real>::infinity());
+  b.upper = Vec3::Constant(std::numeric_limits<Real>::infinity());
+  int s = 0;
+  while (splits_[s].count > 1) {
+    const Split& split = splits_[s];
+    if (r < split.first + split.count / 2) {
+      b.upper[split.axis] = std::min(b.upper[split.axis], split.at);
+      s = split.low;
+    } else {
+      b.lower[split.axis] = std::max(b.lower[split.axis], split.at);
+      s = split.high;
+    }
+  }
+  return b;
+}
+
 }  // namespace spall::discretization

@@ -7,6 +7,7 @@
 #include <span>
 #include <vector>
 
+#include "spall/core/bounding_box.hpp"
 #include "spall/core/types.hpp"
 
 namespace spall::discretization {
@@ -23,6 +24,9 @@ class Regions {
   int ranks() const { return ranks_; }
   // The rank whose region holds p: below a cut is its lower side (every point of space has one).
   int rank_of(const Vec3& p) const;
+  // The box of rank r's region, closed (its upper faces belong to the next region), its sides
+  // infinite where no cut bounds it.
+  BoundingBox box(int r) const;
 
  private:
   // One node of the tree: ranks [first, first + count); a leaf when count is 1, else the points

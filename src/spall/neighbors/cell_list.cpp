@@ -56,7 +56,15 @@ void sort_by_key(std::vector<CellKey>& key, std::vector<Index>& particle) {
 
 }  // namespace
 
-void CellList::build(std::span<const Vec3> x, Real cell_size, std::span<const Id> tie) {
+Real CellList::cell_size_over(const BoundingBox& box, Real cell_size) {
+  // Past 2^42 cells on an axis (so that the key fits 126 bits) the cells grow; a double then
+  // resolves a position in the box to a thousandth of a cell or worse, so no run that means
+  // anything gets there.
+  constexpr Real max_cells_along_axis = 0x1p42 - 1;
+  return box.empty() ? cell_size : std::max(cell_size, (box.upper - box.lower).maxCoeff() / max_cells_along_axis);
+}
+
+void CellList::build(std::span<const Vec3> x, Real cell_size, std::span<const Id> tie, const BoundingBox* grid) {
   if (!(cell_size > 0) || !std::isfinite(cell_size)) {
     throw std::invalid_argument("neighbour search: cell size must be positive and finite, got " +
                                 std::to_string(cell_size));
@@ -68,26 +76,23 @@ void CellList::build(std::span<const Vec3> x, Real cell_size, std::span<const Id
   cell_size_ = cell_size;
   cells_ = {1, 1, 1};
   lower_ = Vec3::Zero();
-  if (n == 0) return;
+  if (n == 0 && (grid == nullptr || grid->empty())) return;
 
-  const BoundingBox box = particle_box(x);
+  const BoundingBox particles = particle_box(x);
+  const BoundingBox& box = grid != nullptr ? *grid : particles;
   lower_ = box.lower;
   const Vec3 extent = box.upper - box.lower;
   if (!extent.allFinite()) {
     throw InstabilityError("neighbour search: particles span more than the largest double");
   }
   // Cells along an axis: floor(extent / h) + 1 covers [lower, upper] with cells of edge h, and
-  // gives one cell to an axis of zero extent (particles in a plane or a line). Past 2^42 cells on
-  // an axis (so that the key fits 126 bits) the cells grow; a double then resolves a position in
-  // the box to a thousandth of a cell or worse, so no run that means anything gets there.
-  constexpr Real max_cells_along_axis = 0x1p42 - 1;
-  cell_size_ = std::max(cell_size_, extent.maxCoeff() / max_cells_along_axis);
+  // gives one cell to an axis of zero extent (particles in a plane or a line).
+  cell_size_ = cell_size_over(box, cell_size_);
   const Vec3 cells = (extent.array() / cell_size_).floor() + 1;
   cells_ = {static_cast<std::int64_t>(cells.x()), static_cast<std::int64_t>(cells.y()),
             static_cast<std::int64_t>(cells.z())};
 
   std::vector<CellKey> particle_key(n);
-  order_.resize(n);
   const Real inverse_size = 1 / cell_size_;
   parallel::for_each(n, [&](std::int64_t i) {
     // Relative to the box corner, so positions far from the origin bin as well as near it; the
@@ -98,8 +103,26 @@ void CellList::build(std::span<const Vec3> x, Real cell_size, std::span<const Id
       ic[d] = std::clamp<std::int64_t>(c, 0, cells_[d] - 1);
     }
     particle_key[i] = key(ic[0], ic[1], ic[2]);
-    order_[i] = static_cast<Index>(i);
   });
+  sort_into_cells(particle_key, tie);
+}
+
+void CellList::build_from_keys(std::span<const CellKey> key, std::span<const Id> tie, const Vec3& lower,
+                               Real cell_size, const std::array<std::int64_t, 3>& cells_along) {
+  lower_ = lower;
+  cell_size_ = cell_size;
+  cells_ = cells_along;
+  cell_key_.assign(1, ~CellKey(0));
+  cell_start_.assign(1, 0);
+  std::vector<CellKey> particle_key(key.begin(), key.end());
+  sort_into_cells(particle_key, tie);
+}
+
+void CellList::sort_into_cells(std::vector<CellKey>& particle_key, std::span<const Id> tie) {
+  const auto n = static_cast<std::int64_t>(particle_key.size());
+  order_.resize(n);
+  for (std::int64_t i = 0; i < n; ++i) order_[i] = static_cast<Index>(i);
+  if (n == 0) return;
   if (!tie.empty()) {
     // In tie order first; the stable sort by cell keeps it within each cell. Keys from the least,
     // so that the sort takes only the digits their spread needs.

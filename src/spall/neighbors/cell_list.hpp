@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "spall/core/archive.hpp"
+#include "spall/core/bounding_box.hpp"
 #include "spall/core/types.hpp"
 
 namespace spall::neighbors {
@@ -35,8 +36,16 @@ class CellList {
   // when a position is not finite: a NaN in the positions means the run has already blown up.
   // With `tie` (a key a particle, e.g. its node ID), the particles of a cell are in ascending tie
   // order, so the cell order depends on the positions and the keys alone, not on the input order
-  // (the storage order, which MPI changes: docs/SCALING.md §2).
-  void build(std::span<const Vec3> x, Real cell_size, std::span<const Id> tie = {});
+  // (the storage order, which MPI changes: docs/SCALING.md §2). With `grid`, the grid is that
+  // box's (every particle inside it) instead of the particles' own: a rank that bins only the
+  // particles near its own gets the cells of the run that bins them all.
+  void build(std::span<const Vec3> x, Real cell_size, std::span<const Id> tie = {}, const BoundingBox* grid = nullptr);
+  // The list `build` makes, from the particles' keys in a grid given by its corner, cell edge and
+  // cells along each axis (another build's, whose particles were binned where they were known).
+  void build_from_keys(std::span<const CellKey> key, std::span<const Id> tie, const Vec3& lower, Real cell_size,
+                       const std::array<std::int64_t, 3>& cells_along);
+  // The edge of the cells `build` makes over `box` when asked for `cell_size`.
+  static Real cell_size_over(const BoundingBox& box, Real cell_size);
 
   // order()[k] is the particle at position k in cell order; within a cell, in ascending tie or,
   // without ties, in input order.
@@ -78,6 +87,9 @@ class CellList {
   void checkpoint(Archive& a) { a(cell_size_, lower_, cells_, order_, cell_key_, cell_start_); }
 
  private:
+  // order_, cell_key_ and cell_start_ from each particle's key.
+  void sort_into_cells(std::vector<CellKey>& particle_key, std::span<const Id> tie);
+
   Real cell_size_ = 0;
   Vec3 lower_ = Vec3::Zero();
   std::array<std::int64_t, 3> cells_{1, 1, 1};  // cells along x, y, z of the virtual grid

@@ -241,10 +241,9 @@ class TimeLoop::Step {
                controls_.damping_scale;
     if (base_acceleration_.isZero(0) && damping_.isZero(0)) return;
     // Under MPI on this rank's nodes: the others' velocities come from their ranks (halo).
-    const Index first = nodes_.owned_begin;
-    parallel::for_each(nodes_.owned_end - first, [&](Index k) {
-      const Index i = first + k;
-      if (nodes_.owns(i)) nodes_.f[i] -= load_force(i, nodes_.v[i]);
+    parallel::for_each(nodes_.owned_count(), [&](Index k) {
+      const Index i = nodes_.owned_node(k);
+      nodes_.f[i] -= load_force(i, nodes_.v[i]);
     });
   }
 
@@ -356,14 +355,12 @@ class TimeLoop::Step {
     // without contacts a rank's own nodes alone (with the halo by reach the others' velocities may
     // be stale).
     const bool own_only = halo_by_reach_ || problem_.contacts.empty();
-    const Index first = own_only ? nodes_.owned_begin : 0;
-    const Index count = own_only ? nodes_.owned_end - first : nodes_.size();
+    const Index count = own_only ? nodes_.owned_count() : nodes_.size();
     const Sums<4> sums = parallel::exact_sum(
         count,
         [&](Index k) {
-          const Index i = first + k;
+          const Index i = own_only ? nodes_.owned_node(k) : k;
           Sums<4> term;
-          if (own_only && !nodes_.owns(i)) return term;  // another rank's (by region the range is every node)
           const Vec3 v_start = v_old_[i], dv = nodes_.v[i] - v_start;
           v_n[i] += weight * dv;
           if (!nodes_.owns(i)) return term;  // another rank's
@@ -393,10 +390,10 @@ class TimeLoop::Step {
   // Throws for the lowest-numbered node that has run away (the same for any thread or rank count:
   // under MPI each rank looks at its own nodes, whose velocities only it may hold current).
   [[noreturn]] void throw_runaway() const {
-    Index worst = nodes_.owned_begin;
-    while (worst < nodes_.owned_end && !(nodes_.owns(worst) && runaway(worst))) ++worst;
+    Index k = 0;
+    while (k < nodes_.owned_count() && !runaway(nodes_.owned_node(k))) ++k;
     const parallel::Communicator& ranks = parallel::world();
-    worst = ranks.lowest(worst < nodes_.owned_end ? worst : -1);
+    const Index worst = ranks.lowest(k < nodes_.owned_count() ? nodes_.owned_node(k) : -1);
     // The speed from its rank, -1 for NaN and -2 for infinity (every other rank offers infinity).
     const Real infinity = std::numeric_limits<Real>::infinity();
     double speed = infinity;

@@ -191,14 +191,22 @@ void FluidFormulation::rebuild_cells(const discretization::NodeStore& nodes) {
   // Within a cell by node ID: the order, and so every sum over neighbours, is the same however the
   // particles were stored (the deck's card order, earlier rebuilds, a rank's share of them).
   cells_.build(x, (1 + parameters_.skin) * support_ / stencil_reach, id);
+  bin_.clear();
+  cells_partial_ = false;
   // The cell list keeps no order: from here on the particles are in cell order.
-  const std::vector<Index> order = cells_.take_order();
+  take_cell_order(nodes, cells_.take_order());
+  finish_build();
+}
+
+void FluidFormulation::take_cell_order(const discretization::NodeStore& nodes, std::span<const Index> order) {
+  const Index n = particle_count();
   permute(node_, order);
   share_.reorder();
   permute(mass_, order);
   permute(density_, order);
   permute(rate_, order);
   permute(previous_rate_, order);
+  if (!bin_.empty()) permute(bin_, order);
   // Bits to n + simd_width, and the four bytes that moving_lanes reads from the last one.
   moving_.assign((n + simd_width) / 8 + 4, 0);
   for (Index a = 0; a < n; ++a) {
@@ -207,6 +215,9 @@ void FluidFormulation::rebuild_cells(const discretization::NodeStore& nodes) {
   }
   active_cell_ = cells_near([&](Index a) { return nodes.fixed[node_[a]] != all_translations; });
   near_owned_partition_ = -1;  // marked again for these cells (compute_forces)
+}
+
+void FluidFormulation::finish_build() {
   // Positions are taken relative to the grid corner, in single precision: a position and the
   // distance test carry relative errors of a few 2^-24 of the box size and of the support, which
   // the stencil's radius covers with this margin.
@@ -218,6 +229,143 @@ void FluidFormulation::rebuild_cells(const discretization::NodeStore& nodes) {
   travelled_ = 0;
 }
 
+namespace {
+// A particle that comes in at a rebuild from the rank that holds it current (rebuild_near_region).
+struct Arrival {
+  Index node;
+  Vec3 x, v;
+  Real density;
+  float rate, previous_rate;
+};
+
+bool within(const BoundingBox& box, const Vec3& p) {
+  return (p.array() >= box.lower.array()).all() && (p.array() <= box.upper.array()).all();
+}
+}  // namespace
+
+// A rank's passes read the particles within two cells of a cell of its own, and the cells they read
+// are active when a moving particle is within two cells of them (cells_near): every particle within
+// four cells of its own, which are in its region after the migration, so within five cell edges of
+// the region's box (half a cell more against rounding). Those come in from the ranks that compute
+// them (whose copy is current, also of the particles that move to this rank), with the grid of the
+// box of every particle; no other particle is binned here.
+void FluidFormulation::rebuild_near_region(discretization::NodeStore& nodes) {
+  const parallel::Communicator& ranks = parallel::world();
+  const int size = ranks.size(), self = ranks.rank();
+  const Index n = particle_count();
+  const BoundingBox own = parallel::fold_exact(
+      n, BoundingBox{}, [&](BoundingBox& box, Index a) { if (owns(a)) box.include(nodes.x[node_[a]]); },
+      [](BoundingBox& box, const BoundingBox& other) { box.include(other); });
+  double extremes[7] = {own.lower[0],  own.lower[1],  own.lower[2], -own.upper[0],
+                        -own.upper[1], -own.upper[2], own.finite ? 0.0 : -1.0};
+  ranks.minimum(extremes);
+  if (extremes[6] < 0) {
+    Index worst = -1;
+    for (Index a = 0; a < n && worst < 0; ++a)
+      if (owns(a) && !nodes.x[node_[a]].allFinite()) worst = static_cast<Index>(nodes.id[node_[a]]);
+    throw InstabilityError(
+        fmt::format("neighbour search: the particle on node {} has a non-finite position", ranks.lowest(worst)));
+  }
+  BoundingBox grid;
+  grid.lower = Vec3(extremes[0], extremes[1], extremes[2]);
+  grid.upper = -Vec3(extremes[3], extremes[4], extremes[5]);
+  const Real asked = (1 + parameters_.skin) * support_ / stencil_reach;
+  const Real reach = 5.5 * neighbors::CellList::cell_size_over(grid, asked);
+  std::vector<BoundingBox> near(size);
+  for (int r = 0; r < size; ++r) {
+    near[r] = nodes.regions.box(r);
+    near[r].lower.array() -= reach;
+    near[r].upper.array() += reach;
+  }
+  // Each of this rank's particles to every other rank whose region it is within reach of.
+  std::vector<std::uint8_t> current(n, 0);
+  std::vector<std::vector<Index>> to(size);
+  for (Index a = 0; a < n; ++a) {
+    if (!owns(a)) continue;
+    current[a] = 1;
+    for (int r = 0; r < size; ++r)
+      if (r != self && within(near[r], nodes.x[node_[a]])) to[r].push_back(a);
+  }
+  std::vector<Index> send_offsets(size + 1, 0), receive_offsets(size + 1, 0), counts(size), one_each(size + 1);
+  for (int r = 0; r < size; ++r) send_offsets[r + 1] = send_offsets[r] + static_cast<Index>(to[r].size());
+  std::vector<Arrival> send(send_offsets[size]);
+  for (int r = 0; r < size; ++r)
+    for (std::size_t k = 0; k < to[r].size(); ++k) {
+      const Index a = to[r][k], i = node_[a];
+      send[send_offsets[r] + k] = {i, nodes.x[i], nodes.v[i], density_[a], rate_[a], previous_rate_[a]};
+    }
+  for (int r = 0; r <= size; ++r) one_each[r] = r;
+  for (int r = 0; r < size; ++r) counts[r] = send_offsets[r + 1] - send_offsets[r];
+  std::vector<Index> incoming(size);
+  ranks.exchange(std::span<const Index>(counts), one_each, std::span(incoming), one_each);
+  for (int r = 0; r < size; ++r) receive_offsets[r + 1] = receive_offsets[r] + incoming[r];
+  std::vector<Arrival> receive(receive_offsets[size]);
+  ranks.exchange(std::span<const Arrival>(send), send_offsets, std::span(receive), receive_offsets);
+  // The particles that left this rank's region go to their new ranks' (which received them).
+  if (nodes.migrate(node_)) share_.bind(nodes);
+  std::vector<Index> slot(nodes.size(), -1);
+  for (Index a = 0; a < n; ++a) slot[node_[a]] = a;
+  for (const Arrival& arrival : receive) {
+    const Index a = slot[arrival.node];
+    nodes.x[arrival.node] = arrival.x;
+    nodes.v[arrival.node] = arrival.v;
+    density_[a] = arrival.density;
+    rate_[a] = arrival.rate;
+    previous_rate_[a] = arrival.previous_rate;
+    current[a] = 1;
+  }
+  // Binned here: the particles within reach of this rank's region (its own among them); the others
+  // follow in their present order, in no cell.
+  std::vector<Index> local;
+  for (Index a = 0; a < n; ++a)
+    if (current[a] && within(near[self], nodes.x[node_[a]])) local.push_back(a);
+  const Index m = static_cast<Index>(local.size());
+  std::vector<Vec3> x(m);
+  std::vector<Id> id(m);
+  for (Index k = 0; k < m; ++k) x[k] = nodes.x[node_[local[k]]], id[k] = nodes.id[node_[local[k]]];
+  cells_.build(x, asked, id, &grid);
+  std::vector<Index> order = cells_.take_order();
+  for (Index& k : order) k = local[k];
+  for (Index a = 0; a < n; ++a)
+    if (!current[a] || !within(near[self], nodes.x[node_[a]])) order.push_back(a);
+  bin_.resize(n);
+  take_cell_order(nodes, order);
+  for (Index c = 0; c < cells_.cell_count(); ++c) {
+    const neighbors::ParticleRange cell = cells_.cell(c);
+    std::fill(bin_.begin() + cell.begin, bin_.begin() + cell.end, cells_.cell_key(c));
+  }
+  cells_partial_ = true;
+  complete_ = false;  // the particles out of reach are stale here
+  finish_build();
+}
+
+// Each rank's own particles' keys come in with complete(): the cells every rank would have built
+// from every particle at the last rebuild (same grid, same keys, same in-cell order by node ID).
+void FluidFormulation::make_cells_whole(const discretization::NodeStore& nodes) {
+  const Index n = particle_count();
+  std::vector<Id> id(n);
+  for (Index a = 0; a < n; ++a) id[a] = nodes.id[node_[a]];
+  const Vec3 lower = cells_.lower();
+  const Real cell_size = cells_.cell_size();
+  const std::array<std::int64_t, 3> along = cells_.cells_along();
+  cells_.build_from_keys(bin_, id, lower, cell_size, along);
+  const std::vector<Index> order = cells_.take_order();
+  take_cell_order(nodes, order);
+  // The last pass's records and forces follow their particles (read by the output's neighbour
+  // counts and the energies before the next pass).
+  std::vector<FluidRecord> records(record_);
+  std::vector<float> pressure(pressure_force_), viscous(viscous_force_);
+  for (Index k = 0; k < n; ++k) {
+    record_[k] = records[order[k]];
+    for (int d = 0; d < 3; ++d) {
+      pressure_force_[3 * k + d] = pressure[3 * order[k] + d];
+      viscous_force_[3 * k + d] = viscous[3 * order[k] + d];
+    }
+  }
+  bin_.clear();
+  cells_partial_ = false;
+}
+
 // Copies positions and velocities in cell order, predicts the densities and evaluates the
 // equation of state once per particle. The density terms only in the active cells: the walls of
 // a cell without a moving particle in its block (far from the fluid) are read by no pair until
@@ -226,13 +374,17 @@ void FluidFormulation::rebuild_cells(const discretization::NodeStore& nodes) {
 void FluidFormulation::gather(const discretization::NodeStore& nodes, Real dt) {
   const Index n = particle_count();
   const auto& m = parameters_.material;
+  // The emptied particle (density no longer positive) of the lowest node ID, named alike by every
+  // rank and thread count: its ID (none_emptied when none) and its slot here.
+  constexpr Id none_emptied = std::numeric_limits<Id>::max();
   struct Found {
     Real max_density;
-    Index first_empty;  // the first particle whose density is no longer positive
+    Id empty_id;
+    Index empty;
   };
   const Index cell_count = cells_.cell_count();
   const auto cell_records = [&](Index c) {
-    Found found{m.density, n};
+    Found found{m.density, none_emptied, n};
     if (!near_owned_cell_.empty() && !near_owned_cell_[c]) return found;
     const bool active = active_cell_[c];
     const neighbors::ParticleRange own = cells_.cell(c);
@@ -251,7 +403,7 @@ void FluidFormulation::gather(const discretization::NodeStore& nodes, Real dt) {
       // rho~^n = rho^{n-1} + dt (2 rho'^{n-1} - rho'^{n-2})
       Real rho = density_[a] + dt * (2 * Real(rate_[a]) - Real(previous_rate_[a]));
       if (nodes.fixed[i] == all_translations) rho = std::max(rho, m.density);
-      if (!(rho > 0)) found.first_empty = std::min(found.first_empty, a);
+      if (!(rho > 0) && nodes.id[i] < found.empty_id) found.empty_id = nodes.id[i], found.empty = a;
       record.inverse_density = static_cast<float>(1 / rho);
       record.pressure_term = static_cast<float>(m.pressure(rho) / (rho * rho));
       found.max_density = std::max(found.max_density, rho);
@@ -259,30 +411,32 @@ void FluidFormulation::gather(const discretization::NodeStore& nodes, Real dt) {
     return found;
   };
   const Found found = parallel::reduce_exact(
-      cell_count, Found{m.density, n}, cell_records, [](const Found& x, const Found& y) {
-        return Found{std::max(x.max_density, y.max_density), std::min(x.first_empty, y.first_empty)};
+      cell_count, Found{m.density, none_emptied, n}, cell_records, [](const Found& x, const Found& y) {
+        return Found{std::max(x.max_density, y.max_density), std::min(x.empty_id, y.empty_id),
+                     x.empty_id <= y.empty_id ? x.empty : y.empty};
       });
-  // Over the ranks (MPI): every particle is in a cell near its own rank's particles, and the cell
-  // order, so the first emptied particle, is every rank's.
-  double extremes[2] = {-found.max_density, static_cast<double>(found.first_empty)};
+  // Over the ranks (MPI): every particle is in a cell near its own rank's particles.
+  const double none = std::numeric_limits<double>::infinity();
+  double extremes[2] = {-found.max_density, found.empty_id == none_emptied ? none : static_cast<double>(found.empty_id)};
   parallel::world().minimum(extremes);
   const Real max_density = -extremes[0];
-  const auto first_empty = static_cast<Index>(extremes[1]);
   // Continuity can empty a particle that a splash tears from its neighbours under tension; its
   // pressure and volume then mean nothing, so the run stops rather than carry on.
-  if (first_empty < n) {
+  if (extremes[1] != none) {
     // Its predicted density from a rank that gathered it (whose copy of its state is current; NaN
     // travels as a flag, since no minimum takes it).
-    const Index a = first_empty;
-    const Real rho = density_[a] + dt * (2 * Real(rate_[a]) - Real(previous_rate_[a]));
-    const double none = std::numeric_limits<double>::infinity();
+    const Id emptied = static_cast<Id>(extremes[1]);
     double found_rho[2] = {none, none};
-    if (found.first_empty == a) found_rho[0] = std::isnan(rho) ? 1 : 0, found_rho[1] = std::isnan(rho) ? 0 : rho;
+    if (found.empty_id == emptied) {
+      const Index a = found.empty;
+      const Real rho = density_[a] + dt * (2 * Real(rate_[a]) - Real(previous_rate_[a]));
+      found_rho[0] = std::isnan(rho) ? 1 : 0, found_rho[1] = std::isnan(rho) ? 0 : rho;
+    }
     parallel::world().minimum(found_rho);
     throw InstabilityError(fmt::format(
         "SPH fluid: the particle on node {} has density {:.6g}: it was torn from its neighbours "
         "(a pressure cutoff PC on the *MAT_NULL, e.g. 0, keeps a liquid from taking tension)",
-        nodes.id[node_[a]], found_rho[0] == 1 ? std::numeric_limits<Real>::quiet_NaN() : found_rho[1]));
+        emptied, found_rho[0] == 1 ? std::numeric_limits<Real>::quiet_NaN() : found_rho[1]));
   }
   max_sound_speed_ = m.sound_speed_at(max_density);
 }
@@ -448,7 +602,8 @@ void FluidFormulation::complete_state(discretization::NodeStore& nodes) {
 }
 
 void FluidFormulation::complete(discretization::NodeStore& nodes) {
-  share_.complete_nodes(node_, nodes, density_, rate_, previous_rate_);
+  share_.complete_nodes(node_, nodes, density_, rate_, previous_rate_, bin_);
+  if (cells_partial_) make_cells_whole(nodes);
   complete_ = true;
 }
 
@@ -480,10 +635,12 @@ void FluidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt)
   // Two particles approach each other by at most twice the bound; the search also widens by the
   // rounding margin, and all of it must stay within the skin (see for_each_particle_candidates).
   if (!cells_built_ || 2 * travelled_ + rounding_margin_ > parameters_.skin * support_) {
-    if (distributed && !complete_) complete(nodes);  // every rank bins every particle alike
-    // Nodes dealt by region: each particle to the rank whose region it has flowed into.
-    if (distributed && nodes.migrate(node_)) share_.bind(nodes);
-    rebuild_cells(nodes);
+    if (distributed && nodes.by_region()) {
+      rebuild_near_region(nodes);
+    } else {
+      if (distributed && !complete_) complete(nodes);  // every rank bins every particle alike
+      rebuild_cells(nodes);
+    }
   }
   if (distributed && near_owned_partition_ != nodes.partition) {
     near_owned_cell_ = cells_near([&](Index a) { return owns(a); });

@@ -123,6 +123,17 @@ class FluidFormulation final : public discretization::Formulation {
 
  private:
   void rebuild_cells(const discretization::NodeStore& nodes);
+  // Under MPI, dealt by region: the cells of this rank's particles and of those within reach of its
+  // region, brought in from the ranks that hold them current, as the run that bins every particle
+  // would make them; the particles migrate to their regions' ranks on the way.
+  void rebuild_near_region(discretization::NodeStore& nodes);
+  // Every particle in the cells again, from the keys their ranks binned them at (after complete()).
+  void make_cells_whole(const discretization::NodeStore& nodes);
+  // The per-particle arrays put in `order` (order[k] the particle that goes to slot k), and the
+  // moving bits and active cells that follow them.
+  void take_cell_order(const discretization::NodeStore& nodes, std::span<const Index> order);
+  // The grid's corner and rounding margin of the cells just built, and no travel since.
+  void finish_build();
   template <class Chosen>
   std::vector<std::uint8_t> cells_near(Chosen&& chosen) const;
   // Under MPI: which of the other ranks' particles come in with the halo.
@@ -167,6 +178,10 @@ class FluidFormulation final : public discretization::Formulation {
   std::vector<std::uint8_t> moving_;
 
   neighbors::CellList cells_;
+  // Under MPI, dealt by region: the cells hold only the particles near this rank's (rebuild_near_
+  // region), each with its cell's key here, for complete() to make them whole (then cleared).
+  bool cells_partial_ = false;
+  std::vector<neighbors::CellKey> bin_;
   // Per cell: 1 when a moving (non-wall) particle is in the 5 x 5 x 5 cells around it. Wall
   // particles of other cells have no moving particle in their support until the next rebuild,
   // so their continuity rate is exactly zero and they are skipped.
