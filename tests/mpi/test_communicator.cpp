@@ -148,5 +148,37 @@ TEST(Communicator, ExchangeDeliversEachRanksItemsForAnother) {
     }
 }
 
+// all(): rank r offers r items (none on rank 0), each naming its rank and place; every rank gets
+// every rank's, in rank order.
+TEST(Communicator, AllGivesEveryRanksListInRankOrder) {
+  const Communicator& ranks = world();
+  struct Item {
+    int rank, k;
+  };
+  std::vector<Item> mine;
+  for (int k = 0; k < ranks.rank(); ++k) mine.push_back({ranks.rank(), k});
+  const std::vector<Item> all = ranks.all(std::span<const Item>(mine));
+  ASSERT_EQ(all.size(), std::size_t(ranks.size() * (ranks.size() - 1) / 2));
+  std::size_t at = 0;
+  for (int r = 0; r < ranks.size(); ++r)
+    for (int k = 0; k < r; ++k, ++at) {
+      EXPECT_EQ(all[at].rank, r);
+      EXPECT_EQ(all[at].k, k);
+    }
+}
+
+// offsets_in(): rank s sends rank r (s + 1) * (r + 1) items; each rank learns where each sender's
+// land (on one process, its own to itself).
+TEST(Communicator, OffsetsInCountWhatEachRankSends) {
+  const Communicator& ranks = world();
+  const int me = ranks.rank(), size = ranks.size();
+  std::vector<Index> out(size + 1, 0);
+  for (int r = 0; r < size; ++r) out[r + 1] = out[r] + (me + 1) * (r + 1);
+  const std::vector<Index> in = ranks.offsets_in(out);
+  ASSERT_EQ(in.size(), std::size_t(size + 1));
+  EXPECT_EQ(in[0], 0);
+  for (int r = 0; r < size; ++r) EXPECT_EQ(in[r + 1] - in[r], (r + 1) * (me + 1)) << "from rank " << r;
+}
+
 }  // namespace
 }  // namespace spall::parallel

@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numeric>
 #include <span>
 
 namespace spall::contact {
@@ -151,14 +150,7 @@ void RigidWall::share_candidates(const discretization::NodeStore& nodes) {
   std::vector<Candidate> mine;
   for (Index k = 0; k < static_cast<Index>(nodes_.size()); ++k)
     if (candidate_[k] && nodes.owns(nodes_[k])) mine.push_back({k, candidate_[k], state_[k], closing_[k]});
-  const parallel::Communicator& ranks = parallel::world();
-  std::vector<Index> counts = ranks.each(static_cast<Index>(mine.size()));
-  counts.push_back(0);
-  std::exclusive_scan(counts.begin(), counts.end(), counts.begin(), Index(0));
-  std::vector<Candidate> all(counts.back());
-  std::copy(mine.begin(), mine.end(), all.begin() + counts[ranks.rank()]);
-  ranks.share(std::span(all), counts);
-  for (const Candidate& c : all)
+  for (const Candidate& c : parallel::world().all(std::span<const Candidate>(mine)))
     if (!nodes.owns(nodes_[c.k])) candidate_[c.k] = c.candidate, state_[c.k] = c.state, closing_[c.k] = c.closing;
 }
 

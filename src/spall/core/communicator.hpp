@@ -4,10 +4,12 @@
 // exact sum, and a run of one process gets the same answers without MPI. Built with MPI
 // (SPALL_MPI, the default), the run's communicator is MPI_COMM_WORLD when an MPI launcher started
 // the process as one of several; otherwise it is this process alone.
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <numeric>
 #include <span>
 #include <vector>
 
@@ -73,6 +75,31 @@ class Communicator {
     for (int r = 0; r <= size_; ++r) one_each[r] = r;
     share(std::span(all), one_each);
     return all;
+  }
+  // Every rank's items one after the other, in rank order (the counts by `each`, then
+  // MPI_Allgatherv): lists of different lengths that every rank needs whole (a moving wall's
+  // candidates, the nodes that changed rank).
+  template <typename T>
+  std::vector<T> all(std::span<const T> mine) const {
+    const std::vector<Index> counts = each(static_cast<Index>(mine.size()));
+    std::vector<Index> offsets(size_ + 1, 0);
+    std::partial_sum(counts.begin(), counts.end(), offsets.begin() + 1);
+    std::vector<T> items(offsets.back());
+    std::copy(mine.begin(), mine.end(), items.begin() + offsets[rank_]);
+    share(std::span(items), offsets);
+    return items;
+  }
+  // Where the items from each rank land in an `exchange` in which this rank sends items
+  // [offsets_out[r], offsets_out[r + 1]) to rank r: one count to each rank out, one from each in.
+  std::vector<Index> offsets_in(std::span<const Index> offsets_out) const {
+    std::vector<Index> one_each(size_ + 1), out(size_), in(size_);
+    for (int r = 0; r <= size_; ++r) one_each[r] = r;
+    for (int r = 0; r < size_; ++r) out[r] = offsets_out[r + 1] - offsets_out[r];
+    if (size_ == 1) in = out;  // to itself
+    exchange(std::span<const Index>(out), one_each, std::span(in), one_each);
+    std::vector<Index> offsets(size_ + 1, 0);
+    std::partial_sum(in.begin(), in.end(), offsets.begin() + 1);
+    return offsets;
   }
   // Each rank's items for each other rank out, theirs for it in (MPI_Alltoallv): `send` holds the
   // items for rank r at [send_offsets[r], send_offsets[r + 1]), and the items from rank r land at

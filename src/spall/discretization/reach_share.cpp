@@ -21,12 +21,7 @@ void ReachShare::plan(std::span<const std::uint8_t> reads, std::span<const Index
     receive_.insert(receive_.end(), wanted[r].begin(), wanted[r].end());
   }
   receive_offsets_[size] = static_cast<Index>(receive_.size());
-  std::vector<Index> one_each(size + 1), asked(size), wanted_count(size);
-  for (int r = 0; r <= size; ++r) one_each[r] = r;
-  for (int r = 0; r < size; ++r) wanted_count[r] = receive_offsets_[r + 1] - receive_offsets_[r];
-  ranks.exchange(std::span<const Index>(wanted_count), one_each, std::span(asked), one_each);
-  send_offsets_.assign(size + 1, 0);
-  for (int r = 0; r < size; ++r) send_offsets_[r + 1] = send_offsets_[r] + asked[r];
+  send_offsets_ = ranks.offsets_in(receive_offsets_);
   std::vector<Index> wanted_nodes(receive_.size());
   for (std::size_t k = 0; k < receive_.size(); ++k) wanted_nodes[k] = node[receive_[k]];
   send_.resize(send_offsets_[size]);

@@ -286,7 +286,7 @@ void FluidFormulation::rebuild_near_region(discretization::NodeStore& nodes) {
     for (int r = 0; r < size; ++r)
       if (r != self && within(near[r], nodes.x[node_[a]])) to[r].push_back(a);
   }
-  std::vector<Index> send_offsets(size + 1, 0), receive_offsets(size + 1, 0), counts(size), one_each(size + 1);
+  std::vector<Index> send_offsets(size + 1, 0);
   for (int r = 0; r < size; ++r) send_offsets[r + 1] = send_offsets[r] + static_cast<Index>(to[r].size());
   std::vector<Arrival> send(send_offsets[size]);
   for (int r = 0; r < size; ++r)
@@ -294,11 +294,7 @@ void FluidFormulation::rebuild_near_region(discretization::NodeStore& nodes) {
       const Index a = to[r][k], i = node_[a];
       send[send_offsets[r] + k] = {i, nodes.x[i], nodes.v[i], density_[a], rate_[a], previous_rate_[a]};
     }
-  for (int r = 0; r <= size; ++r) one_each[r] = r;
-  for (int r = 0; r < size; ++r) counts[r] = send_offsets[r + 1] - send_offsets[r];
-  std::vector<Index> incoming(size);
-  ranks.exchange(std::span<const Index>(counts), one_each, std::span(incoming), one_each);
-  for (int r = 0; r < size; ++r) receive_offsets[r + 1] = receive_offsets[r] + incoming[r];
+  const std::vector<Index> receive_offsets = ranks.offsets_in(send_offsets);
   std::vector<Arrival> receive(receive_offsets[size]);
   ranks.exchange(std::span<const Arrival>(send), send_offsets, std::span(receive), receive_offsets);
   // The particles that left this rank's region go to their new ranks' (which received them).
@@ -316,9 +312,8 @@ void FluidFormulation::rebuild_near_region(discretization::NodeStore& nodes) {
   }
   // Binned here: the particles within reach of this rank's region (its own among them); the others
   // follow in their present order, in no cell.
-  std::vector<Index> local;
-  for (Index a = 0; a < n; ++a)
-    if (current[a] && within(near[self], nodes.x[node_[a]])) local.push_back(a);
+  std::vector<Index> local, others;
+  for (Index a = 0; a < n; ++a) (current[a] && within(near[self], nodes.x[node_[a]]) ? local : others).push_back(a);
   const Index m = static_cast<Index>(local.size());
   std::vector<Vec3> x(m);
   std::vector<Id> id(m);
@@ -326,8 +321,7 @@ void FluidFormulation::rebuild_near_region(discretization::NodeStore& nodes) {
   cells_.build(x, asked, id, &grid);
   std::vector<Index> order = cells_.take_order();
   for (Index& k : order) k = local[k];
-  for (Index a = 0; a < n; ++a)
-    if (!current[a] || !within(near[self], nodes.x[node_[a]])) order.push_back(a);
+  order.insert(order.end(), others.begin(), others.end());
   bin_.resize(n);
   take_cell_order(nodes, order);
   for (Index c = 0; c < cells_.cell_count(); ++c) {
