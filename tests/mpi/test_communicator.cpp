@@ -12,6 +12,7 @@
 #include <random>
 #include <vector>
 
+#include "spall/core/bounding_box.hpp"
 #include "spall/core/communicator.hpp"
 
 namespace spall::parallel {
@@ -178,6 +179,27 @@ TEST(Communicator, OffsetsInCountWhatEachRankSends) {
   ASSERT_EQ(in.size(), std::size_t(size + 1));
   EXPECT_EQ(in[0], 0);
   for (int r = 0; r < size; ++r) EXPECT_EQ(in[r + 1] - in[r], (r + 1) * (me + 1)) << "from rank " << r;
+}
+
+// over_ranks(): each rank's box of its points (rank 1, when there is one, has none) merged into the
+// box of every point, exactly; a non-finite point on one rank leaves every rank's box not finite.
+TEST(Communicator, BoxOverRanksIsTheBoxOfEveryPoint) {
+  const Communicator& ranks = world();
+  std::mt19937_64 random(36);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  BoundingBox whole, mine;
+  for (int k = 0; k < 30; ++k) {
+    const Vec3 p(normal(random), 1e3 * normal(random), -5 + normal(random));
+    const int r = k % ranks.size() == 1 ? 0 : k % ranks.size();
+    whole.include(p);
+    if (r == ranks.rank()) mine.include(p);
+  }
+  const BoundingBox merged = over_ranks(mine, ranks);
+  EXPECT_EQ(merged.lower, whole.lower);
+  EXPECT_EQ(merged.upper, whole.upper);
+  EXPECT_TRUE(merged.finite);
+  if (ranks.rank() == ranks.size() - 1) mine.include(Vec3(0, std::numeric_limits<double>::quiet_NaN(), 0));
+  EXPECT_FALSE(over_ranks(mine, ranks).finite);
 }
 
 }  // namespace

@@ -337,6 +337,71 @@ TEST(neighbors, PerReachRowsOfARangeAreTheWholeBuildsRows) {
   }
 }
 
+// Under MPI a rank of the SPH solid bins only the particles within reach of the rows it searches,
+// in the grid of every particle's box, the others' positions and reaches unknown to it (here:
+// NaN): each row searched is still the whole build's, entry for entry. complete_positions then
+// brings in the positions and search_every_row makes the whole build's list. A subset that lacks
+// a row's particle, is not ascending, or holds a reach above the largest given is refused.
+TEST(neighbors, BinnedSubsetGivesTheWholeBuildsRows) {
+  // Stored along x, as a bar's nodes are numbered along it: a range of rows is a slab.
+  std::vector<Vec3> x = random_set(2500, Vec3(0, 0, 0), Vec3(1.5, 1, 1), 31);
+  std::sort(x.begin(), x.end(), [](const Vec3& a, const Vec3& b) { return a.x() < b.x(); });
+  const std::vector<Real> reach = random_reach(x.size(), 0.04, 0.08, 32);
+  const Real skin = 0.01, largest = *std::max_element(reach.begin(), reach.end());
+  const Real radius = 2 * largest + skin;
+  const auto n = static_cast<Index>(x.size());
+  VerletList whole;
+  whole.build(x, reach, skin, RowOrder::search);
+  BoundingBox grid;
+  for (const Vec3& p : x) grid.include(p);
+  const ParticleRange rows{1000, 1400};
+  BoundingBox rows_box;
+  for (Index i = rows.begin; i < rows.end; ++i) rows_box.include(x[i]);
+  const BoundingBox near = rows_box.grown(radius);
+  std::vector<Index> binned;
+  std::vector<Vec3> known(n, Vec3::Constant(std::numeric_limits<Real>::quiet_NaN()));
+  std::vector<Real> known_reach(n, std::numeric_limits<Real>::quiet_NaN());
+  for (Index i = 0; i < n; ++i)
+    if (near.contains(x[i])) binned.push_back(i), known[i] = x[i], known_reach[i] = reach[i];
+  ASSERT_LT(binned.size(), x.size() * 2 / 3);  // a subset worth the name
+  const BinnedSubset subset{.particles = binned, .grid = grid, .largest_reach = largest};
+  VerletList part;
+  part.build(known, known_reach, skin, RowOrder::search, rows, &subset);
+  EXPECT_DOUBLE_EQ(part.cutoff(), whole.cutoff());
+  Index listed = 0;
+  for (Index i = 0; i < n; ++i) {
+    const bool asked = i >= rows.begin && i < rows.end;
+    EXPECT_EQ(row(part.list(), i), asked ? row(whole.list(), i) : std::vector<Index>{}) << "row " << i;
+    if (asked) listed += whole.list().count(i);
+  }
+  EXPECT_GT(listed, 10 * (rows.end - rows.begin));
+  // The rows' particles' own box (not grown by the radius) misses neighbours: the rows differ.
+  std::vector<Index> too_few;
+  for (const Index i : binned)
+    if (rows_box.contains(x[i])) too_few.push_back(i);
+  const BinnedSubset short_subset{.particles = too_few, .grid = grid, .largest_reach = largest};
+  VerletList short_part;
+  short_part.build(known, known_reach, skin, RowOrder::search, rows, &short_subset);
+  EXPECT_NE(short_part.list().neighbors.size(), part.list().neighbors.size());
+
+  EXPECT_THROW(part.search_every_row(reach), std::logic_error);
+  part.complete_positions([&](std::vector<Vec3>& positions) { positions = x; });
+  part.search_every_row(reach);
+  EXPECT_EQ(part.list().offsets, whole.list().offsets);
+  EXPECT_EQ(part.list().neighbors, whole.list().neighbors);
+
+  std::vector<Index> lacking(binned);
+  lacking.erase(std::find(lacking.begin(), lacking.end(), rows.begin + 7));
+  const BinnedSubset without_a_row{.particles = lacking, .grid = grid, .largest_reach = largest};
+  EXPECT_THROW(part.build(known, known_reach, skin, RowOrder::search, rows, &without_a_row), std::invalid_argument);
+  std::vector<Index> unsorted(binned);
+  std::swap(unsorted[0], unsorted[1]);
+  const BinnedSubset not_ascending{.particles = unsorted, .grid = grid, .largest_reach = largest};
+  EXPECT_THROW(part.build(known, known_reach, skin, RowOrder::search, rows, &not_ascending), std::invalid_argument);
+  const BinnedSubset small_reach{.particles = binned, .grid = grid, .largest_reach = largest / 2};
+  EXPECT_THROW(part.build(known, known_reach, skin, RowOrder::search, rows, &small_reach), std::invalid_argument);
+}
+
 TEST(neighbors, RigidTranslationNeedsNoRebuild) {
   // The rebuild test measures displacements from the centre of their bounding box: a common
   // motion of any size keeps every distance, so the list stays valid.

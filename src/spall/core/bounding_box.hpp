@@ -4,6 +4,7 @@
 #include <concepts>
 #include <limits>
 
+#include "spall/core/communicator.hpp"
 #include "spall/core/parallel.hpp"
 #include "spall/core/types.hpp"
 
@@ -26,7 +27,27 @@ struct BoundingBox {
     upper = upper.cwiseMax(b.upper);
   }
   Vec3 centre() const { return Real(0.5) * (lower + upper); }
+  bool contains(const Vec3& p) const { return (p.array() >= lower.array()).all() && (p.array() <= upper.array()).all(); }
+  // The box widened by `margin` on every side (empty stays empty).
+  BoundingBox grown(Real margin) const {
+    BoundingBox box = *this;
+    if (!empty()) box.lower.array() -= margin, box.upper.array() += margin;
+    return box;
+  }
 };
+
+// The box of every rank's points from each rank's box of its own (min and max are exact: every
+// rank gets the same box, the one a single process finds). Collective.
+inline BoundingBox over_ranks(const BoundingBox& mine, const parallel::Communicator& ranks) {
+  double extremes[7] = {mine.lower[0],  mine.lower[1],  mine.lower[2], -mine.upper[0],
+                        -mine.upper[1], -mine.upper[2], mine.finite ? 0.0 : -1.0};
+  ranks.minimum(extremes);
+  BoundingBox box;
+  box.lower = Vec3(extremes[0], extremes[1], extremes[2]);
+  box.upper = -Vec3(extremes[3], extremes[4], extremes[5]);
+  box.finite = extremes[6] == 0;
+  return box;
+}
 
 // The box of point(i) for i in [0, n) (empty for n = 0).
 template <std::integral I, class PointAt>

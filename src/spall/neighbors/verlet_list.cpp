@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <functional>
 #include <stdexcept>
 #include <memory>
 #include <string>
@@ -52,9 +53,9 @@ struct CellOrderedPositions {
   std::vector<Index> particle;
   Vec3 lower;
 
-  CellOrderedPositions(std::span<const Vec3> positions, const CellList& cells)
-      : x(cells.order().size() + search_lanes), y(x.size()), z(x.size()), particle(x.size()), lower(cells.lower()) {
-    const std::span<const Index> order = cells.order();
+  // order[k]: the particle at position k of the cells.
+  CellOrderedPositions(std::span<const Vec3> positions, const CellList& cells, std::span<const Index> order)
+      : x(order.size() + search_lanes), y(x.size()), z(x.size()), particle(x.size()), lower(cells.lower()) {
     const auto n = static_cast<std::int64_t>(order.size());
     parallel::for_each(n, [&](std::int64_t k) {
       const Vec3& p = positions[order[k]];
@@ -150,39 +151,59 @@ void VerletList::build(std::span<const Vec3> x, Real cutoff, Real skin, Particle
 }
 
 void VerletList::build(std::span<const Vec3> x, std::span<const Real> reach, Real skin, RowOrder order,
-                       ParticleRange rows) {
+                       ParticleRange rows, const BinnedSubset* binned) {
   if (reach.size() != x.size())
     throw std::invalid_argument("neighbour search: need one reach per particle");
   Real largest = 0;
-  for (const Real r : reach) {
+  const auto check = [&](Real r) {
     if (!(r > 0)) throw std::invalid_argument("neighbour search: need every reach > 0, got " + std::to_string(r));
     largest = std::max(largest, r);
+  };
+  if (binned) {
+    // Ascending (a cell's particles in index order, as binning every particle leaves them), and
+    // every row asked for binned.
+    const std::span<const Index> subset = binned->particles;
+    const auto n = static_cast<Index>(x.size());
+    const Index first = std::clamp(rows.begin, Index(0), n), last = std::clamp(rows.end, Index(0), n);
+    const auto rows_binned = std::lower_bound(subset.begin(), subset.end(), last) -
+                             std::lower_bound(subset.begin(), subset.end(), first);
+    if (std::adjacent_find(subset.begin(), subset.end(), std::greater_equal<>()) != subset.end() || (first < last && rows_binned != last - first))
+      throw std::invalid_argument("neighbour search: binned particles not ascending, or a row asked for not binned");
+    for (const Index i : subset) check(reach[i]);
+    if (largest > binned->largest_reach)
+      throw std::invalid_argument("neighbour search: a binned reach above the largest given");
+    largest = binned->largest_reach;
+  } else {
+    for (const Real r : reach) check(r);
   }
   if (!(skin >= 0)) throw std::invalid_argument("neighbour search: need skin >= 0, got " + std::to_string(skin));
   cutoff_ = 2 * largest;
   skin_ = skin;
   order_ = order;
   ++builds_;
-  build_reach(x, reach, rows);
+  build_reach(x, reach, rows, binned);
 }
 
-void VerletList::build_reach(std::span<const Vec3> x, std::span<const Real> reach, ParticleRange rows) {
+void VerletList::build_reach(std::span<const Vec3> x, std::span<const Real> reach, ParticleRange rows,
+                             const BinnedSubset* binned) {
   const Real largest = cutoff_ / 2, skin = skin_;
   build_rows(x, cutoff_ + skin,
              [&](std::span<const Index> cell_order) { return PairRadius(reach, cell_order, largest, skin); },
-             order_, rows);
+             order_, rows, binned);
 }
 
 void VerletList::search_every_row(std::span<const Real> reach) {
   if (!partial()) return;
+  if (subset_) throw std::logic_error("VerletList::search_every_row: positions at the build not all current");
   const std::vector<Vec3> x = x_at_build_;  // build_rows keeps its argument as the new x_at_build_
   build_reach(x, reach, {0, static_cast<Index>(x.size())});
 }
 
 template <typename MakeRadius>
 void VerletList::build_rows(std::span<const Vec3> x, Real radius, const MakeRadius& make_radius,
-                            RowOrder row_order, ParticleRange rows) {
+                            RowOrder row_order, ParticleRange rows, const BinnedSubset* binned) {
   x_at_build_.assign(x.begin(), x.end());
+  subset_ = binned != nullptr;
   const auto n = static_cast<Index>(x.size());
   rows_ = {std::clamp(rows.begin, Index(0), n), std::clamp(rows.end, Index(0), n)};
   list_.offsets.assign(n + 1, 0);
@@ -191,10 +212,22 @@ void VerletList::build_rows(std::span<const Vec3> x, Real radius, const MakeRadi
     return;
   }
 
+  // order[k]: the particle at position k of the cells (of a subset: binned in the order given, so
+  // that a cell's particles keep ascending index, as the build of every particle has them).
   CellList cells;
-  cells.build(x, radius / stencil_reach);
-  const std::span<const Index> order = cells.order();
-  const CellOrderedPositions p(x, cells);
+  std::vector<Index> order;
+  if (binned) {
+    const std::span<const Index> subset = binned->particles;
+    std::vector<Vec3> subset_x(subset.size());
+    for (std::size_t k = 0; k < subset.size(); ++k) subset_x[k] = x[subset[k]];
+    cells.build(subset_x, radius / stencil_reach, {}, &binned->grid);
+    order = cells.take_order();
+    for (Index& k : order) k = subset[k];
+  } else {
+    cells.build(x, radius / stencil_reach);
+    order = cells.take_order();
+  }
+  const CellOrderedPositions p(x, cells, order);
   const auto pair_radius = make_radius(order);
   const Index cell_count = cells.cell_count();
 

@@ -4,9 +4,11 @@
 // thread count.
 #include <limits>
 #include <span>
+#include <stdexcept>
 #include <vector>
 
 #include "spall/core/archive.hpp"
+#include "spall/core/bounding_box.hpp"
 #include "spall/core/communicator.hpp"
 #include "spall/core/types.hpp"
 #include "spall/neighbors/cell_list.hpp"
@@ -30,6 +32,16 @@ struct NeighborList {
 // Either order is a function of the positions alone, never of the thread count.
 enum class RowOrder { ascending, search };
 
+// A build that bins only some of the particles (a rank's own under MPI and the others' within reach
+// of the rows it searches): their indices, ascending, with the grid's box and the largest reach of
+// every particle, so that the grid, the cells' order and hence every row searched are those of the
+// build that bins them all.
+struct BinnedSubset {
+  std::span<const Index> particles;
+  BoundingBox grid;
+  Real largest_reach = 0;
+};
+
 class VerletList {
  public:
   // Lists every pair closer than cutoff + skin (cutoff > 0, skin >= 0). The list stays valid
@@ -44,8 +56,11 @@ class VerletList {
   // Particles of very different reach then share a list without the small ones listing as far as
   // the largest. cutoff() is twice the largest reach. With `rows`, as above: the rows a rank
   // computes under MPI (the SPH solid's).
+  // With `binned`, only its particles are binned (and only their positions and reaches read): each
+  // row searched must have all its neighbours among them.
   void build(std::span<const Vec3> x, std::span<const Real> reach, Real skin,
-             RowOrder order = RowOrder::ascending, ParticleRange rows = {0, std::numeric_limits<Index>::max()});
+             RowOrder order = RowOrder::ascending, ParticleRange rows = {0, std::numeric_limits<Index>::max()},
+             const BinnedSubset* binned = nullptr);
   // Whether the last build left rows empty that it was not asked for.
   bool partial() const { return rows_.begin > 0 || rows_.end < static_cast<Index>(x_at_build_.size()); }
   // Whether the last build searched every row of `rows`.
@@ -54,8 +69,18 @@ class VerletList {
   }
   // After a build with per-particle reach: the rows it was not asked for searched too, from the
   // positions of that build and the same `reach`, so that the list is the one a build of every row
-  // would have made (what a checkpoint holds). Not a build: builds() does not count it.
+  // would have made (what a checkpoint holds). Not a build: builds() does not count it. After a
+  // build of a binned subset, only once complete_positions has brought in every position.
   void search_every_row(std::span<const Real> reach);
+  // After a build of a binned subset, whose positions at the build are all it holds current:
+  // `complete(positions)` makes an array of every particle's position whole (under MPI, from the
+  // ranks that binned each particle, its own).
+  template <typename Complete>
+  void complete_positions(Complete&& complete) {
+    if (!subset_) return;
+    complete(x_at_build_);
+    subset_ = false;
+  }
   // False while every pair now within the cutoff (reach_i + reach_j) has moved by at most the skin
   // relative to each other since the build, which keeps such pairs in the list (triangle
   // inequality). Checked globally (every displacement within skin / 2 of a common vector: a rigid
@@ -77,8 +102,9 @@ class VerletList {
 
   // The list as built, and where the particles were then (the next rebuild depends on it).
   void checkpoint(Archive& a) {
+    if (!a.reading() && subset_) throw std::logic_error("VerletList: a checkpoint of positions not all current");
     a(list_, x_at_build_, cutoff_, skin_, builds_);
-    if (a.reading()) rows_ = {0, static_cast<Index>(x_at_build_.size())};  // written whole
+    if (a.reading()) rows_ = {0, static_cast<Index>(x_at_build_.size())}, subset_ = false;  // written whole
   }
 
  private:
@@ -86,14 +112,16 @@ class VerletList {
   // radius.
   template <typename MakeRadius>
   void build_rows(std::span<const Vec3> x, Real radius, const MakeRadius& make_radius, RowOrder order,
-                  ParticleRange rows);
+                  ParticleRange rows, const BinnedSubset* binned = nullptr);
 
   // The per-particle reach build's rows (build_reach), searched on every rank alike.
-  void build_reach(std::span<const Vec3> x, std::span<const Real> reach, ParticleRange rows);
+  void build_reach(std::span<const Vec3> x, std::span<const Real> reach, ParticleRange rows,
+                   const BinnedSubset* binned = nullptr);
 
   NeighborList list_;
   std::vector<Vec3> x_at_build_;
   ParticleRange rows_;  // the rows the last build searched
+  bool subset_ = false;  // the last build binned a subset: x_at_build_ current there alone
   RowOrder order_ = RowOrder::ascending;
   Real cutoff_ = 0;
   Real skin_ = 0;

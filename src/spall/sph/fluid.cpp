@@ -237,10 +237,6 @@ struct Arrival {
   Real density;
   float rate, previous_rate;
 };
-
-bool within(const BoundingBox& box, const Vec3& p) {
-  return (p.array() >= box.lower.array()).all() && (p.array() <= box.upper.array()).all();
-}
 }  // namespace
 
 // A rank's passes read the particles within two cells of a cell of its own, and the cells they read
@@ -256,27 +252,18 @@ void FluidFormulation::rebuild_near_region(discretization::NodeStore& nodes) {
   const BoundingBox own = parallel::fold_exact(
       n, BoundingBox{}, [&](BoundingBox& box, Index a) { if (owns(a)) box.include(nodes.x[node_[a]]); },
       [](BoundingBox& box, const BoundingBox& other) { box.include(other); });
-  double extremes[7] = {own.lower[0],  own.lower[1],  own.lower[2], -own.upper[0],
-                        -own.upper[1], -own.upper[2], own.finite ? 0.0 : -1.0};
-  ranks.minimum(extremes);
-  if (extremes[6] < 0) {
+  const BoundingBox grid = over_ranks(own, ranks);
+  if (!grid.finite) {
     Index worst = -1;
     for (Index a = 0; a < n && worst < 0; ++a)
       if (owns(a) && !nodes.x[node_[a]].allFinite()) worst = static_cast<Index>(nodes.id[node_[a]]);
     throw InstabilityError(
         fmt::format("neighbour search: the particle on node {} has a non-finite position", ranks.lowest(worst)));
   }
-  BoundingBox grid;
-  grid.lower = Vec3(extremes[0], extremes[1], extremes[2]);
-  grid.upper = -Vec3(extremes[3], extremes[4], extremes[5]);
   const Real asked = (1 + parameters_.skin) * support_ / stencil_reach;
   const Real reach = 5.5 * neighbors::CellList::cell_size_over(grid, asked);
   std::vector<BoundingBox> near(size);
-  for (int r = 0; r < size; ++r) {
-    near[r] = nodes.regions.box(r);
-    near[r].lower.array() -= reach;
-    near[r].upper.array() += reach;
-  }
+  for (int r = 0; r < size; ++r) near[r] = nodes.regions.box(r).grown(reach);
   // Each of this rank's particles to every other rank whose region it is within reach of.
   std::vector<std::uint8_t> current(n, 0);
   std::vector<std::vector<Index>> to(size);
@@ -284,7 +271,7 @@ void FluidFormulation::rebuild_near_region(discretization::NodeStore& nodes) {
     if (!owns(a)) continue;
     current[a] = 1;
     for (int r = 0; r < size; ++r)
-      if (r != self && within(near[r], nodes.x[node_[a]])) to[r].push_back(a);
+      if (r != self && near[r].contains(nodes.x[node_[a]])) to[r].push_back(a);
   }
   std::vector<Index> send_offsets(size + 1, 0);
   for (int r = 0; r < size; ++r) send_offsets[r + 1] = send_offsets[r] + static_cast<Index>(to[r].size());
@@ -313,7 +300,7 @@ void FluidFormulation::rebuild_near_region(discretization::NodeStore& nodes) {
   // Binned here: the particles within reach of this rank's region (its own among them); the others
   // follow in their present order, in no cell.
   std::vector<Index> local, others;
-  for (Index a = 0; a < n; ++a) (current[a] && within(near[self], nodes.x[node_[a]]) ? local : others).push_back(a);
+  for (Index a = 0; a < n; ++a) (current[a] && near[self].contains(nodes.x[node_[a]]) ? local : others).push_back(a);
   const Index m = static_cast<Index>(local.size());
   std::vector<Vec3> x(m);
   std::vector<Id> id(m);

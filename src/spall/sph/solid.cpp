@@ -2,6 +2,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <numeric>
@@ -392,40 +393,27 @@ void SolidFormulation::update_neighbour_list(discretization::NodeStore& nodes) {
     return ranks.size() > 1 ? verlet_.needs_rebuild(x_, own_particles(), ranks) : verlet_.needs_rebuild(x_);
   };
   if (list_built_ && !h_outgrown_ && !moved_apart()) return;
-  // The search bins every particle: every position current first.
-  complete_kinematics(nodes);
-  // The search reads every particle's reach: h whole (the rest that the new rows read comes after
-  // the plan, compute_forces).
-  if (!complete_) share_(node_, smoothing_length_);
-  const Real h_largest = parallel::reduce_exact(
-      n, Real(0),
-      [&](Index a) {
-        list_reach_[a] = cutoff_margin * smoothing_length(a);
-        return smoothing_length(a);
-      },
-      [](Real a, Real b) { return std::max(a, b); });
-  // Under MPI a rank searches the rows it computes (computed_rows): its own and those of the force
-  // blocks whose middle particle it owns, which reach at most half a block beyond its own. With the
-  // last build's blocks of length L, 0.75 L on either side holds the rows of blocks up to 1.5 L long
-  // (they grow as a body deforms; longer ones have every row searched, below: with 0.625 L the
-  // 10^5-particle Taylor bar's blocks outgrew it once a rank).
-  const bool every_row = parallel::world().size() == 1 || !list_built_;
-  neighbors::ParticleRange rows{0, n};
-  if (!every_row) {
-    rows = own_particles();
-    if (force_blocks_ > 0 && rows.begin < rows.end) {
-      const Index margin = (3 * force_block_length_ + 3) / 4;
-      rows = {std::max<Index>(0, rows.begin - margin), std::min(n, rows.end + margin)};
-    }
+  // One process, or the first build (the set-up's state is whole on every rank): every particle
+  // binned, every row searched. Under MPI after that a rank searches the rows it computes, from its
+  // own particles and the others' within reach of those rows (search_near_rows).
+  const bool every_row = ranks.size() == 1 || !list_built_;
+  BoundingBox box;
+  if (every_row) {
+    const Real h_largest = parallel::reduce_exact(
+        n, Real(0),
+        [&](Index a) {
+          list_reach_[a] = cutoff_margin * smoothing_length(a);
+          return smoothing_length(a);
+        },
+        [](Real a, Real b) { return std::max(a, b); });
+    verlet_.build(x_, list_reach_, list_skin(h_largest), neighbors::RowOrder::search);
+    box = bounding_box(n, [&](Index a) { return x_[a]; });
+  } else {
+    box = search_near_rows(nodes);
   }
-  const Real skin = skin_fraction * cutoff_margin * 2 * h_largest;
-  verlet_.build(x_, list_reach_, skin, neighbors::RowOrder::search, rows);
   list_built_ = true;
   // The records' origin: the middle of the particles' bounding box.
-  if (n > 0) {
-    const Vec3 centre = bounding_box(n, [&](Index a) { return x_[a]; }).centre();
-    for (int d = 0; d < 3; ++d) record_origin_[d] = centre[d];
-  }
+  if (!box.empty()) record_origin_ = box.centre();
   // The force pass's blocks (compute_pair_forces): as long as the largest b - a of any pair (every
   // row is some rank's own: over the ranks, the largest of their rows').
   const auto& list = verlet_.list();
@@ -446,8 +434,162 @@ void SolidFormulation::update_neighbour_list(discretization::NodeStore& nodes) {
   force_blocks_ = (n + span - 1) / span;
   if (force_blocks_ < min_force_blocks) force_blocks_ = 0;
   choose_force_blocks(nodes);
-  // Blocks longer than the last build's reach rows it did not search: every row then.
-  if (!every_row && !verlet_.searched(computed_rows())) verlet_.search_every_row(list_reach_);
+  // Blocks longer than the last build's reach rows it did not search: every row then, from every
+  // particle's position at the build, and its rows' particles' positions, velocities and h, which
+  // the ranks complete together when one needs them.
+  if (every_row) return;
+  const bool unsearched = !verlet_.searched(computed_rows());
+  double any = unsearched ? -1 : 0;
+  ranks.minimum({&any, 1});
+  if (any < 0) {
+    complete_list();
+    complete_kinematics(nodes);
+    if (!complete_) share_(node_, smoothing_length_);
+  }
+  if (unsearched) verlet_.search_every_row(list_reach_);
+}
+
+Real SolidFormulation::list_skin(Real h_largest) { return skin_fraction * cutoff_margin * 2 * h_largest; }
+
+namespace {
+// A particle that comes in at a list build from its rank (search_near_rows).
+struct NearParticle {
+  std::int64_t particle;  // 64 bits: no padding travels
+  Vec3 x, v;
+  Real h;
+};
+// A box as it travels between the ranks (no padding bytes).
+using BoxBounds = std::array<double, 6>;
+BoxBounds bounds_of(const BoundingBox& box) {
+  return {box.lower[0], box.lower[1], box.lower[2], box.upper[0], box.upper[1], box.upper[2]};
+}
+BoundingBox box_of(const BoxBounds& b) {
+  BoundingBox box;
+  box.lower = Vec3(b[0], b[1], b[2]);
+  box.upper = Vec3(b[3], b[4], b[5]);
+  return box;
+}
+}  // namespace
+
+// Rank r searches the rows of its own particles and, with pair-once blocks, those within 0.75 L of
+// them (L the last build's block length): each force block is run by the owner of its middle
+// particle, so no rank computes rows further than half a block from its own, and 0.75 L holds the
+// rows of blocks up to 1.5 L long (they grow as a body deforms; longer ones have every row searched,
+// update_neighbour_list: with 0.625 L the 10^5-particle Taylor bar's blocks outgrew it once a rank).
+neighbors::ParticleRange SolidFormulation::rows_searched(neighbors::ParticleRange own) const {
+  if (force_blocks_ == 0 || own.begin >= own.end) return own;
+  const Index margin = (3 * force_block_length_ + 3) / 4;
+  return {std::max<Index>(0, own.begin - margin), std::min(particle_count(), own.end + margin)};
+}
+
+// The ranks own blocks of the node order, in which the particles are stored: rank r's particles
+// are those from the first whose node's rank is r to the first whose node's rank is above.
+neighbors::ParticleRange SolidFormulation::particles_of(int r) const {
+  const auto first_of_rank_above = [&](int q) {
+    Index low = 0, high = particle_count();
+    while (low < high) {
+      const Index mid = low + (high - low) / 2;
+      if (share_.rank_of(node_[mid]) < q)
+        low = mid + 1;
+      else
+        high = mid;
+    }
+    return low;
+  };
+  return {first_of_rank_above(r), first_of_rank_above(r + 1)};
+}
+
+// Every pair a row holds is within reach_a + reach_b + skin <= the list radius of the row's
+// particle, so a rank's rows need the particles within that radius of its rows' box (with a margin
+// for the rounding of the search's distances): those come in from their ranks with their velocities
+// and h, in place of every particle's position, velocity and h completed on every rank. The grid is
+// that of every particle's box (one minimum): cells, their order and the particles in each (by
+// index) are then the whole build's, and so is every row searched. Returns that box.
+BoundingBox SolidFormulation::search_near_rows(discretization::NodeStore& nodes) {
+  const parallel::Communicator& ranks = parallel::world();
+  const int size = ranks.size(), self = ranks.rank();
+  const neighbors::ParticleRange own = own_particles();
+  struct Own {
+    BoundingBox box;
+    Real h = 0;
+  };
+  const Own mine = parallel::fold_exact(
+      own.end - own.begin, Own{},
+      [&](Own& o, Index k) {
+        const Index a = own.begin + k;
+        list_reach_[a] = cutoff_margin * smoothing_length(a);
+        o.box.include(x_[a]);
+        o.h = std::max(o.h, smoothing_length(a));
+      },
+      [](Own& o, const Own& other) {
+        o.box.include(other.box);
+        o.h = std::max(o.h, other.h);
+      });
+  const BoundingBox grid = over_ranks(mine.box, ranks);
+  if (!grid.finite) {
+    Index worst = -1;
+    for (Index a = own.begin; a < own.end && worst < 0; ++a)
+      if (!x_[a].allFinite()) worst = a;
+    throw InstabilityError(
+        fmt::format("neighbour search: particle {} has a non-finite position", ranks.lowest(worst)));
+  }
+  double negated_h = -mine.h;
+  ranks.minimum({&negated_h, 1});
+  const Real h_largest = -negated_h, largest_reach = cutoff_margin * h_largest, skin = list_skin(h_largest);
+  const neighbors::ParticleRange rows = rows_searched(own);
+
+  // Each rank's rows' box, from every rank's box of its own particles among them.
+  std::vector<Index> one_each(size + 1);
+  std::iota(one_each.begin(), one_each.end(), 0);
+  std::vector<BoxBounds> part_of_rows(size), rows_parts(size);
+  for (int r = 0; r < size; ++r) {
+    const neighbors::ParticleRange theirs = rows_searched(particles_of(r));
+    const Index first = std::max(own.begin, theirs.begin), last = std::min(own.end, theirs.end);
+    part_of_rows[r] = bounds_of(bounding_box(std::max<Index>(last - first, 0), [&](Index k) { return x_[first + k]; }));
+  }
+  ranks.exchange(std::span<const BoxBounds>(part_of_rows), one_each, std::span(rows_parts), one_each);
+  BoundingBox rows_box;
+  for (const BoxBounds& b : rows_parts) rows_box.include(box_of(b));
+  const Real radius = 2 * largest_reach + skin;
+  const Real rounding = 1e-12 * std::max(grid.lower.cwiseAbs().maxCoeff(), grid.upper.cwiseAbs().maxCoeff());
+  const std::vector<BoxBounds> near = ranks.each(bounds_of(rows_box.grown(1.001 * radius + rounding)));
+
+  // This rank's particles within each other rank's reach, to it.
+  std::vector<std::vector<Index>> to(size);
+  for (Index a = own.begin; a < own.end; ++a)
+    for (int r = 0; r < size; ++r)
+      if (r != self && box_of(near[r]).contains(x_[a])) to[r].push_back(a);
+  std::vector<Index> send_offsets(size + 1, 0);
+  for (int r = 0; r < size; ++r) send_offsets[r + 1] = send_offsets[r] + static_cast<Index>(to[r].size());
+  std::vector<NearParticle> send(send_offsets[size]);
+  for (int r = 0; r < size; ++r)
+    for (std::size_t k = 0; k < to[r].size(); ++k) {
+      const Index a = to[r][k];
+      send[send_offsets[r] + k] = {a, x_[a], v_[a], smoothing_length(a)};
+    }
+  const std::vector<Index> receive_offsets = ranks.offsets_in(send_offsets);
+  std::vector<NearParticle> receive(receive_offsets[size]);
+  ranks.exchange(std::span<const NearParticle>(send), send_offsets, std::span(receive), receive_offsets);
+  std::vector<Index> binned;
+  binned.reserve(own.end - own.begin + receive.size());
+  for (Index a = own.begin; a < own.end; ++a) binned.push_back(a);
+  for (const NearParticle& p : receive) {
+    const auto a = static_cast<Index>(p.particle);
+    nodes.x[node_[a]] = p.x;
+    nodes.v[node_[a]] = p.v;
+    smoothing_length(a) = p.h;
+    list_reach_[a] = cutoff_margin * p.h;
+    binned.push_back(a);
+  }
+  std::sort(binned.begin(), binned.end());
+  gather_kinematics(nodes);  // x_ and v_ may be copies
+  const neighbors::BinnedSubset subset{.particles = binned, .grid = grid, .largest_reach = largest_reach};
+  verlet_.build(x_, list_reach_, skin, neighbors::RowOrder::search, rows, &subset);
+  return grid;
+}
+
+void SolidFormulation::complete_list() {
+  verlet_.complete_positions([&](std::vector<Vec3>& x) { share_(node_, x, list_reach_); });
 }
 
 // From this rank's first particle to its last (the particles are in node order, so its own are
@@ -872,6 +1014,7 @@ void SolidFormulation::complete() {
 void SolidFormulation::complete_state(discretization::NodeStore& nodes) {
   if (!complete_) complete();
   complete_kinematics(nodes);
+  complete_list();
 }
 
 void SolidFormulation::share_state(discretization::NodeStore& nodes) {
@@ -1047,6 +1190,7 @@ void SolidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt)
   if (distributed && share_.stale(nodes)) {
     if (!complete_) complete();
     complete_kinematics(nodes);
+    complete_list();
   }
   share_.bind(nodes);
   // Nodes dealt anew: this rank computes other rows, which the last build may not have searched.

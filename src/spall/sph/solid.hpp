@@ -179,6 +179,18 @@ class SolidFormulation final : public discretization::Formulation {
   void update_neighbour_list(discretization::NodeStore& nodes);
   neighbors::ParticleRange own_particles() const;
   neighbors::ParticleRange computed_rows() const;  // for the present force blocks
+  // Under MPI, after the first build: the list's rows this rank searches (rows_searched, for its
+  // own particles `own`), built from its own particles and the others' within reach of those rows,
+  // which come in from their ranks; returns every particle's box (the grid's).
+  BoundingBox search_near_rows(discretization::NodeStore& nodes);
+  neighbors::ParticleRange rows_searched(neighbors::ParticleRange own) const;
+  neighbors::ParticleRange particles_of(int rank) const;  // under MPI, dealt in blocks
+  // The list's skin for the largest h of every particle.
+  static Real list_skin(Real h_largest);
+  // Every particle's position and reach at the last list build (each rank's own come in), where the
+  // rows are searched from them whole (VerletList::search_every_row): after a build from a rank's
+  // own and nearby particles (search_near_rows), before the nodes are dealt anew or a checkpoint.
+  void complete_list();
   // corrected: *CONTROL_SPH FORM 1 (the moment and its inverse B), else plain SPH.
   // Returns the first particle whose state update left it unsound (sound()), else
   // particle_count(); none is updated while categorizing.
