@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "spall/core/communicator.hpp"
 #include "spall/core/parallel.hpp"
 
 namespace spall::contact {
@@ -58,6 +59,7 @@ void PenaltyContact::apply(NodeStore& nodes, Real t, Real dt) {
     }
     search(state, nodes);
     respond(state, nodes, dt);
+    share_touches(state);
     gather(state, nodes);
     state.started = true;
   }
@@ -66,7 +68,7 @@ void PenaltyContact::apply(NodeStore& nodes, Real t, Real dt) {
 // Each slave node's segment: of the segments in its cell (not one it is a corner of, nor one of
 // its own rigid body's, nor one with an eroded corner), the one with the closest point; a touch
 // when the node is behind its contact surface (Segment::contact_at), less deep than the segment's
-// reach, and not beside it (MAXPAR).
+// reach, and not beside it (MAXPAR). Under MPI, of this rank's own slave nodes.
 void PenaltyContact::search(PassState& state, const NodeStore& nodes) const {
   const Pass& pass = state.pass;
   const Definition& d = definition_;
@@ -74,7 +76,7 @@ void PenaltyContact::search(PassState& state, const NodeStore& nodes) const {
   parallel::for_each(static_cast<Index>(pass.slave.size()), [&](Index k) {
     const Index i = pass.slave[k];
     state.found[k] = -1;
-    if (!nodes.active[i] || !(nodes.mass[i] > 0)) return;
+    if (!nodes.owns(i) || !nodes.active[i] || !(nodes.mass[i] > 0)) return;
     const Vec3& x = nodes.x[i];
     Real best = std::numeric_limits<Real>::infinity(), gap = 0, beyond = 0;
     std::int32_t chosen = -1;
@@ -182,6 +184,19 @@ void PenaltyContact::respond(PassState& state, const NodeStore& nodes, Real dt) 
     if (size > limit) trial *= size > 0 ? limit / size : Real(0);
     touch.friction = trial;
   }, {.serial_below = 256});
+}
+
+// Under MPI each rank has searched and answered its own slave nodes: every rank's touches come in,
+// in slave order, so that each rank gathers every force (a rigid body sums its nodes', rcforc.csv
+// each side's) and keeps every touch's friction for the next step, as one process does.
+void PenaltyContact::share_touches(PassState& state) {
+  const parallel::Communicator& ranks = parallel::world();
+  if (ranks.size() == 1) return;
+  std::vector<Touch> all = ranks.all(std::span<const Touch>(state.touches));
+  std::sort(all.begin(), all.end(), [](const Touch& a, const Touch& b) { return a.slave < b.slave; });
+  state.touches = std::move(all);
+  std::fill(state.found.begin(), state.found.end(), -1);
+  for (const Touch& touch : state.touches) state.found[touch.slave] = touch.segment;
 }
 
 // Adds the forces to the nodes, in slave order: the slave takes F, the corners -w_J F.

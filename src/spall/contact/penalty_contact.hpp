@@ -8,7 +8,8 @@
 // mu f_n (and <= VC A). The reaction goes to the segment's corners with the weights of the contact
 // point. The slave node may be of any formulation (SPH, SPG, FEM, rigid), the segments faces of
 // any solid mesh (FEM, SPG, rigid). Forces are gathered in slave order: the same for any thread
-// count, and for any MPI rank count (every rank computes every touch: solver/simulation.cpp).
+// count, and for any MPI rank count (each rank finds and answers the touches of its own slave
+// nodes, then every rank gathers every touch: solver/simulation.cpp).
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -130,6 +131,7 @@ class PenaltyContact {
 
   void search(PassState& state, const discretization::NodeStore& nodes) const;
   void respond(PassState& state, const discretization::NodeStore& nodes, Real dt) const;
+  void share_touches(PassState& state);
   void gather(const PassState& state, discretization::NodeStore& nodes);
 
   Definition definition_;

@@ -73,9 +73,10 @@ class TimeLoop::Step {
     rbdout_ = {controls_.rbdout_dt, controls_.rbdout_dt_curve};
     runaway_speed_limit_ = runaway_speed_limit();
     initial_mass_ = parallel::exact_sum(nodes_.size(), [&](Index i) { return nodes_.mass[i]; });
-    // Contacts and bodies read every node (each rank computes them whole): with any of them, or a
-    // formulation that reads the other ranks' nodes beyond what it brings in, every velocity. A
-    // rigid wall acts on a rank's own nodes then (a moving one solved from every rank's).
+    // Contacts and bodies read every node (each rank searches its own slave nodes against every
+    // segment and computes every body whole): with any of them, or a formulation that reads the
+    // other ranks' nodes beyond what it brings in, every velocity. A rigid wall acts on a rank's
+    // own nodes then (a moving one solved from every rank's).
     const parallel::Communicator& ranks = parallel::world();
     const auto every = [&](auto&& is) { return std::all_of(problem_.formulations.begin(), problem_.formulations.end(), is); };
     halo_by_reach_ = problem_.contacts.empty() && problem_.rigid_bodies.empty() &&
@@ -219,9 +220,10 @@ class TimeLoop::Step {
   }
 
   // Penalty contact forces at x^n, from the slip of v^{n-1/2} over the last step. The soft
-  // constraint's stiffness takes the first step, known only now. Under MPI every rank computes every
-  // contact whole from the same positions, velocities and masses, so that each adds to its own
-  // nodes what one process adds, in the same order (replicated state, docs/SCALING.md).
+  // constraint's stiffness takes the first step, known only now. Under MPI each rank finds and
+  // answers the touches of its own slave nodes from the positions, velocities and masses every rank
+  // holds, and every rank then adds every touch's forces to the nodes in the order one process does
+  // (replicated state, docs/SCALING.md).
   void contact() {
     if (step_.step == 0 && !problem_.contacts.empty()) {
       const Real dt = step_limit();
@@ -351,7 +353,7 @@ class TimeLoop::Step {
     const Real weight = velocity_weight_, dt_mid = dt_mid_;
     const Real reaction_weight = step_.step == 0 ? Real(0.5) : weight;
     std::vector<Vec3>& v_n = v_old_;
-    // v^n of the other ranks' nodes is read only by the contacts, which every rank computes whole:
+    // v^n of the other ranks' nodes is read only by the contacts, whose energies every rank books whole:
     // without contacts a rank's own nodes alone (with the halo by reach the others' velocities may
     // be stale).
     const bool own_only = halo_by_reach_ || problem_.contacts.empty();
