@@ -232,7 +232,7 @@ void FluidFormulation::finish_build() {
 namespace {
 // A particle that comes in at a rebuild from the rank that holds it current (rebuild_near_region).
 struct Arrival {
-  Index node;
+  std::int64_t node;  // 64 bits: no padding travels
   Vec3 x, v;
   Real density;
   float rate, previous_rate;
@@ -289,9 +289,10 @@ void FluidFormulation::rebuild_near_region(discretization::NodeStore& nodes) {
   std::vector<Index> slot(nodes.size(), -1);
   for (Index a = 0; a < n; ++a) slot[node_[a]] = a;
   for (const Arrival& arrival : receive) {
-    const Index a = slot[arrival.node];
-    nodes.x[arrival.node] = arrival.x;
-    nodes.v[arrival.node] = arrival.v;
+    const auto i = static_cast<Index>(arrival.node);
+    const Index a = slot[i];
+    nodes.x[i] = arrival.x;
+    nodes.v[i] = arrival.v;
     density_[a] = arrival.density;
     rate_[a] = arrival.rate;
     previous_rate_[a] = arrival.previous_rate;
