@@ -27,7 +27,9 @@ struct BoundingBox {
     upper = upper.cwiseMax(b.upper);
   }
   Vec3 centre() const { return Real(0.5) * (lower + upper); }
-  bool contains(const Vec3& p) const { return (p.array() >= lower.array()).all() && (p.array() <= upper.array()).all(); }
+  bool contains(const Vec3& p) const {
+    return (p.array() >= lower.array()).all() && (p.array() <= upper.array()).all();
+  }
   // The box widened by `margin` on every side (empty stays empty).
   BoundingBox grown(Real margin) const {
     BoundingBox box = *this;

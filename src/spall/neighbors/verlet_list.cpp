@@ -167,7 +167,8 @@ void VerletList::build(std::span<const Vec3> x, std::span<const Real> reach, Rea
     const Index first = std::clamp(rows.begin, Index(0), n), last = std::clamp(rows.end, Index(0), n);
     const auto rows_binned = std::lower_bound(subset.begin(), subset.end(), last) -
                              std::lower_bound(subset.begin(), subset.end(), first);
-    if (std::adjacent_find(subset.begin(), subset.end(), std::greater_equal<>()) != subset.end() || (first < last && rows_binned != last - first))
+    const bool ascending = std::adjacent_find(subset.begin(), subset.end(), std::greater_equal<>()) == subset.end();
+    if (!ascending || (first < last && rows_binned != last - first))
       throw std::invalid_argument("neighbour search: binned particles not ascending, or a row asked for not binned");
     for (const Index i : subset) check(reach[i]);
     if (largest > binned->largest_reach)

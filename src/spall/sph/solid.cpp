@@ -552,13 +552,14 @@ BoundingBox SolidFormulation::search_near_rows(discretization::NodeStore& nodes)
   for (const BoxBounds& b : rows_parts) rows_box.include(box_of(b));
   const Real radius = 2 * largest_reach + skin;
   const Real rounding = 1e-12 * std::max(grid.lower.cwiseAbs().maxCoeff(), grid.upper.cwiseAbs().maxCoeff());
-  const std::vector<BoxBounds> near = ranks.each(bounds_of(rows_box.grown(1.001 * radius + rounding)));
+  std::vector<BoundingBox> near;
+  for (const BoxBounds& b : ranks.each(bounds_of(rows_box.grown(1.001 * radius + rounding)))) near.push_back(box_of(b));
 
   // This rank's particles within each other rank's reach, to it.
   std::vector<std::vector<Index>> to(size);
   for (Index a = own.begin; a < own.end; ++a)
     for (int r = 0; r < size; ++r)
-      if (r != self && box_of(near[r]).contains(x_[a])) to[r].push_back(a);
+      if (r != self && near[r].contains(x_[a])) to[r].push_back(a);
   std::vector<Index> send_offsets(size + 1, 0);
   for (int r = 0; r < size; ++r) send_offsets[r + 1] = send_offsets[r] + static_cast<Index>(to[r].size());
   std::vector<NearParticle> send(send_offsets[size]);
