@@ -1,7 +1,7 @@
 // The communicator's collectives (core/communicator.hpp), run as 1, 2 and 3 ranks: a global
 // minimum and exact sums give on every rank the answer one process computes from all the data,
 // bit for bit, however the data are split among the ranks; share() gives every rank every block
-// (a rank with none included); exchange() gives each rank what every other sent it. Every rank draws the same random
+// (a rank with none included); exchange() and deliver() give each rank what every other sent it. Every rank draws the same random
 // numbers, keeps its share, and checks the collective against the whole.
 #include <gtest/gtest.h>
 
@@ -179,6 +179,29 @@ TEST(Communicator, OffsetsInCountWhatEachRankSends) {
   ASSERT_EQ(in.size(), std::size_t(size + 1));
   EXPECT_EQ(in[0], 0);
   for (int r = 0; r < size; ++r) EXPECT_EQ(in[r + 1] - in[r], (r + 1) * (me + 1)) << "from rank " << r;
+}
+
+// deliver(): rank `me` sends rank r the list (me, r, 0), (me, r, 1), ... of me + 2 r items (none
+// from rank 0 to itself); each rank gets every sender's list, in rank order.
+TEST(Communicator, DeliverGivesEachRankItsListsInSenderOrder) {
+  const Communicator& ranks = world();
+  const int size = ranks.size(), me = ranks.rank();
+  struct Item {
+    std::int64_t from, to, k;
+  };
+  std::vector<std::vector<Item>> out(size);
+  for (int r = 0; r < size; ++r)
+    for (int k = 0; k < me + 2 * r; ++k) out[r].push_back({me, r, k});
+  const std::vector<Item> in = ranks.deliver(out);
+  std::size_t next = 0;
+  for (int from = 0; from < size; ++from)
+    for (int k = 0; k < from + 2 * me; ++k, ++next) {
+      ASSERT_LT(next, in.size());
+      EXPECT_EQ(in[next].from, from);
+      EXPECT_EQ(in[next].to, me);
+      EXPECT_EQ(in[next].k, k);
+    }
+  EXPECT_EQ(next, in.size());
 }
 
 // over_ranks(): each rank's box of its points (rank 1, when there is one, has none) merged into the

@@ -107,6 +107,19 @@ TEST(Regions, LatticePlanesStayWhole) {
   }
 }
 
+// Two cuts as near their share: the lower is taken (three points of weight 1 on 2 ranks: 1 and 2
+// below are both half a point off 1.5). A weightless point is a coordinate like any other: the
+// cut after x = 1 (1 below, the share) is taken, not the one after the weightless x = 2, as near.
+TEST(Regions, TiesTakeTheLowerCut) {
+  const std::vector<Vec3> row{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0)};
+  const Regions ties = Regions::cut(row, std::vector<double>(3, 1.0), 2);
+  EXPECT_EQ(counts(ties, row, 2), (std::vector<int>{1, 2}));
+  EXPECT_EQ(ties.box(0).upper[0], 0.5);
+  const std::vector<Vec3> four{Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0), Vec3(3, 0, 0)};
+  const Regions weightless = Regions::cut(four, std::vector<double>{0, 1, 0, 1}, 2);
+  EXPECT_EQ(weightless.box(0).upper[0], 1.5);
+}
+
 // Weights: points of weight 0 count for nothing, heavier ones for more.
 TEST(Regions, WeightsNotCounts) {
   const int n = 1000;
@@ -139,6 +152,31 @@ TEST(Regions, BoxesHoldTheirRanksPoints) {
     for (int r = 0; r < ranks; ++r) boxes += inside(regions.box(r), p);
     EXPECT_TRUE(inside(regions.box(regions.rank_of(p)), p));
     EXPECT_EQ(boxes, 1) << "a point off every face lies in one box";
+  }
+}
+
+// near(): the ranks whose region's box grown by the reach holds a point, as a test of every box
+// finds them, in rank order; points on the cuts, on their grown faces, beyond every side.
+TEST(Regions, NearFindsEveryGrownBoxThatHoldsThePoint) {
+  const auto x = random_points(300, Vec3(3, 2, 1), 21);
+  for (const int ranks : {1, 2, 5, 8}) {
+    const Regions regions = Regions::cut(x, std::vector<double>(x.size(), 1.0), ranks);
+    const Real reach = 0.25;
+    auto probes = random_points(3000, Vec3(4, 3, 2), 23);
+    for (Vec3& p : probes) p -= Vec3(0.5, 0.5, 0.5);
+    for (int r = 0; r < ranks; ++r) {  // on the faces and on the grown faces
+      const BoundingBox box = regions.box(r);
+      for (int d = 0; d < 3; ++d)
+        for (const Real c : {box.lower[d], box.upper[d], box.lower[d] - reach, box.upper[d] + reach})
+          if (std::isfinite(c)) probes.push_back(Vec3(1.5, 1, 0.5)), probes.back()[d] = c;
+    }
+    for (const Vec3& p : probes) {
+      std::vector<int> found, expected;
+      regions.near(p, reach, [&](int r) { found.push_back(r); });
+      for (int r = 0; r < ranks; ++r)
+        if (regions.box(r).grown(reach).contains(p)) expected.push_back(r);
+      EXPECT_EQ(found, expected) << ranks << " ranks, point " << p.transpose();
+    }
   }
 }
 

@@ -111,6 +111,23 @@ class Communicator {
     exchange_bytes(reinterpret_cast<const std::byte*>(send.data()), reinterpret_cast<std::byte*>(receive.data()),
                    sizeof(T), send_offsets, receive_offsets);
   }
+  // Each rank's lists out, one for each rank, and the lists for this one in: `out[r]` goes to rank
+  // r, and what every rank sent this one comes back one sender after another, in rank order (the
+  // counts by offsets_in, then exchange). Particles sent to the ranks that need them.
+  template <typename T>
+  std::vector<T> deliver(const std::vector<std::vector<T>>& out) const {
+    if (size_ == 1) return out[0];
+    std::vector<Index> send_offsets(size_ + 1, 0);
+    std::vector<T> send;
+    for (int r = 0; r < size_; ++r) {
+      send.insert(send.end(), out[r].begin(), out[r].end());
+      send_offsets[r + 1] = static_cast<Index>(send.size());
+    }
+    const std::vector<Index> receive_offsets = offsets_in(send_offsets);
+    std::vector<T> receive(receive_offsets[size_]);
+    exchange(std::span<const T>(send), send_offsets, std::span(receive), receive_offsets);
+    return receive;
+  }
   // Seconds spent in the collectives above so far, waiting for the other ranks included: the rest
   // of a rank's time is its own work, what load balancing evens out.
   double communicating_seconds() const { return communicating_; }

@@ -89,14 +89,22 @@ class TimeLoop::Step {
         // The work is in the particles that move (a fluid's fixed wall particles only lend their
         // density to the pairs): a node with mass weighs 1 unless an SPC holds it still; the
         // measured work corrects the cuts later (balance()).
-        std::vector<double> weight(nodes_.size());
-        for (Index i = 0; i < nodes_.size(); ++i) weight[i] = nodes_.mass[i] > 0 && (nodes_.fixed[i] & 7u) != 7u ? 1 : 0;
-        nodes_.deal(discretization::Regions::cut(nodes_.x, weight, ranks.size()), ranks.rank());
+        // Each rank brings a block of the nodes to the cut.
+        const Index begin = parallel::block_begin(nodes_.size(), ranks.rank(), ranks.size());
+        const Index end = parallel::block_begin(nodes_.size(), ranks.rank() + 1, ranks.size());
+        std::vector<double> weight(end - begin);
+        for (Index i = begin; i < end; ++i)
+          weight[i - begin] = nodes_.mass[i] > 0 && (nodes_.fixed[i] & 7u) != 7u ? 1 : 0;
+        const std::span<const Vec3> x(nodes_.x.data() + begin, end - begin);
+        nodes_.deal(discretization::Regions::cut(x, weight, ranks.size(), ranks), ranks.rank());
       } else {
         nodes_.deal(parallel::block_offsets(nodes_.size(), ranks.size()), ranks.rank());
       }
     }
+    // The loads are measured from here: the set-up's collectives (the cut among them) are not a
+    // rank's work, nor the time it waited in them.
     checked_at_ = std::chrono::steady_clock::now();
+    communicating_at_check_ = ranks.communicating_seconds();
     parallel::for_each(nodes_.size(), [&](Index i) { nodes_.f[i] = Vec3::Zero(); });
   }
 
@@ -168,16 +176,20 @@ class TimeLoop::Step {
     const double mean = std::accumulate(work.begin(), work.end(), 0.0) / ranks.size();
     if (!(*std::max_element(work.begin(), work.end()) > (1 + balance_.threshold) * mean)) return;
     if (nodes_.by_region()) {
-      complete_state();
-      std::vector<Index> count(ranks.size(), 0);
-      for (Index i = 0; i < nodes_.size(); ++i)
-        if (nodes_.mass[i] > 0) ++count[nodes_.owner[i]];
-      std::vector<double> weight(nodes_.size());
-      for (Index i = 0; i < nodes_.size(); ++i) {
-        const int r = nodes_.owner[i];
-        weight[i] = nodes_.mass[i] > 0 ? std::max(work[r], 0.0) / static_cast<double>(count[r]) : 0;
+      // Each rank brings its own nodes to the cut, each with mass weighing its rank's work over
+      // their number; every position comes in afterwards, for the deal.
+      std::vector<Vec3> x;
+      std::vector<double> weight;
+      for (const Index i : nodes_.owned) {
+        x.push_back(nodes_.x[i]);
+        weight.push_back(nodes_.mass[i] > 0 ? 1 : 0);
       }
-      nodes_.deal(discretization::Regions::cut(nodes_.x, weight, ranks.size()), ranks.rank());
+      const double with_mass = std::accumulate(weight.begin(), weight.end(), 0.0);
+      const double each = with_mass > 0 ? std::max(work[ranks.rank()], 0.0) / with_mass : 0;
+      for (double& w : weight) w *= each;
+      const discretization::Regions cuts = discretization::Regions::cut(x, weight, ranks.size(), ranks);
+      complete_state();
+      nodes_.deal(cuts, ranks.rank());
     } else {
       nodes_.deal(balanced_blocks(nodes_.rank_begin, work), ranks.rank());
     }

@@ -262,28 +262,18 @@ void FluidFormulation::rebuild_near_region(discretization::NodeStore& nodes) {
   }
   const Real asked = (1 + parameters_.skin) * support_ / stencil_reach;
   const Real reach = 5.5 * neighbors::CellList::cell_size_over(grid, asked);
-  std::vector<BoundingBox> near(size);
-  for (int r = 0; r < size; ++r) near[r] = nodes.regions.box(r).grown(reach);
   // Each of this rank's particles to every other rank whose region it is within reach of.
   std::vector<std::uint8_t> current(n, 0);
-  std::vector<std::vector<Index>> to(size);
+  std::vector<std::vector<Arrival>> to(size);
   for (Index a = 0; a < n; ++a) {
     if (!owns(a)) continue;
     current[a] = 1;
-    for (int r = 0; r < size; ++r)
-      if (r != self && near[r].contains(nodes.x[node_[a]])) to[r].push_back(a);
+    const Index i = node_[a];
+    nodes.regions.near(nodes.x[i], reach, [&](int r) {
+      if (r != self) to[r].push_back({i, nodes.x[i], nodes.v[i], density_[a], rate_[a], previous_rate_[a]});
+    });
   }
-  std::vector<Index> send_offsets(size + 1, 0);
-  for (int r = 0; r < size; ++r) send_offsets[r + 1] = send_offsets[r] + static_cast<Index>(to[r].size());
-  std::vector<Arrival> send(send_offsets[size]);
-  for (int r = 0; r < size; ++r)
-    for (std::size_t k = 0; k < to[r].size(); ++k) {
-      const Index a = to[r][k], i = node_[a];
-      send[send_offsets[r] + k] = {i, nodes.x[i], nodes.v[i], density_[a], rate_[a], previous_rate_[a]};
-    }
-  const std::vector<Index> receive_offsets = ranks.offsets_in(send_offsets);
-  std::vector<Arrival> receive(receive_offsets[size]);
-  ranks.exchange(std::span<const Arrival>(send), send_offsets, std::span(receive), receive_offsets);
+  const std::vector<Arrival> receive = ranks.deliver(to);
   // The particles that left this rank's region go to their new ranks' (which received them).
   if (nodes.migrate(node_)) share_.bind(nodes);
   std::vector<Index> slot(nodes.size(), -1);
@@ -300,8 +290,9 @@ void FluidFormulation::rebuild_near_region(discretization::NodeStore& nodes) {
   }
   // Binned here: the particles within reach of this rank's region (its own among them); the others
   // follow in their present order, in no cell.
+  const BoundingBox near_region = nodes.regions.box(self).grown(reach);
   std::vector<Index> local, others;
-  for (Index a = 0; a < n; ++a) (current[a] && near[self].contains(nodes.x[node_[a]]) ? local : others).push_back(a);
+  for (Index a = 0; a < n; ++a) (current[a] && near_region.contains(nodes.x[node_[a]]) ? local : others).push_back(a);
   const Index m = static_cast<Index>(local.size());
   std::vector<Vec3> x(m);
   std::vector<Id> id(m);

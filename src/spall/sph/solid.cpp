@@ -556,21 +556,11 @@ BoundingBox SolidFormulation::search_near_rows(discretization::NodeStore& nodes)
   for (const BoxBounds& b : ranks.each(bounds_of(rows_box.grown(1.001 * radius + rounding)))) near.push_back(box_of(b));
 
   // This rank's particles within each other rank's reach, to it.
-  std::vector<std::vector<Index>> to(size);
+  std::vector<std::vector<NearParticle>> to(size);
   for (Index a = own.begin; a < own.end; ++a)
     for (int r = 0; r < size; ++r)
-      if (r != self && near[r].contains(x_[a])) to[r].push_back(a);
-  std::vector<Index> send_offsets(size + 1, 0);
-  for (int r = 0; r < size; ++r) send_offsets[r + 1] = send_offsets[r] + static_cast<Index>(to[r].size());
-  std::vector<NearParticle> send(send_offsets[size]);
-  for (int r = 0; r < size; ++r)
-    for (std::size_t k = 0; k < to[r].size(); ++k) {
-      const Index a = to[r][k];
-      send[send_offsets[r] + k] = {a, x_[a], v_[a], smoothing_length(a)};
-    }
-  const std::vector<Index> receive_offsets = ranks.offsets_in(send_offsets);
-  std::vector<NearParticle> receive(receive_offsets[size]);
-  ranks.exchange(std::span<const NearParticle>(send), send_offsets, std::span(receive), receive_offsets);
+      if (r != self && near[r].contains(x_[a])) to[r].push_back({a, x_[a], v_[a], smoothing_length(a)});
+  const std::vector<NearParticle> receive = ranks.deliver(to);
   std::vector<Index> binned;
   binned.reserve(own.end - own.begin + receive.size());
   for (Index a = own.begin; a < own.end; ++a) binned.push_back(a);
