@@ -102,8 +102,11 @@ TEST(Regions, LatticePlanesStayWhole) {
         for (int k = 0; k < 4; ++k) EXPECT_EQ(regions.rank_of(Vec3(0.1 * i, 0.1 * j, 0.1 * k)), r);
     }
     const auto count = counts(regions, x, ranks);
-    if (ranks == 2) EXPECT_EQ(count, (std::vector<int>{80, 80}));
-    if (ranks == 3) EXPECT_EQ(count[0], 48);
+    if (ranks == 2) {
+      EXPECT_EQ(count, (std::vector<int>{80, 80}));
+    } else {
+      EXPECT_EQ(count[0], 48);
+    }
   }
 }
 

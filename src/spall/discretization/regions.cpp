@@ -37,38 +37,69 @@ struct SortedPoints {
   }
 };
 
-// The lowest key in [low, high] at or below which the points of every process weigh at least
-// `weight` (the points weigh that much at or below `high`): multisection, each round counting the
-// weight below up to 256 trial keys, one sum over the processes, the interval then shrunk to the
-// gap between two trials.
-std::uint64_t lowest_reaching(const SortedPoints& points, std::int64_t weight, std::uint64_t low,
-                              std::uint64_t high, const parallel::Communicator& among) {
+// One search of a multisection: the lowest key in [low, high] at or below which the points of
+// every process weigh at least `weight` (they weigh that much at or below `high`).
+struct Search {
+  const SortedPoints* points;
+  std::int64_t weight;
+  std::uint64_t low, high;
+};
+
+// Every search to its end at once: each round every unfinished one counts the weight below up to
+// 256 trial keys spread over its interval, one sum over the processes for all of them, and each
+// interval shrinks to the gap between two trials (at most 9 rounds for 64-bit keys).
+void run(std::span<Search> searches, const parallel::Communicator& among) {
   constexpr std::uint64_t most_trials = 256;
   std::vector<std::uint64_t> trial;
   std::vector<std::int64_t> below;
-  while (low < high) {
-    const std::uint64_t span = high - low, trials = std::min(span, most_trials);
-    trial.resize(trials);
-    below.resize(trials);
-    for (std::uint64_t j = 0; j < trials; ++j) {
-      trial[j] = low + static_cast<std::uint64_t>(static_cast<unsigned __int128>(span) * j / trials);
-      below[j] = points.weight_at_or_below(trial[j]);
+  std::vector<std::size_t> first(searches.size() + 1);
+  for (;;) {
+    trial.clear();
+    for (std::size_t s = 0; s < searches.size(); ++s) {
+      first[s] = trial.size();
+      const std::uint64_t low = searches[s].low, span = searches[s].high - low, trials = std::min(span, most_trials);
+      for (std::uint64_t j = 0; j < trials; ++j)
+        trial.push_back(low + static_cast<std::uint64_t>(static_cast<unsigned __int128>(span) * j / trials));
     }
+    first.back() = trial.size();
+    if (trial.empty()) return;
+    below.resize(trial.size());
+    for (std::size_t s = 0; s < searches.size(); ++s)
+      for (std::size_t k = first[s]; k < first[s + 1]; ++k) below[k] = searches[s].points->weight_at_or_below(trial[k]);
     among.sum(below);
-    const auto j = std::find_if(below.begin(), below.end(), [&](std::int64_t b) { return b >= weight; }) - below.begin();
-    if (j == 0) return low;
-    if (j == static_cast<std::ptrdiff_t>(trials)) {
-      low = trial.back() + 1;
-    } else {
-      low = trial[j - 1] + 1;
-      high = trial[j];
+    for (std::size_t s = 0; s < searches.size(); ++s) {
+      if (first[s] == first[s + 1]) continue;
+      Search& search = searches[s];
+      const auto begin = below.begin() + first[s], end = below.begin() + first[s + 1];
+      const std::size_t j = std::find_if(begin, end, [&](std::int64_t b) { return b >= search.weight; }) - begin;
+      if (j == 0) {
+        search.high = search.low;
+      } else if (begin + j == end) {
+        search.low = trial[first[s + 1] - 1] + 1;
+      } else {
+        search.low = trial[first[s] + j - 1] + 1;
+        search.high = trial[first[s] + j];
+      }
     }
   }
-  return low;
 }
+
+// A split still to cut: its points, [begin, end) of the list that the cuts above partitioned, and
+// what the processes found of them together.
+struct Part {
+  int split;
+  std::size_t begin, end;
+  int axis = 0;
+  SortedPoints sorted{};
+  std::int64_t points = 0, total = 0;  // of every process
+  std::uint64_t lowest = 0, highest = 0;
+  int above = -1, under = -1;  // its searches
+};
 
 }  // namespace
 
+// Level by level down the tree, every split of a level cut at once: each step below is one
+// collective for the whole level, so that P regions take about 25 log2(P) collectives.
 Regions Regions::cut(std::span<const Vec3> x, std::span<const double> w, int ranks,
                      const parallel::Communicator& among) {
   Regions regions;
@@ -89,91 +120,143 @@ Regions Regions::cut(std::span<const Vec3> x, std::span<const double> w, int ran
     }
   std::vector<Index> points(x.size());
   std::iota(points.begin(), points.end(), Index{0});
-  regions.add(x, weight, points, 0, ranks, among);
+  std::vector<Split>& splits = regions.splits_;
+  splits.push_back({.first = 0, .count = ranks});
+  std::vector<Part> level;
+  if (ranks > 1) level.push_back({.split = 0, .begin = 0, .end = points.size()});
+  constexpr Real infinity = std::numeric_limits<Real>::infinity();
+  while (!level.empty()) {
+    const std::size_t m = level.size();
+    // Across the longest side of the box of the points that weigh (of all of them when none
+    // does; a point that ran away counts in neither).
+    std::vector<double> boxes(12 * m);
+    for (std::size_t k = 0; k < m; ++k) {
+      BoundingBox weighing, all;
+      for (std::size_t p = level[k].begin; p < level[k].end; ++p)
+        if (const Index i = points[p]; x[i].allFinite()) {
+          all.include(x[i]);
+          if (weight[i] > 0) weighing.include(x[i]);
+        }
+      for (int d = 0; d < 3; ++d) {
+        boxes[12 * k + d] = weighing.lower[d], boxes[12 * k + 3 + d] = -weighing.upper[d];
+        boxes[12 * k + 6 + d] = all.lower[d], boxes[12 * k + 9 + d] = -all.upper[d];
+      }
+    }
+    among.minimum(boxes);
+    std::vector<std::int64_t> totals(2 * m);
+    std::vector<double> extremes(2 * m, infinity);
+    for (std::size_t k = 0; k < m; ++k) {
+      Part& part = level[k];
+      const double* b = &boxes[12 * k];
+      const int half = b[0] <= -b[3] ? 0 : 6;  // the weighing points' box unless empty
+      const Vec3 side(-b[half + 3] - b[half], -b[half + 4] - b[half + 1], -b[half + 5] - b[half + 2]);
+      if (b[half] <= -b[half + 3])
+        for (int d = 1; d < 3; ++d)
+          if (side[d] > side[part.axis]) part.axis = d;
+      const auto first = points.begin() + part.begin, last = points.begin() + part.end;
+      std::sort(first, last, [&](Index i, Index j) {
+        const std::uint64_t ki = key_of(x[i][part.axis]), kj = key_of(x[j][part.axis]);
+        return ki < kj || (ki == kj && i < j);
+      });
+      std::int64_t through = 0;
+      for (auto i = first; i != last; ++i) {
+        part.sorted.key.push_back(key_of(x[*i][part.axis]));
+        part.sorted.weight_through.push_back(through += weight[*i]);
+      }
+      totals[2 * k] = static_cast<std::int64_t>(part.end - part.begin), totals[2 * k + 1] = through;
+      if (first != last)
+        extremes[2 * k] = coordinate_of(part.sorted.key.front()), extremes[2 * k + 1] = -coordinate_of(part.sorted.key.back());
+    }
+    among.sum(totals);
+    among.minimum(extremes);
+
+    // The boundary after a coordinate a (not the highest) whose weight at or below is nearest
+    // low_ranks / count of the whole, the lowest such a when two are as near. The weight below
+    // only grows with a, so it is the highest a below the share or the lowest above it: the
+    // lowest key whose weight passes the share (`above`), and the lowest key that weighs what
+    // lies below that (`under`).
+    std::vector<Search> above, under;
+    const auto share_of = [&](const Part& part) {  // of the weight, times count
+      return static_cast<__int128>(part.total) * (splits[part.split].count / 2);
+    };
+    for (std::size_t k = 0; k < m; ++k) {
+      Part& part = level[k];
+      part.points = totals[2 * k], part.total = totals[2 * k + 1];
+      if (part.points == 0) continue;
+      part.lowest = key_of(extremes[2 * k]), part.highest = key_of(-extremes[2 * k + 1]);
+      const __int128 share = share_of(part);
+      const int count = splits[part.split].count;
+      if (share / count >= part.total) continue;  // nothing weighs
+      part.above = static_cast<int>(above.size());
+      above.push_back({&part.sorted, static_cast<std::int64_t>(share / count) + 1, part.lowest, part.highest});
+    }
+    run(above, among);
+    std::vector<std::int64_t> weights(2 * above.size());  // at or below above - 1, and above
+    for (const Part& part : level)
+      if (part.above >= 0) {
+        const std::uint64_t key = above[part.above].low;
+        weights[2 * part.above] = key > part.lowest ? part.sorted.weight_at_or_below(key - 1) : 0;
+        weights[2 * part.above + 1] = part.sorted.weight_at_or_below(key);
+      }
+    among.sum(weights);
+    for (Part& part : level)
+      if (part.above >= 0 && weights[2 * part.above] > 0) {
+        part.under = static_cast<int>(under.size());
+        under.push_back({&part.sorted, weights[2 * part.above], part.lowest, above[part.above].low - 1});
+      }
+    run(under, among);
+    std::vector<std::uint64_t> chosen(m);
+    std::vector<double> next(m, infinity);
+    for (std::size_t k = 0; k < m; ++k) {
+      const Part& part = level[k];
+      chosen[k] = part.highest;  // none
+      if (part.points == 0) continue;
+      if (part.above < 0) {
+        chosen[k] = part.lowest;  // nothing weighs: every boundary is as near, the first is taken
+      } else {
+        const std::uint64_t key = above[part.above].low;
+        const std::uint64_t low_key = part.under >= 0 ? under[part.under].low : part.lowest;
+        const __int128 share = share_of(part), count = splits[part.split].count;
+        const __int128 miss_under = share - weights[2 * part.above] * count;
+        const __int128 miss_above = weights[2 * part.above + 1] * count - share;
+        const bool under_exists = key > part.lowest;
+        chosen[k] = under_exists && (key >= part.highest || miss_under <= miss_above) ? low_key : key;
+      }
+      if (chosen[k] < part.highest) {
+        const auto after = std::upper_bound(part.sorted.key.begin(), part.sorted.key.end(), chosen[k]);
+        if (after != part.sorted.key.end()) next[k] = coordinate_of(*after);
+      }
+    }
+    among.minimum(next);
+
+    // The cut half way to the next coordinate above the one chosen; the children, for the next level.
+    std::vector<Part> children;
+    for (std::size_t k = 0; k < m; ++k) {
+      const Part& part = level[k];
+      Real at = part.points > 0 ? extremes[2 * k] : 0;  // no boundary: every point on the upper side
+      std::size_t below = 0;
+      if (part.points > 0 && chosen[k] < part.highest) {
+        below = static_cast<std::size_t>(
+            std::upper_bound(part.sorted.key.begin(), part.sorted.key.end(), chosen[k]) - part.sorted.key.begin());
+        const Real a = coordinate_of(chosen[k]), b = next[k];
+        at = std::isfinite(b) ? a + Real(0.5) * (b - a) : b;
+        if (!(at > a)) at = b;  // a and b adjacent doubles
+      }
+      const Split split = splits[part.split];
+      const int low_ranks = split.count / 2;
+      splits[part.split].axis = part.axis;
+      splits[part.split].at = at;
+      splits[part.split].low = static_cast<int>(splits.size());
+      splits.push_back({.first = split.first, .count = low_ranks});
+      splits[part.split].high = static_cast<int>(splits.size());
+      splits.push_back({.first = split.first + low_ranks, .count = split.count - low_ranks});
+      if (low_ranks > 1) children.push_back({.split = splits[part.split].low, .begin = part.begin, .end = part.begin + below});
+      if (split.count - low_ranks > 1)
+        children.push_back({.split = splits[part.split].high, .begin = part.begin + below, .end = part.end});
+    }
+    level = std::move(children);
+  }
   return regions;
-}
-
-int Regions::add(std::span<const Vec3> x, std::span<const std::int64_t> weight, std::span<Index> points, int first,
-                 int count, const parallel::Communicator& among) {
-  const int here = static_cast<int>(splits_.size());
-  splits_.push_back({.first = first, .count = count});
-  if (count == 1) return here;
-  // Across the longest side of the box of the points that weigh (of all of them when none does;
-  // a point that ran away counts in neither).
-  BoundingBox weighing, all;
-  for (const Index i : points)
-    if (x[i].allFinite()) {
-      all.include(x[i]);
-      if (weight[i] > 0) weighing.include(x[i]);
-    }
-  weighing = over_ranks(weighing, among);
-  const BoundingBox box = weighing.empty() ? over_ranks(all, among) : weighing;
-  int axis = 0;
-  if (!box.empty()) {
-    const Vec3 side = box.upper - box.lower;
-    for (int d = 1; d < 3; ++d)
-      if (side[d] > side[axis]) axis = d;
-  }
-  std::sort(points.begin(), points.end(), [&](Index i, Index j) {
-    const std::uint64_t ki = key_of(x[i][axis]), kj = key_of(x[j][axis]);
-    return ki < kj || (ki == kj && i < j);
-  });
-  SortedPoints sorted;
-  std::int64_t through = 0;
-  for (const Index i : points) {
-    sorted.key.push_back(key_of(x[i][axis]));
-    sorted.weight_through.push_back(through += weight[i]);
-  }
-  std::int64_t totals[2] = {static_cast<std::int64_t>(points.size()), through};
-  among.sum(totals);
-  const std::int64_t total = totals[1];
-  double extremes[2] = {std::numeric_limits<Real>::infinity(), std::numeric_limits<Real>::infinity()};
-  if (!points.empty()) extremes[0] = coordinate_of(sorted.key.front()), extremes[1] = -coordinate_of(sorted.key.back());
-  among.minimum(extremes);
-
-  // The boundary after a coordinate a (not the highest) whose weight at or below is nearest
-  // low_ranks / count of the whole, the lowest such a when two are as near. The weight below only
-  // grows with a, so it is the highest a below the share or the lowest above it: the lowest key
-  // whose weight passes the share (`above`), and the lowest key that weighs what lies below that.
-  const int low_ranks = count / 2;
-  std::size_t below = 0;  // this process's points on the lower side
-  Real at = totals[0] > 0 ? extremes[0] : 0;
-  if (totals[0] > 0) {
-    const std::uint64_t lowest = key_of(extremes[0]), highest = key_of(-extremes[1]);
-    const auto share = static_cast<__int128>(total) * low_ranks;  // of the weight, times count
-    std::uint64_t chosen = highest;  // none yet
-    if (share / count < total) {
-      const auto passing = static_cast<std::int64_t>(share / count) + 1;
-      const std::uint64_t above = lowest_reaching(sorted, passing, lowest, highest, among);
-      std::int64_t weights[2] = {above > lowest ? sorted.weight_at_or_below(above - 1) : 0,
-                                 sorted.weight_at_or_below(above)};
-      among.sum(weights);
-      const std::uint64_t under = weights[0] == 0 ? lowest : lowest_reaching(sorted, weights[0], lowest, above - 1, among);
-      const bool under_exists = above > lowest;
-      const __int128 miss_under = share - static_cast<__int128>(weights[0]) * count;
-      const __int128 miss_above = static_cast<__int128>(weights[1]) * count - share;
-      chosen = under_exists && under < highest && (above >= highest || miss_under <= miss_above) ? under : above;
-    } else {
-      chosen = lowest;  // nothing weighs: every boundary is as near, the first is taken
-    }
-    if (chosen < highest) {
-      // The next coordinate above the one chosen, the cut half way.
-      const auto next_here = std::upper_bound(sorted.key.begin(), sorted.key.end(), chosen);
-      below = static_cast<std::size_t>(next_here - sorted.key.begin());
-      double next = next_here == sorted.key.end() ? std::numeric_limits<Real>::infinity() : coordinate_of(*next_here);
-      among.minimum({&next, 1});
-      const Real a = coordinate_of(chosen), b = next;
-      at = std::isfinite(b) ? a + Real(0.5) * (b - a) : b;
-      if (!(at > a)) at = b;  // a and b adjacent doubles
-    }
-  }
-  splits_[here].axis = axis;
-  splits_[here].at = at;
-  const int low = add(x, weight, points.first(below), first, low_ranks, among);
-  const int high = add(x, weight, points.subspan(below), first + low_ranks, count - low_ranks, among);
-  splits_[here].low = low;
-  splits_[here].high = high;
-  return here;
 }
 
 int Regions::rank_of(const Vec3& p) const {

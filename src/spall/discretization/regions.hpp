@@ -24,9 +24,9 @@ class Regions {
   // hold their share to within one plane of a lattice. Weights count in steps of 2^-30 of the
   // heaviest point's. No process sorts or holds more than its own points: each cut is found by
   // multisection, every process counting the weight of its points below 256 trial planes at once,
-  // one sum over the processes a round, at most 9 rounds a search (docs/SCALING.md, "Ownership by
-  // region"). The cuts depend on the points and weights alone, not on how the processes share them,
-  // and every process gets the same. Collective over `among`.
+  // one sum over the processes a round for every split of a level of the tree, at most 9 rounds a
+  // search (docs/SCALING.md, "Ownership by region"). The cuts depend on the points and weights
+  // alone, not on how the processes share them, and every process gets the same. Collective.
   static Regions cut(std::span<const Vec3> x, std::span<const double> w, int ranks,
                      const parallel::Communicator& among);
   // Every point on this process.
@@ -60,9 +60,6 @@ class Regions {
     int low = -1, high = -1;
     friend bool operator==(const Split&, const Split&) = default;
   };
-  int add(std::span<const Vec3> x, std::span<const std::int64_t> weight, std::span<Index> points, int first,
-          int count, const parallel::Communicator& among);
-
   template <class Visit>
   void near(int s, const Vec3& p, Real reach, Visit& visit) const {
     const Split& split = splits_[s];
