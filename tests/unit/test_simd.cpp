@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <random>
+#include <span>
 #include <vector>
 
 #include "spall/core/simd.hpp"
@@ -319,4 +320,27 @@ TEST(FloatPackLanes, WhatTheFluidsPairLoopsTakeMatchesTheScalarLanes) {
       }
     }
   }
+}
+
+namespace {
+
+__attribute__((noinline)) double weigh(std::span<const double> w) {
+  double sum = 0;
+  for (std::size_t i = 0; i < w.size(); ++i) sum += w[i] * static_cast<double>(i + 1);
+  return sum;
+}
+
+}  // namespace
+
+// The build's flags compile constant vectors as written: Debian 12's GCC 12.2 with AVX-512 stores
+// {1, 1, 1, 0} as four ones after a broadcast of 1.0 in the same function unless moves wider than
+// 128 bits are off (CMakeLists.txt checks the compiler and sets the flags; this is the same code
+// built with them, so that a build that lost the flags fails here).
+TEST(Compiler, ConstantVectorsAfterABroadcastKeepTheirZeros) {
+  EXPECT_EQ(weigh(std::vector<double>(4, 1.0)), 10.0);
+  EXPECT_EQ(weigh(std::vector<double>{1, 1, 1, 0}), 6.0);
+  EXPECT_EQ(weigh(std::vector<double>(4, 2.0)), 20.0);
+  EXPECT_EQ(weigh(std::vector<double>{2, 2, 0, 0}), 6.0);
+  EXPECT_EQ(weigh(std::vector<double>(8, 1.0)), 36.0);
+  EXPECT_EQ(weigh(std::vector<double>{1, 1, 1, 1, 1, 1, 1, 0}), 28.0);
 }
