@@ -217,7 +217,7 @@ TEST(Regions, DegenerateInputsStillCoverSpace) {
 }
 
 // NodeStore dealt by region: each node's rank follows its position when its rank migrates it, and
-// the partition changes only when a node changed rank.
+// the partition changes only when a node changed rank (not when the regions are cut anew).
 TEST(Regions, NodesMigrateWithTheirPositions) {
   NodeStore nodes;
   nodes.resize(4);
@@ -246,6 +246,16 @@ TEST(Regions, NodesMigrateWithTheirPositions) {
   EXPECT_EQ(nodes.owner, (std::vector<std::int32_t>{1, 1, 1, 1}));
   EXPECT_FALSE(nodes.owns(1));
   EXPECT_EQ(nodes.owned_count(), 0);
+  // Cut anew: the ranks stay, and the partition, until the nodes migrate into the new regions.
+  nodes.x = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0), Vec3(3, 0, 0)};
+  nodes.deal(Regions::cut(nodes.x, std::vector<double>(4, 1.0), 1), 0);  // every node this rank's
+  const long long before_recut = nodes.partition;
+  nodes.recut(Regions::cut(nodes.x, std::vector<double>{1, 1, 1, 0}, 2));
+  EXPECT_EQ(nodes.owner, (std::vector<std::int32_t>{0, 0, 0, 0}));
+  EXPECT_EQ(nodes.partition, before_recut);
+  EXPECT_TRUE(nodes.migrate(all));
+  EXPECT_EQ(nodes.owner, (std::vector<std::int32_t>{0, 1, 1, 1}));
+  EXPECT_EQ(nodes.owned, (std::vector<Index>{0}));
   nodes.deal(std::vector<Index>{0, 3, 4}, 1);  // blocks again
   EXPECT_FALSE(nodes.by_region());
   EXPECT_EQ(nodes.owner, (std::vector<std::int32_t>{0, 0, 0, 1}));

@@ -104,6 +104,11 @@ struct NodeStore {
     ++partition;
   }
 
+  // By region, cut anew: each node stays with its rank until it migrates at the formulations'
+  // next rebuild (on the serial run's schedule, so that no sum changes order), so nothing travels
+  // here and the partition is the same until then.
+  void recut(Regions cuts) { regions = std::move(cuts); }
+
   // By region: each of `moving`'s nodes that this rank computes goes to the rank of the region its
   // position is in now (only the owner's copy of a position need be current), and every rank
   // learns every change (the changes alone travel), so that all hold the same owners. Counts as a

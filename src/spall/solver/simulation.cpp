@@ -177,7 +177,7 @@ class TimeLoop::Step {
     if (!(*std::max_element(work.begin(), work.end()) > (1 + balance_.threshold) * mean)) return;
     if (nodes_.by_region()) {
       // Each rank brings its own nodes to the cut, each with mass weighing its rank's work over
-      // their number; every position comes in afterwards, for the deal.
+      // their number; the nodes then migrate to their new regions' ranks with their particles.
       std::vector<Vec3> x;
       std::vector<double> weight;
       for (const Index i : nodes_.owned) {
@@ -187,9 +187,7 @@ class TimeLoop::Step {
       const double with_mass = std::accumulate(weight.begin(), weight.end(), 0.0);
       const double each = with_mass > 0 ? std::max(work[ranks.rank()], 0.0) / with_mass : 0;
       for (double& w : weight) w *= each;
-      const discretization::Regions cuts = discretization::Regions::cut(x, weight, ranks.size(), ranks);
-      complete_state();
-      nodes_.deal(cuts, ranks.rank());
+      nodes_.recut(discretization::Regions::cut(x, weight, ranks.size(), ranks));
     } else {
       nodes_.deal(balanced_blocks(nodes_.rank_begin, work), ranks.rank());
     }
