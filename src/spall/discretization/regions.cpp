@@ -116,7 +116,9 @@ Regions Regions::cut(std::span<const Vec3> x, std::span<const double> w, int ran
   if (heaviest > 0)
     for (std::size_t i = 0; i < x.size(); ++i) {
       const double share = w[i] / heaviest;
-      weight[i] = !(w[i] > 0) ? 0 : !(share < 1) ? std::int64_t{1} << 30 : std::max<std::int64_t>(1, std::llround(share * unit));
+      weight[i] = !(w[i] > 0)     ? 0
+                  : !(share < 1) ? std::int64_t{1} << 30
+                                 : std::max<std::int64_t>(1, std::llround(share * unit));
     }
   std::vector<Index> points(x.size());
   std::iota(points.begin(), points.end(), Index{0});
@@ -164,8 +166,10 @@ Regions Regions::cut(std::span<const Vec3> x, std::span<const double> w, int ran
         part.sorted.weight_through.push_back(through += weight[*i]);
       }
       totals[2 * k] = static_cast<std::int64_t>(part.end - part.begin), totals[2 * k + 1] = through;
-      if (first != last)
-        extremes[2 * k] = coordinate_of(part.sorted.key.front()), extremes[2 * k + 1] = -coordinate_of(part.sorted.key.back());
+      if (first != last) {
+        extremes[2 * k] = coordinate_of(part.sorted.key.front());
+        extremes[2 * k + 1] = -coordinate_of(part.sorted.key.back());
+      }
     }
     among.sum(totals);
     among.minimum(extremes);
@@ -250,7 +254,8 @@ Regions Regions::cut(std::span<const Vec3> x, std::span<const double> w, int ran
       splits.push_back({.first = split.first, .count = low_ranks});
       splits[part.split].high = static_cast<int>(splits.size());
       splits.push_back({.first = split.first + low_ranks, .count = split.count - low_ranks});
-      if (low_ranks > 1) children.push_back({.split = splits[part.split].low, .begin = part.begin, .end = part.begin + below});
+      if (low_ranks > 1)
+        children.push_back({.split = splits[part.split].low, .begin = part.begin, .end = part.begin + below});
       if (split.count - low_ranks > 1)
         children.push_back({.split = splits[part.split].high, .begin = part.begin + below, .end = part.end});
     }

@@ -162,7 +162,7 @@ class TimeLoop::Step {
  private:
   // Under MPI, every balance_.interval steps: each rank's own work since the last check (LoadBalance);
   // past the threshold, the nodes are dealt anew: the blocks moved, or the regions cut again with
-  // each node weighing its rank's work over its rank's nodes (every position brought in first).
+  // each node weighing its rank's work over its rank's nodes (the nodes move into them at the next rebuild).
   // Every rank takes the decision from the same numbers, so all take it alike.
   void balance() {
     const parallel::Communicator& ranks = parallel::world();
