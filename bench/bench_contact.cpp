@@ -82,7 +82,7 @@ void BM_ContactPunchOnSpgBlock(benchmark::State& state) {
     p.controls.end_cycle = steps;
     p.controls.glstat_dt = 1.0;  // histories are not what is measured
     particles = 0;
-    for (Index i = 0; i < p.nodes.size(); ++i) particles += p.part_of_node[i] == 1;
+    for (Index i = 0; i < p.nodes.size(); ++i) particles += p.nodes.part[i] == 1;
     slaves = contact ? particles : 0;
     state.ResumeTiming();
     solver::TimeLoop loop(p, {});

@@ -105,7 +105,7 @@ void BM_SphFluidBlock(benchmark::State& state) {
     solver::Problem problem;
     auto& nodes = problem.nodes;
     nodes.resize(n * n * n);
-    problem.part_of_node.assign(n * n * n, 1);
+    problem.nodes.part.assign(n * n * n, 1);
     std::vector<Index> particles(n * n * n);
     for (int k = 0, i = 0; k < n; ++k)
       for (int j = 0; j < n; ++j)

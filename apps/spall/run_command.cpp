@@ -308,6 +308,13 @@ int run_deck(const RunOptions& options) {
     info.communicating_seconds_mean = seconds_sum.value() / ranks.size();
     info.communicating_seconds_max = -largest[1];
   }
+  // The rows each rank holds now (collective).
+  std::int64_t rows = problem.nodes.size();
+  double most = -static_cast<double>(rows);
+  ranks.sum({&rows, 1});
+  ranks.minimum({&most, 1});
+  info.node_rows_mean = static_cast<double>(rows) / ranks.size();
+  info.node_rows_max = static_cast<long long>(-most);
   if (!writes) return code;
   info.wall_seconds = wall_seconds_before + progress.elapsed_seconds();
   info.rebalances = loop.rebalances();

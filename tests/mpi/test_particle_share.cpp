@@ -213,43 +213,59 @@ TEST(ParticleShare, CompleteRowsFromEachRanksOwn) {
 }
 
 // ReachShare: each rank reads a few particles of the others' (those within `reach` of its own, in
-// a storage order of each rank's own, and one far away), writes -1 into every particle it does not own, and
-// after the share holds the true values of exactly the particles it reads; the rest stay -1.
+// a storage order of each rank's own, and one far away), writes -1 into every particle it does not
+// own, and after the share holds the true values of exactly the particles it reads; the rest stay
+// -1. Also with the node store's rows in an order of each rank's own (dealt by region): the
+// particles are asked for by their nodes' places in the deck.
 TEST(ReachShare, BringsInWhatEachRankReadsAndNothingElse) {
   const Index n = 203;
-  std::vector<Index> node(n);
-  std::iota(node.begin(), node.end(), Index(0));
-  std::shuffle(node.begin(), node.end(), std::mt19937(37 + parallel::world().rank()));  // each rank's own order
-  ParticleShare share;
-  share.bind(dealt_nodes(n));
-  std::vector<std::uint8_t> reads(n, 0);
-  for (Index a = 0; a < n; ++a)
-    for (Index reach = -3; reach <= 3; ++reach)
-      if (share.owns(std::clamp(node[a] + reach, Index(0), n - 1))) reads[a] = 1;
-  reads[std::find(node.begin(), node.end(), Index(0)) - node.begin()] = 1;  // every rank reads node 0
-  ReachShare reach;
-  EXPECT_FALSE(reach.planned());
-  reach.plan(reads, node, share);
-  EXPECT_TRUE(reach.planned());
-  std::vector<Value> values(n, Value{-1.0, -1});
-  std::vector<double> doubled(n, -1.0), none;
-  for (Index a = 0; a < n; ++a)
-    if (share.owns(node[a])) values[a] = Value{0.5 * node[a], static_cast<int>(node[a])}, doubled[a] = 2.0 * node[a];
-  reach(values, none, doubled);
-  EXPECT_TRUE(none.empty());
-  Index read_of_others = 0;
-  for (Index a = 0; a < n; ++a) {
-    const bool known = share.owns(node[a]) || reads[a];
-    read_of_others += reads[a] && !share.owns(node[a]);
-    EXPECT_EQ(values[a].x, known ? 0.5 * node[a] : -1.0) << "particle " << a;
-    EXPECT_EQ(values[a].node, known ? node[a] : -1) << "particle " << a;
-    EXPECT_EQ(doubled[a], known ? 2.0 * node[a] : -1.0) << "particle " << a;
+  for (const bool own_rows : {false, true}) {
+    NodeStore nodes = dealt_nodes(n);
+    if (own_rows) {  // dealt by region along x instead, in rows of each rank's own order
+      for (Index i = 0; i < n; ++i) nodes.x[i] = Vec3(i, 0, 0);
+      const parallel::Communicator& ranks = parallel::world();
+      nodes.deal(Regions::cut(nodes.x, std::vector<double>(n, 1.0), ranks.size()), ranks.rank());
+      std::vector<Index> rows(n);
+      std::iota(rows.begin(), rows.end(), Index(0));
+      std::shuffle(rows.begin(), rows.end(), std::mt19937(11 + parallel::world().rank()));
+      nodes.keep(rows);
+    }
+    std::vector<Index> node(n);
+    std::iota(node.begin(), node.end(), Index(0));
+    std::shuffle(node.begin(), node.end(), std::mt19937(37 + parallel::world().rank()));  // each rank's own order
+    const auto deck = [&](Index a) { return nodes.deck_index(node[a]); };
+    ParticleShare share;
+    share.bind(nodes);
+    std::vector<std::uint8_t> reads(n, 0);
+    for (Index a = 0; a < n; ++a)
+      for (Index reach = -3; reach <= 3; ++reach)
+        if (share.owns(nodes.row_of(std::clamp(deck(a) + reach, Index(0), n - 1)))) reads[a] = 1;
+    for (Index a = 0; a < n; ++a)
+      if (deck(a) == 0) reads[a] = 1;  // every rank reads node 0
+    ReachShare reach;
+    EXPECT_FALSE(reach.planned());
+    reach.plan(reads, node, share, nodes);
+    EXPECT_TRUE(reach.planned());
+    std::vector<Value> values(n, Value{-1.0, -1});
+    std::vector<double> doubled(n, -1.0), none;
+    for (Index a = 0; a < n; ++a)
+      if (share.owns(node[a])) values[a] = Value{0.5 * deck(a), static_cast<int>(deck(a))}, doubled[a] = 2.0 * deck(a);
+    reach(values, none, doubled);
+    EXPECT_TRUE(none.empty());
+    Index read_of_others = 0;
+    for (Index a = 0; a < n; ++a) {
+      const bool known = share.owns(node[a]) || reads[a];
+      read_of_others += reads[a] && !share.owns(node[a]);
+      EXPECT_EQ(values[a].x, known ? 0.5 * deck(a) : -1.0) << "particle " << a << ", own rows " << own_rows;
+      EXPECT_EQ(values[a].node, known ? deck(a) : -1) << "particle " << a << ", own rows " << own_rows;
+      EXPECT_EQ(doubled[a], known ? 2.0 * deck(a) : -1.0) << "particle " << a << ", own rows " << own_rows;
+    }
+    EXPECT_EQ(reach.received(), read_of_others);
+    // What the ranks receive, they send: the totals agree.
+    std::int64_t counts[2] = {reach.sent(), reach.received()};
+    parallel::world().sum(counts);
+    EXPECT_EQ(counts[0], counts[1]);
   }
-  EXPECT_EQ(reach.received(), read_of_others);
-  // What the ranks receive, they send: the totals agree.
-  std::int64_t counts[2] = {reach.sent(), reach.received()};
-  parallel::world().sum(counts);
-  EXPECT_EQ(counts[0], counts[1]);
 }
 
 TEST(ParticleShare, EveryParticleOwnedUntilBound) {

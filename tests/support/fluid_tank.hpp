@@ -80,7 +80,7 @@ inline FluidTankProblem fluid_tank_problem(const FluidTank& t) {
       }
   const Index n = static_cast<Index>(x.size());
   nodes.resize(n);
-  out.problem.part_of_node.assign(n, 1);
+  out.problem.nodes.part.assign(n, 1);
   std::vector<Index> slot(n), particles(n);  // node p (ID p + 1) is stored at slot[p]
   std::iota(slot.begin(), slot.end(), Index(0));
   std::iota(particles.begin(), particles.end(), Index(0));
@@ -97,7 +97,7 @@ inline FluidTankProblem fluid_tank_problem(const FluidTank& t) {
     if (plane) nodes.fixed[i] = 4;  // plane strain: the particles stay in their plane
     if (wall[p]) {
       nodes.fixed[i] = 7;
-      out.problem.part_of_node[i] = 2;
+      out.problem.nodes.part[i] = 2;
       out.wall_nodes.push_back(i);
     } else {
       out.fluid_nodes.push_back(i);

@@ -30,7 +30,7 @@ inline RingsRun run_rubber_rings(const RubberRings& rings) {
   const auto& nodes = problem.nodes;
   const Index n = nodes.size();
   std::vector<int> part(n);
-  for (Index i = 0; i < n; ++i) part[i] = problem.part_of_node[i];
+  for (Index i = 0; i < n; ++i) part[i] = problem.nodes.part[i];
   // Initial nearest neighbours on the lattice (4 inside, fewer at the surfaces), each pair once.
   std::vector<std::pair<Index, Index>> pairs;
   for (Index a = 0; a < n; ++a)

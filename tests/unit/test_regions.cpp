@@ -216,9 +216,10 @@ TEST(Regions, DegenerateInputsStillCoverSpace) {
   EXPECT_EQ(count[0] + count[1] + count[2] + count[3] + count[4], 20);
 }
 
-// NodeStore dealt by region: each node's rank follows its position when its rank migrates it, and
-// the partition changes only when a node changed rank (not when the regions are cut anew).
-TEST(Regions, NodesMigrateWithTheirPositions) {
+// NodeStore dealt by region: each node is its region's rank's, and the ranks and the partition stay
+// when the regions are cut anew (the nodes move into them at the formulation's next rebuild,
+// keep); dealt in blocks again, the blocks.
+TEST(Regions, NodesDealtByRegionKeepTheirRanksWhenCutAnew) {
   NodeStore nodes;
   nodes.resize(4);
   nodes.x = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0), Vec3(3, 0, 0)};
@@ -229,39 +230,17 @@ TEST(Regions, NodesMigrateWithTheirPositions) {
   EXPECT_EQ(nodes.owned_node(1), 1);
   EXPECT_TRUE(nodes.owns(1));
   EXPECT_FALSE(nodes.owns(2));
-  const long long dealt = nodes.partition;
-  const std::vector<Index> all{0, 1, 2, 3};
-  nodes.x[0] = Vec3(0.5, 3, 0);
-  EXPECT_FALSE(nodes.migrate(all));
-  EXPECT_EQ(nodes.partition, dealt);
-  nodes.x[0] = Vec3(2.9, 0, 0);
-  nodes.x[1] = Vec3(2.5, 0, 0);
-  nodes.x[3] = Vec3(-5, 0, 0);
-  EXPECT_TRUE(nodes.migrate(std::vector<Index>{0, 3}));  // node 1 not among those migrating
-  // Node 3 is rank 1's to move (this process is rank 0): only its owner holds its position current.
-  EXPECT_EQ(nodes.owner, (std::vector<std::int32_t>{1, 0, 1, 1}));
-  EXPECT_EQ(nodes.owned, (std::vector<Index>{1}));
-  EXPECT_EQ(nodes.partition, dealt + 1);
-  EXPECT_TRUE(nodes.migrate(all));
-  EXPECT_EQ(nodes.owner, (std::vector<std::int32_t>{1, 1, 1, 1}));
-  EXPECT_FALSE(nodes.owns(1));
-  EXPECT_EQ(nodes.owned_count(), 0);
-  // Cut anew: the ranks stay, and the partition, until the nodes migrate into the new regions.
-  nodes.x = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0), Vec3(3, 0, 0)};
   nodes.deal(Regions::cut(nodes.x, std::vector<double>(4, 1.0), 1), 0);  // every node this rank's
   const long long before_recut = nodes.partition;
   nodes.recut(Regions::cut(nodes.x, std::vector<double>{1, 1, 1, 0}, 2));
   EXPECT_EQ(nodes.owner, (std::vector<std::int32_t>{0, 0, 0, 0}));
   EXPECT_EQ(nodes.partition, before_recut);
-  EXPECT_TRUE(nodes.migrate(all));
-  EXPECT_EQ(nodes.owner, (std::vector<std::int32_t>{0, 1, 1, 1}));
-  EXPECT_EQ(nodes.owned, (std::vector<Index>{0}));
+  EXPECT_EQ(nodes.regions.rank_of(nodes.x[1]), 1);
   nodes.deal(std::vector<Index>{0, 3, 4}, 1);  // blocks again
   EXPECT_FALSE(nodes.by_region());
   EXPECT_EQ(nodes.owner, (std::vector<std::int32_t>{0, 0, 0, 1}));
   EXPECT_EQ(nodes.owned_count(), 1);
   EXPECT_EQ(nodes.owned_node(0), 3);
-  EXPECT_FALSE(nodes.migrate(all));
 }
 
 }  // namespace

@@ -113,7 +113,7 @@ TEST(SpgSetup, MassesAndSupportsFromTheMesh) {
       count *= on_face ? 1 : 2;
     }
     EXPECT_NEAR(p.nodes.mass[i], count * element_mass / 8, 1e-12 * element_mass) << "node " << p.nodes.id[i];
-    EXPECT_EQ(p.part_of_node[i], 1);
+    EXPECT_EQ(p.nodes.part[i], 1);
   }
   // Bonds of an interior particle: DX 1.6 with cubical support reaches the 26 lattice neighbours.
   const auto& part = spg.parts().front();

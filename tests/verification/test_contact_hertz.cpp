@@ -89,9 +89,9 @@ TEST(HertzImpact, SphereOnRigidPlane) {
   Real mass = 0;
   Index pole = 0;
   for (Index i = 0; i < nodes.size(); ++i)
-    if (problem.part_of_node[i] == 1) {
+    if (problem.nodes.part[i] == 1) {
       mass += nodes.mass[i];
-      if (nodes.x[i].z() < nodes.x[pole].z() || problem.part_of_node[pole] != 1) pole = i;
+      if (nodes.x[i].z() < nodes.x[pole].z() || problem.nodes.part[pole] != 1) pole = i;
     }
   const Real e_star = young / (1 - poisson * poisson);
   const Real hertz = 2.868 * std::pow(mass * mass / (radius * e_star * e_star * speed), 0.2);
@@ -128,7 +128,7 @@ TEST(HertzImpact, SphereOnRigidPlane) {
   const Real duration = 0.5 * (last + after) - 0.5 * (before + first);
   Vec3 momentum = Vec3::Zero();
   for (Index i = 0; i < nodes.size(); ++i)
-    if (problem.part_of_node[i] == 1) momentum += nodes.mass[i] * nodes.v[i];
+    if (problem.nodes.part[i] == 1) momentum += nodes.mass[i] * nodes.v[i];
   const Real rebound = momentum.z() / mass / speed;
   const Real bulk_modulus = young / (3 * (1 - 2 * poisson));
   const Real pole_stiffness = 0.1 * penalty_scale * bulk_modulus * std::cbrt(nodes.mass[pole] / density);

@@ -139,12 +139,12 @@ Impact impact(int threads) {
   const TopSurface top = top_surface(nodes);
   std::vector<Index> particles;
   for (Index i = 0; i < nodes.size(); ++i)
-    if (problem.part_of_node[i] == 1) particles.push_back(i);
+    if (problem.nodes.part[i] == 1) particles.push_back(i);
 
   const auto momentum = [&](int part) {  // part 0: every node
     Vec3 p = Vec3::Zero();
     for (Index i = 0; i < nodes.size(); ++i)
-      if (part == 0 || problem.part_of_node[i] == part) p += nodes.mass[i] * nodes.v[i];
+      if (part == 0 || problem.nodes.part[i] == part) p += nodes.mass[i] * nodes.v[i];
     return p;
   };
   // The largest depth of a particle below the surface, and the mean depth of those inside; only

@@ -60,7 +60,7 @@ Slide slide(Body kind, Real mu, Real end_time) {
     Real m = 0;
     Vec3 x = Vec3::Zero(), v = Vec3::Zero();
     for (Index i = 0; i < nodes.size(); ++i)
-      if (problem.part_of_node[i] == 1) m += nodes.mass[i], x += nodes.mass[i] * nodes.x[i], v += nodes.mass[i] * nodes.v[i];
+      if (problem.nodes.part[i] == 1) m += nodes.mass[i], x += nodes.mass[i] * nodes.x[i], v += nodes.mass[i] * nodes.v[i];
     return std::pair{x / m, v / m};
   };
   const Real x0 = centre().first.x();
@@ -77,7 +77,7 @@ Slide slide(Body kind, Real mu, Real end_time) {
   s.velocity = v.x();
   s.lowest = 1;
   for (Index i = 0; i < nodes.size(); ++i)
-    if (problem.part_of_node[i] == 1) s.lowest = std::min(s.lowest, nodes.x[i].z());
+    if (problem.nodes.part[i] == 1) s.lowest = std::min(s.lowest, nodes.x[i].z());
   return s;
 }
 

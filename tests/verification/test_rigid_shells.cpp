@@ -140,7 +140,7 @@ TEST(RigidShells, BlockSlidingOnAShellPlateStopsAfterVSquaredOverTwoMuG) {
   const auto centre_x = [&] {
     Real m = 0, x = 0;
     for (Index i = 0; i < nodes.size(); ++i)
-      if (problem.part_of_node[i] == 1) m += nodes.mass[i], x += nodes.mass[i] * nodes.x[i].x();
+      if (problem.nodes.part[i] == 1) m += nodes.mass[i], x += nodes.mass[i] * nodes.x[i].x();
     return x / m;
   };
   const Real x0 = centre_x();
@@ -152,7 +152,7 @@ TEST(RigidShells, BlockSlidingOnAShellPlateStopsAfterVSquaredOverTwoMuG) {
   EXPECT_NEAR(ratio, 1.0, 0.01);
   Real lowest = 1;
   for (Index i = 0; i < nodes.size(); ++i)
-    if (problem.part_of_node[i] == 1) lowest = std::min(lowest, nodes.x[i].z());
+    if (problem.nodes.part[i] == 1) lowest = std::min(lowest, nodes.x[i].z());
   std::printf("sliding on shells: %.5f m (%.5f of v0^2/(2 mu g)), lowest node %.3g t, energy ratio %.6f\n",
               centre_x() - x0, (centre_x() - x0) / expected, lowest / t, ratio);
   // On the offset surface z = 0 (the weight presses it in by m g / k, far below 0.1 t), not on the
@@ -195,12 +195,12 @@ Rebound rebound(const std::string& contact, bool normal_up, Real t, Real gap) {
   observer.on_history = [&](const solver::StepInfo&, const discretization::EnergyLedger& e) { r.ratio = e.ratio(); };
   observer.on_step = [&](const solver::StepInfo&) {
     for (Index i = 0; i < nodes.size(); ++i)
-      if (problem.part_of_node[i] == 1) r.highest = std::max(r.highest, nodes.x[i].z());
+      if (problem.nodes.part[i] == 1) r.highest = std::max(r.highest, nodes.x[i].z());
   };
   solver::run(problem, observer);
   Real m = 0, p = 0;
   for (Index i = 0; i < nodes.size(); ++i)
-    if (problem.part_of_node[i] == 1) m += nodes.mass[i], p += nodes.mass[i] * nodes.v[i].z();
+    if (problem.nodes.part[i] == 1) m += nodes.mass[i], p += nodes.mass[i] * nodes.v[i].z();
   r.velocity = p / m;
   return r;
 }

@@ -96,7 +96,7 @@ FailureRun fling_bar(int kernel) {
     // Particles are the part's nodes in node order, which is the order of the node store.
     Index k = 0;
     for (Index i = 0; i < p.nodes.size(); ++i)
-      if (p.part_of_node[i] == 1) node_of[k++] = i;
+      if (p.nodes.part[i] == 1) node_of[k++] = i;
   }
   for (int plane = 1; plane < elements[0]; ++plane) {
     const Real xc = size.x() * plane / elements[0];

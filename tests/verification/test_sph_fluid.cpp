@@ -47,7 +47,7 @@ solver::Problem free_block(int n, Real spacing, Real end_time) {
   solver::Problem problem;
   auto& nodes = problem.nodes;
   nodes.resize(n * n * n);
-  problem.part_of_node.assign(n * n * n, 1);
+  problem.nodes.part.assign(n * n * n, 1);
   std::vector<Index> particles(n * n * n);
   Index i = 0;
   for (int z = 0; z < n; ++z)

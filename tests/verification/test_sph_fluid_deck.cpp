@@ -73,7 +73,7 @@ TEST(SphFluidDeck, SettledColumnPressureIsRhoGD) {
   EXPECT_EQ(fluid.parameters().dimension, 2);
   std::vector<Index> water;
   for (Index i = 0; i < problem.nodes.size(); ++i) {
-    if (problem.part_of_node[i] != 1) {
+    if (problem.nodes.part[i] != 1) {
       EXPECT_EQ(problem.nodes.fixed[i], 7) << "wall node " << problem.nodes.id[i];
       continue;
     }

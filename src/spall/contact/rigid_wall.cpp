@@ -1,4 +1,6 @@
 #include "spall/contact/rigid_wall.hpp"
+
+#include "spall/core/communicator.hpp"
 #include "spall/core/parallel.hpp"
 
 #include <algorithm>
@@ -20,7 +22,8 @@ RigidWall::RigidWall(const Definition& definition, std::vector<Index> tracked,
       state_(nodes_.size(), 0),
       velocity_(definition.mass > 0 ? definition.initial_velocity : 0),
       closing_(nodes_.size(), 0),
-      candidate_(nodes_.size(), 0) {
+      candidate_(nodes_.size(), 0),
+      candidate_mass_(nodes_.size(), 0) {
   for (std::size_t k = 0; k < nodes_.size(); ++k)
     if (definition_.normal.dot(x[nodes_[k]] - definition_.origin) >= 0) state_[k] = in_front;
 }
@@ -38,17 +41,38 @@ bool RigidWall::inside(const Vec3& p) const {
   return true;
 }
 
-void RigidWall::complete_state() { share_(nodes_, state_); }
+void RigidWall::complete_state() {
+  if (mine_.empty()) return;
+  struct Own {
+    Index k;
+    std::uint8_t state, padding[3];  // explicit: no unset byte travels
+  };
+  std::vector<Own> own;
+  for (Index k = 0; k < static_cast<Index>(nodes_.size()); ++k)
+    if (mine_[k]) own.push_back({k, state_[k], {0, 0, 0}});
+  for (const Own& o : parallel::world().all(std::span<const Own>(own))) state_[o.k] = o.state;
+}
+
+void RigidWall::find_rows(const discretization::NodeStore& nodes, bool own_only) {
+  if (rows_partition_ == nodes.partition) return;
+  if (own_only) complete_state();
+  const Index count = static_cast<Index>(nodes_.size());
+  row_.resize(count);
+  for (Index k = 0; k < count; ++k) row_[k] = nodes.row_of(nodes_[k]);
+  if (own_only) {
+    mine_.resize(count);
+    for (Index k = 0; k < count; ++k) mine_[k] = row_[k] >= 0 && nodes.owns(row_[k]);
+  }
+  rows_partition_ = nodes.partition;
+}
 
 void RigidWall::enforce(discretization::NodeStore& nodes, Real t_mid, Real dt, Real dt_mid) {
-  // Under MPI with velocities by reach the other ranks' nodes are stale here: a rank's own alone,
-  // their state brought in from the ranks it was current on when the nodes were dealt anew.
+  // Under MPI with velocities by reach the other ranks' nodes are stale here (or not held): a
+  // rank's own alone, their state brought in from the ranks it was current on when the nodes were
+  // dealt anew.
   const bool own_only = nodes.velocities_by_reach;
-  if (own_only) {
-    if (share_.stale(nodes)) complete_state();
-    share_.bind(nodes);
-  }
-  const auto skip = [&](Index i) { return own_only && !nodes.owns(i); };
+  find_rows(nodes, own_only);
+  const auto skip = [&](Index k) { return own_only && !mine_[k]; };
   force_.setZero();
   normal_force_ = 0;
   active_.clear();
@@ -59,19 +83,20 @@ void RigidWall::enforce(discretization::NodeStore& nodes, Real t_mid, Real dt, R
   if (!active_now_) {
     // Not there yet (or any more): a node may pass the plane, and is then behind it at birth.
     parallel::for_each(count, [&](Index k) {
-      const Index i = nodes_[k];
-      if (skip(i)) return;
+      if (skip(k)) return;
+      const Index i = row_[k];
       state_[k] = n.dot(nodes.x[i] + dt * nodes.v[i] - origin) >= 0 ? std::uint8_t(in_front)
                                                                     : std::uint8_t(0);
     }, {.serial_below = parallel_from});
     return;
   }
   parallel::for_each(count, [&](Index k) {
-    const Index i = nodes_[k];
-    if (skip(i)) {
+    if (skip(k)) {
       candidate_[k] = 0;
       return;
     }
+    const Index i = row_[k];
+    candidate_mass_[k] = nodes.mass[i];
     const Vec3 r = nodes.x[i] - origin;
     const Real d = n.dot(r);
     const Real u = n.dot(nodes.v[i]);
@@ -81,8 +106,8 @@ void RigidWall::enforce(discretization::NodeStore& nodes, Real t_mid, Real dt, R
     candidate_[k] = (state_[k] & in_front) && inside(r + dt * nodes.v[i]);
   }, {.serial_below = parallel_from});
 
-  if (own_only && definition_.mass > 0) share_candidates(nodes);
-  const Real v_wall = solve_wall_velocity(nodes);
+  if (own_only && definition_.mass > 0) share_candidates();
+  const Real v_wall = solve_wall_velocity();
 
   const Friction& friction = definition_.friction;
   const Real v_before_impact = velocity_;
@@ -90,11 +115,11 @@ void RigidWall::enforce(discretization::NodeStore& nodes, Real t_mid, Real dt, R
   const Index pushed = static_cast<Index>(active_.size());
   parallel::for_each(pushed, [&](Index a) {
     const Index k = active_[a];
-    const Index i = nodes_[k];
-    if (skip(i)) {  // another rank's, which pushes it
+    if (skip(k)) {  // another rank's, which pushes it
       impulse_[a] = Vec3::Zero();
       return;
     }
+    const Index i = row_[k];
     Vec3& v = nodes.v[i];
     const Vec3 v_before = v;
     // On the wall at t^{n+1}: u' = V' - d/dt = u + (V' - c).
@@ -132,29 +157,31 @@ void RigidWall::enforce(discretization::NodeStore& nodes, Real t_mid, Real dt, R
   // the plane beside a finite wall, or was behind it, is behind until it comes back in front.
   if (dt > 0) {
     parallel::for_each(count, [&](Index k) {
-      if (skip(nodes_[k])) return;
+      if (skip(k)) return;
       if (candidate_[k] != pushed_now) state_[k] = closing_[k] >= v_wall ? std::uint8_t(in_front) : std::uint8_t(0);
     }, {.serial_below = parallel_from});
   }
 }
 
 // A moving wall's velocity depends on every node it pushes: under MPI with velocities by reach the
-// other ranks' candidates (closing value, flags) come in, so that every rank solves for the same
-// velocity and pushed set as one process (and applies the pushes to its own nodes).
-void RigidWall::share_candidates(const discretization::NodeStore& nodes) {
+// other ranks' candidates (closing value, mass, flags) come in, so that every rank solves for the
+// same velocity and pushed set as one process (and applies the pushes to its own nodes).
+void RigidWall::share_candidates() {
   struct Candidate {
-    Index k = 0;
-    std::uint8_t candidate = 0, state = 0;
-    Real closing = 0;
+    Index k;
+    std::uint8_t candidate, state, padding[2];  // explicit: no unset byte travels
+    Real closing, mass;
   };
-  std::vector<Candidate> mine;
+  std::vector<Candidate> own;
   for (Index k = 0; k < static_cast<Index>(nodes_.size()); ++k)
-    if (candidate_[k] && nodes.owns(nodes_[k])) mine.push_back({k, candidate_[k], state_[k], closing_[k]});
-  for (const Candidate& c : parallel::world().all(std::span<const Candidate>(mine)))
-    if (!nodes.owns(nodes_[c.k])) candidate_[c.k] = c.candidate, state_[c.k] = c.state, closing_[c.k] = c.closing;
+    if (candidate_[k] && mine_[k])
+      own.push_back({k, candidate_[k], state_[k], {0, 0}, closing_[k], candidate_mass_[k]});
+  for (const Candidate& c : parallel::world().all(std::span<const Candidate>(own)))
+    if (!mine_[c.k])
+      candidate_[c.k] = c.candidate, state_[c.k] = c.state, closing_[c.k] = c.closing, candidate_mass_[c.k] = c.mass;
 }
 
-Real RigidWall::solve_wall_velocity(const discretization::NodeStore& nodes) {
+Real RigidWall::solve_wall_velocity() {
   const Index count = static_cast<Index>(nodes_.size());
   auto push = [&](Index k) {
     candidate_[k] = pushed_now;
@@ -175,7 +202,7 @@ Real RigidWall::solve_wall_velocity(const discretization::NodeStore& nodes) {
   Real mass = definition_.mass;
   for (Index k = 0; k < count; ++k)
     if (candidate_[k] && (state_[k] & welded)) {
-      const Real m = nodes.mass[nodes_[k]];
+      const Real m = candidate_mass_[k];
       momentum += m * closing_[k];
       mass += m;
       push(k);
@@ -189,7 +216,7 @@ Real RigidWall::solve_wall_velocity(const discretization::NodeStore& nodes) {
   });
   for (Index k : free_) {
     if (!(closing_[k] < v_wall)) break;
-    const Real m = nodes.mass[nodes_[k]];
+    const Real m = candidate_mass_[k];
     momentum += m * closing_[k];
     mass += m;
     v_wall = momentum / mass;

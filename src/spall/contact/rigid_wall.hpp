@@ -12,7 +12,6 @@
 #include "spall/core/archive.hpp"
 #include "spall/core/types.hpp"
 #include "spall/discretization/node_store.hpp"
-#include "spall/discretization/particle_share.hpp"
 
 namespace spall::contact {
 
@@ -40,8 +39,9 @@ class RigidWall {
     Real initial_velocity = 0;          // moving wall: velocity along the normal at t = 0
   };
 
-  // `tracked` are dense node indices; those behind the wall at `x` are not caught until they
-  // come to its front side.
+  // `tracked` are the nodes' places in the deck (their rows while every node is held in the deck's
+  // order, as the set-up holds them); those behind the wall at `x` are not caught until they come
+  // to its front side.
   RigidWall(const Definition& definition, std::vector<Index> tracked, const std::vector<Vec3>& x);
 
   // Corrects the velocities v^{n+1/2} of nodes that would pass the wall over [t^n, t^n + dt]
@@ -52,7 +52,8 @@ class RigidWall {
   // rank alike.
   void enforce(discretization::NodeStore& nodes, Real t_mid, Real dt, Real dt_mid);
   // Under MPI with velocities by reach: every rank's contact state of its own nodes in, so that the
-  // state is whole (a checkpoint; enforce does it itself when the nodes are dealt anew).
+  // state is whole (a checkpoint; enforce does it itself when the nodes are dealt anew or move
+  // between the ranks). Collective.
   void complete_state();
   // Moves a moving wall on to t^{n+1} with its new velocity.
   void advance(Real dt);
@@ -79,11 +80,20 @@ class RigidWall {
 
   bool inside(const Vec3& p) const;  // within the finite extent (point relative to the origin)
   // The wall's velocity after the impulses, and which candidates are pushed (`active_`).
-  Real solve_wall_velocity(const discretization::NodeStore& nodes);
-  void share_candidates(const discretization::NodeStore& nodes);
+  Real solve_wall_velocity();
+  void share_candidates();
+  // Each tracked node's row in `nodes`, once a partition (the rows of a rank's own change with it);
+  // under MPI with velocities by reach, the state of the nodes this rank computed in the last one
+  // to every rank first.
+  void find_rows(const discretization::NodeStore& nodes, bool own_only);
 
   Definition definition_;
-  std::vector<Index> nodes_;
+  std::vector<Index> nodes_;  // the tracked nodes' places in the deck
+  std::vector<Index> row_;    // and their rows in the node store (-1: not held by this rank)
+  long long rows_partition_ = -1;
+  // Under MPI with velocities by reach: 1 for the tracked nodes this rank computes, whose state_
+  // is current here (empty while every rank holds every node's).
+  std::vector<std::uint8_t> mine_;
   std::vector<std::uint8_t> state_;
   Real velocity_ = 0;
   Real displacement_ = 0;
@@ -94,11 +104,10 @@ class RigidWall {
   // of the wall at t^n and u its normal velocity; it passes the wall moving at V iff c < V.
   std::vector<Real> closing_;
   std::vector<std::uint8_t> candidate_;  // 1: in front and inside the extent; 2: pushed
+  std::vector<Real> candidate_mass_;     // moving wall: each candidate's mass
   std::vector<Index> active_;            // positions in nodes_ of the nodes pushed this step
   std::vector<Index> free_;              // moving wall: unwelded candidates, by closing value
   std::vector<Vec3> impulse_;            // m dv of each active node
-  // Under MPI with velocities by reach: the ranks whose nodes' state_ is current on them.
-  discretization::ParticleShare share_;
 };
 
 }  // namespace spall::contact

@@ -134,8 +134,8 @@ struct PartStiffness {
 class Builder {
  public:
   Builder(const model::Model& model, const std::unordered_map<Id, Index>& index_of_node,
-          const discretization::NodeStore& nodes, const std::vector<Id>& part_of_node)
-      : model_(model), index_of_node_(index_of_node), nodes_(nodes), part_of_node_(part_of_node),
+          const discretization::NodeStore& nodes)
+      : model_(model), index_of_node_(index_of_node), nodes_(nodes),
         faces_(model, index_of_node, nodes.x) {
     if (model.control_contact) control_ = *model.control_contact;
     for (const auto& part : model.parts) part_index_[part.id] = &part;
@@ -311,8 +311,8 @@ class Builder {
     slave_stiffness_.assign(out.size(), std::numeric_limits<Real>::infinity());
     for (std::size_t k = 0; k < out.size(); ++k) {
       const Index i = out[k];
-      if (part_of_node_[i] == 0 || !(nodes_.mass[i] > 0)) continue;
-      const PartStiffness& p = stiffness(part_of_node_[i]);
+      if (nodes_.part[i] == 0 || !(nodes_.mass[i] > 0)) continue;
+      const PartStiffness& p = stiffness(nodes_.part[i]);
       slave_stiffness_[k] = control_.slsfac * scale * p.bulk_modulus * std::cbrt(nodes_.mass[i] / p.density);
     }
     return out;
@@ -436,7 +436,6 @@ class Builder {
   const model::Model& model_;
   const std::unordered_map<Id, Index>& index_of_node_;
   const discretization::NodeStore& nodes_;
-  const std::vector<Id>& part_of_node_;
   SolidFaces faces_;
   model::ControlContact control_;
   std::unordered_map<Id, const model::Part*> part_index_;
@@ -451,11 +450,10 @@ class Builder {
 
 std::vector<PenaltyContact> build_contacts(const model::Model& model,
                                            const std::unordered_map<Id, Index>& index_of_node,
-                                           const discretization::NodeStore& nodes,
-                                           const std::vector<Id>& part_of_node) {
+                                           const discretization::NodeStore& nodes) {
   std::vector<PenaltyContact> contacts;
   if (model.contacts.empty() && model.rcforc_moments.empty()) return contacts;
-  Builder builder(model, index_of_node, nodes, part_of_node);
+  Builder builder(model, index_of_node, nodes);
   for (std::size_t c = 0; c < model.contacts.size(); ++c) contacts.push_back(builder.build(model.contacts[c], c));
   // *DATABASE_RCFORC_MOMENT: the nodes of the contact with that ID.
   for (const auto& moment : model.rcforc_moments) {

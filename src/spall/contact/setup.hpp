@@ -15,7 +15,6 @@ namespace spall::contact {
 
 std::vector<PenaltyContact> build_contacts(const model::Model& model,
                                            const std::unordered_map<Id, Index>& index_of_node,
-                                           const discretization::NodeStore& nodes,
-                                           const std::vector<Id>& part_of_node);
+                                           const discretization::NodeStore& nodes);
 
 }  // namespace spall::contact

@@ -2,8 +2,9 @@
 // The one node store every discretization shares (DESIGN: "every discretization owns its points as
 // nodes"): SPH particles, SPG particles and hexahedron corners are all nodes here, so coupling
 // through shared nodes needs no extra machinery: two formulations that use a node both add their
-// force to it. Structure of arrays, dense indices. Under MPI every rank holds every node (replicated
-// state, docs/SCALING.md) and computes its own share of them.
+// force to it. Structure of arrays, dense indices. Under MPI each rank computes its own share of
+// the nodes and holds every node (replicated state, docs/SCALING.md), or, dealt by region, its own
+// and those near them (rows of its own).
 #include <algorithm>
 #include <cstdint>
 #include <span>
@@ -29,10 +30,11 @@ struct NodeStore {
   std::vector<std::uint8_t> fixed;    // bit d set: translation d is held by an SPC
   std::vector<std::uint8_t> active;   // 0 once every element or particle on the node has eroded
   std::vector<std::int32_t> body;     // the rigid body the node moves with, or no_body
+  std::vector<Id> part;               // the deck's part ID of the node's particle or element, 0 if none
   // Under MPI each rank computes the forces and new velocities of its own nodes and shares them
   // with the others every step (the time loop's halo phase). The nodes are dealt out in blocks of
   // the node order, or, in a deck of SPH fluid alone, by region (`regions`, docs/SCALING.md §3).
-  // `owner`: every node's rank (empty for one process).
+  // `owner`: each row's rank (empty for one process).
   std::vector<std::int32_t> owner;
   int rank = 0;
   // A range that holds every node this process computes, [owned_begin, owned_end): all of them for
@@ -46,15 +48,23 @@ struct NodeStore {
   Regions regions;
   std::vector<Index> owned;
   // The time loop deals the nodes anew when the ranks' loads drift apart (docs/SCALING.md), and by
-  // region they move between ranks as they flow (migrate); `partition` counts the changes, so that
-  // what was planned for a partition knows when it is stale.
+  // region they move between ranks as they flow (keep, gather_on_first_rank); `partition` counts the
+  // changes, so that what was planned for a partition knows when it is stale.
   long long partition = 0;
+  // Dealt by region, a rank has rows of its own: it keeps its own nodes and the others' that its
+  // passes read, no more (memory O(N / P), docs/SCALING.md §3), and the rows change at each of the
+  // formulation's rebuilds (keep, add). `global`: each row's place in the deck's order (empty while
+  // the rows are every node in that order, as the set-up builds them).
+  std::vector<Index> global;
   // Under MPI: true when the halo brings in only the velocities that the formulations read (the
   // halo by reach, set by the time loop), so that the other ranks' nodes beyond that are stale and
   // the constraints act on a rank's own nodes; false when every velocity is shared each step.
   bool velocities_by_reach = false;
 
   Index size() const { return static_cast<Index>(id.size()); }
+  Index deck_index(Index row) const { return global.empty() ? row : global[row]; }
+  // The row of the node at `deck_index`, -1 when this rank holds none.
+  Index row_of(Index deck_index) const;
 
   // n owned nodes, at rest, massless, free, active, in no body.
   void resize(Index n) {
@@ -67,6 +77,7 @@ struct NodeStore {
     fixed.assign(n, 0);
     active.assign(n, 1);
     body.assign(n, no_body);
+    part.assign(n, 0);
     owned_begin = 0;
     owned_end = n;
   }
@@ -109,12 +120,28 @@ struct NodeStore {
   // here and the partition is the same until then.
   void recut(Regions cuts) { regions = std::move(cuts); }
 
-  // By region: each of `moving`'s nodes that this rank computes goes to the rank of the region its
-  // position is in now (only the owner's copy of a position need be current), and every rank
-  // learns every change (the changes alone travel), so that all hold the same owners. Counts as a
-  // new partition when a node changed rank; false when none did (or the nodes are dealt in
-  // blocks). Collective: every rank calls it at once.
-  bool migrate(std::span<const Index> moving);
+  // A node as it travels between ranks with its rows (explicit padding: no unset byte travels).
+  struct Row {
+    std::int64_t global;
+    Id id, part;
+    Vec3 x0, x, v;
+    Real mass;
+    std::int32_t body;
+    std::uint8_t fixed, active, padding[2];
+  };
+  Row row(Index i) const {
+    return {deck_index(i), id[i], part[i], x0[i], x[i], v[i], mass[i], body[i], fixed[i], active[i], {0, 0}};
+  }
+  // By region: a row for a node that came in, computed by rank `by`; returns its row.
+  Index add(const Row& row, int by);
+  // By region: only the rows `kept`, in that order (each row's state goes with it); a new
+  // partition.
+  void keep(std::span<const Index> kept);
+  // By region: every rank's own rows to rank 0, which then holds every node in the deck's order
+  // (the others keep theirs; a restart file is written from rank 0's). Collective; a new
+  // partition.
+  void gather_on_first_rank();
+
   // `owned` from `owner`.
   void list_owned() {
     owned.clear();
@@ -127,6 +154,14 @@ struct NodeStore {
     a.expect_size("nodes", id.size());
     a(x0, x, v, f, mass, fixed, active, body);
   }
+
+ private:
+  // By region: (deck index, row) of the rows at the last keep, sorted by deck index (the first
+  // sorted_by_deck_), then of those added since.
+  std::vector<std::pair<Index, Index>> by_deck_;
+  std::size_t sorted_by_deck_ = 0;
+  Index deck_nodes_ = 0;  // every node of the deck, counted when the rows were last whole
+  void index_by_deck();
 };
 
 }  // namespace spall::discretization

@@ -5,10 +5,12 @@
 namespace spall::discretization {
 
 // What this rank reads of each other rank's particles, in particle order, is what it asks of that
-// rank: first how many (one number to each rank), then which, by node (the particles' order may be
-// each rank's own: the fluid's cells near a rank's region). What each rank is asked is what it
+// rank: first how many (one number to each rank), then which, by the node's place in the deck (the
+// particles' order may be each rank's own, the fluid's cells near a rank's region, and so may the
+// rows of its nodes). What each rank is asked is what it
 // sends, in the asker's order.
-void ReachShare::plan(std::span<const std::uint8_t> reads, std::span<const Index> node, const ParticleShare& share) {
+void ReachShare::plan(std::span<const std::uint8_t> reads, std::span<const Index> node, const ParticleShare& share,
+                      const NodeStore& nodes) {
   const parallel::Communicator& ranks = parallel::world();
   const int size = ranks.size();
   std::vector<std::vector<Index>> wanted(size);
@@ -23,14 +25,13 @@ void ReachShare::plan(std::span<const std::uint8_t> reads, std::span<const Index
   receive_offsets_[size] = static_cast<Index>(receive_.size());
   send_offsets_ = ranks.offsets_in(receive_offsets_);
   std::vector<Index> wanted_nodes(receive_.size());
-  for (std::size_t k = 0; k < receive_.size(); ++k) wanted_nodes[k] = node[receive_[k]];
+  for (std::size_t k = 0; k < receive_.size(); ++k) wanted_nodes[k] = nodes.deck_index(node[receive_[k]]);
   send_.resize(send_offsets_[size]);
   ranks.exchange(std::span<const Index>(wanted_nodes), receive_offsets_, std::span(send_), send_offsets_);
   // The nodes asked for, as this rank's particles.
-  const Index nodes = node.empty() ? 0 : *std::max_element(node.begin(), node.end()) + 1;
-  std::vector<Index> particle(nodes, -1);
+  std::vector<Index> particle(nodes.size(), -1);
   for (Index a = 0; a < static_cast<Index>(node.size()); ++a) particle[node[a]] = a;
-  for (Index& k : send_) k = particle[k];
+  for (Index& k : send_) k = particle[nodes.row_of(k)];
 }
 
 }  // namespace spall::discretization

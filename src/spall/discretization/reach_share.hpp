@@ -2,9 +2,11 @@
 // Under MPI with replicated storage (docs/SCALING.md §3, "The halo by reach"): each step, only the
 // other ranks' particles that this rank's passes read come in, from the ranks that compute them.
 // A formulation marks what its rows read (plan, at each neighbour-list build and each new deal of
-// the nodes); the ranks then tell each other which of their particles they want, by node (each
-// rank may store its particles in an order of its own), and each step's share sends just those. The rest of the other
-// ranks' particles go stale until the formulation completes its state (ParticleShare, whole).
+// the nodes); the ranks then tell each other which of their particles they want, by the node's
+// place in the deck (each rank may store its particles, and its nodes, in an order of its own), and
+// each step's share sends just those. The rest of the other ranks' particles go stale until the
+// formulation completes its state (ParticleShare, whole), or are not held (a rank's
+// own rows, dealt by region).
 #include <cstddef>
 #include <cstring>
 #include <span>
@@ -20,20 +22,22 @@ namespace spall::discretization {
 class ReachShare {
  public:
   // `reads[a]` is 1 where this rank's passes read particle a (its own particles are skipped);
-  // `node[a]` is a's node, whose rank `share` knows. Collective: every rank plans at once.
-  void plan(std::span<const std::uint8_t> reads, std::span<const Index> node, const ParticleShare& share);
+  // `node[a]` is a's row in `nodes`, whose rank `share` knows. Collective: every rank plans at once.
+  void plan(std::span<const std::uint8_t> reads, std::span<const Index> node, const ParticleShare& share,
+            const NodeStore& nodes);
   // The same for passes over rows in compressed form (a neighbour list, SPG's bonds): the rank
   // reads every row it computes (`computes(a)`) and each particle in it. Returns those reads.
   template <typename Computes>
   std::vector<std::uint8_t> plan_rows(std::span<const Index> offsets, std::span<const Index> entries,
-                                      Computes&& computes, std::span<const Index> node, const ParticleShare& share) {
+                                      Computes&& computes, std::span<const Index> node, const ParticleShare& share,
+                                      const NodeStore& nodes) {
     std::vector<std::uint8_t> reads(node.size(), 0);
     for (Index a = 0; a < static_cast<Index>(node.size()); ++a) {
       if (!computes(a)) continue;
       reads[a] = 1;
       for (Index k = offsets[a]; k < offsets[a + 1]; ++k) reads[entries[k]] = 1;
     }
-    plan(reads, node, share);
+    plan(reads, node, share, nodes);
     return reads;
   }
   bool planned() const { return !receive_offsets_.empty(); }

@@ -109,7 +109,7 @@ bool is_fem_part(const model::Model& model, Id part_id) {
 
 std::unique_ptr<discretization::Formulation> build_fem(const model::Model& model,
                                                        const std::unordered_map<Id, Index>& index_of_node,
-                                                       discretization::NodeStore& nodes, std::vector<Id>& part_of_node) {
+                                                       discretization::NodeStore& nodes) {
   check_add_erosions(model);
   std::vector<PartSettings> parts;
   std::map<Id, int> part_index;
@@ -145,7 +145,7 @@ std::unique_ptr<discretization::Formulation> build_fem(const model::Model& model
   formulation->add_nodal_masses(nodes);
   for (const auto& e : elements)
     for (Index i : e.node)
-      if (part_of_node[i] == 0) part_of_node[i] = formulation->parts()[e.part].part_id;
+      if (nodes.part[i] == 0) nodes.part[i] = formulation->parts()[e.part].part_id;
   return formulation;
 }
 

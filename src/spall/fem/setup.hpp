@@ -15,10 +15,10 @@ namespace spall::fem {
 // True when `part` is meshed with solid finite elements (a *SECTION_SOLID section).
 bool is_fem_part(const model::Model& model, Id part);
 
-// Adds the elements' lumped masses to nodes.mass and their part to part_of_node (where no other
+// Adds the elements' lumped masses to nodes.mass and their part to nodes.part (where no other
 // part has it), and returns the formulation (nullptr when the model has no finite element).
 std::unique_ptr<discretization::Formulation> build_fem(const model::Model& model,
                                                        const std::unordered_map<Id, Index>& index_of_node,
-                                                       discretization::NodeStore& nodes, std::vector<Id>& part_of_node);
+                                                       discretization::NodeStore& nodes);
 
 }  // namespace spall::fem

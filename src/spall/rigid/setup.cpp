@@ -131,7 +131,7 @@ bool is_rigid_part(const model::Model& model, Id part_id) {
 }
 
 void add_rigid_masses(const model::Model& model, const std::unordered_map<Id, Index>& index_of_node,
-                      discretization::NodeStore& nodes, std::vector<Id>& part_of_node) {
+                      discretization::NodeStore& nodes) {
   for (const auto& e : model.solid_elements) {
     const model::Part* part = model.find_part(e.pid);
     const model::MatRigid* rigid = part ? model.rigid_material(*part) : nullptr;
@@ -151,7 +151,7 @@ void add_rigid_masses(const model::Model& model, const std::unordered_map<Id, In
     const int per = tetrahedron ? 4 : 8;
     for (int a = 0; a < per; ++a) {
       nodes.mass[node[a]] += rigid->ro * volume / per;
-      if (part_of_node[node[a]] == 0) part_of_node[node[a]] = e.pid;
+      if (nodes.part[node[a]] == 0) nodes.part[node[a]] = e.pid;
     }
   }
   // Shells (rigid only: validate() refuses others): RO times the area times the mean of the corner
@@ -180,7 +180,7 @@ void add_rigid_masses(const model::Model& model, const std::unordered_map<Id, In
     for (int a = 0; a < per; ++a) {
       const Index i = index_of_node.at(e.n[a]);
       nodes.mass[i] += mass / per;
-      if (part_of_node[i] == 0) part_of_node[i] = e.pid;
+      if (nodes.part[i] == 0) nodes.part[i] = e.pid;
     }
   }
 }

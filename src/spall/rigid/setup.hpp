@@ -17,7 +17,7 @@ bool is_rigid_part(const model::Model& model, Id part);
 
 // Adds the rigid parts' element masses to nodes.mass (before the bodies are formed).
 void add_rigid_masses(const model::Model& model, const std::unordered_map<Id, Index>& index_of_node,
-                      discretization::NodeStore& nodes, std::vector<Id>& part_of_node);
+                      discretization::NodeStore& nodes);
 
 // The bodies, from the nodes' masses, positions and initial velocities (call after the initial
 // velocities are set), with their constraints and prescribed motions.

@@ -45,7 +45,7 @@ FieldSnapshot snapshot_fields(const Problem& problem) {
       displacement[3 * i + d] = nodes.x[i][d] - nodes.x0[i][d];
     }
     mass[i] = nodes.mass[i];
-    part_id[i] = problem.part_of_node[i];
+    part_id[i] = nodes.part[i];
     node_id[i] = nodes.id[i];
   }
   for (const auto& f : problem.formulations) f->write_fields(set, nodes);

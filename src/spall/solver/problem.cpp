@@ -29,16 +29,16 @@ class Builder {
     problem_.model = &model_;
     build_nodes();
     build_sph();
-    if (auto spg = spg::build_spg(model_, index_of_node_, problem_.nodes, problem_.part_of_node))
+    if (auto spg = spg::build_spg(model_, index_of_node_, problem_.nodes))
       problem_.formulations.push_back(std::move(spg));
-    if (auto fem = fem::build_fem(model_, index_of_node_, problem_.nodes, problem_.part_of_node))
+    if (auto fem = fem::build_fem(model_, index_of_node_, problem_.nodes))
       problem_.formulations.push_back(std::move(fem));
-    rigid::add_rigid_masses(model_, index_of_node_, problem_.nodes, problem_.part_of_node);
+    rigid::add_rigid_masses(model_, index_of_node_, problem_.nodes);
     apply_spcs();
     build_motions();
     apply_initial_velocities();
     problem_.rigid_bodies = rigid::build_rigid_bodies(model_, index_of_node_, problem_.nodes);
-    problem_.contacts = contact::build_contacts(model_, index_of_node_, problem_.nodes, problem_.part_of_node);
+    problem_.contacts = contact::build_contacts(model_, index_of_node_, problem_.nodes);
     build_loads();
     build_rigid_walls();
     build_controls();
@@ -75,7 +75,7 @@ class Builder {
     if (!model_.find_part(part_id)) fail_at(where, keyword, fmt::format("part {} does not exist", part_id));
     std::vector<Index> nodes;
     for (Index i = 0; i < problem_.nodes.size(); ++i)
-      if (problem_.part_of_node[i] == part_id) nodes.push_back(i);
+      if (problem_.nodes.part[i] == part_id) nodes.push_back(i);
     return nodes;
   }
 
@@ -104,7 +104,6 @@ class Builder {
     const auto order = n > 0 ? neighbors::spatial_order(x, cell) : std::vector<Index>{};
     auto& nodes = problem_.nodes;
     nodes.resize(n);
-    problem_.part_of_node.assign(n, 0);
     for (Index k = 0; k < n; ++k) {
       const auto& node = model_.nodes[order[k]];
       nodes.id[k] = node.id;
@@ -189,7 +188,7 @@ class Builder {
       const Real mass = e.mass > 0 ? e.mass : -e.mass * part.density;
       if (!(mass > 0)) fail_at(e.where, "*ELEMENT_SPH", fmt::format("MASS: particle {} has no mass", e.nid));
       problem_.nodes.mass[node] = mass;
-      problem_.part_of_node[node] = e.pid;
+      problem_.nodes.part[node] = e.pid;
       // In plane strain (IDIM 2) masses are per unit thickness and particles stay in their plane.
       const Real spacing = options.dimension == 2 ? std::sqrt(mass / part.density) : std::cbrt(mass / part.density);
       part.spacing = std::max(part.spacing, spacing);
@@ -200,7 +199,7 @@ class Builder {
     // within [HMIN h0, HMAX h0].
     std::optional<kernels::KernelKind> kernel;
     for (auto& p : particles) {
-      const SphPart& part = parts.at(problem_.part_of_node[p.node]);
+      const SphPart& part = parts.at(problem_.nodes.part[p.node]);
       const model::SectionSph& section = *part.section;
       p.smoothing_length = section.sphini > 0 ? section.sphini : section.cslh * part.spacing;
       // The solid's pair terms are single precision (docs/THEORY.md §3): kernel gradients go as
@@ -222,7 +221,7 @@ class Builder {
     }
     if (!fluid.empty())
       problem_.formulations.push_back(sph::build_fluid(model_, fluid, options.viscosity, options.dimension,
-                                                  problem_.nodes, problem_.part_of_node));
+                                                  problem_.nodes));
     if (particles.empty()) return refuse_sph_timestep_without_solid();
     options.kernel = *kernel;
     options.colour_field = colour_fields(parts, table.size());

@@ -20,7 +20,7 @@ namespace spall::solver {
 
 // A prescribed translation of one node in one direction (*BOUNDARY_PRESCRIBED_MOTION_NODE/_SET).
 struct NodalMotion {
-  Index node = 0;
+  Index node = 0;  // its place in the deck (NodeStore::row_of finds its row)
   int direction = 0;  // 0 x, 1 y, 2 z
   int vad = 0;        // 0 velocity, 1 acceleration, 2 displacement
   const model::Curve* curve = nullptr;
@@ -71,7 +71,6 @@ struct Problem {
   std::vector<contact::RigidWall> rigid_walls;
   std::vector<contact::PenaltyContact> contacts;
   rigid::RigidBodies rigid_bodies;
-  std::vector<Id> part_of_node;   // the deck's part ID of the node's particle, 0 if none
   RunControls controls;
   const model::Model* model = nullptr;  // curves are owned by the model, which must outlive this
 };

@@ -155,7 +155,7 @@ class TimeLoop::Step {
     for (auto& c : problem_.contacts) c.checkpoint(a);
     a(problem_.rigid_bodies);
     a.section("time loop");
-    a(v_old_, step_, dt_previous_, dt_first_, dt_mid_, velocity_weight_, base_acceleration_, damping_,
+    a(step_, dt_previous_, dt_first_, dt_mid_, velocity_weight_, base_acceleration_, damping_,
       runaway_speed_limit_, initial_mass_, field_output_, history_, rwforc_, rcforc_, rbdout_, ledger_, phases_);
   }
 
@@ -301,6 +301,7 @@ class TimeLoop::Step {
   // ranks' nodes get theirs in the halo phase.
   void velocity_update() {
     const Real dt_mid = dt_mid_;
+    v_old_.resize(nodes_.size());  // with rows of its own, a rank's nodes change at rebuilds
     parallel::for_each(nodes_.size(), [&](Index i) {
       v_old_[i] = nodes_.v[i];
       if (nodes_.mass[i] <= 0 || !nodes_.active[i] || !nodes_.owns(i)) return;
@@ -316,15 +317,23 @@ class TimeLoop::Step {
   void constraints() {
     const Real dt = step_.dt, t_mid = step_.time + Real(0.5) * dt;
     problem_.rigid_bodies.advance(nodes_, step_.time, dt, dt_mid_);
-    for (const auto& m : problem_.motions) {
-      if (t_mid < m.birth || t_mid > m.death) continue;
-      Real& v = nodes_.v[m.node][m.direction];
+    // The driven nodes' rows (with rows of its own they change with the partition).
+    if (motion_rows_partition_ != nodes_.partition || motion_row_.size() != problem_.motions.size()) {
+      motion_row_.clear();
+      for (const auto& m : problem_.motions) motion_row_.push_back(nodes_.row_of(m.node));
+      motion_rows_partition_ = nodes_.partition;
+    }
+    for (std::size_t k = 0; k < problem_.motions.size(); ++k) {
+      const NodalMotion& m = problem_.motions[k];
+      const Index i = motion_row_[k];
+      if (i < 0 || t_mid < m.birth || t_mid > m.death) continue;  // not held here, or not now
+      Real& v = nodes_.v[i][m.direction];
       switch (m.vad) {
         case 0: v = m.sf * m.curve->value(t_mid); break;
-        case 1: v = v_old_[m.node][m.direction] + dt_mid_ * m.sf * m.curve->value(step_.time); break;
+        case 1: v = v_old_[i][m.direction] + dt_mid_ * m.sf * m.curve->value(step_.time); break;
         case 2: {
           const Real u_next = m.sf * m.curve->value(step_.time + dt);
-          const Real u_now = nodes_.x[m.node][m.direction] - nodes_.x0[m.node][m.direction];
+          const Real u_now = nodes_.x[i][m.direction] - nodes_.x0[i][m.direction];
           v = dt > 0 ? (u_next - u_now) / dt : 0;
           break;
         }
@@ -399,25 +408,32 @@ class TimeLoop::Step {
     if (sums[3] > 0) throw_runaway();
   }
 
-  // Throws for the lowest-numbered node that has run away (the same for any thread or rank count:
-  // under MPI each rank looks at its own nodes, whose velocities only it may hold current).
+  // Throws for the node first in the deck's order that has run away (the same for any thread or
+  // rank count: under MPI each rank looks at its own nodes, whose velocities only it may hold
+  // current).
   [[noreturn]] void throw_runaway() const {
-    Index k = 0;
-    while (k < nodes_.owned_count() && !runaway(nodes_.owned_node(k))) ++k;
-    const parallel::Communicator& ranks = parallel::world();
-    const Index worst = ranks.lowest(k < nodes_.owned_count() ? nodes_.owned_node(k) : -1);
-    // The speed from its rank, -1 for NaN and -2 for infinity (every other rank offers infinity).
-    const Real infinity = std::numeric_limits<Real>::infinity();
-    double speed = infinity;
-    if (nodes_.owns(worst)) {
-      const Real norm = nodes_.v[worst].norm();
-      speed = std::isnan(norm) ? -1 : std::isinf(norm) ? -2 : norm;
+    Index first = -1, row = -1;
+    for (Index k = 0; k < nodes_.owned_count(); ++k) {
+      const Index i = nodes_.owned_node(k);
+      if (runaway(i) && (first < 0 || nodes_.deck_index(i) < first)) first = nodes_.deck_index(i), row = i;
     }
-    ranks.minimum({&speed, 1});
+    const parallel::Communicator& ranks = parallel::world();
+    const Index worst = ranks.lowest(first);
+    // The speed and ID from its rank, -1 for NaN and -2 for infinity (every other rank offers
+    // infinity).
+    const Real infinity = std::numeric_limits<Real>::infinity();
+    double found[2] = {infinity, infinity};
+    if (first == worst) {
+      const Real norm = nodes_.v[row].norm();
+      found[0] = std::isnan(norm) ? -1 : std::isinf(norm) ? -2 : norm;
+      found[1] = static_cast<double>(nodes_.id[row]);
+    }
+    ranks.minimum(found);
+    const Real speed = found[0];
     const Real s = speed == -1 ? std::numeric_limits<Real>::quiet_NaN() : speed == -2 ? infinity : speed;
     throw InstabilityError(fmt::format(
         "numerical instability at step {}, time {:.6g}: node {} has velocity {:.6g} ({}); last dt {:.6g}", step_.step,
-        step_.time, nodes_.id[worst], s,
+        step_.time, static_cast<Id>(found[1]), s,
         std::isfinite(s) ? fmt::format("above the runaway bound {:.6g}", runaway_speed_limit_)
                          : std::string("not finite"),
         step_.dt));
@@ -434,8 +450,8 @@ class TimeLoop::Step {
     const bool fields_due =
         field_output_.enabled() ? field_output_.due(step_.time, tolerance, stop) : step_.step == 0 || stop;
     // Under MPI the state whole on every rank first: rank 0's reports (the residual stress) read
-    // every particle's.
-    if (fields_due && parallel::world().size() > 1) complete_state();
+    // every particle's. By region (a fluid alone) each rank writes its own particles from its rows.
+    if (fields_due && parallel::world().size() > 1 && !nodes_.by_region()) complete_state();
     if (fields_due && observer_.on_field_output) observer_.on_field_output(step_, problem_);
     if (history_.due(step_.time, tolerance, stop) && observer_.on_history) observer_.on_history(step_, ledger_);
     if (!problem_.rigid_walls.empty() && rwforc_.due(step_.time, tolerance, stop) && observer_.on_rigid_wall_forces)
@@ -480,6 +496,8 @@ class TimeLoop::Step {
   const Observer& observer_;
   const LoadBalance balance_;
   std::vector<Vec3> v_old_;  // v^{n-1/2} during the update, then v^n (energies)
+  std::vector<Index> motion_row_;  // each prescribed motion's node's row, -1 where not held
+  long long motion_rows_partition_ = -1;
   // The last check of the ranks' work (balance()): when, and the time in collectives until then.
   std::chrono::steady_clock::time_point checked_at_;
   double communicating_at_check_ = 0;

@@ -463,7 +463,7 @@ void Part::internal_forces() {
 }
 
 void Part::plan_reach(const discretization::NodeStore& nodes) {
-  reach_.plan_rows(bonds_.offsets, bonds_.neighbour, [&](Index j) { return owns(j); }, node_, share_);
+  reach_.plan_rows(bonds_.offsets, bonds_.neighbour, [&](Index j) { return owns(j); }, node_, share_, nodes);
   reach_partition_ = nodes.partition;
 }
 

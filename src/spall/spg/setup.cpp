@@ -192,18 +192,18 @@ std::vector<PartSetup> spg_parts(const model::Model& model, const std::unordered
 
 std::unique_ptr<discretization::Formulation> build_spg(const model::Model& model,
                                                const std::unordered_map<Id, Index>& index_of_node,
-                                               discretization::NodeStore& nodes, std::vector<Id>& part_of_node) {
+                                               discretization::NodeStore& nodes) {
   std::vector<PartSetup> setups = spg_parts(model, index_of_node, nodes);
   if (setups.empty()) return nullptr;
   std::vector<Part> built;
   for (auto& setup : setups) {
     const Id pid = setup.settings.part_id;
     for (const auto& p : setup.particles) {
-      if (part_of_node[p.node] != 0 && !is_spg_part(model, part_of_node[p.node]))
+      if (nodes.part[p.node] != 0 && !is_spg_part(model, nodes.part[p.node]))
         fail_at(model.find_part(pid)->where, "*PART",
                 fmt::format("part {}: node {} is also an SPH particle of part {}; SPG and SPH parts cannot "
-                         "share nodes", pid, nodes.id[p.node], part_of_node[p.node]));
-      if (part_of_node[p.node] == 0) part_of_node[p.node] = pid;
+                         "share nodes", pid, nodes.id[p.node], nodes.part[p.node]));
+      if (nodes.part[p.node] == 0) nodes.part[p.node] = pid;
       nodes.mass[p.node] += setup.settings.material.density * p.volume;
     }
     built.emplace_back(std::move(setup.settings), setup.particles, nodes);

@@ -28,10 +28,10 @@ struct PartSetup {
 std::vector<PartSetup> spg_parts(const model::Model& model, const std::unordered_map<Id, Index>& index_of_node,
                                  const discretization::NodeStore& nodes);
 
-// Adds the SPG particles' masses to nodes.mass and their part to part_of_node, and returns the
+// Adds the SPG particles' masses to nodes.mass and their part to nodes.part, and returns the
 // formulation (nullptr when the model has no SPG part).
 std::unique_ptr<discretization::Formulation> build_spg(const model::Model& model,
                                                const std::unordered_map<Id, Index>& index_of_node,
-                                               discretization::NodeStore& nodes, std::vector<Id>& part_of_node);
+                                               discretization::NodeStore& nodes);
 
 }  // namespace spall::spg

@@ -81,7 +81,7 @@ constexpr Index simd_width = Lanes::width;
 
 template <typename T>
 void permute(std::vector<T>& values, std::span<const Index> order) {
-  std::vector<T> sorted(values.size());
+  std::vector<T> sorted(order.size());
   for (std::size_t k = 0; k < order.size(); ++k) sorted[k] = values[order[k]];
   values.swap(sorted);
 }
@@ -191,22 +191,25 @@ void FluidFormulation::rebuild_cells(const discretization::NodeStore& nodes) {
   // Within a cell by node ID: the order, and so every sum over neighbours, is the same however the
   // particles were stored (the deck's card order, earlier rebuilds, a rank's share of them).
   cells_.build(x, (1 + parameters_.skin) * support_ / stencil_reach, id);
-  bin_.clear();
-  cells_partial_ = false;
   // The cell list keeps no order: from here on the particles are in cell order.
   take_cell_order(nodes, cells_.take_order());
   finish_build();
 }
 
 void FluidFormulation::take_cell_order(const discretization::NodeStore& nodes, std::span<const Index> order) {
-  const Index n = particle_count();
   permute(node_, order);
+  const Index n = particle_count();
   share_.reorder();
   permute(mass_, order);
   permute(density_, order);
   permute(rate_, order);
   permute(previous_rate_, order);
-  if (!bin_.empty()) permute(bin_, order);
+  // As many records and forces as particles (with rows of its own a rank's particles come and go;
+  // the records past the last stay empty for the packs that read past it).
+  record_.resize(n + simd_width + 1);
+  std::fill(record_.begin() + n, record_.end(), FluidRecord{});
+  pressure_force_.resize(3 * n);
+  viscous_force_.resize(3 * n);
   // Bits to n + simd_width, and the four bytes that moving_lanes reads from the last one.
   moving_.assign((n + simd_width) / 8 + 4, 0);
   for (Index a = 0; a < n; ++a) {
@@ -230,10 +233,10 @@ void FluidFormulation::finish_build() {
 }
 
 namespace {
-// A particle that comes in at a rebuild from the rank that holds it current (rebuild_near_region).
+// A particle that comes in at a rebuild from the rank that holds it current (rebuild_near_region):
+// its node's row and its continuity state.
 struct Arrival {
-  std::int64_t node;  // 64 bits: no padding travels
-  Vec3 x, v;
+  discretization::NodeStore::Row node;
   Real density;
   float rate, previous_rate;
 };
@@ -244,7 +247,9 @@ struct Arrival {
 // four cells of its own, which are in its region after the migration, so within five cell edges of
 // the region's box (half a cell more against rounding). Those come in from the ranks that compute
 // them (whose copy is current, also of the particles that move to this rank), with the grid of the
-// box of every particle; no other particle is binned here.
+// box of every particle; no other particle is binned here, nor held: the particles beyond reach
+// and their nodes' rows are dropped (rows of its own, NodeStore), and a particle that comes in for
+// the first time brings its node's row.
 void FluidFormulation::rebuild_near_region(discretization::NodeStore& nodes) {
   const parallel::Communicator& ranks = parallel::world();
   const int size = ranks.size(), self = ranks.rank();
@@ -270,29 +275,40 @@ void FluidFormulation::rebuild_near_region(discretization::NodeStore& nodes) {
     current[a] = 1;
     const Index i = node_[a];
     nodes.regions.near(nodes.x[i], reach, [&](int r) {
-      if (r != self) to[r].push_back({i, nodes.x[i], nodes.v[i], density_[a], rate_[a], previous_rate_[a]});
+      if (r != self) to[r].push_back({nodes.row(i), density_[a], rate_[a], previous_rate_[a]});
     });
   }
   const std::vector<Arrival> receive = ranks.deliver(to);
-  // The particles that left this rank's region go to their new ranks' (which received them).
-  if (nodes.migrate(node_)) share_.bind(nodes);
   std::vector<Index> slot(nodes.size(), -1);
   for (Index a = 0; a < n; ++a) slot[node_[a]] = a;
-  for (const Arrival& arrival : receive) {
-    const auto i = static_cast<Index>(arrival.node);
-    const Index a = slot[i];
-    nodes.x[i] = arrival.x;
-    nodes.v[i] = arrival.v;
+  std::vector<Index> row(receive.size());
+  for (std::size_t k = 0; k < receive.size(); ++k) row[k] = nodes.row_of(static_cast<Index>(receive[k].node.global));
+  for (std::size_t k = 0; k < receive.size(); ++k) {
+    const Arrival& arrival = receive[k];
+    if (row[k] < 0) {  // a node this rank does not hold
+      row[k] = nodes.add(arrival.node, nodes.regions.rank_of(arrival.node.x));
+      slot.push_back(particle_count());
+      node_.push_back(row[k]);
+      mass_.push_back(static_cast<float>(arrival.node.mass));
+      density_.push_back(0);
+      rate_.push_back(0);
+      previous_rate_.push_back(0);
+      current.push_back(0);
+    }
+    const Index i = row[k], a = slot[i];
+    nodes.x[i] = arrival.node.x;
+    nodes.v[i] = arrival.node.v;
     density_[a] = arrival.density;
     rate_[a] = arrival.rate;
     previous_rate_[a] = arrival.previous_rate;
     current[a] = 1;
   }
   // Binned here: the particles within reach of this rank's region (its own among them); the others
-  // follow in their present order, in no cell.
+  // are dropped.
   const BoundingBox near_region = nodes.regions.box(self).grown(reach);
-  std::vector<Index> local, others;
-  for (Index a = 0; a < n; ++a) (current[a] && near_region.contains(nodes.x[node_[a]]) ? local : others).push_back(a);
+  std::vector<Index> local;
+  for (Index a = 0; a < particle_count(); ++a)
+    if (current[a] && near_region.contains(nodes.x[node_[a]])) local.push_back(a);
   const Index m = static_cast<Index>(local.size());
   std::vector<Vec3> x(m);
   std::vector<Id> id(m);
@@ -300,28 +316,51 @@ void FluidFormulation::rebuild_near_region(discretization::NodeStore& nodes) {
   cells_.build(x, asked, id, &grid);
   std::vector<Index> order = cells_.take_order();
   for (Index& k : order) k = local[k];
-  order.insert(order.end(), others.begin(), others.end());
-  bin_.resize(n);
+  keep_rows_near(nodes, local, slot);
   take_cell_order(nodes, order);
-  for (Index c = 0; c < cells_.cell_count(); ++c) {
-    const neighbors::ParticleRange cell = cells_.cell(c);
-    std::fill(bin_.begin() + cell.begin, bin_.begin() + cell.end, cells_.cell_key(c));
-  }
-  cells_partial_ = true;
   complete_ = false;  // the particles out of reach are stale here
   finish_build();
 }
 
-// Each rank's own particles' keys come in with complete(): the cells every rank would have built
-// from every particle at the last rebuild (same grid, same keys, same in-cell order by node ID).
-void FluidFormulation::make_cells_whole(const discretization::NodeStore& nodes) {
+// Each particle near this rank's region is computed by the rank whose region holds it (the
+// migration: every rank takes it alike from the same positions), and the node store keeps their
+// rows and the rows of the nodes this rank computes that carry no particle; the particles keep
+// their slots (take_cell_order drops the others). A particle of this rank's region always comes
+// within its reach: one that did not would be lost here.
+void FluidFormulation::keep_rows_near(discretization::NodeStore& nodes, std::span<const Index> near,
+                                      std::span<const Index> slot) {
+  std::vector<std::uint8_t> kept(nodes.size(), 0);
+  for (const Index a : near) {
+    const Index i = node_[a];
+    nodes.owner[i] = nodes.regions.rank_of(nodes.x[i]);
+    kept[i] = 1;
+  }
+  std::vector<Index> rows, new_row(nodes.size(), -1);
+  for (Index i = 0; i < nodes.size(); ++i) {
+    if (slot[i] >= 0 && !kept[i] && nodes.regions.rank_of(nodes.x[i]) == nodes.rank && nodes.owns(i))
+      throw std::logic_error("SPH fluid: a particle of this rank's region is beyond the reach of its rebuild");
+    if (kept[i] || (slot[i] < 0 && nodes.owns(i))) {
+      new_row[i] = static_cast<Index>(rows.size());
+      rows.push_back(i);
+    }
+  }
+  nodes.keep(rows);
+  for (Index& i : node_) i = new_row[i];
+  share_.bind(nodes);
+}
+
+// Every particle with the key of the cell its rank binned it in: the cells every rank would have
+// built from every particle at the last rebuild (same grid, same keys, same in-cell order by node
+// ID).
+void FluidFormulation::make_cells_whole(const discretization::NodeStore& nodes,
+                                        std::span<const neighbors::CellKey> key) {
   const Index n = particle_count();
   std::vector<Id> id(n);
   for (Index a = 0; a < n; ++a) id[a] = nodes.id[node_[a]];
   const Vec3 lower = cells_.lower();
   const Real cell_size = cells_.cell_size();
   const std::array<std::int64_t, 3> along = cells_.cells_along();
-  cells_.build_from_keys(bin_, id, lower, cell_size, along);
+  cells_.build_from_keys(key, id, lower, cell_size, along);
   const std::vector<Index> order = cells_.take_order();
   take_cell_order(nodes, order);
   // The last pass's records and forces follow their particles (read by the output's neighbour
@@ -335,8 +374,6 @@ void FluidFormulation::make_cells_whole(const discretization::NodeStore& nodes) 
       viscous_force_[3 * k + d] = viscous[3 * order[k] + d];
     }
   }
-  bin_.clear();
-  cells_partial_ = false;
 }
 
 // Copies positions and velocities in cell order, predicts the densities and evaluates the
@@ -575,20 +612,85 @@ void FluidFormulation::complete_state(discretization::NodeStore& nodes) {
 }
 
 void FluidFormulation::complete(discretization::NodeStore& nodes) {
-  share_.complete_nodes(node_, nodes, density_, rate_, previous_rate_, bin_);
-  if (cells_partial_) make_cells_whole(nodes);
+  if (nodes.by_region())
+    gather_on_first_rank(nodes);
+  else
+    share_.complete_nodes(node_, nodes, density_, rate_, previous_rate_);
   complete_ = true;
 }
 
+namespace {
+// A particle on its way to rank 0 (gather_on_first_rank): the cell it was binned in at the last
+// rebuild, its node's place in the deck, its continuity state, its last record and forces.
+struct Gathered {
+  neighbors::CellKey bin;
+  std::int64_t global;
+  Real density;
+  float rate, previous_rate;
+  float record[8];
+  float pressure_force[3], viscous_force[3];
+};
+static_assert(sizeof(FluidRecord) == sizeof(Gathered::record));
+}  // namespace
+
+// Dealt by region: every rank's own particles to rank 0 with their nodes' rows, where they take the
+// cells every rank would have built from every particle at the last rebuild, on the nodes' rows in
+// the deck's order.
+void FluidFormulation::gather_on_first_rank(discretization::NodeStore& nodes) {
+  const parallel::Communicator& ranks = parallel::world();
+  std::vector<std::vector<Gathered>> out(ranks.size());
+  for (Index c = 0; c < cells_.cell_count(); ++c) {
+    const neighbors::ParticleRange cell = cells_.cell(c);
+    for (Index a = cell.begin; a < cell.end; ++a) {
+      if (!owns(a)) continue;
+      Gathered& g = out[0].emplace_back();
+      g = {cells_.cell_key(c), nodes.deck_index(node_[a]), density_[a], rate_[a], previous_rate_[a], {}, {}, {}};
+      std::memcpy(g.record, &record_[a], sizeof g.record);
+      for (int d = 0; d < 3; ++d) {
+        g.pressure_force[d] = pressure_force_[3 * a + d];
+        g.viscous_force[d] = viscous_force_[3 * a + d];
+      }
+    }
+  }
+  nodes.gather_on_first_rank();
+  const std::vector<Gathered> all = ranks.deliver(out);
+  if (ranks.rank() != 0) return;
+  const Index n = static_cast<Index>(all.size());
+  node_.resize(n);
+  mass_.resize(n);
+  density_.resize(n);
+  rate_.resize(n);
+  previous_rate_.resize(n);
+  std::vector<neighbors::CellKey> key(n);
+  record_.resize(n + simd_width + 1);
+  pressure_force_.resize(3 * n);
+  viscous_force_.resize(3 * n);
+  for (Index a = 0; a < n; ++a) {
+    const Gathered& g = all[a];
+    node_[a] = static_cast<Index>(g.global);
+    mass_[a] = static_cast<float>(nodes.mass[node_[a]]);
+    density_[a] = g.density;
+    rate_[a] = g.rate;
+    previous_rate_[a] = g.previous_rate;
+    key[a] = g.bin;
+    std::memcpy(&record_[a], g.record, sizeof g.record);
+    for (int d = 0; d < 3; ++d) {
+      pressure_force_[3 * a + d] = g.pressure_force[d];
+      viscous_force_[3 * a + d] = g.viscous_force[d];
+    }
+  }
+  make_cells_whole(nodes, key);
+}
+
 // This rank's pair pass reads the particles of the cells near its own.
-void FluidFormulation::plan_halo() {
+void FluidFormulation::plan_halo(const discretization::NodeStore& nodes) {
   std::vector<std::uint8_t> reads(particle_count(), 0);
   for (Index c = 0; c < cells_.cell_count(); ++c) {
     if (!near_owned_cell_[c]) continue;
     const neighbors::ParticleRange own = cells_.cell(c);
     std::fill(reads.begin() + own.begin, reads.begin() + own.end, std::uint8_t{1});
   }
-  halo_.plan(reads, node_, share_);
+  halo_.plan(reads, node_, share_, nodes);
 }
 
 void FluidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt) {
@@ -618,7 +720,7 @@ void FluidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt)
   if (distributed && near_owned_partition_ != nodes.partition) {
     near_owned_cell_ = cells_near([&](Index a) { return owns(a); });
     near_owned_partition_ = nodes.partition;
-    plan_halo();
+    plan_halo(nodes);
   }
   gather(nodes, dt);
   pair_pass(nodes, dt);

@@ -125,10 +125,16 @@ class FluidFormulation final : public discretization::Formulation {
   void rebuild_cells(const discretization::NodeStore& nodes);
   // Under MPI, dealt by region: the cells of this rank's particles and of those within reach of its
   // region, brought in from the ranks that hold them current, as the run that bins every particle
-  // would make them; the particles migrate to their regions' ranks on the way.
+  // would make them; the particles migrate to their regions' ranks on the way, and the rank keeps
+  // no other particle (rows of its own, NodeStore).
   void rebuild_near_region(discretization::NodeStore& nodes);
-  // Every particle in the cells again, from the keys their ranks binned them at (after complete()).
-  void make_cells_whole(const discretization::NodeStore& nodes);
+  // The rows of the particles `near` this rank's region (their ranks set by the regions) and of the
+  // nodes it computes that carry none; `slot`: each row's particle or -1.
+  void keep_rows_near(discretization::NodeStore& nodes, std::span<const Index> near, std::span<const Index> slot);
+  // Dealt by region: complete() for a restart file, on rank 0 (NodeStore::gather_on_first_rank).
+  void gather_on_first_rank(discretization::NodeStore& nodes);
+  // Every particle in the cells again, from the keys their ranks binned them at (gather_on_first_rank).
+  void make_cells_whole(const discretization::NodeStore& nodes, std::span<const neighbors::CellKey> key);
   // The per-particle arrays put in `order` (order[k] the particle that goes to slot k), and the
   // moving bits and active cells that follow them.
   void take_cell_order(const discretization::NodeStore& nodes, std::span<const Index> order);
@@ -137,8 +143,9 @@ class FluidFormulation final : public discretization::Formulation {
   template <class Chosen>
   std::vector<std::uint8_t> cells_near(Chosen&& chosen) const;
   // Under MPI: which of the other ranks' particles come in with the halo.
-  void plan_halo();
-  // Under MPI: every rank's particles' positions, velocities and continuity state in.
+  void plan_halo(const discretization::NodeStore& nodes);
+  // Under MPI: every rank's particles' positions, velocities and continuity state in (dealt by
+  // region: on rank 0 alone).
   void complete(discretization::NodeStore& nodes);
   void gather(const discretization::NodeStore& nodes, Real dt);
   // The pair pass with the kernel of the parameters.
@@ -178,10 +185,6 @@ class FluidFormulation final : public discretization::Formulation {
   std::vector<std::uint8_t> moving_;
 
   neighbors::CellList cells_;
-  // Under MPI, dealt by region: the cells hold only the particles near this rank's (rebuild_near_
-  // region), each with its cell's key here, for complete() to make them whole (then cleared).
-  bool cells_partial_ = false;
-  std::vector<neighbors::CellKey> bin_;
   // Per cell: 1 when a moving (non-wall) particle is in the 5 x 5 x 5 cells around it. Wall
   // particles of other cells have no moving particle in their support until the next rebuild,
   // so their continuity rate is exactly zero and they are skipped.
@@ -193,8 +196,8 @@ class FluidFormulation final : public discretization::Formulation {
   long long near_owned_partition_ = -1;
   // The halo by reach (share_state): the other ranks' particles in the cells near this rank's.
   discretization::ReachShare halo_;
-  // Whether every particle's position, velocity and continuity state is current here: from the
-  // set-up, a checkpoint or complete() until the next halo by reach.
+  // Whether every particle's position, velocity and continuity state is current here (dealt by
+  // region: on rank 0): from the set-up, a checkpoint or complete() until the next halo by reach.
   bool complete_ = true;
   Vec3 origin_ = Vec3::Zero();  // the cells' grid corner
   Real rounding_margin_ = 0;    // widens the search for the single-precision positions

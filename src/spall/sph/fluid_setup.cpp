@@ -80,8 +80,7 @@ bool is_fluid_part(const model::Model& model, Id pid) {
 std::unique_ptr<FluidFormulation> build_fluid(const model::Model& model,
                                                    const std::vector<FluidParticle>& particles,
                                                    const ArtificialViscosity& viscosity,
-                                                   int dimension, discretization::NodeStore& nodes,
-                                                   std::vector<Id>& part_of_node) {
+                                                   int dimension, discretization::NodeStore& nodes) {
   if (const auto& c = model.control_sph; c && (c->start > 0 || c->dt < 1e20))
     fail_at(c->card_where[0], "*CONTROL_SPH",
             fmt::format("START {:g} / DT {:g}: the SPH fluid has no start or death time", c->start, c->dt));
@@ -121,7 +120,7 @@ std::unique_ptr<FluidFormulation> build_fluid(const model::Model& model,
     const Real mass = e.mass > 0 ? e.mass : -e.mass * part.material.density;
     if (!(mass > 0)) fail_at(e.where, "*ELEMENT_SPH", fmt::format("MASS: particle {} has no mass", e.nid));
     nodes.mass[p.node] = mass;
-    part_of_node[p.node] = e.pid;
+    nodes.part[p.node] = e.pid;
     // In plane strain masses are per unit thickness and the particles stay in their plane.
     const Real spacing = dimension == 2 ? std::sqrt(mass / part.material.density)
                                         : std::cbrt(mass / part.material.density);

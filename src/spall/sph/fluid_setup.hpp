@@ -24,7 +24,6 @@ struct FluidParticle {
 std::unique_ptr<FluidFormulation> build_fluid(const model::Model& model,
                                                    const std::vector<FluidParticle>& particles,
                                                    const ArtificialViscosity& viscosity,
-                                                   int dimension, discretization::NodeStore& nodes,
-                                                   std::vector<Id>& part_of_node);
+                                                   int dimension, discretization::NodeStore& nodes);
 
 }  // namespace spall::sph

@@ -991,7 +991,7 @@ void SolidFormulation::plan_reach(const discretization::NodeStore& nodes) {
   const auto& list = verlet_.list();
   current_ = reach_.plan_rows(list.offsets, list.neighbors, [&](Index a) {
     return owns(a) || blocks_.runs_row(a);
-  }, node_, share_);
+  }, node_, share_, nodes);
   reach_partition_ = nodes.partition;
 }
 

@@ -58,6 +58,7 @@ void write_run_json(const std::filesystem::path& path, const RunInfo& info) {
       "  \"rebalances\": {},\n"
       "  \"received_bytes_per_step\": {{\"mean\": {}, \"max\": {}}},\n"
       "  \"communicating_seconds\": {{\"mean\": {}, \"max\": {}}},\n"
+      "  \"node_rows\": {{\"mean\": {}, \"max\": {}}},\n"
       "  \"steps\": {},\n"
       "  \"end_time\": {},\n"
       "  \"wall_seconds\": {},\n"
@@ -69,7 +70,8 @@ void write_run_json(const std::filesystem::path& path, const RunInfo& info) {
       "}}\n",
       json_string(info.version), json_string(info.deck), info.threads, info.ranks, info.rebalances,
       json_number(info.received_bytes_mean), json_number(info.received_bytes_max),
-      json_number(info.communicating_seconds_mean), json_number(info.communicating_seconds_max), info.steps,
+      json_number(info.communicating_seconds_mean), json_number(info.communicating_seconds_max),
+      json_number(info.node_rows_mean), info.node_rows_max, info.steps,
       json_number(info.end_time), json_number(info.wall_seconds), info.nodes, masses,
       phases, json_number(info.energy_ratio), json_string(info.status));
   replace_file_atomically(path, [&](std::ostream& out) { out << json; });

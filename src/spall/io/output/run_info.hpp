@@ -24,6 +24,10 @@ struct RunInfo {
   // process.
   double communicating_seconds_mean = 0;
   double communicating_seconds_max = 0;
+  // The node rows a rank holds at the end (NodeStore::size: every node, unless a rank keeps only
+  // those near its region), the mean and the largest over the ranks.
+  double node_rows_mean = 0;
+  long long node_rows_max = 0;
   long long steps = 0;
   double end_time = 0;
   double wall_seconds = 0;
