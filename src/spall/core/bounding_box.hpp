@@ -3,6 +3,8 @@
 // exact, so the box does not depend on how the points are split among threads.
 #include <concepts>
 #include <limits>
+#include <span>
+#include <vector>
 
 #include "spall/core/communicator.hpp"
 #include "spall/core/parallel.hpp"
@@ -38,16 +40,27 @@ struct BoundingBox {
   }
 };
 
-// The box of every rank's points from each rank's box of its own (min and max are exact: every
-// rank gets the same box, the one a single process finds). Collective.
-inline BoundingBox over_ranks(const BoundingBox& mine, const parallel::Communicator& ranks) {
-  double extremes[7] = {mine.lower[0],  mine.lower[1],  mine.lower[2], -mine.upper[0],
-                        -mine.upper[1], -mine.upper[2], mine.finite ? 0.0 : -1.0};
+// In place, each box the box of every rank's points from each rank's box of its own (min and max
+// are exact: every rank gets the same boxes, the ones a single process finds); one collective for
+// them all. Collective.
+inline void over_ranks(std::span<BoundingBox> boxes, const parallel::Communicator& ranks) {
+  std::vector<double> extremes(7 * boxes.size());
+  for (std::size_t k = 0; k < boxes.size(); ++k) {
+    for (int d = 0; d < 3; ++d) extremes[7 * k + d] = boxes[k].lower[d], extremes[7 * k + 3 + d] = -boxes[k].upper[d];
+    extremes[7 * k + 6] = boxes[k].finite ? 0.0 : -1.0;
+  }
   ranks.minimum(extremes);
-  BoundingBox box;
-  box.lower = Vec3(extremes[0], extremes[1], extremes[2]);
-  box.upper = -Vec3(extremes[3], extremes[4], extremes[5]);
-  box.finite = extremes[6] == 0;
+  for (std::size_t k = 0; k < boxes.size(); ++k) {
+    const double* e = &extremes[7 * k];
+    boxes[k].lower = Vec3(e[0], e[1], e[2]);
+    boxes[k].upper = -Vec3(e[3], e[4], e[5]);
+    boxes[k].finite = e[6] == 0;
+  }
+}
+
+inline BoundingBox over_ranks(const BoundingBox& mine, const parallel::Communicator& ranks) {
+  BoundingBox box = mine;
+  over_ranks(std::span(&box, 1), ranks);
   return box;
 }
 

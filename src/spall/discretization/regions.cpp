@@ -131,28 +131,21 @@ Regions Regions::cut(std::span<const Vec3> x, std::span<const double> w, int ran
     const std::size_t m = level.size();
     // Across the longest side of the box of the points that weigh (of all of them when none
     // does; a point that ran away counts in neither).
-    std::vector<double> boxes(12 * m);
-    for (std::size_t k = 0; k < m; ++k) {
-      BoundingBox weighing, all;
+    std::vector<BoundingBox> boxes(2 * m);  // of each split: the weighing points', every point's
+    for (std::size_t k = 0; k < m; ++k)
       for (std::size_t p = level[k].begin; p < level[k].end; ++p)
         if (const Index i = points[p]; x[i].allFinite()) {
-          all.include(x[i]);
-          if (weight[i] > 0) weighing.include(x[i]);
+          boxes[2 * k + 1].include(x[i]);
+          if (weight[i] > 0) boxes[2 * k].include(x[i]);
         }
-      for (int d = 0; d < 3; ++d) {
-        boxes[12 * k + d] = weighing.lower[d], boxes[12 * k + 3 + d] = -weighing.upper[d];
-        boxes[12 * k + 6 + d] = all.lower[d], boxes[12 * k + 9 + d] = -all.upper[d];
-      }
-    }
-    among.minimum(boxes);
+    over_ranks(boxes, among);
     std::vector<std::int64_t> totals(2 * m);
     std::vector<double> extremes(2 * m, infinity);
     for (std::size_t k = 0; k < m; ++k) {
       Part& part = level[k];
-      const double* b = &boxes[12 * k];
-      const int half = b[0] <= -b[3] ? 0 : 6;  // the weighing points' box unless empty
-      const Vec3 side(-b[half + 3] - b[half], -b[half + 4] - b[half + 1], -b[half + 5] - b[half + 2]);
-      if (b[half] <= -b[half + 3])
+      const BoundingBox& box = boxes[2 * k].empty() ? boxes[2 * k + 1] : boxes[2 * k];
+      const Vec3 side = box.upper - box.lower;
+      if (!box.empty())
         for (int d = 1; d < 3; ++d)
           if (side[d] > side[part.axis]) part.axis = d;
       const auto first = points.begin() + part.begin, last = points.begin() + part.end;
