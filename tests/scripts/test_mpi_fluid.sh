@@ -51,13 +51,18 @@ PY
 # LAYER_COLUMNS long, written column by column so that the ranks' blocks of nodes are stretches of
 # it along x, and a 2 x 2 droplet written last (the last rank's) that skims it at DROPLET_SPEED
 # along x, within the kernel's reach of the layer's top, from before its start to past its end.
-# With a third argument, the layer lies on a moving rigid wall (a floor of 1 kg, pushed down as the
-# droplet passes) and a fixed one across its far end stops the droplet there.
+# With a third argument "walled", the layer lies on a moving rigid wall (a floor of 1 kg, pushed
+# down as the droplet passes) and a fixed one across its far end stops the droplet there; with
+# "slider", the layer is lifted 3 cm and the droplet, coming down at 0.5 m/s, lands on a fixed
+# floor that welds it (FRIC 2, WVEL 0.1 m/s) and slides along it (frictionless) under the layer;
+# from 10 ms a body force pulls everything up (*LOAD_BODY_Y), which lifts the layer and leaves the
+# welded droplet on the floor.
 droplet_deck() {
   python3 - "$@" <<'PY'
 import sys
 speed, columns = float(sys.argv[1]), int(sys.argv[2])
-walled = len(sys.argv) > 3
+mode = sys.argv[3] if len(sys.argv) > 3 else ""
+walled, slider = mode == "walled", mode == "slider"
 dx = 0.01
 print("*KEYWORD\n*CONTROL_TERMINATION\n%10g" % ((columns + 6) * dx / speed))
 print("*CONTROL_SPH\n%40d%20d" % (2, 0))
@@ -65,8 +70,9 @@ print("*DATABASE_BINARY_D3PLOT\n%10g\n*DATABASE_GLSTAT\n%10g" % (0.01, 0.001))
 print("*PART\nwater\n%10d%10d%10d%10d" % (1, 1, 1, 1))
 print("*SECTION_SPH\n%10d%10g%10g%10g" % (1, 1.3, 1.0, 1.0))
 print("*MAT_NULL\n%10d%10g%10g%10g\n*EOS_MURNAGHAN\n%10d%10g%10g" % (1, 1000.0, 0.0, 1e-3, 1, 7.0, 81843.4))
-nodes = [(dx * i, dx * j) for i in range(columns) for j in range(4)]
-droplet = [(-3 * dx + dx * i, 4.5 * dx + dx * j) for i in range(2) for j in range(2)]
+lift = 0.03 if slider else 0.0
+nodes = [(dx * i, lift + dx * j) for i in range(columns) for j in range(4)]
+droplet = [(-3 * dx + dx * i, (0 if slider else 4.5 * dx) + dx * j) for i in range(2) for j in range(2)]
 print("*NODE")
 for k, (x, y) in enumerate(nodes + droplet):
     print("%8d%16g%16g%16g" % (k + 1, x, y, 0.0))
@@ -75,12 +81,17 @@ for k in range(len(nodes + droplet)):
     print("%8d%8d%16g" % (k + 1, 1, 1000.0 * dx * dx))
 print("*INITIAL_VELOCITY_NODE")
 for k in range(len(droplet)):
-    print("%10d%10g%10g%10g" % (len(nodes) + k + 1, speed, 0.0, 0.0))
+    print("%10d%10g%10g%10g" % (len(nodes) + k + 1, speed, -0.5 if slider else 0.0, 0.0))
 if walled:  # on every node: a floor of 1 kg under the layer (normal +y), free to move along its
     # normal, and a fixed wall across the layer's far end (normal -x)
     print("*RIGIDWALL_PLANAR_MOVING\n%10d\n" % 0 + "%10g" * 6 % (0, 0, 0, 0, 1, 0) + "\n%10g%10g" % (1.0, 0.0))
     print("*RIGIDWALL_PLANAR\n%10d\n" % 0 + "%10g" * 6 % (columns * dx, 0, 0, columns * dx - 1, 0, 0))
     print("*DATABASE_RWFORC\n%10g" % 0.001)
+if slider:
+    print("*RIGIDWALL_PLANAR\n%10d\n" % 0 + "%10g" * 8 % (0, 0, 0, 0, 1, 0, 2, 0.1))
+    print("*LOAD_BODY_Y\n%10d%10g\n*DEFINE_CURVE\n%10d" % (1, 1.0, 1))
+    for t, a in ((0, 0), (0.01, 0), (0.011, -30), (1, -30)):
+        print("%20g%20g" % (t, a))
 print("*END")
 PY
 }
@@ -115,38 +126,10 @@ for wall in 1 2; do
     "$work/walled.serial/rwforc.csv" || fail "wall $wall stopped nothing: $(tail -n 2 "$work/walled.serial/rwforc.csv")"
 done
 same_on_ranks "$work/walled.k" "$work/walled.serial" "4 1" "3 1 rebalanced"
-# A wall's state of a node goes with the node to its new rank: the droplet comes down on a fixed
-# floor that welds it (FRIC 2, WVEL 0.1 m/s: it lands at 0.5 m/s) and slides along it (frictionless)
-# under the layer, lifted 3 cm, across every rank's region; from 10 ms a body force pulls
-# everything up (*LOAD_BODY_Y), which lifts the layer and leaves the welded droplet on the floor.
-# A rank that took the droplet without its welds would let it go (the run without welding ends
-# elsewhere): bit for bit, with the regions fixed.
-python3 - >"$work/slider.k" <<'PY'
-dx, columns, speed = 0.01, 40, 10.0
-print("*KEYWORD\n*CONTROL_TERMINATION\n%10g" % ((columns + 6) * dx / speed))
-print("*CONTROL_SPH\n%40d%20d" % (2, 0))
-print("*DATABASE_BINARY_D3PLOT\n%10g\n*DATABASE_GLSTAT\n%10g" % (0.01, 0.001))
-print("*PART\nwater\n%10d%10d%10d%10d" % (1, 1, 1, 1))
-print("*SECTION_SPH\n%10d%10g%10g%10g" % (1, 1.3, 1.0, 1.0))
-print("*MAT_NULL\n%10d%10g%10g%10g\n*EOS_MURNAGHAN\n%10d%10g%10g" % (1, 1000.0, 0.0, 1e-3, 1, 7.0, 81843.4))
-layer = [(dx * i, 0.03 + dx * j) for i in range(columns) for j in range(4)]
-droplet = [(-3 * dx + dx * i, dx * j) for i in range(2) for j in range(2)]
-print("*NODE")
-for k, (x, y) in enumerate(layer + droplet):
-    print("%8d%16g%16g%16g" % (k + 1, x, y, 0.0))
-print("*ELEMENT_SPH")
-for k in range(len(layer + droplet)):
-    print("%8d%8d%16g" % (k + 1, 1, 1000.0 * dx * dx))
-print("*INITIAL_VELOCITY_NODE")
-for k in range(len(droplet)):
-    print("%10d%10g%10g%10g" % (len(layer) + k + 1, speed, -0.5, 0.0))
-print("*RIGIDWALL_PLANAR\n%10d\n" % 0 + "%10g" * 8 % (0, 0, 0, 0, 1, 0, 2, 0.1))
-print("*LOAD_BODY_Y\n%10d%10g" % (1, 1.0))
-print("*DEFINE_CURVE\n%10d" % 1)
-for t, a in ((0, 0), (0.01, 0), (0.011, -30), (1, -30)):
-    print("%20g%20g" % (t, a))
-print("*END")
-PY
+# A wall's state of a node goes with the node to its new rank: the welded droplet of the slider
+# deck crosses every rank's region. A rank that took it without its welds would let it go (the run
+# without welding ends elsewhere): bit for bit, with the regions fixed.
+droplet_deck 10 40 slider >"$work/slider.k"
 run_serial slider 100
 same_on_ranks "$work/slider.k" "$work/slider.serial" "4 1 fixed"
 python3 - "$work/droplet.k" >"$work/alone.k" <<'PY'
