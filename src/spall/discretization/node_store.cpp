@@ -14,6 +14,28 @@ void take(std::vector<T>& values, std::span<const Index> kept) {
   for (std::size_t k = 0; k < kept.size(); ++k) out[k] = values[kept[k]];
   values.swap(out);
 }
+
+// Calls visit(array) for each per-row array that goes with a row: the state, its place in the deck
+// and its rank.
+template <class Visit>
+void each_row_array(NodeStore& nodes, Visit&& visit) {
+  visit(nodes.global), visit(nodes.id), visit(nodes.part), visit(nodes.x0), visit(nodes.x), visit(nodes.v);
+  visit(nodes.f), visit(nodes.mass), visit(nodes.fixed), visit(nodes.active), visit(nodes.body), visit(nodes.owner);
+}
+
+// Row i from a row that travelled (its force is this rank's own, zero at a rebuild).
+void set_row(NodeStore& nodes, Index i, const NodeStore::Row& row, int rank) {
+  nodes.id[i] = row.id;
+  nodes.part[i] = row.part;
+  nodes.x0[i] = row.x0;
+  nodes.x[i] = row.x;
+  nodes.v[i] = row.v;
+  nodes.mass[i] = row.mass;
+  nodes.fixed[i] = row.fixed;
+  nodes.active[i] = row.active;
+  nodes.body[i] = row.body;
+  nodes.owner[i] = rank;
+}
 }  // namespace
 
 Index NodeStore::row_of(Index deck) const {
@@ -33,50 +55,30 @@ void NodeStore::index_by_deck() {
   sorted_by_deck_ = by_deck_.size();
 }
 
+void NodeStore::number_rows() {
+  if (!global.empty()) return;
+  deck_nodes_ = size();
+  global.resize(size());
+  std::iota(global.begin(), global.end(), Index(0));
+  index_by_deck();
+}
+
 Index NodeStore::add(const Row& row, int by) {
-  if (global.empty()) {
-    deck_nodes_ = size();
-    global.resize(size());
-    std::iota(global.begin(), global.end(), Index(0));
-    index_by_deck();
-  }
+  number_rows();
   const Index i = size();
-  global.push_back(static_cast<Index>(row.global));
-  id.push_back(row.id);
-  part.push_back(row.part);
-  x0.push_back(row.x0);
-  x.push_back(row.x);
-  v.push_back(row.v);
-  f.push_back(Vec3::Zero());
-  mass.push_back(row.mass);
-  fixed.push_back(row.fixed);
-  active.push_back(row.active);
-  body.push_back(row.body);
-  owner.push_back(by);
-  by_deck_.emplace_back(global.back(), i);
+  each_row_array(*this, [](auto& array) { array.emplace_back(); });
+  set_row(*this, i, row, by);
+  global[i] = static_cast<Index>(row.global);
+  f[i] = Vec3::Zero();
+  by_deck_.emplace_back(global[i], i);
   owned_end = size();
   return i;
 }
 
 void NodeStore::keep(std::span<const Index> kept) {
   if (!by_region()) throw std::logic_error("NodeStore::keep: rows of a rank's own need the nodes dealt by region");
-  if (global.empty()) {
-    deck_nodes_ = size();
-    global.resize(size());
-    std::iota(global.begin(), global.end(), Index(0));
-  }
-  take(global, kept);
-  take(id, kept);
-  take(part, kept);
-  take(x0, kept);
-  take(x, kept);
-  take(v, kept);
-  take(f, kept);
-  take(mass, kept);
-  take(fixed, kept);
-  take(active, kept);
-  take(body, kept);
-  take(owner, kept);
+  number_rows();
+  each_row_array(*this, [&](auto& array) { take(array, kept); });
   owned_end = size();
   list_owned();
   index_by_deck();
@@ -107,16 +109,7 @@ void NodeStore::gather_on_first_rank() {
     const Index i = static_cast<Index>(o.row.global);
     if (i < 0 || i >= n || seen[i]++)
       throw std::logic_error("NodeStore::gather_on_first_rank: the ranks' own nodes are not every node once");
-    id[i] = o.row.id;
-    part[i] = o.row.part;
-    x0[i] = o.row.x0;
-    x[i] = o.row.x;
-    v[i] = o.row.v;
-    mass[i] = o.row.mass;
-    fixed[i] = o.row.fixed;
-    active[i] = o.row.active;
-    body[i] = o.row.body;
-    owner[i] = static_cast<std::int32_t>(o.rank);
+    set_row(*this, i, o.row, static_cast<int>(o.rank));
   }
   list_owned();
 }

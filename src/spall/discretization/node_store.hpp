@@ -162,6 +162,8 @@ struct NodeStore {
   std::size_t sorted_by_deck_ = 0;
   Index deck_nodes_ = 0;  // every node of the deck, counted when the rows were last whole
   void index_by_deck();
+  // Rows that are every node in the deck's order get their places (global), before they change.
+  void number_rows();
 };
 
 }  // namespace spall::discretization

@@ -318,7 +318,7 @@ class TimeLoop::Step {
     const Real dt = step_.dt, t_mid = step_.time + Real(0.5) * dt;
     problem_.rigid_bodies.advance(nodes_, step_.time, dt, dt_mid_);
     // The driven nodes' rows (with rows of its own they change with the partition).
-    if (motion_rows_partition_ != nodes_.partition || motion_row_.size() != problem_.motions.size()) {
+    if (motion_rows_partition_ != nodes_.partition) {
       motion_row_.clear();
       for (const auto& m : problem_.motions) motion_row_.push_back(nodes_.row_of(m.node));
       motion_rows_partition_ = nodes_.partition;
