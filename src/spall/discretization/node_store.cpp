@@ -4,17 +4,11 @@
 #include <stdexcept>
 
 #include "spall/core/communicator.hpp"
+#include "spall/core/reorder.hpp"
 
 namespace spall::discretization {
 
 namespace {
-template <typename T>
-void take(std::vector<T>& values, std::span<const Index> kept) {
-  std::vector<T> out(kept.size());
-  for (std::size_t k = 0; k < kept.size(); ++k) out[k] = values[kept[k]];
-  values.swap(out);
-}
-
 // Calls visit(array) for each per-row array that goes with a row: the state, its place in the deck
 // and its rank.
 template <class Visit>
@@ -78,7 +72,7 @@ Index NodeStore::add(const Row& row, int by) {
 void NodeStore::keep(std::span<const Index> kept) {
   if (!by_region()) throw std::logic_error("NodeStore::keep: rows of a rank's own need the nodes dealt by region");
   number_rows();
-  each_row_array(*this, [&](auto& array) { take(array, kept); });
+  each_row_array(*this, [&](auto& array) { reorder(array, kept); });
   owned_end = size();
   list_owned();
   index_by_deck();

@@ -12,6 +12,7 @@
 
 #include "spall/core/error.hpp"
 #include "spall/core/parallel.hpp"
+#include "spall/core/reorder.hpp"
 #include "spall/core/simd.hpp"
 #include "spall/kernels/kernel.hpp"
 #include "spall/neighbors/trimmed_stencil.hpp"
@@ -78,13 +79,6 @@ using WideLanes = simd::WideFloatSum;
 using WallLanes = simd::Float8;
 constexpr int wall_group = WallLanes::width;
 constexpr Index simd_width = Lanes::width;
-
-template <typename T>
-void permute(std::vector<T>& values, std::span<const Index> order) {
-  std::vector<T> sorted(order.size());
-  for (std::size_t k = 0; k < order.size(); ++k) sorted[k] = values[order[k]];
-  values.swap(sorted);
-}
 
 template <typename T>
 std::size_t bytes(const std::vector<T>& v) {
@@ -197,13 +191,13 @@ void FluidFormulation::rebuild_cells(const discretization::NodeStore& nodes) {
 }
 
 void FluidFormulation::take_cell_order(const discretization::NodeStore& nodes, std::span<const Index> order) {
-  permute(node_, order);
+  reorder(node_, order);
   const Index n = particle_count();
   share_.reorder();
-  permute(mass_, order);
-  permute(density_, order);
-  permute(rate_, order);
-  permute(previous_rate_, order);
+  reorder(mass_, order);
+  reorder(density_, order);
+  reorder(rate_, order);
+  reorder(previous_rate_, order);
   // As many records and forces as particles (with rows of its own a rank's particles come and go;
   // the records past the last stay empty for the packs that read past it).
   record_.resize(n + simd_width + 1);
