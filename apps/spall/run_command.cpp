@@ -41,7 +41,7 @@ void warn_unsupported(const model::Model& model) {
   }
   for (const auto& [keyword, first] : seen) {
     const auto& [where, count] = first;
-    log::warning(fmt::format("{}:{}: {}: not supported by Spall, skipped{}{}", where.file, where.line, keyword,
+    log::warning(fmt::format("{}: {}: not supported by Spall, skipped{}{}", to_string(where), keyword,
                              count > 1 ? fmt::format(" ({} occurrences)", count) : std::string(),
                              io::keyword::defines_physics(keyword)
                                  ? " on request (--skip): the physics of this run is incomplete"
@@ -55,9 +55,9 @@ void warn_thermal_unused(const model::Model& model) {
   if (model.thermal_materials.empty()) return;
   const auto& first = model.thermal_materials.begin()->second;
   const std::size_t count = model.thermal_materials.size();
-  log::warning(fmt::format("{}:{}: {}: {} not used: no thermal solution is requested (*CONTROL_SOLUTION SOLN 0), "
+  log::warning(fmt::format("{}: {}: {} not used: no thermal solution is requested (*CONTROL_SOLUTION SOLN 0), "
                            "Spall runs the structural analysis",
-                           first.where.file, first.where.line, first.keyword,
+                           to_string(first.where), first.keyword,
                            count > 1 ? fmt::format("this and {} more thermal materials are", count - 1)
                                      : std::string("thermal material ") + std::to_string(first.id) + " is"));
 }
@@ -128,8 +128,9 @@ int check_deck(const std::string& deck, const std::vector<std::string>& skip) {
 }
 
 int run_deck(const RunOptions& options) {
-  // Several ranks (mpirun -np N): each holds the whole problem and computes a block of its nodes
-  // (docs/SCALING.md), and writes its piece of each field output; rank 0 writes every other file.
+  // Several ranks (mpirun -np N): each builds the whole problem, then a deck of fluid alone keeps its
+  // region's rows and the others compute a block of the nodes (docs/SCALING.md); each rank writes its
+  // piece of each field output, rank 0 every other file.
   const parallel::Communicator& ranks = parallel::world();
   const int launched = parallel::launched_ranks();
   if (launched > 1 && ranks.size() == 1)
@@ -144,8 +145,9 @@ int run_deck(const RunOptions& options) {
   const std::string deck =
       restart ? (fs::path(options.restart_dir) / "deck" / restart->header.deck).string() : options.deck;
   const std::vector<std::string>& skip = restart ? restart->header.skip : options.skip;
-  const model::Model model = read_and_check(deck, skip);
+  model::Model model = read_and_check(deck, skip);
   solver::Problem problem = build_something(model, deck);
+  model.release_mesh();
 
   const fs::path out = restart                      ? fs::path(options.restart_dir)
                        : options.output_dir.empty() ? fs::current_path() / (fs::path(deck).stem().string() + ".out")

@@ -53,13 +53,12 @@ TEST(keyword_numbers, IntegersAcceptIntegralRealsOnly) {
 struct OneLine {
   explicit OneLine(std::string text, bool long_format = false)
       : text_(std::move(text)), context{block, "*TEST", parameters, long_format} {
-    block.file = &file_;
+    block.file = "deck.k";
     block.line = 1;
     block.data.push_back({text_, 2});
   }
   Card card(std::span<const int> widths) const { return Card(context, block.data[0], widths); }
 
-  std::string file_ = "deck.k";
   std::string text_;
   KeywordBlock block;
   Parameters parameters;

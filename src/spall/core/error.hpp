@@ -4,17 +4,39 @@
 // file that cannot be written (a full disk, no permission) is an OutputError, exit code 4.
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace spall {
 
 // 1: an internal error (a bug in Spall, reported with what failed rather than an abort).
 enum ExitCode : int { exit_success = 0, exit_internal = 1, exit_bad_input = 2, exit_unstable = 3, exit_output = 4 };
 
+// The name of a file input was read from, as messages give it, held once for the life of the
+// process: every node and element of a deck remembers where it was read, and a copy of the name in
+// each would weigh more than the node itself (a million-particle deck read from a long path: 150 MB).
+class FileName {
+ public:
+  FileName() = default;  // not from a file
+  // Implicit, so that a name given as text is a FileName: each looks the name up in the process's
+  // table, so a reader makes one per file and copies it.
+  FileName(std::string_view name);         // NOLINT(google-explicit-constructor)
+  FileName(const std::string& name) : FileName(std::string_view(name)) {}  // NOLINT(google-explicit-constructor)
+  FileName(const char* name) : FileName(std::string_view(name)) {}         // NOLINT(google-explicit-constructor)
+  const std::string& str() const;
+  bool empty() const { return str().empty(); }
+
+ private:
+  const std::string* name_ = nullptr;
+};
+
 // Where something was read: a file and a 1-based line number (0 when not from a file).
 struct SourceLocation {
-  std::string file;
+  FileName file;
   int line = 0;
 };
+
+// "file:line".
+std::string to_string(const SourceLocation& where);
 
 class InputError : public std::runtime_error {
  public:

@@ -6,6 +6,15 @@
 
 namespace spall::model {
 
+void Model::release_mesh() {
+  // swap with empty vectors and maps: clear() keeps a vector's capacity
+  std::vector<Node>().swap(nodes);
+  std::vector<ElementSph>().swap(sph_elements);
+  std::vector<ElementSolid>().swap(solid_elements);
+  std::vector<ElementShell>().swap(shell_elements);
+  node_sets.clear();
+}
+
 const Part* Model::find_part(Id id) const {
   for (const auto& part : parts)
     if (part.id == id) return &part;
@@ -26,7 +35,6 @@ std::array<Real, 4> Model::shell_thickness(const ElementShell& element) const {
 
 namespace {
 
-std::string location_text(const SourceLocation& where) { return where.file + ":" + std::to_string(where.line); }
 
 }  // namespace
 
@@ -71,7 +79,7 @@ void Model::require_global_axes(Id cid, const SourceLocation& where, const std::
   bool global = true;
   for (int d = 0; d < 3; ++d) global = global && local(d, d) >= 1 - 1e-9;
   const std::string named = fmt::format("{}: coordinate system {} ({} at {})", field, cid, system.keyword,
-                                        location_text(system.where));
+                                        to_string(system.where));
   if (!global)
     fail_at(where, keyword,
             fmt::format("{} has local x axis ({:.6g}, {:.6g}, {:.6g}), not the global one: Spall applies this card "

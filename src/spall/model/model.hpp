@@ -683,6 +683,11 @@ struct Model {
 
   std::vector<UnsupportedKeyword> unsupported;
 
+  // Frees the nodes, elements and node sets once the solver has built its stores from them: a run
+  // keeps the curves and controls it refers to, not a second copy of the mesh (at a million
+  // particles the mesh is most of the set-up's memory).
+  void release_mesh();
+
   const Part* find_part(Id id) const;
   // The part's *MAT_RIGID card, or nullptr: such a part is a rigid body whatever its section.
   const MatRigid* rigid_material(const Part& part) const;

@@ -71,9 +71,13 @@ FieldSnapshot snapshot_fields(const Problem& problem) {
       written.push_back(i);
     }
   FieldSnapshot snap;
+  snap.points.reserve(written.size());
   for (Index i : written) snap.points.push_back(nodes.x[i]);
+  // Written in increasing order, every node written is the identity: no copy of every field then.
+  const bool every_node = written.size() == static_cast<std::size_t>(nodes.size());
   for (auto& field : set.node_fields()) {
-    std::visit([&](auto& values) { values = gather(values, written, field.components); }, field.values);
+    if (!every_node)
+      std::visit([&](auto& values) { values = gather(values, written, field.components); }, field.values);
     snap.fields.push_back(std::move(field));
   }
   for (std::size_t b = 0; b < set.cell_blocks().size(); ++b)

@@ -4,8 +4,8 @@
 #include <cmath>
 #include <fmt/format.h>
 #include <optional>
-#include <set>
 #include <unordered_map>
+#include <utility>
 
 #include "spall/contact/setup.hpp"
 #include "spall/core/log.hpp"
@@ -167,24 +167,26 @@ class Builder {
     std::unordered_map<Id, Index> material_index;
     std::unordered_map<Id, SphPart> parts;
     std::vector<sph::ParticleSetup> particles;
-    std::set<Id> seen;
+    std::vector<char> carries_particle(problem_.nodes.size(), 0);  // by node index: 1 B a node, not a set's 40
+    const auto carry = [&](const model::ElementSph& e) {
+      const Index node = node_index(e.nid, e.where, "*ELEMENT_SPH");
+      if (std::exchange(carries_particle[node], 1))
+        fail_at(e.where, "*ELEMENT_SPH", fmt::format("node {} carries two SPH particles", e.nid));
+      return node;
+    };
     sph::SolidOptions options = sph_options();
     std::vector<sph::FluidParticle> fluid;
     for (const auto& e : model_.sph_elements) {
       // *MAT_NULL parts are liquid: the SPH fluid formulation (sph/fluid_setup.cpp) takes them.
       if (sph::is_fluid_part(model_, e.pid)) {
-        if (!seen.insert(e.nid).second)
-          fail_at(e.where, "*ELEMENT_SPH", fmt::format("node {} carries two SPH particles", e.nid));
-        fluid.push_back({&e, node_index(e.nid, e.where, "*ELEMENT_SPH")});
+        fluid.push_back({&e, carry(e)});
         continue;
       }
       auto found = parts.find(e.pid);
       if (found == parts.end())
         found = parts.emplace(e.pid, resolve_sph_part(e.pid, e.where, table, material_index)).first;
       SphPart& part = found->second;
-      const Index node = node_index(e.nid, e.where, "*ELEMENT_SPH");
-      if (!seen.insert(e.nid).second)
-        fail_at(e.where, "*ELEMENT_SPH", fmt::format("node {} carries two SPH particles", e.nid));
+      const Index node = carry(e);
       const Real mass = e.mass > 0 ? e.mass : -e.mass * part.density;
       if (!(mass > 0)) fail_at(e.where, "*ELEMENT_SPH", fmt::format("MASS: particle {} has no mass", e.nid));
       problem_.nodes.mass[node] = mass;
@@ -460,7 +462,7 @@ class Builder {
   }
 
   static void warn(const model::RigidWallPlanar& wall, const std::string& message) {
-    log::warning(fmt::format("{}:{}: {}: {}", wall.where.file, wall.where.line, wall.keyword, message));
+    log::warning(fmt::format("{}: {}: {}", to_string(wall.where), wall.keyword, message));
   }
 
   void build_controls() {
@@ -485,8 +487,8 @@ class Builder {
     if (ts.ms1st != 0 && ts.ms1st != 1)
       fail_at(ts.where, "*CONTROL_TIMESTEP", fmt::format("MS1ST: {} is not 0 or 1", ts.ms1st));
     if (ts.ms1st == 1 && ts.dt2ms == 0)
-      log::warning(fmt::format("{}:{}: *CONTROL_TIMESTEP: MS1ST 1 does nothing without a negative DT2MS", ts.where.file,
-                               ts.where.line));
+      log::warning(fmt::format("{}: *CONTROL_TIMESTEP: MS1ST 1 does nothing without a negative DT2MS",
+                               to_string(ts.where)));
     c.mass_scaling_step = -ts.dt2ms;
     c.end_mass_percent = term.endmas;
     c.erode = ts.erode % 10 == 1;
@@ -522,9 +524,9 @@ class Builder {
     const auto& ts = model_.timestep;
     for (auto& f : problem_.formulations)
       if (!f->scale_mass_below(problem_.controls.mass_scaling_step, ts.ms1st == 1))
-        log::warning(fmt::format("{}:{}: *CONTROL_TIMESTEP: DT2MS: the {} particles keep their mass (their density is "
+        log::warning(fmt::format("{}: *CONTROL_TIMESTEP: DT2MS: the {} particles keep their mass (their density is "
                                  "the sum of the masses around them) and their own step still limits the run",
-                                 ts.where.file, ts.where.line, f->name()));
+                                 to_string(ts.where), f->name()));
   }
 
   // The interval of a history (*DATABASE_RWFORC, _RCFORC, _RBDOUT): GLSTAT's without the card.

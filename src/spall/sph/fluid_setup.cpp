@@ -62,10 +62,10 @@ FluidPart resolve_fluid_part(const model::Model& model, Id pid) {
 void warn_constant_h_once(const model::SectionSph& section, bool& warned) {
   if (warned || (section.hmin == 1.0 && section.hmax == 1.0)) return;
   warned = true;
-  log::warning(fmt::format("{}:{}: *SECTION_SPH: HMIN {} HMAX {}: the SPH fluid keeps its "
+  log::warning(fmt::format("{}: *SECTION_SPH: HMIN {} HMAX {}: the SPH fluid keeps its "
                            "smoothing length constant (its density varies by about 1 %); set "
                            "HMIN = HMAX = 1.0 to say so in the deck",
-                           section.where.file, section.where.line, section.hmin, section.hmax));
+                           to_string(section.where), section.hmin, section.hmax));
 }
 
 }  // namespace

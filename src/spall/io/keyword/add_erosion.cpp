@@ -74,9 +74,8 @@ void read_mat_add_erosion(CardCursor& cursor, const KeywordCall& call, model::Mo
   if (!cursor.done())
     cursor.context().fail(cursor.peek().line, "unexpected data line after card 5; one *MAT_ADD_EROSION per material");
   if (model.add_erosions.contains(e.mid))
-    card1.context().fail(card1.line(), fmt::format("material {} has a *MAT_ADD_EROSION already (at {}:{})", e.mid,
-                                                   model.add_erosions.at(e.mid).where.file,
-                                                   model.add_erosions.at(e.mid).where.line));
+    card1.context().fail(card1.line(), fmt::format("material {} has a *MAT_ADD_EROSION already (at {})", e.mid,
+                                                   to_string(model.add_erosions.at(e.mid).where)));
   model.add_erosions[e.mid] = e;
 }
 

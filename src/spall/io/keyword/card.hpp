@@ -33,7 +33,7 @@ struct CardContext {
   const Parameters& parameters;
   bool long_format = false;
 
-  SourceLocation where(int line) const { return {*block.file, line}; }
+  SourceLocation where(int line) const { return {block.file, line}; }
   [[noreturn]] void fail(int line, const std::string& message) const;
 };
 

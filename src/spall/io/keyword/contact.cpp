@@ -298,7 +298,7 @@ void read_contact(CardCursor& cursor, const KeywordCall& call, model::Model& mod
     for (const auto& other : model.contacts)
       if (contact.id != 0 && other.id == contact.id)
         card.fail("CID", "contact " + std::to_string(contact.id) + " is defined twice (first at " +
-                             other.where.file + ":" + std::to_string(other.where.line) + ")");
+                             to_string(other.where) + ")");
   }
   if (call.mpp) read_mpp_cards(cursor);
 
@@ -351,8 +351,7 @@ void read_database_rcforc_moment(CardCursor& cursor, const KeywordCall&, model::
 void read_control_contact(CardCursor& cursor, const KeywordCall&, model::Model& model) {
   const Card card1 = cursor.next(standard_fields, "card 1 (SLSFAC RWPNAL ISLCHK SHLTHK PENOPT THKCHG ORIEN ENMASS)");
   if (model.control_contact)
-    card1.context().fail(card1.line(), "given twice (first at " + model.control_contact->where.file + ":" +
-                                           std::to_string(model.control_contact->where.line) + ")");
+    card1.context().fail(card1.line(), "given twice (first at " + to_string(model.control_contact->where) + ")");
   model::ControlContact control;
   control.where = card1.where();
   control.slsfac = zero_means_default(non_negative(card1, 0, "SLSFAC", 0.0), 0.1);

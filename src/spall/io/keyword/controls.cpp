@@ -16,8 +16,7 @@ Real zero_means_default(Real value, Real fallback) { return value == 0.0 ? fallb
 
 void refuse_second(const CardCursor& cursor, bool already_read, const SourceLocation& first) {
   if (already_read)
-    cursor.context().fail(cursor.line_of_block(), "given twice (first at " + first.file + ":" +
-                                                      std::to_string(first.line) + ")");
+    cursor.context().fail(cursor.line_of_block(), "given twice (first at " + to_string(first) + ")");
 }
 }  // namespace
 
@@ -197,7 +196,7 @@ void read_spall_sph_colour_field(CardCursor& cursor, const KeywordCall&, model::
     for (const auto& other : model.sph_colour_fields)
       if (other.pid == colour.pid)
         card.fail("PID", "part " + std::to_string(colour.pid) + " already has a card (at " +
-                             other.where.file + ":" + std::to_string(other.where.line) + ")");
+                             to_string(other.where) + ")");
     model.sph_colour_fields.push_back(colour);
   }
 }

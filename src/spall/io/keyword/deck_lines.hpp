@@ -6,6 +6,8 @@
 #include <string_view>
 #include <vector>
 
+#include "spall/core/error.hpp"
+
 namespace spall::io::keyword {
 
 // One data line of a keyword block, as a view into the file's text (no trailing CR/LF).
@@ -22,7 +24,7 @@ struct KeywordBlock {
   std::string name;             // upper case, without `*`, without a `+`/`-` suffix or trailing text
   std::string_view trailing;    // text after the name on the keyword line (e.g. `LONG=Y`)
   WidthOverride width = WidthOverride::none;
-  const std::string* file = nullptr;  // the file as named in messages
+  FileName file;  // the file as named in messages
   int line = 0;
   std::vector<DataLine> data;
 };
@@ -35,7 +37,7 @@ class DeckFile {
   // Takes `text` as the content of the file at `path` (which need not exist): a deck held in memory.
   void assign(std::string text, const std::filesystem::path& path);
 
-  const std::string& name() const { return name_; }
+  const std::string& name() const { return name_.str(); }
   const std::filesystem::path& path() const { return path_; }
   // Where the first NUL byte is, std::string::npos if none: a keyword file is text, so a NUL
   // says the file is something else (an executable, a d3plot, an archive).
@@ -51,14 +53,14 @@ class DeckFile {
   static void start_block(std::string_view keyword_line, KeywordBlock& block);
 
   std::filesystem::path path_;
-  std::string name_;
+  FileName name_;
   std::string text_;
 };
 
 template <class OnBlock>
 void DeckFile::for_each_block(OnBlock&& on_block) const {
   KeywordBlock block;
-  block.file = &name_;
+  block.file = name_;
   bool in_block = false;
   std::string_view rest = text_;
   int line_number = 0;

@@ -44,8 +44,7 @@ void read_hourglass(CardCursor& cursor, const KeywordCall& call, model::Model& m
 void read_control_hourglass(CardCursor& cursor, const KeywordCall&, model::Model& model) {
   const Card card = cursor.next(standard_fields, "card 1 (IHQ QH)");
   if (model.control_hourglass)
-    card.context().fail(card.line(), "given twice (first at " + model.control_hourglass->where.file + ":" +
-                                         std::to_string(model.control_hourglass->where.line) + ")");
+    card.context().fail(card.line(), "given twice (first at " + to_string(model.control_hourglass->where) + ")");
   model::ControlHourglass control;
   control.ihq = hourglass_type(card, 0);
   control.qh = coefficient(card, 1, "QH", 0.1);

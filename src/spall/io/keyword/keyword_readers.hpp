@@ -39,8 +39,7 @@ void insert_unique(Map& map, std::int64_t id, Item&& item, const Card& card, std
   if (!inserted) {
     const SourceLocation& first = location_of(it->second);
     card.context().fail(card.line(), std::string(what) + " " + std::to_string(id) +
-                                         " is defined twice (first at " + first.file + ":" +
-                                         std::to_string(first.line) + ")");
+                                         " is defined twice (first at " + to_string(first) + ")");
   }
 }
 

@@ -323,7 +323,7 @@ class DeckReader {
   void record_unsupported(const KeywordBlock& block, bool long_format) {
     model::UnsupportedKeyword unsupported;
     unsupported.keyword = "*" + block.name;
-    unsupported.where = {*block.file, block.line};
+    unsupported.where = {block.file, block.line};
     const std::string_view name = block.name;
     std::size_t card = block.data.size();  // the card with the ID; none by default
     if (name.starts_with("SECTION_") || name.starts_with("MAT_") || name.starts_with("EOS_") ||

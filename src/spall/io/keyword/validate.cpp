@@ -17,9 +17,6 @@ namespace {
 
 using model::Model;
 
-std::string location_text(const SourceLocation& where) {
-  return where.file + ":" + std::to_string(where.line);
-}
 
 // The first item whose ID repeats an earlier one, reported at the repeat.
 template <class Items, class IdOf>
@@ -31,7 +28,7 @@ void require_unique(const Items& items, IdOf id_of, const char* keyword, const c
     if (!inserted)
       throw InputError(item.where, keyword,
                        std::string(what) + " " + std::to_string(id_of(item)) +
-                           " is defined twice (first at " + location_text(*it->second) + ")");
+                           " is defined twice (first at " + to_string(*it->second) + ")");
   }
 }
 
@@ -86,7 +83,7 @@ class Validator {
       if (other)
         throw InputError(other->where, other->keyword,
                          "section " + std::to_string(id) + " is defined twice (first at " +
-                             location_text(std::visit([](const auto& s) { return s.where; }, section)) +
+                             to_string(std::visit([](const auto& s) { return s.where; }, section)) +
                              ")");
     }
     for (const auto& [id, material] : model_.materials) {
@@ -96,14 +93,14 @@ class Validator {
       if (other && !std::string_view(other->keyword).starts_with("*MAT_ADD_"))
         throw InputError(other->where, other->keyword,
                          "material " + std::to_string(id) + " is defined twice (first at " +
-                             location_text(material.where) + ")");
+                             to_string(material.where) + ")");
     }
     for (const auto& [id, eos] : model_.eos) {
       const auto* other = find_unsupported(model_, "*EOS_", id);
       if (other)
         throw InputError(other->where, other->keyword,
                          "equation of state " + std::to_string(id) + " is defined twice (first at " +
-                             location_text(eos.where) + ")");
+                             to_string(eos.where) + ")");
     }
   }
 
@@ -145,7 +142,7 @@ class Validator {
     if (const auto* unsupported = find_unsupported(model_, "*PART_", pid))
       throw InputError(where, keyword,
                        who + ": part " + std::to_string(pid) + " is a " + unsupported->keyword +
-                           " (" + location_text(unsupported->where) +
+                           " (" + to_string(unsupported->where) +
                            "), which Spall does not support");
     throw InputError(where, keyword, who + ": part " + std::to_string(pid) + " is not defined");
   }
@@ -178,7 +175,7 @@ class Validator {
           it != first_sph_.end() && !std::holds_alternative<model::SectionSph>(section->second))
         throw InputError(part.where, "*PART",
                          "part " + std::to_string(part.id) + " has *ELEMENT_SPH particles (" +
-                             location_text(*it->second) + ") but its section " +
+                             to_string(*it->second) + ") but its section " +
                              std::to_string(part.secid) + " is not a *SECTION_SPH");
       if (part.inertia && !model_.rigid_material(part))
         throw InputError(part.inertia->where, "*PART_INERTIA",
@@ -189,12 +186,12 @@ class Validator {
         if (!shell_section)
           throw InputError(part.where, "*PART",
                            "part " + std::to_string(part.id) + " has *ELEMENT_SHELL elements (" +
-                               location_text(*it->second) + ") but its section " + std::to_string(part.secid) +
+                               to_string(*it->second) + ") but its section " + std::to_string(part.secid) +
                                " is not a *SECTION_SHELL");
         if (!model_.rigid_material(part))
           throw InputError(part.where, "*PART",
                            "part " + std::to_string(part.id) + " has *ELEMENT_SHELL elements (" +
-                               location_text(*it->second) + ") but material " + std::to_string(part.mid) +
+                               to_string(*it->second) + ") but material " + std::to_string(part.mid) +
                                " is not *MAT_RIGID: Spall runs shells only as rigid geometry (deformable shells "
                                "are not implemented)");
       }
@@ -206,7 +203,7 @@ class Validator {
           it != first_solid_.end() && std::holds_alternative<model::SectionSph>(section->second))
         throw InputError(part.where, "*PART",
                          "part " + std::to_string(part.id) + " has *ELEMENT_SOLID elements (" +
-                             location_text(*it->second) + ") but its section " +
+                             to_string(*it->second) + ") but its section " +
                              std::to_string(part.secid) + " is not a *SECTION_SOLID or *SECTION_SOLID_SPG");
     }
   }
@@ -228,7 +225,7 @@ class Validator {
       return;
     throw InputError(part.where, "*PART",
                      "part " + std::to_string(part.id) + ": material " + std::to_string(part.mid) +
-                         " (" + location_text(material->second.where) + ") needs an equation of "
+                         " (" + to_string(material->second.where) + ") needs an equation of "
                          "state, but EOSID is 0: " + why);
   }
 
@@ -241,7 +238,7 @@ class Validator {
       const std::string lcss = std::to_string(piecewise->lcss);
       if (const auto* table = find_unsupported(model_, "*DEFINE_TABLE", piecewise->lcss))
         throw InputError(material.where, material.keyword,
-                         "LCSS: " + lcss + " is a " + table->keyword + " (" + location_text(table->where) +
+                         "LCSS: " + lcss + " is a " + table->keyword + " (" + to_string(table->where) +
                              "); tables of curves by strain rate are not read, give a "
                              "*DEFINE_CURVE of yield stress versus plastic strain");
       throw InputError(material.where, material.keyword, undefined("LCSS: curve", piecewise->lcss));
@@ -258,7 +255,7 @@ class Validator {
     if (used)
       throw InputError(part.where, "*PART",
                        "part " + std::to_string(part.id) + " uses " + unsupported->keyword + " (" +
-                           location_text(unsupported->where) + "), which Spall does not support");
+                           to_string(unsupported->where) + "), which Spall does not support");
   }
 
   void check_sets() const {
@@ -300,7 +297,7 @@ class Validator {
       if (!what.ends_with(kind)) continue;
       for (std::string_view prefix : prefixes)
         if (const auto* other = !prefix.empty() ? find_unsupported(model_, prefix, id) : nullptr)
-          return name + " is defined by " + other->keyword + " (" + location_text(other->where) +
+          return name + " is defined by " + other->keyword + " (" + to_string(other->where) +
                  "), which Spall does not read";
     }
     return name + " is not defined";
@@ -398,7 +395,7 @@ class Validator {
       const auto& contact = model_.contacts.front();
       throw InputError(control->where, "*CONTROL_CONTACT",
                        "IGNORE (card 4) = " + std::to_string(control->ignore) + " would make " + contact.keyword +
-                           " (" + location_text(contact.where) +
+                           " (" + to_string(contact.where) +
                            ") track initial penetrations, which is not implemented; leave it 0");
     }
   }
