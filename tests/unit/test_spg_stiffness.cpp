@@ -53,8 +53,8 @@ Spectrum spectrum(const Block& block) {
   b.section.dx = b.section.dy = b.section.dz = block.dilation;
   const model::Model m = test_support::spg_block_model(b);
   const solver::Problem base = solver::build_problem(m);
-  std::unordered_map<Id, Index> index_of_node;
-  for (Index i = 0; i < base.nodes.size(); ++i) index_of_node[base.nodes.id[i]] = i;
+  discretization::NodeIndex index_of_node;
+  index_of_node.assign(base.nodes.id);
   auto setups = spg::spg_parts(m, index_of_node, base.nodes);
   setups[0].settings.stabilization_factor = block.stabilization;
   // The elastic operator alone: no bulk viscosity and no dashpot (they would add rate terms to the

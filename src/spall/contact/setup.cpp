@@ -59,17 +59,17 @@ constexpr int tet_faces[4][3] = {{0, 1, 2}, {0, 1, 3}, {1, 2, 3}, {2, 0, 3}};
 // collapse to an edge; a face that collapses to a triangle is one.
 class SolidFaces {
  public:
-  SolidFaces(const model::Model& model, const std::unordered_map<Id, Index>& index_of_node,
+  SolidFaces(const model::Model& model, const discretization::NodeIndex& index_of_node,
              const std::vector<Vec3>& x) {
     volume_.resize(model.solid_elements.size());
     for (std::size_t e = 0; e < model.solid_elements.size(); ++e) {
       const auto& element = model.solid_elements[e];
       std::array<Index, 8> n;
       for (int k = 0; k < 8; ++k) {
-        auto it = index_of_node.find(element.n[k]);
-        if (it == index_of_node.end())
+        const Index* it = index_of_node.find(element.n[k]);
+        if (!it)
           fail_at(element.where, "*ELEMENT_SOLID", fmt::format("node {} does not exist", element.n[k]));
-        n[k] = it->second;
+        n[k] = *it;
       }
       std::vector<Corners> faces;
       if (element.is_tetrahedron()) {
@@ -133,7 +133,7 @@ struct PartStiffness {
 
 class Builder {
  public:
-  Builder(const model::Model& model, const std::unordered_map<Id, Index>& index_of_node,
+  Builder(const model::Model& model, const discretization::NodeIndex& index_of_node,
           const discretization::NodeStore& nodes)
       : model_(model), index_of_node_(index_of_node), nodes_(nodes),
         faces_(model, index_of_node, nodes.x) {
@@ -265,9 +265,9 @@ class Builder {
   }
 
   Index node(Id id, const SourceLocation& where, const char* keyword) const {
-    auto it = index_of_node_.find(id);
-    if (it == index_of_node_.end()) fail_at(where, keyword, fmt::format("node {} does not exist", id));
-    return it->second;
+    const Index* it = index_of_node_.find(id);
+    if (!it) fail_at(where, keyword, fmt::format("node {} does not exist", id));
+    return *it;
   }
 
   const model::SegmentSet& segment_set(Id id, const char* field) const {
@@ -434,7 +434,7 @@ class Builder {
   }
 
   const model::Model& model_;
-  const std::unordered_map<Id, Index>& index_of_node_;
+  const discretization::NodeIndex& index_of_node_;
   const discretization::NodeStore& nodes_;
   SolidFaces faces_;
   model::ControlContact control_;
@@ -449,7 +449,7 @@ class Builder {
 }  // namespace
 
 std::vector<PenaltyContact> build_contacts(const model::Model& model,
-                                           const std::unordered_map<Id, Index>& index_of_node,
+                                           const discretization::NodeIndex& index_of_node,
                                            const discretization::NodeStore& nodes) {
   std::vector<PenaltyContact> contacts;
   if (model.contacts.empty() && model.rcforc_moments.empty()) return contacts;
@@ -465,10 +465,10 @@ std::vector<PenaltyContact> build_contacts(const model::Model& model,
     for (int side = 0; side < 2; ++side) {
       const Id id = side == 0 ? moment.nodes_a : moment.nodes_b;
       if (id == 0) continue;
-      auto it = index_of_node.find(id);
-      if (it == index_of_node.end())
+      const Index* it = index_of_node.find(id);
+      if (!it)
         fail_at(moment.where, keyword, fmt::format("{}: node {} does not exist", side == 0 ? "NODESA" : "NODESB", id));
-      nodes_of[side] = it->second;
+      nodes_of[side] = *it;
     }
     contact->set_moment_nodes(nodes_of);
   }

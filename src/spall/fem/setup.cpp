@@ -108,7 +108,7 @@ bool is_fem_part(const model::Model& model, Id part_id) {
 }
 
 std::unique_ptr<discretization::Formulation> build_fem(const model::Model& model,
-                                                       const std::unordered_map<Id, Index>& index_of_node,
+                                                       const discretization::NodeIndex& index_of_node,
                                                        discretization::NodeStore& nodes) {
   check_add_erosions(model);
   std::vector<PartSettings> parts;
@@ -128,10 +128,10 @@ std::unique_ptr<discretization::Formulation> build_fem(const model::Model& model
     setup.id = e.eid;
     setup.part = it->second;
     for (int a = 0; a < 8; ++a) {
-      auto node = index_of_node.find(e.n[a]);
-      if (node == index_of_node.end())
+      const Index* node = index_of_node.find(e.n[a]);
+      if (!node)
         fail_at(e.where, "*ELEMENT_SOLID", fmt::format("element {}: node {} does not exist", e.eid, e.n[a]));
-      setup.node[a] = node->second;
+      setup.node[a] = *node;
     }
     const Real volume = element_volume(setup.node, section->elform == 10, nodes);
     if (!(volume > 0))

@@ -67,17 +67,17 @@ PrescribedMotion prescribed_motion(const model::Model& model, const model::Presc
 // plane, or CID's first axes) to the world's. VTX..VRZ, when not all 0, set the body's initial velocity
 // and angular velocity about the centre (over any *INITIAL_VELOCITY of its nodes).
 MassProperties mass_properties(const model::Model& model, const model::PartInertia& card,
-                               const std::unordered_map<Id, Index>& index_of_node, const std::vector<Index>& body_nodes,
+                               const discretization::NodeIndex& index_of_node, const std::vector<Index>& body_nodes,
                                discretization::NodeStore& nodes) {
   const char* keyword = "*PART_INERTIA";
   MassProperties p;
   p.mass = card.mass;
   p.centre = card.centre;
   if (card.node != 0) {
-    auto it = index_of_node.find(card.node);
-    if (it == index_of_node.end())
+    const Index* it = index_of_node.find(card.node);
+    if (!it)
       fail_at(card.where, keyword, fmt::format("NODEID: node {} does not exist", card.node));
-    p.centre = nodes.x[it->second];
+    p.centre = nodes.x[*it];
   }
   Mat3 Q = Mat3::Identity();  // columns: the local axes in world coordinates
   if (card.local && card.cid != 0) {
@@ -130,7 +130,7 @@ bool is_rigid_part(const model::Model& model, Id part_id) {
   return part && model.rigid_material(*part);
 }
 
-void add_rigid_masses(const model::Model& model, const std::unordered_map<Id, Index>& index_of_node,
+void add_rigid_masses(const model::Model& model, const discretization::NodeIndex& index_of_node,
                       discretization::NodeStore& nodes) {
   for (const auto& e : model.solid_elements) {
     const model::Part* part = model.find_part(e.pid);
@@ -138,10 +138,10 @@ void add_rigid_masses(const model::Model& model, const std::unordered_map<Id, In
     if (!rigid) continue;
     std::array<Index, 8> node;
     for (int a = 0; a < 8; ++a) {
-      auto it = index_of_node.find(e.n[a]);
-      if (it == index_of_node.end())
+      const Index* it = index_of_node.find(e.n[a]);
+      if (!it)
         fail_at(e.where, "*ELEMENT_SOLID", fmt::format("element {}: node {} does not exist", e.eid, e.n[a]));
-      node[a] = it->second;
+      node[a] = *it;
     }
     const bool tetrahedron = e.is_tetrahedron();
     const Real volume = fem::element_volume(node, tetrahedron, nodes);
@@ -163,10 +163,10 @@ void add_rigid_masses(const model::Model& model, const std::unordered_map<Id, In
     const int per = e.is_triangle() ? 3 : 4;
     std::array<Vec3, 4> x;
     for (int a = 0; a < 4; ++a) {
-      auto it = index_of_node.find(e.n[a]);
-      if (it == index_of_node.end())
+      const Index* it = index_of_node.find(e.n[a]);
+      if (!it)
         fail_at(e.where, "*ELEMENT_SHELL", fmt::format("shell element {}: node {} does not exist", e.eid, e.n[a]));
-      x[a] = nodes.x[it->second];
+      x[a] = nodes.x[*it];
     }
     // Half the cross product of the diagonals (of two edges for a triangle).
     const Vec3 twice_area = per == 3 ? (x[1] - x[0]).cross(x[2] - x[0]) : (x[2] - x[0]).cross(x[3] - x[1]);
@@ -185,7 +185,7 @@ void add_rigid_masses(const model::Model& model, const std::unordered_map<Id, In
   }
 }
 
-RigidBodies build_rigid_bodies(const model::Model& model, const std::unordered_map<Id, Index>& index_of_node,
+RigidBodies build_rigid_bodies(const model::Model& model, const discretization::NodeIndex& index_of_node,
                                discretization::NodeStore& nodes) {
   // *CONSTRAINED_RIGID_BODIES: each part's lead (itself, or its PIDL's lead, followed down).
   std::map<Id, const model::ConstrainedRigidBodies*> lead_card;

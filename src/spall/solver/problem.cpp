@@ -48,9 +48,9 @@ class Builder {
 
  private:
   Index node_index(Id id, const SourceLocation& where, const char* keyword) const {
-    auto it = index_of_node_.find(id);
-    if (it == index_of_node_.end()) fail_at(where, keyword, fmt::format("node {} does not exist", id));
-    return it->second;
+    const Index* it = index_of_node_.find(id);
+    if (!it) fail_at(where, keyword, fmt::format("node {} does not exist", id));
+    return *it;
   }
 
   const model::Curve* curve(Id id, const SourceLocation& where, const char* keyword,
@@ -110,8 +110,10 @@ class Builder {
       nodes.x0[k] = node.x;
       nodes.x[k] = node.x;
       nodes.fixed[k] = model::constraint_axes(node.tc);
-      if (!index_of_node_.emplace(node.id, k).second)
-        fail_at(node.where, "*NODE", fmt::format("node {} is defined twice", node.id));
+    }
+    if (const Index twice = index_of_node_.assign(nodes.id); twice >= 0) {
+      const auto& node = model_.nodes[order[twice]];
+      fail_at(node.where, "*NODE", fmt::format("node {} is defined twice", node.id));
     }
   }
 
@@ -544,7 +546,7 @@ class Builder {
 
   const model::Model& model_;
   Problem problem_;
-  std::unordered_map<Id, Index> index_of_node_;
+  discretization::NodeIndex index_of_node_;
 };
 
 }  // namespace

@@ -102,7 +102,7 @@ using FaceKey = std::array<Index, 4>;
 constexpr int hex_faces[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
 
 // The nodes of faces that only one element of the part has are on the part's surface.
-void mark_surface_nodes(const model::Model& model, const std::unordered_map<Id, Index>& index_of_node,
+void mark_surface_nodes(const model::Model& model, const discretization::NodeIndex& index_of_node,
                         std::map<Id, PartParticles>& parts) {
   std::map<Id, std::map<FaceKey, int>> face_count;
   for (const auto& e : model.solid_elements) {
@@ -134,7 +134,7 @@ bool is_spg_part(const model::Model& model, Id part_id) {
   return part && spg_section(model, *part);
 }
 
-std::vector<PartSetup> spg_parts(const model::Model& model, const std::unordered_map<Id, Index>& index_of_node,
+std::vector<PartSetup> spg_parts(const model::Model& model, const discretization::NodeIndex& index_of_node,
                                  const discretization::NodeStore& nodes) {
   std::map<Id, PartParticles> parts;  // by part ID: deterministic order
   for (const auto& e : model.solid_elements) {
@@ -143,10 +143,10 @@ std::vector<PartSetup> spg_parts(const model::Model& model, const std::unordered
     HexCorners x;
     std::array<Index, 8> index;
     for (int a = 0; a < 8; ++a) {
-      auto it = index_of_node.find(e.n[a]);
-      if (it == index_of_node.end())
+      const Index* it = index_of_node.find(e.n[a]);
+      if (!it)
         fail_at(e.where, "*ELEMENT_SOLID", fmt::format("element {}: node {} does not exist", e.eid, e.n[a]));
-      index[a] = it->second;
+      index[a] = *it;
       x[a] = nodes.x0[index[a]];
     }
     const HexVolumes v = hex_volumes(x);
@@ -191,7 +191,7 @@ std::vector<PartSetup> spg_parts(const model::Model& model, const std::unordered
 }
 
 std::unique_ptr<discretization::Formulation> build_spg(const model::Model& model,
-                                               const std::unordered_map<Id, Index>& index_of_node,
+                                               const discretization::NodeIndex& index_of_node,
                                                discretization::NodeStore& nodes) {
   std::vector<PartSetup> setups = spg_parts(model, index_of_node, nodes);
   if (setups.empty()) return nullptr;
