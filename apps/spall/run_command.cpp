@@ -17,6 +17,7 @@
 #include "spall/core/communicator.hpp"
 #include "spall/core/error.hpp"
 #include "spall/core/log.hpp"
+#include "spall/core/memory.hpp"
 #include "spall/core/parallel.hpp"
 #include "spall/core/version.hpp"
 #include "spall/io/keyword/reader.hpp"
@@ -310,13 +311,15 @@ int run_deck(const RunOptions& options) {
     info.communicating_seconds_mean = seconds_sum.value() / ranks.size();
     info.communicating_seconds_max = -largest[1];
   }
-  // The rows each rank holds now (collective).
-  std::int64_t rows = problem.nodes.size();
-  double most = -static_cast<double>(rows);
-  ranks.sum({&rows, 1});
-  ranks.minimum({&most, 1});
-  info.node_rows_mean = static_cast<double>(rows) / ranks.size();
-  info.node_rows_max = static_cast<long long>(-most);
+  // The rows each rank holds now and its largest resident set so far (collective).
+  std::int64_t totals[2] = {problem.nodes.size(), static_cast<std::int64_t>(memory::peak_resident_bytes())};
+  double most[2] = {-static_cast<double>(totals[0]), -static_cast<double>(totals[1])};
+  ranks.sum(totals);
+  ranks.minimum(most);
+  info.node_rows_mean = static_cast<double>(totals[0]) / ranks.size();
+  info.node_rows_max = static_cast<long long>(-most[0]);
+  info.peak_resident_bytes_mean = static_cast<double>(totals[1]) / ranks.size();
+  info.peak_resident_bytes_max = static_cast<long long>(-most[1]);
   if (!writes) return code;
   info.wall_seconds = wall_seconds_before + progress.elapsed_seconds();
   info.rebalances = loop.rebalances();

@@ -285,6 +285,8 @@ TEST_F(OutputTest, RunJsonEscapesStrings) {
   info.communicating_seconds_max = 0.75;
   info.node_rows_mean = 412.5;
   info.node_rows_max = 530;
+  info.peak_resident_bytes_mean = 1.25e8;
+  info.peak_resident_bytes_max = 130023424;
   info.steps = 123456789012LL;
   info.end_time = 0.1;
   info.wall_seconds = std::numeric_limits<double>::quiet_NaN();
@@ -304,6 +306,7 @@ TEST_F(OutputTest, RunJsonEscapesStrings) {
             "  \"received_bytes_per_step\": {\"mean\": 1500000, \"max\": 2097152},\n"
             "  \"communicating_seconds\": {\"mean\": 0.5, \"max\": 0.75},\n"
             "  \"node_rows\": {\"mean\": 412.5, \"max\": 530},\n"
+            "  \"peak_resident_bytes\": {\"mean\": 125000000, \"max\": 130023424},\n"
             "  \"steps\": 123456789012,\n"
             "  \"end_time\": 0.10000000000000001,\n"
             "  \"wall_seconds\": null,\n"

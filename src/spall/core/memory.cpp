@@ -5,6 +5,7 @@
 #include <fstream>
 #include <limits>
 #include <string>
+#include <sys/resource.h>
 
 namespace spall::memory {
 
@@ -48,6 +49,12 @@ std::uint64_t available_bytes() {
     available = std::min(available, limit - used);
   }
   return available;
+}
+
+std::uint64_t peak_resident_bytes() {
+  rusage usage{};
+  if (getrusage(RUSAGE_SELF, &usage) != 0) return 0;
+  return static_cast<std::uint64_t>(usage.ru_maxrss) * 1024;  // Linux counts kilobytes
 }
 
 std::string human_bytes(double bytes) {

@@ -15,6 +15,9 @@ std::uint64_t available_bytes();
 // A lower bound of the caller's on available_bytes() (`spall run --memory-limit`); 0: none.
 void set_limit(std::uint64_t bytes);
 
+// The most this process has held in memory so far (its peak resident set, getrusage's maxrss).
+std::uint64_t peak_resident_bytes();
+
 // "12.3 GB": bytes for a message, in decimal units.
 std::string human_bytes(double bytes);
 

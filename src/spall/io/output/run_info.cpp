@@ -59,6 +59,7 @@ void write_run_json(const std::filesystem::path& path, const RunInfo& info) {
       "  \"received_bytes_per_step\": {{\"mean\": {}, \"max\": {}}},\n"
       "  \"communicating_seconds\": {{\"mean\": {}, \"max\": {}}},\n"
       "  \"node_rows\": {{\"mean\": {}, \"max\": {}}},\n"
+      "  \"peak_resident_bytes\": {{\"mean\": {}, \"max\": {}}},\n"
       "  \"steps\": {},\n"
       "  \"end_time\": {},\n"
       "  \"wall_seconds\": {},\n"
@@ -71,7 +72,8 @@ void write_run_json(const std::filesystem::path& path, const RunInfo& info) {
       json_string(info.version), json_string(info.deck), info.threads, info.ranks, info.rebalances,
       json_number(info.received_bytes_mean), json_number(info.received_bytes_max),
       json_number(info.communicating_seconds_mean), json_number(info.communicating_seconds_max),
-      json_number(info.node_rows_mean), info.node_rows_max, info.steps,
+      json_number(info.node_rows_mean), info.node_rows_max, json_number(info.peak_resident_bytes_mean),
+      info.peak_resident_bytes_max, info.steps,
       json_number(info.end_time), json_number(info.wall_seconds), info.nodes, masses,
       phases, json_number(info.energy_ratio), json_string(info.status));
   replace_file_atomically(path, [&](std::ostream& out) { out << json; });

@@ -28,6 +28,10 @@ struct RunInfo {
   // those near its region), the mean and the largest over the ranks.
   double node_rows_mean = 0;
   long long node_rows_max = 0;
+  // The largest resident set of a rank's process over the run, set-up included
+  // (memory::peak_resident_bytes), the mean and the largest over the ranks.
+  double peak_resident_bytes_mean = 0;
+  long long peak_resident_bytes_max = 0;
   long long steps = 0;
   double end_time = 0;
   double wall_seconds = 0;
