@@ -19,9 +19,9 @@ class FileName {
   FileName() = default;  // not from a file
   // Implicit, so that a name given as text is a FileName: each looks the name up in the process's
   // table, so a reader makes one per file and copies it.
-  FileName(std::string_view name);         // NOLINT(google-explicit-constructor)
-  FileName(const std::string& name) : FileName(std::string_view(name)) {}  // NOLINT(google-explicit-constructor)
-  FileName(const char* name) : FileName(std::string_view(name)) {}         // NOLINT(google-explicit-constructor)
+  FileName(std::string_view name);
+  FileName(const std::string& name) : FileName(std::string_view(name)) {}
+  FileName(const char* name) : FileName(std::string_view(name)) {}
   const std::string& str() const;
   bool empty() const { return str().empty(); }
 
