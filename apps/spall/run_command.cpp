@@ -329,6 +329,12 @@ int run_deck(const RunOptions& options) {
     info.phases.emplace_back(solver::phase_name(phase), loop.phases()[phase]);
   }
   log::info(where_the_time_went(loop.phases()));
+  const double peak = static_cast<double>(info.peak_resident_bytes_max);
+  log::info(ranks.size() > 1 ? fmt::format("memory: largest resident set {} a rank, {} in all", memory::human_bytes(peak),
+                                           memory::human_bytes(info.peak_resident_bytes_mean * ranks.size()))
+            : nodes > 0      ? fmt::format("memory: largest resident set {} ({:.0f} B a node)", memory::human_bytes(peak),
+                                           peak / static_cast<double>(nodes))
+                             : fmt::format("memory: largest resident set {}", memory::human_bytes(peak)));
   io::output::write_run_json(out / "run.json", info);
   if (code == exit_success)
     log::info(fmt::format("results: {} (open d3plot.pvd in ParaView; energies in glstat.csv)", out.string()));
