@@ -12,7 +12,7 @@ Index NodeIndex::assign(std::span<const Id> ids) {
   if (ids.empty()) return -1;
   const auto [low, high] = std::minmax_element(ids.begin(), ids.end());
   // A table while the span of IDs is at most twice the nodes (and a few more): never more than
-  // 8 B a node, a fifth of the hash map's.
+  // 8 B a node, a quarter of the hash map's.
   const double span = static_cast<double>(*high) - static_cast<double>(*low) + 1;
   dense_ = span <= 2.0 * static_cast<double>(ids.size()) + 1024;
   first_ = *low;
