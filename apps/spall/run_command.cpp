@@ -8,6 +8,7 @@
 #include <map>
 #include <optional>
 #include <string.h>
+#include <utility>
 
 #include "field_series.hpp"
 #include "interrupt.hpp"
@@ -74,18 +75,23 @@ model::Model read_and_check(const std::string& deck, const std::vector<std::stri
 }
 
 // A deck whose parts give no particle, element or rigid body has nothing to run.
-solver::Problem build_something(const model::Model& model, const std::string& deck) {
-  solver::Problem problem = solver::build_problem(model);
+solver::Problem build_something(const model::Model& model, const std::string& deck,
+                                solver::SetUp set_up = solver::SetUp::whole) {
+  solver::Problem problem = solver::build_problem(model, set_up);
   if (problem.formulations.empty() && problem.rigid_bodies.empty())
     throw InputError(fmt::format("{}: nothing to simulate: no part has particles or elements that Spall runs", deck));
   return problem;
 }
 
-// The nodes that carry mass: the particles of SPH and SPG parts and the nodes of finite elements.
-long long moving_node_count(const solver::Problem& problem) {
-  long long n = 0;
-  for (Real m : problem.nodes.mass) n += m > 0;
-  return n;
+// The nodes that carry mass (the particles of SPH and SPG parts and the nodes of finite elements)
+// and their mass, over every rank's rows when the set-up built a block of the nodes on each.
+std::pair<long long, double> moving_nodes_and_mass(const solver::Problem& problem) {
+  const auto& nodes = problem.nodes;
+  std::int64_t n = 0;
+  for (Real m : nodes.mass) n += m > 0;
+  const parallel::Communicator* across = nodes.holds_a_block() ? &parallel::world() : nullptr;
+  if (across) across->sum({&n, 1});
+  return {n, parallel::exact_sum(nodes.size(), [&](Index i) { return nodes.mass[i]; }, across)};
 }
 
 // A copy of every file the deck read, so that the output folder describes the run on its own.
@@ -129,9 +135,10 @@ int check_deck(const std::string& deck, const std::vector<std::string>& skip) {
 }
 
 int run_deck(const RunOptions& options) {
-  // Several ranks (mpirun -np N): each builds the whole problem, then a deck of fluid alone keeps its
-  // region's rows and the others compute a block of the nodes (docs/SCALING.md); each rank writes its
-  // piece of each field output, rank 0 every other file.
+  // Several ranks (mpirun -np N): each reads the deck; a deck of fluid alone is built in blocks of
+  // the nodes, dealt by region, and each rank then keeps its region's rows; the others are built whole
+  // on every rank, which computes a block of the nodes (docs/SCALING.md); each rank writes its piece
+  // of each field output, rank 0 every other file.
   const parallel::Communicator& ranks = parallel::world();
   const int launched = parallel::launched_ranks();
   if (launched > 1 && ranks.size() == 1)
@@ -147,7 +154,9 @@ int run_deck(const RunOptions& options) {
       restart ? (fs::path(options.restart_dir) / "deck" / restart->header.deck).string() : options.deck;
   const std::vector<std::string>& skip = restart ? restart->header.skip : options.skip;
   model::Model model = read_and_check(deck, skip);
-  solver::Problem problem = build_something(model, deck);
+  // Set up in blocks where the deck allows, except to read a restart file (of every node).
+  solver::Problem problem =
+      build_something(model, deck, restart ? solver::SetUp::whole : solver::SetUp::in_blocks_where_possible);
   model.release_mesh();
 
   const fs::path out = restart                      ? fs::path(options.restart_dir)
@@ -158,7 +167,8 @@ int run_deck(const RunOptions& options) {
     if (!restart) copy_deck(model, deck, out);
   }
 
-  const long long nodes = moving_node_count(problem);
+  const auto [moving_nodes, initial_mass] = moving_nodes_and_mass(problem);
+  const long long nodes = moving_nodes;
   log::info(fmt::format("spall {}: {} with {} nodes (particles and element nodes) on {}{} threads, to {}", version,
                         deck, nodes, ranks.size() > 1 ? fmt::format("{} MPI ranks x ", ranks.size()) : "",
                         parallel::thread_count(), out.string()));
@@ -230,7 +240,7 @@ int run_deck(const RunOptions& options) {
   info.threads = parallel::thread_count();
   info.ranks = ranks.size();
   info.nodes = nodes;
-  for (Real m : problem.nodes.mass) info.initial_mass += m;
+  info.initial_mass = initial_mass;
   int code = exit_success;
   const InterruptWatch interrupts;
   try {

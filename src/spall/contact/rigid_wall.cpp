@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <span>
+#include <stdexcept>
 
 namespace spall::contact {
 
@@ -15,17 +16,16 @@ namespace {
 constexpr Index parallel_from = 1024;
 }  // namespace
 
-RigidWall::RigidWall(const Definition& definition, std::vector<Index> tracked,
-                     const std::vector<Vec3>& x)
+RigidWall::RigidWall(const Definition& definition, std::vector<Index> tracked, std::vector<std::uint8_t> front)
     : definition_(definition),
       nodes_(std::move(tracked)),
-      state_(nodes_.size(), 0),
+      state_(std::move(front)),
       velocity_(definition.mass > 0 ? definition.initial_velocity : 0),
       closing_(nodes_.size(), 0),
       candidate_(nodes_.size(), 0),
       candidate_mass_(nodes_.size(), 0) {
-  for (std::size_t k = 0; k < nodes_.size(); ++k)
-    if (definition_.normal.dot(x[nodes_[k]] - definition_.origin) >= 0) state_[k] = in_front;
+  if (state_.size() != nodes_.size()) throw std::invalid_argument("RigidWall: a front flag for every tracked node");
+  for (std::uint8_t& s : state_) s = s ? std::uint8_t(in_front) : std::uint8_t(0);
 }
 
 bool RigidWall::inside(const Vec3& p) const {

@@ -39,10 +39,13 @@ class RigidWall {
     Real initial_velocity = 0;          // moving wall: velocity along the normal at t = 0
   };
 
-  // `tracked` are the nodes' places in the deck (their rows while every node is held in the deck's
-  // order, as the set-up holds them); those behind the wall at `x` are not caught until they come
-  // to its front side.
-  RigidWall(const Definition& definition, std::vector<Index> tracked, const std::vector<Vec3>& x);
+  // `tracked` are the nodes' places in the deck, ascending; `front` says for each whether it
+  // starts on the wall's front side (starts_in_front): one behind it is not caught until it comes
+  // to the front.
+  RigidWall(const Definition& definition, std::vector<Index> tracked, std::vector<std::uint8_t> front);
+  static bool starts_in_front(const Definition& definition, const Vec3& x) {
+    return definition.normal.dot(x - definition.origin) >= 0;
+  }
 
   // Corrects the velocities v^{n+1/2} of nodes that would pass the wall over [t^n, t^n + dt]
   // (t_mid = t^n + dt/2 decides birth and death); dt_mid is the step of that velocity update,

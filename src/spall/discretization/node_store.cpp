@@ -50,10 +50,19 @@ void NodeStore::index_by_deck() {
 }
 
 void NodeStore::number_rows() {
-  if (!global.empty()) return;
+  if (numbered_) return;
+  numbered_ = true;
   deck_nodes_ = size();
   global.resize(size());
   std::iota(global.begin(), global.end(), Index(0));
+  index_by_deck();
+}
+
+void NodeStore::hold_block(Index first, Index every) {
+  deck_nodes_ = every;
+  numbered_ = block_ = true;
+  global.resize(size());
+  std::iota(global.begin(), global.end(), first);
   index_by_deck();
 }
 
@@ -96,6 +105,7 @@ void NodeStore::gather_on_first_rank() {
   resize(n);
   owner.assign(n, 0);
   global.clear();
+  numbered_ = false;
   by_deck_.clear();
   sorted_by_deck_ = 0;
   std::vector<std::uint8_t> seen(n, 0);

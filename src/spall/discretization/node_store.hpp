@@ -97,12 +97,15 @@ struct NodeStore {
     owned_begin = rank_begin[rank];
     owned_end = rank_begin[rank + 1];
     owner.resize(size());
+    block_ = false;
     for (int r = 0; r + 1 < static_cast<int>(rank_begin.size()); ++r)
       std::fill(owner.begin() + rank_begin[r], owner.begin() + rank_begin[r + 1], r);
     ++partition;
   }
 
   // Each node computed by the rank whose region holds its position; this process is rank `self`.
+  // Rows that are a block of the nodes (hold_block) stay with this rank until the formulations'
+  // first rebuild migrates them to their regions' ranks, as after a re-cut.
   void deal(Regions cuts, int self) {
     regions = std::move(cuts);
     rank_begin.clear();
@@ -110,10 +113,18 @@ struct NodeStore {
     owned_begin = 0;
     owned_end = size();
     owner.resize(size());
-    for (Index i = 0; i < size(); ++i) owner[i] = regions.rank_of(x[i]);
+    for (Index i = 0; i < size(); ++i) owner[i] = block_ ? self : regions.rank_of(x[i]);
+    block_ = false;
     list_owned();
     ++partition;
   }
+
+  // The rows are the nodes [first, first + size()) of the deck's `every` (a rank's block of them,
+  // built by the set-up under MPI), not every node.
+  void hold_block(Index first, Index every);
+  // True from hold_block until the nodes are dealt: each rank holds a block of them, so a sum over
+  // every node is each rank's over its rows, summed over the ranks.
+  bool holds_a_block() const { return block_; }
 
   // By region, cut anew: each node stays with its rank until it migrates at the formulations'
   // next rebuild (on the serial run's schedule, so that no sum changes order), so nothing travels
@@ -160,7 +171,9 @@ struct NodeStore {
   // sorted_by_deck_), then of those added since.
   std::vector<std::pair<Index, Index>> by_deck_;
   std::size_t sorted_by_deck_ = 0;
-  Index deck_nodes_ = 0;  // every node of the deck, counted when the rows were last whole
+  Index deck_nodes_ = 0;  // every node of the deck, counted when the rows were last whole or built
+  bool numbered_ = false;  // global holds the rows' places
+  bool block_ = false;     // the rows are a block of the nodes (hold_block), not yet dealt
   void index_by_deck();
   // Rows that are every node in the deck's order get their places (global), before they change.
   void number_rows();

@@ -4,10 +4,13 @@
 #include <cmath>
 #include <fmt/format.h>
 #include <optional>
+#include <span>
+#include <stdexcept>
 #include <unordered_map>
 #include <utility>
 
 #include "spall/contact/setup.hpp"
+#include "spall/core/communicator.hpp"
 #include "spall/core/log.hpp"
 #include "spall/materials/make_material.hpp"
 #include "spall/neighbors/verlet_list.hpp"
@@ -23,12 +26,15 @@ namespace {
 
 class Builder {
  public:
-  explicit Builder(const model::Model& model) : model_(model) {}
+  Builder(const model::Model& model, SetUp set_up)
+      : model_(model), in_blocks_(set_up == SetUp::in_blocks_where_possible && parallel::world().size() > 1 &&
+                                  fluid_alone(model)) {}
 
   Problem build() {
     problem_.model = &model_;
     build_nodes();
     build_sph();
+    std::vector<Index>().swap(model_node_);  // read by build_sph alone
     if (auto spg = spg::build_spg(model_, index_of_node_, problem_.nodes))
       problem_.formulations.push_back(std::move(spg));
     if (auto fem = fem::build_fem(model_, index_of_node_, problem_.nodes))
@@ -43,10 +49,42 @@ class Builder {
     build_rigid_walls();
     build_controls();
     if (problem_.controls.mass_scaling_step > 0) scale_masses();
+    if (in_blocks_ && (problem_.formulations.size() != 1 || !problem_.formulations.front()->migrates() ||
+                       !problem_.rigid_bodies.empty() || !problem_.contacts.empty()))
+      throw std::logic_error("set-up in blocks: the deck is not one of SPH fluid alone");
     return std::move(problem_);
   }
 
  private:
+  // A deck whose only particles are SPH fluid's, with no element, rigid part or contact: under MPI
+  // its nodes are dealt by region, and each rank sets up a block of them (the rows of the nodes
+  // [first_row_, first_row_ + its rows) of the node order, every other node checked but not built);
+  // the fluid's first rebuild then moves each particle to its region's rank (docs/SCALING.md §3).
+  static bool fluid_alone(const model::Model& model) {
+    if (model.sph_elements.empty() || !model.solid_elements.empty() || !model.shell_elements.empty() ||
+        !model.contacts.empty() || !model.rcforc_moments.empty() || !model.merged_rigid_bodies.empty())
+      return false;
+    for (const auto& part : model.parts)
+      if (model.rigid_material(part)) return false;
+    return std::all_of(model.sph_elements.begin(), model.sph_elements.end(),
+                       [&](const model::ElementSph& e) { return sph::is_fluid_part(model, e.pid); });
+  }
+
+  // The row of the node at `deck` in the node order, -1 when this rank's block does not hold it
+  // (every node is a row of its own index when the set-up is whole).
+  Index row(Index deck) const {
+    const Index r = deck - first_row_;
+    return r >= 0 && r < problem_.nodes.size() ? r : -1;
+  }
+  // The rows of the nodes at `decks` that this rank holds.
+  std::vector<Index> rows(const std::vector<Index>& decks) const {
+    std::vector<Index> held;
+    for (const Index deck : decks)
+      if (const Index r = row(deck); r >= 0) held.push_back(r);
+    return held;
+  }
+
+  // The node's place in the node order (its row when the set-up is whole).
   Index node_index(Id id, const SourceLocation& where, const char* keyword) const {
     const Index* it = index_of_node_.find(id);
     if (!it) fail_at(where, keyword, fmt::format("node {} does not exist", id));
@@ -71,6 +109,7 @@ class Builder {
     return nodes;
   }
 
+  // The rows of the part's nodes.
   std::vector<Index> part_nodes(Id part_id, const SourceLocation& where, const char* keyword) const {
     if (!model_.find_part(part_id)) fail_at(where, keyword, fmt::format("part {} does not exist", part_id));
     std::vector<Index> nodes;
@@ -84,37 +123,47 @@ class Builder {
   // The nodes are stored in cell order, so that neighbouring particles are close in memory.
   void build_nodes() {
     const Index n = static_cast<Index>(model_.nodes.size());
-    std::vector<Vec3> x(n);
-    for (Index i = 0; i < n; ++i) {
-      x[i] = model_.nodes[i].x;
-      // Squared distances (and the box's volume) of such coordinates would overflow a double.
-      if (!(x[i].cwiseAbs().maxCoeff() <= max_coordinate))
-        fail_at(model_.nodes[i].where, "*NODE",
-                fmt::format("node {} at ({:.6g}, {:.6g}, {:.6g}): coordinates beyond +-{:g} are not supported",
-                            model_.nodes[i].id, x[i].x(), x[i].y(), x[i].z(), max_coordinate));
+    deck_nodes_ = n;
+    {
+      std::vector<Vec3> x(n);
+      for (Index i = 0; i < n; ++i) {
+        x[i] = model_.nodes[i].x;
+        // Squared distances (and the box's volume) of such coordinates would overflow a double.
+        if (!(x[i].cwiseAbs().maxCoeff() <= max_coordinate))
+          fail_at(model_.nodes[i].where, "*NODE",
+                  fmt::format("node {} at ({:.6g}, {:.6g}, {:.6g}): coordinates beyond +-{:g} are not supported",
+                              model_.nodes[i].id, x[i].x(), x[i].y(), x[i].z(), max_coordinate));
+      }
+      Real cell = 0;
+      if (n > 0) {
+        Vec3 lo = x[0], hi = x[0];
+        for (const auto& p : x) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+        // About 16 nodes per cell for a uniform cloud: the order matters, the exact size does not.
+        const Real volume = std::max((hi - lo).prod(), Real(0));
+        cell = volume > 0 ? std::cbrt(16 * volume / n) : std::max((hi - lo).maxCoeff(), Real(1));
+      }
+      if (n > 0) model_node_ = neighbors::spatial_order(x, cell);
     }
-    Real cell = 0;
-    if (n > 0) {
-      Vec3 lo = x[0], hi = x[0];
-      for (const auto& p : x) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-      // About 16 nodes per cell for a uniform cloud: the order matters, the exact size does not.
-      const Real volume = std::max((hi - lo).prod(), Real(0));
-      cell = volume > 0 ? std::cbrt(16 * volume / n) : std::max((hi - lo).maxCoeff(), Real(1));
-    }
-    const auto order = n > 0 ? neighbors::spatial_order(x, cell) : std::vector<Index>{};
-    auto& nodes = problem_.nodes;
-    nodes.resize(n);
-    for (Index k = 0; k < n; ++k) {
-      const auto& node = model_.nodes[order[k]];
-      nodes.id[k] = node.id;
-      nodes.x0[k] = node.x;
-      nodes.x[k] = node.x;
-      nodes.fixed[k] = model::constraint_axes(node.tc);
-    }
-    if (const Index twice = index_of_node_.assign(nodes.id); twice >= 0) {
-      const auto& node = model_.nodes[order[twice]];
+    std::vector<Id> id(n);
+    for (Index k = 0; k < n; ++k) id[k] = model_.nodes[model_node_[k]].id;
+    if (const Index twice = index_of_node_.assign(id); twice >= 0) {
+      const auto& node = model_.nodes[model_node_[twice]];
       fail_at(node.where, "*NODE", fmt::format("node {} is defined twice", node.id));
     }
+    const parallel::Communicator& ranks = parallel::world();
+    first_row_ = in_blocks_ ? parallel::block_begin(n, ranks.rank(), ranks.size()) : 0;
+    const Index end = in_blocks_ ? parallel::block_begin(n, ranks.rank() + 1, ranks.size()) : n;
+    auto& nodes = problem_.nodes;
+    nodes.resize(end - first_row_);
+    for (Index k = first_row_; k < end; ++k) {
+      const auto& node = model_.nodes[model_node_[k]];
+      const Index r = k - first_row_;
+      nodes.id[r] = node.id;
+      nodes.x0[r] = node.x;
+      nodes.x[r] = node.x;
+      nodes.fixed[r] = model::constraint_axes(node.tc);
+    }
+    if (in_blocks_) nodes.hold_block(first_row_, n);
   }
 
   // An SPH part as the solver needs it, checked once however many particles it has.
@@ -169,7 +218,9 @@ class Builder {
     std::unordered_map<Id, Index> material_index;
     std::unordered_map<Id, SphPart> parts;
     std::vector<sph::ParticleSetup> particles;
-    std::vector<char> carries_particle(problem_.nodes.size(), 0);  // by node index: 1 B a node, not a set's 40
+    std::vector<char> carries_particle(deck_nodes_, 0);  // by place in the node order: 1 B a node, not a set's 40
+    // The particle's node's place in the node order (its row: a deck with SPH solid particles is
+    // set up whole).
     const auto carry = [&](const model::ElementSph& e) {
       const Index node = node_index(e.nid, e.where, "*ELEMENT_SPH");
       if (std::exchange(carries_particle[node], 1))
@@ -181,7 +232,8 @@ class Builder {
     for (const auto& e : model_.sph_elements) {
       // *MAT_NULL parts are liquid: the SPH fluid formulation (sph/fluid_setup.cpp) takes them.
       if (sph::is_fluid_part(model_, e.pid)) {
-        fluid.push_back({&e, carry(e)});
+        const Index node = carry(e);
+        fluid.push_back({&e, row(node), model_.nodes[model_node_[node]].x.z()});
         continue;
       }
       auto found = parts.find(e.pid);
@@ -316,7 +368,7 @@ class Builder {
       const auto nodes = spc.target == model::Target::node
                              ? std::vector<Index>{node_index(spc.id, spc.where, keyword)}
                              : node_set(spc.id, spc.where, keyword);
-      for (Index i : nodes) problem_.nodes.fixed[i] |= mask;
+      for (Index i : rows(nodes)) problem_.nodes.fixed[i] |= mask;
     }
   }
 
@@ -337,7 +389,7 @@ class Builder {
       const auto nodes = pm.target == model::Target::node
                              ? std::vector<Index>{node_index(pm.id, pm.where, keyword)}
                              : node_set(pm.id, pm.where, keyword);
-      for (Index i : nodes)
+      for (Index i : nodes)  // by place in the node order: the time loop finds their rows
         problem_.motions.push_back({i, pm.dof - 1, pm.vad, c, pm.sf, pm.birth, pm.death});
     }
   }
@@ -349,18 +401,18 @@ class Builder {
       model_.require_global_axes(iv.icid, iv.where, "*INITIAL_VELOCITY", "ICID", true);
       std::vector<char> exempt(problem_.nodes.size(), 0);
       if (iv.nsidex != 0)
-        for (Index i : node_set(iv.nsidex, iv.where, "*INITIAL_VELOCITY")) exempt[i] = 1;
+        for (Index i : rows(node_set(iv.nsidex, iv.where, "*INITIAL_VELOCITY"))) exempt[i] = 1;
       std::vector<Index> nodes;
       if (iv.nsid == 0) {
         for (Index i = 0; i < problem_.nodes.size(); ++i) nodes.push_back(i);
       } else {
-        nodes = node_set(iv.nsid, iv.where, "*INITIAL_VELOCITY");
+        nodes = rows(node_set(iv.nsid, iv.where, "*INITIAL_VELOCITY"));
       }
       for (Index i : nodes) v[i] = exempt[i] ? iv.v_exempt : iv.v;
     }
     for (const auto& iv : model_.initial_velocity_nodes) {
       model_.require_global_axes(iv.icid, iv.where, "*INITIAL_VELOCITY_NODE", "ICID", true);
-      v[node_index(iv.nid, iv.where, "*INITIAL_VELOCITY_NODE")] = iv.v;
+      if (const Index i = row(node_index(iv.nid, iv.where, "*INITIAL_VELOCITY_NODE")); i >= 0) v[i] = iv.v;
     }
     for (const auto& g : model_.initial_velocity_generations) {
       const char* keyword = "*INITIAL_VELOCITY_GENERATION";
@@ -376,7 +428,7 @@ class Builder {
           nodes.insert(nodes.end(), more.begin(), more.end());
         }
       } else if (g.styp == 3) {
-        nodes = node_set(g.id, g.where, keyword);
+        nodes = rows(node_set(g.id, g.where, keyword));
       } else {
         fail_at(g.where, keyword, fmt::format("STYP {}: must be 1 (part set), 2 (part) or 3 (node set)", g.styp));
       }
@@ -444,22 +496,31 @@ class Builder {
 
       std::vector<char> exempt(problem_.nodes.size(), 0);
       if (wall.nsidex != 0)
-        for (Index i : node_set(wall.nsidex, wall.where, keyword.c_str())) exempt[i] = 1;
+        for (Index i : rows(node_set(wall.nsidex, wall.where, keyword.c_str()))) exempt[i] = 1;
       std::vector<Index> candidates;
       if (wall.nsid == 0) {
         for (Index i = 0; i < problem_.nodes.size(); ++i) candidates.push_back(i);
       } else {
-        candidates = node_set(wall.nsid, wall.where, keyword.c_str());
+        candidates = rows(node_set(wall.nsid, wall.where, keyword.c_str()));
         std::sort(candidates.begin(), candidates.end());
         candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
       }
+      // By place in the node order, ascending (the time loop finds their rows); set up in blocks,
+      // each rank's of its block, then every rank's in the ranks' order.
       std::vector<Index> tracked;
+      std::vector<std::uint8_t> front;
       for (Index i : candidates) {
         if (exempt[i] || problem_.nodes.mass[i] <= 0) continue;  // a node without mass never moves
         if (wall.offset > 0 && std::abs(d.normal.dot(x[i] - d.origin)) > wall.offset) continue;
-        tracked.push_back(i);
+        tracked.push_back(first_row_ + i);
+        front.push_back(contact::RigidWall::starts_in_front(d, x[i]));
       }
-      problem_.rigid_walls.emplace_back(d, std::move(tracked), x);
+      if (in_blocks_) {
+        const parallel::Communicator& ranks = parallel::world();
+        tracked = ranks.all(std::span<const Index>(tracked));
+        front = ranks.all(std::span<const std::uint8_t>(front));
+      }
+      problem_.rigid_walls.emplace_back(d, std::move(tracked), std::move(front));
     }
   }
 
@@ -545,12 +606,16 @@ class Builder {
   }
 
   const model::Model& model_;
+  const bool in_blocks_;
   Problem problem_;
-  discretization::NodeIndex index_of_node_;
+  discretization::NodeIndex index_of_node_;  // node ID -> place in the node order
+  std::vector<Index> model_node_;            // place in the node order -> index in model_.nodes
+  Index deck_nodes_ = 0;                     // every node of the deck
+  Index first_row_ = 0;                      // the place in the node order of this rank's first row
 };
 
 }  // namespace
 
-Problem build_problem(const model::Model& model) { return Builder(model).build(); }
+Problem build_problem(const model::Model& model, SetUp set_up) { return Builder(model, set_up).build(); }
 
 }  // namespace spall::solver

@@ -4,12 +4,13 @@
 #include <bit>
 #include <cmath>
 #include <cstring>
-#include <functional>
+#include <limits>
 #include <stdexcept>
 #include <type_traits>
 
 #include <fmt/format.h>
 
+#include "spall/core/communicator.hpp"
 #include "spall/core/error.hpp"
 #include "spall/core/parallel.hpp"
 #include "spall/core/reorder.hpp"
@@ -131,8 +132,16 @@ FluidFormulation::FluidFormulation(const FluidParameters& parameters,
   node_ = particle_nodes;
   mass_.resize(n);
   for (std::size_t a = 0; a < n; ++a) mass_[a] = static_cast<float>(nodes.mass[node_[a]]);
-  if (n > 0 && std::adjacent_find(mass_.begin(), mass_.end(), std::not_equal_to<>()) == mass_.end())
-    uniform_mass_ = mass_.front();
+  // One mass for every particle of every rank (a rank may be given a block of them): collective.
+  constexpr double none = std::numeric_limits<double>::infinity();
+  double lightest_and_negated_heaviest[2] = {none, none};
+  for (const float m : mass_) {
+    lightest_and_negated_heaviest[0] = std::min<double>(lightest_and_negated_heaviest[0], m);
+    lightest_and_negated_heaviest[1] = std::min<double>(lightest_and_negated_heaviest[1], -m);
+  }
+  parallel::world().minimum(lightest_and_negated_heaviest);
+  if (lightest_and_negated_heaviest[0] == -lightest_and_negated_heaviest[1])
+    uniform_mass_ = static_cast<float>(lightest_and_negated_heaviest[0]);
   density_.assign(n, m.density);
   rate_.assign(n, 0);
   previous_rate_.assign(n, 0);

@@ -94,7 +94,8 @@ struct FluidParameters {
 
 class FluidFormulation final : public discretization::Formulation {
  public:
-  // `particle_nodes`: the node of each particle; masses come from the node store.
+  // `particle_nodes`: the node of each particle; masses come from the node store. Under MPI every
+  // rank constructs its own (collective), of every particle or of those on its block of the rows.
   FluidFormulation(const FluidParameters& parameters, const std::vector<Index>& particle_nodes,
                    const discretization::NodeStore& nodes);
 

@@ -90,11 +90,11 @@ std::unique_ptr<FluidFormulation> build_fluid(const model::Model& model,
   for (const auto& p : particles) {
     const model::ElementSph& e = *p.element;
     // Refused here, at the particle's card: the formulation would stop with an internal error.
-    if (const Real z = nodes.x[p.node].z(), plane = nodes.x[particles.front().node].z(); dimension == 2 && z != plane)
+    if (const Real plane = particles.front().z; dimension == 2 && p.z != plane)
       fail_at(e.where, "*ELEMENT_SPH",
               fmt::format("particle {} lies at z = {:g}, off the plane z = {:g} of particle {}: in plane strain "
                           "(*CONTROL_SPH IDIM 2) every particle of the SPH fluid lies in one plane",
-                          e.nid, z, plane, particles.front().element->nid));
+                          e.nid, p.z, plane, particles.front().element->nid));
     auto found = parts.find(e.pid);
     if (found == parts.end()) {
       found = parts.emplace(e.pid, resolve_fluid_part(model, e.pid)).first;
@@ -119,12 +119,13 @@ std::unique_ptr<FluidFormulation> build_fluid(const model::Model& model,
     FluidPart& part = found->second;
     const Real mass = e.mass > 0 ? e.mass : -e.mass * part.material.density;
     if (!(mass > 0)) fail_at(e.where, "*ELEMENT_SPH", fmt::format("MASS: particle {} has no mass", e.nid));
-    nodes.mass[p.node] = mass;
-    nodes.part[p.node] = e.pid;
     // In plane strain masses are per unit thickness and the particles stay in their plane.
     const Real spacing = dimension == 2 ? std::sqrt(mass / part.material.density)
                                         : std::cbrt(mass / part.material.density);
     part.spacing = std::max(part.spacing, spacing);
+    if (p.node < 0) continue;
+    nodes.mass[p.node] = mass;
+    nodes.part[p.node] = e.pid;
     if (dimension == 2) nodes.fixed[p.node] |= 1u << 2;
   }
   // LS-DYNA: h = CSLH x initial spacing, unless SPHINI gives h; the fluid takes one h for all.
@@ -150,7 +151,8 @@ std::unique_ptr<FluidFormulation> build_fluid(const model::Model& model,
   parameters.dimension = dimension;
   std::vector<Index> particle_nodes;
   particle_nodes.reserve(particles.size());
-  for (const auto& p : particles) particle_nodes.push_back(p.node);
+  for (const auto& p : particles)
+    if (p.node >= 0) particle_nodes.push_back(p.node);
   std::sort(particle_nodes.begin(), particle_nodes.end());  // node (cell) order
   return std::make_unique<FluidFormulation>(parameters, particle_nodes, nodes);
 }

@@ -16,11 +16,13 @@ bool is_fluid_part(const model::Model& model, Id pid);
 
 struct FluidParticle {
   const model::ElementSph* element = nullptr;
-  Index node = 0;
+  Index node = 0;  // its node's row; -1 when the set-up holds a block of the nodes without it
+  Real z = 0;      // its node's z in the deck (a 2D fluid lies in one plane)
 };
 
-// Sets the particles' masses and part IDs on the nodes (and holds z in plane strain) and returns
-// the formulation; throws InputError at the card for what the fluid cannot run.
+// Sets the particles' masses and part IDs on the nodes they have rows on (and holds z in plane
+// strain) and returns the formulation of those particles; checks every particle and throws
+// InputError at the card for what the fluid cannot run.
 std::unique_ptr<FluidFormulation> build_fluid(const model::Model& model,
                                                    const std::vector<FluidParticle>& particles,
                                                    const ArtificialViscosity& viscosity,

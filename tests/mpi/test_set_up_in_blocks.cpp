@@ -1,0 +1,134 @@
+// The set-up of a deck of SPH fluid alone under MPI (docs/SCALING.md §3, "Rows of its own"), run as
+// 1, 2 and 3 ranks: each rank builds the rows of its block of the node order only, and every row is
+// the whole set-up's row of that node (ID, positions, velocity from *INITIAL_VELOCITY_GENERATION
+// and _NODE, mass, the SPC bits of *BOUNDARY_SPC_SET and the plane strain, part); the blocks are
+// every node once; the fluid takes the particles of its block; a rigid wall tracks every rank's
+// nodes in the node order with the same contact state (NSIDEX and OFFSET applied to each block) and
+// a prescribed motion names its node alike. A deck with an SPH solid particle is set up whole.
+#include <gtest/gtest.h>
+
+#include <fmt/format.h>
+
+#include <string>
+#include <vector>
+
+#include "spall/core/archive.hpp"
+#include "spall/core/communicator.hpp"
+#include "spall/core/parallel.hpp"
+#include "spall/io/keyword/reader.hpp"
+#include "spall/solver/problem.hpp"
+#include "spall/sph/fluid.hpp"
+
+namespace spall::solver {
+namespace {
+
+// A 2D water block of 9 x 7 particles 1 cm apart, written in an order of its own with sparse IDs,
+// two nodes that carry no particle, and, with `solid`, one particle of an elastic part.
+std::string deck(bool solid) {
+  std::string text = "*KEYWORD\n*CONTROL_TERMINATION\n      0.01\n*CONTROL_SPH\n                                       2\n";
+  text += "*PART\nwater\n         1         1         1         1\n";
+  text += "*SECTION_SPH\n         1       1.3       1.0       1.0\n";
+  text += "*MAT_NULL\n         1    1000.0       0.0     0.001\n*EOS_MURNAGHAN\n         1       7.0   81843.4\n";
+  if (solid)
+    text += "*PART\nsteel\n         2         2         2\n*SECTION_SPH\n         2       1.3       1.0       1.0\n"
+            "*MAT_ELASTIC\n         2    7850.0   2.0e+11       0.3\n";
+  text += "*NODE\n";
+  std::vector<Id> particles;
+  for (int k = 0; k < 63; ++k) {
+    const int i = (k * 29) % 63;  // every node once, out of order
+    const Id id = 10 + 7 * i;
+    text += fmt::format("{:8d}{:16g}{:16g}{:16g}\n", id, 0.01 * (i % 9), 0.01 * (i / 9), 0.0);
+    particles.push_back(id);
+  }
+  text += fmt::format("{:8d}{:16g}{:16g}{:16g}\n{:8d}{:16g}{:16g}{:16g}\n", 3, 0.2, 0.0, 0.0, 4, 0.2, 0.1, 0.0);
+  if (solid) text += fmt::format("{:8d}{:16g}{:16g}{:16g}\n", 5, -0.05, 0.0, 0.0);
+  text += "*ELEMENT_SPH\n";
+  for (const Id id : particles) text += fmt::format("{:8d}{:8d}{:16g}\n", id, 1, 0.1);
+  if (solid) text += fmt::format("{:8d}{:8d}{:16g}\n", 5, 2, 0.785);
+  // Held along x and y: the particles of the first column, and node 3.
+  text += "*SET_NODE_LIST\n         1\n";
+  for (int j = 0; j < 7; ++j) text += fmt::format("{:10d}", 10 + 7 * 9 * j);
+  text += fmt::format("{:10d}\n*BOUNDARY_SPC_SET\n         1         0         1         1\n", 3);
+  // Turning about (0.04, 0.03) at 2 rad/s, one particle given its own velocity.
+  text += "*INITIAL_VELOCITY_GENERATION\n         1         2       2.0       0.0       0.0       0.0\n"
+          "      0.04      0.03       0.0       0.0       0.0       1.0\n";
+  text += fmt::format("*INITIAL_VELOCITY_NODE\n{:10d}       0.5      -0.5       0.0\n", 10 + 7 * 40);
+  text += fmt::format("*BOUNDARY_PRESCRIBED_MOTION_NODE\n{:10d}         1         0         1\n", 10 + 7 * 8);
+  text += "*DEFINE_CURVE\n         1\n                 0.0                 1.0\n                 1.0                 1.0\n";
+  // A floor at y = 0.015 (the first row of particles behind it), tracking the nodes within 2.05 cm
+  // of it (three rows) but the second row's (NSIDEX).
+  text += "*SET_NODE_LIST\n         2\n";
+  for (int i = 0; i < 9; ++i) text += fmt::format("{:10d}{}", 10 + 7 * (9 + i), i % 8 == 7 ? "\n" : "");
+  text += "\n*RIGIDWALL_PLANAR\n         0         2         0    0.0205\n"
+          "       0.0     0.015       0.0       0.0       1.0       0.0\n*END\n";
+  return text;
+}
+
+Problem set_up(const model::Model& model, SetUp how) { return build_problem(model, how); }
+
+TEST(SetUpInBlocks, EachRankBuildsItsBlockOfTheWholeSetUp) {
+  const parallel::Communicator& ranks = parallel::world();
+  const model::Model model = io::keyword::read_deck_text(deck(false), "blocks.k");
+  Problem whole = set_up(model, SetUp::whole);
+  Problem blocks = set_up(model, SetUp::in_blocks_where_possible);
+  const auto& w = whole.nodes;
+  const auto& b = blocks.nodes;
+  ASSERT_EQ(w.size(), 65);
+  EXPECT_FALSE(w.holds_a_block());
+  EXPECT_EQ(b.holds_a_block(), ranks.size() > 1);
+  const Index first = parallel::block_begin(w.size(), ranks.rank(), ranks.size());
+  ASSERT_EQ(b.size(), parallel::block_begin(w.size(), ranks.rank() + 1, ranks.size()) - first);
+  for (Index r = 0; r < b.size(); ++r) {
+    const Index i = b.deck_index(r);
+    ASSERT_EQ(i, first + r);
+    EXPECT_EQ(b.row_of(i), r);
+    EXPECT_EQ(b.id[r], w.id[i]);
+    EXPECT_EQ(b.x0[r], w.x0[i]);
+    EXPECT_EQ(b.x[r], w.x[i]);
+    EXPECT_EQ(b.v[r], w.v[i]);
+    EXPECT_EQ(b.mass[r], w.mass[i]);
+    EXPECT_EQ(b.fixed[r], w.fixed[i]);
+    EXPECT_EQ(b.part[r], w.part[i]);
+  }
+  // The deck's conditions reached the rows: eight nodes held along x and y, every particle turning
+  // but the one on the axis, one with its own velocity.
+  int held = 0, moving = 0;
+  for (Index i = 0; i < w.size(); ++i) held += (w.fixed[i] & 3u) == 3u, moving += w.v[i] != Vec3::Zero();
+  EXPECT_EQ(held, 8);
+  EXPECT_EQ(moving, 62);
+  // Every node once over the ranks, the mass of every node.
+  std::int64_t rows = b.size();
+  ranks.sum({&rows, 1});
+  EXPECT_EQ(rows, w.size());
+  const Real mass = parallel::exact_sum(b.size(), [&](Index r) { return b.mass[r]; }, &ranks);
+  EXPECT_EQ(mass, parallel::exact_sum(w.size(), [&](Index i) { return w.mass[i]; }));
+  EXPECT_DOUBLE_EQ(mass, 63 * 0.1);
+  // The fluid of the block's particles.
+  ASSERT_EQ(blocks.formulations.size(), 1u);
+  const auto& fluid = dynamic_cast<const sph::FluidFormulation&>(*blocks.formulations.front());
+  Index particles = 0;
+  for (Index r = 0; r < b.size(); ++r) particles += b.mass[r] > 0;
+  EXPECT_EQ(fluid.particle_count(), particles);
+  // The wall tracks the first row (behind it), the third and the fourth (in front), not the nodes
+  // without mass: on every rank the whole set-up's nodes, with the same contact state.
+  ASSERT_EQ(blocks.rigid_walls.size(), 1u);
+  EXPECT_EQ(blocks.rigid_walls[0].tracked(), whole.rigid_walls[0].tracked());
+  EXPECT_EQ(whole.rigid_walls[0].tracked().size(), 27u);
+  Archive wall_in_blocks = Archive::for_writing(), wall_whole = Archive::for_writing();
+  blocks.rigid_walls[0].checkpoint(wall_in_blocks);
+  whole.rigid_walls[0].checkpoint(wall_whole);
+  EXPECT_EQ(wall_in_blocks.bytes(), wall_whole.bytes());
+  ASSERT_EQ(blocks.motions.size(), 1u);
+  EXPECT_EQ(blocks.motions[0].node, whole.motions[0].node);
+}
+
+TEST(SetUpInBlocks, ADeckWithAnSphSolidIsSetUpWhole) {
+  const model::Model model = io::keyword::read_deck_text(deck(true), "solid.k");
+  const Problem problem = set_up(model, SetUp::in_blocks_where_possible);
+  EXPECT_FALSE(problem.nodes.holds_a_block());
+  EXPECT_EQ(problem.nodes.size(), 66);
+  EXPECT_EQ(problem.formulations.size(), 2u);
+}
+
+}  // namespace
+}  // namespace spall::solver
