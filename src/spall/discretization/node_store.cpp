@@ -78,6 +78,11 @@ Index NodeStore::add(const Row& row, int by) {
   return i;
 }
 
+void NodeStore::reserve(Index rows) {
+  each_row_array(*this, [&](auto& array) { array.reserve(rows); });
+  by_deck_.reserve(rows);
+}
+
 void NodeStore::keep(std::span<const Index> kept) {
   if (!by_region()) throw std::logic_error("NodeStore::keep: rows of a rank's own need the nodes dealt by region");
   number_rows();

@@ -145,6 +145,8 @@ struct NodeStore {
   }
   // By region: a row for a node that came in, computed by rank `by`; returns its row.
   Index add(const Row& row, int by);
+  // Room for `rows` rows in all, so that adding up to them allocates once.
+  void reserve(Index rows);
   // By region: only the rows `kept`, in that order (each row's state goes with it); a new
   // partition.
   void keep(std::span<const Index> kept);

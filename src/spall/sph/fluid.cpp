@@ -282,10 +282,25 @@ void FluidFormulation::rebuild_near_region(discretization::NodeStore& nodes) {
     });
   }
   const std::vector<Arrival> receive = ranks.deliver(to);
+  to = {};
+  const BoundingBox near_region = nodes.regions.box(self).grown(reach);
+  drop_beyond(nodes, near_region, current);
   std::vector<Index> slot(nodes.size(), -1);
-  for (Index a = 0; a < n; ++a) slot[node_[a]] = a;
+  for (Index a = 0; a < particle_count(); ++a) slot[node_[a]] = a;
   std::vector<Index> row(receive.size());
-  for (std::size_t k = 0; k < receive.size(); ++k) row[k] = nodes.row_of(static_cast<Index>(receive[k].node.global));
+  Index arriving = 0;
+  for (std::size_t k = 0; k < receive.size(); ++k) {
+    row[k] = nodes.row_of(static_cast<Index>(receive[k].node.global));
+    arriving += row[k] < 0;
+  }
+  // Each array grown once (not doubled as it fills: the first rebuild brings in most of a region).
+  nodes.reserve(nodes.size() + arriving);
+  const std::size_t particles = static_cast<std::size_t>(particle_count() + arriving);
+  node_.reserve(particles);
+  density_.reserve(particles);
+  for (auto* array : {&mass_, &rate_, &previous_rate_}) array->reserve(particles);
+  current.reserve(particles);
+  slot.reserve(slot.size() + arriving);
   for (std::size_t k = 0; k < receive.size(); ++k) {
     const Arrival& arrival = receive[k];
     if (row[k] < 0) {  // a node this rank does not hold
@@ -308,7 +323,6 @@ void FluidFormulation::rebuild_near_region(discretization::NodeStore& nodes) {
   }
   // Binned here: the particles within reach of this rank's region (its own among them); the others
   // are dropped.
-  const BoundingBox near_region = nodes.regions.box(self).grown(reach);
   std::vector<Index> local;
   for (Index a = 0; a < particle_count(); ++a)
     if (current[a] && near_region.contains(nodes.x[node_[a]])) local.push_back(a);
@@ -323,6 +337,33 @@ void FluidFormulation::rebuild_near_region(discretization::NodeStore& nodes) {
   take_cell_order(nodes, order);
   complete_ = false;  // the particles out of reach are stale here
   finish_build();
+}
+
+void FluidFormulation::drop_beyond(discretization::NodeStore& nodes, const BoundingBox& near,
+                                   std::vector<std::uint8_t>& current) {
+  std::vector<Index> particles;
+  std::vector<std::uint8_t> carries(nodes.size(), 0);
+  for (Index a = 0; a < particle_count(); ++a) {
+    carries[node_[a]] = 1;
+    if (near.contains(nodes.x[node_[a]])) particles.push_back(a);
+  }
+  std::vector<Index> rows, new_row(nodes.size(), -1);
+  for (Index i = 0; i < nodes.size(); ++i)
+    if (carries[i] ? near.contains(nodes.x[i]) : nodes.owns(i)) {
+      new_row[i] = static_cast<Index>(rows.size());
+      rows.push_back(i);
+    }
+  if (static_cast<Index>(rows.size()) == nodes.size()) return;
+  nodes.keep(rows);
+  reorder(node_, particles);
+  for (Index& i : node_) i = new_row[i];
+  reorder(mass_, particles);
+  reorder(density_, particles);
+  reorder(rate_, particles);
+  reorder(previous_rate_, particles);
+  reorder(current, particles);
+  share_.bind(nodes);
+  share_.reorder();
 }
 
 // Each particle near this rank's region is computed by the rank whose region holds it (the

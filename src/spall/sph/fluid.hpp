@@ -129,6 +129,10 @@ class FluidFormulation final : public discretization::Formulation {
   // would make them; the particles migrate to their regions' ranks on the way, and the rank keeps
   // no other particle (rows of its own, NodeStore).
   void rebuild_near_region(discretization::NodeStore& nodes);
+  // Before the arrivals of a rebuild: only the particles within `near` (this rank's region grown by
+  // the reach) stay, with their rows and those of the nodes it computes that carry none; `current`
+  // follows the particles.
+  void drop_beyond(discretization::NodeStore& nodes, const BoundingBox& near, std::vector<std::uint8_t>& current);
   // The rows of the particles `near` this rank's region (their ranks set by the regions) and of the
   // nodes it computes that carry none; `slot`: each row's particle or -1.
   void keep_rows_near(discretization::NodeStore& nodes, std::span<const Index> near, std::span<const Index> slot);
