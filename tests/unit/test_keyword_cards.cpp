@@ -317,7 +317,9 @@ TEST(keyword_cards, IncludeIsRelativeToTheIncludingFile) {
 // Every node and element remembers where it was read; the file's name is held once, not copied
 // into each (a million-particle deck read from a long path held 150 MB of copies).
 TEST(keyword_cards, ItemsOfOneFileShareItsName) {
-  static_assert(sizeof(SourceLocation) <= 16);
+  // The name's number and the line: a node's card 48 B, a particle's 32 B.
+  static_assert(sizeof(SourceLocation) <= 8);
+  static_assert(sizeof(model::Node) <= 48 && sizeof(model::ElementSph) <= 32);
   DeckFolder folder;
   const auto path = folder.write("a_folder_name_longer_than_a_short_string/deck.k",
                                  "*KEYWORD\n*NODE\n" + row({"1", "0", "0", "0"}, node_widths) +
@@ -330,6 +332,7 @@ TEST(keyword_cards, ItemsOfOneFileShareItsName) {
   EXPECT_EQ(&FileName(std::string(name)).str(), &name);  // the same text is the same name
   EXPECT_NE(&FileName("another.k").str(), &name);
   EXPECT_TRUE(FileName().empty());
+  EXPECT_TRUE(FileName("").empty());
 }
 
 TEST(keyword_cards, CommentsCaseEndAndFreeFormat) {

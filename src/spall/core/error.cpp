@@ -1,24 +1,44 @@
 #include "spall/core/error.hpp"
 
-#include <functional>
+#include <deque>
+#include <map>
 #include <mutex>
-#include <set>
 
 namespace spall {
 
+namespace {
+// The names read so far, in the order they were first met (a deque's elements stay where they are
+// as it grows; names are never removed), and each name's number, by a view of the name.
+struct FileNames {
+  std::mutex mutex;
+  std::deque<std::string> names;
+  std::map<std::string_view, std::uint32_t> number;
+};
+FileNames& file_names() {
+  static FileNames table;
+  return table;
+}
+}  // namespace
+
 FileName::FileName(std::string_view name) {
-  // A set's elements stay where they are as it grows; names are never removed.
-  static std::mutex mutex;
-  static std::set<std::string, std::less<>> names;
-  const std::lock_guard lock(mutex);
-  auto it = names.find(name);
-  if (it == names.end()) it = names.emplace(name).first;
-  name_ = &*it;
+  if (name.empty()) return;
+  FileNames& table = file_names();
+  const std::lock_guard lock(table.mutex);
+  auto it = table.number.find(name);
+  if (it == table.number.end()) {
+    table.names.emplace_back(name);
+    it = table.number.emplace(std::string_view(table.names.back()), static_cast<std::uint32_t>(table.names.size()))
+             .first;
+  }
+  number_ = it->second;
 }
 
 const std::string& FileName::str() const {
   static const std::string none;
-  return name_ ? *name_ : none;
+  if (number_ == 0) return none;
+  FileNames& table = file_names();
+  const std::lock_guard lock(table.mutex);
+  return table.names[number_ - 1];
 }
 
 std::string to_string(const SourceLocation& where) { return where.file.str() + ":" + std::to_string(where.line); }

@@ -2,6 +2,7 @@
 // Errors with context. Bad input is an InputError: one line `file:line: *KEYWORD: what is wrong`,
 // exit code 2. A run that goes numerically unstable is an InstabilityError, exit code 3. An output
 // file that cannot be written (a full disk, no permission) is an OutputError, exit code 4.
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -14,6 +15,7 @@ enum ExitCode : int { exit_success = 0, exit_internal = 1, exit_bad_input = 2, e
 // The name of a file input was read from, as messages give it, held once for the life of the
 // process: every node and element of a deck remembers where it was read, and a copy of the name in
 // each would weigh more than the node itself (a million-particle deck read from a long path: 150 MB).
+// A FileName is the name's number in the process's table (4 B, so that a location is 8 B).
 class FileName {
  public:
   FileName() = default;  // not from a file
@@ -23,10 +25,10 @@ class FileName {
   FileName(const std::string& name) : FileName(std::string_view(name)) {}
   FileName(const char* name) : FileName(std::string_view(name)) {}
   const std::string& str() const;
-  bool empty() const { return str().empty(); }
+  bool empty() const { return number_ == 0; }
 
  private:
-  const std::string* name_ = nullptr;
+  std::uint32_t number_ = 0;  // 0: none; else the name's place in the table, from 1
 };
 
 // Where something was read: a file and a 1-based line number (0 when not from a file).

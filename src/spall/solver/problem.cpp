@@ -233,7 +233,7 @@ class Builder {
       // *MAT_NULL parts are liquid: the SPH fluid formulation (sph/fluid_setup.cpp) takes them.
       if (sph::is_fluid_part(model_, e.pid)) {
         const Index node = carry(e);
-        fluid.push_back({&e, row(node), model_.nodes[model_node_[node]].x.z()});
+        fluid.push_back({&e, row(node), model_node_[node]});
         continue;
       }
       auto found = parts.find(e.pid);

@@ -90,11 +90,12 @@ std::unique_ptr<FluidFormulation> build_fluid(const model::Model& model,
   for (const auto& p : particles) {
     const model::ElementSph& e = *p.element;
     // Refused here, at the particle's card: the formulation would stop with an internal error.
-    if (const Real plane = particles.front().z; dimension == 2 && p.z != plane)
+    if (const Real z = model.nodes[p.model_node].x.z(), plane = model.nodes[particles.front().model_node].x.z();
+        dimension == 2 && z != plane)
       fail_at(e.where, "*ELEMENT_SPH",
               fmt::format("particle {} lies at z = {:g}, off the plane z = {:g} of particle {}: in plane strain "
                           "(*CONTROL_SPH IDIM 2) every particle of the SPH fluid lies in one plane",
-                          e.nid, p.z, plane, particles.front().element->nid));
+                          e.nid, z, plane, particles.front().element->nid));
     auto found = parts.find(e.pid);
     if (found == parts.end()) {
       found = parts.emplace(e.pid, resolve_fluid_part(model, e.pid)).first;

@@ -16,8 +16,8 @@ bool is_fluid_part(const model::Model& model, Id pid);
 
 struct FluidParticle {
   const model::ElementSph* element = nullptr;
-  Index node = 0;  // its node's row; -1 when the set-up holds a block of the nodes without it
-  Real z = 0;      // its node's z in the deck (a 2D fluid lies in one plane)
+  Index node = 0;        // its node's row; -1 when the set-up holds a block of the nodes without it
+  Index model_node = 0;  // its node's card in model.nodes (a 2D fluid's plane is checked there)
 };
 
 // Sets the particles' masses and part IDs on the nodes they have rows on (and holds z in plane
