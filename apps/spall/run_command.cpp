@@ -8,7 +8,6 @@
 #include <map>
 #include <optional>
 #include <string.h>
-#include <utility>
 
 #include "field_series.hpp"
 #include "interrupt.hpp"
@@ -83,15 +82,13 @@ solver::Problem build_something(const model::Model& model, const std::string& de
   return problem;
 }
 
-// The nodes that carry mass (the particles of SPH and SPG parts and the nodes of finite elements)
-// and their mass, over every rank's rows when the set-up built a block of the nodes on each.
-std::pair<long long, double> moving_nodes_and_mass(const solver::Problem& problem) {
-  const auto& nodes = problem.nodes;
+// The nodes that carry mass: the particles of SPH and SPG parts and the nodes of finite elements,
+// over every rank's rows when the set-up built a block of the nodes on each (collective then).
+long long moving_node_count(const solver::Problem& problem) {
   std::int64_t n = 0;
-  for (Real m : nodes.mass) n += m > 0;
-  const parallel::Communicator* across = nodes.holds_a_block() ? &parallel::world() : nullptr;
-  if (across) across->sum({&n, 1});
-  return {n, parallel::exact_sum(nodes.size(), [&](Index i) { return nodes.mass[i]; }, across)};
+  for (Real m : problem.nodes.mass) n += m > 0;
+  if (problem.nodes.holds_a_block()) parallel::world().sum({&n, 1});
+  return n;
 }
 
 // A copy of every file the deck read, so that the output folder describes the run on its own.
@@ -167,8 +164,7 @@ int run_deck(const RunOptions& options) {
     if (!restart) copy_deck(model, deck, out);
   }
 
-  const auto [moving_nodes, initial_mass] = moving_nodes_and_mass(problem);
-  const long long nodes = moving_nodes;
+  const long long nodes = moving_node_count(problem);
   log::info(fmt::format("spall {}: {} with {} nodes (particles and element nodes) on {}{} threads, to {}", version,
                         deck, nodes, ranks.size() > 1 ? fmt::format("{} MPI ranks x ", ranks.size()) : "",
                         parallel::thread_count(), out.string()));
@@ -240,7 +236,7 @@ int run_deck(const RunOptions& options) {
   info.threads = parallel::thread_count();
   info.ranks = ranks.size();
   info.nodes = nodes;
-  info.initial_mass = initial_mass;
+  info.initial_mass = loop.initial_mass();
   int code = exit_success;
   const InterruptWatch interrupts;
   try {

@@ -137,6 +137,7 @@ class TimeLoop::Step {
 
   RunSummary summary() const { return {step_.step, step_.time, ledger_, phases_}; }
   long long rebalances() const { return rebalances_; }
+  Real initial_mass() const { return initial_mass_; }
   const PhaseTimes& phases() const { return phases_; }
   const StepInfo& info() const { return step_; }
 
@@ -544,6 +545,7 @@ void TimeLoop::checkpoint(Archive& archive) { step_->checkpoint(archive); }
 const PhaseTimes& TimeLoop::phases() const { return step_->phases(); }
 
 long long TimeLoop::rebalances() const { return step_->rebalances(); }
+Real TimeLoop::initial_mass() const { return step_->initial_mass(); }
 
 RunSummary run(Problem& problem, const Observer& observer) { return TimeLoop(problem, observer).run(); }
 

@@ -72,6 +72,8 @@ class TimeLoop {
   const PhaseTimes& phases() const;
   // How often the node blocks were dealt anew to even the ranks' work (LoadBalance).
   long long rebalances() const;
+  // The nodes' mass (every rank's) when the run began, before DT2MS added any (ENDMAS's base).
+  Real initial_mass() const;
   // Between two steps (in between_steps, or before run()): writes the state of the problem and of
   // the loop into the archive, or reads it back over a problem built from the same deck, which
   // then continues bitwise as the run that wrote it (core/archive.hpp). Under MPI every rank calls

@@ -333,7 +333,7 @@ void FluidFormulation::rebuild_near_region(discretization::NodeStore& nodes) {
   cells_.build(x, asked, id, &grid);
   std::vector<Index> order = cells_.take_order();
   for (Index& k : order) k = local[k];
-  keep_rows_near(nodes, local, slot);
+  keep_rows_near(nodes, local);
   take_cell_order(nodes, order);
   complete_ = false;  // the particles out of reach are stale here
   finish_build();
@@ -342,48 +342,42 @@ void FluidFormulation::rebuild_near_region(discretization::NodeStore& nodes) {
 void FluidFormulation::drop_beyond(discretization::NodeStore& nodes, const BoundingBox& near,
                                    std::vector<std::uint8_t>& current) {
   std::vector<Index> particles;
-  std::vector<std::uint8_t> carries(nodes.size(), 0);
-  for (Index a = 0; a < particle_count(); ++a) {
-    carries[node_[a]] = 1;
+  for (Index a = 0; a < particle_count(); ++a)
     if (near.contains(nodes.x[node_[a]])) particles.push_back(a);
-  }
-  std::vector<Index> rows, new_row(nodes.size(), -1);
-  for (Index i = 0; i < nodes.size(); ++i)
-    if (carries[i] ? near.contains(nodes.x[i]) : nodes.owns(i)) {
-      new_row[i] = static_cast<Index>(rows.size());
-      rows.push_back(i);
-    }
-  if (static_cast<Index>(rows.size()) == nodes.size()) return;
-  nodes.keep(rows);
+  if (static_cast<Index>(particles.size()) == particle_count()) return;
+  keep_rows_of(nodes, particles);
   reorder(node_, particles);
-  for (Index& i : node_) i = new_row[i];
   reorder(mass_, particles);
   reorder(density_, particles);
   reorder(rate_, particles);
   reorder(previous_rate_, particles);
   reorder(current, particles);
-  share_.bind(nodes);
   share_.reorder();
 }
 
 // Each particle near this rank's region is computed by the rank whose region holds it (the
 // migration: every rank takes it alike from the same positions), and the node store keeps their
 // rows and the rows of the nodes this rank computes that carry no particle; the particles keep
-// their slots (take_cell_order drops the others). A particle of this rank's region always comes
-// within its reach: one that did not would be lost here.
-void FluidFormulation::keep_rows_near(discretization::NodeStore& nodes, std::span<const Index> near,
-                                      std::span<const Index> slot) {
-  std::vector<std::uint8_t> kept(nodes.size(), 0);
+// their slots (take_cell_order drops the others).
+void FluidFormulation::keep_rows_near(discretization::NodeStore& nodes, std::span<const Index> near) {
   for (const Index a : near) {
     const Index i = node_[a];
     nodes.owner[i] = nodes.regions.rank_of(nodes.x[i]);
-    kept[i] = 1;
   }
+  keep_rows_of(nodes, near);
+}
+
+// A particle of this rank's region always comes within its reach: one that did not would be lost
+// here.
+void FluidFormulation::keep_rows_of(discretization::NodeStore& nodes, std::span<const Index> particles) {
+  std::vector<std::uint8_t> carries(nodes.size(), 0), kept(nodes.size(), 0);
+  for (const Index i : node_) carries[i] = 1;
+  for (const Index a : particles) kept[node_[a]] = 1;
   std::vector<Index> rows, new_row(nodes.size(), -1);
   for (Index i = 0; i < nodes.size(); ++i) {
-    if (slot[i] >= 0 && !kept[i] && nodes.regions.rank_of(nodes.x[i]) == nodes.rank && nodes.owns(i))
+    if (carries[i] && !kept[i] && nodes.regions.rank_of(nodes.x[i]) == nodes.rank && nodes.owns(i))
       throw std::logic_error("SPH fluid: a particle of this rank's region is beyond the reach of its rebuild");
-    if (kept[i] || (slot[i] < 0 && nodes.owns(i))) {
+    if (kept[i] || (!carries[i] && nodes.owns(i))) {
       new_row[i] = static_cast<Index>(rows.size());
       rows.push_back(i);
     }

@@ -134,8 +134,11 @@ class FluidFormulation final : public discretization::Formulation {
   // follows the particles.
   void drop_beyond(discretization::NodeStore& nodes, const BoundingBox& near, std::vector<std::uint8_t>& current);
   // The rows of the particles `near` this rank's region (their ranks set by the regions) and of the
-  // nodes it computes that carry none; `slot`: each row's particle or -1.
-  void keep_rows_near(discretization::NodeStore& nodes, std::span<const Index> near, std::span<const Index> slot);
+  // nodes it computes that carry none.
+  void keep_rows_near(discretization::NodeStore& nodes, std::span<const Index> near);
+  // The node store keeps the rows of `particles` and of the nodes this rank computes that carry
+  // none, in row order; node_ follows (-1 for a particle not kept).
+  void keep_rows_of(discretization::NodeStore& nodes, std::span<const Index> particles);
   // Dealt by region: complete() for a restart file, on rank 0 (NodeStore::gather_on_first_rank).
   void gather_on_first_rank(discretization::NodeStore& nodes);
   // Every particle in the cells again, from the keys their ranks binned them at (gather_on_first_rank).
