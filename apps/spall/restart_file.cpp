@@ -2,7 +2,7 @@
 
 #include <fmt/format.h>
 #include <fstream>
-#include <iterator>
+#include <memory>
 #include <optional>
 #include <regex>
 
@@ -16,6 +16,12 @@ namespace fs = std::filesystem;
 
 namespace {
 std::string file_name(int count, int k) { return count == 1 ? "runrsf" : fmt::format("runrsf{:02d}", k + 1); }
+
+Archive opened(const fs::path& file) {
+  auto in = std::make_shared<std::ifstream>(file, std::ios::binary);
+  if (!*in) throw InputError(fmt::format("{}: cannot open the restart file", file.string()));
+  return Archive::for_reading_from(std::move(in), fs::file_size(file), file.string());
+}
 }  // namespace
 
 void RestartHeader::checkpoint(Archive& a) {
@@ -25,15 +31,21 @@ void RestartHeader::checkpoint(Archive& a) {
 
 RestartFiles::RestartFiles(fs::path folder, int count) : folder_(std::move(folder)), count_(count) {}
 
-fs::path RestartFiles::write(RestartHeader header, const std::function<void(Archive&)>& state) {
-  Archive archive = Archive::for_writing();
-  archive(header);
-  state(archive);
+fs::path RestartFiles::write(RestartHeader header, const std::function<void(Archive&)>& state, bool writes) {
   const fs::path path = folder_ / file_name(count_, next_);
-  io::output::replace_file_atomically(path, [&](std::ostream& out) {
-    out.write(archive.bytes().data(), static_cast<std::streamsize>(archive.bytes().size()));
-  });
   next_ = (next_ + 1) % count_;
+  if (!writes) {
+    Archive archive = Archive::discarding();
+    archive(header);
+    state(archive);
+    return {};
+  }
+  io::output::replace_file_atomically(path, [&](std::ostream& out) {
+    Archive archive = Archive::for_writing_to(out);
+    archive(header);
+    state(archive);
+    archive.flush();
+  });
   return path;
 }
 
@@ -41,12 +53,11 @@ Restart read_newest_restart(const fs::path& folder) {
   if (!fs::is_directory(folder))
     throw InputError(fmt::format("{}: not a folder (give the output folder of the run to continue)", folder.string()));
   static const std::regex name("runrsf([0-9][0-9])?");
+  // Each file's header, then the newest's state as it is read (no file is held whole).
   std::optional<Restart> newest;
   for (const auto& entry : fs::directory_iterator(folder)) {
     if (!entry.is_regular_file() || !std::regex_match(entry.path().filename().string(), name)) continue;
-    std::ifstream in(entry.path(), std::ios::binary);
-    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    Restart restart{entry.path(), {}, Archive::for_reading(std::move(bytes), entry.path().string())};
+    Restart restart{entry.path(), {}, opened(entry.path())};
     restart.state(restart.header);
     if (!newest || restart.header.step > newest->header.step) newest.emplace(std::move(restart));
   }

@@ -151,9 +151,8 @@ int run_deck(const RunOptions& options) {
       restart ? (fs::path(options.restart_dir) / "deck" / restart->header.deck).string() : options.deck;
   const std::vector<std::string>& skip = restart ? restart->header.skip : options.skip;
   model::Model model = read_and_check(deck, skip);
-  // Set up in blocks where the deck allows, except to read a restart file (of every node).
-  solver::Problem problem =
-      build_something(model, deck, restart ? solver::SetUp::whole : solver::SetUp::in_blocks_where_possible);
+  // Set up in blocks where the deck allows (a restart file is then read into each rank's block).
+  solver::Problem problem = build_something(model, deck, solver::SetUp::in_blocks_where_possible);
   model.release_mesh();
 
   const fs::path out = restart                      ? fs::path(options.restart_dir)
@@ -192,9 +191,10 @@ int run_deck(const RunOptions& options) {
   };
   solver::TimeLoop loop(problem, observer, {options.balance_every, options.balance_threshold});
 
-  // The run's state between two steps: the loop's (the whole problem's, which every rank holds),
-  // the wall time so far, the field series (every rank's, of its pieces), then the histories rank 0
-  // writes. Rank 0 writes it; under MPI every rank reads it back, whatever the ranks that wrote it.
+  // The run's state between two steps: the loop's (the problem's: whole on rank 0, or each rank's
+  // own rows and particles in turn when dealt by region), the wall time so far, the field series
+  // (every rank's, of its pieces), then the histories rank 0 writes. Rank 0 writes it; under MPI
+  // every rank reads it back, whatever the ranks that wrote it.
   double wall_seconds_before = 0;  // of the runs this one continues
   FieldSeries& series = writes ? outputs->field_series() : *pieces;
   const auto state = [&](Archive& a) {
@@ -226,8 +226,8 @@ int run_deck(const RunOptions& options) {
   RestartFiles restart_files(out, model.runrsf ? model.runrsf->files : 1);
   const auto write_checkpoint = [&](const solver::StepInfo& step) {
     const RestartHeader header{version, fs::path(deck).filename().string(), skip, step.step, step.time};
-    loop.complete_state();  // every rank: rank 0 writes the whole state
-    return writes ? restart_files.write(header, state) : fs::path();
+    loop.complete_state();  // every rank: rank 0 writes the state, whole or in every rank's pieces
+    return restart_files.write(header, state, writes);
   };
 
   io::output::RunInfo info;

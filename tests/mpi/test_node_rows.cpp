@@ -1,16 +1,21 @@
 // A node store with rows of its own (dealt by region, docs/SCALING.md §3), run as 1, 2 and
 // 3 ranks: a rank keeps some rows in an order of its own, takes rows that come in from other ranks,
 // finds every row by the node's place in the deck (also those added since the last keep), and
-// rank 0 gathers every rank's own rows into the whole store, in the deck's order, with each node's
-// state and rank, as one process holds it; a node that no rank keeps stops the gather.
+// writes its own rows into a checkpoint on rank 0 (in pieces, core/pieces.hpp) that reads back as
+// the whole store, in the deck's order, with each node's state, as one process holds it, and into
+// each rank's block of the nodes (a restart under MPI) as that block of it; a node that no rank
+// keeps fails the read, on every rank alike.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <random>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
+#include "spall/core/archive.hpp"
 #include "spall/core/communicator.hpp"
+#include "spall/core/error.hpp"
 #include "spall/discretization/node_store.hpp"
 
 namespace spall::discretization {
@@ -40,6 +45,37 @@ NodeStore whole_store() {
   return nodes;
 }
 
+// A store of every node with the deck's IDs and nothing else, as a restart's set-up builds it
+// before the checkpoint is read into it.
+NodeStore deck_ids(const NodeStore& whole) {
+  NodeStore nodes;
+  nodes.resize(whole.size());
+  nodes.id = whole.id;
+  return nodes;
+}
+
+// A rank's block of the nodes of `whole` with the deck's IDs and nothing else, as the set-up in
+// blocks builds it before a checkpoint is read into it, dealt by whole's regions as the time loop
+// deals it.
+NodeStore deck_block(const NodeStore& whole) {
+  const parallel::Communicator& ranks = parallel::world();
+  const Index first = parallel::block_begin(whole.size(), ranks.rank(), ranks.size());
+  const Index end = parallel::block_begin(whole.size(), ranks.rank() + 1, ranks.size());
+  NodeStore nodes;
+  nodes.resize(end - first);
+  for (Index row = 0; row < nodes.size(); ++row) nodes.id[row] = whole.id[first + row];
+  nodes.hold_block(first, whole.size());
+  nodes.deal(whole.regions, ranks.rank());
+  return nodes;
+}
+
+// What rank 0's archive holds, on every rank (the others' kept nothing).
+std::string written_on_first_rank(const Archive& written) {
+  const std::string& mine = written.bytes();
+  const std::vector<char> file = parallel::world().all(std::span<const char>(mine.data(), mine.size()));
+  return {file.begin(), file.end()};
+}
+
 void expect_same_node(const NodeStore& a, Index i, const NodeStore& b, Index j) {
   EXPECT_EQ(a.id[i], b.id[j]);
   EXPECT_EQ(a.part[i], b.part[j]);
@@ -53,7 +89,7 @@ void expect_same_node(const NodeStore& a, Index i, const NodeStore& b, Index j) 
   EXPECT_EQ(a.owner[i], b.owner[j]);
 }
 
-TEST(NodeRows, KeptAddedFoundAndGatheredWhole) {
+TEST(NodeRows, KeptAddedFoundAndCheckpointedWhole) {
   const parallel::Communicator& ranks = parallel::world();
   const NodeStore reference = whole_store();
   NodeStore nodes = whole_store();
@@ -83,23 +119,46 @@ TEST(NodeRows, KeptAddedFoundAndGatheredWhole) {
     expect_same_node(nodes, row, reference, i);
   }
   for (const Index i : kept) EXPECT_EQ(nodes.deck_index(nodes.row_of(i)), i);
-  // Rank 0 gathers every rank's own rows; the others keep theirs.
-  const Index held = nodes.size();
-  nodes.gather_on_first_rank();
-  if (ranks.rank() == 0) {
-    ASSERT_EQ(nodes.size(), reference.size());
-    EXPECT_TRUE(nodes.global.empty());
-    for (Index i = 0; i < reference.size(); ++i) {
-      EXPECT_EQ(nodes.row_of(i), i);
-      expect_same_node(nodes, i, reference, i);
-    }
-    EXPECT_EQ(nodes.owned, reference.owned);
-  } else {
-    EXPECT_EQ(nodes.size(), held);
+  // A checkpoint: every rank's own rows, with their forces, go to rank 0's archive in turn, and no
+  // rank's rows change; read back into a store of every node (the deck's IDs, nothing else), they
+  // are the whole store's rows.
+  for (const Index i : nodes.owned) {
+    const Index deck = nodes.deck_index(i);
+    nodes.f[i] = Vec3(deck, -deck, 2 * deck);
+  }
+  const NodeStore before = nodes;
+  Archive written = ranks.rank() == 0 ? Archive::for_writing() : Archive::discarding();
+  nodes.checkpoint(written);
+  ASSERT_EQ(nodes.size(), before.size());
+  for (Index row = 0; row < nodes.size(); ++row) {
+    expect_same_node(nodes, row, before, row);
+    EXPECT_EQ(nodes.deck_index(row), before.deck_index(row));
+  }
+  const std::string file = written_on_first_rank(written);
+  NodeStore read = deck_ids(reference);
+  Archive archive = Archive::for_reading(file, "checkpoint");
+  read.checkpoint(archive);
+  EXPECT_TRUE(archive.at_end());
+  read.owner = reference.owner;  // a rank's share is the run's, not the checkpoint's
+  for (Index i = 0; i < reference.size(); ++i) {
+    expect_same_node(read, i, reference, i);
+    EXPECT_EQ(read.f[i], Vec3(i, -i, 2 * i)) << "node " << i;
+  }
+  // Read back into each rank's block of the nodes, as the set-up in blocks builds it and the time
+  // loop deals it (a restart under MPI): the block's rows alone, the others' read past.
+  NodeStore block = deck_block(reference);
+  Archive again = Archive::for_reading(file, "checkpoint");
+  block.checkpoint(again);
+  EXPECT_TRUE(again.at_end());
+  for (Index row = 0; row < block.size(); ++row) {
+    const Index i = block.deck_index(row);
+    block.owner[row] = reference.owner[i];
+    expect_same_node(block, row, reference, i);
+    EXPECT_EQ(block.f[row], Vec3(i, -i, 2 * i)) << "node " << i;
   }
 }
 
-TEST(NodeRows, ANodeNoRankKeepsStopsTheGather) {
+TEST(NodeRows, ANodeNoRankKeepsIsMissingFromTheCheckpoint) {
   const parallel::Communicator& ranks = parallel::world();
   NodeStore nodes = whole_store();
   // The last rank drops its own node of the lowest place in the deck.
@@ -111,10 +170,16 @@ TEST(NodeRows, ANodeNoRankKeepsStopsTheGather) {
     kept.erase(kept.begin());
   }
   nodes.keep(kept);
-  if (ranks.rank() == 0)
-    EXPECT_THROW(nodes.gather_on_first_rank(), std::logic_error);
-  else
-    EXPECT_NO_THROW(nodes.gather_on_first_rank());
+  Archive written = ranks.rank() == 0 ? Archive::for_writing() : Archive::discarding();
+  nodes.checkpoint(written);
+  const std::string file = written_on_first_rank(written);
+  NodeStore read = deck_ids(whole_store());
+  Archive archive = Archive::for_reading(file, "checkpoint");
+  EXPECT_THROW(read.checkpoint(archive), InputError);
+  // Every rank alike when each reads its block, whichever holds the node.
+  NodeStore block = deck_block(whole_store());
+  Archive again = Archive::for_reading(file, "checkpoint");
+  EXPECT_THROW(block.checkpoint(again), InputError);
 }
 
 }  // namespace

@@ -58,7 +58,9 @@ continue_run() {
 # every file as the single process's, a piece of field output per rank, and run.json naming the ranks.
 # "RANKS THREADS rebalanced" deals the nodes out anew every 5 steps (--balance-threshold 0), which
 # must happen and change no bit either; "RANKS THREADS fixed" never deals them anew (the first
-# partition stays, or the first regions, between which the nodes then move: migration alone).
+# partition stays, or the first regions, between which the nodes then move: migration alone);
+# "RANKS THREADS checkpointed" is fixed and writes a restart file at every step, which must change
+# no bit either.
 same_on_ranks() {
   local deck=$1 serial=$2 run out balance
   shift 2
@@ -68,6 +70,7 @@ same_on_ranks() {
     balance=()
     [ "${3:-}" = rebalanced ] && balance=(--balance-every 5 --balance-threshold 0)
     [ "${3:-}" = fixed ] && balance=(--balance-threshold 1e300)
+    [ "${3:-}" = checkpointed ] && balance=(--balance-threshold 1e300 --checkpoint-every 1)
     mpirun -np "$1" "$cli" run "$deck" -o "$out" --threads "$2" "${balance[@]}" >"$out.log" 2>&1 ||
       { tail -20 "$out.log"; fail "$deck on $1 ranks x $2 threads ${3:-}"; }
     same_folder "$serial" "$out" "$deck on $1 ranks x $2 threads ${3:-}"

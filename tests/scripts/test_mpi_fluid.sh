@@ -4,9 +4,10 @@
 # process and under mpirun as 1, 2, 3 and 4 ranks (oversubscribed on 2 cores), with 1 or 2 threads
 # each: glstat.csv is byte for byte the single process's, and the field output (a .pvtu per output
 # time, each rank's piece a .vtu) holds its .vtu files' points and fields bit for bit. Rank 0 writes
-# the restart files with the whole state, which every rank reads back: a 2-rank run's last runrsf,
-# continued on one process or on 3 ranks, and the single process's on 2 ranks, end as the
-# uninterrupted run, also when a rank was killed mid-run. `spall surface` of a 2-rank run's
+# the restart files, every rank's own state in turn, which every rank reads back whole: a 2-rank
+# run's last runrsf, continued on one process or on 3 ranks, and the single process's on 2 ranks,
+# end as the uninterrupted run, also when a rank was killed mid-run; writing one at every step
+# changes no bit and leaves no rank holding every node. `spall surface` of a 2-rank run's
 # output is the single process's, byte for byte. A rank that cannot write its piece
 # stops every rank (exit 4), as does rank 0 when it cannot write a history (the job aborted).
 # The 2D dam break on 3 ranks once more with the nodes dealt out anew every 5 steps (the load
@@ -35,15 +36,16 @@ cut_deck "$source_dir/examples/dam_break/dam_break.k" 0.02 >"$work/d3.k"
 run_serial d2 100
 run_serial d3 100
 same_on_ranks "$work/d2.k" "$work/d2.serial" "1 1" "2 1" "3 1" "4 1" "2 2" "3 1 rebalanced"
-same_on_ranks "$work/d3.k" "$work/d3.serial" "2 1" "3 2" "2 1 rebalanced" "2 1 fixed"
+same_on_ranks "$work/d3.k" "$work/d3.serial" "2 1" "3 2" "2 1 rebalanced" "2 1 checkpointed"
 # A deck of fluid alone: each rank keeps the rows of its region's nodes and of those its passes
 # read (rows of its own, NodeStore), not every node: with the regions fixed (the rows then do not
-# depend on the measured work), no rank of the 3D dam break on 2 ranks holds every node, and the
-# two hold 1.33 of them together (measured: each node once, and a third more for the reach of 5.5
-# cell edges around the regions, large against this small deck), below the 1.5 checked. Each
-# rank's largest resident set is reported too: at least what its rows take (ID, two positions,
-# velocity, force and mass: 112 B a row).
-python3 - "$work/d3.serial.np2.t1.fixed/run.json" <<'PY' || fail "the ranks of the 2-rank 3D dam break hold most nodes twice"
+# depend on the measured work), no rank of the 3D dam break on 2 ranks holds every node, though a
+# restart file was written at every step (each rank's own rows and particles go to rank 0 in
+# turn: core/pieces.hpp), and the two hold 1.33 of them together (measured: each node once, and a
+# third more for the reach of 5.5 cell edges around the regions, large against this small deck),
+# below the 1.5 checked. Each rank's largest resident set is reported too: at least what its rows
+# take (ID, two positions, velocity, force and mass: 112 B a row).
+python3 - "$work/d3.serial.np2.t1.checkpointed/run.json" <<'PY' || fail "the ranks of the 2-rank 3D dam break hold most nodes twice"
 import json, sys
 run = json.load(open(sys.argv[1]))
 rows, nodes, peak = run["node_rows"], run["nodes"], run["peak_resident_bytes"]
@@ -172,14 +174,16 @@ for f in $(cd "$work/d3.serial" && ls surface_*); do
   done
 done
 
-# The last restart file (rank 0 writes it, with the whole state) of the 2-rank run continued on one
-# process and on 3 ranks, and of the single process on 2 ranks: each ends as the uninterrupted run.
+# The last restart file (rank 0 writes it, every rank's own rows and particles in turn) of the
+# 2-rank runs continued on one process and on 3 ranks, and of the single process on 2 ranks: each
+# ends as the uninterrupted run.
 [ -s "$work/d2.serial.np2.t1/runrsf" ] || fail "no runrsf from the 2-rank run"
 cp -r "$work/d2.serial.np2.t1" "$work/d2.np2.on3"
 cp -r "$work/d2.serial" "$work/d2.np1.on2"
 continue_run d2.serial.np2.t1 1 d2.serial
 continue_run d2.np2.on3 3 d2.serial
 continue_run d2.np1.on2 2 d2.serial
+continue_run d3.serial.np2.t1.checkpointed 3 d3.serial
 
 # One rank killed (SIGKILL) at a random moment of a 2-rank run, four times: mpirun ends the others,
 # the folder is whole (every .pvtu the .pvd lists has its pieces: tools/check_output.py), and the

@@ -6,9 +6,13 @@
 // what it derives from its state at every step may be left out too, but any cache whose contents
 // can differ from a fresh build (neighbour lists, sorted orders, multipliers that start the next
 // solve) must be listed, or the continued run drifts by round-off.
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
+#include <istream>
+#include <memory>
 #include <optional>
+#include <ostream>
 #include <string>
 #include <string_view>
 #include <type_traits>
@@ -37,18 +41,50 @@ class Archive {
  public:
   // An archive to write into; bytes() holds what was written.
   static Archive for_writing() { return Archive(); }
+  // An archive that writes into `out` as it goes, so that a checkpoint of any size holds at most
+  // flush_bytes of it in memory; flush() writes what is left.
+  static Archive for_writing_to(std::ostream& out) {
+    Archive a;
+    a.out_ = &out;
+    return a;
+  }
+  // An archive that keeps nothing: under MPI the ranks that do not write the restart file make
+  // the same checkpoint calls as rank 0, whose collectives bring their pieces to it
+  // (core/pieces.hpp).
+  static Archive discarding() {
+    Archive a;
+    a.discarding_ = true;
+    return a;
+  }
+  static constexpr std::size_t flush_bytes = std::size_t(1) << 20;
   // An archive that reads `bytes` back; `source` names them in messages (the restart file).
   static Archive for_reading(std::string bytes, std::string source) {
     Archive a;
+    a.size_ = bytes.size();
     a.bytes_ = std::move(bytes);
     a.reading_ = true;
     a.source_ = std::move(source);
     return a;
   }
+  // An archive that reads the `size` bytes of `in` back as it goes, flush_bytes at a time (a
+  // restart file of any size is not held whole).
+  static Archive for_reading_from(std::shared_ptr<std::istream> in, std::uint64_t size, std::string source) {
+    Archive a = for_reading({}, std::move(source));
+    a.in_ = std::move(in);
+    a.size_ = size;
+    return a;
+  }
 
   bool reading() const { return reading_; }
+  // What is read, for messages.
+  const std::string& source() const { return source_; }
+  void flush() {
+    if (!out_) return;
+    out_->write(bytes_.data(), static_cast<std::streamsize>(bytes_.size()));
+    bytes_.clear();
+  }
   const std::string& bytes() const { return bytes_; }
-  bool at_end() const { return position_ == bytes_.size(); }
+  bool at_end() const { return offset_ + position_ == size_; }
 
   // Each item written, or read back into the same variables.
   template <class... T>
@@ -76,26 +112,44 @@ class Archive {
                        ", this deck " + std::to_string(size));
   }
 
+  // The length before a sequence of items: written, or read back (and checked against what an
+  // archive of this size can hold).
+  std::size_t count(std::size_t n) {
+    std::uint64_t stored = n;
+    raw(&stored, sizeof stored);
+    if (reading_ && stored > size_)  // a count no checkpoint of this size can hold
+      throw InputError(source_ + ": the checkpoint is corrupt (a count of " + std::to_string(stored) + ")");
+    return static_cast<std::size_t>(stored);
+  }
+
  private:
   Archive() = default;
 
   void raw(void* data, std::size_t size) {
     if (!reading_) {
+      if (discarding_) return;
       bytes_.append(static_cast<const char*>(data), size);
+      if (out_ && bytes_.size() >= flush_bytes) flush();
       return;
     }
-    if (size > bytes_.size() - position_)
+    if (size > size_ - offset_ - position_)
       throw InputError(source_ + ": the checkpoint ends early (truncated, or not written by this version of Spall)");
-    std::memcpy(data, bytes_.data() + position_, size);
-    position_ += size;
+    auto* to = static_cast<char*>(data);
+    while (size > 0) {
+      if (position_ == bytes_.size()) refill();
+      const std::size_t n = std::min(size, bytes_.size() - position_);
+      std::memcpy(to, bytes_.data() + position_, n);
+      position_ += n, to += n, size -= n;
+    }
   }
 
-  std::size_t count(std::size_t n) {
-    std::uint64_t stored = n;
-    raw(&stored, sizeof stored);
-    if (reading_ && stored > bytes_.size())  // a count no checkpoint of this size can hold
-      throw InputError(source_ + ": the checkpoint is corrupt (a count of " + std::to_string(stored) + ")");
-    return static_cast<std::size_t>(stored);
+  // The next flush_bytes of the stream read from (the end checked by raw()).
+  void refill() {
+    offset_ += bytes_.size();
+    bytes_.resize(static_cast<std::size_t>(std::min<std::uint64_t>(flush_bytes, size_ - offset_)));
+    in_->read(bytes_.data(), static_cast<std::streamsize>(bytes_.size()));
+    if (!*in_) throw InputError(source_ + ": cannot read the checkpoint (the file changed or a read failed)");
+    position_ = 0;
   }
 
   template <class T>
@@ -144,6 +198,13 @@ class Archive {
   std::string bytes_;
   std::size_t position_ = 0;
   bool reading_ = false;
+  bool discarding_ = false;
+  std::ostream* out_ = nullptr;
+  // Reading: the archive's length, the stream it comes from (none when bytes_ holds it whole) and
+  // the place in it of bytes_'s first byte.
+  std::uint64_t size_ = 0;
+  std::shared_ptr<std::istream> in_;
+  std::uint64_t offset_ = 0;
   std::string source_;
 };
 

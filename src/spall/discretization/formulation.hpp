@@ -67,11 +67,14 @@ class Formulation {
   // Under MPI, on every rank before one of them writes a checkpoint: brings in what the
   // formulation keeps current only where a rank computes it (the state of solid elements with no
   // node of the rank's, the positions and velocities of particles far from a rank's), so that the
-  // state is whole (dealt by region, where a rank holds rows of its own: on rank 0, which writes).
+  // state is whole on rank 0, which writes (dealt by region, where a rank holds rows of its own,
+  // each rank's own state goes to it in pieces instead: core/pieces.hpp).
   virtual void complete_state(NodeStore& /*nodes*/) {}
   // Writes (or reads back) everything the formulation carries from one step to the next, so that a
-  // run continued from a checkpoint is bitwise the uninterrupted one (core/archive.hpp).
-  virtual void checkpoint(Archive& archive) = 0;
+  // run continued from a checkpoint is bitwise the uninterrupted one (core/archive.hpp). Under MPI
+  // every rank calls it, rank 0 with the archive it writes (collective); `nodes` were checkpointed
+  // just before.
+  virtual void checkpoint(Archive& archive, const NodeStore& nodes) = 0;
 };
 
 }  // namespace spall::discretization

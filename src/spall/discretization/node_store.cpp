@@ -1,9 +1,12 @@
 #include "spall/discretization/node_store.hpp"
 
+#include <fmt/format.h>
+#include <algorithm>
 #include <numeric>
 #include <stdexcept>
 
 #include "spall/core/communicator.hpp"
+#include "spall/core/pieces.hpp"
 #include "spall/core/reorder.hpp"
 
 namespace spall::discretization {
@@ -17,8 +20,8 @@ void each_row_array(NodeStore& nodes, Visit&& visit) {
   visit(nodes.f), visit(nodes.mass), visit(nodes.fixed), visit(nodes.active), visit(nodes.body), visit(nodes.owner);
 }
 
-// Row i from a row that travelled (its force is this rank's own, zero at a rebuild).
-void set_row(NodeStore& nodes, Index i, const NodeStore::Row& row, int rank) {
+// Row i's state from a row that travelled or was checkpointed (the force is not in it).
+void set_state(NodeStore& nodes, Index i, const NodeStore::Row& row) {
   nodes.id[i] = row.id;
   nodes.part[i] = row.part;
   nodes.x0[i] = row.x0;
@@ -28,9 +31,28 @@ void set_row(NodeStore& nodes, Index i, const NodeStore::Row& row, int rank) {
   nodes.fixed[i] = row.fixed;
   nodes.active[i] = row.active;
   nodes.body[i] = row.body;
+}
+
+// Row i from a row that travelled, computed by `rank` (its force is this rank's own, zero at a
+// rebuild).
+void set_row(NodeStore& nodes, Index i, const NodeStore::Row& row, int rank) {
+  set_state(nodes, i, row);
   nodes.owner[i] = rank;
 }
+// A node's row in a checkpoint: what travels with it between ranks, and its force.
+struct SavedRow {
+  NodeStore::Row row;
+  Vec3 f;
+};
 }  // namespace
+}  // namespace spall::discretization
+
+namespace spall {
+template <>
+inline constexpr bool archived_as_bytes<discretization::SavedRow> = true;
+}  // namespace spall
+
+namespace spall::discretization {
 
 Index NodeStore::row_of(Index deck) const {
   if (global.empty()) return deck >= 0 && deck < size() ? deck : -1;
@@ -93,34 +115,48 @@ void NodeStore::keep(std::span<const Index> kept) {
   ++partition;
 }
 
-void NodeStore::gather_on_first_rank() {
+void NodeStore::checkpoint(Archive& a) {
+  a.expect_size("nodes", static_cast<std::size_t>(deck_node_count()));
   const parallel::Communicator& ranks = parallel::world();
-  struct Owned {
-    Row row;
-    std::int64_t rank;
-  };
-  std::vector<std::vector<Owned>> out(ranks.size());
-  for (const Index i : owned) out[0].push_back({row(i), rank});
-  const std::vector<Owned> all = ranks.deliver(out);
-  ++partition;
-  if (rank != 0) return;
-  const Index n = global.empty() ? size() : deck_nodes_;
-  if (static_cast<Index>(all.size()) != n)
-    throw std::logic_error("NodeStore::gather_on_first_rank: the ranks' own nodes are not every node once");
-  resize(n);
-  owner.assign(n, 0);
-  global.clear();
-  numbered_ = false;
-  by_deck_.clear();
-  sorted_by_deck_ = 0;
-  std::vector<std::uint8_t> seen(n, 0);
-  for (const Owned& o : all) {
-    const Index i = static_cast<Index>(o.row.global);
-    if (i < 0 || i >= n || seen[i]++)
-      throw std::logic_error("NodeStore::gather_on_first_rank: the ranks' own nodes are not every node once");
-    set_row(*this, i, o.row, static_cast<int>(o.rank));
+  if (!a.reading()) {
+    const Index count = by_region() ? static_cast<Index>(owned.size()) : ranks.rank() == 0 ? size() : 0;
+    Index k = 0;
+    parallel::write_pieces<SavedRow>(
+        a, count,
+        [&] {
+          const Index i = by_region() ? owned[k++] : k++;
+          return SavedRow{row(i), f[i]};
+        },
+        ranks);
+    return;
   }
-  list_owned();
+  // Into every node, or into the rows a rank holds (the set-up in blocks built them: hold_block,
+  // then dealt), each filled once: the other ranks' rows are read past. A node under another ID or
+  // given twice, or one of the rows missing, stops every rank alike.
+  std::vector<std::uint8_t> seen(size(), 0);
+  Index mismatch = -1;
+  parallel::read_pieces<SavedRow>(a, [&](const SavedRow& saved) {
+    const Index place = static_cast<Index>(saved.row.global);
+    const bool in_deck = place >= 0 && place < deck_node_count();
+    const Index i = in_deck ? row_of(place) : -1;
+    if (numbered_ && in_deck && i < 0) return;  // another rank's row
+    if (i < 0 || seen[i]++ || saved.row.id != id[i]) {
+      if (mismatch < 0) mismatch = std::max<Index>(place, 0);
+      return;
+    }
+    set_state(*this, i, saved.row);
+    f[i] = saved.f;
+  });
+  const auto unseen = std::find(seen.begin(), seen.end(), 0);
+  Index missing = unseen == seen.end() ? -1 : deck_index(static_cast<Index>(unseen - seen.begin()));
+  if (numbered_) {
+    mismatch = ranks.lowest(mismatch);
+    missing = ranks.lowest(missing);
+  }
+  if (mismatch >= 0 || missing >= 0)
+    throw InputError(fmt::format("{}: the checkpoint does not match this deck (the node at place {} of the node order {})",
+                                 a.source(), mismatch >= 0 ? mismatch : missing,
+                                 mismatch >= 0 ? "is not this deck's" : "is missing"));
 }
 
 }  // namespace spall::discretization

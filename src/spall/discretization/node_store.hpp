@@ -48,7 +48,7 @@ struct NodeStore {
   Regions regions;
   std::vector<Index> owned;
   // The time loop deals the nodes anew when the ranks' loads drift apart (docs/SCALING.md), and by
-  // region they move between ranks as they flow (keep, gather_on_first_rank); `partition` counts the
+  // region they move between ranks as they flow (keep, add); `partition` counts the
   // changes, so that what was planned for a partition knows when it is stale.
   long long partition = 0;
   // Dealt by region, a rank has rows of its own: it keeps its own nodes and the others' that its
@@ -150,10 +150,6 @@ struct NodeStore {
   // By region: only the rows `kept`, in that order (each row's state goes with it); a new
   // partition.
   void keep(std::span<const Index> kept);
-  // By region: every rank's own rows to rank 0, which then holds every node in the deck's order
-  // (the others keep theirs; a restart file is written from rank 0's). Collective; a new
-  // partition.
-  void gather_on_first_rank();
 
   // `owned` from `owner`.
   void list_owned() {
@@ -162,11 +158,19 @@ struct NodeStore {
       if (owner[i] == rank) owned.push_back(i);
   }
 
-  // Everything but the IDs (the deck's), which must match, and the share of a rank (the run's).
-  void checkpoint(Archive& a) {
-    a.expect_size("nodes", id.size());
-    a(x0, x, v, f, mass, fixed, active, body);
-  }
+  // Every node of the deck, whether this rank holds it or not.
+  Index deck_node_count() const { return numbered_ ? deck_nodes_ : size(); }
+  // Whether the rows are every node in the deck's order (not rows of a rank's own: a block or a
+  // region's).
+  bool holds_every_node() const { return !numbered_; }
+
+  // Each node's row and force, in pieces (core/pieces.hpp): dealt by region each rank's own rows,
+  // else rank 0's every row (the whole state, made current there by the formulations'
+  // complete_state). Read back into every node, or into the rows of a rank's own (a block of them,
+  // as the set-up in blocks builds them), whatever the ranks that wrote them; the IDs (the deck's)
+  // are checked, the share of a rank (the run's) is not written. Collective, but for reading every
+  // node.
+  void checkpoint(Archive& a);
 
  private:
   // By region: (deck index, row) of the rows at the last keep, sorted by deck index (the first

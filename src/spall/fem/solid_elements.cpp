@@ -797,7 +797,7 @@ void SolidElements::book_energies(discretization::EnergyLedger& ledger, std::spa
   if (mass_scaling_.step > 0) ledger.add(Ledger::added_mass, Ledger::Role::reported, mass_scaling_.added_this_step);
 }
 
-void SolidElements::checkpoint(Archive& a) {
+void SolidElements::checkpoint(Archive& a, const discretization::NodeStore& /*nodes*/) {
   a.section("fem solids");
   a.expect_size("element blocks", blocks_.size());
   a(blocks_, force_, bulk_force_, stable_step_, max_sound_speed_, time_, erosion_step_,

@@ -107,7 +107,7 @@ class SolidElements final : public discretization::Formulation {
   }
   bool scale_mass_below(Real step, bool first_step_only) override;
   void complete_state(discretization::NodeStore& nodes) override;
-  void checkpoint(Archive& archive) override;
+  void checkpoint(Archive& archive, const discretization::NodeStore& nodes) override;
 
   Index element_count() const;
   Index eroded_count() const;  // under MPI: of the elements this rank computes, all after complete_state()

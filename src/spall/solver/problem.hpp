@@ -75,10 +75,10 @@ struct Problem {
   const model::Model* model = nullptr;  // curves are owned by the model, which must outlive this
 };
 
-// How the set-up holds the nodes under MPI: every node on every rank (what a restart file's read
-// needs), or a rank's block of the node order where the deck allows (one of SPH fluid alone, whose
-// nodes the time loop deals by region: the fluid's first rebuild moves each particle to its
-// region's rank; docs/SCALING.md §3). Collective under MPI.
+// How the set-up holds the nodes under MPI: every node on every rank, or a rank's block of the
+// node order where the deck allows (one of SPH fluid alone, whose nodes the time loop deals by
+// region: the fluid's first rebuild, or its first step after a restart file is read into the
+// block, moves each particle to its region's rank; docs/SCALING.md §3). Collective under MPI.
 enum class SetUp { whole, in_blocks_where_possible };
 
 // Builds the problem; throws InputError for anything the solver cannot run.

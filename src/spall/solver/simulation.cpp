@@ -154,7 +154,7 @@ class TimeLoop::Step {
     a.expect_size("formulations", problem_.formulations.size());
     for (auto& f : problem_.formulations) {
       a.section(f->name());
-      f->checkpoint(a);
+      f->checkpoint(a, nodes_);
     }
     a.expect_size("rigid walls", problem_.rigid_walls.size());
     for (auto& wall : problem_.rigid_walls) wall.checkpoint(a);

@@ -43,7 +43,7 @@ void SpgFormulation::complete_state(discretization::NodeStore&) {
   for (auto& part : parts_) part.complete_state();
 }
 
-void SpgFormulation::checkpoint(Archive& a) {
+void SpgFormulation::checkpoint(Archive& a, const discretization::NodeStore& /*nodes*/) {
   a.expect_size("SPG parts", parts_.size());
   for (auto& part : parts_) part.checkpoint(a);
   a(mass_scaled_);

@@ -23,7 +23,7 @@ class SpgFormulation final : public discretization::Formulation {
   Real max_wave_speed() const override;
   bool scale_mass_below(Real step, bool first_step_only) override;
   void complete_state(discretization::NodeStore& nodes) override;
-  void checkpoint(Archive& archive) override;
+  void checkpoint(Archive& archive, const discretization::NodeStore& nodes) override;
 
   const std::vector<Part>& parts() const { return parts_; }
   Index particle_count() const;

@@ -1,6 +1,7 @@
 #include "spall/sph/fluid.hpp"
 
 #include <algorithm>
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -13,6 +14,7 @@
 #include "spall/core/communicator.hpp"
 #include "spall/core/error.hpp"
 #include "spall/core/parallel.hpp"
+#include "spall/core/pieces.hpp"
 #include "spall/core/reorder.hpp"
 #include "spall/core/simd.hpp"
 #include "spall/kernels/kernel.hpp"
@@ -269,20 +271,28 @@ void FluidFormulation::rebuild_near_region(discretization::NodeStore& nodes) {
         fmt::format("neighbour search: the particle on node {} has a non-finite position", ranks.lowest(worst)));
   }
   const Real asked = (1 + parameters_.skin) * support_ / stencil_reach;
-  const Real reach = 5.5 * neighbors::CellList::cell_size_over(grid, asked);
-  // Each of this rank's particles to every other rank whose region it is within reach of.
+  // The cells are the last rebuild's after a restart (binned_; the particles have moved by less than
+  // the skin since, which the half cell covers), else those of the grid of every particle's box.
+  const Real reach = 5.5 * (binned_ ? binned_->cell_size : neighbors::CellList::cell_size_over(grid, asked));
+  // Each of this rank's particles to every other rank whose region it is within reach of (with its
+  // key after a restart).
   std::vector<std::uint8_t> current(n, 0);
   std::vector<std::vector<Arrival>> to(size);
+  std::vector<std::vector<neighbors::CellKey>> keys_to(binned_ ? size : 0);
   for (Index a = 0; a < n; ++a) {
     if (!owns(a)) continue;
     current[a] = 1;
     const Index i = node_[a];
     nodes.regions.near(nodes.x[i], reach, [&](int r) {
-      if (r != self) to[r].push_back({nodes.row(i), density_[a], rate_[a], previous_rate_[a]});
+      if (r == self) return;
+      to[r].push_back({nodes.row(i), density_[a], rate_[a], previous_rate_[a]});
+      if (binned_) keys_to[r].push_back(binned_->key[a]);
     });
   }
   const std::vector<Arrival> receive = ranks.deliver(to);
+  const std::vector<neighbors::CellKey> keys_in = binned_ ? ranks.deliver(keys_to) : std::vector<neighbors::CellKey>();
   to = {};
+  keys_to = {};
   const BoundingBox near_region = nodes.regions.box(self).grown(reach);
   drop_beyond(nodes, near_region, current);
   std::vector<Index> slot(nodes.size(), -1);
@@ -312,6 +322,7 @@ void FluidFormulation::rebuild_near_region(discretization::NodeStore& nodes) {
       rate_.push_back(0);
       previous_rate_.push_back(0);
       current.push_back(0);
+      if (binned_) binned_->key.push_back(0);
     }
     const Index i = row[k], a = slot[i];
     nodes.x[i] = arrival.node.x;
@@ -320,6 +331,7 @@ void FluidFormulation::rebuild_near_region(discretization::NodeStore& nodes) {
     rate_[a] = arrival.rate;
     previous_rate_[a] = arrival.previous_rate;
     current[a] = 1;
+    if (binned_) binned_->key[a] = keys_in[k];
   }
   // Binned here: the particles within reach of this rank's region (its own among them); the others
   // are dropped.
@@ -327,16 +339,26 @@ void FluidFormulation::rebuild_near_region(discretization::NodeStore& nodes) {
   for (Index a = 0; a < particle_count(); ++a)
     if (current[a] && near_region.contains(nodes.x[node_[a]])) local.push_back(a);
   const Index m = static_cast<Index>(local.size());
-  std::vector<Vec3> x(m);
   std::vector<Id> id(m);
-  for (Index k = 0; k < m; ++k) x[k] = nodes.x[node_[local[k]]], id[k] = nodes.id[node_[local[k]]];
-  cells_.build(x, asked, id, &grid);
+  for (Index k = 0; k < m; ++k) id[k] = nodes.id[node_[local[k]]];
+  if (binned_) {
+    std::vector<neighbors::CellKey> key(m);
+    for (Index k = 0; k < m; ++k) key[k] = binned_->key[local[k]];
+    cells_.build_from_keys(key, id, binned_->lower, binned_->cell_size, binned_->along);
+  } else {
+    std::vector<Vec3> x(m);
+    for (Index k = 0; k < m; ++k) x[k] = nodes.x[node_[local[k]]];
+    cells_.build(x, asked, id, &grid);
+  }
   std::vector<Index> order = cells_.take_order();
   for (Index& k : order) k = local[k];
   keep_rows_near(nodes, local);
   take_cell_order(nodes, order);
   complete_ = false;  // the particles out of reach are stale here
-  finish_build();
+  if (binned_)
+    binned_.reset();  // the grid's corner, margin and travel are the restart file's
+  else
+    finish_build();
 }
 
 void FluidFormulation::drop_beyond(discretization::NodeStore& nodes, const BoundingBox& near,
@@ -352,6 +374,7 @@ void FluidFormulation::drop_beyond(discretization::NodeStore& nodes, const Bound
   reorder(rate_, particles);
   reorder(previous_rate_, particles);
   reorder(current, particles);
+  if (binned_) reorder(binned_->key, particles);
   share_.reorder();
 }
 
@@ -391,13 +414,11 @@ void FluidFormulation::keep_rows_of(discretization::NodeStore& nodes, std::span<
 // built from every particle at the last rebuild (same grid, same keys, same in-cell order by node
 // ID).
 void FluidFormulation::make_cells_whole(const discretization::NodeStore& nodes,
-                                        std::span<const neighbors::CellKey> key) {
+                                        std::span<const neighbors::CellKey> key, const Vec3& lower, Real cell_size,
+                                        const std::array<std::int64_t, 3>& along) {
   const Index n = particle_count();
   std::vector<Id> id(n);
   for (Index a = 0; a < n; ++a) id[a] = nodes.id[node_[a]];
-  const Vec3 lower = cells_.lower();
-  const Real cell_size = cells_.cell_size();
-  const std::array<std::int64_t, 3> along = cells_.cells_along();
   cells_.build_from_keys(key, id, lower, cell_size, along);
   const std::vector<Index> order = cells_.take_order();
   take_cell_order(nodes, order);
@@ -645,79 +666,17 @@ void FluidFormulation::share_state(discretization::NodeStore& nodes) {
   complete_ = false;
 }
 
+// Dealt by region nothing: each rank writes its own particles into a restart file (checkpoint)
+// and an output.
 void FluidFormulation::complete_state(discretization::NodeStore& nodes) {
-  if (!complete_) complete(nodes);
+  if (!complete_ && !nodes.by_region()) complete(nodes);
 }
 
 void FluidFormulation::complete(discretization::NodeStore& nodes) {
   if (nodes.by_region())
-    gather_on_first_rank(nodes);
-  else
-    share_.complete_nodes(node_, nodes, density_, rate_, previous_rate_);
+    throw std::logic_error("FluidFormulation::complete: dealt by region, a rank holds its region's particles alone");
+  share_.complete_nodes(node_, nodes, density_, rate_, previous_rate_);
   complete_ = true;
-}
-
-namespace {
-// A particle on its way to rank 0 (gather_on_first_rank): the cell it was binned in at the last
-// rebuild, its node's place in the deck, its continuity state, its last record and forces.
-struct Gathered {
-  neighbors::CellKey bin;
-  std::int64_t global;
-  Real density;
-  float rate, previous_rate;
-  float record[8];
-  float pressure_force[3], viscous_force[3];
-};
-static_assert(sizeof(FluidRecord) == sizeof(Gathered::record));
-}  // namespace
-
-// Dealt by region: every rank's own particles to rank 0 with their nodes' rows, where they take the
-// cells every rank would have built from every particle at the last rebuild, on the nodes' rows in
-// the deck's order.
-void FluidFormulation::gather_on_first_rank(discretization::NodeStore& nodes) {
-  const parallel::Communicator& ranks = parallel::world();
-  std::vector<std::vector<Gathered>> out(ranks.size());
-  for (Index c = 0; c < cells_.cell_count(); ++c) {
-    const neighbors::ParticleRange cell = cells_.cell(c);
-    for (Index a = cell.begin; a < cell.end; ++a) {
-      if (!owns(a)) continue;
-      Gathered& g = out[0].emplace_back();
-      g = {cells_.cell_key(c), nodes.deck_index(node_[a]), density_[a], rate_[a], previous_rate_[a], {}, {}, {}};
-      std::memcpy(g.record, &record_[a], sizeof g.record);
-      for (int d = 0; d < 3; ++d) {
-        g.pressure_force[d] = pressure_force_[3 * a + d];
-        g.viscous_force[d] = viscous_force_[3 * a + d];
-      }
-    }
-  }
-  nodes.gather_on_first_rank();
-  const std::vector<Gathered> all = ranks.deliver(out);
-  if (ranks.rank() != 0) return;
-  const Index n = static_cast<Index>(all.size());
-  node_.resize(n);
-  mass_.resize(n);
-  density_.resize(n);
-  rate_.resize(n);
-  previous_rate_.resize(n);
-  std::vector<neighbors::CellKey> key(n);
-  record_.resize(n + simd_width + 1);
-  pressure_force_.resize(3 * n);
-  viscous_force_.resize(3 * n);
-  for (Index a = 0; a < n; ++a) {
-    const Gathered& g = all[a];
-    node_[a] = static_cast<Index>(g.global);
-    mass_[a] = static_cast<float>(nodes.mass[node_[a]]);
-    density_[a] = g.density;
-    rate_[a] = g.rate;
-    previous_rate_[a] = g.previous_rate;
-    key[a] = g.bin;
-    std::memcpy(&record_[a], g.record, sizeof g.record);
-    for (int d = 0; d < 3; ++d) {
-      pressure_force_[3 * a + d] = g.pressure_force[d];
-      viscous_force_[3 * a + d] = g.viscous_force[d];
-    }
-  }
-  make_cells_whole(nodes, key);
 }
 
 // This rank's pair pass reads the particles of the cells near its own.
@@ -748,12 +707,15 @@ void FluidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt)
   // Two particles approach each other by at most twice the bound; the search also widens by the
   // rounding margin, and all of it must stay within the skin (see for_each_particle_candidates).
   if (!cells_built_ || 2 * travelled_ + rounding_margin_ > parameters_.skin * support_) {
+    binned_.reset();  // binned anew from the positions
     if (distributed && nodes.by_region()) {
       rebuild_near_region(nodes);
     } else {
       if (distributed && !complete_) complete(nodes);  // every rank bins every particle alike
       rebuild_cells(nodes);
     }
+  } else if (binned_) {
+    rebuild_near_region(nodes);  // the cells of the last rebuild, from a restart file read in blocks
   }
   if (distributed && near_owned_partition_ != nodes.partition) {
     near_owned_cell_ = cells_near([&](Index a) { return owns(a); });
@@ -846,14 +808,105 @@ std::size_t FluidFormulation::memory_bytes() const {
 
 Real FluidFormulation::max_wave_speed() const { return max_sound_speed_; }
 
-// The particles in their cell order with their state, the cells as last built, and what decides
-// the next rebuild.
-void FluidFormulation::checkpoint(Archive& a) {
+namespace {
+// A particle in a checkpoint: the key of the cell it was binned in at the last rebuild, its node's
+// place in the deck, its continuity state, its last record and forces.
+struct SavedParticle {
+  neighbors::CellKey bin;
+  std::int64_t global;
+  Real density;
+  float rate, previous_rate;
+  float record[8];
+  float pressure_force[3], viscous_force[3];
+};
+static_assert(sizeof(FluidRecord) == sizeof(SavedParticle::record));
+}  // namespace
+
+// What decides the next rebuild, the cells' grid, then the particles in pieces (core/pieces.hpp):
+// dealt by region each rank's own, else rank 0's every particle (complete there). Read back on
+// every rank into the whole set-up's particles, which take the cells every rank would have built
+// at the last rebuild from the keys their ranks binned them at (make_cells_whole).
+void FluidFormulation::checkpoint(Archive& a, const discretization::NodeStore& nodes) {
   a.section("sph fluid");
-  a.expect_size("SPH fluid particles", node_.size());
-  a(support_, node_, mass_, uniform_mass_, density_, rate_, previous_rate_, record_, pressure_force_, viscous_force_,
-    moving_, cells_, active_cell_, origin_, rounding_margin_, cells_built_, first_pass_, travelled_, max_speed_,
-    max_sound_speed_, max_acceleration_, max_mu_);
+  Vec3 lower = cells_.lower();
+  Real cell_size = cells_.cell_size();
+  std::array<std::int64_t, 3> along = cells_.cells_along();
+  a(support_, uniform_mass_, origin_, rounding_margin_, cells_built_, first_pass_, travelled_, max_speed_,
+    max_sound_speed_, max_acceleration_, max_mu_, lower, cell_size, along);
+  const parallel::Communicator& ranks = parallel::world();
+  if (!a.reading()) {
+    // Its own particles in their order, each with its cell's key (none while no cell is built yet).
+    const bool each_own = nodes.by_region();
+    const auto written = [&](Index p) { return each_own ? owns(p) : ranks.rank() == 0; };
+    Index count = 0;
+    for (Index p = 0; p < particle_count(); ++p) count += written(p);
+    Index c = 0, p = -1;  // the cells hold the particles in their order, one run after the other
+    const auto next = [&] {
+      do ++p;
+      while (!written(p));
+      while (cells_built_ && p >= cells_.cell(c).end) ++c;
+      SavedParticle saved{cells_built_ ? cells_.cell_key(c) : 0, nodes.deck_index(node_[p]), density_[p], rate_[p],
+                          previous_rate_[p], {}, {}, {}};
+      std::memcpy(saved.record, &record_[p], sizeof saved.record);
+      for (int d = 0; d < 3; ++d) {
+        saved.pressure_force[d] = pressure_force_[3 * p + d];
+        saved.viscous_force[d] = viscous_force_[3 * p + d];
+      }
+      return saved;
+    };
+    parallel::write_pieces<SavedParticle>(a, count, next, ranks);
+    return;
+  }
+  // Into the set-up's particles, each on its node's row: every particle, or those on the block of
+  // rows that the set-up in blocks built (the others are read past), which then go to their
+  // regions' ranks with their keys (rebuild_near_region). A particle on a node that carries none
+  // here, or given twice, or one missing, stops every rank alike.
+  const bool block = !nodes.holds_every_node();
+  const Index n = particle_count();
+  std::vector<Index> slot(nodes.size(), -1);
+  for (Index k = 0; k < n; ++k) slot[node_[k]] = k;
+  std::vector<neighbors::CellKey> key(n);
+  std::vector<std::uint8_t> filled(n, 0);
+  record_.resize(n + simd_width + 1);
+  Index mismatch = -1;
+  parallel::read_pieces<SavedParticle>(a, [&](const SavedParticle& p) {
+    const Index place = static_cast<Index>(p.global);
+    const bool in_deck = place >= 0 && place < nodes.deck_node_count();
+    const Index i = in_deck ? nodes.row_of(place) : -1;
+    if (block && in_deck && i < 0) return;  // another rank's block
+    const Index k = i < 0 ? -1 : slot[i];
+    if (k < 0 || filled[k]++) {
+      if (mismatch < 0) mismatch = std::max<Index>(place, 0);
+      return;
+    }
+    mass_[k] = static_cast<float>(nodes.mass[i]);
+    density_[k] = p.density;
+    rate_[k] = p.rate;
+    previous_rate_[k] = p.previous_rate;
+    key[k] = p.bin;
+    std::memcpy(&record_[k], p.record, sizeof p.record);
+    for (int d = 0; d < 3; ++d) {
+      pressure_force_[3 * k + d] = p.pressure_force[d];
+      viscous_force_[3 * k + d] = p.viscous_force[d];
+    }
+  });
+  const auto unfilled = std::find(filled.begin(), filled.end(), 0);
+  Index missing = unfilled == filled.end() ? -1 : nodes.deck_index(node_[static_cast<Index>(unfilled - filled.begin())]);
+  if (block) {
+    mismatch = ranks.lowest(mismatch);
+    missing = ranks.lowest(missing);
+  }
+  if (mismatch >= 0 || missing >= 0)
+    throw InputError(fmt::format(
+        "{}: the checkpoint does not match this deck (the SPH fluid particle on the node at place {} of the node "
+        "order {})",
+        a.source(), mismatch >= 0 ? mismatch : missing, mismatch >= 0 ? "is not this deck's" : "is missing"));
+  complete_ = true;
+  if (!cells_built_) return;
+  if (block)
+    binned_ = BinnedAt{std::move(key), lower, cell_size, along};
+  else
+    make_cells_whole(nodes, key, lower, cell_size, along);
 }
 
 }  // namespace spall::sph

@@ -35,6 +35,7 @@
 //   the pair terms are evaluated in single precision by one sequence of operations for every pair,
 //   so the term of (a, b) is bitwise minus that of (b, a), and summed in double (the viscous
 //   part alone, kept only to split the energy balance, in single precision).
+#include <array>
 #include <limits>
 #include <optional>
 #include <vector>
@@ -111,7 +112,7 @@ class FluidFormulation final : public discretization::Formulation {
   bool halo_by_reach() const override { return true; }
   bool migrates() const override { return true; }
   void complete_state(discretization::NodeStore& nodes) override;
-  void checkpoint(Archive& archive) override;
+  void checkpoint(Archive& archive, const discretization::NodeStore& nodes) override;
 
   Index particle_count() const { return static_cast<Index>(node_.size()); }
   const FluidParameters& parameters() const { return parameters_; }
@@ -127,7 +128,8 @@ class FluidFormulation final : public discretization::Formulation {
   // Under MPI, dealt by region: the cells of this rank's particles and of those within reach of its
   // region, brought in from the ranks that hold them current, as the run that bins every particle
   // would make them; the particles migrate to their regions' ranks on the way, and the rank keeps
-  // no other particle (rows of its own, NodeStore).
+  // no other particle (rows of its own, NodeStore). After a restart file read into a block of the
+  // rows (binned_), the particles bring their keys and the cells are those of the last rebuild.
   void rebuild_near_region(discretization::NodeStore& nodes);
   // Before the arrivals of a rebuild: only the particles within `near` (this rank's region grown by
   // the reach) stay, with their rows and those of the nodes it computes that carry none; `current`
@@ -139,10 +141,10 @@ class FluidFormulation final : public discretization::Formulation {
   // The node store keeps the rows of `particles` and of the nodes this rank computes that carry
   // none, in row order; node_ follows (-1 for a particle not kept).
   void keep_rows_of(discretization::NodeStore& nodes, std::span<const Index> particles);
-  // Dealt by region: complete() for a restart file, on rank 0 (NodeStore::gather_on_first_rank).
-  void gather_on_first_rank(discretization::NodeStore& nodes);
-  // Every particle in the cells again, from the keys their ranks binned them at (gather_on_first_rank).
-  void make_cells_whole(const discretization::NodeStore& nodes, std::span<const neighbors::CellKey> key);
+  // Every particle in the cells of the grid (lower, cell_size, along) again, from the keys their
+  // ranks binned them at (a checkpoint read back).
+  void make_cells_whole(const discretization::NodeStore& nodes, std::span<const neighbors::CellKey> key,
+                        const Vec3& lower, Real cell_size, const std::array<std::int64_t, 3>& along);
   // The per-particle arrays put in `order` (order[k] the particle that goes to slot k), and the
   // moving bits and active cells that follow them.
   void take_cell_order(const discretization::NodeStore& nodes, std::span<const Index> order);
@@ -152,8 +154,8 @@ class FluidFormulation final : public discretization::Formulation {
   std::vector<std::uint8_t> cells_near(Chosen&& chosen) const;
   // Under MPI: which of the other ranks' particles come in with the halo.
   void plan_halo(const discretization::NodeStore& nodes);
-  // Under MPI: every rank's particles' positions, velocities and continuity state in (dealt by
-  // region: on rank 0 alone).
+  // Under MPI, dealt in blocks: every rank's particles' positions, velocities and continuity state
+  // in.
   void complete(discretization::NodeStore& nodes);
   void gather(const discretization::NodeStore& nodes, Real dt);
   // The pair pass with the kernel of the parameters.
@@ -204,12 +206,22 @@ class FluidFormulation final : public discretization::Formulation {
   long long near_owned_partition_ = -1;
   // The halo by reach (share_state): the other ranks' particles in the cells near this rank's.
   discretization::ReachShare halo_;
-  // Whether every particle's position, velocity and continuity state is current here (dealt by
-  // region: on rank 0): from the set-up, a checkpoint or complete() until the next halo by reach.
+  // Whether every particle's position, velocity and continuity state is current here (dealt in
+  // blocks): from the set-up, a checkpoint or complete() until the next halo by reach.
   bool complete_ = true;
   Vec3 origin_ = Vec3::Zero();  // the cells' grid corner
   Real rounding_margin_ = 0;    // widens the search for the single-precision positions
   bool cells_built_ = false;
+  // Read from a restart file into a block of the rows (the set-up in blocks): each particle's key
+  // in the grid of the last rebuild (per particle, following them), from which the cells of the
+  // particles near this rank's region are built at the first step (rebuild_near_region).
+  struct BinnedAt {
+    std::vector<neighbors::CellKey> key;
+    Vec3 lower;
+    Real cell_size = 0;
+    std::array<std::int64_t, 3> along{};
+  };
+  std::optional<BinnedAt> binned_;
   bool first_pass_ = true;
   Real travelled_ = 0;  // bound on any particle's displacement since the cells were built
   // From the last pass, for the stable step and the runaway check.

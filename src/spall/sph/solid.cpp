@@ -1352,7 +1352,7 @@ std::size_t bytes(const std::vector<T>& v) {
 
 // Everything but the materials and options (the deck's) and the spans into the node store or the
 // copies, which the next compute_forces gathers again.
-void SolidFormulation::checkpoint(Archive& a) {
+void SolidFormulation::checkpoint(Archive& a, const discretization::NodeStore& /*nodes*/) {
   if (!a.reading()) verlet_.search_every_row(list_reach_);  // every row, for any count of ranks
   a.section("sph solid");
   a.expect_size("SPH solid particles", node_.size());

@@ -157,7 +157,7 @@ class SolidFormulation final : public discretization::Formulation {
   // ranks' particles this rank's rows read (reach_), from their ranks.
   void share_state(discretization::NodeStore& nodes) override;
   bool halo_by_reach() const override { return true; }
-  void checkpoint(Archive& archive) override;
+  void checkpoint(Archive& archive, const discretization::NodeStore& nodes) override;
 
   Index particle_count() const { return static_cast<Index>(node_.size()); }
   // Bytes held by the formulation's arrays and its neighbour list.
