@@ -135,10 +135,14 @@ done
 same_on_ranks "$work/walled.k" "$work/walled.serial" "4 1" "3 1 rebalanced"
 # A wall's state of a node goes with the node to its new rank: the welded droplet of the slider
 # deck crosses every rank's region. A rank that took it without its welds would let it go (the run
-# without welding ends elsewhere): bit for bit, with the regions fixed.
-droplet_deck 10 40 slider >"$work/slider.k"
+# without welding ends elsewhere): bit for bit, with the regions fixed. Its restart files (every
+# 100 steps) of the 4-rank run, continued on 3 ranks, each rank reading its block of the nodes
+# (with the walls' state of every node): the uninterrupted run.
+droplet_deck 10 40 slider | sed 's/^\*END$/*DATABASE_BINARY_RUNRSF\n       100\n*END/' >"$work/slider.k"
 run_serial slider 100
 same_on_ranks "$work/slider.k" "$work/slider.serial" "4 1 fixed"
+continue_run slider.serial.np4.t1.fixed 3 slider.serial
+echo "the slider's 4-rank run continued on 3 ranks from $(grep -o 'at step [0-9]*' "$work/slider.serial.np4.t1.fixed.restart.log")"
 python3 - "$work/droplet.k" >"$work/alone.k" <<'PY'
 import sys
 text = open(sys.argv[1]).read()
