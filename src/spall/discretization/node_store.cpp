@@ -1,9 +1,10 @@
 #include "spall/discretization/node_store.hpp"
 
-#include <fmt/format.h>
 #include <algorithm>
 #include <numeric>
 #include <stdexcept>
+
+#include <fmt/format.h>
 
 #include "spall/core/communicator.hpp"
 #include "spall/core/pieces.hpp"
@@ -39,6 +40,7 @@ void set_row(NodeStore& nodes, Index i, const NodeStore::Row& row, int rank) {
   set_state(nodes, i, row);
   nodes.owner[i] = rank;
 }
+
 // A node's row in a checkpoint: what travels with it between ranks, and its force.
 struct SavedRow {
   NodeStore::Row row;
