@@ -7,10 +7,14 @@
 #include <algorithm>
 #include <numeric>
 #include <span>
+#include <string_view>
 #include <vector>
+
+#include <fmt/format.h>
 
 #include "spall/core/archive.hpp"
 #include "spall/core/communicator.hpp"
+#include "spall/core/error.hpp"
 
 namespace spall::parallel {
 
@@ -48,6 +52,22 @@ void write_pieces(Archive& a, Index count, Next&& next, const Communicator& rank
       if (ranks.rank() == 0)
         for (T& item : in) a(item);
     }
+}
+
+// After read_pieces into a deck's nodes or particles: the first item that was not this deck's
+// (`mismatch`: the place in the node order of its node) or else the first this rank has room for
+// that none filled (`missing`), -1 for none, each the lowest over the ranks when each rank read
+// its own share (`across`), stops every rank alike naming `what` sat on that node.
+inline void check_read(const Archive& a, std::string_view what, Index mismatch, Index missing,
+                       const Communicator* across) {
+  if (across) {
+    mismatch = across->lowest(mismatch);
+    missing = across->lowest(missing);
+  }
+  if (mismatch >= 0 || missing >= 0)
+    throw InputError(fmt::format("{}: the checkpoint does not match this deck (the {} at place {} of the node order {})",
+                                 a.source(), what, mismatch >= 0 ? mismatch : missing,
+                                 mismatch >= 0 ? "is not this deck's" : "is missing"));
 }
 
 // Every piece's items, to visit(item) one by one.

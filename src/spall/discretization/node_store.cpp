@@ -4,8 +4,6 @@
 #include <numeric>
 #include <stdexcept>
 
-#include <fmt/format.h>
-
 #include "spall/core/communicator.hpp"
 #include "spall/core/pieces.hpp"
 #include "spall/core/reorder.hpp"
@@ -151,14 +149,7 @@ void NodeStore::checkpoint(Archive& a) {
   });
   const auto unseen = std::find(seen.begin(), seen.end(), 0);
   Index missing = unseen == seen.end() ? -1 : deck_index(static_cast<Index>(unseen - seen.begin()));
-  if (numbered_) {
-    mismatch = ranks.lowest(mismatch);
-    missing = ranks.lowest(missing);
-  }
-  if (mismatch >= 0 || missing >= 0)
-    throw InputError(fmt::format("{}: the checkpoint does not match this deck (the node at place {} of the node order {})",
-                                 a.source(), mismatch >= 0 ? mismatch : missing,
-                                 mismatch >= 0 ? "is not this deck's" : "is missing"));
+  parallel::check_read(a, "node", mismatch, missing, numbered_ ? &ranks : nullptr);
 }
 
 }  // namespace spall::discretization

@@ -77,7 +77,9 @@ class TimeLoop {
   // Between two steps (in between_steps, or before run()): writes the state of the problem and of
   // the loop into the archive, or reads it back over a problem built from the same deck, which
   // then continues bitwise as the run that wrote it (core/archive.hpp). Under MPI every rank calls
-  // complete_state() first (a collective), then one rank writes.
+  // complete_state() first (a collective), then checkpoint() (collective too): rank 0 writes, the
+  // others' own rows and particles go to it in turn where a deck is dealt by region
+  // (core/pieces.hpp), into an archive that keeps nothing.
   void complete_state();
   void checkpoint(Archive& archive);
 

@@ -892,15 +892,7 @@ void FluidFormulation::checkpoint(Archive& a, const discretization::NodeStore& n
   });
   const auto unfilled = std::find(filled.begin(), filled.end(), 0);
   Index missing = unfilled == filled.end() ? -1 : nodes.deck_index(node_[static_cast<Index>(unfilled - filled.begin())]);
-  if (block) {
-    mismatch = ranks.lowest(mismatch);
-    missing = ranks.lowest(missing);
-  }
-  if (mismatch >= 0 || missing >= 0)
-    throw InputError(fmt::format(
-        "{}: the checkpoint does not match this deck (the SPH fluid particle on the node at place {} of the node "
-        "order {})",
-        a.source(), mismatch >= 0 ? mismatch : missing, mismatch >= 0 ? "is not this deck's" : "is missing"));
+  parallel::check_read(a, "SPH fluid particle on the node", mismatch, missing, block ? &ranks : nullptr);
   complete_ = true;
   if (!cells_built_) return;
   if (block)
