@@ -35,13 +35,13 @@ fs::path RestartFiles::write(RestartHeader header, const std::function<void(Arch
   const fs::path path = folder_ / file_name(count_, next_);
   next_ = (next_ + 1) % count_;
   if (!writes) {
-    Archive archive = Archive::discarding();
+    Archive archive = Archive::discarding(io::output::temporary_of(path));
     archive(header);
     state(archive);
     return {};
   }
   io::output::replace_file_atomically(path, [&](std::ostream& out) {
-    Archive archive = Archive::for_writing_to(out);
+    Archive archive = Archive::for_writing_to(out, io::output::temporary_of(path));
     archive(header);
     state(archive);
     archive.flush();

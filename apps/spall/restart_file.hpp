@@ -29,8 +29,8 @@ class RestartFiles {
   // The next file in turn, through a temporary file renamed over it: a run killed while it is
   // written keeps the file before. Returns the file's path. Under MPI every rank calls it: rank 0
   // (`writes`) writes the file as the archive fills (what state() writes is not held whole), the
-  // others' state() calls bring their pieces to it (core/pieces.hpp) into an archive that keeps
-  // nothing, and return an empty path.
+  // others' state() calls write their pieces into it at their places (core/pieces.hpp) and keep
+  // nothing else, and return an empty path.
   std::filesystem::path write(RestartHeader header, const std::function<void(Archive&)>& state, bool writes = true);
 
  private:

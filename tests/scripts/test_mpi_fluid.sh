@@ -234,5 +234,17 @@ if [ -w /dev/full ]; then
   [ "$code" -eq 4 ] || { cat "$work/full_csv.log"; fail "full disk (glstat.csv, rank 0 alone): exit $code, expected 4"; }
   grep -q "cannot write .*glstat.csv: No space left on device" "$work/full_csv.log" ||
     { cat "$work/full_csv.log"; fail "full disk (glstat.csv, rank 0 alone): the message"; }
+  # A restart file, into which rank 1 writes its own rows and particles at their place: its write
+  # failing stops every rank with exit 4 and the line naming the file, and leaves no restart file.
+  mkdir -p "$work/full_restart"
+  ln -s /dev/full "$work/full_restart/runrsf.tmp"
+  code=0
+  timeout 300 mpirun -np 2 "$cli" run "$work/d2.k" -o "$work/full_restart" --threads 1 --checkpoint-every 100 \
+    >"$work/full_restart.log" 2>&1 || code=$?
+  [ "$code" -eq 4 ] || { cat "$work/full_restart.log"; fail "full disk (restart file): exit $code, expected 4"; }
+  grep -q "cannot write .*runrsf.tmp: No space left on device" "$work/full_restart.log" ||
+    { cat "$work/full_restart.log"; fail "full disk (restart file): the message"; }
+  [ ! -e "$work/full_restart/runrsf" ] || fail "full disk (restart file): a restart file was left"
+  grep -q '"status": "output_failed"' "$work/full_restart/run.json" || fail "full disk (restart file): run.json status"
 fi
 echo "mpi fluid: OK"

@@ -9,10 +9,12 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
+#include <filesystem>
 #include <istream>
 #include <memory>
 #include <optional>
 #include <ostream>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <type_traits>
@@ -42,18 +44,22 @@ class Archive {
   // An archive to write into; bytes() holds what was written.
   static Archive for_writing() { return Archive(); }
   // An archive that writes into `out` as it goes, so that a checkpoint of any size holds at most
-  // flush_bytes of it in memory; flush() writes what is left.
-  static Archive for_writing_to(std::ostream& out) {
+  // flush_bytes of it in memory; flush() writes what is left. `file`, when given, is what `out`
+  // writes (a restart file's temporary): under MPI the other ranks write their pieces into it at
+  // their places (core/pieces.hpp), where this archive leaves gaps for them (leave_gap).
+  static Archive for_writing_to(std::ostream& out, std::filesystem::path file = {}) {
     Archive a;
     a.out_ = &out;
+    a.pieces_file_ = std::move(file);
     return a;
   }
   // An archive that keeps nothing: under MPI the ranks that do not write the restart file make
-  // the same checkpoint calls as rank 0, whose collectives bring their pieces to it
-  // (core/pieces.hpp).
-  static Archive discarding() {
+  // the same checkpoint calls as rank 0; their pieces go into `pieces_into` (rank 0's file, see
+  // for_writing_to), or, without one, to rank 0 through its collectives (core/pieces.hpp).
+  static Archive discarding(std::filesystem::path pieces_into = {}) {
     Archive a;
     a.discarding_ = true;
+    a.pieces_file_ = std::move(pieces_into);
     return a;
   }
   static constexpr std::size_t flush_bytes = std::size_t(1) << 20;
@@ -81,7 +87,19 @@ class Archive {
   void flush() {
     if (!out_) return;
     out_->write(bytes_.data(), static_cast<std::streamsize>(bytes_.size()));
+    flushed_ += bytes_.size();
     bytes_.clear();
+  }
+  // The file every rank writes its pieces into (empty when the pieces go through rank 0).
+  const std::filesystem::path& pieces_file() const { return pieces_file_; }
+  // Writing: the bytes written so far, flushed or not.
+  std::uint64_t position() const { return flushed_ + bytes_.size(); }
+  // Writing into a stream: n bytes passed over, which the other ranks write (their pieces).
+  void leave_gap(std::uint64_t n) {
+    if (!out_) throw std::logic_error("Archive::leave_gap: only an archive writing into a stream leaves gaps");
+    flush();
+    out_->seekp(static_cast<std::streamoff>(n), std::ios::cur);
+    flushed_ += n;
   }
   const std::string& bytes() const { return bytes_; }
   bool at_end() const { return offset_ + position_ == size_; }
@@ -90,6 +108,22 @@ class Archive {
   template <class... T>
   void operator()(T&... items) {
     (item(items), ...);
+  }
+
+  // Reading: the next n bytes passed over (a stream read from seeks past those beyond what it holds).
+  void skip(std::uint64_t n) {
+    if (!reading_) throw std::logic_error("Archive::skip: only a reading archive skips");
+    if (n > size_ - offset_ - position_)
+      throw InputError(source_ + ": the checkpoint ends early (truncated, or not written by this version of Spall)");
+    if (n <= bytes_.size() - position_) {
+      position_ += static_cast<std::size_t>(n);
+      return;
+    }
+    offset_ += position_ + n;
+    bytes_.clear();
+    position_ = 0;
+    in_->seekg(static_cast<std::streamoff>(offset_));
+    if (!*in_) throw InputError(source_ + ": cannot read the checkpoint (the file changed or a read failed)");
   }
 
   // A named mark. Read back, it must be the same: a checkpoint of another deck, or of another
@@ -200,6 +234,8 @@ class Archive {
   bool reading_ = false;
   bool discarding_ = false;
   std::ostream* out_ = nullptr;
+  std::uint64_t flushed_ = 0;  // writing into out_: the bytes written into it, gaps included
+  std::filesystem::path pieces_file_;
   // Reading: the archive's length, the stream it comes from (none when bytes_ holds it whole) and
   // the place in it of bytes_'s first byte.
   std::uint64_t size_ = 0;

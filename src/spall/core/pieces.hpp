@@ -1,12 +1,21 @@
 #pragma once
 // A checkpoint's items of which each rank holds a share (the rows and particles of a fluid dealt by
-// region, docs/SCALING.md §3): rank 0 writes every rank's in the ranks' order, each brought to it in
-// turn in stretches of at most stretch_bytes, so that writing a restart file holds no more on rank 0
-// than one stretch of another's; read back item by item on every rank, whatever the number of
-// ranks that wrote them.
+// region, docs/SCALING.md §3), in one file: the ranks' counts, then each rank's items in the ranks'
+// order. Written into a restart file, each rank writes its own items at their place in the file
+// (rank 0 the rest), so that no rank's share passes through another; into an archive in memory,
+// each rank's come to rank 0 in turn in stretches of at most stretch_bytes. Each rank's items go
+// in ascending order of their places in the deck's node order, and the file keeps every
+// fence_every-th item's place (the fences), so that a rank reading back the items of its block of
+// the node order reads those stretches of each piece alone and seeks past the rest, whatever the
+// number of ranks that wrote them.
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <limits>
 #include <numeric>
 #include <span>
+#include <string>
 #include <string_view>
 #include <vector>
 
@@ -19,20 +28,46 @@
 namespace spall::parallel {
 
 inline constexpr std::size_t stretch_bytes = std::size_t(8) << 20;
+inline constexpr Index fence_every = 4096;
 
-// Collective: every rank's `count` items, made one after the other by next() (so that no rank
-// holds a copy of its own), into rank 0's archive (every other rank's keeps nothing,
-// Archive::discarding), as one count and the items in the ranks' order.
-template <class T, class Next>
-void write_pieces(Archive& a, Index count, Next&& next, const Communicator& ranks) {
-  static_assert(archived_as_bytes<T>);
-  const std::vector<Index> counts = ranks.each(count);
-  a.count(static_cast<std::size_t>(std::accumulate(counts.begin(), counts.end(), Index(0))));
-  if (ranks.rank() == 0)
-    for (Index k = 0; k < count; ++k) {
-      T item = next();
-      a(item);
+// write_pieces on ranks other than 0: rank r's items, made in stretches of at most stretch_bytes,
+// into the archive's file at their place after rank 0's (the place rank 0 has reached, which it
+// tells every rank), where rank 0 leaves a gap for them. A rank that cannot write its items stops
+// every rank alike (OutputError, its own message where it failed).
+template <class T, class Item>
+void write_in_place(Archive& a, const std::vector<Index>& counts, Item& item, const Communicator& ranks) {
+  const std::uint64_t start = static_cast<std::uint64_t>(ranks.each(static_cast<Index>(a.position()))[0]);
+  std::uint64_t before = 0, after = 0;
+  for (int r = 1; r < ranks.size(); ++r) (r < ranks.rank() ? before : after) += counts[r] * sizeof(T);
+  std::string failure;
+  if (ranks.rank() == 0) {
+    a.leave_gap(after);
+  } else if (const Index count = counts[ranks.rank()]; count > 0) {
+    std::ofstream out(a.pieces_file(), std::ios::binary | std::ios::in | std::ios::out);
+    out.seekp(static_cast<std::streamoff>(start + before));
+    const Index stretch = std::max<Index>(1, static_cast<Index>(stretch_bytes / sizeof(T)));
+    std::vector<T> made;
+    for (Index begin = 0; begin < count && out; begin += stretch) {
+      made.clear();
+      for (Index k = begin; k < std::min(count, begin + stretch); ++k) made.push_back(item(k));
+      out.write(reinterpret_cast<const char*>(made.data()), static_cast<std::streamsize>(made.size() * sizeof(T)));
     }
+    out.close();
+    if (!out) failure = fmt::format("cannot write {}: {}", a.pieces_file().string(), std::strerror(errno));
+  }
+  double written = failure.empty() ? 0 : -1;
+  ranks.minimum({&written, 1});
+  if (written < 0)
+    throw OutputError(
+        failure.empty() ? fmt::format("cannot write {}: another rank could not write its piece", a.pieces_file().string())
+                        : failure,
+        true);
+}
+
+// write_pieces on ranks other than 0 without a file to write into: each rank's items to rank 0 in
+// turn, in stretches of at most stretch_bytes, which rank 0 writes as they come.
+template <class T, class Item>
+void send_to_first_rank(Archive& a, const std::vector<Index>& counts, Item& item, const Communicator& ranks) {
   const Index stretch = std::max<Index>(1, static_cast<Index>(stretch_bytes / sizeof(T)));
   std::vector<Index> send(ranks.size() + 1), receive(ranks.size() + 1);
   std::vector<T> out, in;
@@ -46,12 +81,38 @@ void write_pieces(Archive& a, Index count, Next&& next, const Communicator& rank
       }
       out.clear();
       if (ranks.rank() == r)
-        for (Index k = 0; k < n; ++k) out.push_back(next());
+        for (Index k = begin; k < begin + n; ++k) out.push_back(item(k));
       in.resize(receive.back());
       ranks.exchange(std::span<const T>(out), send, std::span<T>(in), receive);
       if (ranks.rank() == 0)
-        for (T& item : in) a(item);
+        for (T& received : in) a(received);
     }
+}
+
+// Collective: every rank's `count` items, item(k) for k = 0, 1, ... made one after the other (so that
+// no rank holds a copy of its own), in ascending place(k) (the place in the deck's node order of
+// the item's node), into rank 0's archive: the ranks' counts, their fences, then the items in the
+// ranks' order. Each rank writes its own items into the archive's file at their place, where it
+// has one (Archive::pieces_file: a restart file's), else rank 0 writes them as they come to it in
+// turn (every other rank's archive keeps nothing, Archive::discarding).
+template <class T, class Item, class Place>
+void write_pieces(Archive& a, Index count, Item&& item, Place&& place, const Communicator& ranks) {
+  static_assert(archived_as_bytes<T>);
+  std::vector<Index> counts = ranks.each(count);
+  std::vector<Index> fences;
+  for (Index k = 0; k < count; k += fence_every) fences.push_back(place(k));
+  fences = ranks.all(std::span<const Index>(fences));
+  a(counts, fences);
+  if (ranks.rank() == 0)
+    for (Index k = 0; k < count; ++k) {
+      T made = item(k);
+      a(made);
+    }
+  if (ranks.size() == 1) return;
+  if (!a.pieces_file().empty())
+    write_in_place<T>(a, counts, item, ranks);
+  else
+    send_to_first_rank<T>(a, counts, item, ranks);
 }
 
 // After read_pieces into a deck's nodes or particles: the first item that was not this deck's
@@ -70,15 +131,39 @@ inline void check_read(const Archive& a, std::string_view what, Index mismatch, 
                                  mismatch >= 0 ? "is not this deck's" : "is missing"));
 }
 
-// Every piece's items, to visit(item) one by one.
+// The items whose places may lie in [first, end), piece by piece, to visit(item) one by one (the
+// caller passes over the others): the stretches between the fences around them are read, the
+// rest of each piece is skipped. A rank reading its share of the items (`across`) reads every
+// place below the first rank's and above the last rank's too, so that an item of no place in the
+// deck is seen (check_read).
 template <class T, class Visit>
-void read_pieces(Archive& a, Visit&& visit) {
+void read_pieces(Archive& a, Visit&& visit, Index first = std::numeric_limits<Index>::min(),
+                 Index end = std::numeric_limits<Index>::max(), const Communicator* across = nullptr) {
   static_assert(archived_as_bytes<T>);
-  const std::size_t n = a.count(0);
-  for (std::size_t k = 0; k < n; ++k) {
-    T item;
-    a(item);
-    visit(item);
+  if (across && across->rank() == 0) first = std::numeric_limits<Index>::min();
+  if (across && across->rank() + 1 == across->size()) end = std::numeric_limits<Index>::max();
+  std::vector<Index> counts, fences;
+  a(counts, fences);
+  std::size_t fenced = 0;
+  for (const Index n : counts) fenced += static_cast<std::size_t>((std::max<Index>(n, 0) + fence_every - 1) / fence_every);
+  if (fenced != fences.size() || std::any_of(counts.begin(), counts.end(), [](Index n) { return n < 0; }))
+    throw InputError(a.source() + ": the checkpoint is corrupt (its pieces' counts and fences do not match)");
+  auto piece_fences = fences.begin();
+  for (const Index n : counts) {
+    const auto fence_end = piece_fences + (n + fence_every - 1) / fence_every;
+    // Stretch j holds the places from its fence to the next; those before a fence below `first`
+    // lie below it, and from the first fence at or above `end` on all do.
+    const Index from = std::max<Index>(0, std::lower_bound(piece_fences, fence_end, first) - piece_fences - 1);
+    const Index to = first < end ? std::lower_bound(piece_fences, fence_end, end) - piece_fences : from;
+    const Index begin = std::min(n, from * fence_every), stop = std::min(n, to * fence_every);
+    a.skip(static_cast<std::uint64_t>(begin) * sizeof(T));
+    for (Index k = begin; k < stop; ++k) {
+      T item;
+      a(item);
+      visit(item);
+    }
+    a.skip(static_cast<std::uint64_t>(n - std::max(begin, stop)) * sizeof(T));
+    piece_fences = fence_end;
   }
 }
 

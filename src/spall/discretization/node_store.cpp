@@ -1,6 +1,7 @@
 #include "spall/discretization/node_store.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <numeric>
 #include <stdexcept>
 
@@ -115,19 +116,28 @@ void NodeStore::keep(std::span<const Index> kept) {
   ++partition;
 }
 
+std::pair<Index, Index> NodeStore::places_held() const {
+  if (!numbered_) return {std::numeric_limits<Index>::min(), std::numeric_limits<Index>::max()};
+  if (size() == 0) return {0, 0};
+  const auto [lowest, highest] = std::minmax_element(global.begin(), global.end());
+  return {*lowest, *highest + 1};
+}
+
 void NodeStore::checkpoint(Archive& a) {
   a.expect_size("nodes", static_cast<std::size_t>(deck_node_count()));
   const parallel::Communicator& ranks = parallel::world();
   if (!a.reading()) {
-    const Index count = by_region() ? static_cast<Index>(owned.size()) : ranks.rank() == 0 ? size() : 0;
-    Index k = 0;
+    // By region each rank's own rows, else rank 0's every row (those are in the deck's order).
+    std::vector<Index> rows;
+    if (by_region()) {
+      rows = owned;
+      std::sort(rows.begin(), rows.end(), [&](Index i, Index j) { return deck_index(i) < deck_index(j); });
+    }
+    const Index count = by_region() ? static_cast<Index>(rows.size()) : ranks.rank() == 0 ? size() : 0;
+    const auto row_at = [&](Index k) { return by_region() ? rows[k] : k; };
     parallel::write_pieces<SavedRow>(
-        a, count,
-        [&] {
-          const Index i = by_region() ? owned[k++] : k++;
-          return SavedRow{row(i), f[i]};
-        },
-        ranks);
+        a, count, [&](Index k) { return SavedRow{row(row_at(k)), f[row_at(k)]}; },
+        [&](Index k) { return deck_index(row_at(k)); }, ranks);
     return;
   }
   // Into every node, or into the rows a rank holds (the set-up in blocks built them: hold_block,
@@ -135,6 +145,7 @@ void NodeStore::checkpoint(Archive& a) {
   // given twice, or one of the rows missing, stops every rank alike.
   std::vector<std::uint8_t> seen(size(), 0);
   Index mismatch = -1;
+  const auto [first, end] = places_held();
   parallel::read_pieces<SavedRow>(a, [&](const SavedRow& saved) {
     const Index place = static_cast<Index>(saved.row.global);
     const bool in_deck = place >= 0 && place < deck_node_count();
@@ -146,7 +157,7 @@ void NodeStore::checkpoint(Archive& a) {
     }
     set_state(*this, i, saved.row);
     f[i] = saved.f;
-  });
+  }, first, end, numbered_ ? &ranks : nullptr);
   const auto unseen = std::find(seen.begin(), seen.end(), 0);
   Index missing = unseen == seen.end() ? -1 : deck_index(static_cast<Index>(unseen - seen.begin()));
   parallel::check_read(a, "node", mismatch, missing, numbered_ ? &ranks : nullptr);

@@ -163,6 +163,9 @@ struct NodeStore {
   // Whether the rows are every node in the deck's order (not rows of a rank's own: a block or a
   // region's).
   bool holds_every_node() const { return !numbered_; }
+  // The places in the deck's order from the lowest of the rows' to past the highest: every place
+  // (of any Index) while the rows are every node.
+  std::pair<Index, Index> places_held() const;
 
   // Each node's row and force, in pieces (core/pieces.hpp): dealt by region each rank's own rows,
   // else rank 0's every row (the whole state, made current there by the formulations'

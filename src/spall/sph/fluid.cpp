@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <ranges>
 #include <stdexcept>
 #include <type_traits>
 
@@ -835,18 +836,21 @@ void FluidFormulation::checkpoint(Archive& a, const discretization::NodeStore& n
     max_sound_speed_, max_acceleration_, max_mu_, lower, cell_size, along);
   const parallel::Communicator& ranks = parallel::world();
   if (!a.reading()) {
-    // Its own particles in their order, each with its cell's key (none while no cell is built yet).
+    // Its own particles in their nodes' order in the deck, each with its cell's key (none while no
+    // cell is built yet): the cells hold the particles in their order, one run after the other.
     const bool each_own = nodes.by_region();
-    const auto written = [&](Index p) { return each_own ? owns(p) : ranks.rank() == 0; };
-    Index count = 0;
-    for (Index p = 0; p < particle_count(); ++p) count += written(p);
-    Index c = 0, p = -1;  // the cells hold the particles in their order, one run after the other
-    const auto next = [&] {
-      do ++p;
-      while (!written(p));
-      while (cells_built_ && p >= cells_.cell(c).end) ++c;
-      SavedParticle saved{cells_built_ ? cells_.cell_key(c) : 0, nodes.deck_index(node_[p]), density_[p], rate_[p],
-                          previous_rate_[p], {}, {}, {}};
+    std::vector<Index> written;
+    for (Index p = 0; p < particle_count(); ++p)
+      if (each_own ? owns(p) : ranks.rank() == 0) written.push_back(p);
+    const auto place = [&](Index p) { return nodes.deck_index(node_[p]); };
+    std::sort(written.begin(), written.end(), [&](Index p, Index q) { return place(p) < place(q); });
+    const auto save = [&](Index k) {
+      const Index p = written[k];
+      const Index c = !cells_built_ ? 0
+                                    : *std::ranges::partition_point(std::views::iota(Index(0), cells_.cell_count()),
+                                                                    [&](Index c) { return cells_.cell(c).end <= p; });
+      SavedParticle saved{cells_built_ ? cells_.cell_key(c) : 0, place(p), density_[p], rate_[p], previous_rate_[p],
+                          {}, {}, {}};
       std::memcpy(saved.record, &record_[p], sizeof saved.record);
       for (int d = 0; d < 3; ++d) {
         saved.pressure_force[d] = pressure_force_[3 * p + d];
@@ -854,7 +858,8 @@ void FluidFormulation::checkpoint(Archive& a, const discretization::NodeStore& n
       }
       return saved;
     };
-    parallel::write_pieces<SavedParticle>(a, count, next, ranks);
+    parallel::write_pieces<SavedParticle>(a, static_cast<Index>(written.size()), save,
+                                          [&](Index k) { return place(written[k]); }, ranks);
     return;
   }
   // Into the set-up's particles, each on its node's row: every particle, or those on the block of
@@ -869,6 +874,7 @@ void FluidFormulation::checkpoint(Archive& a, const discretization::NodeStore& n
   std::vector<std::uint8_t> filled(n, 0);
   record_.resize(n + simd_width + 1);
   Index mismatch = -1;
+  const auto [first, end] = nodes.places_held();
   parallel::read_pieces<SavedParticle>(a, [&](const SavedParticle& p) {
     const Index place = static_cast<Index>(p.global);
     const bool in_deck = place >= 0 && place < nodes.deck_node_count();
@@ -889,7 +895,7 @@ void FluidFormulation::checkpoint(Archive& a, const discretization::NodeStore& n
       pressure_force_[3 * k + d] = p.pressure_force[d];
       viscous_force_[3 * k + d] = p.viscous_force[d];
     }
-  });
+  }, first, end, block ? &ranks : nullptr);
   const auto unfilled = std::find(filled.begin(), filled.end(), 0);
   Index missing = unfilled == filled.end() ? -1 : nodes.deck_index(node_[static_cast<Index>(unfilled - filled.begin())]);
   parallel::check_read(a, "SPH fluid particle on the node", mismatch, missing, block ? &ranks : nullptr);

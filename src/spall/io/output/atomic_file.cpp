@@ -12,11 +12,16 @@
 
 namespace spall::io::output {
 
-void replace_file_atomically(const std::filesystem::path& path,
-                             const std::function<void(std::ostream&)>& write_contents) {
+std::filesystem::path temporary_of(const std::filesystem::path& path) {
   // Same directory as the target, so that the rename stays on one file system and is atomic.
   std::filesystem::path temporary = path;
   temporary += ".tmp";
+  return temporary;
+}
+
+void replace_file_atomically(const std::filesystem::path& path,
+                             const std::function<void(std::ostream&)>& write_contents) {
+  const std::filesystem::path temporary = temporary_of(path);
   const auto fail = [&](const std::string& why) {
     std::error_code ignored;
     std::filesystem::remove(temporary, ignored);

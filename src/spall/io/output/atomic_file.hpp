@@ -8,7 +8,10 @@
 
 namespace spall::io::output {
 
-// Calls write_contents on a binary stream to `path`.tmp, then renames it to `path`.
+// The temporary `path` is written as before it is renamed (`path`.tmp).
+std::filesystem::path temporary_of(const std::filesystem::path& path);
+
+// Calls write_contents on a binary stream to temporary_of(path), then renames it to `path`.
 // Throws OutputError naming `path` if any step fails; the temporary is then removed.
 void replace_file_atomically(const std::filesystem::path& path,
                              const std::function<void(std::ostream&)>& write_contents);
