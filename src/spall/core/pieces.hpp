@@ -30,7 +30,7 @@ namespace spall::parallel {
 inline constexpr std::size_t stretch_bytes = std::size_t(8) << 20;
 inline constexpr Index fence_every = 4096;
 
-// write_pieces on ranks other than 0: rank r's items, made in stretches of at most stretch_bytes,
+// write_pieces on ranks other than 0: rank r's items, made in stretches of Archive::flush_bytes,
 // into the archive's file at their place after rank 0's (the place rank 0 has reached, which it
 // tells every rank), where rank 0 leaves a gap for them. A rank that cannot write its items stops
 // every rank alike (OutputError, its own message where it failed).
@@ -45,7 +45,7 @@ void write_in_place(Archive& a, const std::vector<Index>& counts, Item& item, co
   } else if (const Index count = counts[ranks.rank()]; count > 0) {
     std::ofstream out(a.pieces_file(), std::ios::binary | std::ios::in | std::ios::out);
     out.seekp(static_cast<std::streamoff>(start + before));
-    const Index stretch = std::max<Index>(1, static_cast<Index>(stretch_bytes / sizeof(T)));
+    const Index stretch = std::max<Index>(1, static_cast<Index>(Archive::flush_bytes / sizeof(T)));
     std::vector<T> made;
     for (Index begin = 0; begin < count && out; begin += stretch) {
       made.clear();

@@ -128,13 +128,13 @@ void NodeStore::checkpoint(Archive& a) {
   const parallel::Communicator& ranks = parallel::world();
   if (!a.reading()) {
     // By region each rank's own rows, else rank 0's every row (those are in the deck's order).
-    std::vector<Index> rows;
+    std::vector<std::pair<Index, Index>> rows;  // (place in the deck, row), sorted
     if (by_region()) {
-      rows = owned;
-      std::sort(rows.begin(), rows.end(), [&](Index i, Index j) { return deck_index(i) < deck_index(j); });
+      for (const Index i : owned) rows.emplace_back(deck_index(i), i);
+      std::sort(rows.begin(), rows.end());
     }
     const Index count = by_region() ? static_cast<Index>(rows.size()) : ranks.rank() == 0 ? size() : 0;
-    const auto row_at = [&](Index k) { return by_region() ? rows[k] : k; };
+    const auto row_at = [&](Index k) { return by_region() ? rows[k].second : k; };
     parallel::write_pieces<SavedRow>(
         a, count, [&](Index k) { return SavedRow{row(row_at(k)), f[row_at(k)]}; },
         [&](Index k) { return deck_index(row_at(k)); }, ranks);

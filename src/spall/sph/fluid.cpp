@@ -6,7 +6,6 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
-#include <ranges>
 #include <stdexcept>
 #include <type_traits>
 
@@ -839,18 +838,17 @@ void FluidFormulation::checkpoint(Archive& a, const discretization::NodeStore& n
     // Its own particles in their nodes' order in the deck, each with its cell's key (none while no
     // cell is built yet): the cells hold the particles in their order, one run after the other.
     const bool each_own = nodes.by_region();
-    std::vector<Index> written;
+    std::vector<std::pair<Index, Index>> written;  // (place in the deck, particle), sorted
     for (Index p = 0; p < particle_count(); ++p)
-      if (each_own ? owns(p) : ranks.rank() == 0) written.push_back(p);
-    const auto place = [&](Index p) { return nodes.deck_index(node_[p]); };
-    std::sort(written.begin(), written.end(), [&](Index p, Index q) { return place(p) < place(q); });
+      if (each_own ? owns(p) : ranks.rank() == 0) written.emplace_back(nodes.deck_index(node_[p]), p);
+    std::sort(written.begin(), written.end());
+    std::vector<Index> cell_of(cells_built_ ? particle_count() : 0);
+    for (Index c = 0; cells_built_ && c < cells_.cell_count(); ++c)
+      std::fill(cell_of.begin() + cells_.cell(c).begin, cell_of.begin() + cells_.cell(c).end, c);
     const auto save = [&](Index k) {
-      const Index p = written[k];
-      const Index c = !cells_built_ ? 0
-                                    : *std::ranges::partition_point(std::views::iota(Index(0), cells_.cell_count()),
-                                                                    [&](Index c) { return cells_.cell(c).end <= p; });
-      SavedParticle saved{cells_built_ ? cells_.cell_key(c) : 0, place(p), density_[p], rate_[p], previous_rate_[p],
-                          {}, {}, {}};
+      const auto [place, p] = written[k];
+      SavedParticle saved{cells_built_ ? cells_.cell_key(cell_of[p]) : 0, place, density_[p], rate_[p],
+                          previous_rate_[p], {}, {}, {}};
       std::memcpy(saved.record, &record_[p], sizeof saved.record);
       for (int d = 0; d < 3; ++d) {
         saved.pressure_force[d] = pressure_force_[3 * p + d];
@@ -859,7 +857,7 @@ void FluidFormulation::checkpoint(Archive& a, const discretization::NodeStore& n
       return saved;
     };
     parallel::write_pieces<SavedParticle>(a, static_cast<Index>(written.size()), save,
-                                          [&](Index k) { return place(written[k]); }, ranks);
+                                          [&](Index k) { return written[k].first; }, ranks);
     return;
   }
   // Into the set-up's particles, each on its node's row: every particle, or those on the block of
