@@ -77,9 +77,9 @@ class TimeLoop {
   // Between two steps (in between_steps, or before run()): writes the state of the problem and of
   // the loop into the archive, or reads it back over a problem built from the same deck, which
   // then continues bitwise as the run that wrote it (core/archive.hpp). Under MPI every rank calls
-  // complete_state() first (a collective), then checkpoint() (collective too): rank 0 writes, the
-  // others' own rows and particles go to it in turn where a deck is dealt by region
-  // (core/pieces.hpp), into an archive that keeps nothing.
+  // complete_state() first (a collective), then checkpoint() (collective too): rank 0 writes, and
+  // where a deck is dealt by region each other rank writes its own rows and particles into the
+  // same file at their place (core/pieces.hpp), keeping nothing else.
   void complete_state();
   void checkpoint(Archive& archive);
 
