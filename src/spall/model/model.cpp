@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
+#include <span>
+
+#include "spall/core/communicator.hpp"
 
 namespace spall::model {
 
@@ -13,6 +16,56 @@ void Model::release_mesh() {
   std::vector<ElementSolid>().swap(solid_elements);
   std::vector<ElementShell>().swap(shell_elements);
   node_sets.clear();
+}
+
+namespace {
+
+// Every rank's held cards, in the deck's order: rank r's k-th card is the card of ordinal
+// cards.ordinal(k, r).
+template <typename Card>
+void gather(std::vector<Card>& held, const CardShare& cards, Index count) {
+  const parallel::Communicator& ranks = parallel::world();
+  const std::vector<Index> counts = ranks.each(static_cast<Index>(held.size()));
+  std::vector<Card> every = ranks.all(std::span<const Card>(held));
+  std::vector<Card>().swap(held);
+  held.resize(count);
+  Index from = 0;
+  for (int r = 0; r < cards.ranks; ++r)
+    for (Index k = 0; k < counts[r]; ++k) held[cards.ordinal(k, r)] = every[from++];
+}
+
+}  // namespace
+
+void Model::gather_cards() {
+  if (cards.whole()) return;
+  gather(nodes, cards, node_cards);
+  gather(sph_elements, cards, sph_cards);
+  cards = CardShare{};
+}
+
+Model::CardLine Model::card_line(const SourceLocation& where) const {
+  for (std::size_t f = 0; f < files.size(); ++f)
+    if (files[f] == where.file.str()) return {static_cast<std::int32_t>(f), where.line};
+  return {-1, where.line};
+}
+
+SourceLocation Model::location(CardLine line) const {
+  return {line.file >= 0 ? FileName(files[line.file]) : FileName(), line.line};
+}
+
+std::vector<Id> Model::named_nodes() const {
+  std::vector<Id> named;
+  for (const auto& [id, set] : node_sets) named.insert(named.end(), set.nodes.begin(), set.nodes.end());
+  for (const auto& [id, set] : segment_sets)
+    for (const auto& segment : set.segments) named.insert(named.end(), segment.begin(), segment.end());
+  for (const auto& spc : spcs)
+    if (spc.target == Target::node) named.push_back(spc.id);
+  for (const auto& motion : prescribed_motions)
+    if (motion.target == Target::node) named.push_back(motion.id);
+  for (const auto& velocity : initial_velocity_nodes) named.push_back(velocity.nid);
+  std::sort(named.begin(), named.end());
+  named.erase(std::unique(named.begin(), named.end()), named.end());
+  return named;
 }
 
 const Part* Model::find_part(Id id) const {
@@ -32,11 +85,6 @@ std::array<Real, 4> Model::shell_thickness(const ElementShell& element) const {
   for (int k = 0; k < 4; ++k) t[k] = element.thickness[k] > 0 ? element.thickness[k] : section.t[k];
   return t;
 }
-
-namespace {
-
-
-}  // namespace
 
 Mat3 Model::axes(Id cid, const SourceLocation& where, const std::string& keyword, const std::string& field) const {
   if (cid == 0) return Mat3::Identity();

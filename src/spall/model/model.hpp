@@ -629,9 +629,46 @@ struct UnsupportedKeyword {
   SourceLocation where;
 };
 
+// Which of the deck's *NODE and *ELEMENT_SPH cards a rank keeps (those *DEFINE_SPH_MESH_BOX generates
+// among them, after the deck's own). Under MPI every rank reads every line, so that a card's syntax
+// and ranges fail alike everywhere, but a deck of SPH fluid alone need not be whole on any rank
+// (docs/SCALING.md §5 step 4 f1): the cards are dealt in chunks of 4 096 in the deck's order, chunk
+// c to rank c mod ranks, each card known by its ordinal (its place among the deck's cards of its
+// keyword). One process, and every deck that is set up whole, keeps every card (ranks 1).
+struct CardShare {
+  static constexpr Index chunk = 4096;
+  int rank = 0;
+  int ranks = 1;
+
+  bool whole() const { return ranks == 1; }
+  bool holds(Index ordinal) const { return (ordinal / chunk) % ranks == rank; }
+  // The ordinal of the card held at `held` among this rank's cards.
+  Index ordinal(Index held) const { return ((held / chunk) * ranks + rank) * chunk + held % chunk; }
+  // The ordinal of the card rank `of` holds at `held`.
+  Index ordinal(Index held, int of) const { return ((held / chunk) * ranks + of) * chunk + held % chunk; }
+};
+
 struct Model {
   std::string title;
   std::vector<std::string> files;  // every file read, the top deck first
+
+  // The *NODE and *ELEMENT_SPH cards this rank holds (every card unless `cards` deals them), and
+  // how many the deck has in all.
+  CardShare cards;
+  Index node_cards = 0, sph_cards = 0;
+  Id largest_node_id = 0;  // of every *NODE card (0 without)
+  Index node_card_count() const { return cards.whole() ? static_cast<Index>(nodes.size()) : node_cards; }
+  Index sph_card_count() const { return cards.whole() ? static_cast<Index>(sph_elements.size()) : sph_cards; }
+  // Every rank's cards in, so that each holds every card (collective; nothing when whole).
+  void gather_cards();
+  // A card's file and line as every rank names them, for a card sent to another rank: its file's
+  // place in `files` (a FileName's number is this process's own).
+  struct CardLine {
+    std::int32_t file = -1;
+    std::int32_t line = 0;
+  };
+  CardLine card_line(const SourceLocation& where) const;
+  SourceLocation location(CardLine line) const;
 
   std::vector<Node> nodes;
   std::vector<Part> parts;
@@ -687,6 +724,10 @@ struct Model {
   // keeps the curves and controls it refers to, not a second copy of the mesh (at a million
   // particles the mesh is most of the set-up's memory).
   void release_mesh();
+
+  // The node IDs that cards other than *NODE and the elements name (node and segment sets,
+  // constraints, prescribed motions, initial velocities), ascending, each once.
+  std::vector<Id> named_nodes() const;
 
   const Part* find_part(Id id) const;
   // The part's *MAT_RIGID card, or nullptr: such a part is a rigid body whatever its section.

@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "spall/contact/setup.hpp"
+#include "spall/core/bounding_box.hpp"
 #include "spall/core/communicator.hpp"
 #include "spall/core/log.hpp"
 #include "spall/materials/make_material.hpp"
@@ -18,6 +19,7 @@
 #include "spall/fem/setup.hpp"
 #include "spall/rigid/setup.hpp"
 #include "spall/spg/setup.hpp"
+#include "spall/solver/nodes_in_blocks.hpp"
 #include "spall/sph/solid.hpp"
 
 namespace spall::solver {
@@ -27,8 +29,10 @@ namespace {
 class Builder {
  public:
   Builder(const model::Model& model, SetUp set_up)
-      : model_(model), in_blocks_(set_up == SetUp::in_blocks_where_possible && parallel::world().size() > 1 &&
-                                  fluid_alone(model)) {}
+      : model_(model), in_blocks_(set_up == SetUp::in_blocks_where_possible && sets_up_in_blocks(model)) {
+    if (!in_blocks_ && !model.cards.whole())
+      throw std::logic_error("set-up: the model holds a share of the cards but is not set up in blocks");
+  }
 
   Problem build() {
     problem_.model = &model_;
@@ -56,20 +60,6 @@ class Builder {
   }
 
  private:
-  // A deck whose only particles are SPH fluid's, with no element, rigid part or contact: under MPI
-  // its nodes are dealt by region, and each rank sets up a block of them (the rows of the nodes
-  // [first_row_, first_row_ + its rows) of the node order, every other node checked but not built);
-  // the fluid's first rebuild then moves each particle to its region's rank (docs/SCALING.md §3).
-  static bool fluid_alone(const model::Model& model) {
-    if (model.sph_elements.empty() || !model.solid_elements.empty() || !model.shell_elements.empty() ||
-        !model.contacts.empty() || !model.rcforc_moments.empty() || !model.merged_rigid_bodies.empty())
-      return false;
-    for (const auto& part : model.parts)
-      if (model.rigid_material(part)) return false;
-    return std::all_of(model.sph_elements.begin(), model.sph_elements.end(),
-                       [&](const model::ElementSph& e) { return sph::is_fluid_part(model, e.pid); });
-  }
-
   // The row of the node at `deck` in the node order, -1 when this rank's block does not hold it
   // (every node is a row of its own index when the set-up is whole).
   Index row(Index deck) const {
@@ -86,7 +76,9 @@ class Builder {
 
   // The node's place in the node order (its row when the set-up is whole).
   Index node_index(Id id, const SourceLocation& where, const char* keyword) const {
-    const Index* it = index_of_node_.find(id);
+    const Index* it = in_blocks_ ? nullptr : index_of_node_.find(id);
+    if (in_blocks_)
+      if (const auto named = named_.find(id); named != named_.end()) it = &named->second;
     if (!it) fail_at(where, keyword, fmt::format("node {} does not exist", id));
     return *it;
   }
@@ -118,31 +110,28 @@ class Builder {
     return nodes;
   }
 
-  static constexpr Real max_coordinate = 1e100;
-
-  // The nodes are stored in cell order, so that neighbouring particles are close in memory.
+  // The nodes are stored in cell order, so that neighbouring particles are close in memory. Set up
+  // in blocks, each rank builds its block of that order from its share of the cards, and the places
+  // of the nodes that other cards name are found over the ranks (NodesInBlocks).
   void build_nodes() {
+    if (in_blocks_) {
+      blocks_.emplace(model_, problem_.nodes, parallel::world());
+      first_row_ = blocks_->first_row();
+      deck_nodes_ = blocks_->deck_nodes();
+      named_ = blocks_->places_of(model_.named_nodes());
+      return;
+    }
     const Index n = static_cast<Index>(model_.nodes.size());
     deck_nodes_ = n;
     {
       std::vector<Vec3> x(n);
+      BoundingBox box;
       for (Index i = 0; i < n; ++i) {
+        check_node_position(model_.nodes[i]);
         x[i] = model_.nodes[i].x;
-        // Squared distances (and the box's volume) of such coordinates would overflow a double.
-        if (!(x[i].cwiseAbs().maxCoeff() <= max_coordinate))
-          fail_at(model_.nodes[i].where, "*NODE",
-                  fmt::format("node {} at ({:.6g}, {:.6g}, {:.6g}): coordinates beyond +-{:g} are not supported",
-                              model_.nodes[i].id, x[i].x(), x[i].y(), x[i].z(), max_coordinate));
+        box.include(x[i]);
       }
-      Real cell = 0;
-      if (n > 0) {
-        Vec3 lo = x[0], hi = x[0];
-        for (const auto& p : x) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
-        // About 16 nodes per cell for a uniform cloud: the order matters, the exact size does not.
-        const Real volume = std::max((hi - lo).prod(), Real(0));
-        cell = volume > 0 ? std::cbrt(16 * volume / n) : std::max((hi - lo).maxCoeff(), Real(1));
-      }
-      if (n > 0) model_node_ = neighbors::spatial_order(x, cell);
+      if (n > 0) model_node_ = neighbors::spatial_order(x, node_order_cell(box, n));
     }
     std::vector<Id> id(n);
     for (Index k = 0; k < n; ++k) id[k] = model_.nodes[model_node_[k]].id;
@@ -150,20 +139,15 @@ class Builder {
       const auto& node = model_.nodes[model_node_[twice]];
       fail_at(node.where, "*NODE", fmt::format("node {} is defined twice", node.id));
     }
-    const parallel::Communicator& ranks = parallel::world();
-    first_row_ = in_blocks_ ? parallel::block_begin(n, ranks.rank(), ranks.size()) : 0;
-    const Index end = in_blocks_ ? parallel::block_begin(n, ranks.rank() + 1, ranks.size()) : n;
     auto& nodes = problem_.nodes;
-    nodes.resize(end - first_row_);
-    for (Index k = first_row_; k < end; ++k) {
+    nodes.resize(n);
+    for (Index k = 0; k < n; ++k) {
       const auto& node = model_.nodes[model_node_[k]];
-      const Index r = k - first_row_;
-      nodes.id[r] = node.id;
-      nodes.x0[r] = node.x;
-      nodes.x[r] = node.x;
-      nodes.fixed[r] = model::constraint_axes(node.tc);
+      nodes.id[k] = node.id;
+      nodes.x0[k] = node.x;
+      nodes.x[k] = node.x;
+      nodes.fixed[k] = model::constraint_axes(node.tc);
     }
-    if (in_blocks_) nodes.hold_block(first_row_, n);
   }
 
   // An SPH part as the solver needs it, checked once however many particles it has.
@@ -213,14 +197,19 @@ class Builder {
   }
 
   void build_sph() {
-    if (model_.sph_elements.empty()) return refuse_sph_timestep_without_solid();
+    if (model_.sph_card_count() == 0) return refuse_sph_timestep_without_solid();
+    if (in_blocks_) {  // SPH fluid alone: each rank the particles on its block's nodes
+      const sph::SolidOptions options = sph_options();
+      problem_.formulations.push_back(sph::build_fluid(model_, blocks_->particles(), options.viscosity,
+                                                       options.dimension, problem_.nodes, &parallel::world()));
+      return refuse_sph_timestep_without_solid();
+    }
     std::vector<materials::Material> table;
     std::unordered_map<Id, Index> material_index;
     std::unordered_map<Id, SphPart> parts;
     std::vector<sph::ParticleSetup> particles;
     std::vector<char> carries_particle(deck_nodes_, 0);  // by place in the node order: 1 B a node, not a set's 40
-    // The particle's node's place in the node order (its row: a deck with SPH solid particles is
-    // set up whole).
+    // The particle's node's place in the node order, its row.
     const auto carry = [&](const model::ElementSph& e) {
       const Index node = node_index(e.nid, e.where, "*ELEMENT_SPH");
       if (std::exchange(carries_particle[node], 1))
@@ -229,11 +218,12 @@ class Builder {
     };
     sph::SolidOptions options = sph_options();
     std::vector<sph::FluidParticle> fluid;
-    for (const auto& e : model_.sph_elements) {
+    for (Index k = 0; k < static_cast<Index>(model_.sph_elements.size()); ++k) {
+      const model::ElementSph& e = model_.sph_elements[k];
       // *MAT_NULL parts are liquid: the SPH fluid formulation (sph/fluid_setup.cpp) takes them.
       if (sph::is_fluid_part(model_, e.pid)) {
         const Index node = carry(e);
-        fluid.push_back({&e, row(node), model_node_[node]});
+        fluid.push_back({&e, node, k});
         continue;
       }
       auto found = parts.find(e.pid);
@@ -608,13 +598,34 @@ class Builder {
   const model::Model& model_;
   const bool in_blocks_;
   Problem problem_;
-  discretization::NodeIndex index_of_node_;  // node ID -> place in the node order
-  std::vector<Index> model_node_;            // place in the node order -> index in model_.nodes
+  discretization::NodeIndex index_of_node_;  // node ID -> place in the node order (set up whole)
+  std::vector<Index> model_node_;            // place in the node order -> index in model_.nodes (set up whole)
+  std::optional<NodesInBlocks> blocks_;      // set up in blocks: this rank's block of the node order
+  std::unordered_map<Id, Index> named_;      // set up in blocks: the nodes other cards name -> place
   Index deck_nodes_ = 0;                     // every node of the deck
   Index first_row_ = 0;                      // the place in the node order of this rank's first row
 };
 
 }  // namespace
+
+bool sets_up_in_blocks(const model::Model& model) {
+  const parallel::Communicator& ranks = parallel::world();
+  if (ranks.size() == 1) return false;
+  // Every particle card a fluid's, over the ranks where each holds a share of them.
+  double fluid = std::all_of(model.sph_elements.begin(), model.sph_elements.end(),
+                             [&](const model::ElementSph& e) { return sph::is_fluid_part(model, e.pid); })
+                     ? 0
+                     : -1;
+  if (!model.cards.whole()) ranks.minimum({&fluid, 1});
+  if (fluid < 0 || model.sph_card_count() == 0 || !model.solid_elements.empty() || !model.shell_elements.empty() ||
+      !model.contacts.empty() || !model.rcforc_moments.empty() || !model.merged_rigid_bodies.empty())
+    return false;
+  for (const auto& part : model.parts)
+    if (model.rigid_material(part)) return false;
+  // A coordinate system on nodes takes their positions from the cards (Model::axes).
+  return std::none_of(model.coordinate_systems.begin(), model.coordinate_systems.end(),
+                      [](const auto& system) { return system.second.nodes[0] != 0; });
+}
 
 Problem build_problem(const model::Model& model, SetUp set_up) { return Builder(model, set_up).build(); }
 

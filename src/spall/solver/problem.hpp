@@ -81,6 +81,12 @@ struct Problem {
 // block, moves each particle to its region's rank; docs/SCALING.md §3). Collective under MPI.
 enum class SetUp { whole, in_blocks_where_possible };
 
+// Whether the deck is one that the set-up builds in blocks under MPI (SPH fluid alone: no element,
+// rigid part, contact or coordinate system on nodes): such a deck can be read in shares
+// (model::CardShare), every other needs every card on every rank (Model::gather_cards).
+// Collective where the model holds a share of the cards.
+bool sets_up_in_blocks(const model::Model& model);
+
 // Builds the problem; throws InputError for anything the solver cannot run.
 Problem build_problem(const model::Model& model, SetUp set_up = SetUp::whole);
 

@@ -1,9 +1,13 @@
 #include "spall/sph/fluid_setup.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
+#include <optional>
+#include <span>
 #include <unordered_map>
 
+#include "spall/core/first_failure.hpp"
 #include "spall/core/log.hpp"
 #include "spall/kernels/kernel.hpp"
 #include "spall/materials/make_material.hpp"
@@ -80,26 +84,38 @@ bool is_fluid_part(const model::Model& model, Id pid) {
 std::unique_ptr<FluidFormulation> build_fluid(const model::Model& model,
                                                    const std::vector<FluidParticle>& particles,
                                                    const ArtificialViscosity& viscosity,
-                                                   int dimension, discretization::NodeStore& nodes) {
+                                                   int dimension, discretization::NodeStore& nodes,
+                                                   const parallel::Communicator* across) {
   if (const auto& c = model.control_sph; c && (c->start > 0 || c->dt < 1e20))
     fail_at(c->card_where[0], "*CONTROL_SPH",
             fmt::format("START {:g} / DT {:g}: the SPH fluid has no start or death time", c->start, c->dt));
+  // The first failure in the deck's order, at a particle's card: there its plane (0), then its part's
+  // set-up when it is the part's first particle (1), then its mass (2).
+  Index position = -1;
+  std::optional<InputError> error;
+  const auto fail = [&](Index ordinal, int what, const InputError& e) {
+    if (const Index at = 3 * ordinal + what; position < 0 || at < position) position = at, error = e;
+  };
+
+  // The parts in the order of their first particles (over the ranks), each set up there.
+  struct FirstParticle {
+    Id pid;
+    Index ordinal;
+  };
+  std::vector<FirstParticle> firsts;
+  for (const auto& p : particles)
+    if (std::none_of(firsts.begin(), firsts.end(), [&](const FirstParticle& f) { return f.pid == p.element->pid; }))
+      firsts.push_back({p.element->pid, p.ordinal});
+  if (across) firsts = across->all(std::span<const FirstParticle>(firsts));
+  std::sort(firsts.begin(), firsts.end(),
+            [](const FirstParticle& a, const FirstParticle& b) { return a.ordinal < b.ordinal; });
   std::unordered_map<Id, FluidPart> parts;
   const FluidPart* first = nullptr;
   bool warned = false;
-  for (const auto& p : particles) {
-    const model::ElementSph& e = *p.element;
-    // Refused here, at the particle's card: the formulation would stop with an internal error.
-    if (const Real z = model.nodes[p.model_node].x.z(), plane = model.nodes[particles.front().model_node].x.z();
-        dimension == 2 && z != plane)
-      fail_at(e.where, "*ELEMENT_SPH",
-              fmt::format("particle {} lies at z = {:g}, off the plane z = {:g} of particle {}: in plane strain "
-                          "(*CONTROL_SPH IDIM 2) every particle of the SPH fluid lies in one plane",
-                          e.nid, z, plane, particles.front().element->nid));
-    auto found = parts.find(e.pid);
-    if (found == parts.end()) {
-      found = parts.emplace(e.pid, resolve_fluid_part(model, e.pid)).first;
-      const FluidPart& part = found->second;
+  for (const FirstParticle& f : firsts) {
+    if (parts.contains(f.pid)) continue;  // a later rank's first of a part set up already
+    try {
+      const FluidPart& part = parts.emplace(f.pid, resolve_fluid_part(model, f.pid)).first->second;
       warn_constant_h_once(*part.section, warned);
       // One liquid: the parts (fluid and its dynamic-boundary walls) share one material.
       if (!first) {
@@ -116,18 +132,59 @@ std::unique_ptr<FluidFormulation> build_fluid(const model::Model& model,
                          part.part->id, part.part->mid, part.part->eosid, first->part->id,
                          first->part->mid, first->part->eosid));
       }
+    } catch (const InputError& e) {
+      fail(f.ordinal, 1, e);
+      parts.erase(f.pid);
+      break;  // the parts after it are not reached
     }
+  }
+
+  // In plane strain every particle lies in the plane of the deck's first.
+  struct Plane {
+    Index ordinal;
+    Real z;
+    Id nid;
+  };
+  const auto z = [&](const FluidParticle& p) { return nodes.x0[p.node].z(); };
+  Plane plane{0, particles.empty() ? 0 : z(particles.front()), particles.empty() ? 0 : particles.front().element->nid};
+  if (across && dimension == 2) {
+    const Index lowest = across->lowest(particles.empty() ? -1 : particles.front().ordinal);
+    const bool mine = !particles.empty() && particles.front().ordinal == lowest;
+    plane = across->all(std::span<const Plane>(&plane, mine ? 1 : 0)).front();
+  }
+  for (const auto& p : particles) {
+    const model::ElementSph& e = *p.element;
+    // Refused here, at the particle's card: the formulation would stop with an internal error.
+    if (dimension == 2 && z(p) != plane.z)
+      fail(p.ordinal, 0,
+           InputError(e.where, "*ELEMENT_SPH",
+                      fmt::format("particle {} lies at z = {:g}, off the plane z = {:g} of particle {}: in plane "
+                                  "strain (*CONTROL_SPH IDIM 2) every particle of the SPH fluid lies in one plane",
+                                  e.nid, z(p), plane.z, plane.nid)));
+    const auto found = parts.find(e.pid);
+    if (found == parts.end()) continue;  // its part failed: a failure before this particle's
     FluidPart& part = found->second;
     const Real mass = e.mass > 0 ? e.mass : -e.mass * part.material.density;
-    if (!(mass > 0)) fail_at(e.where, "*ELEMENT_SPH", fmt::format("MASS: particle {} has no mass", e.nid));
+    if (!(mass > 0)) {
+      fail(p.ordinal, 2, InputError(e.where, "*ELEMENT_SPH", fmt::format("MASS: particle {} has no mass", e.nid)));
+      continue;
+    }
     // In plane strain masses are per unit thickness and the particles stay in their plane.
     const Real spacing = dimension == 2 ? std::sqrt(mass / part.material.density)
                                         : std::cbrt(mass / part.material.density);
     part.spacing = std::max(part.spacing, spacing);
-    if (p.node < 0) continue;
     nodes.mass[p.node] = mass;
     nodes.part[p.node] = e.pid;
     if (dimension == 2) nodes.fixed[p.node] |= 1u << 2;
+  }
+  if (across) {
+    parallel::throw_first_failure(position, error, *across);
+    std::vector<double> negated;  // the largest spacing of each part over the ranks
+    for (const FirstParticle& f : firsts) negated.push_back(-parts.at(f.pid).spacing);
+    across->minimum(negated);
+    for (std::size_t k = 0; k < firsts.size(); ++k) parts.at(firsts[k].pid).spacing = -negated[k];
+  } else if (error) {
+    throw *error;
   }
   // LS-DYNA: h = CSLH x initial spacing, unless SPHINI gives h; the fluid takes one h for all.
   Real h = 0;
@@ -152,8 +209,7 @@ std::unique_ptr<FluidFormulation> build_fluid(const model::Model& model,
   parameters.dimension = dimension;
   std::vector<Index> particle_nodes;
   particle_nodes.reserve(particles.size());
-  for (const auto& p : particles)
-    if (p.node >= 0) particle_nodes.push_back(p.node);
+  for (const auto& p : particles) particle_nodes.push_back(p.node);
   std::sort(particle_nodes.begin(), particle_nodes.end());  // node (cell) order
   return std::make_unique<FluidFormulation>(parameters, particle_nodes, nodes);
 }

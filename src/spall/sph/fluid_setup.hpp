@@ -5,6 +5,7 @@
 #include <memory>
 #include <vector>
 
+#include "spall/core/communicator.hpp"
 #include "spall/discretization/node_store.hpp"
 #include "spall/model/model.hpp"
 #include "spall/sph/fluid.hpp"
@@ -16,16 +17,19 @@ bool is_fluid_part(const model::Model& model, Id pid);
 
 struct FluidParticle {
   const model::ElementSph* element = nullptr;
-  Index node = 0;        // its node's row; -1 when the set-up holds a block of the nodes without it
-  Index model_node = 0;  // its node's card in model.nodes (a 2D fluid's plane is checked there)
+  Index node = 0;     // its node's row
+  Index ordinal = 0;  // its card's place among the deck's *ELEMENT_SPH cards
 };
 
-// Sets the particles' masses and part IDs on the nodes they have rows on (and holds z in plane
-// strain) and returns the formulation of those particles; checks every particle and throws
-// InputError at the card for what the fluid cannot run.
+// Sets the particles' masses and part IDs on their nodes (and holds z in plane strain) and
+// returns the formulation of those particles; checks every particle and throws
+// InputError at the card for what the fluid cannot run, the first in the deck's order. `particles`
+// are in the deck's order: every particle of the deck, or, with `across`, this rank's share of them
+// (those on its block of the nodes; the checks and the parts' spacings then go over the ranks).
 std::unique_ptr<FluidFormulation> build_fluid(const model::Model& model,
                                                    const std::vector<FluidParticle>& particles,
                                                    const ArtificialViscosity& viscosity,
-                                                   int dimension, discretization::NodeStore& nodes);
+                                                   int dimension, discretization::NodeStore& nodes,
+                                                   const parallel::Communicator* across = nullptr);
 
 }  // namespace spall::sph

@@ -1,5 +1,6 @@
 // *NODE, *ELEMENT_SOLID, *ELEMENT_SHELL, *ELEMENT_SPH, *PART, and the local coordinate systems
 // (*DEFINE_COORDINATE_SYSTEM, _VECTOR, _NODES).
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -46,7 +47,7 @@ Id checked_node_id(const Card& card, const char* name, Id id) {
 }
 
 void read_node(CardCursor& cursor, const KeywordCall&, model::Model& model) {
-  model.nodes.reserve(model.nodes.size() + cursor.context().block.data.size());
+  if (model.cards.whole()) model.nodes.reserve(model.nodes.size() + cursor.context().block.data.size());
   while (true) {
     cursor.skip_blank_lines();
     if (cursor.done()) break;
@@ -57,7 +58,8 @@ void read_node(CardCursor& cursor, const KeywordCall&, model::Model& model) {
     node.tc = card.int32(4, "TC", 0);
     node.rc = card.int32(5, "RC", 0);
     node.where = card.where();
-    model.nodes.push_back(std::move(node));
+    model.largest_node_id = std::max(model.largest_node_id, node.id);
+    if (model.cards.holds(model.node_cards++)) model.nodes.push_back(std::move(node));
   }
 }
 
@@ -158,13 +160,13 @@ void read_element_sph(CardCursor& cursor, const KeywordCall& call, model::Model&
     // A card that generates particles is checked against the memory left; one particle a card is
     // bounded by the file's size (and a check per card would read /proc for each particle).
     if (last > particle.nid)
-      if (const std::string why = memory::shortfall(double(last - particle.nid + 1) + particles_so_far(model),
+      if (const std::string why = memory::shortfall(particles_held(model, double(last - particle.nid + 1)),
                                                     particle_bytes, "particles");
           !why.empty())
         card.fail("NEND", "NID to NEND: " + why);
     for (Id nid = particle.nid; nid <= last; ++nid) {
       particle.nid = nid;
-      model.sph_elements.push_back(particle);
+      if (model.cards.holds(model.sph_cards++)) model.sph_elements.push_back(particle);
     }
   }
 }

@@ -69,8 +69,10 @@ void generate_sph_mesh_box_particles(model::Model&);
 // and about 1 kB for the run (docs/PERFORMANCE.md: 0.87 kB per SPH solid particle). A generation
 // whose particles would not fit in the memory left is refused at its card (core/memory.hpp).
 inline constexpr double particle_bytes = sizeof(model::Node) + sizeof(model::ElementSph) + 1000;
-// The SPH particles read so far and those the mesh boxes read so far will generate.
-double particles_so_far(const model::Model& model);
+// The SPH particles this rank would hold with `more` of them: those read so far, those the mesh
+// boxes read so far will generate and `more`, or its share of them where it holds a share of the
+// cards (model::CardShare; a deck set up whole gathers them later, beyond this estimate).
+double particles_held(const model::Model& model, double more);
 // sections_materials.cpp
 void read_section_solid(CardCursor&, const KeywordCall&, model::Model&);
 void read_section_solid_spg(CardCursor&, const KeywordCall&, model::Model&);

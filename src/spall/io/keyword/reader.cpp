@@ -146,6 +146,8 @@ std::string not_a_deck_file(const std::filesystem::path& path) {
 
 class DeckReader {
  public:
+  explicit DeckReader(model::CardShare cards = {}) { model_.cards = cards; }
+
   model::Model read(const std::filesystem::path& path) {
     if (const std::string why = not_a_deck_file(path); !why.empty()) throw InputError(path.string() + ": " + why);
     DeckFile file;
@@ -358,12 +360,14 @@ class DeckReader {
 
 }  // namespace
 
-model::Model read_deck(const std::filesystem::path& path) { return DeckReader().read(path); }
+model::Model read_deck(const std::filesystem::path& path, model::CardShare cards) {
+  return DeckReader(cards).read(path);
+}
 
-model::Model read_deck_text(std::string text, const std::filesystem::path& path) {
+model::Model read_deck_text(std::string text, const std::filesystem::path& path, model::CardShare cards) {
   DeckFile file;
   file.assign(std::move(text), path);
-  return DeckReader().read(file);
+  return DeckReader(cards).read(file);
 }
 
 }  // namespace spall::io::keyword

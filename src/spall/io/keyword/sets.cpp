@@ -57,7 +57,7 @@ void read_set_node_list_generate(CardCursor& cursor, const KeywordCall& call, mo
 }
 
 void generate_node_set_ranges(model::Model& model) {
-  const auto defined = static_cast<Id>(model.nodes.size());
+  const auto defined = static_cast<Id>(model.node_card_count());
   for (auto& [id, set] : model.node_sets) {
     for (const model::NodeRange& range : set.ranges) {
       const SourceLocation where{set.where.file, range.line};

@@ -25,10 +25,10 @@
 
 namespace spall::io::keyword {
 
-double particles_so_far(const model::Model& model) {
-  double count = static_cast<double>(model.sph_elements.size());
+double particles_held(const model::Model& model, double more) {
+  double count = static_cast<double>(model.sph_cards) + more;
   for (const auto& box : model.sph_mesh_boxes) count += static_cast<double>(box.nx) * box.ny * box.nz;
-  return count;
+  return count / model.cards.ranks;
 }
 
 void read_define_sph_mesh_box(CardCursor& cursor, const KeywordCall&, model::Model& model) {
@@ -55,7 +55,7 @@ void read_define_sph_mesh_box(CardCursor& cursor, const KeywordCall&, model::Mod
         card.fail(count_names[d], quoted(card.text(1 + d)) + ": at least one particle per direction");
       total *= static_cast<double>(count);
       // Before the count is stored: the memory the box would take, all boxes so far included.
-      if (const std::string why = memory::shortfall(total + particles_so_far(model), particle_bytes, "particles");
+      if (const std::string why = memory::shortfall(particles_held(model, total), particle_bytes, "particles");
           !why.empty())
         card.fail(count_names[d], "NX x NY x NZ: " + why);
       (d == 0 ? box.nx : d == 1 ? box.ny : box.nz) = static_cast<int>(count);
@@ -74,8 +74,7 @@ void read_define_sph_mesh_box(CardCursor& cursor, const KeywordCall&, model::Mod
 void generate_sph_mesh_box_particles(model::Model& model) {
   if (model.sph_mesh_boxes.empty()) return;
   const bool plane_strain = model.control_sph && model.control_sph->idim == 2;
-  Id next_id = 1;
-  for (const auto& node : model.nodes) next_id = std::max(next_id, node.id + 1);
+  Id next_id = model.largest_node_id + 1;
   for (const auto& box : model.sph_mesh_boxes) {
     if (plane_strain && box.nz != 1)
       throw InputError(box.where, "*DEFINE_SPH_MESH_BOX",
@@ -83,17 +82,28 @@ void generate_sph_mesh_box_particles(model::Model& model) {
                            ": in plane strain (*CONTROL_SPH IDIM 2) a box has one layer, NZ 1");
     const Vec3 cell(box.length.x() / box.nx, box.length.y() / box.ny, box.length.z() / box.nz);
     const Real volume = plane_strain ? cell.x() * cell.y() : cell.prod();
-    const std::size_t count = static_cast<std::size_t>(box.nx) * box.ny * box.nz;
-    model.nodes.reserve(model.nodes.size() + count);
-    model.sph_elements.reserve(model.sph_elements.size() + count);
-    for (int k = 0; k < box.nz; ++k)
-      for (int j = 0; j < box.ny; ++j)
-        for (int i = 0; i < box.nx; ++i) {
-          const Vec3 x = box.lower + cell.cwiseProduct(Vec3(i + 0.5, j + 0.5, k + 0.5));
-          model.nodes.push_back({next_id, x, 0, 0, box.where});
-          model.sph_elements.push_back({next_id, box.ipid, -volume, box.where});
-          ++next_id;
-        }
+    const Index count = static_cast<Index>(box.nx) * box.ny * box.nz;
+    model.nodes.reserve(model.nodes.size() + count / model.cards.ranks + model::CardShare::chunk);
+    model.sph_elements.reserve(model.sph_elements.size() + count / model.cards.ranks + model::CardShare::chunk);
+    // The box's particle p (x fastest) is node card node_cards + p and particle card sph_cards + p; a
+    // rank generates the cards it holds (CardShare). The two counts so far may differ (a deck's own
+    // *NODE cards without particles), so the chunks of either may start at p: past a stretch that
+    // holds neither, the next p is where one of them starts a chunk.
+    for (Index p = 0; p < count; ++p) {
+      const bool node = model.cards.holds(model.node_cards + p), particle = model.cards.holds(model.sph_cards + p);
+      if (!node && !particle) {
+        p += model::CardShare::chunk - 1 - std::max((model.node_cards + p) % model::CardShare::chunk,
+                                                    (model.sph_cards + p) % model::CardShare::chunk);
+        continue;
+      }
+      const Index i = p % box.nx, j = (p / box.nx) % box.ny, k = p / (Index(box.nx) * box.ny);
+      const Vec3 x = box.lower + cell.cwiseProduct(Vec3(i + 0.5, j + 0.5, k + 0.5));
+      if (node) model.nodes.push_back({next_id + p, x, 0, 0, box.where});
+      if (particle) model.sph_elements.push_back({next_id + p, box.ipid, -volume, box.where});
+    }
+    next_id += count;
+    model.node_cards += count;
+    model.sph_cards += count;
   }
 }
 

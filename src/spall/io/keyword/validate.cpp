@@ -2,13 +2,20 @@
 // that holds the broken reference, with its file and line.
 #include <algorithm>
 #include <array>
+#include <cstdint>
+#include <optional>
+#include <span>
 #include <string>
 #include <string_view>
+#include <tuple>
 #include <utility>
 #include <unordered_map>
 #include <unordered_set>
 #include <vector>
 
+#include "spall/core/communicator.hpp"
+#include "spall/core/first_failure.hpp"
+#include "spall/core/id_deal.hpp"
 #include "spall/io/keyword/reader.hpp"
 
 namespace spall::io::keyword {
@@ -32,6 +39,49 @@ void require_unique(const Items& items, IdOf id_of, const char* keyword, const c
   }
 }
 
+// A card's ID with its ordinal and line, sent to the rank of the ID (parallel::rank_of_id) for a
+// join over the ranks when each holds a share of the cards (model::CardShare).
+struct CardId {
+  Id id;
+  Index ordinal;
+  Model::CardLine line;
+};
+
+// The cards' IDs, each to the rank of its ID, and every rank's for this one back, in order of ID and
+// then of the deck.
+template <class Items, class IdOf>
+std::vector<CardId> join_by_id(const Model& model, const Items& items, IdOf id_of) {
+  const parallel::Communicator& ranks = parallel::world();
+  std::vector<std::vector<CardId>> out(ranks.size());
+  for (std::size_t k = 0; k < items.size(); ++k) {
+    const Id id = id_of(items[k]);
+    out[parallel::rank_of_id(id, ranks.size())].push_back(
+        {id, model.cards.ordinal(static_cast<Index>(k)), model.card_line(items[k].where)});
+  }
+  std::vector<CardId> in = ranks.deliver(out);
+  std::sort(in.begin(), in.end(),
+            [](const CardId& a, const CardId& b) { return std::tie(a.id, a.ordinal) < std::tie(b.id, b.ordinal); });
+  return in;
+}
+
+// require_unique over every rank's share of the cards, whose IDs came to their ranks (join_by_id):
+// the first card in the deck's order whose ID an earlier card has, found at its ID's rank, stops
+// every rank.
+void require_unique_over_ranks(const Model& model, const std::vector<CardId>& ids, const char* keyword,
+                               const char* what) {
+  Index repeat = -1;
+  std::optional<InputError> error;
+  for (std::size_t k = 1; k < ids.size(); ++k) {
+    const bool second = ids[k].id == ids[k - 1].id && (k == 1 || ids[k - 2].id != ids[k].id);
+    if (!second || (repeat >= 0 && repeat < ids[k].ordinal)) continue;
+    repeat = ids[k].ordinal;
+    error = InputError(model.location(ids[k].line), keyword,
+                       std::string(what) + " " + std::to_string(ids[k].id) + " is defined twice (first at " +
+                           to_string(model.location(ids[k - 1].line)) + ")");
+  }
+  parallel::throw_first_failure(repeat, error, parallel::world());
+}
+
 const model::UnsupportedKeyword* find_unsupported(const Model& model, std::string_view prefix,
                                                   Id id) {
   for (const auto& keyword : model.unsupported)
@@ -42,21 +92,32 @@ const model::UnsupportedKeyword* find_unsupported(const Model& model, std::strin
 class Validator {
  public:
   explicit Validator(const Model& model) : model_(model) {
-    node_ids_.reserve(model.nodes.size());
-    for (const auto& node : model.nodes) node_ids_.insert(node.id);
+    if (model.cards.whole()) {
+      node_ids_.reserve(model.nodes.size());
+      for (const auto& node : model.nodes) node_ids_.insert(node.id);
+    } else {
+      find_named_nodes();
+      node_cards_ = join_by_id(model, model.nodes, [](const auto& n) { return n.id; });
+      particle_cards_ = join_by_id(model, model.sph_elements, [](const auto& e) { return e.nid; });
+    }
     for (const auto& part : model.parts) part_ids_.insert(part.id);
   }
 
   void run() {
     require_termination();
-    require_unique(model_.nodes, [](const auto& n) { return n.id; }, "*NODE", "node");
+    if (model_.cards.whole())
+      require_unique(model_.nodes, [](const auto& n) { return n.id; }, "*NODE", "node");
+    else
+      require_unique_over_ranks(model_, node_cards_, "*NODE", "node");
     require_unique(model_.parts, [](const auto& p) { return p.id; }, "*PART", "part");
     require_unique(model_.solid_elements, [](const auto& e) { return e.eid; }, "*ELEMENT_SOLID",
                    "element");
     require_unique(model_.shell_elements, [](const auto& e) { return e.eid; }, "*ELEMENT_SHELL",
                    "shell element");
-    require_unique(model_.sph_elements, [](const auto& e) { return e.nid; }, "*ELEMENT_SPH",
-                   "particle");
+    if (model_.cards.whole())
+      require_unique(model_.sph_elements, [](const auto& e) { return e.nid; }, "*ELEMENT_SPH", "particle");
+    else
+      require_unique_over_ranks(model_, particle_cards_, "*ELEMENT_SPH", "particle");
     check_ids_against_unsupported();
     // Before the particles they generate, so that a missing part is reported at the box.
     for (const auto& box : model_.sph_mesh_boxes)
@@ -125,15 +186,80 @@ class Validator {
                                " = " + std::to_string(element.n[k]) + " is not defined");
       first_shell_.try_emplace(element.pid, &element.where);
     }
+    if (!model_.cards.whole()) return check_particles_over_ranks();
     for (const auto& particle : model_.sph_elements) {
       require_part(particle.pid, particle.where, "*ELEMENT_SPH",
                    "particle " + std::to_string(particle.nid));
-      if (!node_ids_.contains(particle.nid))
-        throw InputError(particle.where, "*ELEMENT_SPH",
-                         "particle " + std::to_string(particle.nid) + ": node " +
-                             std::to_string(particle.nid) + " is not defined");
-      first_sph_.try_emplace(particle.pid, &particle.where);
+      if (!node_ids_.contains(particle.nid)) throw particle_without_node(particle.nid, particle.where);
+      first_sph_.try_emplace(particle.pid, particle.where);
     }
+  }
+
+  static InputError particle_without_node(Id nid, const SourceLocation& where) {
+    return InputError(where, "*ELEMENT_SPH",
+                      "particle " + std::to_string(nid) + ": node " + std::to_string(nid) + " is not defined");
+  }
+
+  // check_elements' particles where each rank holds a share of the cards: the part of each at its
+  // rank, the node of each at its node ID's rank (which every node card's ID went to), the first
+  // failure in the deck's order (a card's part before its node) stopping every rank; then each
+  // part's first particle over the ranks.
+  void check_particles_over_ranks() {
+    const parallel::Communicator& ranks = parallel::world();
+    const auto& particles = model_.sph_elements;
+    Index position = -1;
+    std::optional<InputError> error;
+    for (std::size_t k = 0; k < particles.size() && !error; ++k) {
+      try {
+        require_part(particles[k].pid, particles[k].where, "*ELEMENT_SPH",
+                     "particle " + std::to_string(particles[k].nid));
+      } catch (const InputError& e) {
+        error = e;
+        position = 2 * model_.cards.ordinal(static_cast<Index>(k));
+      }
+    }
+    auto node = node_cards_.begin();
+    for (const CardId& particle : particle_cards_) {
+      while (node != node_cards_.end() && node->id < particle.id) ++node;
+      if ((node != node_cards_.end() && node->id == particle.id) ||
+          (position >= 0 && position < 2 * particle.ordinal + 1))
+        continue;
+      position = 2 * particle.ordinal + 1;
+      error = particle_without_node(particle.id, model_.location(particle.line));
+    }
+    parallel::throw_first_failure(position, error, ranks);
+
+    struct First {
+      Index part;  // in model_.parts
+      Index ordinal;
+      Model::CardLine line;
+    };
+    std::vector<First> mine;
+    for (std::size_t k = 0; k < particles.size(); ++k) {
+      const auto part = std::find_if(model_.parts.begin(), model_.parts.end(),
+                                     [&](const model::Part& p) { return p.id == particles[k].pid; });
+      const Index p = part - model_.parts.begin();
+      if (std::none_of(mine.begin(), mine.end(), [&](const First& f) { return f.part == p; }))
+        mine.push_back({p, model_.cards.ordinal(static_cast<Index>(k)), model_.card_line(particles[k].where)});
+    }
+    std::vector<First> every = ranks.all(std::span<const First>(mine));
+    std::sort(every.begin(), every.end(),
+              [](const First& a, const First& b) { return std::tie(a.part, a.ordinal) < std::tie(b.part, b.ordinal); });
+    for (const First& f : every) first_sph_.try_emplace(model_.parts[f.part].id, model_.location(f.line));
+  }
+
+  // Where each rank holds a share of the node cards: which of the nodes that the other cards name
+  // (sets, constraints, motions, initial velocities), every one on every rank, some rank's cards
+  // define; node_ids_ holds those.
+  void find_named_nodes() {
+    const std::vector<Id> named = model_.named_nodes();
+    std::vector<std::int64_t> defined(named.size(), 0);
+    for (const auto& node : model_.nodes)
+      if (const auto it = std::lower_bound(named.begin(), named.end(), node.id); it != named.end() && *it == node.id)
+        defined[it - named.begin()] = 1;
+    parallel::world().sum(std::span(defined));
+    for (std::size_t k = 0; k < named.size(); ++k)
+      if (defined[k] > 0) node_ids_.insert(named[k]);
   }
 
   void require_part(Id pid, const SourceLocation& where, const char* keyword,
@@ -175,7 +301,7 @@ class Validator {
           it != first_sph_.end() && !std::holds_alternative<model::SectionSph>(section->second))
         throw InputError(part.where, "*PART",
                          "part " + std::to_string(part.id) + " has *ELEMENT_SPH particles (" +
-                             to_string(*it->second) + ") but its section " +
+                             to_string(it->second) + ") but its section " +
                              std::to_string(part.secid) + " is not a *SECTION_SPH");
       if (part.inertia && !model_.rigid_material(part))
         throw InputError(part.inertia->where, "*PART_INERTIA",
@@ -439,9 +565,12 @@ class Validator {
 
   const Model& model_;
   std::unordered_set<Id> node_ids_;
+  // Where each rank holds a share of the cards: the node and particle cards whose IDs this rank
+  // keeps in the joins by ID (join_by_id).
+  std::vector<CardId> node_cards_, particle_cards_;
   std::unordered_set<Id> part_ids_;
   std::unordered_map<Id, const SourceLocation*> first_solid_;  // part -> its first solid element
-  std::unordered_map<Id, const SourceLocation*> first_sph_;    // part -> its first particle
+  std::unordered_map<Id, SourceLocation> first_sph_;           // part -> its first particle
   std::unordered_map<Id, const SourceLocation*> first_shell_;  // part -> its first shell element
 };
 

@@ -1,0 +1,56 @@
+#pragma once
+// The set-up of a rank's block of the node order from every rank's share of the deck's node and
+// particle cards (model::CardShare), for a deck of SPH fluid alone under MPI (docs/SCALING.md §5
+// step 4 f1-f4): no rank holds every card or every node. The node order is the one-process run's
+// (the cells of the nodes' box, then the deck's order), found as a sort over the ranks; a node's
+// place is looked up at the rank of its ID, where every node card's ID and place went.
+#include <unordered_map>
+#include <vector>
+
+#include "spall/core/communicator.hpp"
+#include "spall/discretization/node_store.hpp"
+#include "spall/model/model.hpp"
+#include "spall/sph/fluid_setup.hpp"
+
+namespace spall::solver {
+
+// Refuses a node whose coordinates no double arithmetic of the run could take (InputError at its card).
+void check_node_position(const model::Node& node);
+// The edge of the cells whose order, with the deck's within a cell, is the node order: about 16
+// nodes a cell for a uniform cloud of `count` nodes in `box` (the order matters, the exact size not).
+Real node_order_cell(const BoundingBox& box, Index count);
+
+class NodesInBlocks {
+ public:
+  // This rank's block of the node order, [first_row(), first_row() + nodes.size()), as rows of
+  // `nodes`, from its share of the node cards (every card's share by CardShare{rank, ranks} where the
+  // model is whole). Collective; the first bad card in the deck's order stops every rank.
+  NodesInBlocks(const model::Model& model, discretization::NodeStore& nodes, const parallel::Communicator& ranks);
+
+  Index first_row() const { return first_row_; }
+  Index deck_nodes() const { return deck_nodes_; }
+
+  // The places of the nodes these IDs name, the same list on every rank: an ID no card gives is not
+  // in the map. Collective.
+  std::unordered_map<Id, Index> places_of(std::vector<Id> ids) const;
+
+  // The deck's particles on the nodes of this rank's block, in the deck's order (their cards are
+  // kept here), each with its node's row. Collective; a particle on no node or on a node that
+  // carries another stops every rank at the first such card in the deck's order.
+  std::vector<sph::FluidParticle> particles();
+
+ private:
+  struct Entry {  // a node card's ID, its place in the node order and its line
+    Id id;
+    Index place;
+    model::Model::CardLine line;
+  };
+  const model::Model& model_;
+  const parallel::Communicator& ranks_;
+  Index deck_nodes_ = 0;
+  Index first_row_ = 0;
+  std::vector<Entry> directory_;              // the node cards whose IDs this rank keeps, by ID
+  std::vector<model::ElementSph> particles_;  // the cards of particles()
+};
+
+}  // namespace spall::solver
