@@ -18,7 +18,8 @@
 # starts so, on 10 ranks with ranks whose block is empty), dealt by region (RCB), and its particles
 # migrate between the regions as they flow, a rank holding only the nodes near its region: with the regions fixed, the droplet passes from
 # rank to rank across every boundary, and on 10 ranks the particles of a rank all leave it, bit
-# for bit.
+# for bit. Every rank keeps a share of the deck's node and particle cards: a bad particle card whose
+# failure another rank finds stops every rank with exit 2 and the single process's line.
 # (test_mpi_solid: the solids; test_mpi_contact: contact and rigid bodies.)
 # Arguments, as CTest passes them: CLI SOURCE_DIR SHARED_DIR.
 set -euo pipefail
@@ -247,4 +248,26 @@ if [ -w /dev/full ]; then
   [ ! -e "$work/full_restart/runrsf" ] || fail "full disk (restart file): a restart file was left"
   grep -q '"status": "output_failed"' "$work/full_restart/run.json" || fail "full disk (restart file): run.json status"
 fi
+# Bad input in the cards each rank holds a share of (a particle card on a node the mesh box gives a
+# particle too: the repeat is the generated card, in a later chunk, found at its node ID's rank;
+# a particle on a node no card gives): every rank stops with exit 2 and the one process's line.
+bad_particle() { sed "s/^\*END/*ELEMENT_SPH\n$(printf '%8d%8d%16s' "$1" 1 -1.0e-9)\n*END/" "$work/d3.k"; }
+bad_particle 5000 >"$work/twice.k"
+bad_particle 999999 >"$work/nowhere.k"
+for bad in twice nowhere; do
+  code=0
+  "$cli" run "$work/$bad.k" -o "$work/$bad.serial" >/dev/null 2>"$work/$bad.serial.log" || code=$?
+  [ "$code" -eq 2 ] || { cat "$work/$bad.serial.log"; fail "$bad: one process: exit $code, expected 2"; }
+  line=$(grep '^error: ' "$work/$bad.serial.log")
+  for ranks in 2 3; do
+    code=0
+    timeout 120 mpirun -np "$ranks" "$cli" run "$work/$bad.k" -o "$work/$bad.np$ranks" >/dev/null \
+      2>"$work/$bad.np$ranks.log" || code=$?
+    [ "$code" -eq 2 ] || { cat "$work/$bad.np$ranks.log"; fail "$bad on $ranks ranks: exit $code, expected 2"; }
+    [ "$(grep '^error: ' "$work/$bad.np$ranks.log")" = "$line" ] ||
+      { cat "$work/$bad.np$ranks.log"; fail "$bad on $ranks ranks: not the one process's line: $line"; }
+  done
+done
+grep -q 'particle 5000 is defined twice' "$work/twice.serial.log" || fail "twice: $(cat "$work/twice.serial.log")"
+grep -q 'node 999999 is not defined' "$work/nowhere.serial.log" || fail "nowhere: $(cat "$work/nowhere.serial.log")"
 echo "mpi fluid: OK"
