@@ -130,7 +130,7 @@ NodesInBlocks::NodesInBlocks(const model::Model& model, discretization::NodeStor
   parallel::throw_first_failure(twice, error, ranks);
 }
 
-std::unordered_map<Id, Index> NodesInBlocks::places_of(std::vector<Id> ids) const {
+std::vector<std::pair<Id, Index>> NodesInBlocks::places_of(std::vector<Id> ids) const {
   std::sort(ids.begin(), ids.end());
   ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
   std::vector<std::pair<Id, Index>> found;
@@ -141,7 +141,8 @@ std::unordered_map<Id, Index> NodesInBlocks::places_of(std::vector<Id> ids) cons
     if (it != directory_.end() && it->id == id) found.emplace_back(id, it->place);
   }
   found = ranks_.all(std::span<const std::pair<Id, Index>>(found));
-  return {found.begin(), found.end()};
+  std::sort(found.begin(), found.end());
+  return found;
 }
 
 std::vector<sph::FluidParticle> NodesInBlocks::particles() {

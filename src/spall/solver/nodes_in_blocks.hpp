@@ -4,7 +4,7 @@
 // step 4 f1-f4): no rank holds every card or every node. The node order is the one-process run's
 // (the cells of the nodes' box, then the deck's order), found as a sort over the ranks; a node's
 // place is looked up at the rank of its ID, where every node card's ID and place went.
-#include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include "spall/core/communicator.hpp"
@@ -30,9 +30,9 @@ class NodesInBlocks {
   Index first_row() const { return first_row_; }
   Index deck_nodes() const { return deck_nodes_; }
 
-  // The places of the nodes these IDs name, the same list on every rank: an ID no card gives is not
-  // in the map. Collective.
-  std::unordered_map<Id, Index> places_of(std::vector<Id> ids) const;
+  // The (ID, place) of the nodes these IDs name, ascending by ID, the same list on every rank: an
+  // ID no card gives is not in it. Collective.
+  std::vector<std::pair<Id, Index>> places_of(std::vector<Id> ids) const;
 
   // The deck's particles on the nodes of this rank's block, in the deck's order (their cards are
   // kept here), each with its node's row. Collective; a particle on no node or on a node that

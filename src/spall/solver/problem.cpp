@@ -78,7 +78,9 @@ class Builder {
   Index node_index(Id id, const SourceLocation& where, const char* keyword) const {
     const Index* it = in_blocks_ ? nullptr : index_of_node_.find(id);
     if (in_blocks_)
-      if (const auto named = named_.find(id); named != named_.end()) it = &named->second;
+      if (const auto named = std::lower_bound(named_.begin(), named_.end(), std::pair(id, Index(-1)));
+          named != named_.end() && named->first == id)
+        it = &named->second;
     if (!it) fail_at(where, keyword, fmt::format("node {} does not exist", id));
     return *it;
   }
@@ -601,7 +603,7 @@ class Builder {
   discretization::NodeIndex index_of_node_;  // node ID -> place in the node order (set up whole)
   std::vector<Index> model_node_;            // place in the node order -> index in model_.nodes (set up whole)
   std::optional<NodesInBlocks> blocks_;      // set up in blocks: this rank's block of the node order
-  std::unordered_map<Id, Index> named_;      // set up in blocks: the nodes other cards name -> place
+  std::vector<std::pair<Id, Index>> named_;  // set up in blocks: (ID, place) of the nodes other cards name
   Index deck_nodes_ = 0;                     // every node of the deck
   Index first_row_ = 0;                      // the place in the node order of this rank's first row
 };

@@ -94,7 +94,8 @@ class Validator {
   explicit Validator(const Model& model) : model_(model) {
     if (model.cards.whole()) {
       node_ids_.reserve(model.nodes.size());
-      for (const auto& node : model.nodes) node_ids_.insert(node.id);
+      for (const auto& node : model.nodes) node_ids_.push_back(node.id);
+      std::sort(node_ids_.begin(), node_ids_.end());
     } else {
       find_named_nodes();
       node_cards_ = join_by_id(model, model.nodes, [](const auto& n) { return n.id; });
@@ -170,7 +171,7 @@ class Validator {
       require_part(element.pid, element.where, "*ELEMENT_SOLID",
                    "element " + std::to_string(element.eid));
       for (int k = 0; k < 8; ++k)
-        if (!node_ids_.contains(element.n[k]))
+        if (!node_defined(element.n[k]))
           throw InputError(element.where, "*ELEMENT_SOLID",
                            "element " + std::to_string(element.eid) + ": node N" +
                                std::to_string(k + 1) + " = " + std::to_string(element.n[k]) +
@@ -180,7 +181,7 @@ class Validator {
     for (const auto& element : model_.shell_elements) {
       require_part(element.pid, element.where, "*ELEMENT_SHELL", "shell element " + std::to_string(element.eid));
       for (int k = 0; k < 4; ++k)
-        if (!node_ids_.contains(element.n[k]))
+        if (!node_defined(element.n[k]))
           throw InputError(element.where, "*ELEMENT_SHELL",
                            "shell element " + std::to_string(element.eid) + ": node N" + std::to_string(k + 1) +
                                " = " + std::to_string(element.n[k]) + " is not defined");
@@ -190,7 +191,7 @@ class Validator {
     for (const auto& particle : model_.sph_elements) {
       require_part(particle.pid, particle.where, "*ELEMENT_SPH",
                    "particle " + std::to_string(particle.nid));
-      if (!node_ids_.contains(particle.nid)) throw particle_without_node(particle.nid, particle.where);
+      if (!node_defined(particle.nid)) throw particle_without_node(particle.nid, particle.where);
       first_sph_.try_emplace(particle.pid, particle.where);
     }
   }
@@ -259,7 +260,7 @@ class Validator {
         defined[it - named.begin()] = 1;
     parallel::world().sum(std::span(defined));
     for (std::size_t k = 0; k < named.size(); ++k)
-      if (defined[k] > 0) node_ids_.insert(named[k]);
+      if (defined[k] > 0) node_ids_.push_back(named[k]);
   }
 
   void require_part(Id pid, const SourceLocation& where, const char* keyword,
@@ -387,7 +388,7 @@ class Validator {
   void check_sets() const {
     for (const auto& [id, set] : model_.node_sets)
       for (Id nid : set.nodes)
-        if (!node_ids_.contains(nid))
+        if (!node_defined(nid))
           throw InputError(set.where, "*SET_NODE_LIST",
                            "node set " + std::to_string(id) + ": node " + std::to_string(nid) +
                                " is not defined");
@@ -401,7 +402,7 @@ class Validator {
     for (const auto& [id, set] : model_.segment_sets)
       for (const auto& segment : set.segments)
         for (Id nid : segment)
-          if (!node_ids_.contains(nid))
+          if (!node_defined(nid))
             throw InputError(set.where, "*SET_SEGMENT",
                              "segment set " + std::to_string(id) + ": node " + std::to_string(nid) +
                                  " is not defined");
@@ -439,7 +440,7 @@ class Validator {
   }
   bool target_exists(model::Target target, Id id) const {
     switch (target) {
-      case model::Target::node: return node_ids_.contains(id);
+      case model::Target::node: return node_defined(id);
       case model::Target::node_set: return model_.node_sets.contains(id);
       case model::Target::part: return part_ids_.contains(id);
       case model::Target::part_set: return model_.part_sets.contains(id);
@@ -481,7 +482,7 @@ class Validator {
                 "node set", velocity.nsidex);
     }
     for (const auto& velocity : model_.initial_velocity_nodes)
-      require(node_ids_.contains(velocity.nid), velocity.where, "*INITIAL_VELOCITY_NODE", "node",
+      require(node_defined(velocity.nid), velocity.where, "*INITIAL_VELOCITY_NODE", "node",
               velocity.nid);
     for (const auto& generation : model_.initial_velocity_generations) {
       const model::Target target = generation.styp == 1   ? model::Target::part_set
@@ -564,7 +565,10 @@ class Validator {
   }
 
   const Model& model_;
-  std::unordered_set<Id> node_ids_;
+  // The deck's node IDs, ascending (8 B a node), or where each rank holds a share of the cards
+  // those of the named nodes (find_named_nodes).
+  std::vector<Id> node_ids_;
+  bool node_defined(Id id) const { return std::binary_search(node_ids_.begin(), node_ids_.end(), id); }
   // Where each rank holds a share of the cards: the node and particle cards whose IDs this rank
   // keeps in the joins by ID (join_by_id).
   std::vector<CardId> node_cards_, particle_cards_;
