@@ -76,13 +76,15 @@ class Builder {
 
   // The node's place in the node order (its row when the set-up is whole).
   Index node_index(Id id, const SourceLocation& where, const char* keyword) const {
-    const Index* it = in_blocks_ ? nullptr : index_of_node_.find(id);
-    if (in_blocks_)
-      if (const auto named = std::lower_bound(named_.begin(), named_.end(), std::pair(id, Index(-1)));
-          named != named_.end() && named->first == id)
-        it = &named->second;
-    if (!it) fail_at(where, keyword, fmt::format("node {} does not exist", id));
-    return *it;
+    const Index* place = nullptr;
+    if (!in_blocks_) {
+      place = index_of_node_.find(id);
+    } else if (const auto named = std::lower_bound(named_.begin(), named_.end(), std::pair(id, Index(-1)));
+               named != named_.end() && named->first == id) {
+      place = &named->second;
+    }
+    if (!place) fail_at(where, keyword, fmt::format("node {} does not exist", id));
+    return *place;
   }
 
   const model::Curve* curve(Id id, const SourceLocation& where, const char* keyword,
