@@ -163,8 +163,14 @@ int run_deck(const RunOptions& options) {
                        : options.output_dir.empty() ? fs::current_path() / (fs::path(deck).stem().string() + ".out")
                                                     : fs::path(options.output_dir);
   if (writes) {
-    fs::create_directories(out);
-    if (!restart) copy_deck(model, deck, out);
+    // A folder that cannot be made (a path through a file, no permission, a full disk) is the
+    // user's output error, not Spall's: exit 4 with the reason, the job ended at once.
+    try {
+      fs::create_directories(out);
+      if (!restart) copy_deck(model, deck, out);
+    } catch (const fs::filesystem_error& e) {
+      throw OutputError(fmt::format("cannot write the output folder {}: {}", out.string(), e.code().message()));
+    }
   }
 
   const long long nodes = moving_node_count(problem);

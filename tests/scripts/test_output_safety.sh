@@ -63,4 +63,11 @@ if [ -w /dev/full ]; then
 else
   echo "no /dev/full on this machine: the full-disk case is not tested"
 fi
+# An output folder that cannot be made (its path runs through a file): one line naming the folder
+# and the reason, exit 4, as for any output that cannot be written (not an internal error).
+code=0
+"$cli" run "$work/bar.k" -o "$work/bar.k/out" --threads 1 2>"$work/folder.log" || code=$?
+[ "$code" -eq 4 ] || { cat "$work/folder.log"; fail "an output folder under a file: exit $code, expected 4"; }
+grep -q "cannot write the output folder .*bar.k/out: Not a directory" "$work/folder.log" ||
+  { cat "$work/folder.log"; fail "an output folder under a file: the message"; }
 echo "output safety tests passed"

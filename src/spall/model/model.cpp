@@ -20,18 +20,24 @@ void Model::release_mesh() {
 
 namespace {
 
-// Every rank's held cards, in the deck's order: rank r's k-th card is the card of ordinal
-// cards.ordinal(k, r).
+// Every rank's held cards, in the deck's order, gathered in place: the cards of chunks
+// [j ranks, (j + 1) ranks) lie one after the other in the deck's order, rank r's at the r-th, so
+// each such round is one MPI_Allgatherv into the whole (the whole and a rank's share held at once,
+// not the whole twice).
 template <typename Card>
 void gather(std::vector<Card>& held, const CardShare& cards, Index count) {
   const parallel::Communicator& ranks = parallel::world();
-  const std::vector<Index> counts = ranks.each(static_cast<Index>(held.size()));
-  std::vector<Card> every = ranks.all(std::span<const Card>(held));
-  std::vector<Card>().swap(held);
-  held.resize(count);
-  Index from = 0;
-  for (int r = 0; r < cards.ranks; ++r)
-    for (Index k = 0; k < counts[r]; ++k) held[cards.ordinal(k, r)] = every[from++];
+  const Index chunk = CardShare::chunk, round = chunk * cards.ranks;
+  std::vector<Card> whole(count);
+  std::vector<Index> offsets(cards.ranks + 1);
+  for (Index first = 0, j = 0; first < count; first += round, ++j) {
+    const Index length = std::min(round, count - first);
+    for (int r = 0; r <= cards.ranks; ++r) offsets[r] = std::min(r * chunk, length);
+    const Index mine = std::min(chunk, static_cast<Index>(held.size()) - j * chunk);
+    if (mine > 0) std::copy_n(held.begin() + j * chunk, mine, whole.begin() + first + offsets[cards.rank]);
+    ranks.share(std::span<Card>(whole.data() + first, length), offsets);
+  }
+  held.swap(whole);
 }
 
 }  // namespace
