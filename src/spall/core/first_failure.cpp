@@ -1,22 +1,26 @@
 #include "spall/core/first_failure.hpp"
 
+#include <cmath>
+#include <limits>
 #include <span>
 #include <string>
 #include <vector>
 
 namespace spall::parallel {
 
-void throw_first_failure(Index position, const std::optional<InputError>& error, const Communicator& ranks) {
+void throw_first_failure(std::int64_t position, const std::optional<InputError>& error, const Communicator& ranks) {
   if (ranks.size() == 1) {
     if (error) throw *error;
     return;
   }
-  const Index first = ranks.lowest(position);
-  if (first < 0) return;
+  // The lowest position over the ranks, exact as a double below 2^53.
+  double first = position < 0 ? std::numeric_limits<double>::infinity() : static_cast<double>(position);
+  ranks.minimum({&first, 1});
+  if (!std::isfinite(first)) return;
   // The failing rank's error as text (its file's name rather than its number in this process's
   // table), four lines, to every rank.
   std::string mine;
-  if (position == first && error) {
+  if (static_cast<double>(position) == first && error) {
     mine = error->where().file.str() + '\n' + std::to_string(error->where().line) + '\n' + error->keyword() + '\n' +
            (error->keyword().empty() ? std::string(error->what()) : error->message());
   }

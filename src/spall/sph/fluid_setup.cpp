@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <fmt/format.h>
 #include <optional>
 #include <span>
@@ -91,10 +92,11 @@ std::unique_ptr<FluidFormulation> build_fluid(const model::Model& model,
             fmt::format("START {:g} / DT {:g}: the SPH fluid has no start or death time", c->start, c->dt));
   // The first failure in the deck's order, at a particle's card: there its plane (0), then its part's
   // set-up when it is the part's first particle (1), then its mass (2).
-  Index position = -1;
+  std::int64_t position = -1;
   std::optional<InputError> error;
   const auto fail = [&](Index ordinal, int what, const InputError& e) {
-    if (const Index at = 3 * ordinal + what; position < 0 || at < position) position = at, error = e;
+    const std::int64_t at = 3 * std::int64_t(ordinal) + what;
+    if (position < 0 || at < position) position = at, error = e;
   };
 
   // The parts in the order of their first particles (over the ranks), each set up there.

@@ -208,7 +208,7 @@ class Validator {
   void check_particles_over_ranks() {
     const parallel::Communicator& ranks = parallel::world();
     const auto& particles = model_.sph_elements;
-    Index position = -1;
+    std::int64_t position = -1;  // 2 ordinal, + 1 for the node
     std::optional<InputError> error;
     for (std::size_t k = 0; k < particles.size() && !error; ++k) {
       try {
@@ -216,16 +216,16 @@ class Validator {
                      "particle " + std::to_string(particles[k].nid));
       } catch (const InputError& e) {
         error = e;
-        position = 2 * model_.cards.ordinal(static_cast<Index>(k));
+        position = 2 * std::int64_t(model_.cards.ordinal(static_cast<Index>(k)));
       }
     }
     auto node = node_cards_.begin();
     for (const CardId& particle : particle_cards_) {
       while (node != node_cards_.end() && node->id < particle.id) ++node;
       if ((node != node_cards_.end() && node->id == particle.id) ||
-          (position >= 0 && position < 2 * particle.ordinal + 1))
+          (position >= 0 && position < 2 * std::int64_t(particle.ordinal) + 1))
         continue;
-      position = 2 * particle.ordinal + 1;
+      position = 2 * std::int64_t(particle.ordinal) + 1;
       error = particle_without_node(particle.id, model_.location(particle.line));
     }
     parallel::throw_first_failure(position, error, ranks);
