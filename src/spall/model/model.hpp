@@ -642,10 +642,9 @@ struct CardShare {
 
   bool whole() const { return ranks == 1; }
   bool holds(Index ordinal) const { return (ordinal / chunk) % ranks == rank; }
-  // The ordinal of the card held at `held` among this rank's cards.
-  Index ordinal(Index held) const { return ((held / chunk) * ranks + rank) * chunk + held % chunk; }
-  // The ordinal of the card rank `of` holds at `held`.
+  // The ordinal of the card rank `of` holds at `held` among its cards (this rank's by default).
   Index ordinal(Index held, int of) const { return ((held / chunk) * ranks + of) * chunk + held % chunk; }
+  Index ordinal(Index held) const { return ordinal(held, rank); }
 };
 
 struct Model {

@@ -25,6 +25,14 @@ namespace {
 using model::Model;
 
 
+// A card whose ID an earlier card (at `first`) has, reported at the repeat.
+InputError defined_twice(const SourceLocation& repeat, const char* keyword, const char* what, Id id,
+                         const SourceLocation& first) {
+  return InputError(repeat, keyword,
+                    std::string(what) + " " + std::to_string(id) + " is defined twice (first at " + to_string(first) +
+                        ")");
+}
+
 // The first item whose ID repeats an earlier one, reported at the repeat.
 template <class Items, class IdOf>
 void require_unique(const Items& items, IdOf id_of, const char* keyword, const char* what) {
@@ -32,10 +40,7 @@ void require_unique(const Items& items, IdOf id_of, const char* keyword, const c
   seen.reserve(items.size());
   for (const auto& item : items) {
     auto [it, inserted] = seen.try_emplace(id_of(item), &item.where);
-    if (!inserted)
-      throw InputError(item.where, keyword,
-                       std::string(what) + " " + std::to_string(id_of(item)) +
-                           " is defined twice (first at " + to_string(*it->second) + ")");
+    if (!inserted) throw defined_twice(item.where, keyword, what, id_of(item), *it->second);
   }
 }
 
@@ -75,9 +80,7 @@ void require_unique_over_ranks(const Model& model, const std::vector<CardId>& id
     const bool second = ids[k].id == ids[k - 1].id && (k == 1 || ids[k - 2].id != ids[k].id);
     if (!second || (repeat >= 0 && repeat < ids[k].ordinal)) continue;
     repeat = ids[k].ordinal;
-    error = InputError(model.location(ids[k].line), keyword,
-                       std::string(what) + " " + std::to_string(ids[k].id) + " is defined twice (first at " +
-                           to_string(model.location(ids[k - 1].line)) + ")");
+    error = defined_twice(model.location(ids[k].line), keyword, what, ids[k].id, model.location(ids[k - 1].line));
   }
   parallel::throw_first_failure(repeat, error, parallel::world());
 }
