@@ -31,17 +31,30 @@ ResidualStressReport::ResidualStressReport(const std::filesystem::path& path,
                                            const sph::SolidFormulation& solid,
                                            const model::SphResidualStress& options,
                                            std::optional<std::uint64_t> resume_at)
-    : solid_(solid),
-      criterion_{options.yield_fraction, options.strain_rate},
-      csv_(resume_at ? io::output::CsvHistory(path, columns(), *resume_at) : io::output::CsvHistory(path, columns())) {}
+    : ResidualStressReport(solid, options) {
+  csv_.emplace(resume_at ? io::output::CsvHistory(path, columns(), *resume_at) : io::output::CsvHistory(path, columns()));
+}
+
+ResidualStressReport::ResidualStressReport(const sph::SolidFormulation& solid, const model::SphResidualStress& options)
+    : solid_(solid), criterion_{options.yield_fraction, options.strain_rate}, at_output_(options.at_output == 1) {}
+
+void ResidualStressReport::at_field_output(double time) {
+  if (at_output_) write(time);
+}
+
+std::string ResidualStressReport::finish(double end_time) {
+  if (!at_output_) write(end_time);
+  return summary();
+}
 
 void ResidualStressReport::write(double time) {
   last_ = solid_.residual_stress(criterion_);
+  if (!csv_) return;
   for (const auto& r : last_) {
     const double row[] = {time, static_cast<double>(r.part), static_cast<double>(r.category),
                           static_cast<double>(r.particles), r.von_mises_max, r.von_mises_mean,
                           r.von_mises_p95, static_cast<double>(r.residual)};
-    csv_.append(row);
+    csv_->append(row);
   }
 }
 

@@ -48,15 +48,14 @@ RunOutputs::RunOutputs(const fs::path& out, const solver::Problem& problem, cons
 
 void RunOutputs::write_fields(const solver::StepInfo& step, const solver::Problem& p) {
   fields_.write(step, p);
-  if (residual_ && residual_options_.at_output == 1) residual_->write(step.time);
+  if (residual_) residual_->at_field_output(step.time);
 }
 
 fs::path RunOutputs::last_field_file() const { return fields_.last_file(); }
 
 std::optional<std::string> RunOutputs::finish(double end_time) {
   if (!residual_) return std::nullopt;
-  if (residual_options_.at_output != 1) residual_->write(end_time);
-  return residual_->summary();
+  return residual_->finish(end_time);
 }
 
 solver::Observer RunOutputs::observer() {

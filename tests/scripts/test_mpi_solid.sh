@@ -23,6 +23,7 @@
 #    hexahedral ends (ELFORM 2, eight points an element, interface nodes shared with SPG), and a bar
 #    of one-point hexahedra (ELFORM 1, hourglass control) that erode (*MAT_ADD_EROSION at 20 %
 #    effective strain: about half the mass) while DT2MS adds mass.
+# A particle whose neighbourhood collapses stops every rank with the single process's message.
 # The Taylor bar, the KERNEL 1 SPG bar and the eroding bar run once more with the nodes dealt out
 # anew every 5 steps (the load balancing, forced): still bit for bit.
 # Rank 0 writes the restart files with the whole state: the Taylor bar's and the eroding bar's
@@ -122,6 +123,28 @@ tail -n 1 "$work/eroding.serial/glstat.csv" | awk -F, '{ exit !($10 > 1e-4 && $1
   fail "the eroding bar: eroded and added mass $(tail -n 1 "$work/eroding.serial/glstat.csv")"
 same_on_ranks "$work/fem_ends.k" "$work/fem_ends.serial" "2 1" "3 2"
 same_on_ranks "$work/eroding.k" "$work/eroding.serial" "2 1" "3 1" "2 2" "3 1 rebalanced"
+
+# A particle whose neighbourhood collapses (test_cli.sh's treated ductile block at 1.7 x the stable
+# factor): every rank stops with exit 3 and the single process's line, the particle's density and h
+# from the rank that computes it.
+python3 "$source_dir/tools/make_compression_deck.py" --scene ductile --across 8 --treat 1 |
+  sed 's/^       0.0       0.9$/       0.0       1.7/' >"$work/collapse.k"
+collapse_line() { grep -E "numerical instability at step [0-9]+, time .*: SPH solid: node [0-9]+ has density" "$1"; }
+set +e
+"$cli" run "$work/collapse.k" -o "$work/collapse.serial" --threads 1 >"$work/collapse.log" 2>&1
+code=$?
+set -e
+[ "$code" -eq 3 ] && collapse_line "$work/collapse.log" >/dev/null || { cat "$work/collapse.log"; fail "collapse: exit $code"; }
+for ranks in 2 3; do
+  set +e
+  timeout 300 mpirun -np $ranks "$cli" run "$work/collapse.k" -o "$work/collapse.np$ranks" --threads 1 \
+    >"$work/collapse.np$ranks.log" 2>&1
+  code=$?
+  set -e
+  [ "$code" -eq 3 ] || { tail -20 "$work/collapse.np$ranks.log"; fail "collapse on $ranks ranks: exit $code"; }
+  [ "$(collapse_line "$work/collapse.np$ranks.log" | sort -u)" = "$(collapse_line "$work/collapse.log")" ] ||
+    fail "collapse on $ranks ranks: $(collapse_line "$work/collapse.np$ranks.log") against $(collapse_line "$work/collapse.log")"
+done
 
 # The 2-rank runs' last restart files (rank 0 wrote them), continued on one process.
 for deck in taylor eroding; do

@@ -70,6 +70,10 @@ class Formulation {
   // state is whole on rank 0, which writes (dealt by region, where a rank holds rows of its own,
   // each rank's own state goes to it in pieces instead: core/pieces.hpp).
   virtual void complete_state(NodeStore& /*nodes*/) {}
+  // Under MPI with nodes dealt in blocks, on every rank before the fields and reports are written:
+  // brings in what they read beyond a rank's own nodes; all that a checkpoint needs unless the
+  // formulation writes its own nodes' alone.
+  virtual void complete_for_output(NodeStore& nodes) { complete_state(nodes); }
   // Writes (or reads back) everything the formulation carries from one step to the next, so that a
   // run continued from a checkpoint is bitwise the uninterrupted one (core/archive.hpp). Under MPI
   // every rank calls it, rank 0 with the archive it writes (collective); `nodes` were checkpointed

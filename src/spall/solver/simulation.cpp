@@ -461,9 +461,12 @@ class TimeLoop::Step {
     const Real tolerance = 1e-9 * controls_.end_time;
     const bool fields_due =
         field_output_.enabled() ? field_output_.due(step_.time, tolerance, stop) : step_.step == 0 || stop;
-    // Under MPI the state whole on every rank first: rank 0's reports (the residual stress) read
-    // every particle's. By region (a fluid alone) each rank writes its own particles from its rows.
-    if (fields_due && parallel::world().size() > 1 && !nodes_.by_region()) complete_state();
+    // Under MPI in blocks, what the fields and reports read beyond a rank's own nodes first. By
+    // region (a fluid alone) each rank writes its own particles from its rows.
+    if (fields_due && parallel::world().size() > 1 && !nodes_.by_region()) {
+      for (auto& f : problem_.formulations) f->complete_for_output(nodes_);
+      for (auto& wall : problem_.rigid_walls) wall.complete_state();
+    }
     if (fields_due && observer_.on_field_output) observer_.on_field_output(step_, problem_);
     if (history_.due(step_.time, tolerance, stop) && observer_.on_history) observer_.on_history(step_, ledger_);
     if (!problem_.rigid_walls.empty() && rwforc_.due(step_.time, tolerance, stop) && observer_.on_rigid_wall_forces)

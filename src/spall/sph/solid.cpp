@@ -971,14 +971,19 @@ bool SolidFormulation::sound(Index a) const {
 }
 
 void SolidFormulation::check_state(const discretization::NodeStore& nodes, Index first_unsound) const {
-  if (first_unsound < particle_count()) {
-    const Index a = first_unsound;
-    throw InstabilityError(fmt::format(
-        "SPH solid: node {} has density {:.6g} and smoothing length {:.6g}: its particle's "
-        "neighbourhood has collapsed or torn apart (a smaller TSSFAC, or the artificial stress "
-        "against the tensile instability, may help)",
-        nodes.id[node_[a]], density_[a], smoothing_length(a)));
-  }
+  if (first_unsound >= particle_count()) return;
+  // Under MPI the particle's state is current on its own rank alone, which tells every rank.
+  struct Unsound {
+    double density, h;
+  };
+  const Index a = first_unsound;
+  const Unsound mine{density_[a], smoothing_length(a)};
+  const Unsound found = parallel::world().all(std::span<const Unsound>(&mine, owns(a) ? 1 : 0)).at(0);
+  throw InstabilityError(fmt::format(
+      "SPH solid: node {} has density {:.6g} and smoothing length {:.6g}: its particle's "
+      "neighbourhood has collapsed or torn apart (a smaller TSSFAC, or the artificial stress "
+      "against the tensile instability, may help)",
+      nodes.id[node_[a]], found.density, found.h));
 }
 
 void SolidFormulation::share_updated_state() {
@@ -1000,6 +1005,36 @@ void SolidFormulation::complete() {
          stress_, plain_stress_, artificial_stress_, exported_deviator_, strain_rate_squared_, gradient_amplification_,
          colour_, colour_normal_, support_count_, category_);
   complete_ = true;
+}
+
+namespace {
+// A particle's node's position and velocity as they travel between the ranks.
+struct Kinematics {
+  Vec3 x, v;
+};
+}  // namespace
+
+// The rows this rank computes now are searched from every particle's position and reach at the last
+// build (the list one process has), and the particles they read come in from the ranks that
+// computed them in the old deal, with their whole state (what complete() shares) and their nodes'
+// positions and velocities: a particle's state travels to the ranks that need it, no further.
+void SolidFormulation::deal_anew(discretization::NodeStore& nodes) {
+  const discretization::ParticleShare dealt_before = share_;
+  complete_list();
+  share_.bind(nodes);
+  verlet_.search_every_row(list_reach_);
+  choose_force_blocks(nodes);
+  plan_reach(nodes);
+  discretization::ReachShare arrivals;
+  arrivals.plan(current_, node_, dealt_before, nodes);
+  arrivals(volume_, sound_speed_, density_, smoothing_length_, pressure_, internal_energy_, state_, back_stress_,
+           stress_, plain_stress_, artificial_stress_, exported_deviator_, strain_rate_squared_,
+           gradient_amplification_, colour_, colour_normal_, support_count_, category_);
+  arrivals.records<Kinematics>([&](Index a) { return Kinematics{nodes.x[node_[a]], nodes.v[node_[a]]}; },
+                               [&](Index a, const Kinematics& k) {
+                                 nodes.x[node_[a]] = k.x;
+                                 nodes.v[node_[a]] = k.v;
+                               });
 }
 
 void SolidFormulation::complete_state(discretization::NodeStore& nodes) {
@@ -1177,12 +1212,7 @@ void SolidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt)
     return;
   }
   const bool distributed = parallel::world().size() > 1;
-  // Nodes dealt anew: the state is brought in from the ranks it is current on, the old blocks'.
-  if (distributed && share_.stale(nodes)) {
-    if (!complete_) complete();
-    complete_kinematics(nodes);
-    complete_list();
-  }
+  if (distributed && share_.stale(nodes)) deal_anew(nodes);
   share_.bind(nodes);
   // Nodes dealt anew: this rank computes other rows, which the last build may not have searched.
   if (distributed && reach_partition_ != nodes.partition) verlet_.search_every_row(list_reach_);
@@ -1214,10 +1244,6 @@ void SolidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt)
   volume_.swap(updated_volume_);
   sound_speed_.swap(updated_sound_speed_);
   ++step_;
-  if (first_unsound < n) {  // every rank names the particle's own state
-    if (!complete_) complete();
-    complete_kinematics(nodes);
-  }
   check_state(nodes, first_unsound);
   with_discretization([&](auto kernel, auto corrected) { compute_pair_forces<decltype(kernel), corrected>(); });
   // h follows the density only now, so that both pair passes of a step use one kernel: the force
@@ -1231,7 +1257,7 @@ void SolidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt)
       n, Found{},
       [&](Found& found, Index a) {
         // h on every particle this rank's rows read: under MPI the others' follow the densities
-        // that came in (the rest come in with complete()).
+        // that came in (the rest come in when the rows read them, search_near_rows, deal_anew).
         if (dt > 0 && current(a)) {
           const Real compression = materials_[material_[a]].density / density_[a];
           const Real scale = options_.dimension == 3 ? cube_root(compression) : std::sqrt(compression);

@@ -153,6 +153,8 @@ class SolidFormulation final : public discretization::Formulation {
   discretization::InternalPower internal_power(std::span<const Vec3> v) const;
   Real max_wave_speed() const override;
   void complete_state(discretization::NodeStore& nodes) override;
+  // The fields and the residual-stress report read a rank's own particles alone.
+  void complete_for_output(discretization::NodeStore& /*nodes*/) override {}
   // Under MPI with velocities by reach (NodeStore::velocities_by_reach): v^{n+1/2} of the other
   // ranks' particles this rank's rows read (reach_), from their ranks.
   void share_state(discretization::NodeStore& nodes) override;
@@ -232,17 +234,21 @@ class SolidFormulation final : public discretization::Formulation {
   // Which of the other ranks' particles this rank's rows read (plan_reach): the neighbours of its
   // own particles and of the force blocks it runs. At each list build and each new deal.
   void plan_reach(const discretization::NodeStore& nodes);
-  // Every rank's whole state of its own particles in (share_, to every rank): before the list is
-  // built, before the nodes are dealt anew, before a checkpoint or a field output, and before a
-  // particle's failure is reported, so that every rank sees every particle alike there.
+  // Every rank's whole state of its own particles in (share_, to every rank): before a checkpoint,
+  // which rank 0 writes whole. Nothing else reads the state of another rank's particle beyond what
+  // the halo brings in (the fields, the residual-stress report and a failure report are each rank's
+  // own particles'; a new deal brings in what the new rows read, deal_anew).
   void complete();
   // Every rank's positions and velocities of its own particles in (share_), where the halo brought
-  // in only those its rows read: before the list is built, before the nodes are dealt anew and
-  // before a checkpoint, a field output or a failure report.
+  // in only those its rows read: before a checkpoint, and before every row is searched when the
+  // force blocks outgrow the rows a rank searched (update_neighbour_list).
   void complete_kinematics(discretization::NodeStore& nodes);
   // Which force blocks this rank runs (ForceBlocks: each block by one rank): at each list build
   // and each new deal. All when the run is one process.
   void choose_force_blocks(const discretization::NodeStore& nodes);
+  // Under MPI, the nodes dealt anew (load balance): this rank's new rows, and the state they read
+  // from the ranks that computed it before (collective).
+  void deal_anew(discretization::NodeStore& nodes);
 
   std::vector<materials::Material> materials_;
   SolidOptions options_;
