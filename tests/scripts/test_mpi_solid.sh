@@ -25,9 +25,11 @@
 #    effective strain: about half the mass) while DT2MS adds mass.
 # A particle whose neighbourhood collapses stops every rank with the single process's message.
 # The Taylor bar, the KERNEL 1 SPG bar and the eroding bar run once more with the nodes dealt out
-# anew every 5 steps (the load balancing, forced): still bit for bit.
-# Rank 0 writes the restart files with the whole state: the Taylor bar's and the eroding bar's
-# 2-rank runrsf, continued on one process, end as the uninterrupted runs.
+# anew every 5 steps (the load balancing, forced), and the Taylor bar on 2 ranks writing a restart
+# file at every step: still bit for bit.
+# The restart files (each SPH particle's state written by its own rank, the rest by rank 0): the
+# Taylor bar's and the eroding bar's 2-rank runrsf continued on one process, the Taylor bar's 3-rank
+# one on 2 ranks and its 1-process one on 3, end as the uninterrupted runs.
 # Arguments, as CTest passes them: CLI SOURCE_DIR SHARED_DIR.
 set -euo pipefail
 cli=$1
@@ -48,7 +50,7 @@ run_serial compression 100
 [ -s "$work/taylor.serial/rwforc.csv" ] || fail "the Taylor bar wrote no rwforc.csv"
 awk -F, 'NR > 1 && $2 == 2 && $3 + 0 > 0 { pushed = 1 } END { exit !pushed }' "$work/compression.serial/rwforc.csv" ||
   fail "the moving wall did not push: $(tail -n 1 "$work/compression.serial/rwforc.csv")"
-same_on_ranks "$work/taylor.k" "$work/taylor.serial" "2 1" "3 1" "4 1" "2 2" "3 1 rebalanced"
+same_on_ranks "$work/taylor.k" "$work/taylor.serial" "2 1" "3 1" "4 1" "2 2" "3 1 rebalanced" "2 1 checkpointed"
 same_on_ranks "$work/spall.k" "$work/spall.serial" "2 1" "3 2"
 same_on_ranks "$work/compression.k" "$work/compression.serial" "2 1" "3 1 rebalanced"
 # The skimmer: the layer (3 x 3 x 30 particles, 1 mm apart, soft elastic) and the 2 x 2 x 2 block
@@ -146,9 +148,13 @@ for ranks in 2 3; do
     fail "collapse on $ranks ranks: $(collapse_line "$work/collapse.np$ranks.log") against $(collapse_line "$work/collapse.log")"
 done
 
-# The 2-rank runs' last restart files (rank 0 wrote them), continued on one process.
+# The 2-rank runs' last restart files continued on one process (the SPH particles' state written by
+# the rank that computes each, the rest by rank 0), the Taylor bar's 3-rank file on 2 ranks, and
+# its 2-rank folder, which the single process continued, once more on 3 ranks.
 for deck in taylor eroding; do
   [ -s "$work/$deck.serial.np2.t1/runrsf" ] || fail "no runrsf from the 2-rank run ($deck)"
   continue_run $deck.serial.np2.t1 1 $deck.serial
 done
+continue_run taylor.serial.np3.t1 2 taylor.serial
+continue_run taylor.serial.np2.t1 3 taylor.serial
 echo "mpi solid: OK"

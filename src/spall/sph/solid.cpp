@@ -15,6 +15,7 @@
 #include "spall/core/bounding_box.hpp"
 #include "spall/core/parallel.hpp"
 #include "spall/core/simd.hpp"
+#include "spall/discretization/particle_pieces.hpp"
 #include "spall/materials/elastic.hpp"
 #include "spall/materials/radial_return.hpp"
 
@@ -1000,13 +1001,6 @@ void SolidFormulation::plan_reach(const discretization::NodeStore& nodes) {
   reach_partition_ = nodes.partition;
 }
 
-void SolidFormulation::complete() {
-  share_(node_, volume_, sound_speed_, density_, smoothing_length_, pressure_, internal_energy_, state_, back_stress_,
-         stress_, plain_stress_, artificial_stress_, exported_deviator_, strain_rate_squared_, gradient_amplification_,
-         colour_, colour_normal_, support_count_, category_);
-  complete_ = true;
-}
-
 namespace {
 // A particle's node's position and velocity as they travel between the ranks.
 struct Kinematics {
@@ -1016,7 +1010,7 @@ struct Kinematics {
 
 // The rows this rank computes now are searched from every particle's position and reach at the last
 // build (the list one process has), and the particles they read come in from the ranks that
-// computed them in the old deal, with their whole state (what complete() shares) and their nodes'
+// computed them in the old deal, with their whole state and their nodes'
 // positions and velocities: a particle's state travels to the ranks that need it, no further.
 void SolidFormulation::deal_anew(discretization::NodeStore& nodes) {
   const discretization::ParticleShare dealt_before = share_;
@@ -1037,8 +1031,8 @@ void SolidFormulation::deal_anew(discretization::NodeStore& nodes) {
                                });
 }
 
+// Rank 0 writes the nodes and the list whole: every particle's position, velocity and list reach.
 void SolidFormulation::complete_state(discretization::NodeStore& nodes) {
-  if (!complete_) complete();
   complete_kinematics(nodes);
   complete_list();
 }
@@ -1377,20 +1371,23 @@ std::size_t bytes(const std::vector<T>& v) {
 }  // namespace
 
 // Everything but the materials and options (the deck's) and the spans into the node store or the
-// copies, which the next compute_forces gathers again.
-void SolidFormulation::checkpoint(Archive& a, const discretization::NodeStore& /*nodes*/) {
-  if (!a.reading()) verlet_.search_every_row(list_reach_);  // every row, for any count of ranks
+// copies, which the next compute_forces gathers again: what every rank holds alike (the set-up's,
+// the list and its reach, searched in every row for any count of ranks) from rank 0, then each
+// particle's state in pieces from the rank that computes it (discretization/particle_pieces.hpp).
+void SolidFormulation::checkpoint(Archive& a, const discretization::NodeStore& nodes) {
+  if (!a.reading()) verlet_.search_every_row(list_reach_);
   a.section("sph solid");
   a.expect_size("SPH solid particles", node_.size());
-  a(node_, material_, mass_, uniform_mass_, smoothing_length_, record_, viscosity_record_, record_mass_,
-    record_origin_, stress_, plain_stress_, list_reach_, initial_smoothing_length_, spacing_, density_, volume_,
-    updated_volume_, pressure_, sound_speed_, updated_sound_speed_, internal_energy_, state_, back_stress_,
-    gradient_amplification_, full_support_gradient_, correction_, artificial_stress_, exported_deviator_, colour_,
-    colour_normal_, support_count_, full_support_count_, category_, x_copy_, v_copy_, density_rate_,
-    velocity_gradient_, strain_rate_squared_, support_mask_, viscous_heating_, viscous_force_, force_,
-    force_blocks_, force_block_length_, verlet_, time_, step_, list_built_, h_outgrown_, stable_step_,
-    has_temperature_);
-  // Written whole (complete_state), read by ranks that plan their reach again.
+  a(node_, material_, mass_, uniform_mass_, record_mass_, record_origin_, list_reach_, initial_smoothing_length_,
+    spacing_, full_support_gradient_, full_support_count_, support_mask_, force_blocks_, force_block_length_, verlet_,
+    time_, step_, list_built_, h_outgrown_, stable_step_, has_temperature_);
+  discretization::archive_particle_pieces(
+      a, "SPH particle", node_, share_, nodes, smoothing_length_, record_, viscosity_record_, stress_, plain_stress_,
+      density_, volume_, updated_volume_, pressure_, sound_speed_, updated_sound_speed_, internal_energy_, state_,
+      back_stress_, gradient_amplification_, correction_, artificial_stress_, exported_deviator_, colour_,
+      colour_normal_, support_count_, category_, x_copy_, v_copy_, density_rate_, velocity_gradient_,
+      strain_rate_squared_, viscous_heating_, viscous_force_, force_);
+  // Read whole by every rank, which plans its reach again.
   if (a.reading()) complete_ = true, reach_partition_ = blocks_partition_ = -1;
 }
 

@@ -234,11 +234,6 @@ class SolidFormulation final : public discretization::Formulation {
   // Which of the other ranks' particles this rank's rows read (plan_reach): the neighbours of its
   // own particles and of the force blocks it runs. At each list build and each new deal.
   void plan_reach(const discretization::NodeStore& nodes);
-  // Every rank's whole state of its own particles in (share_, to every rank): before a checkpoint,
-  // which rank 0 writes whole. Nothing else reads the state of another rank's particle beyond what
-  // the halo brings in (the fields, the residual-stress report and a failure report are each rank's
-  // own particles'; a new deal brings in what the new rows read, deal_anew).
-  void complete();
   // Every rank's positions and velocities of its own particles in (share_), where the halo brought
   // in only those its rows read: before a checkpoint, and before every row is searched when the
   // force blocks outgrow the rows a rank searched (update_neighbour_list).
@@ -344,7 +339,11 @@ class SolidFormulation final : public discretization::Formulation {
   std::vector<std::uint8_t> current_;
   bool current(Index a) const { return current_.empty() || current_[a]; }
   long long reach_partition_ = -1;    // NodeStore::partition that reach_ was planned for
-  bool complete_ = true;              // every particle's state current on this rank (complete())
+  // Every particle's state current on this rank: the set-up's or a checkpoint's, until the first
+  // step's halo. No rank gathers another's state after that: the fields, the residual-stress report
+  // and a failure report are each rank's own particles', a new deal brings in what the new rows read
+  // (deal_anew), and each rank writes its own into a checkpoint.
+  bool complete_ = true;
   bool kinematics_complete_ = true;   // every particle's x and v current (complete_kinematics())
 
   neighbors::VerletList verlet_;

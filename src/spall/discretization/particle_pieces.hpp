@@ -1,0 +1,84 @@
+#pragma once
+// A formulation's per-particle arrays in a checkpoint, each particle's values as the rank that
+// computes it holds them (core/pieces.hpp): under MPI with replicated storage every rank writes its
+// own particles' values into the restart file at their place, so that no rank gathers another's
+// state, and every rank reads every particle's back. An array the options switched off (empty) is
+// written as such.
+#include <algorithm>
+#include <cstdint>
+#include <span>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include "spall/core/archive.hpp"
+#include "spall/core/communicator.hpp"
+#include "spall/core/pieces.hpp"
+#include "spall/core/types.hpp"
+#include "spall/discretization/node_store.hpp"
+#include "spall/discretization/particle_share.hpp"
+
+namespace spall::discretization {
+
+// `node[p]`: particle p's row in `nodes`; `share`: which particles this rank computes. Collective.
+// Read back, a particle that is not this deck's or one missing stops every rank alike (`what` names
+// the particles in the message).
+template <typename... T>
+void archive_particle_pieces(Archive& a, const char* what, std::span<const Index> node, const ParticleShare& share,
+                             const NodeStore& nodes, std::vector<T>&... arrays) {
+  const parallel::Communicator& ranks = parallel::world();
+  const Index n = static_cast<Index>(node.size());
+  if (!a.reading()) {
+    // (place in the deck's node order, particle), ascending; rank 0's every particle before the
+    // ranks share the particles out (a checkpoint of the set-up's state).
+    std::vector<std::pair<Index, Index>> own;
+    for (Index p = 0; p < n; ++p)
+      if (share.across() ? share.owns(node[p]) : ranks.rank() == 0) own.emplace_back(nodes.deck_index(node[p]), p);
+    std::sort(own.begin(), own.end());
+    const Index count = static_cast<Index>(own.size());
+    const auto place = [&](Index k) { return own[k].first; };
+    parallel::write_pieces<Index>(a, count, place, place, ranks);
+    const auto write = [&](auto& array) {
+      bool present = !array.empty();
+      a(present);
+      using Value = typename std::remove_cvref_t<decltype(array)>::value_type;
+      if (present)
+        parallel::write_pieces<Value>(a, count, [&](Index k) { return array[own[k].second]; }, place, ranks);
+    };
+    (write(arrays), ...);
+    return;
+  }
+  std::vector<Index> particle_of_row(nodes.size(), -1);
+  for (Index p = 0; p < n; ++p) particle_of_row[node[p]] = p;
+  std::vector<Index> particle;  // each item's, in the file's order (-1: not this deck's)
+  std::vector<std::uint8_t> filled(n, 0);
+  Index mismatch = -1;
+  parallel::read_pieces<Index>(a, [&](Index place) {
+    const Index row = nodes.row_of(place);
+    const Index p = row < 0 ? -1 : particle_of_row[row];
+    if ((p < 0 || filled[p]) && mismatch < 0) mismatch = place;
+    if (p >= 0) filled[p] = 1;
+    particle.push_back(p);
+  });
+  Index missing = -1;
+  for (Index p = 0; p < n && missing < 0; ++p)
+    if (!filled[p]) missing = nodes.deck_index(node[p]);
+  parallel::check_read(a, what, mismatch, missing, nullptr);
+  const auto read = [&](auto& array) {
+    bool present = false;
+    a(present);
+    using Value = typename std::remove_cvref_t<decltype(array)>::value_type;
+    if (!present) {
+      array.clear();
+      return;
+    }
+    array.resize(n);
+    std::size_t k = 0;
+    parallel::read_pieces<Value>(a, [&](const Value& value) {
+      if (const Index p = particle[k++]; p >= 0) array[p] = value;
+    });
+  };
+  (read(arrays), ...);
+}
+
+}  // namespace spall::discretization
