@@ -23,6 +23,8 @@
 #    hexahedral ends (ELFORM 2, eight points an element, interface nodes shared with SPG), and a bar
 #    of one-point hexahedra (ELFORM 1, hourglass control) that erode (*MAT_ADD_EROSION at 20 %
 #    effective strain: about half the mass) while DT2MS adds mass.
+# An SPH bar on the face of a block of hexahedra (shared nodes): each cell's nodes in the piece of the
+# rank that writes it with the fields of the ranks that compute them.
 # A particle whose neighbourhood collapses stops every rank with the single process's message.
 # The Taylor bar, the KERNEL 1 SPG bar and the eroding bar run once more with the nodes dealt out
 # anew every 5 steps (the load balancing, forced), and the Taylor bar on 2 ranks writing a restart
@@ -125,6 +127,33 @@ tail -n 1 "$work/eroding.serial/glstat.csv" | awk -F, '{ exit !($10 > 1e-4 && $1
   fail "the eroding bar: eroded and added mass $(tail -n 1 "$work/eroding.serial/glstat.csv")"
 same_on_ranks "$work/fem_ends.k" "$work/fem_ends.serial" "2 1" "3 2"
 same_on_ranks "$work/eroding.k" "$work/eroding.serial" "2 1" "3 1" "2 2" "3 1 rebalanced"
+
+# An SPH bar whose first layer of particles sits on the last face of a block of hexahedra (shared
+# nodes), pulled apart there: a rank writes a cell of its own with a particle another rank computes,
+# whose fields come from that rank (a stale copy fails same_fields: a node written twice).
+python3 - >"$work/on_cells.k" <<'PY'
+dx, n, w = 0.025, 40, 4
+print("*KEYWORD\n*CONTROL_TERMINATION\n2.0e-5\n*DATABASE_BINARY_D3PLOT\n5.0e-6\n*DATABASE_GLSTAT\n1.0e-6")
+print("*PART\nbar\n1,1,1\n*SECTION_SPH\n1,1.2\n*MAT_ELASTIC\n1,7850.0,2.0e11,0.3\n*PART\nblock\n2,2,1\n*SECTION_SOLID\n2,1")
+nid = {(i, j, k): 1 + (i + 4) * w * w + j * w + k for i in range(-4, n) for j in range(w) for k in range(w)}
+print("*NODE")
+for (i, j, k), node in nid.items():
+    print(f"{node},{(i + 0.5) * dx},{(j + 0.5) * dx},{(k + 0.5) * dx}")
+print("*ELEMENT_SPH")
+for (i, j, k), node in nid.items():
+    if i >= 0:
+        print(f"{node},1,{7850 * dx ** 3}")
+print("*ELEMENT_SOLID")
+cells = [(i, j, k) for i in range(-4, 0) for j in range(w - 1) for k in range(w - 1)]
+for e, (i, j, k) in enumerate(cells, 1):
+    corners = [(i, j, k), (i + 1, j, k), (i + 1, j + 1, k), (i, j + 1, k)]
+    corners += [(a, b, c + 1) for a, b, c in corners]
+    print(f"{e},2," + ",".join(str(nid[c]) for c in corners))
+print("*SET_NODE_LIST\n1\n" + ",".join(str(nid[(0, j, k)]) for j in range(w) for k in range(w)))
+print("*INITIAL_VELOCITY\n1\n-10.0,0.0,0.0\n*END")
+PY
+run_serial on_cells 5
+same_on_ranks "$work/on_cells.k" "$work/on_cells.serial" "2 1 fixed" "3 1 fixed"
 
 # A particle whose neighbourhood collapses (test_cli.sh's treated ductile block at 1.7 x the stable
 # factor): every rank stops with exit 3 and the single process's line, the particle's density and h

@@ -72,7 +72,8 @@ class Formulation {
   virtual void complete_state(NodeStore& /*nodes*/) {}
   // Under MPI with nodes dealt in blocks, on every rank before the fields and reports are written:
   // brings in what they read beyond a rank's own nodes; all that a checkpoint needs unless the
-  // formulation writes its own nodes' alone.
+  // formulation's fields and reports of its own nodes are current where they are computed (a
+  // piece's nodes that another rank computes take that rank's fields: solver/field_output.cpp).
   virtual void complete_for_output(NodeStore& nodes) { complete_state(nodes); }
   // Writes (or reads back) everything the formulation carries from one step to the next, so that a
   // run continued from a checkpoint is bitwise the uninterrupted one (core/archive.hpp). Under MPI

@@ -1,6 +1,11 @@
 #include "spall/solver/field_output.hpp"
 
+#include <bit>
+#include <span>
+#include <type_traits>
 #include <variant>
+
+#include "spall/core/communicator.hpp"
 
 namespace spall::solver {
 
@@ -29,6 +34,52 @@ discretization::CellBlock piece_of(const discretization::CellBlock& block, const
     std::visit([&](const auto& values) { out.values = gather(values, cells, field.components); }, field.values);
   }
   return piece;
+}
+
+// Under MPI: the nodes of this piece's cells that another rank computes take every node field as
+// that rank wrote it, since a formulation writes the fields of its own nodes alone from current
+// state (Formulation::complete_for_output). Each rank asks the nodes' ranks by their places in the
+// deck and gets back a record of every component of every field (integers by their bits).
+void take_fields_of_borrowed_nodes(discretization::FieldSet& set, const discretization::NodeStore& nodes,
+                                   std::span<const Index> written) {
+  const parallel::Communicator& ranks = parallel::world();
+  const int size = ranks.size();
+  std::vector<std::vector<Index>> borrowed(size);  // rows, by the rank that computes them
+  for (const Index i : written)
+    if (!nodes.owns(i)) borrowed[nodes.owner[i]].push_back(i);
+  std::vector<Index> ask, ask_offsets(size + 1, 0), rows;
+  for (int r = 0; r < size; ++r) {
+    for (const Index i : borrowed[r]) {
+      ask.push_back(nodes.deck_index(i));
+      rows.push_back(i);
+    }
+    ask_offsets[r + 1] = static_cast<Index>(ask.size());
+  }
+  const std::vector<Index> asked_offsets = ranks.offsets_in(ask_offsets);
+  std::vector<Index> asked(asked_offsets[size]);
+  ranks.exchange(std::span<const Index>(ask), ask_offsets, std::span(asked), asked_offsets);
+  Index record = 0;
+  for (const auto& field : set.node_fields()) record += field.components;
+  const auto each_value = [&](Index row, auto&& use) {
+    Index at = 0;
+    for (auto& field : set.node_fields())
+      std::visit([&](auto& values) {
+        for (int c = 0; c < field.components; ++c) use(values[row * field.components + c], at++);
+      }, field.values);
+  };
+  std::vector<double> answer(asked.size() * record), answered(ask.size() * record);
+  for (std::size_t k = 0; k < asked.size(); ++k)
+    each_value(nodes.row_of(asked[k]), [&](auto& value, Index at) {
+      answer[k * record + at] = std::bit_cast<double>(value);
+    });
+  std::vector<Index> answer_offsets(asked_offsets), answered_offsets(ask_offsets);
+  for (Index& o : answer_offsets) o *= record;
+  for (Index& o : answered_offsets) o *= record;
+  ranks.exchange(std::span<const double>(answer), answer_offsets, std::span(answered), answered_offsets);
+  for (std::size_t k = 0; k < rows.size(); ++k)
+    each_value(rows[k], [&](auto& value, Index at) {
+      value = std::bit_cast<std::remove_reference_t<decltype(value)>>(answered[k * record + at]);
+    });
 }
 }  // namespace
 
@@ -70,6 +121,7 @@ FieldSnapshot snapshot_fields(const Problem& problem) {
       point_of_node[i] = static_cast<Index>(written.size());
       written.push_back(i);
     }
+  if (parallel::world().size() > 1 && !nodes.by_region()) take_fields_of_borrowed_nodes(set, nodes, written);
   FieldSnapshot snap;
   snap.points.reserve(written.size());
   for (Index i : written) snap.points.push_back(nodes.x[i]);

@@ -14,6 +14,7 @@
 #include "spall/core/id_deal.hpp"
 #include "spall/core/sort_into_blocks.hpp"
 #include "spall/neighbors/cell_list.hpp"
+#include "spall/solver/set_up_messages.hpp"
 
 namespace spall::solver {
 
@@ -125,7 +126,7 @@ NodesInBlocks::NodesInBlocks(const model::Model& model, discretization::NodeStor
     if (directory_[k].id == directory_[k - 1].id && (twice < 0 || directory_[k].place < twice)) {
       twice = directory_[k].place;
       error = InputError(model.location(directory_[k].line), "*NODE",
-                         fmt::format("node {} is defined twice", directory_[k].id));
+                         set_up_message::node_defined_twice(directory_[k].id));
     }
   parallel::throw_first_failure(twice, error, ranks);
 }
@@ -179,9 +180,9 @@ std::vector<sph::FluidParticle> NodesInBlocks::particles() {
     const auto node = std::lower_bound(directory_.begin(), directory_.end(), card.nid,
                                        [](const Entry& e, Id value) { return e.id < value; });
     if (node == directory_.end() || node->id != card.nid)
-      fail(card, fmt::format("node {} does not exist", card.nid));
+      fail(card, set_up_message::no_such_node(card.nid));
     else if (k > 0 && cards[k - 1].nid == card.nid)
-      fail(card, fmt::format("node {} carries two SPH particles", card.nid));
+      fail(card, set_up_message::node_with_two_particles(card.nid));
     else
       card.place = node->place;
   }

@@ -20,6 +20,7 @@
 #include "spall/rigid/setup.hpp"
 #include "spall/spg/setup.hpp"
 #include "spall/solver/nodes_in_blocks.hpp"
+#include "spall/solver/set_up_messages.hpp"
 #include "spall/sph/solid.hpp"
 
 namespace spall::solver {
@@ -83,7 +84,7 @@ class Builder {
                named != named_.end() && named->first == id) {
       place = &named->second;
     }
-    if (!place) fail_at(where, keyword, fmt::format("node {} does not exist", id));
+    if (!place) fail_at(where, keyword, set_up_message::no_such_node(id));
     return *place;
   }
 
@@ -141,7 +142,7 @@ class Builder {
     for (Index k = 0; k < n; ++k) id[k] = model_.nodes[model_node_[k]].id;
     if (const Index twice = index_of_node_.assign(id); twice >= 0) {
       const auto& node = model_.nodes[model_node_[twice]];
-      fail_at(node.where, "*NODE", fmt::format("node {} is defined twice", node.id));
+      fail_at(node.where, "*NODE", set_up_message::node_defined_twice(node.id));
     }
     auto& nodes = problem_.nodes;
     nodes.resize(n);
@@ -217,7 +218,7 @@ class Builder {
     const auto carry = [&](const model::ElementSph& e) {
       const Index node = node_index(e.nid, e.where, "*ELEMENT_SPH");
       if (std::exchange(carries_particle[node], 1))
-        fail_at(e.where, "*ELEMENT_SPH", fmt::format("node {} carries two SPH particles", e.nid));
+        fail_at(e.where, "*ELEMENT_SPH", set_up_message::node_with_two_particles(e.nid));
       return node;
     };
     sph::SolidOptions options = sph_options();

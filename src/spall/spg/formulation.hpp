@@ -23,6 +23,8 @@ class SpgFormulation final : public discretization::Formulation {
   Real max_wave_speed() const override;
   bool scale_mass_below(Real step, bool first_step_only) override;
   void complete_state(discretization::NodeStore& nodes) override;
+  // The fields read a rank's own particles alone, and the bonds, which every rank keeps current.
+  void complete_for_output(discretization::NodeStore& /*nodes*/) override {}
   void checkpoint(Archive& archive, const discretization::NodeStore& nodes) override;
 
   const std::vector<Part>& parts() const { return parts_; }

@@ -105,7 +105,7 @@ class Part {
   // Particles whose bonds no longer hold a linear field (Shepard smoothing, no strain of their own).
   Index degraded_count() const;
   // Under MPI: every rank's state of its own particles in to every rank (the others' go stale
-  // between; complete()), before a checkpoint or a field output.
+  // between; complete()), before a checkpoint.
   void complete_state() {
     if (!complete_) complete();
   }
