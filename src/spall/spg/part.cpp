@@ -462,9 +462,20 @@ void Part::internal_forces() {
   }, particle_loops);
 }
 
-void Part::plan_reach(const discretization::NodeStore& nodes) {
-  reach_.plan_rows(bonds_.offsets, bonds_.neighbour, [&](Index j) { return owns(j); }, node_, share_, nodes);
+std::vector<std::uint8_t> Part::plan_reach(const discretization::NodeStore& nodes) {
   reach_partition_ = nodes.partition;
+  return reach_.plan_rows(bonds_.offsets, bonds_.neighbour, [&](Index j) { return owns(j); }, node_, share_, nodes);
+}
+
+// What complete() shares, for the particles this rank's new rows read alone (a ReachShare planned
+// against the old deal's ranks): a particle's state travels to the ranks that need it, no further.
+void Part::deal_anew(const discretization::NodeStore& nodes) {
+  const discretization::ParticleShare dealt_before = share_;
+  share_.bind(nodes);
+  discretization::ReachShare arrivals;
+  arrivals.plan(plan_reach(nodes), node_, dealt_before, nodes);
+  arrivals(F_, spin_, state_, back_stress_, specific_energy_, density_, pressure_, sound_speed_, viscous_pressure_,
+           viscous_power_, stabilization_force_);
 }
 
 void Part::complete() {
@@ -477,8 +488,7 @@ void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
   const Index n = particle_count();
   const parallel::Communicator& ranks = parallel::world();
   const bool distributed = ranks.size() > 1;
-  // Nodes dealt anew: the state is brought in from the ranks it is current on, the old blocks'.
-  if (distributed && !complete_ && share_.stale(nodes)) complete();
+  if (distributed && !complete_ && share_.stale(nodes)) deal_anew(nodes);
   share_.bind(nodes);
   if (distributed && reach_partition_ != nodes.partition) plan_reach(nodes);
   parallel::for_each(n, [&](Index i) {

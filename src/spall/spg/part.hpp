@@ -22,6 +22,7 @@
 // current configuration; 2 pseudo-Lagrangian, the bonds of the first configuration. With 1 and 2 the
 // windows, in the current configuration, widen with the material's stretch (at most 4 times).
 #include <limits>
+#include <cstdint>
 #include <vector>
 
 #include "spall/core/error.hpp"
@@ -135,9 +136,13 @@ class Part {
   // particles, and shared.
   bool owns(Index i) const { return share_.owns(node_[i]); }
   // The other ranks' particles bonded to this rank's: at each kernel update and each new deal.
-  void plan_reach(const discretization::NodeStore& nodes);
-  // Every rank's whole state of its own particles in (share_): before a kernel update, a new deal,
-  // a checkpoint or a field output.
+  // Returns which particles this rank reads (its own and those).
+  std::vector<std::uint8_t> plan_reach(const discretization::NodeStore& nodes);
+  // Under MPI, the nodes dealt anew (load balance): the particles this rank now reads come in with
+  // their whole state from the ranks that computed them before (collective).
+  void deal_anew(const discretization::NodeStore& nodes);
+  // Every rank's whole state of its own particles in (share_): before a kernel update and a
+  // checkpoint.
   void complete();
   void correct_integration_constraint(bool at_setup);
 

@@ -21,7 +21,7 @@ std::uint64_t order_key(Real q) { return q == 0 ? 0 : std::bit_cast<std::uint64_
 // The k-th smallest (from 0) of each group's values over the ranks, groups with k < 0 skipped (0):
 // the smallest key whose count of values at or below it exceeds k, found by bisection on the keys
 // with one sum of the groups' counts over the ranks a round, so that no rank gathers another's
-// values. `sorted[g]`: this rank's values of group g, ascending.
+// values. `sorted[g]`: this rank's values of group g, in the order of their keys.
 std::vector<Real> kth_smallest(const std::vector<std::vector<Real>>& sorted, const std::vector<std::int64_t>& k,
                                const parallel::Communicator& ranks) {
   const std::size_t groups = sorted.size();

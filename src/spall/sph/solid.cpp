@@ -1010,8 +1010,8 @@ struct Kinematics {
 
 // The rows this rank computes now are searched from every particle's position and reach at the last
 // build (the list one process has), and the particles they read come in from the ranks that
-// computed them in the old deal, with their whole state and their nodes'
-// positions and velocities: a particle's state travels to the ranks that need it, no further.
+// computed them in the old deal, with their whole state and their nodes' positions and velocities:
+// a particle's state travels to the ranks that need it, no further.
 void SolidFormulation::deal_anew(discretization::NodeStore& nodes) {
   const discretization::ParticleShare dealt_before = share_;
   complete_list();
