@@ -256,9 +256,10 @@ void Part::correct_integration_constraint(bool at_setup) {
   correct_integration(bonds_, x_, volume_ref_, interior, active, defect, iterations, share_, node_, correction_);
 }
 
-void Part::smooth(std::span<const Vec3> field, std::vector<Vec3>& smoothed) const {
+void Part::smooth(std::span<const Vec3> field, std::vector<Vec3>& smoothed, bool every) const {
   const Index n = particle_count();
   parallel::for_each(n, [&](Index i) {
+    if (!computes(i, every)) return;
     Vec3 s = psi_self_[i] * field[i];
     for (Index k = bonds_.offsets[i]; k < bonds_.offsets[i + 1]; ++k)
       s.noalias() += psi_[k] * field[bonds_.neighbour[k]];
@@ -320,9 +321,10 @@ Index Part::deformation(std::span<const Vec3> x, std::span<const Vec3> v, Real d
 
 // The spring on the part of the motion that the smoothing removes, in rate form so that it keeps
 // its memory across kernel updates, rotated with the particle's spin (THEORY §9.5).
-void Part::update_stabilization(Real dt) {
+void Part::update_stabilization(Real dt, bool every) {
   const Index n = particle_count();
   parallel::for_each(n, [&](Index j) {
+    if (!computes(j, every)) return;
     if (degraded_[j]) {
       stabilization_force_[j] = Vec3::Zero();
       stabilization_total_[j] = Vec3::Zero();
@@ -428,6 +430,7 @@ void Part::update_kernel() {
 void Part::internal_forces() {
   const Index n = particle_count();
   parallel::for_each(n, [&](Index j) {
+    if (!computes(j, false)) return;  // read by no row of this rank's
     if (degraded_[j]) {
       weighted_stress_[j] = Mat3::Zero();
       return;
@@ -462,9 +465,10 @@ void Part::internal_forces() {
   }, particle_loops);
 }
 
-std::vector<std::uint8_t> Part::plan_reach(const discretization::NodeStore& nodes) {
+const std::vector<std::uint8_t>& Part::plan_reach(const discretization::NodeStore& nodes) {
   reach_partition_ = nodes.partition;
-  return reach_.plan_rows(bonds_.offsets, bonds_.neighbour, [&](Index j) { return owns(j); }, node_, share_, nodes);
+  reads_ = reach_.plan_rows(bonds_.offsets, bonds_.neighbour, [&](Index j) { return owns(j); }, node_, share_, nodes);
+  return reads_;
 }
 
 // What complete() shares, for the particles this rank's new rows read alone (a ReachShare planned
@@ -496,9 +500,12 @@ void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
     v_[i] = nodes.v[node_[i]];
   }, particle_loops);
   if (dt > 0) {
-    smooth(v_, vs_);
+    // A kernel update's step smooths and integrates every particle's spring: the particles its new
+    // rows read (plan_reach below) must have theirs current.
+    const bool updating = steps_since_update_ + 1 >= settings_.update_interval;
+    smooth(v_, vs_, updating);
     const bool smoothed = settings_.stabilization == Stabilization::fluid_particle;
-    if (smoothed) smooth(x_, xs_);
+    if (smoothed) smooth(x_, xs_, updating);
     Index inverted = deformation(smoothed ? std::span<const Vec3>(xs_) : std::span<const Vec3>(x_),
                                  smoothed ? std::span<const Vec3>(vs_) : std::span<const Vec3>(v_), dt);
     inverted = ranks.lowest(inverted);  // every rank stops, naming the same particle
@@ -508,14 +515,13 @@ void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
                                          settings_.part_id, node_id_[inverted]));
     // What the bonded particles of other ranks read (the stress and the spin); a kernel update reads
     // every particle's state, the bond failure and the stabilization springs whole.
-    const bool updating = steps_since_update_ + 1 >= settings_.update_interval;
     if (distributed && updating) {
       complete();
     } else if (distributed) {
       reach_(F_, spin_, state_, pressure_, viscous_pressure_);
       complete_ = false;
     }
-    update_stabilization(dt);
+    update_stabilization(dt, updating);
     if (++steps_since_update_ >= settings_.update_interval) {
       update_kernel();
       if (distributed) plan_reach(nodes);

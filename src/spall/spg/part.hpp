@@ -119,25 +119,29 @@ class Part {
   void build_shape_functions(bool at_setup);
   void update_kernel();
   void detach_degraded_particles();
-  void smooth(std::span<const Vec3> field, std::vector<Vec3>& smoothed) const;
+  void smooth(std::span<const Vec3> field, std::vector<Vec3>& smoothed, bool every) const;
   // Returns the first particle whose F inverted (-1: none); the caller stops the run.
   Index deformation(std::span<const Vec3> x, std::span<const Vec3> v, Real dt);
-  void update_stabilization(Real dt);
+  void update_stabilization(Real dt, bool every);
   void failure_quantity(std::vector<Real>& out) const;
   void internal_forces();
   void scale_masses(discretization::NodeStore& nodes);
   Real current_spacing(Index i) const;
   // Whether this rank computes particle i's strain and force (NodeStore::owns; every particle when
   // the run is one process). Under MPI (replicated storage, docs/SCALING.md) each step's state of a
-  // rank's particles goes to the ranks whose particles are bonded to them (plan_reach, reach_); every
-  // rank smooths and runs the stabilization of every particle, current where it reads them. A kernel
+  // rank's particles goes to the ranks whose particles are bonded to them (plan_reach, reach_); a
+  // rank smooths, integrates the springs of and weighs the stress of the particles it reads alone
+  // (reads_), but of every particle on a kernel update's step, whose new rows read others. A kernel
   // update starts from the whole state (complete()): the bond failure is every rank's, the bond
   // search, the shape functions and the integration-constraint solve each rank's for its own
   // particles, and shared.
   bool owns(Index i) const { return share_.owns(node_[i]); }
   // The other ranks' particles bonded to this rank's: at each kernel update and each new deal.
-  // Returns which particles this rank reads (its own and those).
-  std::vector<std::uint8_t> plan_reach(const discretization::NodeStore& nodes);
+  // Sets reads_ (this rank's own particles and those).
+  const std::vector<std::uint8_t>& plan_reach(const discretization::NodeStore& nodes);
+  // Whether this step computes particle i's smoothed fields, spring and weighted stress: every
+  // particle on one process and on a kernel update's step, else those this rank reads.
+  bool computes(Index i, bool every) const { return every || reads_.empty() || reads_[i]; }
   // Under MPI, the nodes dealt anew (load balance): the particles this rank now reads come in with
   // their whole state from the ranks that computed them before (collective).
   void deal_anew(const discretization::NodeStore& nodes);
@@ -190,6 +194,7 @@ class Part {
 
   discretization::ParticleShare share_;  // under MPI: the particles this rank computes, theirs to all
   discretization::ReachShare reach_;     // under MPI: the other ranks' particles bonded to this rank's
+  std::vector<std::uint8_t> reads_;      // under MPI: 1 for this rank's particles and those (plan_reach)
   long long reach_partition_ = -1;       // NodeStore::partition that reach_ was planned for
   bool complete_ = true;                 // every particle's state current on this rank (complete())
 
