@@ -107,6 +107,9 @@ class SolidElements final : public discretization::Formulation {
   }
   bool scale_mass_below(Real step, bool first_step_only) override;
   void complete_state(discretization::NodeStore& nodes) override;
+  // A rank writes the cells whose first node it owns (solver/field_output.cpp), elements it
+  // computes: nothing to bring in.
+  void complete_for_output(discretization::NodeStore& /*nodes*/) override {}
   void checkpoint(Archive& archive, const discretization::NodeStore& nodes) override;
 
   Index element_count() const;
