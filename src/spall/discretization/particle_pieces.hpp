@@ -20,12 +20,14 @@
 
 namespace spall::discretization {
 
-// `node[p]`: particle p's row in `nodes`; `share`: which particles this rank computes. Collective.
+// `node[p]`: particle p's row in `nodes`; `share`: which particles this rank computes; each array a
+// std::vector or a RangeArray that holds at least this rank's own particles, and is read back
+// whole. Collective.
 // Read back, a particle that is not this deck's or one missing stops every rank alike (`what` names
 // the particles in the message).
-template <typename... T>
+template <typename... Array>
 void archive_particle_pieces(Archive& a, const char* what, std::span<const Index> node, const ParticleShare& share,
-                             const NodeStore& nodes, std::vector<T>&... arrays) {
+                             const NodeStore& nodes, Array&... arrays) {
   const parallel::Communicator& ranks = parallel::world();
   const Index n = static_cast<Index>(node.size());
   if (!a.reading()) {

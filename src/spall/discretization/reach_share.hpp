@@ -45,13 +45,14 @@ class ReachShare {
   Index sent() const { return static_cast<Index>(send_.size()); }
   Index received() const { return static_cast<Index>(receive_.size()); }
 
-  // The planned particles' values of each array (one value a particle; empty arrays are state
-  // the options switched off and travel not) from their ranks, in one message per pair of ranks.
-  // Values travel as their bytes, as MPI sends them: plain structs and Eigen's fixed-size matrices.
-  template <typename... T>
-  void operator()(std::vector<T>&... values) const {
+  // The planned particles' values of each array (one value a particle, indexed by the particle:
+  // a std::vector or a RangeArray holding them; empty arrays are state the options switched off
+  // and travel not) from their ranks, in one message per pair of ranks. Values travel as their
+  // bytes, as MPI sends them: plain structs and Eigen's fixed-size matrices.
+  template <typename... Array>
+  void operator()(Array&... values) const {
     if (!planned()) return;
-    const std::size_t record = ((values.empty() ? 0 : sizeof(T)) + ... + 0);
+    const std::size_t record = ((values.empty() ? 0 : sizeof(typename Array::value_type)) + ... + 0);
     if (record == 0) return;
     std::vector<std::byte> send(send_.size() * record), receive(receive_.size() * record);
     const auto pack = [&](auto& array, std::size_t& at) {

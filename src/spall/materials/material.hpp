@@ -101,7 +101,8 @@ Real apply_tensile_limit(const Material& material, PointState& state, Real press
 bool keeps_back_stress(const Material& material);
 // Point i's back stress in a formulation's array of them, null where the array is empty (no
 // material of the formulation keeps one).
-inline Mat3* kept_back_stress(std::vector<Mat3>& back_stress, Index i) {
+template <typename Array>
+Mat3* kept_back_stress(Array& back_stress, Index i) {
   return back_stress.empty() ? nullptr : &back_stress[i];
 }
 

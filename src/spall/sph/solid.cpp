@@ -320,6 +320,7 @@ SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
   bool contiguous = n > 0;
   for (std::size_t a = 1; a < n && contiguous; ++a) contiguous = node_[a] == node_[0] + Index(a);
   first_node_ = contiguous ? node_[0] : -1;
+  held_ = {0, static_cast<Index>(n)};
   const bool colour = std::any_of(options_.colour_field.begin(), options_.colour_field.end(),
                                   [](const ColourField& c) { return c.enabled; });
   if (colour) {
@@ -836,7 +837,7 @@ void SolidFormulation::categorize() {
   for (const ColourField& c : options_.colour_field)
     if (c.enabled) layers = std::max(layers, c.layers);
   std::vector<std::uint8_t> previous(n), next(n);
-  for (Index a = 0; a < n; ++a) previous[a] = category_[a] == Category::surface;
+  for (Index a = 0; a < n; ++a) previous[a] = owns(a) && category_[a] == Category::surface;
   for (int layer = 1; layer <= layers; ++layer) {
     reach_(previous);
     parallel::for_each(n, [&](Index a) {
@@ -1021,14 +1022,30 @@ void SolidFormulation::deal_anew(discretization::NodeStore& nodes) {
   plan_reach(nodes);
   discretization::ReachShare arrivals;
   arrivals.plan(current_, node_, dealt_before, nodes);
+  // The Own arrays hold the old own particles (what this rank sends) and those it now reads (what
+  // it receives) while the state travels, then its new own particles alone.
+  neighbors::ParticleRange travelling = held_;
+  for (Index a = 0; a < particle_count(); ++a)
+    if (current_[a]) travelling.begin = std::min(travelling.begin, a), travelling.end = std::max(travelling.end, a + 1);
+  hold_own_state(travelling);
   arrivals(volume_, sound_speed_, density_, smoothing_length_, pressure_, internal_energy_, state_, back_stress_,
            stress_, plain_stress_, artificial_stress_, exported_deviator_, strain_rate_squared_,
            gradient_amplification_, colour_, colour_normal_, support_count_, category_);
+  hold_own_state(own_particles());
+  held_partition_ = nodes.partition;
   arrivals.records<Kinematics>([&](Index a) { return Kinematics{nodes.x[node_[a]], nodes.v[node_[a]]}; },
                                [&](Index a, const Kinematics& k) {
                                  nodes.x[node_[a]] = k.x;
                                  nodes.v[node_[a]] = k.v;
                                });
+}
+
+void SolidFormulation::hold_own_state(neighbors::ParticleRange range) {
+  held_ = range;
+  const auto hold = [&](auto&... arrays) { (arrays.hold(range.begin, range.end), ...); };
+  hold(pressure_, internal_energy_, state_, back_stress_, correction_, exported_deviator_, colour_, colour_normal_,
+       support_count_, category_, density_rate_, velocity_gradient_, strain_rate_squared_, viscous_heating_,
+       viscous_force_);
 }
 
 // Rank 0 writes the nodes and the list whole: every particle's position, velocity and list reach.
@@ -1201,13 +1218,17 @@ void SolidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt)
   const Index n = particle_count();
   if (!active(time_)) {
     std::fill(force_.begin(), force_.end(), Eigen::Vector4d::Zero());
-    std::fill(viscous_force_.begin(), viscous_force_.end(), Vec3::Zero());
+    viscous_force_.fill(Vec3::Zero());
     stable_step_.reset();
     return;
   }
   const bool distributed = parallel::world().size() > 1;
   if (distributed && share_.stale(nodes)) deal_anew(nodes);
   share_.bind(nodes);
+  if (distributed && held_partition_ != nodes.partition) {  // the first deal (the set-up's state is every rank's)
+    hold_own_state(own_particles());
+    held_partition_ = nodes.partition;
+  }
   // Nodes dealt anew: this rank computes other rows, which the last build may not have searched.
   if (distributed && reach_partition_ != nodes.partition) verlet_.search_every_row(list_reach_);
   gather_kinematics(nodes);
@@ -1326,7 +1347,8 @@ void SolidFormulation::write_fields(discretization::FieldSet& fields, const disc
   const auto failed = fields.node_integer("failed");
   const auto neighbour_count = fields.node_integer("neighbour_count");
   const auto& list = verlet_.list();
-  for (Index a = 0; a < particle_count(); ++a) {
+  const neighbors::ParticleRange own = own_particles();  // under MPI each rank writes its own
+  for (Index a = own.begin; a < own.end; ++a) {
     const Index i = node_[a];
     const Mat3& S = state_[a].deviatoric_stress;
     plastic_strain[i] = state_[a].plastic_strain;
@@ -1344,12 +1366,12 @@ void SolidFormulation::write_fields(discretization::FieldSet& fields, const disc
   }
   if (has_temperature_) {
     const auto temperature = fields.node_real("temperature");
-    for (Index a = 0; a < particle_count(); ++a) temperature[node_[a]] = state_[a].temperature;
+    for (Index a = own.begin; a < own.end; ++a) temperature[node_[a]] = state_[a].temperature;
   }
   if (!category_.empty()) {
     const auto colour = fields.node_real("colour_field"), normal = fields.node_real("colour_normal", 3);
     const auto category = fields.node_integer("category");
-    for (Index a = 0; a < particle_count(); ++a) {
+    for (Index a = own.begin; a < own.end; ++a) {
       const Index i = node_[a];
       colour[i] = colour_[a];
       for (int d = 0; d < 3; ++d) normal[3 * i + d] = colour_normal_[a][d];
@@ -1359,7 +1381,7 @@ void SolidFormulation::write_fields(discretization::FieldSet& fields, const disc
   if (!exported_deviator_.empty()) {
     // What the relaxed treatment passes on (docs/THEORY.md §3); von_mises is the material's own.
     const auto exported = fields.node_real("exported_von_mises");
-    for (Index a = 0; a < particle_count(); ++a) exported[node_[a]] = materials::von_mises(exported_deviator_[a]);
+    for (Index a = own.begin; a < own.end; ++a) exported[node_[a]] = materials::von_mises(exported_deviator_[a]);
   }
 }
 
@@ -1367,6 +1389,10 @@ namespace {
 template <typename T>
 std::size_t bytes(const std::vector<T>& v) {
   return v.capacity() * sizeof(T);
+}
+template <typename T>
+std::size_t bytes(const discretization::RangeArray<T>& v) {
+  return v.capacity_bytes();
 }
 }  // namespace
 
@@ -1387,8 +1413,11 @@ void SolidFormulation::checkpoint(Archive& a, const discretization::NodeStore& n
       back_stress_, gradient_amplification_, correction_, artificial_stress_, exported_deviator_, colour_,
       colour_normal_, support_count_, category_, x_copy_, v_copy_, density_rate_, velocity_gradient_,
       strain_rate_squared_, viscous_heating_, viscous_force_, force_);
-  // Read whole by every rank, which plans its reach again.
-  if (a.reading()) complete_ = true, reach_partition_ = blocks_partition_ = -1;
+  // Read whole by every rank, which plans its reach again and keeps its own particles' state.
+  if (a.reading()) {
+    complete_ = true, reach_partition_ = blocks_partition_ = held_partition_ = -1;
+    held_ = {0, particle_count()};
+  }
 }
 
 std::size_t SolidFormulation::memory_bytes() const {

@@ -37,6 +37,7 @@
 #include "spall/neighbors/verlet_list.hpp"
 #include "spall/discretization/formulation.hpp"
 #include "spall/discretization/particle_share.hpp"
+#include "spall/discretization/range_array.hpp"
 #include "spall/discretization/reach_share.hpp"
 #include "spall/sph/artificial_viscosity.hpp"
 #include "spall/sph/force_blocks.hpp"
@@ -170,7 +171,8 @@ class SolidFormulation final : public discretization::Formulation {
   // rather than every row whole.
   bool pairs_taken_once() const { return force_blocks_ > 0; }
   // Categories of the last categorization (particle order), empty when no part asks for them.
-  const std::vector<Category>& categories() const { return category_; }
+  // Of this rank's own particles (all on one process).
+  const discretization::RangeArray<Category>& categories() const { return category_; }
   Index node_of(Index particle) const { return node_[particle]; }
   // Per part and category, in part-table order (residual_stress.cpp).
   std::vector<ResidualStressRow> residual_stress(const ResidualStressCriterion& criterion) const;
@@ -244,11 +246,18 @@ class SolidFormulation final : public discretization::Formulation {
   // Under MPI, the nodes dealt anew (load balance): this rank's new rows, and the state they read
   // from the ranks that computed it before (collective).
   void deal_anew(discretization::NodeStore& nodes);
+  // The Own arrays hold particles [begin, end) from now on (this rank's own once the particles are
+  // dealt; more while a new deal brings their state in).
+  void hold_own_state(neighbors::ParticleRange range);
 
   std::vector<materials::Material> materials_;
   SolidOptions options_;
 
   // Per particle (structure of arrays).
+  // Per particle. Under MPI the state that only a particle's own rank reads is held for its own
+  // particles alone (Own, hold_own_state); the rest for every particle, current where read.
+  template <typename T>
+  using Own = discretization::RangeArray<T>;
   std::vector<Index> node_;
   std::vector<Index> material_;
   std::vector<Real> mass_;
@@ -282,28 +291,28 @@ class SolidFormulation final : public discretization::Formulation {
   // The volume after the state update: the rates pass of the step still reads the step start's
   // volume_ of the neighbours while particles are being updated; swapped in after the update.
   std::vector<Real> updated_volume_;
-  std::vector<Real> pressure_;
+  Own<Real> pressure_;
   std::vector<Real> sound_speed_;
   // c after the state update, swapped in with updated_volume_: the rates pass's viscosity reads the
   // neighbours' c of the step start.
   std::vector<Real> updated_sound_speed_;
-  std::vector<Real> internal_energy_;  // specific (per unit mass)
-  std::vector<materials::PointState> state_;  // deviatoric stress, plastic strain, temperature, ...
-  std::vector<Mat3> back_stress_;  // where a material keeps one (materials::keeps_back_stress), else empty
+  Own<Real> internal_energy_;  // specific (per unit mass)
+  Own<materials::PointState> state_;  // deviatoric stress, plastic strain, temperature, ...
+  Own<Mat3> back_stress_;  // where a material keeps one (materials::keeps_back_stress), else empty
   std::vector<Real> gradient_amplification_;      // s_a of the stable step (stable_time_step)
   Real full_support_gradient_ = 0;                // H sum_b V_b |grad W| of a full support
   // B_a (identity without correction) between compute_rates and update_state, when categorizing.
-  std::vector<Mat3> correction_;
+  Own<Mat3> correction_;
   std::vector<Mat3> artificial_stress_;           // R_a (empty when switched off)
   // The deviator the pair force uses under the relaxed treatment (empty when no part has it):
   // follows the material's increments and relaxes toward 0 (treated) or S (not treated).
-  std::vector<Mat3> exported_deviator_;
+  Own<Mat3> exported_deviator_;
   // Colour field (empty when no part asks for it).
-  std::vector<Real> colour_;
-  std::vector<Vec3> colour_normal_;
-  std::vector<std::int32_t> support_count_;        // neighbours inside the support
+  Own<Real> colour_;
+  Own<Vec3> colour_normal_;
+  Own<std::int32_t> support_count_;        // neighbours inside the support
   std::vector<Real> full_support_count_;           // the count of a full support at this h/spacing
-  std::vector<Category> category_;
+  Own<Category> category_;
   // Scratch of the current step.
   // x and v of the particles' nodes: the node store's own arrays when the particles own a
   // contiguous run of nodes (first_node_ >= 0), else copies gathered into x_copy_, v_copy_.
@@ -311,15 +320,15 @@ class SolidFormulation final : public discretization::Formulation {
   std::vector<Vec3> x_copy_, v_copy_;
   Index first_node_ = -1;
   // The rates that wait for the categorization (empty when not categorizing).
-  std::vector<Real> density_rate_;
-  std::vector<Mat3> velocity_gradient_;
-  std::vector<Real> strain_rate_squared_;  // 2/3 D':D' of the last step, the effective strain rate squared
+  Own<Real> density_rate_;
+  Own<Mat3> velocity_gradient_;
+  Own<Real> strain_rate_squared_;  // 2/3 D':D' of the last step, the effective strain rate squared
   // Which entries of each Verlet row the rates pass found inside the support (one byte per pack;
   // solid.cpp, mask_start): the force pass, at the same h, takes the same pairs.
   std::vector<std::uint8_t> support_mask_;
   // The artificial viscosity of the step, from the rates pass (compute_rates).
-  std::vector<Real> viscous_heating_;  // 1/2 sum_b m_b Pi_ab v_ab . grad_a W_ab
-  std::vector<Vec3> viscous_force_;    // -sum_b m_a m_b Pi_ab grad_a W_ab
+  Own<Real> viscous_heating_;  // 1/2 sum_b m_b Pi_ab v_ab . grad_a W_ab
+  Own<Vec3> viscous_force_;    // -sum_b m_a m_b Pi_ab grad_a W_ab
   // Total internal force as (x, y, z, 0): the pair sums of the force pass, to which the viscous
   // force is added last; one 256-bit row a particle, which the pair-once subtraction updates whole.
   std::vector<Eigen::Vector4d> force_;
@@ -339,6 +348,8 @@ class SolidFormulation final : public discretization::Formulation {
   std::vector<std::uint8_t> current_;
   bool current(Index a) const { return current_.empty() || current_[a]; }
   long long reach_partition_ = -1;    // NodeStore::partition that reach_ was planned for
+  neighbors::ParticleRange held_{0, 0};  // the particles the Own arrays hold
+  long long held_partition_ = -1;        // NodeStore::partition that held_ is the own particles of
   // Every particle's state current on this rank: the set-up's or a checkpoint's, until the first
   // step's halo. No rank gathers another's state after that: the fields, the residual-stress report
   // and a failure report are each rank's own particles', a new deal brings in what the new rows read

@@ -1,0 +1,62 @@
+#pragma once
+// A per-particle array that holds the values of one contiguous range of particles, indexed by the
+// particle's index as a whole array would be: under MPI a formulation keeps the state that only a
+// particle's own rank reads (its material point, its energy) for the particles of its own block
+// of the node order alone (docs/SCALING.md §3, "Own state held by its rank"). An array that the
+// options switch off is empty; one that is on but holds no particle (a rank without any) is not.
+#include <algorithm>
+#include <cstddef>
+#include <vector>
+
+#include "spall/core/types.hpp"
+
+namespace spall::discretization {
+
+template <typename T>
+class RangeArray {
+ public:
+  using value_type = T;
+
+  // On, holding particles [0, n) with `value` (the set-up's state, every particle's alike).
+  void assign(Index n, const T& value) {
+    first_ = 0;
+    on_ = true;
+    values_.assign(static_cast<std::size_t>(n), value);
+  }
+  void resize(Index n) {
+    first_ = 0;
+    on_ = true;
+    values_.resize(static_cast<std::size_t>(n));
+  }
+  void clear() {  // off
+    first_ = 0;
+    on_ = false;
+    values_ = {};
+  }
+  bool empty() const { return !on_; }
+
+  // Holds particles [begin, end) from now on: those it held already keep their values, the others
+  // start value-initialized (the caller brings theirs in).
+  void hold(Index begin, Index end) {
+    end = std::max(begin, end);
+    if (!on_ || (begin == first_ && end == last())) return;
+    std::vector<T> held(static_cast<std::size_t>(end - begin));
+    for (Index p = std::max(begin, first_); p < std::min(end, last()); ++p) held[p - begin] = values_[p - first_];
+    first_ = begin;
+    values_ = std::move(held);
+  }
+
+  T& operator[](Index p) { return values_[static_cast<std::size_t>(p - first_)]; }
+  const T& operator[](Index p) const { return values_[static_cast<std::size_t>(p - first_)]; }
+  void fill(const T& value) { std::fill(values_.begin(), values_.end(), value); }
+  std::size_t capacity_bytes() const { return values_.capacity() * sizeof(T); }
+
+ private:
+  Index last() const { return first_ + static_cast<Index>(values_.size()); }
+
+  Index first_ = 0;
+  bool on_ = false;
+  std::vector<T> values_;
+};
+
+}  // namespace spall::discretization
