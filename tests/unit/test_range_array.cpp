@@ -24,6 +24,8 @@ TEST(RangeArray, AParticleKeepsItsValueWhileHeld) {
   for (Index p = 30; p < 40; ++p) EXPECT_EQ(a[p], 0.0);
   a.hold(55, 70);  // no overlap
   for (Index p = 55; p < 70; ++p) EXPECT_EQ(a[p], 0.0);
+  EXPECT_EQ(a.held_begin(), 55);
+  EXPECT_EQ(a.held_end(), 70);
   EXPECT_EQ(a.capacity_bytes(), 15 * sizeof(double));
 }
 

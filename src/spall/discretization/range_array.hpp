@@ -46,6 +46,10 @@ class RangeArray {
     values_ = std::move(held);
   }
 
+  // The particles it holds: [held_begin(), held_end()).
+  Index held_begin() const { return first_; }
+  Index held_end() const { return last(); }
+
   T& operator[](Index p) { return values_[static_cast<std::size_t>(p - first_)]; }
   const T& operator[](Index p) const { return values_[static_cast<std::size_t>(p - first_)]; }
   void fill(const T& value) { std::fill(values_.begin(), values_.end(), value); }

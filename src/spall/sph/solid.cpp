@@ -320,7 +320,6 @@ SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
   bool contiguous = n > 0;
   for (std::size_t a = 1; a < n && contiguous; ++a) contiguous = node_[a] == node_[0] + Index(a);
   first_node_ = contiguous ? node_[0] : -1;
-  held_ = {0, static_cast<Index>(n)};
   const bool colour = std::any_of(options_.colour_field.begin(), options_.colour_field.end(),
                                   [](const ColourField& c) { return c.enabled; });
   if (colour) {
@@ -1024,7 +1023,7 @@ void SolidFormulation::deal_anew(discretization::NodeStore& nodes) {
   arrivals.plan(current_, node_, dealt_before, nodes);
   // The Own arrays hold the old own particles (what this rank sends) and those it now reads (what
   // it receives) while the state travels, then its new own particles alone.
-  neighbors::ParticleRange travelling = held_;
+  neighbors::ParticleRange travelling{state_.held_begin(), state_.held_end()};  // state_ is always on
   for (Index a = 0; a < particle_count(); ++a)
     if (current_[a]) travelling.begin = std::min(travelling.begin, a), travelling.end = std::max(travelling.end, a + 1);
   hold_own_state(travelling);
@@ -1041,7 +1040,6 @@ void SolidFormulation::deal_anew(discretization::NodeStore& nodes) {
 }
 
 void SolidFormulation::hold_own_state(neighbors::ParticleRange range) {
-  held_ = range;
   const auto hold = [&](auto&... arrays) { (arrays.hold(range.begin, range.end), ...); };
   hold(pressure_, internal_energy_, state_, back_stress_, correction_, exported_deviator_, colour_, colour_normal_,
        support_count_, category_, density_rate_, velocity_gradient_, strain_rate_squared_, viscous_heating_,
@@ -1414,10 +1412,7 @@ void SolidFormulation::checkpoint(Archive& a, const discretization::NodeStore& n
       colour_normal_, support_count_, category_, x_copy_, v_copy_, density_rate_, velocity_gradient_,
       strain_rate_squared_, viscous_heating_, viscous_force_, force_);
   // Read whole by every rank, which plans its reach again and keeps its own particles' state.
-  if (a.reading()) {
-    complete_ = true, reach_partition_ = blocks_partition_ = held_partition_ = -1;
-    held_ = {0, particle_count()};
-  }
+  if (a.reading()) complete_ = true, reach_partition_ = blocks_partition_ = held_partition_ = -1;
 }
 
 std::size_t SolidFormulation::memory_bytes() const {

@@ -348,8 +348,7 @@ class SolidFormulation final : public discretization::Formulation {
   std::vector<std::uint8_t> current_;
   bool current(Index a) const { return current_.empty() || current_[a]; }
   long long reach_partition_ = -1;    // NodeStore::partition that reach_ was planned for
-  neighbors::ParticleRange held_{0, 0};  // the particles the Own arrays hold
-  long long held_partition_ = -1;        // NodeStore::partition that held_ is the own particles of
+  long long held_partition_ = -1;     // NodeStore::partition whose own particles the Own arrays hold
   // Every particle's state current on this rank: the set-up's or a checkpoint's, until the first
   // step's halo. No rank gathers another's state after that: the fields, the residual-stress report
   // and a failure report are each rank's own particles', a new deal brings in what the new rows read
