@@ -309,7 +309,8 @@ TEST(neighbors, PerParticleReachMatchesBruteForce) {
 
 // Under MPI the SPH solid searches the rows it computes (per-particle reach, search order): each
 // such row must be the whole build's row, entry for entry (the order sets the bits of the sums);
-// search_every_row then makes the whole build's list, and is not counted as a build.
+// search_every_row then makes the whole build's list, and is not counted as a build; search_rows
+// narrows a whole build to the range's rows, as a build of them alone would have.
 TEST(neighbors, PerReachRowsOfARangeAreTheWholeBuildsRows) {
   const std::vector<Vec3> x = random_set(2500, Vec3(0, 0, 0), Vec3(1.5, 1, 1), 21);
   const std::vector<Real> reach = random_reach(x.size(), 0.04, 0.08, 22);
@@ -329,6 +330,11 @@ TEST(neighbors, PerReachRowsOfARangeAreTheWholeBuildsRows) {
       const bool asked = i >= rows.begin && i < rows.end;
       EXPECT_EQ(row(part.list(), i), asked ? row(whole.list(), i) : std::vector<Index>{}) << "row " << i;
     }
+    VerletList narrowed = whole;
+    narrowed.search_rows(reach, rows);
+    EXPECT_EQ(narrowed.list().offsets, part.list().offsets);
+    EXPECT_EQ(narrowed.list().neighbors, part.list().neighbors);
+    EXPECT_EQ(narrowed.builds(), 1);
     part.search_every_row(reach);
     EXPECT_FALSE(part.partial());
     EXPECT_EQ(part.list().offsets, whole.list().offsets);

@@ -193,11 +193,17 @@ void VerletList::build_reach(std::span<const Vec3> x, std::span<const Real> reac
              order_, rows, binned);
 }
 
-void VerletList::search_every_row(std::span<const Real> reach) {
-  if (!partial()) return;
-  if (subset_) throw std::logic_error("VerletList::search_every_row: positions at the build not all current");
+void VerletList::search_rows(std::span<const Real> reach, ParticleRange rows) {
+  const auto n = static_cast<Index>(x_at_build_.size());
+  rows = {std::clamp(rows.begin, Index(0), n), std::clamp(rows.end, Index(0), n)};
+  if (rows.begin == rows_.begin && rows.end == rows_.end) return;
+  if (subset_) throw std::logic_error("VerletList::search_rows: positions at the build not all current");
   const std::vector<Vec3> x = x_at_build_;  // build_rows keeps its argument as the new x_at_build_
-  build_reach(x, reach, {0, static_cast<Index>(x.size())});
+  build_reach(x, reach, rows);
+}
+
+void VerletList::search_every_row(std::span<const Real> reach) {
+  if (partial()) search_rows(reach, {0, static_cast<Index>(x_at_build_.size())});
 }
 
 template <typename MakeRadius>

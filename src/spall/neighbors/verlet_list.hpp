@@ -67,10 +67,15 @@ class VerletList {
   bool searched(ParticleRange rows) const {
     return rows.begin >= rows.end || (rows_.begin <= rows.begin && rows.end <= rows_.end);
   }
-  // After a build with per-particle reach: the rows it was not asked for searched too, from the
-  // positions of that build and the same `reach`, so that the list is the one a build of every row
-  // would have made (what a checkpoint holds). Not a build: builds() does not count it. After a
-  // build of a binned subset, only once complete_positions has brought in every position.
+  // After a build with per-particle reach: the rows `rows` searched in place of those it searched,
+  // from the positions of that build and the same `reach`, each the row a build of every row would
+  // have made (the others left empty). Not a build: builds() does not count it. After a build of a
+  // binned subset, only once complete_positions has brought in every position. The SPH solid
+  // under MPI: the rows a rank computes once it knows the force blocks' length, which the first
+  // build's rows give (every row of the list would be every rank's).
+  void search_rows(std::span<const Real> reach, ParticleRange rows);
+  // search_rows of every row: the list a build of every row would have made (what a checkpoint
+  // holds).
   void search_every_row(std::span<const Real> reach);
   // After a build of a binned subset, whose positions at the build are all it holds current:
   // `complete(positions)` makes an array of every particle's position whole (under MPI, from the

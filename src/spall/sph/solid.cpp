@@ -395,11 +395,13 @@ void SolidFormulation::update_neighbour_list(discretization::NodeStore& nodes) {
   };
   if (list_built_ && !h_outgrown_ && !moved_apart()) return;
   // One process, or the first build (the set-up's state is whole on every rank): every particle
-  // binned, every row searched. Under MPI after that a rank searches the rows it computes, from its
-  // own particles and the others' within reach of those rows (search_near_rows).
-  const bool every_row = ranks.size() == 1 || !list_built_;
+  // binned; every row searched by one process, a rank's own under MPI (the rows it computes are
+  // known once the force blocks' length is, below). Under MPI after that a rank searches the rows
+  // it computes, from its own particles and the others' within reach of those rows
+  // (search_near_rows).
+  const bool distributed = ranks.size() > 1, whole_state = !distributed || !list_built_;
   BoundingBox box;
-  if (every_row) {
+  if (whole_state) {
     const Real h_largest = parallel::reduce_exact(
         n, Real(0),
         [&](Index a) {
@@ -407,7 +409,8 @@ void SolidFormulation::update_neighbour_list(discretization::NodeStore& nodes) {
           return smoothing_length(a);
         },
         [](Real a, Real b) { return std::max(a, b); });
-    verlet_.build(x_, list_reach_, list_skin(h_largest), neighbors::RowOrder::search);
+    const neighbors::ParticleRange rows = distributed ? own_particles() : neighbors::ParticleRange{0, n};
+    verlet_.build(x_, list_reach_, list_skin(h_largest), neighbors::RowOrder::search, rows);
     box = bounding_box(n, [&](Index a) { return x_[a]; });
   } else {
     box = search_near_rows(nodes);
@@ -426,7 +429,7 @@ void SolidFormulation::update_neighbour_list(discretization::NodeStore& nodes) {
         return longest;
       },
       [](Index a, Index b) { return std::max(a, b); });
-  if (!every_row) {
+  if (distributed) {
     double negated = -static_cast<double>(span);
     parallel::world().minimum({&negated, 1});
     span = static_cast<Index>(-negated);
@@ -435,10 +438,12 @@ void SolidFormulation::update_neighbour_list(discretization::NodeStore& nodes) {
   force_blocks_ = (n + span - 1) / span;
   if (force_blocks_ < min_force_blocks) force_blocks_ = 0;
   choose_force_blocks(nodes);
+  if (!distributed) return;
+  // The first build under MPI searched a rank's own rows: now those its force blocks may run too.
+  if (whole_state) verlet_.search_rows(list_reach_, rows_searched(own_particles()));
   // Blocks longer than the last build's reach rows it did not search: every row then, from every
   // particle's position at the build, and its rows' particles' positions, velocities and h, which
   // the ranks complete together when one needs them.
-  if (every_row) return;
   const bool unsearched = !verlet_.searched(computed_rows());
   double any = unsearched ? -1 : 0;
   ranks.minimum({&any, 1});
@@ -1009,15 +1014,16 @@ struct Kinematics {
 }  // namespace
 
 // The rows this rank computes now are searched from every particle's position and reach at the last
-// build (the list one process has), and the particles they read come in from the ranks that
+// build (as one process would have searched them), and the particles they read come in from the ranks that
 // computed them in the old deal, with their whole state and their nodes' positions and velocities:
 // a particle's state travels to the ranks that need it, no further.
 void SolidFormulation::deal_anew(discretization::NodeStore& nodes) {
   const discretization::ParticleShare dealt_before = share_;
   complete_list();
   share_.bind(nodes);
-  verlet_.search_every_row(list_reach_);
+  verlet_.search_rows(list_reach_, rows_searched(own_particles()));
   choose_force_blocks(nodes);
+  if (!verlet_.searched(computed_rows())) verlet_.search_every_row(list_reach_);  // blocks longer than the margin
   plan_reach(nodes);
   discretization::ReachShare arrivals;
   arrivals.plan(current_, node_, dealt_before, nodes);

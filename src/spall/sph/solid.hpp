@@ -191,9 +191,10 @@ class SolidFormulation final : public discretization::Formulation {
   neighbors::ParticleRange particles_of(int rank) const;  // under MPI, dealt in blocks
   // The list's skin for the largest h of every particle.
   static Real list_skin(Real h_largest);
-  // Every particle's position and reach at the last list build (each rank's own come in), where the
-  // rows are searched from them whole (VerletList::search_every_row): after a build from a rank's
-  // own and nearby particles (search_near_rows), before the nodes are dealt anew or a checkpoint.
+  // Every particle's position and reach at the last list build (each rank's own come in), where
+  // rows the build did not search are searched from them (VerletList::search_rows): after a build
+  // from a rank's own and nearby particles (search_near_rows), before the nodes are dealt anew or a
+  // checkpoint.
   void complete_list();
   // corrected: *CONTROL_SPH FORM 1 (the moment and its inverse B), else plain SPH.
   // Returns the first particle whose state update left it unsound (sound()), else
