@@ -67,7 +67,7 @@ class ReachShare {
       if (array.empty()) return;
       constexpr std::size_t bytes = sizeof(array[0]);
       parallel::for_each(static_cast<Index>(receive_.size()), [&](Index k) {
-        std::memcpy(&array[receive_[k]], receive.data() + k * record + at, bytes);
+        std::memcpy(static_cast<void*>(&array[receive_[k]]), receive.data() + k * record + at, bytes);
       });
       at += bytes;
     };

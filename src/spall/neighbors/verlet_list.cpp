@@ -44,6 +44,46 @@ struct UninitializedAllocator : std::allocator<T> {
 };
 using RowBuffer = std::vector<Index, UninitializedAllocator<Index>>;
 
+// A thread's rows as the search finds them, in chunks that are never reallocated, each row whole in
+// one chunk: the buffers hold the rows and at most a chunk more a thread, where one buffer grown by
+// doubling held up to twice the rows and copied itself at each growth (the first build's, the run's
+// peak of memory: 47 MB of buffers for the Taylor bar's 33 MB list at D0/35).
+class FoundRows {
+ public:
+  // Room for `room` entries of the next row (a row's candidates and the search_lanes past them that
+  // compress_indices may write), which close() then cuts to the row's length.
+  Index* open(std::size_t room) {
+    if (chunks_.empty() || chunks_.back().capacity() - chunks_.back().size() < room) {
+      chunks_.emplace_back();
+      chunks_.back().reserve(std::max(chunk_entries, room));
+    }
+    RowBuffer& chunk = chunks_.back();
+    const std::size_t start = chunk.size();
+    chunk.resize(start + room);  // within the capacity: the chunk stays where it is
+    return chunk.data() + start;
+  }
+  void close(const Index* row, Index count) {
+    RowBuffer& chunk = chunks_.back();
+    chunk.resize(static_cast<std::size_t>(row - chunk.data()) + static_cast<std::size_t>(count));
+  }
+  // Calls take(row) for each row in the order they were found, row pointing at its entries, given
+  // each row's length in turn by count(k) for the k-th row.
+  template <typename Count, typename Take>
+  void for_each_row(std::size_t rows, Count&& count, Take&& take) const {
+    std::size_t chunk = 0, at = 0;
+    for (std::size_t k = 0; k < rows; ++k) {
+      const auto length = static_cast<std::size_t>(count(k));
+      while (length > 0 && at == chunks_[chunk].size()) ++chunk, at = 0;  // rows fill a chunk exactly
+      take(chunks_.empty() ? nullptr : chunks_[chunk].data() + at);
+      at += length;
+    }
+  }
+
+ private:
+  static constexpr std::size_t chunk_entries = std::size_t(1) << 18;  // 1 MiB
+  std::vector<RowBuffer> chunks_;
+};
+
 // Positions in cell order, one array per coordinate, and the particle at each position: the
 // candidates of a particle are contiguous runs of these arrays, read front to back, search_lanes
 // at a time. Each array has search_lanes entries past the last particle, so that the last load of
@@ -254,34 +294,25 @@ void VerletList::build_rows(std::span<const Vec3> x, Real radius, const MakeRadi
     }, {.chunk = 64});
   };
 
-  // One walk: each thread appends the rows it finds to a buffer of its own, with each row's
+  // One walk: each thread appends the rows it finds to buffers of its own, with each row's
   // particle and length; once the lengths give the offsets, each thread copies its rows into
   // place. Every row is written by one thread and holds what the search found, so the list is the
   // same for any thread count. The buffers hold the list once more while the build runs.
-  std::vector<RowBuffer> found_rows;
+  std::vector<FoundRows> found_rows;
   std::vector<std::vector<Index>> found_particles;
-  // The last list's length (the list is rebuilt every few tens of steps and changes slowly).
-  const std::size_t last_total = list_.neighbors.size();
   parallel::region([&](const parallel::Team& team) {
     team.single([&] {
       found_rows.resize(team.size());
       found_particles.resize(team.size());
     });
-    // found has room for search_lanes entries past the candidates, which compress_indices may write
-    // before the count moves past them. Candidates are gathered search_lanes at a time without a
-    // branch per candidate (about one in three is a neighbour, so a branch would mispredict often).
-    RowBuffer& found = found_rows[team.index()];
+    // Candidates are gathered search_lanes at a time without a branch per candidate (about one in
+    // three is a neighbour, so a branch would mispredict often).
+    FoundRows& found = found_rows[team.index()];
     std::vector<Index>& particles = found_particles[team.index()];
-    // The thread's share of the last list with 1/8 to spare: a buffer grown from empty by doubling
-    // copies itself over as it goes (memmove was a quarter of the Taylor bar's builds).
-    const std::size_t share = last_total / static_cast<std::size_t>(team.size());
-    found.reserve(share + share / 8 + search_lanes);
     for_each_particle(team, [&](Index k, const TrimmedStencil::Ranges& ranges, int range_count) {
       Index candidates = 0;
       for (int r = 0; r < range_count; ++r) candidates += ranges[r].end - ranges[r].begin;
-      const std::size_t start = found.size();
-      found.resize(start + candidates + search_lanes);
-      Index* row = found.data() + start;
+      Index* row = found.open(static_cast<std::size_t>(candidates) + search_lanes);
       Index count = 0;
       for (int r = 0; r < range_count; ++r)
         for_each_within(p, pair_radius, k, ranges[r], [&](Index j, unsigned mask) {
@@ -290,7 +321,7 @@ void VerletList::build_rows(std::span<const Vec3> x, Real radius, const MakeRadi
         });
       // Particles already in cell order give sorted rows.
       if (row_order == RowOrder::ascending && !std::is_sorted(row, row + count)) std::sort(row, row + count);
-      found.resize(start + count);
+      found.close(row, count);
       particles.push_back(order[k]);
       list_.offsets[order[k] + 1] = count;
     });
@@ -299,12 +330,14 @@ void VerletList::build_rows(std::span<const Vec3> x, Real radius, const MakeRadi
   size_storage(list_.neighbors, static_cast<std::size_t>(list_.offsets[n]));
   const auto threads = static_cast<int>(found_rows.size());
   parallel::for_each(threads, [&](int t) {
-    const Index* from = found_rows[t].data();
-    for (const Index i : found_particles[t]) {
-      const Index count = list_.count(i);
-      std::copy(from, from + count, list_.neighbors.begin() + list_.offsets[i]);
-      from += count;
-    }
+    const std::vector<Index>& particles = found_particles[t];
+    std::size_t k = 0;
+    found_rows[t].for_each_row(
+        particles.size(), [&](std::size_t row) { return list_.count(particles[row]); },
+        [&](const Index* from) {
+          const Index i = particles[k++];
+          std::copy(from, from + list_.count(i), list_.neighbors.begin() + list_.offsets[i]);
+        });
   });
 }
 
