@@ -74,8 +74,7 @@ class VerletList {
   // under MPI: the rows a rank computes once it knows the force blocks' length, which the first
   // build's rows give (every row of the list would be every rank's).
   void search_rows(std::span<const Real> reach, ParticleRange rows);
-  // search_rows of every row: the list a build of every row would have made (what a checkpoint
-  // holds).
+  // search_rows of every row: the list a build of every row would have made.
   void search_every_row(std::span<const Real> reach);
   // After a build of a binned subset, whose positions at the build are all it holds current:
   // `complete(positions)` makes an array of every particle's position whole (under MPI, from the
@@ -105,11 +104,18 @@ class VerletList {
   // Bytes held besides the list itself: the positions saved at the build.
   std::size_t reference_positions_bytes() const { return x_at_build_.capacity() * sizeof(Vec3); }
 
-  // The list as built, and where the particles were then (the next rebuild depends on it).
+  // Where the particles were at the build (the next rebuild depends on it) and how it searched, not
+  // its rows: read back, no row is searched, and search_rows gives each the row this build would
+  // have made (a rank's rows under MPI, from a file any count of ranks wrote, without every rank
+  // holding every row to write or read them).
   void checkpoint(Archive& a) {
     if (!a.reading() && subset_) throw std::logic_error("VerletList: a checkpoint of positions not all current");
-    a(list_, x_at_build_, cutoff_, skin_, builds_);
-    if (a.reading()) rows_ = {0, static_cast<Index>(x_at_build_.size())}, subset_ = false;  // written whole
+    a(x_at_build_, order_, cutoff_, skin_, builds_);
+    if (!a.reading()) return;
+    const auto n = static_cast<Index>(x_at_build_.size());
+    list_.offsets.assign(n + 1, 0);
+    list_.neighbors.clear();
+    rows_ = {0, 0}, subset_ = false;
   }
 
  private:

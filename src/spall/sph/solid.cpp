@@ -1021,9 +1021,7 @@ void SolidFormulation::deal_anew(discretization::NodeStore& nodes) {
   const discretization::ParticleShare dealt_before = share_;
   complete_list();
   share_.bind(nodes);
-  verlet_.search_rows(list_reach_, rows_searched(own_particles()));
-  choose_force_blocks(nodes);
-  if (!verlet_.searched(computed_rows())) verlet_.search_every_row(list_reach_);  // blocks longer than the margin
+  search_computed_rows(nodes);
   plan_reach(nodes);
   discretization::ReachShare arrivals;
   arrivals.plan(current_, node_, dealt_before, nodes);
@@ -1052,7 +1050,16 @@ void SolidFormulation::hold_own_state(neighbors::ParticleRange range) {
        viscous_force_);
 }
 
-// Rank 0 writes the nodes and the list whole: every particle's position, velocity and list reach.
+// The rows this rank computes in the present deal, from every particle's position and reach at the
+// last build (complete_list), and the force blocks for the deal.
+void SolidFormulation::search_computed_rows(const discretization::NodeStore& nodes) {
+  verlet_.search_rows(list_reach_, rows_searched(own_particles()));
+  choose_force_blocks(nodes);
+  if (!verlet_.searched(computed_rows())) verlet_.search_every_row(list_reach_);  // blocks longer than the margin
+}
+
+// Rank 0 writes the nodes and the list's positions whole: every particle's position, velocity and
+// position at the last build.
 void SolidFormulation::complete_state(discretization::NodeStore& nodes) {
   complete_kinematics(nodes);
   complete_list();
@@ -1233,8 +1240,10 @@ void SolidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt)
     hold_own_state(own_particles());
     held_partition_ = nodes.partition;
   }
-  // Nodes dealt anew: this rank computes other rows, which the last build may not have searched.
-  if (distributed && reach_partition_ != nodes.partition) verlet_.search_every_row(list_reach_);
+  // A list read from a checkpoint has no rows (VerletList::checkpoint): one process searches every
+  // row, a rank under MPI those it computes (as deal_anew), before a test for a rebuild may keep them.
+  if (!distributed) verlet_.search_every_row(list_reach_);
+  if (distributed && reach_partition_ != nodes.partition) search_computed_rows(nodes);
   gather_kinematics(nodes);
   const long long builds = verlet_.builds();
   update_neighbour_list(nodes);
@@ -1402,11 +1411,10 @@ std::size_t bytes(const discretization::RangeArray<T>& v) {
 
 // Everything but the materials and options (the deck's) and the spans into the node store or the
 // copies, which the next compute_forces gathers again: what every rank holds alike (the set-up's,
-// the list and its reach, searched in every row for any count of ranks) from rank 0, then each
+// the list's positions at its build and its reach, not its rows) from rank 0, then each
 // particle's state in pieces from the rank that computes it (discretization/particle_pieces.hpp).
 void SolidFormulation::checkpoint(Archive& a, const discretization::NodeStore& nodes) {
-  if (!a.reading()) verlet_.search_every_row(list_reach_);
-  a.section("sph solid");
+  a.section("sph solid 2");  // 2: the list without its rows
   a.expect_size("SPH solid particles", node_.size());
   a(node_, material_, mass_, uniform_mass_, record_mass_, record_origin_, list_reach_, initial_smoothing_length_,
     spacing_, full_support_gradient_, full_support_count_, support_mask_, force_blocks_, force_block_length_, verlet_,

@@ -194,7 +194,7 @@ class SolidFormulation final : public discretization::Formulation {
   // Every particle's position and reach at the last list build (each rank's own come in), where
   // rows the build did not search are searched from them (VerletList::search_rows): after a build
   // from a rank's own and nearby particles (search_near_rows), before the nodes are dealt anew or a
-  // checkpoint.
+  // checkpoint (which holds these positions, not the rows).
   void complete_list();
   // corrected: *CONTROL_SPH FORM 1 (the moment and its inverse B), else plain SPH.
   // Returns the first particle whose state update left it unsound (sound()), else
@@ -247,6 +247,7 @@ class SolidFormulation final : public discretization::Formulation {
   // Under MPI, the nodes dealt anew (load balance): this rank's new rows, and the state they read
   // from the ranks that computed it before (collective).
   void deal_anew(discretization::NodeStore& nodes);
+  void search_computed_rows(const discretization::NodeStore& nodes);
   // The Own arrays hold particles [begin, end) from now on (this rank's own once the particles are
   // dealt; more while a new deal brings their state in).
   void hold_own_state(neighbors::ParticleRange range);
