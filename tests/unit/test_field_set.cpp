@@ -34,6 +34,27 @@ TEST(FieldSet, ANameAskedForWithOtherComponentsOrKindIsRefused) {
   EXPECT_THROW(fields.node_integer("stress", 6), std::logic_error);
 }
 
+// Under MPI in blocks a rank's set holds its block of the nodes: written by node index as a set of
+// every node is, holding the block's entries, the other nodes' values (another rank's) let go.
+TEST(FieldSet, AWindowHoldsItsNodesAlone) {
+  FieldSet fields(3, 5);  // nodes 3 and 4 of a deck's nodes
+  EXPECT_EQ(fields.first_node(), 3);
+  EXPECT_EQ(fields.node_count(), 2);
+  const auto stress = fields.node_real("stress", 6, symmetric_tensor_components);
+  EXPECT_EQ(stress.size(), 12u);
+  for (int node = 0; node < 8; ++node)
+    for (int c = 0; c < 6; ++c) stress[6 * node + c] = 10 * node + c;
+  fields.node_integer("bond_count")[4] = 7;
+  fields.node_integer("bond_count")[0] = 9;  // another rank's node
+  const auto& held = std::get<std::vector<double>>(fields.node_fields()[0].values);
+  ASSERT_EQ(held.size(), 12u);
+  for (int c = 0; c < 6; ++c) {
+    EXPECT_EQ(held[c], 30 + c);
+    EXPECT_EQ(held[6 + c], 40 + c);
+  }
+  EXPECT_EQ(std::get<std::vector<std::int64_t>>(fields.node_fields()[1].values), (std::vector<std::int64_t>{-1, 7}));
+}
+
 TEST(FieldSet, CellBlocksKeepShapeAndConnectivity) {
   FieldSet fields(8);
   CellBlock& block = fields.add_cell_block(CellShape::tetrahedron);

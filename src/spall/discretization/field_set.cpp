@@ -33,13 +33,15 @@ Field& FieldSet::node_field(std::string_view name, int components, bool integer,
   return node_fields_.emplace_back(std::move(field));
 }
 
-std::span<double> FieldSet::node_real(std::string_view name, int components,
-                                      const std::vector<std::string>& component_names) {
-  return std::get<std::vector<double>>(node_field(name, components, false, component_names).values);
+NodeValues<double> FieldSet::node_real(std::string_view name, int components,
+                                       const std::vector<std::string>& component_names) {
+  return {std::get<std::vector<double>>(node_field(name, components, false, component_names).values),
+          static_cast<std::size_t>(first_) * components};
 }
 
-std::span<std::int64_t> FieldSet::node_integer(std::string_view name, int components) {
-  return std::get<std::vector<std::int64_t>>(node_field(name, components, true, {}).values);
+NodeValues<std::int64_t> FieldSet::node_integer(std::string_view name, int components) {
+  return {std::get<std::vector<std::int64_t>>(node_field(name, components, true, {}).values),
+          static_cast<std::size_t>(first_) * components};
 }
 
 CellBlock& FieldSet::add_cell_block(CellShape shape) {

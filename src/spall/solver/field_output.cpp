@@ -10,12 +10,17 @@
 namespace spall::solver {
 
 namespace {
+// The values of the entities `written` of a field of the entities [first, first + values / components),
+// zero for those outside it.
 template <typename T>
-std::vector<T> gather(const std::vector<T>& node_values, const std::vector<Index>& written, int components) {
+std::vector<T> gather(const std::vector<T>& values, Index first, std::span<const Index> written, int components) {
+  const auto held = values.size() / components;
   std::vector<T> out;
   out.reserve(written.size() * components);
-  for (Index i : written)
-    for (int c = 0; c < components; ++c) out.push_back(node_values[i * components + c]);
+  for (Index i : written) {
+    const auto k = static_cast<std::size_t>(i - first);
+    for (int c = 0; c < components; ++c) out.push_back(k < held ? values[k * components + c] : T{});
+  }
   return out;
 }
 
@@ -31,66 +36,86 @@ discretization::CellBlock piece_of(const discretization::CellBlock& block, const
   for (const auto& field : block.fields) {
     auto& out = piece.fields.emplace_back(discretization::Field{
         .name = field.name, .components = field.components, .values = {}, .component_names = field.component_names});
-    std::visit([&](const auto& values) { out.values = gather(values, cells, field.components); }, field.values);
+    std::visit([&](const auto& values) { out.values = gather(values, 0, cells, field.components); }, field.values);
   }
   return piece;
 }
 
-// Under MPI: the nodes of this piece's cells that another rank computes take every node field as
-// that rank wrote it, since a formulation writes the fields of its own nodes alone from current
-// state (Formulation::complete_for_output). Each rank asks the nodes' ranks by their places in the
-// deck and gets back a record of every component of every field (integers by their bits).
-void take_fields_of_borrowed_nodes(discretization::FieldSet& set, const discretization::NodeStore& nodes,
-                                   std::span<const Index> written) {
+// Under MPI in blocks, the fields of the nodes of this piece's cells that another rank computes, as
+// that rank wrote them: a formulation writes the fields of its own nodes alone from current state
+// (Formulation::complete_for_output), and a rank's set holds its own nodes alone. Each rank asks
+// the nodes' ranks by their places in the deck and gets back a record of every component of every
+// field (integers by their bits).
+struct BorrowedFields {
+  std::vector<Index> places;  // in `written`
+  std::vector<double> records;
+  Index record = 0;
+  // The records put in place of the values at `places` of the fields gathered for `written`.
+  void put(std::vector<discretization::Field>& fields) const {
+    for (std::size_t k = 0; k < places.size(); ++k) {
+      Index at = 0;
+      for (auto& field : fields)
+        std::visit([&](auto& values) {
+          using T = typename std::remove_reference_t<decltype(values)>::value_type;
+          for (int c = 0; c < field.components; ++c)
+            values[places[k] * field.components + c] = std::bit_cast<T>(records[k * record + at++]);
+        }, field.values);
+    }
+  }
+};
+
+BorrowedFields borrowed_fields(const discretization::FieldSet& set, const discretization::NodeStore& nodes,
+                               std::span<const Index> written) {
   const parallel::Communicator& ranks = parallel::world();
   const int size = ranks.size();
-  std::vector<std::vector<Index>> borrowed(size);  // rows, by the rank that computes them
-  for (const Index i : written)
-    if (!nodes.owns(i)) borrowed[nodes.owner[i]].push_back(i);
-  std::vector<Index> ask, ask_offsets(size + 1, 0), rows;
+  std::vector<std::vector<Index>> borrowed(size);  // places in `written`, by the rank that computes them
+  for (std::size_t k = 0; k < written.size(); ++k)
+    if (!nodes.owns(written[k])) borrowed[nodes.owner[written[k]]].push_back(static_cast<Index>(k));
+  BorrowedFields found;
+  std::vector<Index> ask, ask_offsets(size + 1, 0), &places = found.places;
   for (int r = 0; r < size; ++r) {
-    for (const Index i : borrowed[r]) {
-      ask.push_back(nodes.deck_index(i));
-      rows.push_back(i);
+    for (const Index k : borrowed[r]) {
+      ask.push_back(nodes.deck_index(written[k]));
+      places.push_back(k);
     }
     ask_offsets[r + 1] = static_cast<Index>(ask.size());
   }
   const std::vector<Index> asked_offsets = ranks.offsets_in(ask_offsets);
   std::vector<Index> asked(asked_offsets[size]);
   ranks.exchange(std::span<const Index>(ask), ask_offsets, std::span(asked), asked_offsets);
-  Index record = 0;
+  Index& record = found.record;
   for (const auto& field : set.node_fields()) record += field.components;
-  const auto each_value = [&](Index row, auto&& use) {
+  std::vector<double> answer(asked.size() * record), &answered = found.records;
+  answered.resize(ask.size() * record);
+  for (std::size_t k = 0; k < asked.size(); ++k) {
+    const Index row = nodes.row_of(asked[k]) - set.first_node();
     Index at = 0;
-    for (auto& field : set.node_fields())
-      std::visit([&](auto& values) {
-        for (int c = 0; c < field.components; ++c) use(values[row * field.components + c], at++);
+    for (const auto& field : set.node_fields())
+      std::visit([&](const auto& values) {
+        for (int c = 0; c < field.components; ++c)
+          answer[k * record + at++] = std::bit_cast<double>(values[row * field.components + c]);
       }, field.values);
-  };
-  std::vector<double> answer(asked.size() * record), answered(ask.size() * record);
-  for (std::size_t k = 0; k < asked.size(); ++k)
-    each_value(nodes.row_of(asked[k]), [&](auto& value, Index at) {
-      answer[k * record + at] = std::bit_cast<double>(value);
-    });
+  }
   std::vector<Index> answer_offsets(asked_offsets), answered_offsets(ask_offsets);
   for (Index& o : answer_offsets) o *= record;
   for (Index& o : answered_offsets) o *= record;
   ranks.exchange(std::span<const double>(answer), answer_offsets, std::span(answered), answered_offsets);
-  for (std::size_t k = 0; k < rows.size(); ++k)
-    each_value(rows[k], [&](auto& value, Index at) {
-      value = std::bit_cast<std::remove_reference_t<decltype(value)>>(answered[k * record + at]);
-    });
+  return found;
 }
 }  // namespace
 
 FieldSnapshot snapshot_fields(const Problem& problem) {
   const auto& nodes = problem.nodes;
-  discretization::FieldSet set(nodes.size());
+  // Under MPI in blocks a rank's node fields hold the nodes it computes (one stretch of the node
+  // order): the other nodes of its cells come from their ranks.
+  const bool in_blocks = parallel::world().size() > 1 && !nodes.by_region();
+  discretization::FieldSet set = in_blocks ? discretization::FieldSet(nodes.owned_begin, nodes.owned_end)
+                                           : discretization::FieldSet(nodes.size());
   const auto velocity = set.node_real("velocity", 3), displacement = set.node_real("displacement", 3);
   // With density, a particle's volume m / rho: what `spall surface` needs for the colour field.
   const auto mass = set.node_real("mass");
   const auto part_id = set.node_integer("part_id"), node_id = set.node_integer("node_id");
-  for (Index i = 0; i < nodes.size(); ++i) {
+  for (Index i = set.first_node(); i < set.first_node() + set.node_count(); ++i) {
     for (int d = 0; d < 3; ++d) {
       velocity[3 * i + d] = nodes.v[i][d];
       displacement[3 * i + d] = nodes.x[i][d] - nodes.x0[i][d];
@@ -121,17 +146,20 @@ FieldSnapshot snapshot_fields(const Problem& problem) {
       point_of_node[i] = static_cast<Index>(written.size());
       written.push_back(i);
     }
-  if (parallel::world().size() > 1 && !nodes.by_region()) take_fields_of_borrowed_nodes(set, nodes, written);
   FieldSnapshot snap;
   snap.points.reserve(written.size());
   for (Index i : written) snap.points.push_back(nodes.x[i]);
-  // Written in increasing order, every node written is the identity: no copy of every field then.
-  const bool every_node = written.size() == static_cast<std::size_t>(nodes.size());
+  // Written in increasing order, every node of a set of every node is the identity: no copy of
+  // every field then.
+  const bool every_node = written.size() == static_cast<std::size_t>(nodes.size()) && set.node_count() == nodes.size();
+  const BorrowedFields borrowed = in_blocks ? borrowed_fields(set, nodes, written) : BorrowedFields{};
   for (auto& field : set.node_fields()) {
-    if (!every_node)
-      std::visit([&](auto& values) { values = gather(values, written, field.components); }, field.values);
+    if (!every_node)  // in place: the set's values of one field at a time let go
+      std::visit([&](auto& values) { values = gather(values, set.first_node(), written, field.components); },
+                 field.values);
     snap.fields.push_back(std::move(field));
   }
+  borrowed.put(snap.fields);
   for (std::size_t b = 0; b < set.cell_blocks().size(); ++b)
     snap.cell_blocks.push_back(piece_of(set.cell_blocks()[b], piece_cells[b], point_of_node));
   return snap;

@@ -639,7 +639,7 @@ void Part::write_fields(discretization::FieldSet& fields) const {
     bond_damage[i] = initial_bond_count_[a] > 0 ? double(broken) / initial_bond_count_[a] : 0.0;
     const Mat3 sigma = S - pressure_[a] * Mat3::Identity();
     const double components[6] = {sigma(0, 0), sigma(1, 1), sigma(2, 2), sigma(0, 1), sigma(1, 2), sigma(2, 0)};
-    std::copy(components, components + 6, stress.begin() + 6 * i);
+    for (int c = 0; c < 6; ++c) stress[6 * i + c] = components[c];
   }
 }
 

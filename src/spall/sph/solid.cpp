@@ -1374,7 +1374,7 @@ void SolidFormulation::write_fields(discretization::FieldSet& fields, const disc
     const Mat3 sigma = S - pressure_[a] * Mat3::Identity();
     const double components[6] = {sigma(0, 0), sigma(1, 1), sigma(2, 2),
                                   sigma(0, 1), sigma(1, 2), sigma(2, 0)};
-    std::copy(components, components + 6, stress.begin() + 6 * i);
+    for (int c = 0; c < 6; ++c) stress[6 * i + c] = components[c];
     neighbour_count[i] = list_built_ ? list.count(a) : 0;
   }
   if (has_temperature_) {
