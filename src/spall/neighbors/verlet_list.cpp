@@ -66,18 +66,21 @@ class FoundRows {
     RowBuffer& chunk = chunks_.back();
     chunk.resize(static_cast<std::size_t>(row - chunk.data()) + static_cast<std::size_t>(count));
   }
-  // Calls take(row) for each row in the order they were found, row pointing at its entries, given
-  // each row's length in turn by count(k) for the k-th row.
-  template <typename Count, typename Take>
-  void for_each_row(std::size_t rows, Count&& count, Take&& take) const {
-    std::size_t chunk = 0, at = 0;
-    for (std::size_t k = 0; k < rows; ++k) {
-      const auto length = static_cast<std::size_t>(count(k));
-      while (length > 0 && at == chunks_[chunk].size()) ++chunk, at = 0;  // rows fill a chunk exactly
-      take(chunks_.empty() ? nullptr : chunks_[chunk].data() + at);
-      at += length;
+  // The rows read back in the order they were found: next(length) points at the next row's entries.
+  class Reader {
+   public:
+    explicit Reader(const FoundRows& rows) : chunks_(rows.chunks_) {}
+    const Index* next(std::size_t length) {
+      while (length > 0 && at_ == chunks_[chunk_].size()) ++chunk_, at_ = 0;  // rows fill a chunk exactly
+      const Index* row = chunks_.empty() ? nullptr : chunks_[chunk_].data() + at_;
+      at_ += length;
+      return row;
     }
-  }
+
+   private:
+    const std::vector<RowBuffer>& chunks_;
+    std::size_t chunk_ = 0, at_ = 0;
+  };
 
  private:
   static constexpr std::size_t chunk_entries = std::size_t(1) << 18;  // 1 MiB
@@ -330,14 +333,12 @@ void VerletList::build_rows(std::span<const Vec3> x, Real radius, const MakeRadi
   size_storage(list_.neighbors, static_cast<std::size_t>(list_.offsets[n]));
   const auto threads = static_cast<int>(found_rows.size());
   parallel::for_each(threads, [&](int t) {
-    const std::vector<Index>& particles = found_particles[t];
-    std::size_t k = 0;
-    found_rows[t].for_each_row(
-        particles.size(), [&](std::size_t row) { return list_.count(particles[row]); },
-        [&](const Index* from) {
-          const Index i = particles[k++];
-          std::copy(from, from + list_.count(i), list_.neighbors.begin() + list_.offsets[i]);
-        });
+    FoundRows::Reader rows(found_rows[t]);
+    for (const Index i : found_particles[t]) {
+      const Index count = list_.count(i);
+      const Index* from = rows.next(static_cast<std::size_t>(count));
+      std::copy(from, from + count, list_.neighbors.begin() + list_.offsets[i]);
+    }
   });
 }
 

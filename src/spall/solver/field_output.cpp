@@ -72,21 +72,22 @@ BorrowedFields borrowed_fields(const discretization::FieldSet& set, const discre
   for (std::size_t k = 0; k < written.size(); ++k)
     if (!nodes.owns(written[k])) borrowed[nodes.owner[written[k]]].push_back(static_cast<Index>(k));
   BorrowedFields found;
-  std::vector<Index> ask, ask_offsets(size + 1, 0), &places = found.places;
+  std::vector<Index> ask, ask_offsets(size + 1, 0);
   for (int r = 0; r < size; ++r) {
     for (const Index k : borrowed[r]) {
       ask.push_back(nodes.deck_index(written[k]));
-      places.push_back(k);
+      found.places.push_back(k);
     }
     ask_offsets[r + 1] = static_cast<Index>(ask.size());
   }
   const std::vector<Index> asked_offsets = ranks.offsets_in(ask_offsets);
   std::vector<Index> asked(asked_offsets[size]);
   ranks.exchange(std::span<const Index>(ask), ask_offsets, std::span(asked), asked_offsets);
-  Index& record = found.record;
+  Index record = 0;
   for (const auto& field : set.node_fields()) record += field.components;
-  std::vector<double> answer(asked.size() * record), &answered = found.records;
-  answered.resize(ask.size() * record);
+  found.record = record;
+  found.records.resize(ask.size() * record);
+  std::vector<double> answer(asked.size() * record);
   for (std::size_t k = 0; k < asked.size(); ++k) {
     const Index row = nodes.row_of(asked[k]) - set.first_node();
     Index at = 0;
@@ -99,7 +100,7 @@ BorrowedFields borrowed_fields(const discretization::FieldSet& set, const discre
   std::vector<Index> answer_offsets(asked_offsets), answered_offsets(ask_offsets);
   for (Index& o : answer_offsets) o *= record;
   for (Index& o : answered_offsets) o *= record;
-  ranks.exchange(std::span<const double>(answer), answer_offsets, std::span(answered), answered_offsets);
+  ranks.exchange(std::span<const double>(answer), answer_offsets, std::span(found.records), answered_offsets);
   return found;
 }
 }  // namespace
