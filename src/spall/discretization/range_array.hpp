@@ -6,6 +6,7 @@
 // options switch off is empty; one that is on but holds no particle (a rank without any) is not.
 #include <algorithm>
 #include <cstddef>
+#include <utility>
 #include <vector>
 
 #include "spall/core/types.hpp"
@@ -52,7 +53,15 @@ class RangeArray {
 
   T& operator[](Index p) { return values_[static_cast<std::size_t>(p - first_)]; }
   const T& operator[](Index p) const { return values_[static_cast<std::size_t>(p - first_)]; }
+  // The values held, from the first particle held on: particle p's is data()[p - held_begin()].
+  T* data() { return values_.data(); }
+  const T* data() const { return values_.data(); }
   void fill(const T& value) { std::fill(values_.begin(), values_.end(), value); }
+  void swap(RangeArray& other) noexcept {
+    std::swap(first_, other.first_);
+    std::swap(on_, other.on_);
+    values_.swap(other.values_);
+  }
   std::size_t capacity_bytes() const { return values_.capacity() * sizeof(T); }
 
  private:

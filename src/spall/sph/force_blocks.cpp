@@ -75,16 +75,16 @@ ForceBlocks::Plan ForceBlocks::plan(const std::vector<Transfer>& transfers) cons
   return p;
 }
 
-void ForceBlocks::move(const Plan& plan, std::vector<Eigen::Vector4d>& sums) const {
+void ForceBlocks::move(const Plan& plan, Eigen::Vector4d* sums, Index first) const {
   if (runner_.empty()) return;
   std::vector<Vec3> send(plan.send_offsets.back()), receive(plan.receive_offsets.back());
   Index k = 0;
   for (const Transfer& t : plan.send)
-    for (Index a = t.begin; a < t.end; ++a) send[k++] = sums[a].head<3>();
+    for (Index a = t.begin; a < t.end; ++a) send[k++] = sums[a - first].head<3>();
   parallel::world().exchange(std::span<const Vec3>(send), plan.send_offsets, std::span(receive), plan.receive_offsets);
   k = 0;
   for (const Transfer& t : plan.receive)
-    for (Index a = t.begin; a < t.end; ++a) sums[a] = {receive[k].x(), receive[k].y(), receive[k].z(), 0}, ++k;
+    for (Index a = t.begin; a < t.end; ++a) sums[a - first] = {receive[k].x(), receive[k].y(), receive[k].z(), 0}, ++k;
 }
 
 }  // namespace spall::sph

@@ -18,6 +18,7 @@
 #include <Eigen/Core>
 
 #include "spall/core/types.hpp"
+#include "spall/discretization/range_array.hpp"
 
 namespace spall::sph {
 
@@ -44,10 +45,17 @@ class ForceBlocks {
   Index last_touched() const { return last_touched_; }
 
   // Under MPI, between the even and the odd blocks, and after the odd ones (see above): in place
-  // in `sums`, the partial pair sums (x, y, z, 0) of the particles. Collective: every rank calls
-  // both, each step the blocks run. Nothing for one process.
-  void after_even(std::vector<Eigen::Vector4d>& sums) const { move(handoff_, sums); }
-  void after_odd(std::vector<Eigen::Vector4d>& sums) const { move(delivery_, sums); }
+  // in `sums`, the partial pair sums (x, y, z, 0) of the particles, a std::vector or a RangeArray
+  // holding those of the blocks this rank runs and of its own particles. Collective: every rank
+  // calls both, each step the blocks run. Nothing for one process.
+  void after_even(std::vector<Eigen::Vector4d>& sums) const { move(handoff_, sums.data(), 0); }
+  void after_odd(std::vector<Eigen::Vector4d>& sums) const { move(delivery_, sums.data(), 0); }
+  void after_even(discretization::RangeArray<Eigen::Vector4d>& sums) const {
+    move(handoff_, sums.data(), sums.held_begin());
+  }
+  void after_odd(discretization::RangeArray<Eigen::Vector4d>& sums) const {
+    move(delivery_, sums.data(), sums.held_begin());
+  }
 
  private:
   // Particles [begin, end) whose sums go from rank `from` to rank `to`.
@@ -62,7 +70,8 @@ class ForceBlocks {
     std::vector<Index> send_offsets, receive_offsets;
   };
   Plan plan(const std::vector<Transfer>& transfers) const;
-  void move(const Plan& plan, std::vector<Eigen::Vector4d>& sums) const;
+  // Particle a's sum at sums[a - first].
+  void move(const Plan& plan, Eigen::Vector4d* sums, Index first) const;
 
   Index particles_ = 0, length_ = 0, count_ = 0;
   int rank_ = 0, ranks_ = 1;

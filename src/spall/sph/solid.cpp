@@ -88,6 +88,13 @@ bool invert_symmetric(const Mat3& m, Real least, Mat3& inverse) {
   return true;
 }
 
+// The smallest range that holds both (an empty one adds nothing).
+neighbors::ParticleRange hull(neighbors::ParticleRange r, neighbors::ParticleRange s) {
+  if (s.begin >= s.end) return r;
+  if (r.begin >= r.end) return s;
+  return {std::min(r.begin, s.begin), std::max(r.end, s.end)};
+}
+
 }  // namespace
 
 // The pair loops run on eight single-precision lanes, a pair per lane (simd::Float8), from the
@@ -157,9 +164,10 @@ template <typename Kernel>
 // (v, 0), a row of SolidFormulation::force_.
 inline Eigen::Vector4d force_row(const Vec3& v) { return {v.x(), v.y(), v.z(), 0}; }
 
-// m_b of a pack of pairs: the one mass of a lattice broadcast (uniform > 0), else gathered.
-inline Float8 pair_mass(const std::vector<float>& mass, Real uniform, const Index* b) {
-  return uniform > 0 ? Float8(static_cast<float>(uniform)) : Float8::gather<1>(mass.data(), b);
+// m_b of a pack of pairs: the one mass of a lattice broadcast (uniform > 0), else gathered from
+// mass (from the first particle the records hold on, as the pair loops index them).
+inline Float8 pair_mass(const float* mass, Real uniform, const Index* b) {
+  return uniform > 0 ? Float8(static_cast<float>(uniform)) : Float8::gather<1>(mass, b);
 }
 
 // The first byte of particle a's support mask: one byte per pack of its Verlet row (bit i: lane i
@@ -173,10 +181,11 @@ inline std::size_t mask_bytes(const neighbors::NeighborList& list) {
 
 // Keeps the entries of particle a's Verlet row that lanes(b, present) selects, a pack b at a time
 // (`present` masks the lanes past the row's end), in terms.neighbour, padded with a itself to a
-// multiple of the pack width. Returns the padded count.
+// multiple of the pack width, each less `origin`: the pair loops index the records from the first
+// particle they hold (the records' held_begin()). Returns the padded count.
 template <typename Lanes>
-[[gnu::always_inline]] inline Index keep_row(const neighbors::NeighborList& list, Index a, RowTerms& terms,
-                                             Lanes&& lanes) {
+[[gnu::always_inline]] inline Index keep_row(const neighbors::NeighborList& list, Index a, Index origin,
+                                             RowTerms& terms, Lanes&& lanes) {
   constexpr int W = pair_lanes;
   const Index first = list.offsets[a];
   const Index count = list.offsets[a + 1] - first;
@@ -198,6 +207,8 @@ template <typename Lanes>
   if (full < count) keep(tail, (1 << (count - full)) - 1);
   const Index padded = (kept + W - 1) / W * W;
   std::fill(neighbour + kept, neighbour + padded, a);
+  if (origin != 0)  // under MPI; one process holds every particle
+    for (Index k = 0; k < padded; ++k) neighbour[k] -= origin;
   return padded;
 }
 
@@ -217,15 +228,21 @@ constexpr std::size_t row_lead = 3;
 }
 
 // Picks the neighbours of particle a inside their support (keep_row) and records the pick in
-// mask (mask_start).
-Index pick_support(const neighbors::NeighborList& list, Index a, const PairRecord* records, std::uint8_t* mask,
-                   RowTerms& terms) {
-  const PackCentre centre(records[a]);
+// mask (mask_start); records from particle `origin` on.
+Index pick_support(const neighbors::NeighborList& list, Index a, const PairRecord* records, Index origin,
+                   std::uint8_t* mask, RowTerms& terms) {
+  const PackCentre centre(records[a - origin]);
   mask += mask_start(list, a);
   prefetch_row_ahead(list, a);
-  return keep_row(list, a, terms, [&](const Index* b, int present) {
+  return keep_row(list, a, origin, terms, [&](const Index* b, int present) {
     Float8 c[4];
-    simd::load_rows<record_stride>(&records->x, b, 0, c);
+    if (origin == 0) {  // one process holds every particle
+      simd::load_rows<record_stride>(&records->x, b, 0, c);
+    } else {
+      Index held[pair_lanes];
+      for (int i = 0; i < pair_lanes; ++i) held[i] = b[i] - origin;
+      simd::load_rows<record_stride>(&records->x, held, 0, c);
+    }
     Float8 dx, dy, dz;
     const Float8 r2 = pair_difference(centre, c, dx, dy, dz);
     const Float8 H = pair_support(centre.h, c[3]);
@@ -238,9 +255,10 @@ Index pick_support(const neighbors::NeighborList& list, Index a, const PairRecor
 // The pick that pick_support recorded in mask, again (the force pass, at the rates pass's h):
 // every pair of the row, or (half) only those with b > a, each pair once.
 template <bool half>
-Index picked_support(const neighbors::NeighborList& list, Index a, const std::uint8_t* mask, RowTerms& terms) {
+Index picked_support(const neighbors::NeighborList& list, Index a, Index origin, const std::uint8_t* mask,
+                     RowTerms& terms) {
   mask += mask_start(list, a);
-  return keep_row(list, a, terms, [&](const Index* b, int) {
+  return keep_row(list, a, origin, terms, [&](const Index* b, int) {
     if constexpr (half) return *mask++ & Float8::indices_above(b, a);
     return int(*mask++);
   });
@@ -250,64 +268,31 @@ SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
                                    const std::vector<ParticleSetup>& particles,
                                    SolidOptions options, const discretization::NodeStore& nodes)
     : materials_(std::move(materials)), options_(options) {
-  const std::size_t n = particles.size();
+  const auto n = static_cast<Index>(particles.size());
   node_.resize(n);
   material_.resize(n);
   mass_.resize(n);
-  smoothing_length_.resize(n);
-  record_.resize(n);
-  viscosity_record_.resize(n);
-  if (options_.gradient_correction)
-    stress_.resize(n);
-  else
-    plain_stress_.resize(n);
   list_reach_.resize(n);
   initial_smoothing_length_.resize(n);
   spacing_.resize(n);
-  density_.resize(n);
-  volume_.resize(n);
-  updated_volume_.resize(n);
-  pressure_.assign(n, 0);
-  sound_speed_.resize(n);
-  updated_sound_speed_.resize(n);
-  internal_energy_.assign(n, 0);
-  state_.resize(n);
-  gradient_amplification_.assign(n, 1);
   full_support_gradient_ = kernels::with_kernel(options_.kernel, options_.dimension, [](auto kernel) {
     return kernels::gradient_norm_integral<decltype(kernel)>();
   });
-  if (options_.artificial_stress.enabled) artificial_stress_.assign(n, Mat3::Zero());
-  if (std::any_of(materials_.begin(), materials_.end(), materials::keeps_back_stress))
-    back_stress_.assign(n, Mat3::Zero());
-  strain_rate_squared_.assign(n, 0);
-  viscous_heating_.assign(n, 0);
-  force_.assign(n, Eigen::Vector4d::Zero());
-  viscous_force_.assign(n, Vec3::Zero());
   // Particles in node order: the node store is in cell order, so that neighbours are close in
   // memory, and a formulation owning a contiguous run of nodes reads their x and v in place.
   std::vector<std::size_t> by_node(n);
   std::iota(by_node.begin(), by_node.end(), std::size_t{0});
   std::stable_sort(by_node.begin(), by_node.end(),
                    [&](std::size_t i, std::size_t j) { return particles[i].node < particles[j].node; });
-  for (std::size_t a = 0; a < n; ++a) {
+  for (Index a = 0; a < n; ++a) {
     const auto& p = particles[by_node[a]];
     node_[a] = p.node;
     material_[a] = p.material;
     mass_[a] = nodes.mass[p.node];
-    smoothing_length(a) = initial_smoothing_length_[a] = p.smoothing_length;
+    initial_smoothing_length_[a] = p.smoothing_length;
     h_bounds_.resize(std::max(h_bounds_.size(), std::size_t(p.material) + 1));
     h_bounds_[p.material] = {p.h_min_factor, p.h_max_factor};
     spacing_[a] = p.spacing;
-    const auto& m = materials_[material_[a]];
-    density_[a] = m.density;
-    volume_[a] = mass_[a] / density_[a];
-    updated_volume_[a] = volume_[a];
-    state_[a] = materials::initial_state(m);
-    internal_energy_[a] = m.initial_specific_energy;
-    pressure_[a] = materials::eos_pressure(m, m.density, internal_energy_[a]);
-    sound_speed_[a] = materials::sound_speed(m, m.density, internal_energy_[a]);
-    updated_sound_speed_[a] = sound_speed_[a];
-    record_stress(a, Mat3::Zero(), Mat3::Identity());
   }
   for (const auto& m : materials_)
     if (std::holds_alternative<materials::JohnsonCook>(m.strength)) has_temperature_ = true;
@@ -318,31 +303,74 @@ SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
   else
     record_mass_.assign(mass_.begin(), mass_.end());
   bool contiguous = n > 0;
-  for (std::size_t a = 1; a < n && contiguous; ++a) contiguous = node_[a] == node_[0] + Index(a);
+  for (Index a = 1; a < n && contiguous; ++a) contiguous = node_[a] == node_[0] + a;
   first_node_ = contiguous ? node_[0] : -1;
+
+  // The state's arrays that the options ask for, holding no particle until set_up_state.
+  const auto on = [](auto&... arrays) { (arrays.resize(0), ...); };
+  on(smoothing_length_, record_, viscosity_record_, density_, volume_, updated_volume_, pressure_, sound_speed_,
+     updated_sound_speed_, internal_energy_, state_, gradient_amplification_, strain_rate_squared_, viscous_heating_,
+     force_, viscous_force_);
+  if (options_.gradient_correction)
+    on(stress_);
+  else
+    on(plain_stress_);
+  if (options_.artificial_stress.enabled) on(artificial_stress_);
+  if (std::any_of(materials_.begin(), materials_.end(), materials::keeps_back_stress)) on(back_stress_);
   const bool colour = std::any_of(options_.colour_field.begin(), options_.colour_field.end(),
                                   [](const ColourField& c) { return c.enabled; });
   if (colour) {
-    colour_.assign(n, 0);
-    colour_normal_.assign(n, Vec3::Zero());
+    on(colour_, colour_normal_, support_count_, category_, density_rate_, velocity_gradient_, correction_);
     if (std::any_of(options_.colour_field.begin(), options_.colour_field.end(),
-                    [](const ColourField& c) { return c.enabled && c.treat && !c.literal; })) {
-      exported_deviator_.resize(n);
-      for (std::size_t a = 0; a < n; ++a) exported_deviator_[a] = state_[a].deviatoric_stress;
-    }
-    support_count_.assign(n, 0);
-    category_.assign(n, Category::interior);
-    density_rate_.assign(n, 0);
-    velocity_gradient_.assign(n, Mat3::Zero());
-    correction_.assign(n, Mat3::Identity());
+                    [](const ColourField& c) { return c.enabled && c.treat && !c.literal; }))
+      on(exported_deviator_);
     full_support_count_.resize(n);
     // Particles of spacing dp in a sphere (circle) of radius 2h, less the particle itself.
-    for (std::size_t a = 0; a < n; ++a) {
-      const Real ratio = 2 * smoothing_length(a) / spacing_[a];
+    for (Index a = 0; a < n; ++a) {
+      const Real ratio = 2 * initial_smoothing_length_[a] / spacing_[a];
       full_support_count_[a] = options_.dimension == 2 ? M_PI * ratio * ratio - 1
                                                        : 4 * M_PI / 3 * ratio * ratio * ratio - 1;
     }
   }
+  // One process sets up every particle's state now; under MPI each rank its own particles' once
+  // the nodes are dealt (compute_forces), so that no rank builds every particle's.
+  if (parallel::world().size() == 1) set_up_state({0, n});
+}
+
+void SolidFormulation::set_up_state(neighbors::ParticleRange range) {
+  hold_own_state(range);
+  hold_read_state(range);
+  for (Index a = range.begin; a < range.end; ++a) {
+    const auto& m = materials_[material_[a]];
+    smoothing_length(a) = initial_smoothing_length_[a];
+    density_[a] = m.density;
+    volume_[a] = mass_[a] / density_[a];
+    updated_volume_[a] = volume_[a];
+    state_[a] = materials::initial_state(m);
+    internal_energy_[a] = m.initial_specific_energy;
+    pressure_[a] = materials::eos_pressure(m, m.density, internal_energy_[a]);
+    sound_speed_[a] = materials::sound_speed(m, m.density, internal_energy_[a]);
+    updated_sound_speed_[a] = sound_speed_[a];
+    gradient_amplification_[a] = 1;
+    strain_rate_squared_[a] = 0;
+    viscous_heating_[a] = 0;
+    force_[a] = Eigen::Vector4d::Zero();
+    viscous_force_[a] = Vec3::Zero();
+    if (!artificial_stress_.empty()) artificial_stress_[a] = Mat3::Zero();
+    if (!back_stress_.empty()) back_stress_[a] = Mat3::Zero();
+    if (!colour_.empty()) {
+      colour_[a] = 0;
+      colour_normal_[a] = Vec3::Zero();
+      support_count_[a] = 0;
+      category_[a] = Category::interior;
+      density_rate_[a] = 0;
+      velocity_gradient_[a] = Mat3::Zero();
+      correction_[a] = Mat3::Identity();
+    }
+    if (!exported_deviator_.empty()) exported_deviator_[a] = state_[a].deviatoric_stress;
+    record_stress(a, Mat3::Zero(), Mat3::Identity());
+  }
+  set_up_ = true;
 }
 
 bool SolidFormulation::active(Real time) const {
@@ -394,22 +422,29 @@ void SolidFormulation::update_neighbour_list(discretization::NodeStore& nodes) {
     return ranks.size() > 1 ? verlet_.needs_rebuild(x_, own_particles(), ranks) : verlet_.needs_rebuild(x_);
   };
   if (list_built_ && !h_outgrown_ && !moved_apart()) return;
-  // One process, or the first build (the set-up's state is whole on every rank): every particle
-  // binned; every row searched by one process, a rank's own under MPI (the rows it computes are
-  // known once the force blocks' length is, below). Under MPI after that a rank searches the rows
-  // it computes, from its own particles and the others' within reach of those rows
-  // (search_near_rows).
+  // One process, or the first build (every particle's position is current on every rank then):
+  // every particle binned; every row searched by one process, a rank's own under MPI (the rows it
+  // computes are known once the force blocks' length is, below), each rank's reaches of its own
+  // particles to every rank. Under MPI after that a rank searches the rows it computes, from its
+  // own particles and the others' within reach of those rows (search_near_rows).
   const bool distributed = ranks.size() > 1, whole_state = !distributed || !list_built_;
   BoundingBox box;
   if (whole_state) {
-    const Real h_largest = parallel::reduce_exact(
-        n, Real(0),
-        [&](Index a) {
+    const neighbors::ParticleRange rows = distributed ? own_particles() : neighbors::ParticleRange{0, n};
+    Real h_largest = parallel::reduce_exact(
+        rows.end - rows.begin, Real(0),
+        [&](Index k) {
+          const Index a = rows.begin + k;
           list_reach_[a] = cutoff_margin * smoothing_length(a);
           return smoothing_length(a);
         },
         [](Real a, Real b) { return std::max(a, b); });
-    const neighbors::ParticleRange rows = distributed ? own_particles() : neighbors::ParticleRange{0, n};
+    if (distributed) {
+      double negated = -h_largest;
+      ranks.minimum({&negated, 1});
+      h_largest = -negated;
+      share_(node_, list_reach_);
+    }
     verlet_.build(x_, list_reach_, list_skin(h_largest), neighbors::RowOrder::search, rows);
     box = bounding_box(n, [&](Index a) { return x_[a]; });
   } else {
@@ -450,7 +485,12 @@ void SolidFormulation::update_neighbour_list(discretization::NodeStore& nodes) {
   if (any < 0) {
     complete_list();
     complete_kinematics(nodes);
-    if (!complete_) share_(node_, smoothing_length_);
+    std::vector<Real> h(n);
+    const neighbors::ParticleRange own = own_particles();
+    for (Index a = own.begin; a < own.end; ++a) h[a] = smoothing_length(a);
+    share_(node_, h);
+    hold_read_state({0, n});
+    for (Index a = 0; a < n; ++a) smoothing_length(a) = h[a];
   }
   if (unsearched) verlet_.search_every_row(list_reach_);
 }
@@ -567,6 +607,12 @@ BoundingBox SolidFormulation::search_near_rows(discretization::NodeStore& nodes)
     for (int r = 0; r < size; ++r)
       if (r != self && near[r].contains(x_[a])) to[r].push_back({a, x_[a], v_[a], smoothing_length(a)});
   const std::vector<NearParticle> receive = ranks.deliver(to);
+  neighbors::ParticleRange held{smoothing_length_.held_begin(), smoothing_length_.held_end()};
+  for (const NearParticle& p : receive) {
+    const auto a = static_cast<Index>(p.particle);
+    held = hull(held, {a, a + 1});
+  }
+  hold_read_state(held);  // the stretch grown to the particles that came in, whose h is written below
   std::vector<Index> binned;
   binned.reserve(own.end - own.begin + receive.size());
   for (Index a = own.begin; a < own.end; ++a) binned.push_back(a);
@@ -622,7 +668,10 @@ Index SolidFormulation::compute_rates(Real dt) {
   const bool row_sums = options_.time_step_rule != TimeStepRule::plain;
   // The colour-field normal serves the categorization and the row sums only.
   const bool normal_on = colour_on || row_sums;
+  // The records from the first particle they hold on; the rows' neighbours less `origin` (keep_row).
+  const Index origin = record_.held_begin();
   const float* records = &record_.data()->x;
+  const float* masses = record_mass_.empty() ? nullptr : record_mass_.data() + origin;
   const float alpha = static_cast<float>(options_.viscosity.alpha), beta = static_cast<float>(options_.viscosity.beta);
   const float eta2 = static_cast<float>(options_.viscosity.eta * options_.viscosity.eta);
   support_mask_.resize(mask_bytes(list));
@@ -634,10 +683,10 @@ Index SolidFormulation::compute_rates(Real dt) {
     // what it captures after every pack store (they may alias), 7 % of this pass (measured).
     team.for_each(n, [&](Index a) __attribute__((always_inline)) {
       if (!owns(a)) {  // another rank's, whose pick the force pass may still need
-        if (blocks_.runs_row(a)) pick_support(list, a, record_.data(), mask, terms);
+        if (blocks_.runs_row(a)) pick_support(list, a, record_.data(), origin, mask, terms);
         return;
       }
-      const Index padded = pick_support(list, a, record_.data(), mask, terms);
+      const Index padded = pick_support(list, a, record_.data(), origin, mask, terms);
       const Index* neighbour = terms.neighbour.data();
       float *dx_k = terms.dx.data(), *dy_k = terms.dy.data(), *dz_k = terms.dz.data(), *factor_k = terms.factor.data(),
             *r_k = terms.r.data(), *support_k = terms.support.data(),
@@ -716,7 +765,7 @@ Index SolidFormulation::compute_rates(Real dt) {
         const Float8 rho = Float8(0.5f) * (rho_a + c_rho[1]);
         const Float8 Pi =
             select(approaching, fma(Float8(-alpha) * c, d, Float8(beta) * hv) * hv * reciprocal(d * d * rho), Float8(0));
-        const Float8 m_b = pair_mass(record_mass_, uniform_mass_, b);
+        const Float8 m_b = pair_mass(masses, uniform_mass_, b);
         const Float8 mPF = m_b * Pi * Float8::load(factor_k + k);
         (m_a * mPF).store(viscous_k + k);
         (Float8(0.5f) * mPF * vr).store(heating_k + k);
@@ -742,7 +791,7 @@ Index SolidFormulation::compute_rates(Real dt) {
         for (Index k = 0; k < padded; k += W) {
           Float8 vx, vy, vz, dx, dy, dz;
           pair_kinematics(k, vx, vy, vz, dx, dy, dz);
-          const Float8 mass = pair_mass(record_mass_, uniform_mass_, neighbour + k);
+          const Float8 mass = pair_mass(masses, uniform_mass_, neighbour + k);
           drho_lanes -= mass * Float8::load(factor_k + k) * fma(vz, dz, fma(vy, dy, vx * dx));
         }
         return drho_lanes.sum();
@@ -766,8 +815,8 @@ Index SolidFormulation::compute_rates(Real dt) {
         Real colour = volume_[a] * Kernel::value(0, 2 * smoothing_length(a));
         std::int32_t count = 0;
         for (Index k = 0; k < padded; ++k) {
-          if (terms.neighbour[k] == a) continue;  // the padding
-          colour += volume_[terms.neighbour[k]] * Kernel::value(terms.r[k], terms.support[k]);
+          if (terms.neighbour[k] == a - origin) continue;  // the padding
+          colour += volume_[origin + terms.neighbour[k]] * Kernel::value(terms.r[k], terms.support[k]);
           ++count;
         }
         colour_[a] = colour;
@@ -983,7 +1032,7 @@ void SolidFormulation::check_state(const discretization::NodeStore& nodes, Index
     double density, h;
   };
   const Index a = first_unsound;
-  const Unsound mine{density_[a], smoothing_length(a)};
+  const Unsound mine = owns(a) ? Unsound{density_[a], smoothing_length(a)} : Unsound{};
   const Unsound found = parallel::world().all(std::span<const Unsound>(&mine, owns(a) ? 1 : 0)).at(0);
   throw InstabilityError(fmt::format(
       "SPH solid: node {} has density {:.6g} and smoothing length {:.6g}: its particle's "
@@ -995,7 +1044,6 @@ void SolidFormulation::check_state(const discretization::NodeStore& nodes, Index
 void SolidFormulation::share_updated_state() {
   if (parallel::world().size() == 1) return;
   reach_(updated_volume_, updated_sound_speed_, density_, stress_, plain_stress_, artificial_stress_);
-  complete_ = false;
 }
 
 void SolidFormulation::plan_reach(const discretization::NodeStore& nodes) {
@@ -1027,14 +1075,15 @@ void SolidFormulation::deal_anew(discretization::NodeStore& nodes) {
   arrivals.plan(current_, node_, dealt_before, nodes);
   // The Own arrays hold the old own particles (what this rank sends) and those it now reads (what
   // it receives) while the state travels, then its new own particles alone.
-  neighbors::ParticleRange travelling{state_.held_begin(), state_.held_end()};  // state_ is always on
-  for (Index a = 0; a < particle_count(); ++a)
-    if (current_[a]) travelling.begin = std::min(travelling.begin, a), travelling.end = std::max(travelling.end, a + 1);
-  hold_own_state(travelling);
+  // The Read arrays likewise: the old stretch and the new.
+  const neighbors::ParticleRange reads = read_stretch();
+  hold_own_state(hull({state_.held_begin(), state_.held_end()}, reads));  // state_ is always on
+  hold_read_state(hull({smoothing_length_.held_begin(), smoothing_length_.held_end()}, reads));
   arrivals(volume_, sound_speed_, density_, smoothing_length_, pressure_, internal_energy_, state_, back_stress_,
            stress_, plain_stress_, artificial_stress_, exported_deviator_, strain_rate_squared_,
            gradient_amplification_, colour_, colour_normal_, support_count_, category_);
   hold_own_state(own_particles());
+  hold_read_state(reads);
   held_partition_ = nodes.partition;
   arrivals.records<Kinematics>([&](Index a) { return Kinematics{nodes.x[node_[a]], nodes.v[node_[a]]}; },
                                [&](Index a, const Kinematics& k) {
@@ -1048,6 +1097,24 @@ void SolidFormulation::hold_own_state(neighbors::ParticleRange range) {
   hold(pressure_, internal_energy_, state_, back_stress_, correction_, exported_deviator_, colour_, colour_normal_,
        support_count_, category_, density_rate_, velocity_gradient_, strain_rate_squared_, viscous_heating_,
        viscous_force_);
+}
+
+void SolidFormulation::hold_read_state(neighbors::ParticleRange range) {
+  const auto hold = [&](auto&... arrays) { (arrays.hold(range.begin, range.end), ...); };
+  hold(smoothing_length_, density_, volume_, updated_volume_, sound_speed_, updated_sound_speed_,
+       gradient_amplification_, artificial_stress_, record_, viscosity_record_, stress_, plain_stress_, force_);
+}
+
+neighbors::ParticleRange SolidFormulation::read_stretch() const {
+  if (current_.empty()) return {0, particle_count()};  // one process: every particle
+  // The force blocks it runs add to every particle of the next block (ForceBlocks::last_touched).
+  const neighbors::ParticleRange blocks =
+      blocks_.last_row() > 0 ? neighbors::ParticleRange{blocks_.first_row(), blocks_.last_touched()}
+                             : neighbors::ParticleRange{0, 0};
+  const auto first = std::find(current_.begin(), current_.end(), 1);
+  if (first == current_.end()) return blocks;
+  const auto last = std::find(current_.rbegin(), current_.rend(), 1);
+  return hull({static_cast<Index>(first - current_.begin()), static_cast<Index>(current_.rend() - last)}, blocks);
 }
 
 // The rows this rank computes in the present deal, from every particle's position and reach at the
@@ -1103,6 +1170,8 @@ void SolidFormulation::compute_pair_forces() {
   const Index n = particle_count();
   const bool stress_on = options_.artificial_stress.enabled;
   const Real exponent = options_.artificial_stress.exponent;
+  // The records and the sums from the first particle they hold on (keep_row).
+  const Index origin = record_.held_begin();
   const float* records = &record_.data()->x;
   // P_b(i, j) = P[stress_stride b + i + 3 j]; plain SPH: sigma_b's components at
   // plain_stress_stride b.
@@ -1110,7 +1179,7 @@ void SolidFormulation::compute_pair_forces() {
   // The pair terms of particle a's row (half: the pairs with b > a, each added to a and taken
   // from b), returned as a's sum; `terms` is the caller's scratch.
   const auto row_force = [&]<bool half>(Index a, RowTerms& terms) {
-    const Index padded = picked_support<half>(list, a, support_mask_.data(), terms);
+    const Index padded = picked_support<half>(list, a, origin, support_mask_.data(), terms);
     const Index* neighbour = terms.neighbour.data();
     const PackCentre centre(record_[a]);
     // P_a column-major (plain: sigma_a's six components), and V_a.
@@ -1162,7 +1231,7 @@ void SolidFormulation::compute_pair_forces() {
     if (stress_on) {
       // Monaghan 2000: m_a m_b f_ab^n (R_a + R_b) grad_a W_ab, f_ab = W(r) / W(dp).
       for (Index k = 0; k < padded; ++k) {
-        const Index b = terms.neighbour[k];
+        const Index b = origin + terms.neighbour[k];
         if (b == a) continue;  // the padding
         const Vec3 x_ab = x_[a] - x_[b];
         const Real r = x_ab.norm(), H = pair_support(smoothing_length(a), smoothing_length(b));
@@ -1195,14 +1264,13 @@ void SolidFormulation::compute_pair_forces() {
     // particle, and so do the odd ones; an odd block runs once the even blocks on either side of it
     // are done. (Tasks rather than two sweeps: with about ten blocks a sweep, the sweeps' ends left a
     // thread idle for a block, 3 % of the Taylor bar's step.)
-    std::fill(force_.begin(), force_.end(), Eigen::Vector4d::Zero());
+    force_.fill(Eigen::Vector4d::Zero());
     parallel::for_each_alternating_block(blocks_.count(), run_block);
   } else {
     // Each block on one rank, the sums handed between the halves (ForceBlocks). Zeroed first: the
     // rows this rank computes and the particles its blocks add to beyond them (the next block's).
     const neighbors::ParticleRange rows = computed_rows();
-    std::fill(force_.begin() + rows.begin, force_.begin() + std::max(rows.end, blocks_.last_touched()),
-              Eigen::Vector4d::Zero());
+    for (Index a = rows.begin; a < std::max(rows.end, blocks_.last_touched()); ++a) force_[a] = Eigen::Vector4d::Zero();
     for (int parity = 0; parity < 2; ++parity) {
       const std::span<const Index> blocks = blocks_.run(parity);
       parallel::for_each(static_cast<Index>(blocks.size()), [&](Index k) { run_block(blocks[k]); }, {.chunk = 1});
@@ -1227,8 +1295,15 @@ void SolidFormulation::with_discretization(F&& f) {
 void SolidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt) {
   time_ += dt;
   const Index n = particle_count();
+  // Under MPI each rank sets up its own particles' state once the nodes are dealt, and again at a
+  // new deal before the first list (inactive until START: the state is still the set-up's).
+  if (!set_up_ || (!list_built_ && share_.stale(nodes))) {
+    share_.bind(nodes);
+    set_up_state(own_particles());
+    held_partition_ = nodes.partition;
+  }
   if (!active(time_)) {
-    std::fill(force_.begin(), force_.end(), Eigen::Vector4d::Zero());
+    force_.fill(Eigen::Vector4d::Zero());
     viscous_force_.fill(Vec3::Zero());
     stable_step_.reset();
     return;
@@ -1236,8 +1311,10 @@ void SolidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt)
   const bool distributed = parallel::world().size() > 1;
   if (distributed && share_.stale(nodes)) deal_anew(nodes);
   share_.bind(nodes);
-  if (distributed && held_partition_ != nodes.partition) {  // the first deal (the set-up's state is every rank's)
+  if (distributed && held_partition_ != nodes.partition) {  // the first deal after a checkpoint (read whole)
     hold_own_state(own_particles());
+    // The state of the others' particles that the rows read comes in once the first list says which.
+    hold_read_state(own_particles());
     held_partition_ = nodes.partition;
   }
   // A list read from a checkpoint has no rows (VerletList::checkpoint): one process searches every
@@ -1250,10 +1327,12 @@ void SolidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt)
   if (blocks_partition_ != nodes.partition) choose_force_blocks(nodes);  // a new deal or a restart
   if (distributed && (verlet_.builds() != builds || reach_partition_ != nodes.partition)) {
     plan_reach(nodes);
-    // The step-start state of the particles the new rows read, from their ranks. A particle the old
-    // rows did not read lies beyond every support after a rebuild for motion (the skin), but not
+    hold_read_state(read_stretch());
+    // The step-start state of the particles the new rows read, from their ranks (h came in with the
+    // list build's near particles, but not at the first build or after a checkpoint). A particle the
+    // old rows did not read lies beyond every support after a rebuild for motion (the skin), but not
     // always after one for an h that outgrew its reach.
-    if (!complete_) reach_(volume_, sound_speed_, density_);
+    reach_(volume_, sound_speed_, density_, smoothing_length_);
   }
   update_records();
   Index first_unsound = n;
@@ -1272,6 +1351,7 @@ void SolidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt)
   volume_.swap(updated_volume_);
   sound_speed_.swap(updated_sound_speed_);
   ++step_;
+  if (step_ == 60) fprintf(stderr, "MEMORY rank %d bytes %zu particles %d\n", parallel::world().rank(), memory_bytes(), n);
   check_state(nodes, first_unsound);
   with_discretization([&](auto kernel, auto corrected) { compute_pair_forces<decltype(kernel), corrected>(); });
   // h follows the density only now, so that both pair passes of a step use one kernel: the force
@@ -1325,7 +1405,10 @@ Real SolidFormulation::stable_time_step(const discretization::NodeStore& nodes) 
   if (stable_step_) return *stable_step_;  // found by the last compute_forces
   const Index n = particle_count();
   return parallel::reduce_exact(
-      n, std::numeric_limits<Real>::infinity(), [&](Index a) { return stable_step_of(a, nodes.v[node_[a]]); },
+      n, std::numeric_limits<Real>::infinity(),
+      [&](Index a) {  // under MPI its own particles: the time loop takes the minimum over the ranks
+        return owns(a) ? stable_step_of(a, nodes.v[node_[a]]) : std::numeric_limits<Real>::infinity();
+      },
       [](Real x, Real y) { return std::min(x, y); });
 }
 
@@ -1426,7 +1509,7 @@ void SolidFormulation::checkpoint(Archive& a, const discretization::NodeStore& n
       colour_normal_, support_count_, category_, x_copy_, v_copy_, density_rate_, velocity_gradient_,
       strain_rate_squared_, viscous_heating_, viscous_force_, force_);
   // Read whole by every rank, which plans its reach again and keeps its own particles' state.
-  if (a.reading()) complete_ = true, reach_partition_ = blocks_partition_ = held_partition_ = -1;
+  if (a.reading()) set_up_ = true, reach_partition_ = blocks_partition_ = held_partition_ = -1;
 }
 
 std::size_t SolidFormulation::memory_bytes() const {
@@ -1444,8 +1527,15 @@ std::size_t SolidFormulation::memory_bytes() const {
 }
 
 Real SolidFormulation::max_wave_speed() const {
+  // The set-up's: each material's at its density and initial energy (set_up_state), of every
+  // particle, whatever particles a rank holds.
+  std::vector<std::uint8_t> used(materials_.size(), 0);
+  for (const Index m : material_) used[m] = 1;
   Real c = 0;
-  for (Real s : sound_speed_) c = std::max(c, s);
+  for (std::size_t k = 0; k < materials_.size(); ++k) {
+    const materials::Material& m = materials_[k];
+    if (used[k]) c = std::max(c, materials::sound_speed(m, m.density, m.initial_specific_energy));
+  }
   return c;
 }
 

@@ -152,6 +152,7 @@ class SolidFormulation final : public discretization::Formulation {
   void write_fields(discretization::FieldSet& fields, const discretization::NodeStore& nodes) const override;
   // The power of the last internal forces at the node velocities v.
   discretization::InternalPower internal_power(std::span<const Vec3> v) const;
+  // The largest sound speed of the set-up's state.
   Real max_wave_speed() const override;
   void complete_state(discretization::NodeStore& nodes) override;
   // The fields and the residual-stress report read a rank's own particles alone.
@@ -174,6 +175,10 @@ class SolidFormulation final : public discretization::Formulation {
   // Of this rank's own particles (all on one process).
   const discretization::RangeArray<Category>& categories() const { return category_; }
   Index node_of(Index particle) const { return node_[particle]; }
+  // The particles whose read state (what the rows read of their neighbours: records, h, density,
+  // volume, sound speed, stress records, forces) this rank holds: every particle on one process;
+  // under MPI from the first particle its rows read to the last (read_stretch).
+  neighbors::ParticleRange read_state_held() const { return {record_.held_begin(), record_.held_end()}; }
   // Per part and category, in part-table order (residual_stress.cpp).
   std::vector<ResidualStressRow> residual_stress(const ResidualStressCriterion& criterion) const;
 
@@ -251,34 +256,46 @@ class SolidFormulation final : public discretization::Formulation {
   // The Own arrays hold particles [begin, end) from now on (this rank's own once the particles are
   // dealt; more while a new deal brings their state in).
   void hold_own_state(neighbors::ParticleRange range);
+  // The set-up's state of particles [begin, end), which the Own and Read arrays then hold: at rest,
+  // each material's density, initial energy and state.
+  void set_up_state(neighbors::ParticleRange range);
+  // The Read arrays hold particles [begin, end) from now on: under MPI the stretch from the first
+  // particle this rank's rows read to the last (read_stretch), more while a list build or a new
+  // deal brings in their state; every particle on one process.
+  void hold_read_state(neighbors::ParticleRange range);
+  // From the first particle this rank's rows read (current_) or its force blocks add to, to the last.
+  neighbors::ParticleRange read_stretch() const;
 
   std::vector<materials::Material> materials_;
   SolidOptions options_;
 
-  // Per particle (structure of arrays).
-  // Per particle. Under MPI the state that only a particle's own rank reads is held for its own
-  // particles alone (Own, hold_own_state); the rest for every particle, current where read.
+  // Per particle (structure of arrays). Under MPI the state that only a particle's own rank reads
+  // is held for its own particles alone (Own, hold_own_state); the state that the rows read of
+  // their neighbours, for the stretch of particles from the first a rank's rows read to the last
+  // (Read, hold_read_state); the rest for every particle.
   template <typename T>
   using Own = discretization::RangeArray<T>;
+  template <typename T>
+  using Read = discretization::RangeArray<T>;
   std::vector<Index> node_;
   std::vector<Index> material_;
   std::vector<Real> mass_;
   Real uniform_mass_ = 0;  // the mass of every particle when all are equal, else 0
-  std::vector<Real> smoothing_length_;  // h (LS-DYNA's); the kernel support is 2h
+  Read<Real> smoothing_length_;  // h (LS-DYNA's); the kernel support is 2h
   Real smoothing_length(Index a) const { return smoothing_length_[a]; }
   Real& smoothing_length(Index a) { return smoothing_length_[a]; }
   // What the pair loops read of each particle, in single precision, written at the start of each
   // evaluation (update_records): positions relative to record_origin_ (the middle of the body at
   // the last list build, so that a float keeps its digits for the differences), h, velocity,
   // volume, sound speed and density of the step start, and the mass when the masses differ.
-  std::vector<PairRecord> record_;
-  std::vector<ViscosityRecord> viscosity_record_;
+  Read<PairRecord> record_;
+  Read<ViscosityRecord> viscosity_record_;
   std::vector<float> record_mass_;
   Vec3 record_origin_ = Vec3::Zero();
   // What the force pass reads: sigma_a B_a^T and the volume after the state update, with the
   // gradient correction (stress_), else sigma_a and the volume (plain_stress_); the other is empty.
-  std::vector<StressRecord> stress_;
-  std::vector<PlainStressRecord> plain_stress_;
+  Read<StressRecord> stress_;
+  Read<PlainStressRecord> plain_stress_;
   // The stress as the force pass reads it, P = sigma B^T, and the volume after the update.
   void record_stress(Index a, const Mat3& exported, const Mat3& correction);
   std::vector<Real> list_reach_;  // cutoff_margin h at the last list build
@@ -288,24 +305,24 @@ class SolidFormulation final : public discretization::Formulation {
   };
   std::vector<HBounds> h_bounds_;  // per material-table entry
   std::vector<Real> spacing_;
-  std::vector<Real> density_;
-  std::vector<Real> volume_;  // m / rho, kept with the density: the pair loops read it per pair
+  Read<Real> density_;
+  Read<Real> volume_;  // m / rho, kept with the density: the pair loops read it per pair
   // The volume after the state update: the rates pass of the step still reads the step start's
   // volume_ of the neighbours while particles are being updated; swapped in after the update.
-  std::vector<Real> updated_volume_;
+  Read<Real> updated_volume_;
   Own<Real> pressure_;
-  std::vector<Real> sound_speed_;
+  Read<Real> sound_speed_;
   // c after the state update, swapped in with updated_volume_: the rates pass's viscosity reads the
   // neighbours' c of the step start.
-  std::vector<Real> updated_sound_speed_;
+  Read<Real> updated_sound_speed_;
   Own<Real> internal_energy_;  // specific (per unit mass)
   Own<materials::PointState> state_;  // deviatoric stress, plastic strain, temperature, ...
   Own<Mat3> back_stress_;  // where a material keeps one (materials::keeps_back_stress), else empty
-  std::vector<Real> gradient_amplification_;      // s_a of the stable step (stable_time_step)
+  Read<Real> gradient_amplification_;             // s_a of the stable step (stable_time_step)
   Real full_support_gradient_ = 0;                // H sum_b V_b |grad W| of a full support
   // B_a (identity without correction) between compute_rates and update_state, when categorizing.
   Own<Mat3> correction_;
-  std::vector<Mat3> artificial_stress_;           // R_a (empty when switched off)
+  Read<Mat3> artificial_stress_;                  // R_a (empty when switched off)
   // The deviator the pair force uses under the relaxed treatment (empty when no part has it):
   // follows the material's increments and relaxes toward 0 (treated) or S (not treated).
   Own<Mat3> exported_deviator_;
@@ -333,7 +350,7 @@ class SolidFormulation final : public discretization::Formulation {
   Own<Vec3> viscous_force_;    // -sum_b m_a m_b Pi_ab grad_a W_ab
   // Total internal force as (x, y, z, 0): the pair sums of the force pass, to which the viscous
   // force is added last; one 256-bit row a particle, which the pair-once subtraction updates whole.
-  std::vector<Eigen::Vector4d> force_;
+  Read<Eigen::Vector4d> force_;
   // The force pass's blocks of particles (compute_pair_forces), as the last list build laid them
   // out; none when the list spans too much of the particle order for pair-once blocks, and the pass
   // then gathers every row whole. blocks_: which this rank runs (choose_force_blocks).
@@ -350,12 +367,13 @@ class SolidFormulation final : public discretization::Formulation {
   std::vector<std::uint8_t> current_;
   bool current(Index a) const { return current_.empty() || current_[a]; }
   long long reach_partition_ = -1;    // NodeStore::partition that reach_ was planned for
-  long long held_partition_ = -1;     // NodeStore::partition whose own particles the Own arrays hold
-  // Every particle's state current on this rank: the set-up's or a checkpoint's, until the first
-  // step's halo. No rank gathers another's state after that: the fields, the residual-stress report
-  // and a failure report are each rank's own particles', a new deal brings in what the new rows read
-  // (deal_anew), and each rank writes its own into a checkpoint.
-  bool complete_ = true;
+  // NodeStore::partition whose own particles the Own arrays hold. Under MPI each rank sets up its own
+  // particles' state at the first deal (a checkpoint is read whole, then cut to them); it keeps its
+  // own and those its rows read, and no rank gathers another's: the fields, the residual-stress
+  // report and a failure report are each rank's own particles', a new deal brings in what the new
+  // rows read (deal_anew), and each rank writes its own into a checkpoint.
+  long long held_partition_ = -1;
+  bool set_up_ = false;  // whether the state was set up (set_up_state) or read from a checkpoint
   bool kinematics_complete_ = true;   // every particle's x and v current (complete_kinematics())
 
   neighbors::VerletList verlet_;

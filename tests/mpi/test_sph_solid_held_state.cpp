@@ -1,0 +1,84 @@
+// The SPH solid's state over several ranks, run as 1, 2 and 3 ranks (docs/SCALING.md §3, "The
+// read state in a stretch"): a rank sets up the state of its own particles alone, and holds what
+// the rows read of their neighbours (records, h, density, volume, sound speed, stress records and
+// forces) for the stretch of particles from the first its rows read to the last, not for every
+// particle. On a bar stretched along its axis, the stretch holds every particle a rank's rows read
+// and is shorter than the bar, and the internal forces on every node are, bit for bit, those of the
+// bar dealt whole to one rank (the pair sums are taken in one order whatever the deal: THEORY §3).
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <vector>
+
+#include "spall/core/communicator.hpp"
+#include "spall/core/log.hpp"
+#include "spall/solver/problem.hpp"
+#include "spall/sph/solid.hpp"
+#include "support/sph_block.hpp"
+
+namespace spall {
+namespace {
+
+struct NodeForce {
+  std::int64_t node;
+  double f[3];
+};
+
+// The internal force on every node after two steps of the bar (50 x 5 x 5 particles along x)
+// pulled at v_x = rate x, with the nodes dealt at `begins`; checks each rank's held stretch.
+std::vector<Vec3> forces(const std::vector<Index>& begins) {
+  const parallel::Communicator& ranks = parallel::world();
+  test_support::ElasticBlock bar;
+  const model::Model model = test_support::elastic_block_model(bar);
+  solver::Problem problem = solver::build_problem(model);
+  discretization::NodeStore& nodes = problem.nodes;
+  const Index n = nodes.size();
+  constexpr Real rate = 100;  // 1/s: a strain of 1e-6 a step
+  for (Index i = 0; i < n; ++i) nodes.v[i] = Vec3(rate * nodes.x[i].x(), 0, 0);
+  nodes.deal(begins, ranks.rank());
+  auto& sph = dynamic_cast<sph::SolidFormulation&>(*problem.formulations[0]);
+  for (int step = 0; step < 2; ++step) {
+    for (Index i = 0; i < n; ++i) nodes.f[i] = Vec3::Zero();
+    sph.compute_forces(nodes, 1e-8);
+  }
+  const neighbors::ParticleRange held = sph.read_state_held();
+  const auto& list = sph.neighbor_list();
+  const auto in_held = [&](Index a) { return a >= held.begin && a < held.end; };
+  Index own = 0, unheld = 0;
+  for (Index a = 0; a < sph.particle_count(); ++a) {
+    if (!nodes.owns(sph.node_of(a))) continue;
+    ++own;
+    unheld += !in_held(a);
+    for (Index k = list.offsets[a]; k < list.offsets[a + 1]; ++k) unheld += !in_held(list.neighbors[k]);
+  }
+  EXPECT_EQ(unheld, 0) << "rank " << ranks.rank() << " reads particles beyond its stretch";
+  if (own > 0 && own < sph.particle_count()) {
+    EXPECT_LT(held.end - held.begin, sph.particle_count()) << "rank " << ranks.rank() << " holds every particle";
+  }
+  std::vector<NodeForce> mine;
+  for (Index i = 0; i < n; ++i)
+    if (nodes.owns(i)) mine.push_back({i, {nodes.f[i].x(), nodes.f[i].y(), nodes.f[i].z()}});
+  std::vector<Vec3> f(n, Vec3::Zero());
+  for (const NodeForce& r : ranks.all(std::span<const NodeForce>(mine))) f[r.node] = Vec3(r.f[0], r.f[1], r.f[2]);
+  return f;
+}
+
+TEST(SphSolidOverRanks, ARankHoldsTheStateItsRowsReadAndForcesAreOneRanks) {
+  log::set_quiet(true);
+  const parallel::Communicator& ranks = parallel::world();
+  const Index n = 50 * 5 * 5;
+  std::vector<Index> whole(ranks.size() + 1, n), blocks(ranks.size() + 1, n);
+  whole[0] = 0;
+  for (int r = 0; r < ranks.size(); ++r) blocks[r] = r * n / ranks.size();
+  const std::vector<Vec3> reference = forces(whole), dealt = forces(blocks);
+  Index differ = 0, zero = 0;
+  for (Index i = 0; i < n; ++i) {
+    differ += dealt[i] != reference[i];
+    zero += reference[i] == Vec3::Zero();
+  }
+  EXPECT_EQ(differ, 0);
+  EXPECT_LT(zero, n / 2);  // the bar is pulled: the forces are not all zero
+}
+
+}  // namespace
+}  // namespace spall
