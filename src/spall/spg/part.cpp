@@ -627,6 +627,7 @@ void Part::write_fields(discretization::FieldSet& fields) const {
              stress = fields.node_real("stress", 6, discretization::symmetric_tensor_components);
   const auto broken_bonds = fields.node_integer("broken_bonds"), bond_count = fields.node_integer("bond_count");
   for (Index a = 0; a < particle_count(); ++a) {
+    if (!owns(a)) continue;  // under MPI each rank writes its own particles (the others' are stale)
     const Index i = node_[a];
     const Mat3& S = state_[a].deviatoric_stress;
     pressure[i] = pressure_[a];

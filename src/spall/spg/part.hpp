@@ -93,7 +93,7 @@ class Part {
   discretization::InternalPower internal_power(std::span<const Vec3> v) const;
   Real max_wave_speed() const;
 
-  // Writes this part's output fields for its nodes.
+  // Writes this part's output fields for the nodes of its own particles (all on one process).
   void write_fields(discretization::FieldSet& fields) const;
 
   const PartSettings& settings() const { return settings_; }
