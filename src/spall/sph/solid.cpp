@@ -1351,7 +1351,6 @@ void SolidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt)
   volume_.swap(updated_volume_);
   sound_speed_.swap(updated_sound_speed_);
   ++step_;
-  if (step_ == 60) fprintf(stderr, "MEMORY rank %d bytes %zu particles %d\n", parallel::world().rank(), memory_bytes(), n);
   check_state(nodes, first_unsound);
   with_discretization([&](auto kernel, auto corrected) { compute_pair_forces<decltype(kernel), corrected>(); });
   // h follows the density only now, so that both pair passes of a step use one kernel: the force
