@@ -3,18 +3,23 @@
 // even blocks and to the particles' owners after the odd ones, must leave every particle's sum bit
 // for bit as one process takes it, for every way of dealing the particles: cuts inside a block and
 // on a block's edge, a rank with fewer particles than half a block (it runs none), an empty rank.
+// Each rank holds the sums of its own particles and of those its blocks add to alone, as the SPH
+// solid does.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
 #include "spall/core/communicator.hpp"
+#include "spall/discretization/range_array.hpp"
 #include "spall/sph/force_blocks.hpp"
 
 namespace spall {
 namespace {
 
 constexpr Index particles = 103, length = 8, blocks = (particles + length - 1) / length;  // the last one short
+using Sums = discretization::RangeArray<Eigen::Vector4d>;
 
 // The term of pair (a, b), b > a: magnitudes over twelve orders, so that the sums' last bits depend
 // on the order the terms are taken in.
@@ -25,7 +30,7 @@ Eigen::Vector4d term(Index a, Index b) {
 
 // Block `block`'s half rows as the force pass takes them: row a subtracts each term from b, then
 // adds its row sum to a (SolidFormulation::compute_pair_forces).
-void run_block(const sph::ForceBlocks& blocks, Index block, std::vector<Eigen::Vector4d>& sums) {
+void run_block(const sph::ForceBlocks& blocks, Index block, Sums& sums) {
   for (Index a = blocks.begin(block); a < blocks.end(block); ++a) {
     Eigen::Vector4d row = Eigen::Vector4d::Zero();
     for (Index b = a + 1; b <= std::min(particles - 1, a + length); ++b) {
@@ -37,10 +42,20 @@ void run_block(const sph::ForceBlocks& blocks, Index block, std::vector<Eigen::V
 }
 
 // Every particle's sum: the even blocks, then the odd ones, each run by the rank ForceBlocks picks.
-std::vector<Eigen::Vector4d> pass(const std::vector<Index>& particle_begin) {
+Sums pass(const std::vector<Index>& particle_begin) {
+  const int rank = parallel::world().rank();
   sph::ForceBlocks force_blocks;
-  force_blocks.assign(particles, blocks, length, particle_begin, parallel::world().rank());
-  std::vector<Eigen::Vector4d> sums(particles, Eigen::Vector4d::Zero());
+  force_blocks.assign(particles, blocks, length, particle_begin, rank);
+  Sums sums;
+  sums.assign(particles, Eigen::Vector4d::Zero());
+  if (!particle_begin.empty()) {  // dealt: its own particles and those its blocks add to
+    Index begin = particle_begin[rank], end = particle_begin[rank + 1];
+    if (force_blocks.last_row() > 0) {
+      begin = begin < end ? std::min(begin, force_blocks.first_row()) : force_blocks.first_row();
+      end = std::max(end, force_blocks.last_touched());
+    }
+    sums.hold(begin, end);
+  }
   for (int parity = 0; parity < 2; ++parity) {
     for (const Index block : force_blocks.run(parity)) run_block(force_blocks, block, sums);
     if (parity == 0)
@@ -53,12 +68,12 @@ std::vector<Eigen::Vector4d> pass(const std::vector<Index>& particle_begin) {
 
 // The particles dealt at the cuts given (ascending), every rank's sums of its own against one
 // process's; returns the particles that differ, over the ranks.
-std::int64_t differing(const std::vector<Index>& cuts, const std::vector<Eigen::Vector4d>& serial) {
+std::int64_t differing(const std::vector<Index>& cuts, const Sums& serial) {
   const parallel::Communicator& ranks = parallel::world();
   std::vector<Index> begin{0};
   begin.insert(begin.end(), cuts.begin(), cuts.end());
   begin.push_back(particles);
-  const std::vector<Eigen::Vector4d> sums = pass(begin);
+  const Sums sums = pass(begin);
   std::int64_t wrong = 0;
   for (Index a = begin[ranks.rank()]; a < begin[ranks.rank() + 1]; ++a) wrong += sums[a] != serial[a];
   ranks.sum({&wrong, 1});
@@ -66,12 +81,13 @@ std::int64_t differing(const std::vector<Index>& cuts, const std::vector<Eigen::
 }
 
 TEST(ForceBlocks, EveryDealSumsEveryParticleAsOneProcess) {
-  const std::vector<Eigen::Vector4d> serial = pass({});
+  const Sums serial = pass({});
   // The serial sums are not those of another order (the test could not tell otherwise): the odd
   // blocks first gives other last bits.
   sph::ForceBlocks one;
   one.assign(particles, blocks, length, {}, 0);
-  std::vector<Eigen::Vector4d> odd_first(particles, Eigen::Vector4d::Zero());
+  Sums odd_first;
+  odd_first.assign(particles, Eigen::Vector4d::Zero());
   for (const int parity : {1, 0})
     for (const Index block : one.run(parity)) run_block(one, block, odd_first);
   Index reordered = 0;

@@ -45,11 +45,9 @@ class ForceBlocks {
   Index last_touched() const { return last_touched_; }
 
   // Under MPI, between the even and the odd blocks, and after the odd ones (see above): in place
-  // in `sums`, the partial pair sums (x, y, z, 0) of the particles, a std::vector or a RangeArray
-  // holding those of the blocks this rank runs and of its own particles. Collective: every rank
-  // calls both, each step the blocks run. Nothing for one process.
-  void after_even(std::vector<Eigen::Vector4d>& sums) const { move(handoff_, sums.data(), 0); }
-  void after_odd(std::vector<Eigen::Vector4d>& sums) const { move(delivery_, sums.data(), 0); }
+  // in `sums`, the partial pair sums (x, y, z, 0) of the particles, held for those of the blocks this
+  // rank runs (to last_touched()) and of its own particles. Collective: every rank calls both, each
+  // step the blocks run. Nothing for one process.
   void after_even(discretization::RangeArray<Eigen::Vector4d>& sums) const {
     move(handoff_, sums.data(), sums.held_begin());
   }

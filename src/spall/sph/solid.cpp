@@ -1094,15 +1094,15 @@ void SolidFormulation::deal_anew(discretization::NodeStore& nodes) {
 
 void SolidFormulation::hold_own_state(neighbors::ParticleRange range) {
   const auto hold = [&](auto&... arrays) { (arrays.hold(range.begin, range.end), ...); };
-  hold(pressure_, internal_energy_, state_, back_stress_, correction_, exported_deviator_, colour_, colour_normal_,
-       support_count_, category_, density_rate_, velocity_gradient_, strain_rate_squared_, viscous_heating_,
-       viscous_force_);
+  hold(pressure_, internal_energy_, state_, back_stress_, gradient_amplification_, correction_, exported_deviator_,
+       colour_, colour_normal_, support_count_, category_, density_rate_, velocity_gradient_, strain_rate_squared_,
+       viscous_heating_, viscous_force_);
 }
 
 void SolidFormulation::hold_read_state(neighbors::ParticleRange range) {
   const auto hold = [&](auto&... arrays) { (arrays.hold(range.begin, range.end), ...); };
-  hold(smoothing_length_, density_, volume_, updated_volume_, sound_speed_, updated_sound_speed_,
-       gradient_amplification_, artificial_stress_, record_, viscosity_record_, stress_, plain_stress_, force_);
+  hold(smoothing_length_, density_, volume_, updated_volume_, sound_speed_, updated_sound_speed_, artificial_stress_,
+       record_, viscosity_record_, stress_, plain_stress_, force_);
 }
 
 neighbors::ParticleRange SolidFormulation::read_stretch() const {

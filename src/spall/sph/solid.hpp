@@ -318,7 +318,7 @@ class SolidFormulation final : public discretization::Formulation {
   Own<Real> internal_energy_;  // specific (per unit mass)
   Own<materials::PointState> state_;  // deviatoric stress, plastic strain, temperature, ...
   Own<Mat3> back_stress_;  // where a material keeps one (materials::keeps_back_stress), else empty
-  Read<Real> gradient_amplification_;             // s_a of the stable step (stable_time_step)
+  Own<Real> gradient_amplification_;              // s_a of the stable step (stable_time_step)
   Real full_support_gradient_ = 0;                // H sum_b V_b |grad W| of a full support
   // B_a (identity without correction) between compute_rates and update_state, when categorizing.
   Own<Mat3> correction_;
