@@ -106,7 +106,9 @@ TEST(Pieces, EachRankReadsItsBlockAndTheStretchesAroundIt) {
   EXPECT_LE(stream->buffer.delivered,
             visited * item_bytes + static_cast<std::streamsize>((ranks.size() + 1) * Archive::flush_bytes) +
                 places / fence_every * 8 + 4096);
-  if (ranks.size() > 1) EXPECT_LT(stream->buffer.delivered, static_cast<std::streamsize>(file.size()) * 3 / 4);
+  if (ranks.size() > 1) {
+    EXPECT_LT(stream->buffer.delivered, static_cast<std::streamsize>(file.size()) * 3 / 4);
+  }
 }
 
 // Reading every place (one process, or a deck set up whole) reads every item of every piece.

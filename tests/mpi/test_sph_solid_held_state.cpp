@@ -1,13 +1,17 @@
 // The SPH solid's state over several ranks, run as 1, 2 and 3 ranks (docs/SCALING.md §3, "The
 // read state in a stretch"): a rank sets up the state of its own particles alone, and holds what
 // the rows read of their neighbours (records, h, density, volume, sound speed, stress records and
-// forces) for the stretch of particles from the first its rows read to the last, not for every
-// particle. On a bar stretched along its axis, the stretch holds every particle a rank's rows read
-// and is shorter than the bar, and the internal forces on every node are, bit for bit, those of the
-// bar dealt whole to one rank (the pair sums are taken in one order whatever the deal: THEORY §3).
+// forces, and from the first list build the constants: material, initial h, mass and spacing) for
+// the stretch of particles from the first its rows read to the last, not for every particle. On a
+// bar stretched along its axis, the stretch holds every particle a rank's rows read and is shorter
+// than the bar, and the internal forces on every node are, bit for bit, those of the bar dealt
+// whole to one rank (the pair sums are taken in one order whatever the deal: THEORY §3). The bar's
+// particles alternate between two materials and three masses, their h follows the density, and
+// the artificial stress is on, so that every constant a row reads of its neighbours matters.
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <variant>
 #include <vector>
 
 #include "spall/core/communicator.hpp"
@@ -24,12 +28,26 @@ struct NodeForce {
   double f[3];
 };
 
-// The internal force on every node after two steps of the bar (50 x 5 x 5 particles along x)
-// pulled at v_x = rate x, with the nodes dealt at `begins`; checks each rank's held stretch.
-std::vector<Vec3> forces(const std::vector<Index>& begins) {
+// The internal force on every node after four steps of the bar (50 x 5 x 5 particles along x)
+// pulled at v_x = rate x, with the nodes dealt at `begins` for the first two steps and at `then` for
+// the others (a new deal: the state and constants travel to the ranks whose rows now read them);
+// checks each rank's held stretch.
+std::vector<Vec3> forces(const std::vector<Index>& begins, const std::vector<Index>& then) {
   const parallel::Communicator& ranks = parallel::world();
   test_support::ElasticBlock bar;
-  const model::Model model = test_support::elastic_block_model(bar);
+  model::Model model = test_support::elastic_block_model(bar);
+  auto& section = std::get<model::SectionSph>(model.sections[1]);
+  section.hmin = 0.2, section.hmax = 2;
+  model.parts.push_back({2, "aluminium", 1, 2, 0, 0, 0, {}, {}});
+  model::Material aluminium = model.materials[1];
+  aluminium.id = 2;
+  aluminium.params = model::MatElastic{2700, 70e9, 0.33, 0, 0};
+  model.materials[2] = aluminium;
+  for (std::size_t k = 0; k < model.sph_elements.size(); ++k) {
+    model.sph_elements[k].pid = k % 2 ? 2 : 1;
+    model.sph_elements[k].mass *= 1 - 0.05 * static_cast<Real>(k % 3);  // no h above the bar's: rows no longer
+  }
+  model.sph_artificial_stress = model::SphArtificialStress{};
   solver::Problem problem = solver::build_problem(model);
   discretization::NodeStore& nodes = problem.nodes;
   const Index n = nodes.size();
@@ -37,7 +55,8 @@ std::vector<Vec3> forces(const std::vector<Index>& begins) {
   for (Index i = 0; i < n; ++i) nodes.v[i] = Vec3(rate * nodes.x[i].x(), 0, 0);
   nodes.deal(begins, ranks.rank());
   auto& sph = dynamic_cast<sph::SolidFormulation&>(*problem.formulations[0]);
-  for (int step = 0; step < 2; ++step) {
+  for (int step = 0; step < 4; ++step) {
+    if (step == 2) nodes.deal(then, ranks.rank());
     for (Index i = 0; i < n; ++i) nodes.f[i] = Vec3::Zero();
     sph.compute_forces(nodes, 1e-8);
   }
@@ -67,10 +86,12 @@ TEST(SphSolidOverRanks, ARankHoldsTheStateItsRowsReadAndForcesAreOneRanks) {
   log::set_quiet(true);
   const parallel::Communicator& ranks = parallel::world();
   const Index n = 50 * 5 * 5;
-  std::vector<Index> whole(ranks.size() + 1, n), blocks(ranks.size() + 1, n);
+  std::vector<Index> whole(ranks.size() + 1, n), blocks(ranks.size() + 1, n), shifted(ranks.size() + 1, n);
   whole[0] = 0;
   for (int r = 0; r < ranks.size(); ++r) blocks[r] = r * n / ranks.size();
-  const std::vector<Vec3> reference = forces(whole), dealt = forces(blocks);
+  for (int r = 1; r < ranks.size(); ++r) shifted[r] = blocks[r] + 10;  // within the stretches of a 50-long bar
+  shifted[0] = 0;
+  const std::vector<Vec3> reference = forces(whole, whole), dealt = forces(blocks, shifted);
   Index differ = 0, zero = 0;
   for (Index i = 0; i < n; ++i) {
     differ += dealt[i] != reference[i];

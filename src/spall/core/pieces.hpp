@@ -158,7 +158,7 @@ void read_pieces(Archive& a, Visit&& visit, Index first = std::numeric_limits<In
     const Index begin = std::min(n, from * fence_every), stop = std::min(n, to * fence_every);
     a.skip(static_cast<std::uint64_t>(begin) * sizeof(T));
     for (Index k = begin; k < stop; ++k) {
-      T item;
+      T item{};  // read into below (initialized: GCC 12 takes the archive's writing branch for a read of it)
       a(item);
       visit(item);
     }

@@ -275,6 +275,7 @@ SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
   list_reach_.resize(n);
   initial_smoothing_length_.resize(n);
   spacing_.resize(n);
+  std::vector<std::uint8_t> used(materials_.size(), 0);
   full_support_gradient_ = kernels::with_kernel(options_.kernel, options_.dimension, [](auto kernel) {
     return kernels::gradient_norm_integral<decltype(kernel)>();
   });
@@ -288,6 +289,7 @@ SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
     const auto& p = particles[by_node[a]];
     node_[a] = p.node;
     material_[a] = p.material;
+    used[p.material] = 1;
     mass_[a] = nodes.mass[p.node];
     initial_smoothing_length_[a] = p.smoothing_length;
     h_bounds_.resize(std::max(h_bounds_.size(), std::size_t(p.material) + 1));
@@ -296,12 +298,22 @@ SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
   }
   for (const auto& m : materials_)
     if (std::holds_alternative<materials::JohnsonCook>(m.strength)) has_temperature_ = true;
+  // The set-up's state (set_up_state) of every material a particle has.
+  for (std::size_t k = 0; k < materials_.size(); ++k) {
+    const materials::Material& m = materials_[k];
+    if (used[k])
+      max_wave_speed_ = std::max(max_wave_speed_, materials::sound_speed(m, m.density, m.initial_specific_energy));
+  }
   // Whether every particle has one mass (a lattice): the pair loops then broadcast it instead of
   // gathering it (masses never change).
-  if (n > 0 && std::all_of(mass_.begin(), mass_.end(), [&](Real m) { return m == mass_.front(); }))
-    uniform_mass_ = mass_.front();
-  else
-    record_mass_.assign(mass_.begin(), mass_.end());
+  bool uniform = n > 0;
+  for (Index a = 1; a < n && uniform; ++a) uniform = mass_[a] == mass_[0];
+  if (uniform) {
+    uniform_mass_ = mass_[0];
+  } else {
+    record_mass_.resize(n);
+    for (Index a = 0; a < n; ++a) record_mass_[a] = static_cast<float>(mass_[a]);
+  }
   bool contiguous = n > 0;
   for (Index a = 1; a < n && contiguous; ++a) contiguous = node_[a] == node_[0] + a;
   first_node_ = contiguous ? node_[0] : -1;
@@ -440,6 +452,11 @@ void SolidFormulation::update_neighbour_list(discretization::NodeStore& nodes) {
         },
         [](Real a, Real b) { return std::max(a, b); });
     if (distributed) {
+      // The constants from now on as the state: a rank's own, and its read stretch's (its own
+      // particles until the list says which others its rows read, plan_reach).
+      constants_held_ = true;
+      hold_own_state(rows);
+      hold_read_state({smoothing_length_.held_begin(), smoothing_length_.held_end()});
       double negated = -h_largest;
       ranks.minimum({&negated, 1});
       h_largest = -negated;
@@ -485,12 +502,28 @@ void SolidFormulation::update_neighbour_list(discretization::NodeStore& nodes) {
   if (any < 0) {
     complete_list();
     complete_kinematics(nodes);
-    std::vector<Real> h(n);
+    // Every particle's h and the constants the rows read, each rank's own in.
     const neighbors::ParticleRange own = own_particles();
-    for (Index a = own.begin; a < own.end; ++a) h[a] = smoothing_length(a);
-    share_(node_, h);
+    const auto whole = [&](const auto& held) {
+      std::vector<typename std::remove_cvref_t<decltype(held)>::value_type> values(held.empty() ? 0 : n);
+      if (!held.empty())
+        for (Index a = own.begin; a < own.end; ++a) values[a] = held[a];
+      return values;
+    };
+    auto h = whole(smoothing_length_);
+    auto material = whole(material_);
+    auto h0 = whole(initial_smoothing_length_);
+    auto mass = whole(mass_);
+    auto spacing = whole(spacing_);
+    auto record_mass = whole(record_mass_);
+    share_(node_, h, material, h0, mass, spacing, record_mass);
     hold_read_state({0, n});
-    for (Index a = 0; a < n; ++a) smoothing_length(a) = h[a];
+    const auto put = [&](auto& held, const auto& values) {
+      if (!held.empty())
+        for (Index a = 0; a < n; ++a) held[a] = values[a];
+    };
+    put(smoothing_length_, h), put(material_, material), put(initial_smoothing_length_, h0);
+    put(mass_, mass), put(spacing_, spacing), put(record_mass_, record_mass);
   }
   if (unsearched) verlet_.search_every_row(list_reach_);
 }
@@ -671,7 +704,7 @@ Index SolidFormulation::compute_rates(Real dt) {
   // The records from the first particle they hold on; the rows' neighbours less `origin` (keep_row).
   const Index origin = record_.held_begin();
   const float* records = &record_.data()->x;
-  const float* masses = record_mass_.empty() ? nullptr : record_mass_.data() + origin;
+  const float* masses = record_mass_.empty() ? nullptr : record_mass_.data() + (origin - record_mass_.held_begin());
   const float alpha = static_cast<float>(options_.viscosity.alpha), beta = static_cast<float>(options_.viscosity.beta);
   const float eta2 = static_cast<float>(options_.viscosity.eta * options_.viscosity.eta);
   support_mask_.resize(mask_bytes(list));
@@ -1081,7 +1114,8 @@ void SolidFormulation::deal_anew(discretization::NodeStore& nodes) {
   hold_read_state(hull({smoothing_length_.held_begin(), smoothing_length_.held_end()}, reads));
   arrivals(volume_, sound_speed_, density_, smoothing_length_, pressure_, internal_energy_, state_, back_stress_,
            stress_, plain_stress_, artificial_stress_, exported_deviator_, strain_rate_squared_,
-           gradient_amplification_, colour_, colour_normal_, support_count_, category_);
+           gradient_amplification_, colour_, colour_normal_, support_count_, category_, material_, mass_, spacing_,
+           record_mass_, initial_smoothing_length_, full_support_count_);
   hold_own_state(own_particles());
   hold_read_state(reads);
   held_partition_ = nodes.partition;
@@ -1097,12 +1131,14 @@ void SolidFormulation::hold_own_state(neighbors::ParticleRange range) {
   hold(pressure_, internal_energy_, state_, back_stress_, gradient_amplification_, correction_, exported_deviator_,
        colour_, colour_normal_, support_count_, category_, density_rate_, velocity_gradient_, strain_rate_squared_,
        viscous_heating_, viscous_force_);
+  if (constants_held_) hold(full_support_count_);
 }
 
 void SolidFormulation::hold_read_state(neighbors::ParticleRange range) {
   const auto hold = [&](auto&... arrays) { (arrays.hold(range.begin, range.end), ...); };
   hold(smoothing_length_, density_, volume_, updated_volume_, sound_speed_, updated_sound_speed_, artificial_stress_,
        record_, viscosity_record_, stress_, plain_stress_, force_);
+  if (constants_held_) hold(material_, initial_smoothing_length_, mass_, spacing_, record_mass_);
 }
 
 neighbors::ParticleRange SolidFormulation::read_stretch() const {
@@ -1332,7 +1368,8 @@ void SolidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt)
     // list build's near particles, but not at the first build or after a checkpoint). A particle the
     // old rows did not read lies beyond every support after a rebuild for motion (the skin), but not
     // always after one for an h that outgrew its reach.
-    reach_(volume_, sound_speed_, density_, smoothing_length_);
+    reach_(volume_, sound_speed_, density_, smoothing_length_, material_, initial_smoothing_length_, mass_, spacing_,
+           record_mass_);
   }
   update_records();
   Index first_unsound = n;
@@ -1496,19 +1533,24 @@ std::size_t bytes(const discretization::RangeArray<T>& v) {
 // the list's positions at its build and its reach, not its rows) from rank 0, then each
 // particle's state in pieces from the rank that computes it (discretization/particle_pieces.hpp).
 void SolidFormulation::checkpoint(Archive& a, const discretization::NodeStore& nodes) {
-  a.section("sph solid 2");  // 2: the list without its rows
+  a.section("sph solid 3");  // 2: the list without its rows; 3: the constants in pieces
   a.expect_size("SPH solid particles", node_.size());
-  a(node_, material_, mass_, uniform_mass_, record_mass_, record_origin_, list_reach_, initial_smoothing_length_,
-    spacing_, full_support_gradient_, full_support_count_, support_mask_, force_blocks_, force_block_length_, verlet_,
-    time_, step_, list_built_, h_outgrown_, stable_step_, has_temperature_);
+  a(node_, uniform_mass_, record_origin_, list_reach_, full_support_gradient_, support_mask_, force_blocks_,
+    force_block_length_, verlet_, time_, step_, list_built_, h_outgrown_, stable_step_, has_temperature_,
+    max_wave_speed_);
   discretization::archive_particle_pieces(
-      a, "SPH particle", node_, share_, nodes, smoothing_length_, record_, viscosity_record_, stress_, plain_stress_,
+      a, "SPH particle", node_, share_, nodes, material_, mass_, record_mass_, initial_smoothing_length_, spacing_,
+      full_support_count_, smoothing_length_, record_, viscosity_record_, stress_, plain_stress_,
       density_, volume_, updated_volume_, pressure_, sound_speed_, updated_sound_speed_, internal_energy_, state_,
       back_stress_, gradient_amplification_, correction_, artificial_stress_, exported_deviator_, colour_,
       colour_normal_, support_count_, category_, x_copy_, v_copy_, density_rate_, velocity_gradient_,
       strain_rate_squared_, viscous_heating_, viscous_force_, force_);
-  // Read whole by every rank, which plans its reach again and keeps its own particles' state.
-  if (a.reading()) set_up_ = true, reach_partition_ = blocks_partition_ = held_partition_ = -1;
+  // Read whole by every rank, which plans its reach again and keeps its own particles' state (and
+  // constants, once a list was built: else at the first build).
+  if (a.reading()) {
+    set_up_ = true, reach_partition_ = blocks_partition_ = held_partition_ = -1;
+    constants_held_ = list_built_ && parallel::world().size() > 1;
+  }
 }
 
 std::size_t SolidFormulation::memory_bytes() const {
@@ -1525,17 +1567,6 @@ std::size_t SolidFormulation::memory_bytes() const {
          verlet_.reference_positions_bytes();
 }
 
-Real SolidFormulation::max_wave_speed() const {
-  // The set-up's: each material's at its density and initial energy (set_up_state), of every
-  // particle, whatever particles a rank holds.
-  std::vector<std::uint8_t> used(materials_.size(), 0);
-  for (const Index m : material_) used[m] = 1;
-  Real c = 0;
-  for (std::size_t k = 0; k < materials_.size(); ++k) {
-    const materials::Material& m = materials_[k];
-    if (used[k]) c = std::max(c, materials::sound_speed(m, m.density, m.initial_specific_energy));
-  }
-  return c;
-}
+Real SolidFormulation::max_wave_speed() const { return max_wave_speed_; }
 
 }  // namespace spall::sph

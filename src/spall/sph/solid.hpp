@@ -254,14 +254,14 @@ class SolidFormulation final : public discretization::Formulation {
   void deal_anew(discretization::NodeStore& nodes);
   void search_computed_rows(const discretization::NodeStore& nodes);
   // The Own arrays hold particles [begin, end) from now on (this rank's own once the particles are
-  // dealt; more while a new deal brings their state in).
+  // dealt; more while a new deal brings their state in), and so do the Own constants once held.
   void hold_own_state(neighbors::ParticleRange range);
   // The set-up's state of particles [begin, end), which the Own and Read arrays then hold: at rest,
   // each material's density, initial energy and state.
   void set_up_state(neighbors::ParticleRange range);
   // The Read arrays hold particles [begin, end) from now on: under MPI the stretch from the first
   // particle this rank's rows read to the last (read_stretch), more while a list build or a new
-  // deal brings in their state; every particle on one process.
+  // deal brings in their state; every particle on one process. The Read constants too, once held.
   void hold_read_state(neighbors::ParticleRange range);
   // From the first particle this rank's rows read (current_) or its force blocks add to, to the last.
   neighbors::ParticleRange read_stretch() const;
@@ -272,15 +272,21 @@ class SolidFormulation final : public discretization::Formulation {
   // Per particle (structure of arrays). Under MPI the state that only a particle's own rank reads
   // is held for its own particles alone (Own, hold_own_state); the state that the rows read of
   // their neighbours, for the stretch of particles from the first a rank's rows read to the last
-  // (Read, hold_read_state); the rest for every particle.
+  // (Read, hold_read_state); the rest (each particle's node, the list's reach) for every particle.
   template <typename T>
   using Own = discretization::RangeArray<T>;
   template <typename T>
   using Read = discretization::RangeArray<T>;
   std::vector<Index> node_;
-  std::vector<Index> material_;
-  std::vector<Real> mass_;
+  // The set-up's constants (material, mass, and below the initial h, spacing and full-support
+  // count) are held as the state is, by rank and by stretch, once constants_held_: under MPI from
+  // the first list build on (a new deal before it, while a part waits for START, sets up the new
+  // own particles' state from every particle's constants, which no rank has brought in yet).
+  Read<Index> material_;
+  Read<Real> mass_;
   Real uniform_mass_ = 0;  // the mass of every particle when all are equal, else 0
+  bool constants_held_ = false;
+  Real max_wave_speed_ = 0;  // the set-up's largest sound speed (max_wave_speed)
   Read<Real> smoothing_length_;  // h (LS-DYNA's); the kernel support is 2h
   Real smoothing_length(Index a) const { return smoothing_length_[a]; }
   Real& smoothing_length(Index a) { return smoothing_length_[a]; }
@@ -290,7 +296,7 @@ class SolidFormulation final : public discretization::Formulation {
   // volume, sound speed and density of the step start, and the mass when the masses differ.
   Read<PairRecord> record_;
   Read<ViscosityRecord> viscosity_record_;
-  std::vector<float> record_mass_;
+  Read<float> record_mass_;  // off when every mass is uniform_mass_
   Vec3 record_origin_ = Vec3::Zero();
   // What the force pass reads: sigma_a B_a^T and the volume after the state update, with the
   // gradient correction (stress_), else sigma_a and the volume (plain_stress_); the other is empty.
@@ -299,12 +305,12 @@ class SolidFormulation final : public discretization::Formulation {
   // The stress as the force pass reads it, P = sigma B^T, and the volume after the update.
   void record_stress(Index a, const Mat3& exported, const Mat3& correction);
   std::vector<Real> list_reach_;  // cutoff_margin h at the last list build
-  std::vector<Real> initial_smoothing_length_;
+  Read<Real> initial_smoothing_length_;
   struct HBounds {
     Real lower = 0, upper = 0;  // HMIN, HMAX
   };
   std::vector<HBounds> h_bounds_;  // per material-table entry
-  std::vector<Real> spacing_;
+  Read<Real> spacing_;
   Read<Real> density_;
   Read<Real> volume_;  // m / rho, kept with the density: the pair loops read it per pair
   // The volume after the state update: the rates pass of the step still reads the step start's
@@ -330,7 +336,7 @@ class SolidFormulation final : public discretization::Formulation {
   Own<Real> colour_;
   Own<Vec3> colour_normal_;
   Own<std::int32_t> support_count_;        // neighbours inside the support
-  std::vector<Real> full_support_count_;           // the count of a full support at this h/spacing
+  Own<Real> full_support_count_;           // the count of a full support at this h/spacing
   Own<Category> category_;
   // Scratch of the current step.
   // x and v of the particles' nodes: the node store's own arrays when the particles own a
