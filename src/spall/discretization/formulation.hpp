@@ -33,7 +33,8 @@ class Formulation {
   virtual void book_energies(EnergyLedger& ledger, std::span<const Vec3> v, Real dt) const = 0;
 
   // Writes the formulation's output fields (pressure, von Mises stress, density, ...) for its own
-  // nodes, and its cells if it has any.
+  // nodes, and its cells if it has any: those whose first node this rank owns (NodeStore::owns),
+  // which its piece of the output holds (every cell on one process).
   virtual void write_fields(FieldSet& fields, const NodeStore& nodes) const = 0;
 
   // Largest signal speed, for the runaway-velocity check.

@@ -805,14 +805,19 @@ void SolidElements::checkpoint(Archive& a, const discretization::NodeStore& /*no
     erode_enabled_);
 }
 
-void SolidElements::write_fields(discretization::FieldSet& fields, const discretization::NodeStore&) const {
+void SolidElements::write_fields(discretization::FieldSet& fields, const discretization::NodeStore& nodes) const {
   for (const Block& block : blocks_) {
     auto& cells = fields.add_cell_block(block.kind == Kind::tetrahedron ? discretization::CellShape::tetrahedron
                                                                         : discretization::CellShape::hexahedron);
-    const Index n = block.size();
     const int per = block.nodes_per_element, points = block.points_per_element;
+    // The elements whose first node this rank owns: its piece's cells (all of them on one process).
+    std::vector<Index> written;
+    for (Index e = 0; e < block.size(); ++e)
+      if (nodes.owns(node_[block.node[static_cast<std::size_t>(per) * e]])) written.push_back(e);
+    const Index n = static_cast<Index>(written.size());
     cells.connectivity.resize(static_cast<std::size_t>(per) * n);
-    for (std::size_t k = 0; k < cells.connectivity.size(); ++k) cells.connectivity[k] = node_[block.node[k]];
+    for (Index c = 0; c < n; ++c)
+      for (int k = 0; k < per; ++k) cells.connectivity[per * c + k] = node_[block.node[per * written[c] + k]];
     const auto field = [&](const char* name, int components, std::vector<std::string> labels = {}) {
       auto& f = cells.fields.emplace_back();
       f.name = name;
@@ -831,12 +836,14 @@ void SolidElements::write_fields(discretization::FieldSet& fields, const discret
       auto& eroded = cells.fields.emplace_back();
       eroded.name = "eroded";
       auto& flags = eroded.values.emplace<std::vector<std::int64_t>>(n);
-      for (Index e = 0; e < n; ++e) flags[e] = block.eroded[e] != 0;
+      for (Index c = 0; c < n; ++c) flags[c] = block.eroded[written[c]] != 0;
     }
     auto& ids = cells.fields.emplace_back();
     ids.name = "element_id";
-    ids.values = std::vector<std::int64_t>(block.id.begin(), block.id.end());
-    for (Index e = 0; e < n; ++e) {
+    auto& id = ids.values.emplace<std::vector<std::int64_t>>(n);
+    for (Index c = 0; c < n; ++c) id[c] = block.id[written[c]];
+    for (Index c = 0; c < n; ++c) {
+      const Index e = written[c];
       // The mean over the element's points (the Gauss points carry equal weight to round-off for
       // an element that is not badly distorted).
       Mat3 S = Mat3::Zero();
@@ -849,12 +856,12 @@ void SolidElements::write_fields(discretization::FieldSet& fields, const discret
       S /= points, p /= points, eps /= points;
       const Mat3 sigma = S - p * Mat3::Identity();
       const Real voigt[6] = {sigma(0, 0), sigma(1, 1), sigma(2, 2), sigma(0, 1), sigma(1, 2), sigma(2, 0)};
-      std::copy(voigt, voigt + 6, stress + 6 * e);
-      pressure[e] = p;
-      von_mises[e] = materials::von_mises(S);
-      plastic_strain[e] = eps;
-      density[e] = block.mass[e] / block.volume[e];
-      if (hourglass) hourglass[e] = block.hourglass_energy[e];
+      std::copy(voigt, voigt + 6, stress + 6 * c);
+      pressure[c] = p;
+      von_mises[c] = materials::von_mises(S);
+      plastic_strain[c] = eps;
+      density[c] = block.mass[e] / block.volume[e];
+      if (hourglass) hourglass[c] = block.hourglass_energy[e];
     }
   }
 }
