@@ -16,6 +16,7 @@
 #include "spall/core/parallel.hpp"
 #include "spall/core/types.hpp"
 #include "spall/discretization/node_store.hpp"
+#include "spall/discretization/range_array.hpp"
 
 namespace spall::discretization {
 
@@ -45,9 +46,9 @@ class ParticleShare {
   // Every rank's values of its own particles (`node`: each particle's node) in, in place; nothing
   // for an empty array (state that the options switched off), a run of one process or before
   // bind. An array may hold several values a particle, one after the other (an element's Gauss
-  // points).
-  template <typename... T>
-  void operator()(std::span<const Index> node, std::vector<T>&... values) {
+  // points); a RangeArray must hold every particle.
+  template <typename... Array>
+  void operator()(std::span<const Index> node, Array&... values) {
     if (!bound_ || parallel::world().size() == 1) return;
     if (offsets_.empty()) plan(node);
     (share(values), ...);
@@ -137,9 +138,21 @@ class ParticleShare {
       if (a >= 0) order_[next[rank[a]]++] = a;
   }
 
+  // The values of an array, every particle's.
   template <typename T>
-  void share(std::vector<T>& values) const {
-    if (values.empty()) return;
+  static std::span<T> every_value(std::vector<T>& values) {
+    return values;
+  }
+  template <typename T>
+  static std::span<T> every_value(RangeArray<T>& values) {
+    if (values.held_begin() != 0) throw std::logic_error("ParticleShare: a RangeArray that does not hold every particle");
+    return {values.data(), static_cast<std::size_t>(values.held_end())};
+  }
+
+  template <typename Array>
+  void share(Array& array) const {
+    if (array.empty()) return;
+    const auto values = every_value(array);
     const Index n = offsets_.back();
     if (n == 0 || values.size() % n != 0)
       throw std::logic_error("ParticleShare: an array that is not a whole number of values a particle");
@@ -147,10 +160,10 @@ class ParticleShare {
     std::vector<Index> offsets(offsets_);
     for (Index& o : offsets) o *= per;
     if (order_.empty()) {
-      parallel::world().share(std::span(values), offsets);
+      parallel::world().share(values, offsets);
       return;
     }
-    std::vector<T> by_rank(values.size());
+    std::vector<typename Array::value_type> by_rank(values.size());
     parallel::for_each(n, [&](Index k) {
       std::copy_n(values.begin() + order_[k] * per, per, by_rank.begin() + k * per);
     });

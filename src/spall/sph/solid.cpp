@@ -502,28 +502,9 @@ void SolidFormulation::update_neighbour_list(discretization::NodeStore& nodes) {
   if (any < 0) {
     complete_list();
     complete_kinematics(nodes);
-    // Every particle's h and the constants the rows read, each rank's own in.
-    const neighbors::ParticleRange own = own_particles();
-    const auto whole = [&](const auto& held) {
-      std::vector<typename std::remove_cvref_t<decltype(held)>::value_type> values(held.empty() ? 0 : n);
-      if (!held.empty())
-        for (Index a = own.begin; a < own.end; ++a) values[a] = held[a];
-      return values;
-    };
-    auto h = whole(smoothing_length_);
-    auto material = whole(material_);
-    auto h0 = whole(initial_smoothing_length_);
-    auto mass = whole(mass_);
-    auto spacing = whole(spacing_);
-    auto record_mass = whole(record_mass_);
-    share_(node_, h, material, h0, mass, spacing, record_mass);
+    // Every particle's h and the constants the rows read, each rank's own (held already) in.
     hold_read_state({0, n});
-    const auto put = [&](auto& held, const auto& values) {
-      if (!held.empty())
-        for (Index a = 0; a < n; ++a) held[a] = values[a];
-    };
-    put(smoothing_length_, h), put(material_, material), put(initial_smoothing_length_, h0);
-    put(mass_, mass), put(spacing_, spacing), put(record_mass_, record_mass);
+    share_(node_, smoothing_length_, material_, initial_smoothing_length_, mass_, spacing_, record_mass_);
   }
   if (unsearched) verlet_.search_every_row(list_reach_);
 }
@@ -1536,8 +1517,7 @@ void SolidFormulation::checkpoint(Archive& a, const discretization::NodeStore& n
   a.section("sph solid 3");  // 2: the list without its rows; 3: the constants in pieces
   a.expect_size("SPH solid particles", node_.size());
   a(node_, uniform_mass_, record_origin_, list_reach_, full_support_gradient_, support_mask_, force_blocks_,
-    force_block_length_, verlet_, time_, step_, list_built_, h_outgrown_, stable_step_, has_temperature_,
-    max_wave_speed_);
+    force_block_length_, verlet_, time_, step_, list_built_, h_outgrown_, stable_step_, has_temperature_);
   discretization::archive_particle_pieces(
       a, "SPH particle", node_, share_, nodes, material_, mass_, record_mass_, initial_smoothing_length_, spacing_,
       full_support_count_, smoothing_length_, record_, viscosity_record_, stress_, plain_stress_,
