@@ -3,6 +3,8 @@
 # break of tools/make_dam_break_deck.py at 32 particles across the column, its tank P columns deep on
 # P ranks, so that each rank carries the same water (65 536 particles) and the tank's floor and end
 # walls under it (the two side walls are shared by all). One rank per core, one thread a rank.
+# SCENE=taylor_bar: the SPH solid instead, the Taylor bar at 32 P^(1/3) particles across on P ranks
+# (about 80 000 particles a rank) to 3e-6 s x 32 / across (about 87 steps).
 # Then the busy node's baseline: B one-rank runs of the one-column deck at once, one a core, so that
 # the ranks' shared memory bandwidth and clocks are in the baseline too (docs/SCALING.md §4).
 # Prints a row a run: the time in the step without output (each rank's, the slowest counted by the
@@ -18,8 +20,15 @@ out=${1:-results/weak_scaling}
 mkdir -p "$out"
 cd "$out"
 deck() {
-  python3 "$here/make_dam_break_deck.py" --particles-across 32 --depth "$(python3 -c "print(0.146 * $1)")" \
-    --end-time "${END:-0.015}" --output-interval 1 > "columns$1.k"
+  if [ "${SCENE:-dam_break}" = taylor_bar ]; then
+    local across
+    across=$(python3 -c "print(round(32 * $1 ** (1 / 3)))")
+    python3 "$here/make_taylor_bar_deck.py" --across "$across" --end-time "$(python3 -c "print(3e-6 * 32 / $across)")" \
+      --outputs 1 > "columns$1.k"
+  else
+    python3 "$here/make_dam_break_deck.py" --particles-across 32 --depth "$(python3 -c "print(0.146 * $1)")" \
+      --end-time "${END:-0.015}" --output-interval 1 > "columns$1.k"
+  fi
 }
 row() {
   python3 - "$1" "$2" <<'PY'
