@@ -1514,7 +1514,7 @@ std::size_t bytes(const discretization::RangeArray<T>& v) {
 // the list's positions at its build and its reach, not its rows) from rank 0, then each
 // particle's state in pieces from the rank that computes it (discretization/particle_pieces.hpp).
 void SolidFormulation::checkpoint(Archive& a, const discretization::NodeStore& nodes) {
-  a.section("sph solid 3");  // 2: the list without its rows; 3: the constants in pieces
+  a.section("sph solid 4");  // 2: the list without its rows; 3: the constants in pieces; 4: no wave speed
   a.expect_size("SPH solid particles", node_.size());
   a(node_, uniform_mass_, record_origin_, list_reach_, full_support_gradient_, support_mask_, force_blocks_,
     force_block_length_, verlet_, time_, step_, list_built_, h_outgrown_, stable_step_, has_temperature_);
