@@ -60,7 +60,8 @@ int main(int argc, char** argv) {
   run->add_option("--threads", options.threads, "OpenMP threads (default: all cores)")
       ->check(positive);
   run->add_option("--balance-every", options.balance_every,
-                  "Under mpirun: compare the ranks' work every N steps (default 100)")
+                  "Under mpirun: compare the ranks' work every N steps (default 100; the first checks come sooner, "
+                  "after 10, 20, 40, ... steps while below N)")
       ->check(positive);
   run->add_option("--balance-threshold", options.balance_threshold,
                   "Under mpirun: deal the nodes out anew when the busiest rank works this fraction more than the "

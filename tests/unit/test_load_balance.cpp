@@ -45,5 +45,23 @@ TEST(LoadBalance, EmptyBlocksKeepTheCutsInOrder) {
   EXPECT_EQ(next[1], 13);  // 12.5 rounded
 }
 
+// The checks: after 10, 20, 40 and 80 steps while those are below the interval, then at its
+// multiples; an interval at or below the first check gives its multiples alone, and an interval of
+// 0 (or less) none at all. Step 0 is never a check: no work has been measured.
+TEST(LoadBalance, FirstChecksComeEarlyThenEveryInterval) {
+  const auto checks = [](long long interval, long long last) {
+    std::vector<long long> at;
+    for (long long step = 0; step <= last; ++step)
+      if (LoadBalance{interval, 0.1}.checks_at(step)) at.push_back(step);
+    return at;
+  };
+  EXPECT_EQ(checks(100, 300), (std::vector<long long>{10, 20, 40, 80, 100, 200, 300}));
+  EXPECT_EQ(checks(30, 90), (std::vector<long long>{10, 20, 30, 60, 90}));
+  EXPECT_EQ(checks(5, 20), (std::vector<long long>{5, 10, 15, 20}));
+  EXPECT_EQ(checks(10, 30), (std::vector<long long>{10, 20, 30}));
+  EXPECT_TRUE(checks(0, 300).empty());
+  EXPECT_TRUE(checks(-7, 300).empty());
+}
+
 }  // namespace
 }  // namespace spall::solver

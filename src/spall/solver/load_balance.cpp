@@ -6,6 +6,14 @@
 
 namespace spall::solver {
 
+bool LoadBalance::checks_at(long long step) const {
+  if (interval <= 0 || step <= 0) return false;
+  if (step % interval == 0) return true;
+  for (long long early = first_check; early < interval; early *= 2)
+    if (step == early) return true;
+  return false;
+}
+
 std::vector<Index> balanced_blocks(std::span<const Index> begin, std::span<const double> work) {
   const int ranks = static_cast<int>(work.size());
   std::vector<double> w(work.begin(), work.end());

@@ -9,13 +9,22 @@
 
 namespace spall::solver {
 
-// How the time loop keeps the ranks' work even. Every `interval` steps each rank's own work since
+// How the time loop keeps the ranks' work even. At each check (checks_at) each rank's own work since
 // the last check (its wall time outside the collectives) is compared; when the busiest rank's
-// exceeds the mean by more than `threshold` (0.1: 10 %), the node blocks are dealt anew so that
-// each holds an equal share of the work measured.
+// exceeds the mean by more than `threshold` (0.1: 10 %), the nodes are dealt anew so that each rank
+// holds an equal share of the work measured.
 struct LoadBalance {
   long long interval = 100;
   double threshold = 0.1;
+  // The first checks come early, after first_check, 2 first_check, 4 first_check, ... steps while
+  // those are below `interval`, then every `interval` steps: the first deal is a guess (a fluid's
+  // wall particles weigh nothing in it, a solid's blocks hold equal nodes, not equal plastic work)
+  // that the measured work corrects within a few tens of steps, where a run of a few hundred steps
+  // would otherwise keep it for a hundred (docs/SCALING.md §4, "Weak scaling, measured").
+  static constexpr long long first_check = 10;
+  // Whether the ranks' work is compared before step `step` (none before step 1, none for an
+  // interval <= 0).
+  bool checks_at(long long step) const;
 };
 
 // Blocks of the nodes, in the same order, that share the work evenly: rank r's old block is

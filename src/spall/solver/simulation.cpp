@@ -167,14 +167,13 @@ class TimeLoop::Step {
   }
 
  private:
-  // Under MPI, every balance_.interval steps: each rank's own work since the last check (LoadBalance);
+  // Under MPI, at the checks of balance_ (LoadBalance::checks_at): each rank's own work since the last check;
   // past the threshold, the nodes are dealt anew: the blocks moved, or the regions cut again with
   // each node weighing its rank's work over its rank's nodes (the nodes move into them at the next rebuild).
   // Every rank takes the decision from the same numbers, so all take it alike.
   void balance() {
     const parallel::Communicator& ranks = parallel::world();
-    if (ranks.size() == 1 || balance_.interval <= 0 || step_.step == 0 || step_.step % balance_.interval != 0)
-      return;
+    if (ranks.size() == 1 || !balance_.checks_at(step_.step)) return;
     const auto now = std::chrono::steady_clock::now();
     const std::vector<double> work = ranks.each(std::chrono::duration<double>(now - checked_at_).count() -
                                                 (ranks.communicating_seconds() - communicating_at_check_));
