@@ -48,8 +48,7 @@ void RigidWall::complete_state() {
     std::uint8_t state, padding[3];  // explicit: no unset byte travels
   };
   std::vector<Own> own;
-  for (Index k = 0; k < static_cast<Index>(nodes_.size()); ++k)
-    if (mine_[k]) own.push_back({k, state_[k], {0, 0, 0}});
+  for (const Index k : passed_) own.push_back({k, state_[k], {0, 0, 0}});
   for (const Own& o : parallel::world().all(std::span<const Own>(own))) state_[o.k] = o.state;
 }
 
@@ -63,6 +62,9 @@ void RigidWall::find_rows(const discretization::NodeStore& nodes, bool own_only)
     mine_.resize(count);
     for (Index k = 0; k < count; ++k) mine_[k] = row_[k] >= 0 && nodes.owns(row_[k]);
   }
+  passed_.clear();
+  for (Index k = 0; k < count; ++k)
+    if (!own_only || mine_[k]) passed_.push_back(k);
   rows_partition_ = nodes.partition;
 }
 
@@ -73,29 +75,24 @@ void RigidWall::enforce(discretization::NodeStore& nodes, Real t_mid, Real dt, R
   const bool own_only = nodes.velocities_by_reach;
   find_rows(nodes, own_only);
   const auto skip = [&](Index k) { return own_only && !mine_[k]; };
+  const Index passed = static_cast<Index>(passed_.size());
   force_.setZero();
   normal_force_ = 0;
   active_.clear();
   active_now_ = t_mid >= definition_.birth && t_mid <= definition_.death;
   const Vec3& n = definition_.normal;
   const Vec3 origin = definition_.origin + displacement_ * n;
-  const Index count = static_cast<Index>(nodes_.size());
   if (!active_now_) {
     // Not there yet (or any more): a node may pass the plane, and is then behind it at birth.
-    parallel::for_each(count, [&](Index k) {
-      if (skip(k)) return;
-      const Index i = row_[k];
+    parallel::for_each(passed, [&](Index j) {
+      const Index k = passed_[j], i = row_[k];
       state_[k] = n.dot(nodes.x[i] + dt * nodes.v[i] - origin) >= 0 ? std::uint8_t(in_front)
                                                                     : std::uint8_t(0);
     }, {.serial_below = parallel_from});
     return;
   }
-  parallel::for_each(count, [&](Index k) {
-    if (skip(k)) {
-      candidate_[k] = 0;
-      return;
-    }
-    const Index i = row_[k];
+  parallel::for_each(passed, [&](Index j) {
+    const Index k = passed_[j], i = row_[k];
     candidate_mass_[k] = nodes.mass[i];
     const Vec3 r = nodes.x[i] - origin;
     const Real d = n.dot(r);
@@ -105,7 +102,9 @@ void RigidWall::enforce(discretization::NodeStore& nodes, Real t_mid, Real dt, R
     closing_[k] = dt > 0 ? u + d / dt : (d > 0 ? std::numeric_limits<Real>::infinity() : u);
     candidate_[k] = (state_[k] & in_front) && inside(r + dt * nodes.v[i]);
   }, {.serial_below = parallel_from});
-
+  candidates_.clear();
+  for (const Index k : passed_)
+    if (candidate_[k]) candidates_.push_back(k);
   if (own_only && definition_.mass > 0) share_candidates();
   const Real v_wall = solve_wall_velocity();
 
@@ -156,8 +155,8 @@ void RigidWall::enforce(discretization::NodeStore& nodes, Real t_mid, Real dt, R
   // Which side each node will be on at t^{n+1}: a pushed node is on the wall; a node that passes
   // the plane beside a finite wall, or was behind it, is behind until it comes back in front.
   if (dt > 0) {
-    parallel::for_each(count, [&](Index k) {
-      if (skip(k)) return;
+    parallel::for_each(passed, [&](Index j) {
+      const Index k = passed_[j];
       if (candidate_[k] != pushed_now) state_[k] = closing_[k] >= v_wall ? std::uint8_t(in_front) : std::uint8_t(0);
     }, {.serial_below = parallel_from});
   }
@@ -165,7 +164,8 @@ void RigidWall::enforce(discretization::NodeStore& nodes, Real t_mid, Real dt, R
 
 // A moving wall's velocity depends on every node it pushes: under MPI with velocities by reach the
 // other ranks' candidates (closing value, mass, flags) come in, so that every rank solves for the
-// same velocity and pushed set as one process (and applies the pushes to its own nodes).
+// same velocity and pushed set as one process (and applies the pushes to its own nodes): among the
+// candidates in the order of the tracked nodes.
 void RigidWall::share_candidates() {
   struct Candidate {
     Index k;
@@ -173,24 +173,24 @@ void RigidWall::share_candidates() {
     Real closing, mass;
   };
   std::vector<Candidate> own;
-  for (Index k = 0; k < static_cast<Index>(nodes_.size()); ++k)
-    if (candidate_[k] && mine_[k])
-      own.push_back({k, candidate_[k], state_[k], {0, 0}, closing_[k], candidate_mass_[k]});
+  for (const Index k : candidates_) own.push_back({k, candidate_[k], state_[k], {0, 0}, closing_[k], candidate_mass_[k]});
   for (const Candidate& c : parallel::world().all(std::span<const Candidate>(own)))
-    if (!mine_[c.k])
+    if (!mine_[c.k]) {
       candidate_[c.k] = c.candidate, state_[c.k] = c.state, closing_[c.k] = c.closing, candidate_mass_[c.k] = c.mass;
+      candidates_.push_back(c.k);
+    }
+  std::sort(candidates_.begin(), candidates_.end());
 }
 
 Real RigidWall::solve_wall_velocity() {
-  const Index count = static_cast<Index>(nodes_.size());
   auto push = [&](Index k) {
     candidate_[k] = pushed_now;
     active_.push_back(k);
   };
   if (definition_.mass <= 0) {
     // A fixed wall takes any impulse without moving: every node that would pass it is pushed.
-    for (Index k = 0; k < count; ++k)
-      if (candidate_[k] && ((state_[k] & welded) || closing_[k] < 0)) push(k);
+    for (const Index k : candidates_)
+      if ((state_[k] & welded) || closing_[k] < 0) push(k);
     return 0;
   }
   // A moving wall: momentum along n is conserved, M V + sum m u = M V' + sum m u', and every
@@ -200,8 +200,8 @@ Real RigidWall::solve_wall_velocity() {
   // not below V' ends the set.
   Real momentum = definition_.mass * velocity_;
   Real mass = definition_.mass;
-  for (Index k = 0; k < count; ++k)
-    if (candidate_[k] && (state_[k] & welded)) {
+  for (const Index k : candidates_)
+    if (state_[k] & welded) {
       const Real m = candidate_mass_[k];
       momentum += m * closing_[k];
       mass += m;
@@ -209,7 +209,7 @@ Real RigidWall::solve_wall_velocity() {
     }
   Real v_wall = momentum / mass;
   free_.clear();
-  for (Index k = 0; k < count; ++k)
+  for (const Index k : candidates_)
     if (candidate_[k] == 1 && !(state_[k] & welded) && closing_[k] < v_wall) free_.push_back(k);
   std::sort(free_.begin(), free_.end(), [&](Index a, Index b) {
     return closing_[a] != closing_[b] ? closing_[a] < closing_[b] : a < b;

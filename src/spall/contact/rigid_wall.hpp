@@ -97,6 +97,9 @@ class RigidWall {
   // Under MPI with velocities by reach: 1 for the tracked nodes this rank computes, whose state_
   // is current here (empty while every rank holds every node's).
   std::vector<std::uint8_t> mine_;
+  // The tracked nodes (positions in nodes_) whose state this rank keeps: those mine_ marks, or
+  // every one; each step's pass goes over these alone.
+  std::vector<Index> passed_;
   std::vector<std::uint8_t> state_;
   Real velocity_ = 0;
   Real displacement_ = 0;
@@ -107,6 +110,7 @@ class RigidWall {
   // of the wall at t^n and u its normal velocity; it passes the wall moving at V iff c < V.
   std::vector<Real> closing_;
   std::vector<std::uint8_t> candidate_;  // 1: in front and inside the extent; 2: pushed
+  std::vector<Index> candidates_;        // this step's candidates (with a moving wall every rank's), ascending
   std::vector<Real> candidate_mass_;     // moving wall: each candidate's mass
   std::vector<Index> active_;            // positions in nodes_ of the nodes pushed this step
   std::vector<Index> free_;              // moving wall: unwelded candidates, by closing value

@@ -2,6 +2,7 @@
 // A discretization plugged into the step (SPH fluid, SPH solid, SPG; FEM later). It owns its own
 // state (densities, stresses, bonds ...) and adds its internal forces to the shared node store.
 #include <span>
+#include <utility>
 
 #include "spall/core/archive.hpp"
 #include "spall/core/types.hpp"
@@ -60,6 +61,10 @@ class Formulation {
   // formulation reads, and those are all it reads of them until it completes them itself: the
   // time loop then need not share every node's velocity (the halo by reach).
   virtual bool halo_by_reach() const { return false; }
+  // With the halo by reach, in blocks of the nodes: a range of rows that holds every other rank's
+  // node whose position the formulation reads before it completes them (others in the range may be
+  // stale): the time loop advances those and a rank's own, no more. Every row unless told.
+  virtual std::pair<Index, Index> rows_read(const NodeStore& nodes) const { return {0, nodes.size()}; }
   // True when the formulation's results do not depend on which rank computes which node, nor on
   // the order it holds them in, and it calls NodeStore::migrate for its nodes whenever every rank
   // holds their positions current: a deck of such formulations alone has its nodes dealt by region

@@ -37,6 +37,9 @@ class ParticleShare {
   bool stale(const NodeStore& nodes) const { return bound_ && partition_ != nodes.partition; }
 
   bool owns(Index node) const { return owner_.empty() || owner_[node] == rank_; }
+  // Whether the nodes are dealt to the ranks (bound under MPI): until then this rank computes all.
+  bool dealt() const { return !owner_.empty(); }
+  int rank() const { return rank_; }
   // The rank that computes a node, in the partition bound to (once bound, under MPI).
   int rank_of(Index node) const { return owner_[node]; }
   // The ranks a sum over the particles this rank computes must be taken across: none until bound

@@ -7,6 +7,7 @@
 #include <limits>
 #include <numeric>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "spall/core/log.hpp"
@@ -309,11 +310,15 @@ class TimeLoop::Step {
 
   // v^{n+1/2} = v^{n-1/2} + dt^n f / m on the active nodes with mass, with the components an SPC
   // holds set to zero in the same pass; v^{n-1/2} kept for the energies. Under MPI the other
-  // ranks' nodes get theirs in the halo phase.
+  // ranks' nodes get theirs in the halo phase; by reach a rank's own nodes alone pass here (the
+  // constraints and energies read no other's v^{n-1/2} then), else every node, whose v^{n-1/2}
+  // the constraints and contacts read.
   void velocity_update() {
     const Real dt_mid = dt_mid_;
     v_old_.resize(nodes_.size());  // with rows of its own, a rank's nodes change at rebuilds
-    parallel::for_each(nodes_.size(), [&](Index i) {
+    const bool own_only = nodes_.velocities_by_reach;
+    parallel::for_each(own_only ? nodes_.owned_count() : nodes_.size(), [&](Index k) {
+      const Index i = own_only ? nodes_.owned_node(k) : k;
       v_old_[i] = nodes_.v[i];
       if (nodes_.mass[i] <= 0 || !nodes_.active[i] || !nodes_.owns(i)) return;
       Vec3 v_new = nodes_.v[i] + (dt_mid / nodes_.mass[i]) * nodes_.f[i];
@@ -338,6 +343,7 @@ class TimeLoop::Step {
       const NodalMotion& m = problem_.motions[k];
       const Index i = motion_row_[k];
       if (i < 0 || t_mid < m.birth || t_mid > m.death) continue;  // not held here, or not now
+      if (nodes_.velocities_by_reach && !nodes_.owns(i)) continue;  // its rank's, whose v comes in
       Real& v = nodes_.v[i][m.direction];
       switch (m.vad) {
         case 0: v = m.sf * m.curve->value(t_mid); break;
@@ -493,7 +499,9 @@ class TimeLoop::Step {
   // x^{n+1} = x^n + dt v^{n+1/2}, f cleared for the next step's forces; walls move; t advances.
   void position_update() {
     const Real dt = step_.dt;
-    parallel::for_each(nodes_.size(), [&](Index i) {
+    const auto [first, end] = rows_advanced();
+    parallel::for_each(end - first, [&](Index k) {
+      const Index i = first + k;
       nodes_.x[i] += dt * nodes_.v[i];
       nodes_.f[i] = Vec3::Zero();
     });
@@ -502,6 +510,22 @@ class TimeLoop::Step {
     if (controls_.end_time - step_.time < 1e-9 * controls_.end_time) step_.time = controls_.end_time;
     dt_previous_ = dt;
     ++step_.step;
+  }
+
+  // The rows whose positions this rank keeps current: in blocks with the halo by reach, from the
+  // first of its own and those its formulations read to the last (the others are stale until a
+  // formulation completes them, which brings their positions in); else every row.
+  std::pair<Index, Index> rows_advanced() const {
+    if (!nodes_.velocities_by_reach || nodes_.by_region()) return {0, nodes_.size()};
+    Index first = nodes_.owned_begin, end = nodes_.owned_end;
+    for (const auto& f : problem_.formulations) {
+      const auto [f_first, f_end] = f->rows_read(nodes_);
+      if (f_first >= f_end) continue;
+      const bool none_yet = first >= end;
+      first = none_yet ? f_first : std::min(first, f_first);
+      end = none_yet ? f_end : std::max(end, f_end);
+    }
+    return {first, std::max(first, end)};
   }
 
   Problem& problem_;

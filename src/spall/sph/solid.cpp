@@ -408,8 +408,9 @@ void SolidFormulation::gather_kinematics(const discretization::NodeStore& nodes)
 
 // The particles of this step into the records of the pair loops.
 void SolidFormulation::update_records() {
-  const Index n = particle_count();
-  parallel::for_each(n, [&](Index a) {
+  const neighbors::ParticleRange reads = read_state_held();
+  parallel::for_each(reads.end - reads.begin, [&](Index k) {
+    const Index a = reads.begin + k;
     if (!current(a)) return;  // read by no row this rank computes
     const Vec3 x = x_[a] - record_origin_;
     const Vec3& v = v_[a];
@@ -650,14 +651,9 @@ void SolidFormulation::complete_list() {
 }
 
 // From this rank's first particle to its last (the particles are in node order, so its own are
-// these).
+// these): every particle until the nodes are dealt.
 neighbors::ParticleRange SolidFormulation::own_particles() const {
-  const Index n = particle_count();
-  Index first = 0;
-  while (first < n && !owns(first)) ++first;
-  Index last = n;
-  while (last > first && !owns(last - 1)) --last;
-  return {first, last};
+  return share_.dealt() ? particles_of(share_.rank()) : neighbors::ParticleRange{0, particle_count()};
 }
 
 // The rows this rank computes: from the first of its own particles' rows and its force blocks' to
@@ -690,12 +686,14 @@ Index SolidFormulation::compute_rates(Real dt) {
   const float eta2 = static_cast<float>(options_.viscosity.eta * options_.viscosity.eta);
   support_mask_.resize(mask_bytes(list));
   std::uint8_t* mask = support_mask_.data();
+  const neighbors::ParticleRange rows = computed_rows();  // under MPI the rest are no row of this rank's
   parallel::LowestIndex unsound;
   parallel::region([&](const parallel::Team& team) {
     RowTerms terms;  // this thread's pair terms, reused row after row
     // Inlined into the seam's loop, as the loop body it was: called as a function, it reloaded
     // what it captures after every pack store (they may alias), 7 % of this pass (measured).
-    team.for_each(n, [&](Index a) __attribute__((always_inline)) {
+    team.for_each(rows.end - rows.begin, [&](Index k) __attribute__((always_inline)) {
+      const Index a = rows.begin + k;
       if (!owns(a)) {  // another rank's, whose pick the force pass may still need
         if (blocks_.runs_row(a)) pick_support(list, a, record_.data(), origin, mask, terms);
         return;
@@ -893,8 +891,9 @@ void SolidFormulation::categorize() {
   int layers = 0;
   // Under MPI each rank its own particles, with the flags of the others' that its rows read
   // brought in before each layer (reach_).
-  parallel::for_each(n, [&](Index a) {
-    if (!owns(a)) return;
+  const neighbors::ParticleRange own = own_particles();
+  parallel::for_each(own.end - own.begin, [&](Index k) {
+    const Index a = own.begin + k;
     const ColourField& c = options_.colour_field[material_[a]];
     const bool surface = c.enabled &&
                          support_count_[a] < c.neighbour_fraction * full_support_count_[a] &&
@@ -904,12 +903,12 @@ void SolidFormulation::categorize() {
   for (const ColourField& c : options_.colour_field)
     if (c.enabled) layers = std::max(layers, c.layers);
   std::vector<std::uint8_t> previous(n), next(n);
-  for (Index a = 0; a < n; ++a) previous[a] = owns(a) && category_[a] == Category::surface;
+  for (Index a = own.begin; a < own.end; ++a) previous[a] = category_[a] == Category::surface;
   for (int layer = 1; layer <= layers; ++layer) {
     reach_(previous);
-    parallel::for_each(n, [&](Index a) {
+    parallel::for_each(own.end - own.begin, [&](Index k) {
+      const Index a = own.begin + k;
       next[a] = 0;
-      if (!owns(a)) return;
       const ColourField& c = options_.colour_field[material_[a]];
       if (!c.enabled || layer > c.layers || category_[a] != Category::interior) return;
       // The current spacing: the initial one scaled as h has been.
@@ -923,23 +922,23 @@ void SolidFormulation::categorize() {
         }
       }
     });
-    for (Index a = 0; a < n; ++a)
+    for (Index a = own.begin; a < own.end; ++a)
       if (next[a]) category_[a] = Category::inner_layer;
     previous.swap(next);
   }
 }
 
 Index SolidFormulation::update_state(Real dt) {
-  const Index n = particle_count();
+  const neighbors::ParticleRange own = own_particles();
   const Index first_unsound = parallel::first_failure(
-      n,
-      [&](Index a) {
-        if (!owns(a)) return false;
+      own.end - own.begin,
+      [&](Index k) {
+        const Index a = own.begin + k;
         update_particle(a, velocity_gradient_[a], correction_[a], density_rate_[a], dt);
         return !sound(a);
       },
       {.chunk = 512});
-  return first_unsound < 0 ? n : first_unsound;
+  return first_unsound < 0 ? particle_count() : own.begin + first_unsound;
 }
 
 void SolidFormulation::update_particle(Index a, const Mat3& L, const Mat3& correction, Real density_rate, Real dt) {
@@ -1149,6 +1148,13 @@ void SolidFormulation::complete_state(discretization::NodeStore& nodes) {
   complete_list();
 }
 
+std::pair<Index, Index> SolidFormulation::rows_read(const discretization::NodeStore& nodes) const {
+  if (!list_built_) return {0, nodes.size()};
+  const neighbors::ParticleRange reads = read_state_held();
+  if (reads.begin >= reads.end) return {0, 0};
+  return {node_[reads.begin], node_[reads.end - 1] + 1};
+}
+
 void SolidFormulation::share_state(discretization::NodeStore& nodes) {
   if (!nodes.velocities_by_reach || !reach_.planned()) return;
   reach_.records<Vec3>([&](Index a) { return nodes.v[node_[a]]; },
@@ -1184,7 +1190,6 @@ template <typename Kernel, bool corrected>
 void SolidFormulation::compute_pair_forces() {
   constexpr int W = pair_lanes;
   const auto& list = verlet_.list();
-  const Index n = particle_count();
   const bool stress_on = options_.artificial_stress.enabled;
   const Real exponent = options_.artificial_stress.exponent;
   // The records and the sums from the first particle they hold on (keep_row).
@@ -1271,8 +1276,10 @@ void SolidFormulation::compute_pair_forces() {
   if (blocks_.count() == 0) {
     parallel::region([&](const parallel::Team& team) {
       RowTerms terms;
-      team.for_each(n, [&](Index a) {
-        if (owns(a)) force_[a] = force_row(row_force.template operator()<false>(a, terms));
+      const neighbors::ParticleRange own = own_particles();
+      team.for_each(own.end - own.begin, [&](Index k) {
+        const Index a = own.begin + k;
+        force_[a] = force_row(row_force.template operator()<false>(a, terms));
       }, {.chunk = 512});
     });
   } else if (parallel::world().size() == 1) {
@@ -1378,9 +1385,11 @@ void SolidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt)
     bool outgrown = false;
     Real step = std::numeric_limits<Real>::infinity();
   };
+  const neighbors::ParticleRange own = own_particles(), passed = hull(own, read_state_held());
   const Found found = parallel::fold_exact(
-      n, Found{},
-      [&](Found& found, Index a) {
+      passed.end - passed.begin, Found{},
+      [&](Found& found, Index k) {
+        const Index a = passed.begin + k;
         // h on every particle this rank's rows read: under MPI the others' follow the densities
         // that came in (the rest come in when the rows read them, search_near_rows, deal_anew).
         if (dt > 0 && current(a)) {
@@ -1420,11 +1429,13 @@ Real SolidFormulation::stable_step_of(Index a, const Vec3& v) const {
 
 Real SolidFormulation::stable_time_step(const discretization::NodeStore& nodes) const {
   if (stable_step_) return *stable_step_;  // found by the last compute_forces
-  const Index n = particle_count();
+  // Under MPI its own particles: the time loop takes the minimum over the ranks.
+  const neighbors::ParticleRange own = own_particles();
   return parallel::reduce_exact(
-      n, std::numeric_limits<Real>::infinity(),
-      [&](Index a) {  // under MPI its own particles: the time loop takes the minimum over the ranks
-        return owns(a) ? stable_step_of(a, nodes.v[node_[a]]) : std::numeric_limits<Real>::infinity();
+      own.end - own.begin, std::numeric_limits<Real>::infinity(),
+      [&](Index k) {
+        const Index a = own.begin + k;
+        return stable_step_of(a, nodes.v[node_[a]]);
       },
       [](Real x, Real y) { return std::min(x, y); });
 }
@@ -1432,10 +1443,11 @@ Real SolidFormulation::stable_time_step(const discretization::NodeStore& nodes) 
 discretization::InternalPower SolidFormulation::internal_power(std::span<const Vec3> v) const {
   // Work of the internal forces on the nodes: strain energy grows by -f_stress . v, and the
   // artificial viscosity dissipates -f_visc . v >= 0. Exact sums (parallel::exact_sum).
+  const neighbors::ParticleRange own = own_particles();  // under MPI, summed over the ranks
   const Sums<2> sums = parallel::exact_sum(
-      particle_count(),
-      [&](Index a) {
-        if (!owns(a)) return Sums<2>{};  // another rank's
+      own.end - own.begin,
+      [&](Index k) {
+        const Index a = own.begin + k;
         const Vec3& va = v[node_[a]];
         return Sums<2>{{(force_[a].head<3>() - viscous_force_[a]).dot(va), viscous_force_[a].dot(va)}};
       },
