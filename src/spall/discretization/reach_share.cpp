@@ -1,6 +1,8 @@
 #include "spall/discretization/reach_share.hpp"
 
 #include <algorithm>
+#include <utility>
+#include <vector>
 
 namespace spall::discretization {
 
@@ -10,12 +12,18 @@ namespace spall::discretization {
 // rows of its nodes). What each rank is asked is what it
 // sends, in the asker's order.
 void ReachShare::plan(std::span<const std::uint8_t> reads, std::span<const Index> node, const ParticleShare& share,
-                      const NodeStore& nodes) {
+                      const NodeStore& nodes, Stretch within) {
   const parallel::Communicator& ranks = parallel::world();
   const int size = ranks.size();
   std::vector<std::vector<Index>> wanted(size);
-  for (Index a = 0; a < static_cast<Index>(reads.size()); ++a)
-    if (reads[a] && !share.owns(node[a])) wanted[share.rank_of(node[a])].push_back(a);
+  // This rank's own particles by row, which the others ask for.
+  std::vector<std::pair<Index, Index>> own;
+  for (Index a = within.first; a < within.end; ++a) {
+    if (share.owns(node[a]))
+      own.emplace_back(node[a], a);
+    else if (reads[a])
+      wanted[share.rank_of(node[a])].push_back(a);
+  }
   receive_.clear();
   receive_offsets_.assign(size + 1, 0);
   for (int r = 0; r < size; ++r) {
@@ -29,9 +37,8 @@ void ReachShare::plan(std::span<const std::uint8_t> reads, std::span<const Index
   send_.resize(send_offsets_[size]);
   ranks.exchange(std::span<const Index>(wanted_nodes), receive_offsets_, std::span(send_), send_offsets_);
   // The nodes asked for, as this rank's particles.
-  std::vector<Index> particle(nodes.size(), -1);
-  for (Index a = 0; a < static_cast<Index>(node.size()); ++a) particle[node[a]] = a;
-  for (Index& k : send_) k = particle[nodes.row_of(k)];
+  std::sort(own.begin(), own.end());
+  for (Index& k : send_) k = std::lower_bound(own.begin(), own.end(), std::pair(nodes.row_of(k), Index(0)))->second;
 }
 
 }  // namespace spall::discretization

@@ -7,6 +7,7 @@
 // each step's share sends just those. The rest of the other ranks' particles go stale until the
 // formulation completes its state (ParticleShare, whole), or are not held (a rank's
 // own rows, dealt by region).
+#include <algorithm>
 #include <cstddef>
 #include <cstring>
 #include <span>
@@ -21,24 +22,47 @@ namespace spall::discretization {
 
 class ReachShare {
  public:
+  // The particles [first, end) of a formulation's, as plan takes them.
+  struct Stretch {
+    Index first = 0, end = 0;
+  };
   // `reads[a]` is 1 where this rank's passes read particle a (its own particles are skipped);
   // `node[a]` is a's row in `nodes`, whose rank `share` knows. Collective: every rank plans at once.
+  // `within`: a stretch of the particles that holds every one read and this rank's own (the others
+  // are then not looked at: under MPI a rank's passes stay off the rest).
   void plan(std::span<const std::uint8_t> reads, std::span<const Index> node, const ParticleShare& share,
-            const NodeStore& nodes);
+            const NodeStore& nodes, Stretch within);
+  void plan(std::span<const std::uint8_t> reads, std::span<const Index> node, const ParticleShare& share,
+            const NodeStore& nodes) {
+    plan(reads, node, share, nodes, {0, static_cast<Index>(node.size())});
+  }
   // The same for passes over rows in compressed form (a neighbour list, SPG's bonds): the rank
-  // reads every row it computes (`computes(a)`) and each particle in it. Returns those reads.
+  // reads every row it computes (`computes(a)`, in `rows`, which holds its own particles) and each
+  // particle in it. Returns those reads.
+  template <typename Computes>
+  std::vector<std::uint8_t> plan_rows(std::span<const Index> offsets, std::span<const Index> entries,
+                                      Computes&& computes, std::span<const Index> node, const ParticleShare& share,
+                                      const NodeStore& nodes, Stretch rows) {
+    std::vector<std::uint8_t> reads(node.size(), 0);
+    Stretch read{rows.first, rows.end};  // holds the rows, so also the rank's own particles
+    for (Index a = rows.first; a < rows.end; ++a) {
+      if (!computes(a)) continue;
+      reads[a] = 1;
+      for (Index k = offsets[a]; k < offsets[a + 1]; ++k) {
+        const Index b = entries[k];
+        reads[b] = 1;
+        read.first = std::min(read.first, b);
+        read.end = std::max(read.end, b + 1);
+      }
+    }
+    plan(reads, node, share, nodes, read);
+    return reads;
+  }
   template <typename Computes>
   std::vector<std::uint8_t> plan_rows(std::span<const Index> offsets, std::span<const Index> entries,
                                       Computes&& computes, std::span<const Index> node, const ParticleShare& share,
                                       const NodeStore& nodes) {
-    std::vector<std::uint8_t> reads(node.size(), 0);
-    for (Index a = 0; a < static_cast<Index>(node.size()); ++a) {
-      if (!computes(a)) continue;
-      reads[a] = 1;
-      for (Index k = offsets[a]; k < offsets[a + 1]; ++k) reads[entries[k]] = 1;
-    }
-    plan(reads, node, share, nodes);
-    return reads;
+    return plan_rows(offsets, entries, computes, node, share, nodes, {0, static_cast<Index>(node.size())});
   }
   bool planned() const { return !receive_offsets_.empty(); }
   // Particles this rank sends and receives a step.

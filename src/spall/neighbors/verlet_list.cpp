@@ -252,9 +252,15 @@ void VerletList::search_every_row(std::span<const Real> reach) {
 template <typename MakeRadius>
 void VerletList::build_rows(std::span<const Vec3> x, Real radius, const MakeRadius& make_radius,
                             RowOrder row_order, ParticleRange rows, const BinnedSubset* binned) {
-  x_at_build_.assign(x.begin(), x.end());
-  subset_ = binned != nullptr;
   const auto n = static_cast<Index>(x.size());
+  // Of a subset, its positions alone (the others' are not current here, and are not read).
+  if (binned) {
+    x_at_build_.resize(n);
+    for (const Index a : binned->particles) x_at_build_[a] = x[a];
+  } else {
+    x_at_build_.assign(x.begin(), x.end());
+  }
+  subset_ = binned != nullptr;
   rows_ = {std::clamp(rows.begin, Index(0), n), std::clamp(rows.end, Index(0), n)};
   list_.offsets.assign(n + 1, 0);
   if (n == 0) {

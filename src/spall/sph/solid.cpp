@@ -472,11 +472,13 @@ void SolidFormulation::update_neighbour_list(discretization::NodeStore& nodes) {
   // The records' origin: the middle of the particles' bounding box.
   if (!box.empty()) record_origin_ = box.centre();
   // The force pass's blocks (compute_pair_forces): as long as the largest b - a of any pair (every
-  // row is some rank's own: over the ranks, the largest of their rows').
+  // row is some rank's own: over the ranks, the largest of their own rows').
   const auto& list = verlet_.list();
+  const neighbors::ParticleRange own = distributed ? own_particles() : neighbors::ParticleRange{0, n};
   Index span = parallel::reduce_exact(
-      n, Index(1),
-      [&](Index a) {
+      own.end - own.begin, Index(1),
+      [&](Index k) {
+        const Index a = own.begin + k;
         Index longest = 1;
         for (Index k = list.offsets[a]; k < list.offsets[a + 1]; ++k) longest = std::max(longest, list.neighbors[k] - a);
         return longest;
@@ -1061,9 +1063,10 @@ void SolidFormulation::share_updated_state() {
 
 void SolidFormulation::plan_reach(const discretization::NodeStore& nodes) {
   const auto& list = verlet_.list();
+  const neighbors::ParticleRange rows = computed_rows();
   current_ = reach_.plan_rows(list.offsets, list.neighbors, [&](Index a) {
     return owns(a) || blocks_.runs_row(a);
-  }, node_, share_, nodes);
+  }, node_, share_, nodes, {rows.begin, rows.end});
   reach_partition_ = nodes.partition;
 }
 
