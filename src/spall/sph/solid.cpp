@@ -474,11 +474,11 @@ void SolidFormulation::update_neighbour_list(discretization::NodeStore& nodes) {
   // The force pass's blocks (compute_pair_forces): as long as the largest b - a of any pair (every
   // row is some rank's own: over the ranks, the largest of their own rows').
   const auto& list = verlet_.list();
-  const neighbors::ParticleRange own = distributed ? own_particles() : neighbors::ParticleRange{0, n};
+  const neighbors::ParticleRange own = own_particles();
   Index span = parallel::reduce_exact(
       own.end - own.begin, Index(1),
-      [&](Index k) {
-        const Index a = own.begin + k;
+      [&](Index j) {
+        const Index a = own.begin + j;
         Index longest = 1;
         for (Index k = list.offsets[a]; k < list.offsets[a + 1]; ++k) longest = std::max(longest, list.neighbors[k] - a);
         return longest;
