@@ -30,8 +30,9 @@
 # anew every 5 steps (the load balancing, forced), and the Taylor bar on 2 ranks writing a restart
 # file at every step: still bit for bit.
 # The restart files (each SPH particle's state written by its own rank, the rest by rank 0): the
-# Taylor bar's and the eroding bar's 2-rank runrsf continued on one process, the Taylor bar's 3-rank
-# one on 2 ranks and its 1-process one on 3, end as the uninterrupted runs.
+# Taylor bar's and the eroding bar's 2-rank runrsf and the SPG bar's 3-rank one (its nodes beyond
+# rank 0's reach completed for it) continued on one process, the Taylor bar's 3-rank one on 2 ranks
+# and its 1-process one on 3, end as the uninterrupted runs.
 # Arguments, as CTest passes them: CLI SOURCE_DIR SHARED_DIR.
 set -euo pipefail
 cli=$1
@@ -99,12 +100,13 @@ python3 "$source_dir/tools/make_spg_tension_deck.py" --elements 16 --speed 100 -
 sed -E 's/^( +1\.6){3} +0 +0 +0\.0 +15 +0\.0$/       1.6       1.6       1.6         0         1       0.0        15       0.0/;
         s/^( +1 +0\.6 +1\.2) +1$/\1         2/' "$work/spg.k" >"$work/spg_k1.k"
 [ "$(diff "$work/spg.k" "$work/spg_k1.k" | grep -c '^>')" -eq 2 ] || fail "the KERNEL 1, ITB 2 deck"
+sed -i 's/^\*END$/*DATABASE_BINARY_RUNRSF\n       300\n*END/' "$work/spg.k"
 for deck in spg spg_k1; do
   run_serial $deck 400
   "${read_vtu[@]}" "$(ls "$work/$deck.serial"/d3plot_*.vtu | tail -n 1)" --field broken_bonds >"$work/$deck.bonds"
   grep -Eq '^broken_bonds max [1-9]' "$work/$deck.bonds" || fail "$deck: no bond broke ($(cat "$work/$deck.bonds"))"
 done
-same_on_ranks "$work/spg.k" "$work/spg.serial" "2 1" "3 2"
+same_on_ranks "$work/spg.k" "$work/spg.serial" "2 1" "3 2" "3 1 checkpointed"
 same_on_ranks "$work/spg_k1.k" "$work/spg_k1.serial" "3 1" "2 1 rebalanced"
 
 python3 "$source_dir/tools/make_spg_tension_deck.py" --elements 16 --speed 100 --end-time 4e-5 --fem-ends 0.25 \
@@ -185,5 +187,6 @@ for deck in taylor eroding; do
   continue_run $deck.serial.np2.t1 1 $deck.serial
 done
 continue_run taylor.serial.np3.t1 2 taylor.serial
+continue_run spg.serial.np3.t2 1 spg.serial
 continue_run taylor.serial.np2.t1 3 taylor.serial
 echo "mpi solid: OK"

@@ -39,8 +39,23 @@ bool SpgFormulation::scale_mass_below(Real step, bool first_step_only) {
   return true;
 }
 
-void SpgFormulation::complete_state(discretization::NodeStore&) {
-  for (auto& part : parts_) part.complete_state();
+void SpgFormulation::complete_state(discretization::NodeStore& nodes) {
+  for (auto& part : parts_) part.complete_state(nodes);
+}
+
+void SpgFormulation::share_state(discretization::NodeStore& nodes) {
+  for (auto& part : parts_) part.share_velocities(nodes);
+}
+
+std::pair<Index, Index> SpgFormulation::rows_read(const discretization::NodeStore& nodes) const {
+  std::pair<Index, Index> rows{0, 0};
+  for (const auto& part : parts_) {
+    const auto [first, end] = part.nodes_read(nodes);
+    if (first >= end) continue;
+    const bool none_yet = rows.first >= rows.second;
+    rows = {none_yet ? first : std::min(rows.first, first), none_yet ? end : std::max(rows.second, end)};
+  }
+  return rows;
 }
 
 void SpgFormulation::checkpoint(Archive& a, const discretization::NodeStore& /*nodes*/) {

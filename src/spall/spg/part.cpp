@@ -468,7 +468,37 @@ void Part::internal_forces() {
 const std::vector<std::uint8_t>& Part::plan_reach(const discretization::NodeStore& nodes) {
   reach_partition_ = nodes.partition;
   reads_ = reach_.plan_rows(bonds_.offsets, bonds_.neighbour, [&](Index j) { return owns(j); }, node_, share_, nodes);
+  if (nodes.velocities_by_reach) {
+    // Smoothing the velocity of a particle this rank reads reads its bond partners' (eq. 11).
+    const std::vector<std::uint8_t> smoothed = velocity_reach_.plan_rows(
+        bonds_.offsets, bonds_.neighbour, [&](Index j) { return reads_[j] != 0; }, node_, share_, nodes);
+    nodes_read_ = {0, 0};
+    for (Index a = 0; a < particle_count(); ++a) {
+      if (!smoothed[a]) continue;
+      const bool none_yet = nodes_read_.first >= nodes_read_.second;
+      nodes_read_ = {none_yet ? node_[a] : std::min(nodes_read_.first, node_[a]),
+                     none_yet ? node_[a] + 1 : std::max(nodes_read_.second, node_[a] + 1)};
+    }
+  }
   return reads_;
+}
+
+void Part::share_velocities(discretization::NodeStore& nodes) {
+  if (!nodes.velocities_by_reach || !velocity_reach_.planned()) return;
+  velocity_reach_.records<Vec3>([&](Index a) { return nodes.v[node_[a]]; },
+                                [&](Index a, const Vec3& v) { nodes.v[node_[a]] = v; });
+  kinematics_complete_ = false;
+}
+
+std::pair<Index, Index> Part::nodes_read(const discretization::NodeStore& nodes) const {
+  if (!velocity_reach_.planned()) return {0, nodes.size()};
+  return nodes_read_;
+}
+
+void Part::complete_kinematics(discretization::NodeStore& nodes) {
+  if (kinematics_complete_) return;
+  share_.complete_nodes(node_, nodes);
+  kinematics_complete_ = true;
 }
 
 // What complete() shares, for the particles this rank's new rows read alone (a ReachShare planned
@@ -492,6 +522,11 @@ void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
   const Index n = particle_count();
   const parallel::Communicator& ranks = parallel::world();
   const bool distributed = ranks.size() > 1;
+  // A kernel update's step smooths and integrates every particle's spring: the particles its new
+  // rows read (plan_reach below) must have theirs current, and their positions and velocities, as
+  // must a new deal's rows (with the velocities by reach, from the deal they were computed in).
+  const bool updating = dt > 0 && steps_since_update_ + 1 >= settings_.update_interval;
+  if (distributed && (updating || share_.stale(nodes))) complete_kinematics(nodes);
   if (distributed && !complete_ && share_.stale(nodes)) deal_anew(nodes);
   share_.bind(nodes);
   if (distributed && reach_partition_ != nodes.partition) plan_reach(nodes);
@@ -500,9 +535,6 @@ void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
     v_[i] = nodes.v[node_[i]];
   }, particle_loops);
   if (dt > 0) {
-    // A kernel update's step smooths and integrates every particle's spring: the particles its new
-    // rows read (plan_reach below) must have theirs current.
-    const bool updating = steps_since_update_ + 1 >= settings_.update_interval;
     smooth(v_, vs_, updating);
     const bool smoothed = settings_.stabilization == Stabilization::fluid_particle;
     if (smoothed) smooth(x_, xs_, updating);
@@ -653,7 +685,7 @@ void Part::checkpoint(Archive& a) {
     grad_, bonds_, broken_pairs_, on_surface_, correction_, x_, v_, xs_, vs_, h_, force_, weighted_stress_, spin_,
     steps_since_update_, kernel_updates_, mass_scaling_, mass_scale_);
   // Written whole (complete_state), read by ranks that plan their reach again.
-  if (a.reading()) complete_ = true, reach_partition_ = -1;
+  if (a.reading()) complete_ = true, kinematics_complete_ = true, reach_partition_ = -1;
 }
 
 Index Part::degraded_count() const {

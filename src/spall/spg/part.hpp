@@ -23,6 +23,7 @@
 // windows, in the current configuration, widen with the material's stretch (at most 4 times).
 #include <limits>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "spall/core/error.hpp"
@@ -106,10 +107,21 @@ class Part {
   // Particles whose bonds no longer hold a linear field (Shepard smoothing, no strain of their own).
   Index degraded_count() const;
   // Under MPI: every rank's state of its own particles in to every rank (the others' go stale
-  // between; complete()), before a checkpoint.
-  void complete_state() {
+  // between; complete()), and with the velocities by reach their nodes' positions and velocities,
+  // before a checkpoint.
+  void complete_state(discretization::NodeStore& nodes) {
     if (!complete_) complete();
+    complete_kinematics(nodes);
   }
+  // Under MPI with the velocities by reach (NodeStore::velocities_by_reach): v^{n+1/2} of the other
+  // ranks' particles that this rank's smoothing reads, the bond partners of the particles it reads
+  // (plan_reach), in from their ranks; the rest go stale until a kernel update, a new deal or a
+  // checkpoint completes them (complete_kinematics). The time loop advances the positions of the
+  // rows those particles' nodes span (nodes_read).
+  void share_velocities(discretization::NodeStore& nodes);
+  // The rows from the lowest node of those particles and this rank's own to past the highest;
+  // every row until planned.
+  std::pair<Index, Index> nodes_read(const discretization::NodeStore& nodes) const;
   // Everything but the settings (the deck's) and the particles' nodes, which must match.
   void checkpoint(Archive& archive);
   std::size_t memory_bytes() const;
@@ -137,7 +149,8 @@ class Part {
   // particles, and shared.
   bool owns(Index i) const { return share_.owns(node_[i]); }
   // The other ranks' particles bonded to this rank's: at each kernel update and each new deal.
-  // Sets reads_ (this rank's own particles and those).
+  // Sets reads_ (this rank's own particles and those), and with the velocities by reach plans
+  // velocity_reach_ (collective).
   const std::vector<std::uint8_t>& plan_reach(const discretization::NodeStore& nodes);
   // Whether this step computes particle i's smoothed fields, spring and weighted stress: every
   // particle on one process and on a kernel update's step, else those this rank reads.
@@ -148,6 +161,9 @@ class Part {
   // Every rank's whole state of its own particles in (share_): before a kernel update and a
   // checkpoint.
   void complete();
+  // With the velocities by reach, every rank's positions and velocities of its own particles' nodes
+  // in (share_, in the deal they were computed in): what a kernel update and a new deal's rows read.
+  void complete_kinematics(discretization::NodeStore& nodes);
   void correct_integration_constraint(bool at_setup);
 
   PartSettings settings_;
@@ -197,6 +213,12 @@ class Part {
   std::vector<std::uint8_t> reads_;      // under MPI: 1 for this rank's particles and those (plan_reach)
   long long reach_partition_ = -1;       // NodeStore::partition that reach_ was planned for
   bool complete_ = true;                 // every particle's state current on this rank (complete())
+  // With the velocities by reach: the other ranks' particles whose velocities this rank's smoothing
+  // reads (two bonds from its own), the rows their nodes and its own span, and whether every
+  // particle's position and velocity is current here (complete_kinematics).
+  discretization::ReachShare velocity_reach_;
+  std::pair<Index, Index> nodes_read_{0, std::numeric_limits<Index>::max()};
+  bool kinematics_complete_ = true;
 
   int steps_since_update_ = 0;
   long long kernel_updates_ = 0;
