@@ -5,7 +5,7 @@
 // nodes dealt by region, on a few nodes only (ranks with no particle),
 // stored anew in another order (planned again), several values a particle, rows of different
 // lengths (shared whole, or completed from the rows each rank made for its own particles); and
-// discretization::ReachShare, which brings in only the particles a rank reads.
+// discretization::ReachShare, which brings in only the particles a rank reads (a value each, or rows).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -265,6 +265,42 @@ TEST(ReachShare, BringsInWhatEachRankReadsAndNothingElse) {
     std::int64_t counts[2] = {reach.sent(), reach.received()};
     parallel::world().sum(counts);
     EXPECT_EQ(counts[0], counts[1]);
+  }
+}
+
+// ReachShare::rows: rows of different lengths (particle a has a % 4 entries, some none) of two
+// arrays of different types; each rank holds the true rows of its own particles and of those it
+// reads (the particles within 2 of its own in the node order), every other entry stays -1.
+TEST(ReachShare, BringsInTheRowsEachRankReads) {
+  const Index n = 70;
+  std::vector<Index> node(n);
+  for (Index a = 0; a < n; ++a) node[a] = 2 * a;  // in node order, every other node
+  const NodeStore nodes = dealt_nodes(2 * n);
+  ParticleShare share;
+  share.bind(nodes);
+  std::vector<std::uint8_t> reads(n, 0);
+  for (Index a = 0; a < n; ++a)
+    for (Index b = std::max<Index>(a - 2, 0); b <= std::min<Index>(a + 2, n - 1); ++b)
+      if (share.owns(node[b])) reads[a] = 1;
+  ReachShare reach;
+  reach.plan(reads, node, share, nodes);
+  const std::vector<Index> offsets = row_offsets_of(n);
+  std::vector<double> entries(offsets.back(), -1.0), none;
+  std::vector<Vec3> vectors(offsets.back(), Vec3::Constant(-1.0));
+  for (Index a = 0; a < n; ++a)
+    if (share.owns(node[a]))
+      for (Index k = offsets[a]; k < offsets[a + 1]; ++k) {
+        entries[k] = 100.0 * a + (k - offsets[a]);
+        vectors[k] = Vec3(a, k, -a);
+      }
+  reach.rows(offsets, entries, none, vectors);
+  EXPECT_TRUE(none.empty());
+  for (Index a = 0; a < n; ++a) {
+    const bool known = share.owns(node[a]) || reads[a];
+    for (Index k = offsets[a]; k < offsets[a + 1]; ++k) {
+      EXPECT_EQ(entries[k], known ? 100.0 * a + (k - offsets[a]) : -1.0) << "particle " << a;
+      EXPECT_EQ(vectors[k], known ? Vec3(a, k, -a) : Vec3::Constant(-1.0)) << "particle " << a;
+    }
   }
 }
 

@@ -18,7 +18,8 @@
 #    passes (on 4 ranks, 2 x 2 threads, and 3 rebalanced);
 #  - the SPG tensile bar of examples/spg_tension, coarse and pulled fast enough that bonds break
 #    within the run (their broken state is every rank's), with KERNEL 0 and ITB 1 as in the example
-#    and with KERNEL 1 (bonds searched anew at each update) and ITB 2;
+#    and with KERNEL 1 (bonds searched anew at each update) and ITB 2; and finer across (a core of
+#    interior particles, where the integration-constraint correction acts), with both;
 #  - solid finite elements, each rank computing the elements with a node it owns: the SPG bar with
 #    hexahedral ends (ELFORM 2, eight points an element, interface nodes shared with SPG), and a bar
 #    of one-point hexahedra (ELFORM 1, hourglass control) that erode (*MAT_ADD_EROSION at 20 %
@@ -30,9 +31,9 @@
 # anew every 5 steps (the load balancing, forced), and the Taylor bar on 2 ranks writing a restart
 # file at every step: still bit for bit.
 # The restart files (each SPH particle's state written by its own rank, the rest by rank 0): the
-# Taylor bar's and the eroding bar's 2-rank runrsf and the SPG bar's 3-rank one (its nodes beyond
-# rank 0's reach completed for it) continued on one process, the Taylor bar's 3-rank one on 2 ranks
-# and its 1-process one on 3, end as the uninterrupted runs.
+# Taylor bar's and the eroding bar's 2-rank runrsf and both SPG bars' 3-rank ones (the nodes, shape
+# functions and correction beyond rank 0's reach completed for it) continued on one process, the
+# Taylor bar's 3-rank one on 2 ranks and its 1-process one on 3, end as the uninterrupted runs.
 # Arguments, as CTest passes them: CLI SOURCE_DIR SHARED_DIR.
 set -euo pipefail
 cli=$1
@@ -108,6 +109,19 @@ for deck in spg spg_k1; do
 done
 same_on_ranks "$work/spg.k" "$work/spg.serial" "2 1" "3 2" "3 1 checkpointed"
 same_on_ranks "$work/spg_k1.k" "$work/spg_k1.serial" "3 1" "2 1 rebalanced"
+# The SPG bar with 6 elements across: particles two rings of bonds inside the surface, where the
+# integration-constraint correction acts (each rank solves for its own particles, the partners'
+# multipliers, defect terms and correction rows brought in), 5 kernel updates, with KERNEL 0 and
+# ITB 1, and with KERNEL 1 and ITB 2.
+python3 "$source_dir/tools/make_spg_tension_deck.py" --elements 32 --speed 100 --end-time 2e-6 |
+  sed 's/^\*END$/*DATABASE_BINARY_RUNRSF\n        40\n*END/' >"$work/spg_core.k"
+sed -E 's/^( +1\.6){3} +0 +0 +0\.0 +15 +0\.0$/       1.6       1.6       1.6         0         1       0.0        15       0.0/;
+        s/^( +1 +0\.6 +1\.2) +1$/\1         2/' "$work/spg_core.k" >"$work/spg_core_k1.k"
+[ "$(diff "$work/spg_core.k" "$work/spg_core_k1.k" | grep -c '^>')" -eq 2 ] || fail "the KERNEL 1, ITB 2 core deck"
+run_serial spg_core 75
+run_serial spg_core_k1 75
+same_on_ranks "$work/spg_core.k" "$work/spg_core.serial" "3 1" "2 2" "3 1 rebalanced"
+same_on_ranks "$work/spg_core_k1.k" "$work/spg_core_k1.serial" "3 1" "2 1 rebalanced"
 
 python3 "$source_dir/tools/make_spg_tension_deck.py" --elements 16 --speed 100 --end-time 4e-5 --fem-ends 0.25 \
   >"$work/fem_ends.k"
@@ -188,5 +202,6 @@ for deck in taylor eroding; do
 done
 continue_run taylor.serial.np3.t1 2 taylor.serial
 continue_run spg.serial.np3.t2 1 spg.serial
+continue_run spg_core.serial.np3.t1 1 spg_core.serial
 continue_run taylor.serial.np2.t1 3 taylor.serial
 echo "mpi solid: OK"

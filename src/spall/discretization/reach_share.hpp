@@ -105,6 +105,51 @@ class ReachShare {
     (unpack(values, at), ...);
   }
 
+  // The same for arrays of rows of different lengths (compressed rows, the SPG bonds): particle a's
+  // entries are [row_offsets[a], row_offsets[a + 1]), the same offsets on every rank, so each rank
+  // knows how many entries of a particle come in. Empty arrays travel not, as above.
+  template <typename... T>
+  void rows(std::span<const Index> row_offsets, std::vector<T>&... values) const {
+    if (!planned()) return;
+    const std::size_t record = ((values.empty() ? 0 : sizeof(T)) + ... + 0);  // bytes an entry
+    if (record == 0) return;
+    // Each particle's first entry in the message, and each rank's (in entries).
+    const auto places = [&](const std::vector<Index>& particles, const std::vector<Index>& by_rank,
+                            std::vector<Index>& first, std::vector<Index>& rank_first) {
+      first.assign(particles.size() + 1, 0);
+      for (std::size_t k = 0; k < particles.size(); ++k)
+        first[k + 1] = first[k] + row_offsets[particles[k] + 1] - row_offsets[particles[k]];
+      rank_first.resize(by_rank.size());
+      for (std::size_t r = 0; r < by_rank.size(); ++r) rank_first[r] = first[by_rank[r]] * static_cast<Index>(record);
+    };
+    std::vector<Index> send_first, send_offsets, receive_first, receive_offsets;
+    places(send_, send_offsets_, send_first, send_offsets);
+    places(receive_, receive_offsets_, receive_first, receive_offsets);
+    std::vector<std::byte> send(send_first.back() * record), receive(receive_first.back() * record);
+    // A particle's entries of each array one after the other, in the order of the arrays.
+    const auto copy_rows = [&](const std::vector<Index>& particles, const std::vector<Index>& first,
+                               std::vector<std::byte>& message, bool packing) {
+      parallel::for_each(static_cast<Index>(particles.size()), [&](Index k) {
+        const Index a = particles[k], count = row_offsets[a + 1] - row_offsets[a];
+        std::byte* at = message.data() + first[k] * record;
+        const auto copy = [&](auto& array) {
+          if (array.empty()) return;
+          const std::size_t bytes = count * sizeof(array[0]);
+          void* entries = &array[row_offsets[a]];
+          if (packing)
+            std::memcpy(at, entries, bytes);
+          else
+            std::memcpy(entries, at, bytes);
+          at += bytes;
+        };
+        (copy(values), ...);
+      });
+    };
+    copy_rows(send_, send_first, send, true);
+    parallel::world().exchange(std::span<const std::byte>(send), send_offsets, std::span(receive), receive_offsets);
+    copy_rows(receive_, receive_first, receive, false);
+  }
+
   // The same for state that is not one array a particle (a velocity stored by node): `pack(a)`
   // makes the record of this rank's particle a, `unpack(a, record)` stores another rank's.
   template <typename Record, typename Pack, typename Unpack>

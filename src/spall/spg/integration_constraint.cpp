@@ -200,7 +200,8 @@ void remove_row_moment(const BondList& bonds, std::span<const Vec3> X, Index j, 
 void correct_integration(const BondList& bonds, std::span<const Vec3> X, std::span<const Real> volume,
                          std::span<const std::uint8_t> interior, std::span<const std::uint8_t> active,
                          std::span<const Vec3> defect, int max_iterations, discretization::ParticleShare& share,
-                         std::span<const Index> node, IntegrationCorrection& correction) {
+                         const discretization::ReachShare& reach, std::span<const Index> node,
+                         IntegrationCorrection& correction) {
   const Index n = bonds.size();
   const Ownership own{share, node};
   const NormalEquations equations(bonds, X, interior, active, own);
@@ -209,6 +210,7 @@ void correct_integration(const BondList& bonds, std::span<const Vec3> X, std::sp
   if (static_cast<Index>(correction.lambda.size()) == n) {
     z.lambda = correction.lambda;
     z.mu = correction.mu;
+    reach(z.lambda, z.mu);  // the fluxes of a rank's rows read the bond partners' multipliers
   }
   r.resize(n);
   p.resize(n);
@@ -236,7 +238,7 @@ void correct_integration(const BondList& bonds, std::span<const Vec3> X, std::sp
     return true;
   };
   // The search direction is the one vector whose neighbours' values a rank reads (apply).
-  auto share_direction = [&] { share(node, p.lambda, p.mu); };
+  auto share_direction = [&] { reach(p.lambda, p.mu); };
   equations.precondition(r, s);
   p = s;
   share_direction();
@@ -268,7 +270,7 @@ void correct_integration(const BondList& bonds, std::span<const Vec3> X, std::sp
   for (int i = 0; i < 3; ++i)
     if (b_norm[i] > 0) worst = std::max(worst, std::sqrt(rr[i]) / b_norm[i]);
   correction.relative_residual = worst;
-  share(node, z.lambda, z.mu);  // the fluxes read the neighbours' multipliers, the next solve starts from all
+  reach(z.lambda, z.mu);
   correction.lambda = z.lambda;
   correction.mu = z.mu;
 
@@ -297,8 +299,7 @@ void correct_integration(const BondList& bonds, std::span<const Vec3> X, std::sp
       correction.self[j] = self;
     });
   }, n > parallel_threshold);
-  share(node, correction.self);
-  share.rows(node, bonds.offsets, correction.bond);
+  reach.rows(bonds.offsets, correction.bond);  // what a rank's forces gather from the partners' rows
 }
 
 }  // namespace spall::spg

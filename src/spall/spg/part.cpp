@@ -199,8 +199,12 @@ void Part::build_shape_functions(bool at_setup) {
       }
     });
   }, n > parallel_threshold);
-  share_(node_, psi_self_, grad_self_, degraded_);
-  share_.rows(node_, bonds_.offsets, psi_, grad_);
+  // Every rank detaches and corrects by every particle's degradation (the bonds are every rank's);
+  // the rest reaches the particles whose rows read them (complete_shape_functions for all).
+  share_(node_, degraded_);
+  reach_(psi_self_, grad_self_);
+  reach_.rows(bonds_.offsets, psi_, grad_);
+  if (reach_.planned()) shape_functions_complete_ = false;
   if (const Index j = singular.value(); j >= 0) {
     throw InputError(settings_.where, "*SECTION_SOLID_SPG",
                      fmt::format("part {}: node {} has {} particles in its kernel support, too few (or "
@@ -232,16 +236,20 @@ void Part::correct_integration_constraint(bool at_setup) {
     interior[j] = near[j] ? 0 : 1;
     active[j] = degraded_[j] ? 0 : 1;
   }
-  // g_I = sum_J V_J grad Psi_I(X_J); with smoothing e_K = sum_I Psi_K(X_I) g_I.
+  // g_I = sum_J V_J grad Psi_I(X_J); with smoothing e_K = sum_I Psi_K(X_I) g_I. Of a rank's own
+  // particles, which the solve is for, and g of their bond partners.
   std::vector<Vec3> g(n), defect(n);
   parallel::for_each(n, [&](Index i) {
+    if (!owns(i)) return;
     Vec3 sum = volume_ref_[i] * grad_self_[i];
     for (Index k = bonds_.offsets[i]; k < bonds_.offsets[i + 1]; ++k)
       sum.noalias() += volume_ref_[bonds_.neighbour[k]] * grad_[bonds_.mirror[k]];
     g[i] = sum;
   }, particle_loops);
   if (settings_.stabilization == Stabilization::fluid_particle) {
+    reach_(g);
     parallel::for_each(n, [&](Index K) {
+      if (!owns(K)) return;
       Vec3 sum = psi_self_[K] * g[K];
       for (Index k = bonds_.offsets[K]; k < bonds_.offsets[K + 1]; ++k)
         sum.noalias() += psi_[bonds_.mirror[k]] * g[bonds_.neighbour[k]];
@@ -253,13 +261,14 @@ void Part::correct_integration_constraint(bool at_setup) {
   // Set-up: solve to round-off (the patch test of the mesh as given). Kernel updates: the geometry
   // has moved little since the last solve, whose multipliers start a short one.
   const int iterations = at_setup ? setup_iterations : update_iterations;
-  correct_integration(bonds_, x_, volume_ref_, interior, active, defect, iterations, share_, node_, correction_);
+  correct_integration(bonds_, x_, volume_ref_, interior, active, defect, iterations, share_, reach_, node_,
+                      correction_);
 }
 
-void Part::smooth(std::span<const Vec3> field, std::vector<Vec3>& smoothed, bool every) const {
+void Part::smooth(std::span<const Vec3> field, std::vector<Vec3>& smoothed) const {
   const Index n = particle_count();
   parallel::for_each(n, [&](Index i) {
-    if (!computes(i, every)) return;
+    if (!computes(i)) return;
     Vec3 s = psi_self_[i] * field[i];
     for (Index k = bonds_.offsets[i]; k < bonds_.offsets[i + 1]; ++k)
       s.noalias() += psi_[k] * field[bonds_.neighbour[k]];
@@ -321,10 +330,10 @@ Index Part::deformation(std::span<const Vec3> x, std::span<const Vec3> v, Real d
 
 // The spring on the part of the motion that the smoothing removes, in rate form so that it keeps
 // its memory across kernel updates, rotated with the particle's spin (THEORY §9.5).
-void Part::update_stabilization(Real dt, bool every) {
+void Part::update_stabilization(Real dt) {
   const Index n = particle_count();
   parallel::for_each(n, [&](Index j) {
-    if (!computes(j, every)) return;
+    if (!computes(j)) return;
     if (degraded_[j]) {
       stabilization_force_[j] = Vec3::Zero();
       stabilization_total_[j] = Vec3::Zero();
@@ -382,7 +391,7 @@ void Part::detach_degraded_particles() {
   }
 }
 
-void Part::update_kernel() {
+void Part::update_kernel(const discretization::NodeStore& nodes) {
   const Index n = particle_count();
   parallel::for_each(n, [&](Index j) {
     volume_ref_[j] *= F_[j].determinant();
@@ -414,6 +423,9 @@ void Part::update_kernel() {
     const BondList previous = std::move(bonds_);
     search_bonds(&previous);
   }
+  // Under MPI the shape functions, the correction and the springs of the particles the new rows
+  // read come in from their ranks.
+  if (parallel::world().size() > 1) plan_reach(nodes);
   build_shape_functions(false);
   detach_degraded_particles();
   // A particle that lost bonds has lost the neighbourhood its spring measured the non-affine
@@ -421,6 +433,7 @@ void Part::update_kernel() {
   const std::vector<Index> broken_after = broken_per_particle();
   for (Index j = 0; j < n; ++j)
     if (broken_after[j] != broken_before[j]) stabilization_force_[j] = Vec3::Zero();
+  reach_(stabilization_total_);  // what the force gathers, of the bond partners that are new
   correct_integration_constraint(false);
   steps_since_update_ = 0;
   ++kernel_updates_;
@@ -430,7 +443,7 @@ void Part::update_kernel() {
 void Part::internal_forces() {
   const Index n = particle_count();
   parallel::for_each(n, [&](Index j) {
-    if (!computes(j, false)) return;  // read by no row of this rank's
+    if (!computes(j)) return;  // read by no row of this rank's
     if (degraded_[j]) {
       weighted_stress_[j] = Mat3::Zero();
       return;
@@ -495,6 +508,13 @@ std::pair<Index, Index> Part::nodes_read(const discretization::NodeStore& nodes)
   return nodes_read_;
 }
 
+void Part::complete_shape_functions() {
+  if (shape_functions_complete_) return;
+  share_(node_, psi_self_, grad_self_, correction_.self, correction_.lambda, correction_.mu);
+  share_.rows(node_, bonds_.offsets, psi_, grad_, correction_.bond);
+  shape_functions_complete_ = true;
+}
+
 void Part::complete_kinematics(discretization::NodeStore& nodes) {
   if (kinematics_complete_) return;
   share_.complete_nodes(node_, nodes);
@@ -526,6 +546,7 @@ void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
   // rows read (plan_reach below) must have theirs current, and their positions and velocities, as
   // must a new deal's rows (with the velocities by reach, from the deal they were computed in).
   const bool updating = dt > 0 && steps_since_update_ + 1 >= settings_.update_interval;
+  if (distributed && share_.stale(nodes)) complete_shape_functions();
   if (distributed && (updating || share_.stale(nodes))) complete_kinematics(nodes);
   if (distributed && !complete_ && share_.stale(nodes)) deal_anew(nodes);
   share_.bind(nodes);
@@ -535,9 +556,9 @@ void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
     v_[i] = nodes.v[node_[i]];
   }, particle_loops);
   if (dt > 0) {
-    smooth(v_, vs_, updating);
+    smooth(v_, vs_);
     const bool smoothed = settings_.stabilization == Stabilization::fluid_particle;
-    if (smoothed) smooth(x_, xs_, updating);
+    if (smoothed) smooth(x_, xs_);
     Index inverted = deformation(smoothed ? std::span<const Vec3>(xs_) : std::span<const Vec3>(x_),
                                  smoothed ? std::span<const Vec3>(vs_) : std::span<const Vec3>(v_), dt);
     inverted = ranks.lowest(inverted);  // every rank stops, naming the same particle
@@ -545,18 +566,16 @@ void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
       throw InstabilityError(fmt::format("SPG part {}: the deformation gradient at node {} is no longer "
                                          "invertible (det F <= 0): the particles have inverted",
                                          settings_.part_id, node_id_[inverted]));
-    // What the bonded particles of other ranks read (the stress and the spin); a kernel update reads
-    // every particle's state, the bond failure and the stabilization springs whole.
-    if (distributed && updating) {
-      complete();
-    } else if (distributed) {
+    // What the bonded particles of other ranks read (the stress and the spin).
+    if (distributed) {
       reach_(F_, spin_, state_, pressure_, viscous_pressure_);
       complete_ = false;
     }
-    update_stabilization(dt, updating);
+    update_stabilization(dt);
     if (++steps_since_update_ >= settings_.update_interval) {
-      update_kernel();
-      if (distributed) plan_reach(nodes);
+      // The bond failure reads every particle's state, the springs just integrated among it.
+      if (distributed) complete();
+      update_kernel(nodes);
     }
   }
   internal_forces();
@@ -685,7 +704,7 @@ void Part::checkpoint(Archive& a) {
     grad_, bonds_, broken_pairs_, on_surface_, correction_, x_, v_, xs_, vs_, h_, force_, weighted_stress_, spin_,
     steps_since_update_, kernel_updates_, mass_scaling_, mass_scale_);
   // Written whole (complete_state), read by ranks that plan their reach again.
-  if (a.reading()) complete_ = true, kinematics_complete_ = true, reach_partition_ = -1;
+  if (a.reading()) complete_ = kinematics_complete_ = shape_functions_complete_ = true, reach_partition_ = -1;
 }
 
 Index Part::degraded_count() const {

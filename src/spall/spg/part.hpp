@@ -107,10 +107,11 @@ class Part {
   // Particles whose bonds no longer hold a linear field (Shepard smoothing, no strain of their own).
   Index degraded_count() const;
   // Under MPI: every rank's state of its own particles in to every rank (the others' go stale
-  // between; complete()), and with the velocities by reach their nodes' positions and velocities,
-  // before a checkpoint.
+  // between; complete()), their shape functions and correction, and with the velocities by reach
+  // their nodes' positions and velocities, before a checkpoint.
   void complete_state(discretization::NodeStore& nodes) {
     if (!complete_) complete();
+    complete_shape_functions();
     complete_kinematics(nodes);
   }
   // Under MPI with the velocities by reach (NodeStore::velocities_by_reach): v^{n+1/2} of the other
@@ -129,12 +130,12 @@ class Part {
  private:
   void search_bonds(const BondList* previous);
   void build_shape_functions(bool at_setup);
-  void update_kernel();
+  void update_kernel(const discretization::NodeStore& nodes);
   void detach_degraded_particles();
-  void smooth(std::span<const Vec3> field, std::vector<Vec3>& smoothed, bool every) const;
+  void smooth(std::span<const Vec3> field, std::vector<Vec3>& smoothed) const;
   // Returns the first particle whose F inverted (-1: none); the caller stops the run.
   Index deformation(std::span<const Vec3> x, std::span<const Vec3> v, Real dt);
-  void update_stabilization(Real dt, bool every);
+  void update_stabilization(Real dt);
   void failure_quantity(std::vector<Real>& out) const;
   void internal_forces();
   void scale_masses(discretization::NodeStore& nodes);
@@ -143,24 +144,27 @@ class Part {
   // the run is one process). Under MPI (replicated storage, docs/SCALING.md) each step's state of a
   // rank's particles goes to the ranks whose particles are bonded to them (plan_reach, reach_); a
   // rank smooths, integrates the springs of and weighs the stress of the particles it reads alone
-  // (reads_), but of every particle on a kernel update's step, whose new rows read others. A kernel
-  // update starts from the whole state (complete()): the bond failure is every rank's, the bond
-  // search, the shape functions and the integration-constraint solve each rank's for its own
-  // particles, and shared.
+  // (reads_). A kernel update starts from the whole state (complete()): the bond failure is every
+  // rank's; the bond search (shared whole), the shape functions and the integration-constraint
+  // solve are each rank's for its own particles, and of them only what the other ranks' rows read
+  // travels (reach_, planned anew for the new bonds; complete_shape_functions for all).
   bool owns(Index i) const { return share_.owns(node_[i]); }
   // The other ranks' particles bonded to this rank's: at each kernel update and each new deal.
   // Sets reads_ (this rank's own particles and those), and with the velocities by reach plans
   // velocity_reach_ (collective).
   const std::vector<std::uint8_t>& plan_reach(const discretization::NodeStore& nodes);
-  // Whether this step computes particle i's smoothed fields, spring and weighted stress: every
-  // particle on one process and on a kernel update's step, else those this rank reads.
-  bool computes(Index i, bool every) const { return every || reads_.empty() || reads_[i]; }
+  // Whether this rank computes particle i's smoothed fields, spring and weighted stress: every
+  // particle on one process, else those it reads.
+  bool computes(Index i) const { return reads_.empty() || reads_[i]; }
   // Under MPI, the nodes dealt anew (load balance): the particles this rank now reads come in with
   // their whole state from the ranks that computed them before (collective).
   void deal_anew(const discretization::NodeStore& nodes);
   // Every rank's whole state of its own particles in (share_): before a kernel update and a
   // checkpoint.
   void complete();
+  // Every rank's shape functions and correction of its own particles in (share_, in the deal they
+  // were computed in): before a checkpoint and for a new deal's rows.
+  void complete_shape_functions();
   // With the velocities by reach, every rank's positions and velocities of its own particles' nodes
   // in (share_, in the deal they were computed in): what a kernel update and a new deal's rows read.
   void complete_kinematics(discretization::NodeStore& nodes);
@@ -219,6 +223,7 @@ class Part {
   discretization::ReachShare velocity_reach_;
   std::pair<Index, Index> nodes_read_{0, std::numeric_limits<Index>::max()};
   bool kinematics_complete_ = true;
+  bool shape_functions_complete_ = true;  // every particle's shape functions and correction current here
 
   int steps_since_update_ = 0;
   long long kernel_updates_ = 0;
