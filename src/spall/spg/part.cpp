@@ -393,6 +393,9 @@ void Part::detach_degraded_particles() {
 
 void Part::update_kernel(const discretization::NodeStore& nodes) {
   const Index n = particle_count();
+  // Every rank folds every particle's F and judges every bond (the bonds are every rank's): of the
+  // state only F and the failure quantity travel whole, each rank's of its own particles.
+  share_(node_, F_);
   parallel::for_each(n, [&](Index j) {
     volume_ref_[j] *= F_[j].determinant();
     F_total_[j] = F_[j] * F_total_[j];
@@ -400,6 +403,7 @@ void Part::update_kernel(const discretization::NodeStore& nodes) {
   }, particle_loops);
   std::vector<Real> quantity;
   failure_quantity(quantity);
+  share_(node_, quantity);
   // Broken bonds per particle, over every bond ever broken (also those an Eulerian update drops).
   auto broken_per_particle = [&] {
     std::vector<Index> count(n, 0);
@@ -423,8 +427,8 @@ void Part::update_kernel(const discretization::NodeStore& nodes) {
     const BondList previous = std::move(bonds_);
     search_bonds(&previous);
   }
-  // Under MPI the shape functions, the correction and the springs of the particles the new rows
-  // read come in from their ranks.
+  // Under MPI the shape functions and the correction of the particles the new rows read come in
+  // from their ranks.
   if (parallel::world().size() > 1) plan_reach(nodes);
   build_shape_functions(false);
   detach_degraded_particles();
@@ -433,7 +437,10 @@ void Part::update_kernel(const discretization::NodeStore& nodes) {
   const std::vector<Index> broken_after = broken_per_particle();
   for (Index j = 0; j < n; ++j)
     if (broken_after[j] != broken_before[j]) stabilization_force_[j] = Vec3::Zero();
-  reach_(stabilization_total_);  // what the force gathers, of the bond partners that are new
+  // Bonds searched anew may have partners new to a rank: their stress and springs, which the force
+  // and the next step's springs read (the rest comes each step).
+  if (settings_.kernel_update == KernelUpdate::eulerian)
+    reach_(state_, pressure_, viscous_pressure_, stabilization_force_, stabilization_total_);
   correct_integration_constraint(false);
   steps_since_update_ = 0;
   ++kernel_updates_;
@@ -572,11 +579,7 @@ void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
       complete_ = false;
     }
     update_stabilization(dt);
-    if (++steps_since_update_ >= settings_.update_interval) {
-      // The bond failure reads every particle's state, the springs just integrated among it.
-      if (distributed) complete();
-      update_kernel(nodes);
-    }
+    if (++steps_since_update_ >= settings_.update_interval) update_kernel(nodes);
   }
   internal_forces();
   parallel::for_each(n, [&](Index i) {

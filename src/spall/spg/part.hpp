@@ -144,10 +144,11 @@ class Part {
   // the run is one process). Under MPI (replicated storage, docs/SCALING.md) each step's state of a
   // rank's particles goes to the ranks whose particles are bonded to them (plan_reach, reach_); a
   // rank smooths, integrates the springs of and weighs the stress of the particles it reads alone
-  // (reads_). A kernel update starts from the whole state (complete()): the bond failure is every
-  // rank's; the bond search (shared whole), the shape functions and the integration-constraint
-  // solve are each rank's for its own particles, and of them only what the other ranks' rows read
-  // travels (reach_, planned anew for the new bonds; complete_shape_functions for all).
+  // (reads_). At a kernel update every rank folds every particle's F and judges every bond (the
+  // bonds are every rank's), from every rank's F and failure quantity; the bond search (shared
+  // whole), the shape functions and the integration-constraint solve are each rank's for its own
+  // particles, and of them only what the other ranks' rows read travels (reach_, planned anew for
+  // the new bonds; complete_shape_functions for all).
   bool owns(Index i) const { return share_.owns(node_[i]); }
   // The other ranks' particles bonded to this rank's: at each kernel update and each new deal.
   // Sets reads_ (this rank's own particles and those), and with the velocities by reach plans
@@ -159,8 +160,7 @@ class Part {
   // Under MPI, the nodes dealt anew (load balance): the particles this rank now reads come in with
   // their whole state from the ranks that computed them before (collective).
   void deal_anew(const discretization::NodeStore& nodes);
-  // Every rank's whole state of its own particles in (share_): before a kernel update and a
-  // checkpoint.
+  // Every rank's whole state of its own particles in (share_): before a checkpoint.
   void complete();
   // Every rank's shape functions and correction of its own particles in (share_, in the deal they
   // were computed in): before a checkpoint and for a new deal's rows.
