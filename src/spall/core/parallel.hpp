@@ -44,6 +44,15 @@ struct Schedule {
   Index serial_below = 0;
 };
 
+// The indices [begin, end): the loops below run over one as over [0, n) (under MPI a rank's own
+// particles, or the stretch of them its passes read). The body is inlined into the loop, as if
+// written there (a body called as a function reloads what it captures after each store).
+struct Range {
+  Index begin = 0;
+  Index end = 0;
+  Index size() const { return end > begin ? end - begin : 0; }
+};
+
 // body(i) for every i in [0, n).
 template <std::integral I, class Body>
 void for_each(I n, Body&& body, Schedule schedule = {}) {
@@ -54,6 +63,11 @@ void for_each(I n, Body&& body, Schedule schedule = {}) {
 #pragma omp parallel for schedule(static) if (std::cmp_greater_equal(n, schedule.serial_below))
     for (I i = 0; i < n; ++i) body(i);
   }
+}
+// body(i) for every i in the range.
+template <class Body>
+void for_each(Range range, Body&& body, Schedule schedule = {}) {
+  for_each(range.size(), [&](Index k) __attribute__((always_inline)) { body(range.begin + k); }, schedule);
 }
 
 // Each thread folds its share of [0, n) into its own T, starting from identity, with add(t, i);
@@ -79,12 +93,26 @@ T fold_exact(I n, T identity, Add&& add, Merge&& merge, Schedule schedule = {}) 
   }
   return result;
 }
+// The same over the items of a range: add(t, i) for i in it.
+template <typename T, class Add, class Merge>
+T fold_exact(Range range, T identity, Add&& add, Merge&& merge, Schedule schedule = {}) {
+  return fold_exact(
+      range.size(), identity, [&](T& t, Index k) __attribute__((always_inline)) { add(t, range.begin + k); }, merge,
+      schedule);
+}
 
 // combine(... combine(identity, term(0)) ..., term(n - 1)) in some order, under fold_exact's rule.
 template <std::integral I, typename T, class Term, class Combine>
 T reduce_exact(I n, T identity, Term&& term, Combine&& combine, Schedule schedule = {}) {
   return fold_exact(
       n, identity, [&](T& t, I i) { t = combine(t, term(i)); }, [&](T& t, const T& other) { t = combine(t, other); },
+      schedule);
+}
+// The same over the terms of a range.
+template <typename T, class Term, class Combine>
+T reduce_exact(Range range, T identity, Term&& term, Combine&& combine, Schedule schedule = {}) {
+  return reduce_exact(
+      range.size(), identity, [&](Index k) __attribute__((always_inline)) { return term(range.begin + k); }, combine,
       schedule);
 }
 
@@ -125,15 +153,20 @@ class LowestIndex {
   std::atomic<Index> lowest_{std::numeric_limits<Index>::max()};
 };
 
-// The lowest i in [0, n) for which failed(i) holds, -1 if none: the same for any thread count.
+// The lowest i in the range for which failed(i) holds, -1 if none: the same for any thread count.
 // failed(i) is evaluated for every i (it may do the loop's work).
 template <class Failed>
-Index first_failure(Index n, Failed&& failed, Schedule schedule = {}) {
+Index first_failure(Range range, Failed&& failed, Schedule schedule = {}) {
   LowestIndex lowest;
-  for_each(n, [&](Index i) {
+  for_each(range, [&](Index i) {
     if (failed(i)) lowest.report(i);
   }, schedule);
   return lowest.value();
+}
+// The same in [0, n).
+template <class Failed>
+Index first_failure(Index n, Failed&& failed, Schedule schedule = {}) {
+  return first_failure(Range{0, n}, failed, schedule);
 }
 
 // The threads of a parallel region, for work that keeps per-thread buffers: each thread runs the
@@ -154,6 +187,10 @@ class Team {
 #pragma omp for schedule(static)
       for (I i = 0; i < n; ++i) body(i);
     }
+  }
+  template <class Body>
+  void for_each(Range range, Body&& body, Schedule schedule = {}) const {
+    for_each(range.size(), [&](Index k) __attribute__((always_inline)) { body(range.begin + k); }, schedule);
   }
   // body() on one thread of the team while the others wait.
   template <class Body>
@@ -219,6 +256,13 @@ auto exact_sum(Index n, Term&& term, const Communicator* across = nullptr) {
   else
     for (int k = 0; k < parts; ++k) result[k] = total[k].value();
   return result;
+}
+
+// The same over the terms of a range.
+template <typename Term>
+auto exact_sum(Range range, Term&& term, const Communicator* across = nullptr) {
+  return exact_sum(
+      range.size(), [&](Index k) __attribute__((always_inline)) { return term(range.begin + k); }, across);
 }
 
 // The number of threads the loops above run on, and setting it (the CLI's --threads). A count

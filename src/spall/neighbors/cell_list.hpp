@@ -16,6 +16,7 @@
 
 #include "spall/core/archive.hpp"
 #include "spall/core/bounding_box.hpp"
+#include "spall/core/parallel.hpp"
 #include "spall/core/types.hpp"
 
 namespace spall::neighbors {
@@ -24,11 +25,9 @@ namespace spall::neighbors {
 // the cells of everyone else to grow (see CellList::build).
 using CellKey = unsigned __int128;
 
-// A contiguous run of positions in CellList::order(): [begin, end).
-struct ParticleRange {
-  Index begin = 0;
-  Index end = 0;
-};
+// A contiguous run of positions in CellList::order(), or of particles: [begin, end), which the
+// seam's loops run over.
+using ParticleRange = parallel::Range;
 
 class CellList {
  public:

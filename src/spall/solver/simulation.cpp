@@ -500,8 +500,7 @@ class TimeLoop::Step {
   void position_update() {
     const Real dt = step_.dt;
     const auto [first, end] = rows_advanced();
-    parallel::for_each(end - first, [&](Index k) {
-      const Index i = first + k;
+    parallel::for_each(parallel::Range{first, end}, [&](Index i) {
       nodes_.x[i] += dt * nodes_.v[i];
       nodes_.f[i] = Vec3::Zero();
     });

@@ -29,9 +29,8 @@ struct Multipliers {
 
 // Which particles this rank computes, and the ranks a sum over them is taken across.
 struct Ownership {
-  discretization::ParticleShare& share;
-  std::span<const Index> node;
-  bool owns(Index j) const { return share.owns(node[j]); }
+  parallel::Range particles;
+  const parallel::Communicator* across;
 };
 
 // Per gradient component i: sum over the particles of lambda_i lambda'_i + mu_i . mu'_i, for each
@@ -39,10 +38,8 @@ struct Ownership {
 template <std::size_t K>
 std::array<Vec3, K> dots(const std::array<std::pair<const Multipliers*, const Multipliers*>, K>& pairs,
                          const Ownership& own) {
-  const Index n = static_cast<Index>(pairs[0].first->lambda.size());
-  const auto sums = parallel::exact_sum(n, [&](Index j) {
+  const auto sums = parallel::exact_sum(own.particles, [&](Index j) {
     Sums<3 * static_cast<int>(K)> t{};
-    if (!own.owns(j)) return t;
     for (std::size_t p = 0; p < K; ++p) {
       const Multipliers& a = *pairs[p].first;
       const Multipliers& b = *pairs[p].second;
@@ -50,7 +47,7 @@ std::array<Vec3, K> dots(const std::array<std::pair<const Multipliers*, const Mu
       for (int i = 0; i < 3; ++i) t[3 * p + i] = s[i];
     }
     return t;
-  }, own.share.across());
+  }, own.across);
   std::array<Vec3, K> result;
   for (std::size_t p = 0; p < K; ++p) result[p] = Vec3(sums[3 * p], sums[3 * p + 1], sums[3 * p + 2]);
   return result;
@@ -70,8 +67,8 @@ class NormalEquations {
     // without the divergence row where the particle is not interior), the same for every
     // gradient component.
     preconditioner_.assign(n, Mat4::Zero());
-    parallel::for_each(n, [&](Index j) {
-      if (!active_[j] || !own_.owns(j)) return;
+    parallel::for_each(own.particles, [&](Index j) {
+      if (!active_[j]) return;
       Mat4 P = Mat4::Zero();
       for (Index k = bonds.offsets[j]; k < bonds.offsets[j + 1]; ++k) {
         if (!usable(j, k)) continue;
@@ -107,9 +104,7 @@ class NormalEquations {
   // y = R R^T z: per particle the divergence (interior only) and first moment of the fluxes (this
   // rank's particles; z whole).
   void apply(const Multipliers& z, Multipliers& y) const {
-    const Index n = bonds_.size();
-    parallel::for_each(n, [&](Index j) {
-      if (!own_.owns(j)) return;
+    parallel::for_each(own_.particles, [&](Index j) {
       Vec3 div = Vec3::Zero();
       Mat3 moment = Mat3::Zero();
       if (active_[j])
@@ -125,9 +120,7 @@ class NormalEquations {
   }
 
   void precondition(const Multipliers& r, Multipliers& z) const {
-    const Index n = bonds_.size();
-    parallel::for_each(n, [&](Index j) {
-      if (!own_.owns(j)) return;
+    parallel::for_each(own_.particles, [&](Index j) {
       for (int i = 0; i < 3; ++i) {
         Vec4 b;
         b << r.lambda[j][i], r.mu[j].row(i).transpose();
@@ -149,9 +142,7 @@ class NormalEquations {
 
 // z += a r per gradient component (a_i scales component i), for this rank's particles.
 void axpy(const Vec3& a, const Multipliers& r, Multipliers& z, const Ownership& own) {
-  const Index n = static_cast<Index>(z.lambda.size());
-  parallel::for_each(n, [&](Index j) {
-    if (!own.owns(j)) return;
+  parallel::for_each(own.particles, [&](Index j) {
     z.lambda[j] += a.cwiseProduct(r.lambda[j]);
     z.mu[j] += a.asDiagonal() * r.mu[j];
   }, particle_loops);
@@ -199,11 +190,11 @@ void remove_row_moment(const BondList& bonds, std::span<const Vec3> X, Index j, 
 
 void correct_integration(const BondList& bonds, std::span<const Vec3> X, std::span<const Real> volume,
                          std::span<const std::uint8_t> interior, std::span<const std::uint8_t> active,
-                         std::span<const Vec3> defect, int max_iterations, discretization::ParticleShare& share,
-                         const discretization::ReachShare& reach, std::span<const Index> node,
+                         std::span<const Vec3> defect, int max_iterations, parallel::Range own_particles,
+                         const discretization::ParticleShare& share, const discretization::ReachShare& reach,
                          IntegrationCorrection& correction) {
   const Index n = bonds.size();
-  const Ownership own{share, node};
+  const Ownership own{own_particles, share.across()};
   const NormalEquations equations(bonds, X, interior, active, own);
   Multipliers z, r, p, q, s;
   z.resize(n);
@@ -220,10 +211,10 @@ void correct_integration(const BondList& bonds, std::span<const Vec3> X, std::sp
   // zero there), zero first moments everywhere.
   Multipliers b;
   b.resize(n);
-  for (Index j = 0; j < n; ++j)
+  for (Index j = own.particles.begin; j < own.particles.end; ++j)
     if (interior[j] && active[j]) b.lambda[j] = Real(0.5) * defect[j];
   equations.apply(z, q);
-  for (Index j = 0; j < n; ++j) {
+  for (Index j = own.particles.begin; j < own.particles.end; ++j) {
     r.lambda[j] = b.lambda[j] - q.lambda[j];
     r.mu[j] = -q.mu[j];
   }
@@ -257,8 +248,7 @@ void correct_integration(const BondList& bonds, std::span<const Vec3> X, std::sp
     for (int i = 0; i < 3; ++i) beta[i] = rs[i] > 0 ? rs_next[i] / rs[i] : 0;
     rs = rs_next;
     rr = rr_next;
-    parallel::for_each(n, [&](Index j) {
-      if (!own.owns(j)) return;
+    parallel::for_each(own.particles, [&](Index j) {
       p.lambda[j] = s.lambda[j] + beta.cwiseProduct(p.lambda[j]);
       p.mu[j] = s.mu[j] + beta.asDiagonal() * p.mu[j];
     }, particle_loops);
@@ -279,8 +269,7 @@ void correct_integration(const BondList& bonds, std::span<const Vec3> X, std::sp
   parallel::region([&](const parallel::Team& team) {
     std::vector<Vec3> row;
     std::vector<std::uint8_t> usable;
-    team.for_each(n, [&](Index j) {
-      if (!own.owns(j)) return;
+    team.for_each(own.particles, [&](Index j) {
       const Index count = bonds.count(j);
       row.assign(count, Vec3::Zero());
       usable.assign(count, 0);

@@ -45,16 +45,16 @@ struct IntegrationCorrection {
 // part), and the defect e_K = sum_J V_J D_JK of the uncorrected operator. At most max_iterations
 // conjugate-gradient iterations: the rows always keep zero sums and zero first moments (momentum,
 // exact constant strain); only the integration constraint carries what the solve left.
-// Under MPI (replicated state, docs/SCALING.md) a rank solves for the particles whose node it owns
-// (`share`, `node`: the particles' nodes, in node order; `defect` of those) and brings in the
+// Under MPI (replicated state, docs/SCALING.md) a rank solves for its own particles (`own`, one
+// stretch of them: the particles are in node order; `defect` of those) and brings in the
 // multipliers and search direction of their bond partners (`reach`, planned for the bonds) once an
 // iteration and the partners' rows of the correction at the end (the rest of the correction and
 // of the multipliers is current on its own rank alone); the dot products are exact sums, so the
 // result does not depend on the number of ranks or threads.
 void correct_integration(const BondList& bonds, std::span<const Vec3> X, std::span<const Real> volume,
                          std::span<const std::uint8_t> interior, std::span<const std::uint8_t> active,
-                         std::span<const Vec3> defect, int max_iterations, discretization::ParticleShare& share,
-                         const discretization::ReachShare& reach, std::span<const Index> node,
+                         std::span<const Vec3> defect, int max_iterations, parallel::Range own,
+                         const discretization::ParticleShare& share, const discretization::ReachShare& reach,
                          IntegrationCorrection& correction);
 
 }  // namespace spall::spg

@@ -53,6 +53,7 @@ Part::Part(PartSettings settings, const std::vector<ParticleSetup>& particles,
   const Real p_wave_modulus = mat.density * c0 * c0;
   node_.resize(n);
   node_id_.resize(n);
+  own_ = read_ = smoothed_ = {0, static_cast<Index>(n)};  // every particle until the nodes are dealt
   mass_.resize(n);
   volume0_.resize(n);
   support_.resize(n);
@@ -118,11 +119,8 @@ Part::Part(PartSettings settings, const std::vector<ParticleSetup>& particles,
 void Part::search_bonds(const BondList* previous) {
   Real radius = 0;
   for (const auto& a : support_) radius = std::max(radius, support_radius(settings_.shape, a));
-  neighbors::ParticleRange own{0, 0};  // the particles are in node order: this rank's are one range
-  while (own.begin < particle_count() && !owns(own.begin)) ++own.begin;
-  for (own.end = own.begin; own.end < particle_count() && owns(own.end);) ++own.end;
   neighbors::VerletList verlet;
-  verlet.build(x_, radius, 0, own);
+  verlet.build(x_, radius, 0, own_);
   const auto shape = settings_.shape;
   auto covers = [&](Index i, Index j) {
     return kernel_value(shape, x_[i] - x_[j], support_[j]).value > 0 ||
@@ -155,8 +153,7 @@ void Part::build_shape_functions(bool at_setup) {
     std::vector<Index> entry;  // bond position of each sample after the first (self)
     std::vector<Real> psi;
     std::vector<Vec3> grad;
-    team.for_each(n, [&](Index j) {
-      if (!owns(j)) return;  // another rank's, shared below
+    team.for_each(own_, [&](Index j) {  // the other ranks' come in below
       samples.clear();
       entry.clear();
       auto add = [&](Index i) {
@@ -239,8 +236,7 @@ void Part::correct_integration_constraint(bool at_setup) {
   // g_I = sum_J V_J grad Psi_I(X_J); with smoothing e_K = sum_I Psi_K(X_I) g_I. Of a rank's own
   // particles, which the solve is for, and g of their bond partners.
   std::vector<Vec3> g(n), defect(n);
-  parallel::for_each(n, [&](Index i) {
-    if (!owns(i)) return;
+  parallel::for_each(own_, [&](Index i) {
     Vec3 sum = volume_ref_[i] * grad_self_[i];
     for (Index k = bonds_.offsets[i]; k < bonds_.offsets[i + 1]; ++k)
       sum.noalias() += volume_ref_[bonds_.neighbour[k]] * grad_[bonds_.mirror[k]];
@@ -248,8 +244,7 @@ void Part::correct_integration_constraint(bool at_setup) {
   }, particle_loops);
   if (settings_.stabilization == Stabilization::fluid_particle) {
     reach_(g);
-    parallel::for_each(n, [&](Index K) {
-      if (!owns(K)) return;
+    parallel::for_each(own_, [&](Index K) {
       Vec3 sum = psi_self_[K] * g[K];
       for (Index k = bonds_.offsets[K]; k < bonds_.offsets[K + 1]; ++k)
         sum.noalias() += psi_[bonds_.mirror[k]] * g[bonds_.neighbour[k]];
@@ -261,13 +256,12 @@ void Part::correct_integration_constraint(bool at_setup) {
   // Set-up: solve to round-off (the patch test of the mesh as given). Kernel updates: the geometry
   // has moved little since the last solve, whose multipliers start a short one.
   const int iterations = at_setup ? setup_iterations : update_iterations;
-  correct_integration(bonds_, x_, volume_ref_, interior, active, defect, iterations, share_, reach_, node_,
+  correct_integration(bonds_, x_, volume_ref_, interior, active, defect, iterations, own_, share_, reach_,
                       correction_);
 }
 
 void Part::smooth(std::span<const Vec3> field, std::vector<Vec3>& smoothed) const {
-  const Index n = particle_count();
-  parallel::for_each(n, [&](Index i) {
+  parallel::for_each(read_, [&](Index i) {
     if (!computes(i)) return;
     Vec3 s = psi_self_[i] * field[i];
     for (Index k = bonds_.offsets[i]; k < bonds_.offsets[i + 1]; ++k)
@@ -278,11 +272,9 @@ void Part::smooth(std::span<const Vec3> field, std::vector<Vec3>& smoothed) cons
 
 // F and L at every particle from the (smoothed) positions and velocities, then the stress update.
 Index Part::deformation(std::span<const Vec3> x, std::span<const Vec3> v, Real dt) {
-  const Index n = particle_count();
   const auto& mat = settings_.material;
   parallel::LowestIndex inverted;
-  parallel::for_each(n, [&](Index j) {
-    if (!owns(j)) return;  // another rank's
+  parallel::for_each(own_, [&](Index j) {
     if (degraded_[j]) {
       spin_[j] = Mat3::Zero();
       viscous_pressure_[j] = 0;
@@ -331,8 +323,7 @@ Index Part::deformation(std::span<const Vec3> x, std::span<const Vec3> v, Real d
 // The spring on the part of the motion that the smoothing removes, in rate form so that it keeps
 // its memory across kernel updates, rotated with the particle's spin (THEORY §9.5).
 void Part::update_stabilization(Real dt) {
-  const Index n = particle_count();
-  parallel::for_each(n, [&](Index j) {
+  parallel::for_each(read_, [&](Index j) {
     if (!computes(j)) return;
     if (degraded_[j]) {
       stabilization_force_[j] = Vec3::Zero();
@@ -448,8 +439,7 @@ void Part::update_kernel(const discretization::NodeStore& nodes) {
 
 // h_I = sum_J V_J P_J grad Psi_I(X_J), then the force on K gathers h and s through Psi_K(X_I).
 void Part::internal_forces() {
-  const Index n = particle_count();
-  parallel::for_each(n, [&](Index j) {
+  parallel::for_each(read_, [&](Index j) {
     if (!computes(j)) return;  // read by no row of this rank's
     if (degraded_[j]) {
       weighted_stress_[j] = Mat3::Zero();
@@ -459,8 +449,7 @@ void Part::internal_forces() {
     const Mat3 sigma = state_[j].deviatoric_stress - (pressure_[j] + viscous_pressure_[j]) * Mat3::Identity();
     weighted_stress_[j] = volume * sigma * F_[j].inverse().transpose();
   }, particle_loops);
-  parallel::for_each(n, [&](Index i) {
-    if (!owns(i)) return;
+  parallel::for_each(own_, [&](Index i) {
     Vec3 h = weighted_stress_[i] * grad_self_[i];
     for (Index k = bonds_.offsets[i]; k < bonds_.offsets[i + 1]; ++k)
       h.noalias() += weighted_stress_[bonds_.neighbour[k]] * grad_[bonds_.mirror[k]];
@@ -469,8 +458,7 @@ void Part::internal_forces() {
   reach_(h_);
   const bool smoothed = settings_.stabilization == Stabilization::fluid_particle;
   const auto& s = stabilization_total_;
-  parallel::for_each(n, [&](Index K) {
-    if (!owns(K)) return;
+  parallel::for_each(own_, [&](Index K) {
     // f_K = -sum_I Psi_K(X_I) (h_I - s_I) - s_K, or with ITB 2 -h_K - s_K + sum_I Psi_K(X_I) s_I.
     Vec3 gathered = psi_self_[K] * (smoothed ? Vec3(h_[K] - s[K]) : Vec3(-s[K]));
     for (Index k = bonds_.offsets[K]; k < bonds_.offsets[K + 1]; ++k) {
@@ -487,19 +475,29 @@ void Part::internal_forces() {
 
 const std::vector<std::uint8_t>& Part::plan_reach(const discretization::NodeStore& nodes) {
   reach_partition_ = nodes.partition;
-  reads_ = reach_.plan_rows(bonds_.offsets, bonds_.neighbour, [&](Index j) { return owns(j); }, node_, share_, nodes);
-  if (nodes.velocities_by_reach) {
-    // Smoothing the velocity of a particle this rank reads reads its bond partners' (eq. 11).
-    const std::vector<std::uint8_t> smoothed = velocity_reach_.plan_rows(
-        bonds_.offsets, bonds_.neighbour, [&](Index j) { return reads_[j] != 0; }, node_, share_, nodes);
-    nodes_read_ = {0, 0};
-    for (Index a = 0; a < particle_count(); ++a) {
-      if (!smoothed[a]) continue;
-      const bool none_yet = nodes_read_.first >= nodes_read_.second;
-      nodes_read_ = {none_yet ? node_[a] : std::min(nodes_read_.first, node_[a]),
-                     none_yet ? node_[a] + 1 : std::max(nodes_read_.second, node_[a] + 1)};
-    }
+  // The particles are in node order and the nodes dealt in blocks: a rank's own are one stretch.
+  const auto first_at = [&](Index node) {
+    return static_cast<Index>(std::lower_bound(node_.begin(), node_.end(), node) - node_.begin());
+  };
+  own_ = {first_at(nodes.owned_begin), first_at(nodes.owned_end)};
+  reads_ = reach_.plan_rows(bonds_.offsets, bonds_.neighbour, [&](Index j) { return owns(j); }, node_, share_, nodes,
+                            {own_.begin, own_.end});
+  // The stretches holding the particles read, and their bond partners, whose positions and
+  // velocities the smoothing of the particles read reads (eq. 11).
+  const auto include = [](parallel::Range& range, Index a) {
+    range = range.size() == 0 ? parallel::Range{a, a + 1}
+                              : parallel::Range{std::min(range.begin, a), std::max(range.end, a + 1)};
+  };
+  read_ = smoothed_ = {};
+  for (Index a = 0; a < particle_count(); ++a) {
+    if (!reads_[a]) continue;
+    include(read_, a);
+    include(smoothed_, a);
+    for (Index k = bonds_.offsets[a]; k < bonds_.offsets[a + 1]; ++k) include(smoothed_, bonds_.neighbour[k]);
   }
+  if (nodes.velocities_by_reach)
+    velocity_reach_.plan_rows(bonds_.offsets, bonds_.neighbour, [&](Index j) { return reads_[j] != 0; }, node_, share_,
+                              nodes, {read_.begin, read_.end});
   return reads_;
 }
 
@@ -512,7 +510,8 @@ void Part::share_velocities(discretization::NodeStore& nodes) {
 
 std::pair<Index, Index> Part::nodes_read(const discretization::NodeStore& nodes) const {
   if (!velocity_reach_.planned()) return {0, nodes.size()};
-  return nodes_read_;
+  if (smoothed_.size() == 0) return {0, 0};
+  return {node_[smoothed_.begin], node_[smoothed_.end - 1] + 1};  // node order
 }
 
 void Part::complete_shape_functions() {
@@ -549,16 +548,16 @@ void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
   const Index n = particle_count();
   const parallel::Communicator& ranks = parallel::world();
   const bool distributed = ranks.size() > 1;
-  // A kernel update's step smooths and integrates every particle's spring: the particles its new
-  // rows read (plan_reach below) must have theirs current, and their positions and velocities, as
-  // must a new deal's rows (with the velocities by reach, from the deal they were computed in).
+  // A kernel update reads every particle's position (the bond failure, the search), and a new
+  // deal's rows the shape functions and the positions and velocities of particles this rank may
+  // not have read before: with the velocities by reach, from the deal they were computed in.
   const bool updating = dt > 0 && steps_since_update_ + 1 >= settings_.update_interval;
   if (distributed && share_.stale(nodes)) complete_shape_functions();
   if (distributed && (updating || share_.stale(nodes))) complete_kinematics(nodes);
   if (distributed && !complete_ && share_.stale(nodes)) deal_anew(nodes);
   share_.bind(nodes);
   if (distributed && reach_partition_ != nodes.partition) plan_reach(nodes);
-  parallel::for_each(n, [&](Index i) {
+  parallel::for_each(updating ? parallel::Range{0, n} : smoothed_, [&](Index i) {
     x_[i] = nodes.x[node_[i]];
     v_[i] = nodes.v[node_[i]];
   }, particle_loops);
@@ -582,9 +581,7 @@ void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
     if (++steps_since_update_ >= settings_.update_interval) update_kernel(nodes);
   }
   internal_forces();
-  parallel::for_each(n, [&](Index i) {
-    if (owns(i)) nodes.f[node_[i]] += force_[i];
-  }, particle_loops);
+  parallel::for_each(own_, [&](Index i) { nodes.f[node_[i]] += force_[i]; }, particle_loops);
   if (mass_scaling_.active)
     scale_masses(nodes);
   else
@@ -601,8 +598,7 @@ void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
 void Part::scale_masses(discretization::NodeStore& nodes) {
   const Index n = particle_count();
   const std::vector<Real> before = mass_scale_;
-  parallel::for_each(n, [&](Index i) {
-    if (!owns(i)) return;
+  parallel::for_each(own_, [&](Index i) {
     const Real s = courant_factor * current_spacing(i) / mass_scaling_.step, speed = nodes.v[node_[i]].norm();
     const Real ratio = sound_speed_[i] / std::max(s - speed, s / 2);
     mass_scale_[i] = std::max(mass_scale_[i], ratio * ratio);
@@ -637,12 +633,10 @@ Real Part::current_spacing(Index i) const {
 // Under MPI, of each rank's own particles, then the least over the ranks (every rank asks for it
 // in the step's limit).
 Real Part::stable_time_step(const discretization::NodeStore& nodes) const {
-  const Index n = particle_count();
   const Real infinity = std::numeric_limits<Real>::infinity();
   double step = parallel::reduce_exact(
-      n, infinity,
+      own_, infinity,
       [&](Index i) {
-        if (!owns(i)) return infinity;
         const Real c = mass_scale_.empty() ? sound_speed_[i] : sound_speed_[i] / std::sqrt(mass_scale_[i]);
         return courant_factor * current_spacing(i) / (c + nodes.v[node_[i]].norm());
       },
@@ -655,9 +649,8 @@ discretization::InternalPower Part::internal_power(std::span<const Vec3> v) cons
   // The viscous share is the stress power of q and of the dashpot; the rest of the work of the
   // internal forces is stored. Exact sums over every rank's own particles (parallel::exact_sum).
   const Sums<2> sums = parallel::exact_sum(
-      particle_count(),
+      own_,
       [&](Index i) {
-        if (!owns(i)) return Sums<2>{};  // another rank's
         return Sums<2>{{-force_[i].dot(v[node_[i]]), viscous_power_[i] + stabilization_power_[i]}};
       },
       &parallel::world());

@@ -218,11 +218,14 @@ class Part {
   long long reach_partition_ = -1;       // NodeStore::partition that reach_ was planned for
   bool complete_ = true;                 // every particle's state current on this rank (complete())
   // With the velocities by reach: the other ranks' particles whose velocities this rank's smoothing
-  // reads (two bonds from its own), the rows their nodes and its own span, and whether every
-  // particle's position and velocity is current here (complete_kinematics).
+  // reads (two bonds from its own), and whether every particle's position and velocity is current
+  // here (complete_kinematics).
   discretization::ReachShare velocity_reach_;
-  std::pair<Index, Index> nodes_read_{0, std::numeric_limits<Index>::max()};
   bool kinematics_complete_ = true;
+  // The stretches of the particles (in node order) that hold this rank's own, those it reads, and
+  // those whose positions and velocities the smoothing of the particles it reads reads: the step's
+  // passes run over them (every particle on one process and until the nodes are dealt; plan_reach).
+  parallel::Range own_, read_, smoothed_;
   bool shape_functions_complete_ = true;  // every particle's shape functions and correction current here
 
   int steps_since_update_ = 0;

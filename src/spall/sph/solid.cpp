@@ -409,8 +409,7 @@ void SolidFormulation::gather_kinematics(const discretization::NodeStore& nodes)
 // The particles of this step into the records of the pair loops.
 void SolidFormulation::update_records() {
   const neighbors::ParticleRange reads = read_state_held();
-  parallel::for_each(reads.end - reads.begin, [&](Index k) {
-    const Index a = reads.begin + k;
+  parallel::for_each(reads, [&](Index a) {
     if (!current(a)) return;  // read by no row this rank computes
     const Vec3 x = x_[a] - record_origin_;
     const Vec3& v = v_[a];
@@ -445,9 +444,8 @@ void SolidFormulation::update_neighbour_list(discretization::NodeStore& nodes) {
   if (whole_state) {
     const neighbors::ParticleRange rows = distributed ? own_particles() : neighbors::ParticleRange{0, n};
     Real h_largest = parallel::reduce_exact(
-        rows.end - rows.begin, Real(0),
-        [&](Index k) {
-          const Index a = rows.begin + k;
+        rows, Real(0),
+        [&](Index a) {
           list_reach_[a] = cutoff_margin * smoothing_length(a);
           return smoothing_length(a);
         },
@@ -577,9 +575,8 @@ BoundingBox SolidFormulation::search_near_rows(discretization::NodeStore& nodes)
     Real h = 0;
   };
   const Own mine = parallel::fold_exact(
-      own.end - own.begin, Own{},
-      [&](Own& o, Index k) {
-        const Index a = own.begin + k;
+      own, Own{},
+      [&](Own& o, Index a) {
         list_reach_[a] = cutoff_margin * smoothing_length(a);
         o.box.include(x_[a]);
         o.h = std::max(o.h, smoothing_length(a));
@@ -694,8 +691,7 @@ Index SolidFormulation::compute_rates(Real dt) {
     RowTerms terms;  // this thread's pair terms, reused row after row
     // Inlined into the seam's loop, as the loop body it was: called as a function, it reloaded
     // what it captures after every pack store (they may alias), 7 % of this pass (measured).
-    team.for_each(rows.end - rows.begin, [&](Index k) __attribute__((always_inline)) {
-      const Index a = rows.begin + k;
+    team.for_each(rows, [&](Index a) __attribute__((always_inline)) {
       if (!owns(a)) {  // another rank's, whose pick the force pass may still need
         if (blocks_.runs_row(a)) pick_support(list, a, record_.data(), origin, mask, terms);
         return;
@@ -894,8 +890,7 @@ void SolidFormulation::categorize() {
   // Under MPI each rank its own particles, with the flags of the others' that its rows read
   // brought in before each layer (reach_).
   const neighbors::ParticleRange own = own_particles();
-  parallel::for_each(own.end - own.begin, [&](Index k) {
-    const Index a = own.begin + k;
+  parallel::for_each(own, [&](Index a) {
     const ColourField& c = options_.colour_field[material_[a]];
     const bool surface = c.enabled &&
                          support_count_[a] < c.neighbour_fraction * full_support_count_[a] &&
@@ -908,8 +903,7 @@ void SolidFormulation::categorize() {
   for (Index a = own.begin; a < own.end; ++a) previous[a] = category_[a] == Category::surface;
   for (int layer = 1; layer <= layers; ++layer) {
     reach_(previous);
-    parallel::for_each(own.end - own.begin, [&](Index k) {
-      const Index a = own.begin + k;
+    parallel::for_each(own, [&](Index a) {
       next[a] = 0;
       const ColourField& c = options_.colour_field[material_[a]];
       if (!c.enabled || layer > c.layers || category_[a] != Category::interior) return;
@@ -933,14 +927,13 @@ void SolidFormulation::categorize() {
 Index SolidFormulation::update_state(Real dt) {
   const neighbors::ParticleRange own = own_particles();
   const Index first_unsound = parallel::first_failure(
-      own.end - own.begin,
-      [&](Index k) {
-        const Index a = own.begin + k;
+      own,
+      [&](Index a) {
         update_particle(a, velocity_gradient_[a], correction_[a], density_rate_[a], dt);
         return !sound(a);
       },
       {.chunk = 512});
-  return first_unsound < 0 ? particle_count() : own.begin + first_unsound;
+  return first_unsound < 0 ? particle_count() : first_unsound;
 }
 
 void SolidFormulation::update_particle(Index a, const Mat3& L, const Mat3& correction, Real density_rate, Real dt) {
@@ -1280,8 +1273,7 @@ void SolidFormulation::compute_pair_forces() {
     parallel::region([&](const parallel::Team& team) {
       RowTerms terms;
       const neighbors::ParticleRange own = own_particles();
-      team.for_each(own.end - own.begin, [&](Index k) {
-        const Index a = own.begin + k;
+      team.for_each(own, [&](Index a) {
         force_[a] = force_row(row_force.template operator()<false>(a, terms));
       }, {.chunk = 512});
     });
@@ -1390,9 +1382,8 @@ void SolidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt)
   };
   const neighbors::ParticleRange own = own_particles(), passed = hull(own, read_state_held());
   const Found found = parallel::fold_exact(
-      passed.end - passed.begin, Found{},
-      [&](Found& found, Index k) {
-        const Index a = passed.begin + k;
+      passed, Found{},
+      [&](Found& found, Index a) {
         // h on every particle this rank's rows read: under MPI the others' follow the densities
         // that came in (the rest come in when the rows read them, search_near_rows, deal_anew).
         if (dt > 0 && current(a)) {
@@ -1435,9 +1426,8 @@ Real SolidFormulation::stable_time_step(const discretization::NodeStore& nodes) 
   // Under MPI its own particles: the time loop takes the minimum over the ranks.
   const neighbors::ParticleRange own = own_particles();
   return parallel::reduce_exact(
-      own.end - own.begin, std::numeric_limits<Real>::infinity(),
-      [&](Index k) {
-        const Index a = own.begin + k;
+      own, std::numeric_limits<Real>::infinity(),
+      [&](Index a) {
         return stable_step_of(a, nodes.v[node_[a]]);
       },
       [](Real x, Real y) { return std::min(x, y); });
@@ -1448,9 +1438,8 @@ discretization::InternalPower SolidFormulation::internal_power(std::span<const V
   // artificial viscosity dissipates -f_visc . v >= 0. Exact sums (parallel::exact_sum).
   const neighbors::ParticleRange own = own_particles();  // under MPI, summed over the ranks
   const Sums<2> sums = parallel::exact_sum(
-      own.end - own.begin,
-      [&](Index k) {
-        const Index a = own.begin + k;
+      own,
+      [&](Index a) {
         const Vec3& va = v[node_[a]];
         return Sums<2>{{(force_[a].head<3>() - viscous_force_[a]).dot(va), viscous_force_[a].dot(va)}};
       },
