@@ -52,6 +52,12 @@ struct Range {
   Index end = 0;
   Index size() const { return end > begin ? end - begin : 0; }
 };
+// The smallest range that holds both (an empty one adds nothing).
+inline Range hull(Range r, Range s) {
+  if (s.begin >= s.end) return r;
+  if (r.begin >= r.end) return s;
+  return {std::min(r.begin, s.begin), std::max(r.end, s.end)};
+}
 
 // body(i) for every i in [0, n).
 template <std::integral I, class Body>

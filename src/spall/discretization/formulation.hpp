@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "spall/core/archive.hpp"
+#include "spall/core/parallel.hpp"
 #include "spall/core/types.hpp"
 #include "spall/discretization/energy_ledger.hpp"
 #include "spall/discretization/field_set.hpp"
@@ -64,7 +65,7 @@ class Formulation {
   // With the halo by reach, in blocks of the nodes: a range of rows that holds every other rank's
   // node whose position the formulation reads before it completes them (others in the range may be
   // stale): the time loop advances those and a rank's own, no more. Every row unless told.
-  virtual std::pair<Index, Index> rows_read(const NodeStore& nodes) const { return {0, nodes.size()}; }
+  virtual parallel::Range rows_read(const NodeStore& nodes) const { return {0, nodes.size()}; }
   // True when the formulation's results do not depend on which rank computes which node, nor on
   // the order it holds them in, and it calls NodeStore::migrate for its nodes whenever every rank
   // holds their positions current: a deck of such formulations alone has its nodes dealt by region

@@ -499,8 +499,7 @@ class TimeLoop::Step {
   // x^{n+1} = x^n + dt v^{n+1/2}, f cleared for the next step's forces; walls move; t advances.
   void position_update() {
     const Real dt = step_.dt;
-    const auto [first, end] = rows_advanced();
-    parallel::for_each(parallel::Range{first, end}, [&](Index i) {
+    parallel::for_each(rows_advanced(), [&](Index i) {
       nodes_.x[i] += dt * nodes_.v[i];
       nodes_.f[i] = Vec3::Zero();
     });
@@ -514,17 +513,11 @@ class TimeLoop::Step {
   // The rows whose positions this rank keeps current: in blocks with the halo by reach, from the
   // first of its own and those its formulations read to the last (the others are stale until a
   // formulation completes them, which brings their positions in); else every row.
-  std::pair<Index, Index> rows_advanced() const {
+  parallel::Range rows_advanced() const {
     if (!nodes_.velocities_by_reach || nodes_.by_region()) return {0, nodes_.size()};
-    Index first = nodes_.owned_begin, end = nodes_.owned_end;
-    for (const auto& f : problem_.formulations) {
-      const auto [f_first, f_end] = f->rows_read(nodes_);
-      if (f_first >= f_end) continue;
-      const bool none_yet = first >= end;
-      first = none_yet ? f_first : std::min(first, f_first);
-      end = none_yet ? f_end : std::max(end, f_end);
-    }
-    return {first, std::max(first, end)};
+    parallel::Range rows{nodes_.owned_begin, nodes_.owned_end};
+    for (const auto& f : problem_.formulations) rows = parallel::hull(rows, f->rows_read(nodes_));
+    return rows;
   }
 
   Problem& problem_;

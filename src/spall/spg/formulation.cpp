@@ -47,14 +47,9 @@ void SpgFormulation::share_state(discretization::NodeStore& nodes) {
   for (auto& part : parts_) part.share_velocities(nodes);
 }
 
-std::pair<Index, Index> SpgFormulation::rows_read(const discretization::NodeStore& nodes) const {
-  std::pair<Index, Index> rows{0, 0};
-  for (const auto& part : parts_) {
-    const auto [first, end] = part.nodes_read(nodes);
-    if (first >= end) continue;
-    const bool none_yet = rows.first >= rows.second;
-    rows = {none_yet ? first : std::min(rows.first, first), none_yet ? end : std::max(rows.second, end)};
-  }
+parallel::Range SpgFormulation::rows_read(const discretization::NodeStore& nodes) const {
+  parallel::Range rows;
+  for (const auto& part : parts_) rows = parallel::hull(rows, part.nodes_read(nodes));
   return rows;
 }
 

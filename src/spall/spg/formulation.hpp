@@ -26,7 +26,7 @@ class SpgFormulation final : public discretization::Formulation {
   // Each part brings in the velocities its smoothing reads (Part::share_velocities).
   void share_state(discretization::NodeStore& nodes) override;
   bool halo_by_reach() const override { return true; }
-  std::pair<Index, Index> rows_read(const discretization::NodeStore& nodes) const override;
+  parallel::Range rows_read(const discretization::NodeStore& nodes) const override;
   // The fields read a rank's own particles alone, and the bonds, which every rank keeps current.
   void complete_for_output(discretization::NodeStore& /*nodes*/) override {}
   void checkpoint(Archive& archive, const discretization::NodeStore& nodes) override;

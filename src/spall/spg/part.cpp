@@ -484,16 +484,13 @@ const std::vector<std::uint8_t>& Part::plan_reach(const discretization::NodeStor
                             {own_.begin, own_.end});
   // The stretches holding the particles read, and their bond partners, whose positions and
   // velocities the smoothing of the particles read reads (eq. 11).
-  const auto include = [](parallel::Range& range, Index a) {
-    range = range.size() == 0 ? parallel::Range{a, a + 1}
-                              : parallel::Range{std::min(range.begin, a), std::max(range.end, a + 1)};
-  };
   read_ = smoothed_ = {};
   for (Index a = 0; a < particle_count(); ++a) {
     if (!reads_[a]) continue;
-    include(read_, a);
-    include(smoothed_, a);
-    for (Index k = bonds_.offsets[a]; k < bonds_.offsets[a + 1]; ++k) include(smoothed_, bonds_.neighbour[k]);
+    read_ = parallel::hull(read_, {a, a + 1});
+    smoothed_ = parallel::hull(smoothed_, {a, a + 1});
+    for (Index k = bonds_.offsets[a]; k < bonds_.offsets[a + 1]; ++k)
+      smoothed_ = parallel::hull(smoothed_, {bonds_.neighbour[k], bonds_.neighbour[k] + 1});
   }
   if (nodes.velocities_by_reach)
     velocity_reach_.plan_rows(bonds_.offsets, bonds_.neighbour, [&](Index j) { return reads_[j] != 0; }, node_, share_,
@@ -508,7 +505,7 @@ void Part::share_velocities(discretization::NodeStore& nodes) {
   kinematics_complete_ = false;
 }
 
-std::pair<Index, Index> Part::nodes_read(const discretization::NodeStore& nodes) const {
+parallel::Range Part::nodes_read(const discretization::NodeStore& nodes) const {
   if (!velocity_reach_.planned()) return {0, nodes.size()};
   if (smoothed_.size() == 0) return {0, 0};
   return {node_[smoothed_.begin], node_[smoothed_.end - 1] + 1};  // node order

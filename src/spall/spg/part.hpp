@@ -23,7 +23,6 @@
 // windows, in the current configuration, widen with the material's stretch (at most 4 times).
 #include <limits>
 #include <cstdint>
-#include <utility>
 #include <vector>
 
 #include "spall/core/error.hpp"
@@ -122,7 +121,7 @@ class Part {
   void share_velocities(discretization::NodeStore& nodes);
   // The rows from the lowest node of those particles and this rank's own to past the highest;
   // every row until planned.
-  std::pair<Index, Index> nodes_read(const discretization::NodeStore& nodes) const;
+  parallel::Range nodes_read(const discretization::NodeStore& nodes) const;
   // Everything but the settings (the deck's) and the particles' nodes, which must match.
   void checkpoint(Archive& archive);
   std::size_t memory_bytes() const;

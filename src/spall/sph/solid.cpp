@@ -89,12 +89,6 @@ bool invert_symmetric(const Mat3& m, Real least, Mat3& inverse) {
 }
 
 // The smallest range that holds both (an empty one adds nothing).
-neighbors::ParticleRange hull(neighbors::ParticleRange r, neighbors::ParticleRange s) {
-  if (s.begin >= s.end) return r;
-  if (r.begin >= r.end) return s;
-  return {std::min(r.begin, s.begin), std::max(r.end, s.end)};
-}
-
 }  // namespace
 
 // The pair loops run on eight single-precision lanes, a pair per lane (simd::Float8), from the
@@ -624,7 +618,7 @@ BoundingBox SolidFormulation::search_near_rows(discretization::NodeStore& nodes)
   neighbors::ParticleRange held{smoothing_length_.held_begin(), smoothing_length_.held_end()};
   for (const NearParticle& p : receive) {
     const auto a = static_cast<Index>(p.particle);
-    held = hull(held, {a, a + 1});
+    held = parallel::hull(held, {a, a + 1});
   }
   hold_read_state(held);  // the stretch grown to the particles that came in, whose h is written below
   std::vector<Index> binned;
@@ -1086,8 +1080,8 @@ void SolidFormulation::deal_anew(discretization::NodeStore& nodes) {
   // it receives) while the state travels, then its new own particles alone.
   // The Read arrays likewise: the old stretch and the new.
   const neighbors::ParticleRange reads = read_stretch();
-  hold_own_state(hull({state_.held_begin(), state_.held_end()}, reads));  // state_ is always on
-  hold_read_state(hull({smoothing_length_.held_begin(), smoothing_length_.held_end()}, reads));
+  hold_own_state(parallel::hull({state_.held_begin(), state_.held_end()}, reads));  // state_ is always on
+  hold_read_state(parallel::hull({smoothing_length_.held_begin(), smoothing_length_.held_end()}, reads));
   arrivals(volume_, sound_speed_, density_, smoothing_length_, pressure_, internal_energy_, state_, back_stress_,
            stress_, plain_stress_, artificial_stress_, exported_deviator_, strain_rate_squared_,
            gradient_amplification_, colour_, colour_normal_, support_count_, category_, material_, mass_, spacing_,
@@ -1126,7 +1120,8 @@ neighbors::ParticleRange SolidFormulation::read_stretch() const {
   const auto first = std::find(current_.begin(), current_.end(), 1);
   if (first == current_.end()) return blocks;
   const auto last = std::find(current_.rbegin(), current_.rend(), 1);
-  return hull({static_cast<Index>(first - current_.begin()), static_cast<Index>(current_.rend() - last)}, blocks);
+  return parallel::hull({static_cast<Index>(first - current_.begin()), static_cast<Index>(current_.rend() - last)},
+                        blocks);
 }
 
 // The rows this rank computes in the present deal, from every particle's position and reach at the
@@ -1144,7 +1139,7 @@ void SolidFormulation::complete_state(discretization::NodeStore& nodes) {
   complete_list();
 }
 
-std::pair<Index, Index> SolidFormulation::rows_read(const discretization::NodeStore& nodes) const {
+parallel::Range SolidFormulation::rows_read(const discretization::NodeStore& nodes) const {
   if (!list_built_) return {0, nodes.size()};
   const neighbors::ParticleRange reads = read_state_held();
   if (reads.begin >= reads.end) return {0, 0};
@@ -1380,7 +1375,7 @@ void SolidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt)
     bool outgrown = false;
     Real step = std::numeric_limits<Real>::infinity();
   };
-  const neighbors::ParticleRange own = own_particles(), passed = hull(own, read_state_held());
+  const neighbors::ParticleRange own = own_particles(), passed = parallel::hull(own, read_state_held());
   const Found found = parallel::fold_exact(
       passed, Found{},
       [&](Found& found, Index a) {

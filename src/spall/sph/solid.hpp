@@ -163,7 +163,7 @@ class SolidFormulation final : public discretization::Formulation {
   bool halo_by_reach() const override { return true; }
   // The nodes of the particles whose read state this rank holds (read_state_held), which hold those
   // its rows read; every node until the first list says which.
-  std::pair<Index, Index> rows_read(const discretization::NodeStore& nodes) const override;
+  parallel::Range rows_read(const discretization::NodeStore& nodes) const override;
   void checkpoint(Archive& archive, const discretization::NodeStore& nodes) override;
 
   Index particle_count() const { return static_cast<Index>(node_.size()); }
