@@ -349,6 +349,7 @@ int run_deck(const RunOptions& options) {
   if (!writes) return code;
   info.wall_seconds = wall_seconds_before + progress.elapsed_seconds();
   info.rebalances = loop.rebalances();
+  if (ranks.size() > 1) info.halo = loop.velocities_by_reach() ? "by reach" : "every node";
   info.masses = outputs->masses();
   for (int p = 0; p < static_cast<int>(solver::Phase::count); ++p) {
     const auto phase = static_cast<solver::Phase>(p);

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
-# Contact and rigid bodies on several MPI ranks (issue 35; docs/SCALING.md, "Replicated state"): every
-# rank computes every contact whole from the same positions, velocities and masses, and a rigid body
-# sums its nodes' forces after every rank has shared its own. Run as one process and under mpirun
+# Contact and rigid bodies on several MPI ranks (issue 35; docs/SCALING.md, "Replicated state" and
+# "Solid elements, rigid bodies and contact by reach"): each rank answers the touches of its own
+# slave nodes and every rank gathers every touch; every rank computes every rigid body, its nodes'
+# forces brought in from their ranks; with every contact's segments a body's, only the velocities
+# the formulations read travel. Run as one process and under mpirun
 # as 2-3 ranks (oversubscribed on 2 cores) with 1 or 2 threads each, every history (glstat.csv,
 # rcforc.csv, rbdout.csv) is byte for byte the single process's and the .pvtu pieces hold its fields
 # bit for bit:
@@ -12,10 +14,13 @@
 #    torque's, summed over the forces of every rank's nodes;
 #  - a rigid cap on an SPG column, sharing nodes with it: the body's motion is the sum of forces
 #    that several ranks computed;
+#  - the punch made elastic and thrown at the block: the segments deform, and every velocity
+#    travels each step;
 #  - the coarse friction-drilling deck of test_drilling, cut after the tool has entered the sheet:
 #    SPG and hexahedra sharing nodes, bonds breaking, the rigid drill in frictional contact; on 2
 #    ranks also with the nodes dealt out anew every 5 steps (the load balancing, forced).
-# The 2-rank punch's runrsf, continued on 3 ranks and on one process, ends as the uninterrupted run.
+# The 2-rank punch's runrsf, continued on 3 ranks and on one process, and the 3-rank punch's in fixed
+# blocks, continued on one process, end as the uninterrupted run.
 # Arguments, as CTest passes them: CLI SOURCE_DIR SHARED_DIR.
 set -euo pipefail
 cli=$1
@@ -32,7 +37,12 @@ run_serial punch 400
 # Pressed in: the thrust on the block (side 1, fz) and the friction torque about the axis (mz).
 awk -F, '$3 == 1 { last = $0; fz = $6; mz = $9 } END { print last; exit !(fz < -1000 && mz > 0.1) }' \
   "$work/punch.serial/rcforc.csv" >"$work/punch.last" || fail "the punch does not press and turn: $(cat "$work/punch.last")"
-same_on_ranks "$work/punch.k" "$work/punch.serial" "2 1" "3 1" "2 2"
+# The punch's segments are a rigid body's: each rank brings in only the velocities its formulations
+# read (the halo by reach), the body's nodes' forces from their ranks. On 3 ranks in fixed blocks a
+# rank holds top-surface nodes that it neither owns nor reads, and must add no touch's force to them:
+# it would go uncleared and reach the restart file, or a later deal's new owner (a continued run
+# below; the rebalanced one deals anew every 5 steps).
+same_on_ranks "$work/punch.k" "$work/punch.serial" "2 1" "3 1" "2 2" "3 1 fixed" "3 1 rebalanced"
 
 # The spin prescribed until 1e-5 s (DEATH on its *BOUNDARY_PRESCRIBED_MOTION_RIGID DOF 7 card): then
 # the moment of the contact forces on the punch's nodes alone turns it (the punch, stuck to the block
@@ -88,6 +98,26 @@ awk -F, 'NR > 1 { vz = $8 } END { exit !(vz > -15) }' "$work/cap.serial/rbdout.c
   fail "the cap does not slow down: $(tail -n 1 "$work/cap.serial/rbdout.csv")"
 same_on_ranks "$work/cap.k" "$work/cap.serial" "2 1" "3 1"
 
+# The punch made elastic and thrown at the block (20 m/s; it bounces off by 4 us): the contact's
+# segments are deformable, any rank's nodes, so every velocity travels each step ("every node").
+python3 - "$work/punch.k" >"$work/soft.k" <<'PY'
+import re, sys
+deck = open(sys.argv[1]).read()
+deck, n = re.subn(r"\*MAT_RIGID\n(?:\$.*\n)?.*\n(?:\$.*\n)?.*\n", "*MAT_ELASTIC\n         2    7850.0    2.0e11       0.3\n", deck)
+assert n == 1, "one *MAT_RIGID"
+deck, n = re.subn(r"\*BOUNDARY_PRESCRIBED_MOTION_RIGID\n(?:\$.*\n)?.*\n", "", deck)
+assert n == 2, "two prescribed motions"
+deck = deck.replace("*CONTACT_AUTOMATIC", "*INITIAL_VELOCITY_GENERATION\n         2         2       0.0       0.0       0.0     -20.0\n"
+                    "       0.0       0.0       0.0\n*CONTACT_AUTOMATIC", 1)
+deck = re.sub(r"(\*CONTROL_TERMINATION\n(?:\$.*\n)*)\s*\S+", lambda m: m.group(1) + "    4.0e-6", deck)
+sys.stdout.write(deck)
+PY
+run_serial soft 100
+awk -F, '$3 == 1 { f = $6 < 0 ? -$6 : $6; if (f > most) most = f } END { exit !(most > 1000) }' "$work/soft.serial/rcforc.csv" ||
+  fail "the elastic punch does not press on the block"
+same_on_ranks "$work/soft.k" "$work/soft.serial" "2 1" "3 1 rebalanced"
+grep -q '"halo": "every node"' "$work/soft.serial.np2.t1/run.json" || fail "soft: the deformable segments' velocities by reach"
+
 python3 "$source_dir/tools/make_drilling_deck.py" --spacing 0.4e-3 --layers 4 --ring-layers 3 --segments 24 \
   --time-scale 2000 --dt2ms=-2e-7 --smstep 15 --outputs 2 --histories 200 >"$work/drill_full.k"
 cut_deck "$work/drill_full.k" 3e-4 >"$work/drill.k"
@@ -95,6 +125,10 @@ run_serial drill 1000
 awk -F, '$3 == 2 { last = $0; fz = $6 } END { print last; exit !(fz > 500) }' "$work/drill.serial/rcforc.csv" \
   >"$work/drill.last" || fail "the drill does not press on the sheet: $(cat "$work/drill.last")"
 same_on_ranks "$work/drill.k" "$work/drill.serial" "2 1" "3 2" "2 1 rebalanced"
+# The punch's and the drill's segments are a rigid body's: their runs go by reach (run.json).
+for run in punch.serial.np3.t1.fixed drill.serial.np2.t1; do
+  grep -q '"halo": "by reach"' "$work/$run/run.json" || fail "$run: the velocities do not go by reach"
+done
 
 # The 2-rank punch's runrsf (the friction forces of the touches in it) continued on 3 ranks and on one
 # process.
@@ -102,4 +136,5 @@ same_on_ranks "$work/drill.k" "$work/drill.serial" "2 1" "3 2" "2 1 rebalanced"
 cp -r "$work/punch.serial.np2.t1" "$work/punch.on3"
 continue_run punch.on3 3 punch.serial
 continue_run punch.serial.np2.t1 1 punch.serial
+continue_run punch.serial.np3.t1.fixed 1 punch.serial
 echo "mpi contact: OK"

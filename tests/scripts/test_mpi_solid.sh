@@ -143,6 +143,12 @@ tail -n 1 "$work/eroding.serial/glstat.csv" | awk -F, '{ exit !($10 > 1e-4 && $1
   fail "the eroding bar: eroded and added mass $(tail -n 1 "$work/eroding.serial/glstat.csv")"
 same_on_ranks "$work/fem_ends.k" "$work/fem_ends.serial" "2 1" "3 2"
 same_on_ranks "$work/eroding.k" "$work/eroding.serial" "2 1" "3 1" "2 2" "3 1 rebalanced"
+# The solid elements bring in the velocities of their elements' nodes alone (docs/SCALING.md, "Solid
+# elements, rigid bodies and contact by reach"); the eroding bar's masses, which DT2MS raises every
+# step, stay at their nodes' ranks until a new deal or a checkpoint.
+for run in fem_ends.serial.np2.t1 eroding.serial.np3.t1.rebalanced; do
+  grep -q '"halo": "by reach"' "$work/$run/run.json" || fail "$run: the velocities do not go by reach"
+done
 
 # An SPH bar whose first layer of particles sits on the last face of a block of hexahedra (shared
 # nodes), pulled apart there: a rank writes a cell of its own with a particle another rank computes,

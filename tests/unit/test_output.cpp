@@ -279,6 +279,7 @@ TEST_F(OutputTest, RunJsonEscapesStrings) {
   info.threads = 2;
   info.ranks = 4;
   info.rebalances = 7;
+  info.halo = "by reach";
   info.received_bytes_mean = 1.5e6;
   info.received_bytes_max = 2097152;
   info.communicating_seconds_mean = 0.5;
@@ -303,6 +304,7 @@ TEST_F(OutputTest, RunJsonEscapesStrings) {
             "  \"threads\": 2,\n"
             "  \"ranks\": 4,\n"
             "  \"rebalances\": 7,\n"
+            "  \"halo\": \"by reach\",\n"
             "  \"received_bytes_per_step\": {\"mean\": 1500000, \"max\": 2097152},\n"
             "  \"communicating_seconds\": {\"mean\": 0.5, \"max\": 0.75},\n"
             "  \"node_rows\": {\"mean\": 412.5, \"max\": 530},\n"

@@ -1,10 +1,12 @@
 #include "spall/contact/penalty_contact.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
 #include "spall/core/communicator.hpp"
+#include "spall/core/exact_sum.hpp"
 #include "spall/core/parallel.hpp"
 
 namespace spall::contact {
@@ -133,6 +135,7 @@ void PenaltyContact::respond(PassState& state, const NodeStore& nodes, Real dt) 
     const Segment& segment = pass.segment[touch.segment];
     const SegmentPoint p = closest_on_segment(nodes.x[i], corners_of(segment, nodes), segment.triangle());
     touch.weight = p.weight;
+    touch.slave_position = nodes.x[i];
     const Segment::Contact side = segment.contact_at(p.normal.dot(nodes.x[i] - p.point));
     const Vec3& n = touch.normal = side.sign * p.normal;
     Real penetration = side.penetration;
@@ -199,7 +202,9 @@ void PenaltyContact::share_touches(PassState& state) {
   for (const Touch& touch : state.touches) state.found[touch.slave] = touch.segment;
 }
 
-// Adds the forces to the nodes, in slave order: the slave takes F, the corners -w_J F.
+// Adds the forces to the nodes, in slave order: the slave takes F, the corners -w_J F. Under MPI
+// each rank to its own nodes, whose forces are then whole there (a body takes its nodes' from
+// their ranks); another rank's node may be one whose force this rank no longer clears each step.
 void PenaltyContact::gather(const PassState& state, NodeStore& nodes) {
   const Pass& pass = state.pass;
   Resultant& slave_side = side_[pass.slaves_are_side_a ? 0 : 1];
@@ -207,34 +212,48 @@ void PenaltyContact::gather(const PassState& state, NodeStore& nodes) {
   for (const Touch& touch : state.touches) {
     const Index i = pass.slave[touch.slave];
     const Vec3 force = touch.normal_force * touch.normal + touch.friction;
-    nodes.f[i] += force;
+    if (nodes.owns(i)) nodes.f[i] += force;
     slave_side.force += force;
-    slave_side.moment += nodes.x[i].cross(force);
+    slave_side.moment += touch.slave_position.cross(force);
     const Segment& segment = pass.segment[touch.segment];
     for (int c = 0; c < segment.corners(); ++c) {
       const Index J = segment.node[c];
       const Vec3 reaction = -touch.weight[c] * force;
-      nodes.f[J] += reaction;
+      if (nodes.owns(J)) nodes.f[J] += reaction;
       segment_side.force += reaction;
       segment_side.moment += nodes.x[J].cross(reaction);
     }
   }
 }
 
-void PenaltyContact::book_energies(discretization::EnergyLedger& ledger, std::span<const Vec3> v, Real dt) const {
+void PenaltyContact::book_energies(discretization::EnergyLedger& ledger, const NodeStore& nodes,
+                                   std::span<const Vec3> v, Real dt) const {
   using Role = discretization::EnergyLedger::Role;
-  Real normal_power = 0, friction_power = 0;
+  std::array<ExactSum, 2> power;  // normal, friction
   for (const auto& state : passes_)
     for (const Touch& touch : state.touches) {
+      const Index i = state.pass.slave[touch.slave];
+      if (!nodes.owns(i)) continue;  // its rank's
       const Segment& segment = state.pass.segment[touch.segment];
-      Vec3 v_rel = v[state.pass.slave[touch.slave]];
+      Vec3 v_rel = v[i];
       for (int c = 0; c < segment.corners(); ++c) v_rel -= touch.weight[c] * v[segment.node[c]];
-      normal_power += touch.normal_force * touch.normal.dot(v_rel);
-      friction_power += touch.friction.dot(v_rel);
+      power[0] += touch.normal_force * touch.normal.dot(v_rel);
+      power[1] += touch.friction.dot(v_rel);
     }
+  if (parallel::world().size() > 1) parallel::world().sum(power);
   // The energy the contact takes is minus the work its forces do on the nodes.
-  ledger.add(contact_energy, Role::stored, -dt * normal_power);
-  ledger.add(friction_energy, Role::dissipated, -dt * friction_power);
+  ledger.add(contact_energy, Role::stored, -dt * power[0].value());
+  ledger.add(friction_energy, Role::dissipated, -dt * power[1].value());
+}
+
+bool PenaltyContact::segments_rigid(const NodeStore& nodes) const {
+  for (const Index node : definition_.moment_node)
+    if (node >= 0 && nodes.body[node] == NodeStore::no_body) return false;
+  for (const auto& state : passes_)
+    for (const Segment& segment : state.pass.segment)
+      for (int c = 0; c < segment.corners(); ++c)
+        if (nodes.body[segment.node[c]] == NodeStore::no_body) return false;
+  return true;
 }
 
 }  // namespace spall::contact

@@ -83,7 +83,16 @@ class PenaltyContact {
 
   // Books dt times the power of this step's forces at the velocities v (v^n): the normal part as
   // contact_energy (the penalty springs and their damping), the tangential part as friction_energy.
-  void book_energies(discretization::EnergyLedger& ledger, std::span<const Vec3> v, Real dt) const;
+  // Each rank sums the touches of its own slave nodes, whose v^n it holds, exactly, and the sums are
+  // taken over the ranks (collective): the same for any partition.
+  void book_energies(discretization::EnergyLedger& ledger, const discretization::NodeStore& nodes,
+                     std::span<const Vec3> v, Real dt) const;
+
+  // Whether every segment's corners, and the nodes rcforc.csv takes moments about, move with a
+  // rigid body (a tool's surface): then a rank reads only its own slave nodes and the bodies' nodes,
+  // which every rank moves, and the time loop may share only the velocities the formulations read
+  // (the halo by reach).
+  bool segments_rigid(const discretization::NodeStore& nodes) const;
 
   const Definition& definition() const { return definition_; }
   void set_moment_nodes(const std::array<Index, 2>& nodes) { definition_.moment_node = nodes; }
@@ -110,6 +119,9 @@ class PenaltyContact {
     Vec3 normal = Vec3::UnitZ();
     Real normal_force = 0;            // >= 0, along the normal, on the slave
     Vec3 friction = Vec3::Zero();     // tangential force on the slave
+    // x^n of the slave node, from the rank that answered it (for the moment of its side's
+    // resultant; with the halo by reach the other ranks' may be stale). Not kept between steps.
+    Vec3 slave_position = Vec3::Zero();
     // The depth at which a node was found deeper than one step's approach brings it (a node the
     // contact had let go of, caught again), shrinking as it comes out: only the depth beyond it
     // pushes (THEORY §12.3). Negative until the first response.

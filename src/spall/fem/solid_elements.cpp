@@ -613,12 +613,16 @@ void SolidElements::remove_eroded(discretization::NodeStore& nodes) {
   eroded_mass_ += taken[2].value();
 }
 
-void SolidElements::distribute(const discretization::NodeStore& nodes) {
+void SolidElements::distribute(discretization::NodeStore& nodes) {
   if ((share_ && share_->partition == nodes.partition) || parallel::world().size() == 1) return;
-  if (share_) share_elements();  // by the old blocks, before they change what each rank computes
+  if (share_) {  // by the old blocks, before they change what each rank computes
+    share_elements();
+    complete_nodes(nodes);
+  }
   Share& s = share_.emplace();
   s.partition = nodes.partition;
   s.nodes.bind(nodes);
+  std::vector<std::uint8_t> reads(node_.size(), 0);  // the local nodes of the elements computed here
   for (const Block& block : blocks_) {
     const int per = block.nodes_per_element;
     auto& computed = s.computed.emplace_back(block.size(), 0);
@@ -626,9 +630,38 @@ void SolidElements::distribute(const discretization::NodeStore& nodes) {
     for (Index e = 0; e < block.size(); ++e) {
       first[e] = node_[block.node[per * e]];
       for (int a = 0; a < per; ++a) computed[e] |= nodes.owns(node_[block.node[per * e + a]]);
+      if (computed[e])
+        for (int a = 0; a < per; ++a) reads[block.node[per * e + a]] = 1;
     }
     s.elements.emplace_back().bind(nodes);
   }
+  if (!nodes.velocities_by_reach) return;
+  s.velocities.plan(reads, node_, s.nodes, nodes);
+  s.rows_read = {nodes.owned_begin, nodes.owned_end};
+  for (std::size_t k = 0; k < node_.size(); ++k)
+    if (reads[k]) s.rows_read = parallel::hull(s.rows_read, {node_[k], node_[k] + 1});
+}
+
+void SolidElements::complete_nodes(discretization::NodeStore& nodes) {
+  if (!share_ || !nodes.velocities_by_reach) return;
+  const Index n = static_cast<Index>(node_.size());
+  std::vector<Real> mass(n);
+  std::vector<std::uint8_t> active(n);
+  for (Index k = 0; k < n; ++k) mass[k] = nodes.mass[node_[k]], active[k] = nodes.active[node_[k]];
+  share_->nodes.complete_nodes(node_, nodes, mass, active, live_elements_);
+  for (Index k = 0; k < n; ++k)
+    if (!owns(k)) nodes.mass[node_[k]] = mass[k], nodes.active[node_[k]] = active[k];
+}
+
+void SolidElements::share_state(discretization::NodeStore& nodes) {
+  if (!share_ || !nodes.velocities_by_reach) return;
+  share_->velocities.records<Vec3>([&](Index k) { return nodes.v[node_[k]]; },
+                                   [&](Index k, const Vec3& v) { nodes.v[node_[k]] = v; });
+}
+
+parallel::Range SolidElements::rows_read(const discretization::NodeStore& nodes) const {
+  if (!share_ || !nodes.velocities_by_reach) return {0, nodes.size()};
+  return share_->rows_read;
 }
 
 void SolidElements::share_elements() {
@@ -639,8 +672,10 @@ void SolidElements::share_elements() {
   }
 }
 
-void SolidElements::complete_state(discretization::NodeStore&) {
-  if (share_) share_elements();
+void SolidElements::complete_state(discretization::NodeStore& nodes) {
+  if (!share_) return;
+  share_elements();
+  complete_nodes(nodes);
 }
 
 void SolidElements::share_masses(discretization::NodeStore& nodes) {
@@ -736,7 +771,9 @@ void SolidElements::compute_forces(discretization::NodeStore& nodes, Real dt) {
     found = {values[0], -values[1], values[2] < 0 ? 1 : 0};
   }
   if (found.eroding > 0) remove_eroded(nodes);
-  if (share_ && (found.eroding > 0 || mass_scaling_.active)) share_masses(nodes);
+  // With the velocities by reach only a node's rank reads its mass and activity, and they are whole
+  // there (it computes every element on the node): they come in at a new deal and a checkpoint.
+  if (share_ && !nodes.velocities_by_reach && (found.eroding > 0 || mass_scaling_.active)) share_masses(nodes);
   if (mass_scaling_.active) {
     // Over the elements each rank books (only those it computes are current there).
     Real added = 0;

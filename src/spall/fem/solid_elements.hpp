@@ -22,6 +22,7 @@
 #include "spall/discretization/formulation.hpp"
 #include "spall/discretization/mass_scaling.hpp"
 #include "spall/discretization/particle_share.hpp"
+#include "spall/discretization/reach_share.hpp"
 #include "spall/materials/material.hpp"
 
 namespace spall::fem {
@@ -107,6 +108,13 @@ class SolidElements final : public discretization::Formulation {
   }
   bool scale_mass_below(Real step, bool first_step_only) override;
   void complete_state(discretization::NodeStore& nodes) override;
+  // Under MPI with the velocities by reach (NodeStore::velocities_by_reach): v^{n+1/2} of the other
+  // ranks' nodes of the elements this rank computes, from their ranks; the rest go stale until a
+  // new deal or a checkpoint completes them (complete_nodes).
+  void share_state(discretization::NodeStore& nodes) override;
+  bool halo_by_reach() const override { return true; }
+  // The rows of the nodes of the elements this rank computes, and its own; every row until dealt.
+  parallel::Range rows_read(const discretization::NodeStore& nodes) const override;
   // A rank writes the cells whose first node it owns (solver/field_output.cpp), elements it
   // computes: nothing to bring in.
   void complete_for_output(discretization::NodeStore& /*nodes*/) override {}
@@ -181,6 +189,10 @@ class SolidElements final : public discretization::Formulation {
     std::vector<std::vector<Index>> first_node;             // per block: each element's first node
     std::vector<discretization::ParticleShare> elements;    // per block, by first node
     discretization::ParticleShare nodes;                    // the local nodes
+    // With the velocities by reach: the other ranks' local nodes of the elements this rank
+    // computes, and the rows from the first of those and its own to the last.
+    discretization::ReachShare velocities;
+    parallel::Range rows_read;
     long long partition = 0;                                // NodeStore::partition planned for
   };
   bool computes(std::size_t block, Index e) const { return !share_ || share_->computed[block][e]; }
@@ -191,13 +203,17 @@ class SolidElements final : public discretization::Formulation {
   bool books(std::size_t block, Index e) const {
     return !share_ || share_->nodes.owns(share_->first_node[block][e]);
   }
-  // Makes share_ when the run has several ranks, again (after share_elements) when the nodes were
-  // dealt anew.
-  void distribute(const discretization::NodeStore& nodes);
+  // Makes share_ when the run has several ranks, again (after share_elements and, with the
+  // velocities by reach, complete_nodes) when the nodes were dealt anew.
+  void distribute(discretization::NodeStore& nodes);
+  // With the velocities by reach: every local node's position, velocity, mass, activity and live
+  // element count from its rank (in the deal share_ was made for), where a new deal or a checkpoint
+  // needs them all.
+  void complete_nodes(discretization::NodeStore& nodes);
   // Every rank's elements (those whose first node it owns) to every rank.
   void share_elements();
-  // After elements eroded or DT2MS raised masses: every rank's nodes' masses, activity and live
-  // element counts to every rank.
+  // After elements eroded or DT2MS raised masses, unless the velocities go by reach: every rank's
+  // nodes' masses, activity and live element counts to every rank.
   void share_masses(discretization::NodeStore& nodes);
 
   std::vector<PartSettings> parts_;

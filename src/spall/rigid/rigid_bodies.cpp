@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+
+#include "spall/core/communicator.hpp"
 
 namespace spall::rigid {
 
@@ -92,7 +95,24 @@ void RigidBodies::add(RigidBody body, discretization::NodeStore& nodes, const Ma
   body.last_velocity = body.velocity;
   body.last_angular_momentum = body.angular_momentum;
   body.last_angular_velocity = body.angular_velocity;
+  node_rows_.insert(node_rows_.end(), body.node.begin(), body.node.end());
+  std::sort(node_rows_.begin(), node_rows_.end());
+  node_rows_.erase(std::unique(node_rows_.begin(), node_rows_.end()), node_rows_.end());
   bodies_.push_back(std::move(body));
+}
+
+void RigidBodies::share_forces(discretization::NodeStore& nodes) const {
+  const parallel::Communicator& ranks = parallel::world();
+  if (ranks.size() == 1 || node_rows_.empty()) return;
+  if (nodes.by_region()) throw std::logic_error("rigid bodies: the nodes are dealt by region, not in blocks");
+  // In blocks a rank's own body nodes are one stretch of the ascending rows, and every rank's, in
+  // rank order, are all of them.
+  const auto first = std::lower_bound(node_rows_.begin(), node_rows_.end(), nodes.owned_begin);
+  const auto last = std::lower_bound(first, node_rows_.end(), nodes.owned_end);
+  std::vector<Vec3> own;
+  for (auto row = first; row != last; ++row) own.push_back(nodes.f[*row]);
+  const std::vector<Vec3> every = ranks.all(std::span<const Vec3>(own));
+  for (std::size_t k = 0; k < node_rows_.size(); ++k) nodes.f[node_rows_[k]] = every[k];
 }
 
 RigidBodies::Energies RigidBodies::energies(Real weight, Real reaction_weight, Real dt_mid) const {

@@ -116,6 +116,14 @@ class RigidBodies {
   // The bodies' elements as cell blocks with their `element_id`, so that ParaView draws the tool.
   void write_fields(discretization::FieldSet& fields) const;
 
+  // Every body's nodes' rows, ascending, each once.
+  const std::vector<Index>& node_rows() const { return node_rows_; }
+  // Under MPI with the velocities by reach (NodeStore::velocities_by_reach), before advance: each
+  // body node's force from the rank that owns it, whole there (its formulations' forces, the loads
+  // and every contact touch), in place of every node's force from every rank (collective; the nodes
+  // dealt in blocks).
+  void share_forces(discretization::NodeStore& nodes) const;
+
   const std::vector<RigidBody>& bodies() const { return bodies_; }
   bool empty() const { return bodies_.empty(); }
   void checkpoint(Archive& a) {
@@ -125,6 +133,7 @@ class RigidBodies {
 
  private:
   std::vector<RigidBody> bodies_;
+  std::vector<Index> node_rows_;
   std::vector<discretization::CellBlock> cells_;  // one block a shape
 };
 

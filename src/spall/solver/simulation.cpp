@@ -76,19 +76,25 @@ class TimeLoop::Step {
     // Over every node: each rank's block of them, summed over the ranks, when the set-up built blocks.
     initial_mass_ = parallel::exact_sum(nodes_.size(), [&](Index i) { return nodes_.mass[i]; },
                                         nodes_.holds_a_block() ? &parallel::world() : nullptr);
-    // Contacts and bodies read every node (each rank searches its own slave nodes against every
-    // segment and computes every body whole): with any of them, or a formulation that reads the
-    // other ranks' nodes beyond what it brings in, every velocity. A rigid wall acts on a rank's
-    // own nodes then (a moving one solved from every rank's).
+    // Each rank searches its own slave nodes against every segment and computes every body whole,
+    // moving every body's nodes: with a contact whose segments are not all a body's, a formulation
+    // that reads the other ranks' nodes beyond what it brings in, or a body or contact among
+    // formulations that move their nodes between the ranks (dealt by region, which the bodies'
+    // forces do not follow), every velocity. A rigid wall acts on a rank's own nodes then (a moving
+    // one solved from every rank's).
     const parallel::Communicator& ranks = parallel::world();
     const auto every = [&](auto&& is) { return std::all_of(problem_.formulations.begin(), problem_.formulations.end(), is); };
-    halo_by_reach_ = problem_.contacts.empty() && problem_.rigid_bodies.empty() &&
-                     every([](const auto& f) { return f->halo_by_reach(); });
+    const bool bodies_and_contacts = !problem_.contacts.empty() || !problem_.rigid_bodies.empty();
+    const bool migrating = !problem_.formulations.empty() && every([](const auto& f) { return f->migrates(); });
+    halo_by_reach_ = every([](const auto& f) { return f->halo_by_reach(); }) &&
+                     std::all_of(problem_.contacts.begin(), problem_.contacts.end(),
+                                 [&](const auto& c) { return c.segments_rigid(nodes_); }) &&
+                     !(bodies_and_contacts && migrating);
     nodes_.velocities_by_reach = halo_by_reach_ && ranks.size() > 1;
     // Under MPI each rank computes its share of the nodes and holds them all (docs/SCALING.md): by
     // region when every formulation moves its nodes between the ranks as they flow, else in blocks.
     if (ranks.size() > 1) {
-      if (halo_by_reach_ && !problem_.formulations.empty() && every([](const auto& f) { return f->migrates(); })) {
+      if (halo_by_reach_ && migrating) {
         // The work is in the particles that move (a fluid's fixed wall particles only lend their
         // density to the pairs): a node with mass weighs 1 unless an SPC holds it still; the
         // measured work corrects the cuts later (balance()).
@@ -138,6 +144,7 @@ class TimeLoop::Step {
 
   RunSummary summary() const { return {step_.step, step_.time, ledger_, phases_}; }
   long long rebalances() const { return rebalances_; }
+  bool velocities_by_reach() const { return nodes_.velocities_by_reach; }
   Real initial_mass() const { return initial_mass_; }
   const PhaseTimes& phases() const { return phases_; }
   const StepInfo& info() const { return step_; }
@@ -326,12 +333,18 @@ class TimeLoop::Step {
         if (nodes_.fixed[i] & (1u << d)) v_new[d] = 0;
       nodes_.v[i] = v_new;
     });
+    // The bodies' nodes, which every rank moves: their v^{n-1/2}, for the contacts' energies.
+    if (own_only)
+      for (const Index i : problem_.rigid_bodies.node_rows())
+        if (!nodes_.owns(i)) v_old_[i] = nodes_.v[i];
   }
 
   // Rigid bodies, prescribed motion at the mid-step, then the rigid walls (last, so that no
   // constraint carries a node through a wall).
   void constraints() {
     const Real dt = step_.dt, t_mid = step_.time + Real(0.5) * dt;
+    // By reach the bodies' nodes' forces come in here, before the halo: each body sums them all.
+    if (nodes_.velocities_by_reach) problem_.rigid_bodies.share_forces(nodes_);
     problem_.rigid_bodies.advance(nodes_, step_.time, dt, dt_mid_);
     // The driven nodes' rows (with rows of its own they change with the partition).
     if (motion_rows_partition_ != nodes_.partition) {
@@ -366,12 +379,13 @@ class TimeLoop::Step {
   // each). A rigid body sums the forces of all its nodes: with bodies, the nodes' forces too. When
   // every formulation brings in the velocities it reads (halo_by_reach), only those travel, after
   // the constraints, which each rank then applies to its own nodes (a wall's force summed over the
-  // ranks); the others' nodes go stale until a formulation completes them.
+  // ranks, a body's forces from their nodes' ranks); the others' nodes go stale until a
+  // formulation completes them, but for the bodies', which every rank moves.
   void halo() {
     const parallel::Communicator& ranks = parallel::world();
     if (ranks.size() == 1) return;
     if (!halo_by_reach_) ranks.share(std::span(nodes_.v), nodes_.rank_begin);
-    if (!problem_.rigid_bodies.empty()) ranks.share(std::span(nodes_.f), nodes_.rank_begin);
+    if (!halo_by_reach_ && !problem_.rigid_bodies.empty()) ranks.share(std::span(nodes_.f), nodes_.rank_begin);
     for (auto& f : problem_.formulations) f->share_state(nodes_);
   }
 
@@ -389,9 +403,9 @@ class TimeLoop::Step {
     const Real weight = velocity_weight_, dt_mid = dt_mid_;
     const Real reaction_weight = step_.step == 0 ? Real(0.5) : weight;
     std::vector<Vec3>& v_n = v_old_;
-    // v^n of the other ranks' nodes is read only by the contacts, whose energies every rank books whole:
-    // without contacts a rank's own nodes alone (with the halo by reach the others' velocities may
-    // be stale).
+    // v^n of the other ranks' nodes is read only by the contacts (each rank books its own slave
+    // nodes' touches, whose segments may be any nodes'): without contacts a rank's own nodes alone;
+    // by reach (the others' velocities may be stale) its own and the bodies' nodes, the segments'.
     const bool own_only = halo_by_reach_ || problem_.contacts.empty();
     const Index count = own_only ? nodes_.owned_count() : nodes_.size();
     const Sums<4> sums = parallel::exact_sum(
@@ -415,10 +429,13 @@ class TimeLoop::Step {
           return term;
         },
         &parallel::world());
+    if (nodes_.velocities_by_reach)
+      for (const Index i : problem_.rigid_bodies.node_rows())
+        if (!nodes_.owns(i)) v_n[i] += weight * (nodes_.v[i] - v_n[i]);
     const rigid::RigidBodies::Energies bodies = problem_.rigid_bodies.energies(weight, reaction_weight, dt_mid);
     ledger_.set(EnergyLedger::kinetic_energy, Role::kinetic, sums[2] + bodies.kinetic);
     for (const auto& f : problem_.formulations) f->book_energies(ledger_, v_n, dt_mid);
-    for (const auto& c : problem_.contacts) c.book_energies(ledger_, v_n, dt_mid);
+    for (const auto& c : problem_.contacts) c.book_energies(ledger_, nodes_, v_n, dt_mid);
     ledger_.add(EnergyLedger::external_work_name, Role::external,
                 dt_mid * (sums[0] + sums[1] + bodies.reaction_power));
     if (step_.step == 0) ledger_.set_initial_total();
@@ -499,10 +516,15 @@ class TimeLoop::Step {
   // x^{n+1} = x^n + dt v^{n+1/2}, f cleared for the next step's forces; walls move; t advances.
   void position_update() {
     const Real dt = step_.dt;
-    parallel::for_each(rows_advanced(), [&](Index i) {
+    const parallel::Range rows = rows_advanced();
+    const auto advance = [&](Index i) {
       nodes_.x[i] += dt * nodes_.v[i];
       nodes_.f[i] = Vec3::Zero();
-    });
+    };
+    parallel::for_each(rows, advance);
+    // The bodies' nodes beyond them, which every rank moves (their velocities are every rank's).
+    for (const Index i : problem_.rigid_bodies.node_rows())
+      if (i < rows.begin || i >= rows.end) advance(i);
     for (auto& wall : problem_.rigid_walls) wall.advance(dt);
     step_.time += dt;
     if (controls_.end_time - step_.time < 1e-9 * controls_.end_time) step_.time = controls_.end_time;
@@ -563,6 +585,7 @@ void TimeLoop::checkpoint(Archive& archive) { step_->checkpoint(archive); }
 const PhaseTimes& TimeLoop::phases() const { return step_->phases(); }
 
 long long TimeLoop::rebalances() const { return step_->rebalances(); }
+bool TimeLoop::velocities_by_reach() const { return step_->velocities_by_reach(); }
 Real TimeLoop::initial_mass() const { return step_->initial_mass(); }
 
 RunSummary run(Problem& problem, const Observer& observer) { return TimeLoop(problem, observer).run(); }

@@ -72,6 +72,9 @@ class TimeLoop {
   const PhaseTimes& phases() const;
   // How often the node blocks were dealt anew to even the ranks' work (LoadBalance).
   long long rebalances() const;
+  // Under MPI: whether each step brings in only the velocities the formulations read (the halo by
+  // reach) rather than every node's.
+  bool velocities_by_reach() const;
   // The nodes' mass (every rank's) when the run began, before DT2MS added any (ENDMAS's base).
   Real initial_mass() const;
   // Between two steps (in between_steps, or before run()): writes the state of the problem and of

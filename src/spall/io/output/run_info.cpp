@@ -56,6 +56,7 @@ void write_run_json(const std::filesystem::path& path, const RunInfo& info) {
       "  \"threads\": {},\n"
       "  \"ranks\": {},\n"
       "  \"rebalances\": {},\n"
+      "  \"halo\": {},\n"
       "  \"received_bytes_per_step\": {{\"mean\": {}, \"max\": {}}},\n"
       "  \"communicating_seconds\": {{\"mean\": {}, \"max\": {}}},\n"
       "  \"node_rows\": {{\"mean\": {}, \"max\": {}}},\n"
@@ -70,6 +71,7 @@ void write_run_json(const std::filesystem::path& path, const RunInfo& info) {
       "  \"status\": {}\n"
       "}}\n",
       json_string(info.version), json_string(info.deck), info.threads, info.ranks, info.rebalances,
+      json_string(info.halo),
       json_number(info.received_bytes_mean), json_number(info.received_bytes_max),
       json_number(info.communicating_seconds_mean), json_number(info.communicating_seconds_max),
       json_number(info.node_rows_mean), info.node_rows_max, json_number(info.peak_resident_bytes_mean),

@@ -15,6 +15,9 @@ struct RunInfo {
   int threads = 1;
   int ranks = 1;
   long long rebalances = 0;  // under MPI: how often the nodes were dealt anew (solver::LoadBalance)
+  // Under MPI, which velocities travel each step: "by reach" (those the formulations read, and the
+  // rigid bodies' nodes' forces) or "every node"; "one process" otherwise.
+  std::string halo = "one process";
   // Under MPI: the bytes a rank received from the others a step (Communicator::received_bytes), the
   // mean and the largest over the ranks; 0 for one process.
   double received_bytes_mean = 0;
