@@ -240,7 +240,7 @@ void PenaltyContact::book_energies(discretization::EnergyLedger& ledger, const N
       power[0] += touch.normal_force * touch.normal.dot(v_rel);
       power[1] += touch.friction.dot(v_rel);
     }
-  if (parallel::world().size() > 1) parallel::world().sum(power);
+  parallel::world().sum(power);
   // The energy the contact takes is minus the work its forces do on the nodes.
   ledger.add(contact_energy, Role::stored, -dt * power[0].value());
   ledger.add(friction_energy, Role::dissipated, -dt * power[1].value());

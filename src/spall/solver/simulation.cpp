@@ -384,8 +384,10 @@ class TimeLoop::Step {
   void halo() {
     const parallel::Communicator& ranks = parallel::world();
     if (ranks.size() == 1) return;
-    if (!halo_by_reach_) ranks.share(std::span(nodes_.v), nodes_.rank_begin);
-    if (!halo_by_reach_ && !problem_.rigid_bodies.empty()) ranks.share(std::span(nodes_.f), nodes_.rank_begin);
+    if (!halo_by_reach_) {
+      ranks.share(std::span(nodes_.v), nodes_.rank_begin);
+      if (!problem_.rigid_bodies.empty()) ranks.share(std::span(nodes_.f), nodes_.rank_begin);
+    }
     for (auto& f : problem_.formulations) f->share_state(nodes_);
   }
 

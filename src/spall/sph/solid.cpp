@@ -88,7 +88,6 @@ bool invert_symmetric(const Mat3& m, Real least, Mat3& inverse) {
   return true;
 }
 
-// The smallest range that holds both (an empty one adds nothing).
 }  // namespace
 
 // The pair loops run on eight single-precision lanes, a pair per lane (simd::Float8), from the
