@@ -34,7 +34,7 @@ struct NodeStore {
   // Under MPI each rank computes the forces and new velocities of its own nodes and shares them
   // with the others every step (the time loop's halo phase). The nodes are dealt out in blocks of
   // the node order, or, in a deck of SPH fluid alone, by region (`regions`, docs/SCALING.md §3).
-  // `owner`: each row's rank (empty for one process).
+  // `owner`: dealt by region, each row's rank (empty otherwise: in blocks `rank_begin` tells).
   std::vector<std::int32_t> owner;
   int rank = 0;
   // A range that holds every node this process computes, [owned_begin, owned_end): all of them for
@@ -82,8 +82,16 @@ struct NodeStore {
     owned_end = n;
   }
 
-  bool owns(Index i) const { return owner.empty() || owner[i] == rank; }
   bool by_region() const { return !regions.empty(); }
+  bool owns(Index i) const {
+    return by_region() ? owner[i] == rank : rank_begin.empty() || (owned_begin <= i && i < owned_end);
+  }
+  // The rank that computes row i (this process's rank until the nodes are dealt).
+  int rank_of(Index i) const {
+    if (by_region()) return owner[i];
+    if (rank_begin.empty()) return rank;
+    return static_cast<int>(std::upper_bound(rank_begin.begin(), rank_begin.end(), deck_index(i)) - rank_begin.begin()) - 1;
+  }
   // The nodes this process computes: owned_node(k) for k in [0, owned_count()), ascending.
   Index owned_count() const { return by_region() ? static_cast<Index>(owned.size()) : owned_end - owned_begin; }
   Index owned_node(Index k) const { return by_region() ? owned[k] : owned_begin + k; }
@@ -96,10 +104,8 @@ struct NodeStore {
     rank = self;
     owned_begin = rank_begin[rank];
     owned_end = rank_begin[rank + 1];
-    owner.resize(size());
+    std::vector<std::int32_t>().swap(owner);
     block_ = false;
-    for (int r = 0; r + 1 < static_cast<int>(rank_begin.size()); ++r)
-      std::fill(owner.begin() + rank_begin[r], owner.begin() + rank_begin[r + 1], r);
     ++partition;
   }
 

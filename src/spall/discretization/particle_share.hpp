@@ -25,7 +25,9 @@ class ParticleShare {
   // The nodes this rank computes, from the store the particles' nodes are in; until then, all.
   void bind(const NodeStore& nodes) {
     if (bound_ && partition_ == nodes.partition) return;
-    owner_ = nodes.owner;
+    // By region each node's rank, in blocks every rank's first node: O(P), not O(N).
+    owner_ = nodes.by_region() ? nodes.owner : std::vector<std::int32_t>{};
+    rank_begin_ = nodes.by_region() ? std::vector<Index>{} : nodes.rank_begin;
     rank_ = nodes.rank;
     partition_ = nodes.partition;
     offsets_.clear();  // planned again for the new blocks
@@ -36,12 +38,16 @@ class ParticleShare {
   // Bound to blocks that the nodes have since been dealt anew from.
   bool stale(const NodeStore& nodes) const { return bound_ && partition_ != nodes.partition; }
 
-  bool owns(Index node) const { return owner_.empty() || owner_[node] == rank_; }
+  bool owns(Index node) const { return !dealt() || rank_of(node) == rank_; }
   // Whether the nodes are dealt to the ranks (bound under MPI): until then this rank computes all.
-  bool dealt() const { return !owner_.empty(); }
+  bool dealt() const { return !owner_.empty() || !rank_begin_.empty(); }
   int rank() const { return rank_; }
-  // The rank that computes a node, in the partition bound to (once bound, under MPI).
-  int rank_of(Index node) const { return owner_[node]; }
+  // The rank that computes a node, in the partition bound to (once bound, under MPI). In blocks
+  // the rows are every node in the deck's order, so a row is its place in the blocks.
+  int rank_of(Index node) const {
+    if (!owner_.empty()) return owner_[node];
+    return static_cast<int>(std::upper_bound(rank_begin_.begin(), rank_begin_.end(), node) - rank_begin_.begin()) - 1;
+  }
   // The ranks a sum over the particles this rank computes must be taken across: none until bound
   // (every rank computes every particle then, as in the set-up).
   const parallel::Communicator* across() const { return bound_ ? &parallel::world() : nullptr; }
@@ -121,7 +127,7 @@ class ParticleShare {
   void plan(std::span<const Index> node) {
     const int ranks = parallel::world().size();
     const Index n = static_cast<Index>(node.size());
-    if (owner_.empty()) throw std::logic_error("ParticleShare: the nodes were not dealt out to the ranks");
+    if (!dealt()) throw std::logic_error("ParticleShare: the nodes were not dealt out to the ranks");
     std::vector<int> rank(n);
     parallel::for_each(n, [&](Index a) { rank[a] = rank_of(node[a]); });
     offsets_.assign(ranks + 1, 0);
@@ -184,7 +190,10 @@ class ParticleShare {
     parallel::world().share(std::span(values), entries);
   }
 
-  std::vector<std::int32_t> owner_;  // NodeStore::owner of the partition bound to (empty: every node)
+  // The partition bound to: by region NodeStore::owner, in blocks NodeStore::rank_begin (both
+  // empty: this rank computes every node).
+  std::vector<std::int32_t> owner_;
+  std::vector<Index> rank_begin_;
   int rank_ = 0;
   long long partition_ = 0;
   bool bound_ = false;
