@@ -111,6 +111,13 @@ class Communicator {
     exchange_bytes(reinterpret_cast<const std::byte*>(send.data()), reinterpret_cast<std::byte*>(receive.data()),
                    sizeof(T), send_offsets, receive_offsets);
   }
+  // The same for records of `record_bytes` bytes each (several arrays' values packed one after
+  // the other), the offsets counting records: a message may pass 2 GiB while its count of records
+  // is an Index.
+  void exchange_records(std::span<const std::byte> send, std::size_t record_bytes, std::span<const Index> send_offsets,
+                        std::span<std::byte> receive, std::span<const Index> receive_offsets) const {
+    exchange_bytes(send.data(), receive.data(), record_bytes, send_offsets, receive_offsets);
+  }
   // Each rank's lists out, one for each rank, and the lists for this one in: `out[r]` goes to rank
   // r, and what every rank sent this one comes back one sender after another, in rank order (the
   // counts by offsets_in, then exchange). Particles sent to the ranks that need them.

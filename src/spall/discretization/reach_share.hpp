@@ -97,10 +97,7 @@ class ReachShare {
     };
     std::size_t at = 0;
     (pack(values, at), ...);
-    std::vector<Index> send_offsets(send_offsets_), receive_offsets(receive_offsets_);
-    for (Index& o : send_offsets) o *= static_cast<Index>(record);
-    for (Index& o : receive_offsets) o *= static_cast<Index>(record);
-    parallel::world().exchange(std::span<const std::byte>(send), send_offsets, std::span(receive), receive_offsets);
+    parallel::world().exchange_records(send, record, send_offsets_, receive, receive_offsets_);
     at = 0;
     (unpack(values, at), ...);
   }
@@ -113,14 +110,14 @@ class ReachShare {
     if (!planned()) return;
     const std::size_t record = ((values.empty() ? 0 : sizeof(T)) + ... + 0);  // bytes an entry
     if (record == 0) return;
-    // Each particle's first entry in the message, and each rank's (in entries).
+    // Each particle's first entry in the message, and each rank's.
     const auto places = [&](const std::vector<Index>& particles, const std::vector<Index>& by_rank,
                             std::vector<Index>& first, std::vector<Index>& rank_first) {
       first.assign(particles.size() + 1, 0);
       for (std::size_t k = 0; k < particles.size(); ++k)
         first[k + 1] = first[k] + row_offsets[particles[k] + 1] - row_offsets[particles[k]];
       rank_first.resize(by_rank.size());
-      for (std::size_t r = 0; r < by_rank.size(); ++r) rank_first[r] = first[by_rank[r]] * static_cast<Index>(record);
+      for (std::size_t r = 0; r < by_rank.size(); ++r) rank_first[r] = first[by_rank[r]];
     };
     std::vector<Index> send_first, send_offsets, receive_first, receive_offsets;
     places(send_, send_offsets_, send_first, send_offsets);
@@ -146,7 +143,7 @@ class ReachShare {
       });
     };
     copy_rows(send_, send_first, send, true);
-    parallel::world().exchange(std::span<const std::byte>(send), send_offsets, std::span(receive), receive_offsets);
+    parallel::world().exchange_records(send, record, send_offsets, receive, receive_offsets);
     copy_rows(receive_, receive_first, receive, false);
   }
 

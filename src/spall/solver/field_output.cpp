@@ -70,7 +70,7 @@ BorrowedFields borrowed_fields(const discretization::FieldSet& set, const discre
   const int size = ranks.size();
   std::vector<std::vector<Index>> borrowed(size);  // places in `written`, by the rank that computes them
   for (std::size_t k = 0; k < written.size(); ++k)
-    if (!nodes.owns(written[k])) borrowed[nodes.owner[written[k]]].push_back(static_cast<Index>(k));
+    if (!nodes.owns(written[k])) borrowed[nodes.rank_of(written[k])].push_back(static_cast<Index>(k));
   BorrowedFields found;
   std::vector<Index> ask, ask_offsets(size + 1, 0);
   for (int r = 0; r < size; ++r) {
@@ -97,10 +97,9 @@ BorrowedFields borrowed_fields(const discretization::FieldSet& set, const discre
           answer[k * record + at++] = std::bit_cast<double>(values[row * field.components + c]);
       }, field.values);
   }
-  std::vector<Index> answer_offsets(asked_offsets), answered_offsets(ask_offsets);
-  for (Index& o : answer_offsets) o *= record;
-  for (Index& o : answered_offsets) o *= record;
-  ranks.exchange(std::span<const double>(answer), answer_offsets, std::span(found.records), answered_offsets);
+  if (record > 0)  // every rank writes the same fields
+    ranks.exchange_records(std::as_bytes(std::span(answer)), record * sizeof(double), asked_offsets,
+                           std::as_writable_bytes(std::span(found.records)), ask_offsets);
   return found;
 }
 }  // namespace
