@@ -53,8 +53,9 @@ void RigidWall::complete_state() {
 }
 
 void RigidWall::find_rows(const discretization::NodeStore& nodes, bool own_only) {
-  if (rows_partition_ == nodes.partition) return;
-  if (own_only) complete_state();
+  if (rows_partition_ == nodes.partition && rows_layout_ == nodes.layout) return;
+  const bool new_partition = rows_partition_ != nodes.partition;
+  if (own_only && new_partition) complete_state();
   const Index count = static_cast<Index>(nodes_.size());
   row_.resize(count);
   for (Index k = 0; k < count; ++k) row_[k] = nodes.row_of(nodes_[k]);
@@ -66,6 +67,7 @@ void RigidWall::find_rows(const discretization::NodeStore& nodes, bool own_only)
   for (Index k = 0; k < count; ++k)
     if (!own_only || mine_[k]) passed_.push_back(k);
   rows_partition_ = nodes.partition;
+  rows_layout_ = nodes.layout;
 }
 
 void RigidWall::enforce(discretization::NodeStore& nodes, Real t_mid, Real dt, Real dt_mid) {

@@ -85,15 +85,15 @@ class RigidWall {
   // The wall's velocity after the impulses, and which candidates are pushed (`active_`).
   Real solve_wall_velocity();
   void share_candidates();
-  // Each tracked node's row in `nodes`, once a partition (the rows of a rank's own change with it);
-  // under MPI with velocities by reach, the state of the nodes this rank computed in the last one
-  // to every rank first.
+  // Each tracked node's row in `nodes`, once the rows change (NodeStore::layout); at a new
+  // partition under MPI with velocities by reach, the state of the nodes this rank computed in the
+  // last one to every rank first.
   void find_rows(const discretization::NodeStore& nodes, bool own_only);
 
   Definition definition_;
   std::vector<Index> nodes_;  // the tracked nodes' places in the deck
   std::vector<Index> row_;    // and their rows in the node store (-1: not held by this rank)
-  long long rows_partition_ = -1;
+  long long rows_partition_ = -1, rows_layout_ = -1;
   // Under MPI with velocities by reach: 1 for the tracked nodes this rank computes, whose state_
   // is current here (empty while every rank holds every node's).
   std::vector<std::uint8_t> mine_;

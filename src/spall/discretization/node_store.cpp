@@ -4,6 +4,7 @@
 #include <limits>
 #include <numeric>
 #include <stdexcept>
+#include <type_traits>
 
 #include "spall/core/communicator.hpp"
 #include "spall/core/pieces.hpp"
@@ -12,12 +13,19 @@
 namespace spall::discretization {
 
 namespace {
+// Calls visit(array) for each per-row array of a node's state and force.
+template <class Visit>
+void each_state_array(NodeStore& nodes, Visit&& visit) {
+  visit(nodes.id), visit(nodes.part), visit(nodes.x0), visit(nodes.x), visit(nodes.v);
+  visit(nodes.f), visit(nodes.mass), visit(nodes.fixed), visit(nodes.active), visit(nodes.body);
+}
+
 // Calls visit(array) for each per-row array that goes with a row: the state, its place in the deck
 // and its rank.
 template <class Visit>
 void each_row_array(NodeStore& nodes, Visit&& visit) {
-  visit(nodes.global), visit(nodes.id), visit(nodes.part), visit(nodes.x0), visit(nodes.x), visit(nodes.v);
-  visit(nodes.f), visit(nodes.mass), visit(nodes.fixed), visit(nodes.active), visit(nodes.body), visit(nodes.owner);
+  visit(nodes.global), visit(nodes.owner);
+  each_state_array(nodes, visit);
 }
 
 // Row i's state from a row that travelled or was checkpointed (the force is not in it).
@@ -56,7 +64,7 @@ inline constexpr bool archived_as_bytes<discretization::SavedRow> = true;
 namespace spall::discretization {
 
 Index NodeStore::row_of(Index deck) const {
-  if (global.empty()) return deck >= 0 && deck < size() ? deck : -1;
+  if (global.empty()) return deck >= window_first_ && deck - window_first_ < size() ? deck - window_first_ : -1;
   const auto sorted_end = by_deck_.begin() + static_cast<std::ptrdiff_t>(sorted_by_deck_);
   const auto at = std::lower_bound(by_deck_.begin(), sorted_end, std::pair<Index, Index>{deck, -1});
   if (at != sorted_end && at->first == deck) return at->second;
@@ -87,6 +95,77 @@ void NodeStore::hold_block(Index first, Index every) {
   global.resize(size());
   std::iota(global.begin(), global.end(), first);
   index_by_deck();
+  ++layout;
+}
+
+void NodeStore::deal(std::vector<Index> begins, int self) {
+  if (windowed_) {  // every rank, its new block empty or not
+    const bool own_nodes = begins[self] < begins[self + 1];
+    hold_window(own_nodes ? std::min(window_first_, begins[self]) : window_first_,
+                own_nodes ? std::max(window_first_ + size(), begins[self + 1]) : window_first_ + size());
+  }
+  rank_begin = std::move(begins);
+  regions = {};
+  owned.clear();
+  rank = self;
+  const bool own_nodes = rank_begin[rank] < rank_begin[rank + 1];
+  owned_begin = own_nodes ? rank_begin[rank] - window_first_ : 0;
+  owned_end = own_nodes ? rank_begin[rank + 1] - window_first_ : 0;
+  std::vector<std::int32_t>().swap(owner);
+  block_ = false;
+  ++partition;
+  ++layout;
+}
+
+void NodeStore::hold_window(Index first, Index end) {
+  if (by_region() || rank_begin.empty() || numbered_)
+    throw std::logic_error("NodeStore::hold_window: the nodes are not dealt in blocks");
+  if (!windowed_) deck_nodes_ = size();
+  end = std::max(first, end);
+  const Index own_first = rank_begin[rank], own_end = rank_begin[rank + 1];
+  if (first < 0 || end > deck_nodes_ || (own_first < own_end && (own_first < first || own_end > end)))
+    throw std::logic_error("NodeStore::hold_window: a window beyond the nodes or without this rank's own");
+  const Index old_first = window_first_, old_end = window_first_ + size();  // every node until a window
+  struct Window {
+    Index old_first, old_end, first, end;
+  };
+  const parallel::Communicator& ranks = parallel::world();
+  const std::vector<Window> windows = ranks.each(Window{old_first, old_end, first, end});
+  // To each other rank, the rows of this rank's own nodes in its new window but not in its old: the
+  // stretches of [first, end) ∩ [own_first, own_end) below and above its old window.
+  std::vector<std::vector<Row>> out(ranks.size());
+  for (int r = 0; r < ranks.size(); ++r) {
+    if (r == rank) continue;
+    const Window& w = windows[r];
+    const Index from = std::max(w.first, own_first), to = std::min(w.end, own_end);
+    const auto send = [&](Index begin, Index stop) {
+      for (Index place = begin; place < stop; ++place) out[r].push_back(row(place - window_first_));
+    };
+    send(from, std::min(to, w.old_first));
+    send(std::max(from, w.old_end), to);
+  }
+  const std::vector<Row> in = ranks.deliver(out);
+  // The rows held in both windows keep their state and force, the others come in.
+  const Index keep_first = std::max(first, old_first), keep_end = std::max(keep_first, std::min(end, old_end));
+  if (static_cast<Index>(in.size()) != (end - first) - (keep_end - keep_first))
+    throw std::logic_error("NodeStore::hold_window: a node of the new window came from no rank");
+  each_state_array(*this, [&](auto& array) {
+    std::remove_reference_t<decltype(array)> held(static_cast<std::size_t>(end - first));
+    if (keep_first < keep_end)
+      std::copy(array.begin() + (keep_first - old_first), array.begin() + (keep_end - old_first),
+                held.begin() + (keep_first - first));
+    array.swap(held);
+  });
+  window_first_ = first;
+  windowed_ = true;
+  for (const Row& arrived : in) {
+    const Index i = static_cast<Index>(arrived.global) - first;
+    set_state(*this, i, arrived);
+    f[i] = Vec3::Zero();
+  }
+  owned_begin = own_first < own_end ? own_first - first : 0;
+  owned_end = own_first < own_end ? own_end - first : 0;
+  ++layout;
 }
 
 Index NodeStore::add(const Row& row, int by) {
@@ -117,6 +196,7 @@ void NodeStore::keep(std::span<const Index> kept) {
 }
 
 std::pair<Index, Index> NodeStore::places_held() const {
+  if (windowed_) return {window_first_, window_first_ + size()};
   if (!numbered_) return {std::numeric_limits<Index>::min(), std::numeric_limits<Index>::max()};
   if (size() == 0) return {0, 0};
   const auto [lowest, highest] = std::minmax_element(global.begin(), global.end());
@@ -127,22 +207,25 @@ void NodeStore::checkpoint(Archive& a) {
   a.expect_size("nodes", static_cast<std::size_t>(deck_node_count()));
   const parallel::Communicator& ranks = parallel::world();
   if (!a.reading()) {
-    // By region each rank's own rows, else rank 0's every row (those are in the deck's order).
+    // Each rank's own rows where the rows are not every node, or may be stale on rank 0 (by region),
+    // else rank 0's every row (those are in the deck's order).
+    const bool own_rows = by_region() || !holds_every_node();
     std::vector<std::pair<Index, Index>> rows;  // (place in the deck, row), sorted
-    if (by_region()) {
-      for (const Index i : owned) rows.emplace_back(deck_index(i), i);
+    if (own_rows) {
+      for (Index k = 0; k < owned_count(); ++k) rows.emplace_back(deck_index(owned_node(k)), owned_node(k));
       std::sort(rows.begin(), rows.end());
     }
-    const Index count = by_region() ? static_cast<Index>(rows.size()) : ranks.rank() == 0 ? size() : 0;
-    const auto row_at = [&](Index k) { return by_region() ? rows[k].second : k; };
+    const Index count = own_rows ? static_cast<Index>(rows.size()) : ranks.rank() == 0 ? size() : 0;
+    const auto row_at = [&](Index k) { return own_rows ? rows[k].second : k; };
     parallel::write_pieces<SavedRow>(
         a, count, [&](Index k) { return SavedRow{row(row_at(k)), f[row_at(k)]}; },
         [&](Index k) { return deck_index(row_at(k)); }, ranks);
     return;
   }
   // Into every node, or into the rows a rank holds (the set-up in blocks built them: hold_block,
-  // then dealt), each filled once: the other ranks' rows are read past. A node under another ID or
+  // then dealt; or a window), each filled once: the other ranks' rows are read past. A node under another ID or
   // given twice, or one of the rows missing, stops every rank alike.
+  const bool own_rows = !holds_every_node();  // each rank reads into the rows it holds
   std::vector<std::uint8_t> seen(size(), 0);
   Index mismatch = -1;
   const auto [first, end] = places_held();
@@ -150,17 +233,17 @@ void NodeStore::checkpoint(Archive& a) {
     const Index place = static_cast<Index>(saved.row.global);
     const bool in_deck = place >= 0 && place < deck_node_count();
     const Index i = in_deck ? row_of(place) : -1;
-    if (numbered_ && in_deck && i < 0) return;  // another rank's row
+    if (own_rows && in_deck && i < 0) return;  // another rank's row
     if (i < 0 || seen[i]++ || saved.row.id != id[i]) {
       if (mismatch < 0) mismatch = std::max<Index>(place, 0);
       return;
     }
     set_state(*this, i, saved.row);
     f[i] = saved.f;
-  }, first, end, numbered_ ? &ranks : nullptr);
+  }, first, end, own_rows ? &ranks : nullptr);
   const auto unseen = std::find(seen.begin(), seen.end(), 0);
   Index missing = unseen == seen.end() ? -1 : deck_index(static_cast<Index>(unseen - seen.begin()));
-  parallel::check_read(a, "node", mismatch, missing, numbered_ ? &ranks : nullptr);
+  parallel::check_read(a, "node", mismatch, missing, own_rows ? &ranks : nullptr);
 }
 
 }  // namespace spall::discretization

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <span>
+#include <stdexcept>
 #include <utility>
 #include <vector>
 
@@ -51,6 +52,10 @@ struct NodeStore {
   // region they move between ranks as they flow (keep, add); `partition` counts the
   // changes, so that what was planned for a partition knows when it is stale.
   long long partition = 0;
+  // Counts the changes of which nodes the rows are and in what order (a new partition, a keep, a
+  // new window: hold_window), so that what keeps rows (a wall's, a prescribed motion's) finds them
+  // again; the rows added by region since the last keep come after the others and change none.
+  long long layout = 0;
   // Dealt by region, a rank has rows of its own: it keeps its own nodes and the others' that its
   // passes read, no more (memory O(N / P), docs/SCALING.md §3), and the rows change at each of the
   // formulation's rebuilds (keep, add). `global`: each row's place in the deck's order (empty while
@@ -62,7 +67,7 @@ struct NodeStore {
   bool velocities_by_reach = false;
 
   Index size() const { return static_cast<Index>(id.size()); }
-  Index deck_index(Index row) const { return global.empty() ? row : global[row]; }
+  Index deck_index(Index row) const { return global.empty() ? window_first_ + row : global[row]; }
   // The row of the node at `deck_index`, -1 when this rank holds none.
   Index row_of(Index deck_index) const;
 
@@ -80,6 +85,8 @@ struct NodeStore {
     part.assign(n, 0);
     owned_begin = 0;
     owned_end = n;
+    window_first_ = 0;
+    windowed_ = false;
   }
 
   bool by_region() const { return !regions.empty(); }
@@ -96,23 +103,27 @@ struct NodeStore {
   Index owned_count() const { return by_region() ? static_cast<Index>(owned.size()) : owned_end - owned_begin; }
   Index owned_node(Index k) const { return by_region() ? owned[k] : owned_begin + k; }
 
-  // Rank `r` computes the nodes [begins[r], begins[r + 1]); this process is rank `self`.
-  void deal(std::vector<Index> begins, int self) {
-    rank_begin = std::move(begins);
-    regions = {};
-    owned.clear();
-    rank = self;
-    owned_begin = rank_begin[rank];
-    owned_end = rank_begin[rank + 1];
-    std::vector<std::int32_t>().swap(owner);
-    block_ = false;
-    ++partition;
-  }
+  // Rank `r` computes the nodes [begins[r], begins[r + 1]); this process is rank `self`. Holding a
+  // window of the nodes (hold_window), each rank first holds the hull of it and its new block, the
+  // rows it lacks from the ranks that computed them: collective then.
+  void deal(std::vector<Index> begins, int self);
+
+  // Dealt in blocks: from now on this rank holds the nodes [first, end) of the node order, row i the
+  // node at place first + i (a window of the rows, docs/SCALING.md §5 step 5), which must hold its
+  // own block. A row it held keeps its state; one it lacked comes whole (NodeStore::Row, no force)
+  // from the rank that computes it, which holds its own block. Collective: every rank names its
+  // window at once. What its rows read of the other ranks' nodes stays the formulations' to bring in.
+  void hold_window(Index first, Index end);
+  // Whether the rows are a window of the node order (hold_window), the first of them at place
+  // window_first().
+  bool windowed() const { return windowed_; }
+  Index window_first() const { return window_first_; }
 
   // Each node computed by the rank whose region holds its position; this process is rank `self`.
   // Rows that are a block of the nodes (hold_block) stay with this rank until the formulations'
   // first rebuild migrates them to their regions' ranks, as after a re-cut.
   void deal(Regions cuts, int self) {
+    if (windowed_) throw std::logic_error("NodeStore::deal: rows that are a window of the node order dealt by region");
     regions = std::move(cuts);
     rank_begin.clear();
     rank = self;
@@ -123,6 +134,7 @@ struct NodeStore {
     block_ = false;
     list_owned();
     ++partition;
+    ++layout;
   }
 
   // The rows are the nodes [first, first + size()) of the deck's `every` (a rank's block of them,
@@ -165,17 +177,17 @@ struct NodeStore {
   }
 
   // Every node of the deck, whether this rank holds it or not.
-  Index deck_node_count() const { return numbered_ ? deck_nodes_ : size(); }
-  // Whether the rows are every node in the deck's order (not rows of a rank's own: a block or a
-  // region's).
-  bool holds_every_node() const { return !numbered_; }
+  Index deck_node_count() const { return numbered_ || windowed_ ? deck_nodes_ : size(); }
+  // Whether the rows are every node in the deck's order (not rows of a rank's own: a block, a
+  // window or a region's).
+  bool holds_every_node() const { return !numbered_ && !windowed_; }
   // The places in the deck's order from the lowest of the rows' to past the highest: every place
   // (of any Index) while the rows are every node.
   std::pair<Index, Index> places_held() const;
 
-  // Each node's row and force, in pieces (core/pieces.hpp): dealt by region each rank's own rows,
-  // else rank 0's every row (the whole state, made current there by the formulations'
-  // complete_state). Read back into every node, or into the rows of a rank's own (a block of them,
+  // Each node's row and force, in pieces (core/pieces.hpp): each rank's own rows where the rows are
+  // not every node (by region, in a window), else rank 0's every row (the whole state, made current
+  // there by the formulations' complete_state). Read back into every node, or into the rows of a rank's own (a block of them,
   // as the set-up in blocks builds them), whatever the ranks that wrote them; the IDs (the deck's)
   // are checked, the share of a rank (the run's) is not written. Collective, but for reading every
   // node.
@@ -189,6 +201,8 @@ struct NodeStore {
   Index deck_nodes_ = 0;  // every node of the deck, counted when the rows were last whole or built
   bool numbered_ = false;  // global holds the rows' places
   bool block_ = false;     // the rows are a block of the nodes (hold_block), not yet dealt
+  bool windowed_ = false;  // the rows are the window [window_first_, window_first_ + size())
+  Index window_first_ = 0;
   void index_by_deck();
   // Rows that are every node in the deck's order get their places (global), before they change.
   void number_rows();

@@ -346,11 +346,11 @@ class TimeLoop::Step {
     // By reach the bodies' nodes' forces come in here, before the halo: each body sums them all.
     if (nodes_.velocities_by_reach) problem_.rigid_bodies.share_forces(nodes_);
     problem_.rigid_bodies.advance(nodes_, step_.time, dt, dt_mid_);
-    // The driven nodes' rows (with rows of its own they change with the partition).
-    if (motion_rows_partition_ != nodes_.partition) {
+    // The driven nodes' rows (with rows of its own or a window they change: NodeStore::layout).
+    if (motion_rows_layout_ != nodes_.layout) {
       motion_row_.clear();
       for (const auto& m : problem_.motions) motion_row_.push_back(nodes_.row_of(m.node));
-      motion_rows_partition_ = nodes_.partition;
+      motion_rows_layout_ = nodes_.layout;
     }
     for (std::size_t k = 0; k < problem_.motions.size(); ++k) {
       const NodalMotion& m = problem_.motions[k];
@@ -551,7 +551,7 @@ class TimeLoop::Step {
   const LoadBalance balance_;
   std::vector<Vec3> v_old_;  // v^{n-1/2} during the update, then v^n (energies)
   std::vector<Index> motion_row_;  // each prescribed motion's node's row, -1 where not held
-  long long motion_rows_partition_ = -1;
+  long long motion_rows_layout_ = -1;
   // The last check of the ranks' work (balance()): when, and the time in collectives until then.
   std::chrono::steady_clock::time_point checked_at_;
   double communicating_at_check_ = 0;
