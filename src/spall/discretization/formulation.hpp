@@ -29,10 +29,10 @@ class Formulation {
   virtual Real stable_time_step(const NodeStore& nodes) const = 0;
 
   // Books dt times the power of the last internal forces at the node velocities v (mid-step
-  // velocities) into the ledger: the stored (strain) energy and whatever the formulation
-  // dissipates (artificial viscosity, hourglass control ...). Called every step, from the first,
-  // so that the formulation's terms are registered before the first output.
-  virtual void book_energies(EnergyLedger& ledger, std::span<const Vec3> v, Real dt) const = 0;
+  // velocities, one a row of `nodes`) into the ledger: the stored (strain) energy and whatever the
+  // formulation dissipates (artificial viscosity, hourglass control ...). Called every step, from
+  // the first, so that the formulation's terms are registered before the first output.
+  virtual void book_energies(EnergyLedger& ledger, const NodeStore& nodes, std::span<const Vec3> v, Real dt) const = 0;
 
   // Writes the formulation's output fields (pressure, von Mises stress, density, ...) for its own
   // nodes, and its cells if it has any: those whose first node this rank owns (NodeStore::owns),
@@ -66,6 +66,10 @@ class Formulation {
   // node whose position the formulation reads before it completes them (others in the range may be
   // stale): the time loop advances those and a rank's own, no more. Every row unless told.
   virtual parallel::Range rows_read(const NodeStore& nodes) const { return {0, nodes.size()}; }
+  // True when, the one formulation of a deck in blocks with the halo by reach, it can hold a
+  // window of the nodes (NodeStore::hold_window) of its own and those it reads, which it brings in,
+  // and read no other: the time loop then sets NodeStore::window_by_reads.
+  virtual bool holds_window() const { return false; }
   // True when the formulation's results do not depend on which rank computes which node, nor on
   // the order it holds them in, and it calls NodeStore::migrate for its nodes whenever every rank
   // holds their positions current: a deck of such formulations alone has its nodes dealt by region

@@ -65,11 +65,19 @@ struct NodeStore {
   // halo by reach, set by the time loop), so that the other ranks' nodes beyond that are stale and
   // the constraints act on a rank's own nodes; false when every velocity is shared each step.
   bool velocities_by_reach = false;
+  // Under MPI in blocks, with the halo by reach: true when the time loop lets the one formulation
+  // hold the window of the nodes it reads beyond its own block (hold_window), which it brings in.
+  bool window_by_reads = false;
 
   Index size() const { return static_cast<Index>(id.size()); }
   Index deck_index(Index row) const { return global.empty() ? window_first_ + row : global[row]; }
   // The row of the node at `deck_index`, -1 when this rank holds none.
   Index row_of(Index deck_index) const;
+  // A formulation names a node by its row where the rows have places of their own (`global`: by
+  // region, where rows move and are reordered), else by its place in the node order, from which a
+  // window's rows are offset: the name's place and its row.
+  Index node_place(Index name) const { return global.empty() ? name : global[name]; }
+  Index node_row(Index name) const { return global.empty() ? name - window_first_ : name; }
 
   // n owned nodes, at rest, massless, free, active, in no body.
   void resize(Index n) {

@@ -35,7 +35,7 @@ void archive_particle_pieces(Archive& a, const char* what, std::span<const Index
     // ranks share the particles out (a checkpoint of the set-up's state).
     std::vector<std::pair<Index, Index>> own;
     for (Index p = 0; p < n; ++p)
-      if (share.across() ? share.owns(node[p]) : ranks.rank() == 0) own.emplace_back(nodes.deck_index(node[p]), p);
+      if (share.across() ? share.owns(node[p]) : ranks.rank() == 0) own.emplace_back(nodes.node_place(node[p]), p);
     std::sort(own.begin(), own.end());
     const Index count = static_cast<Index>(own.size());
     const auto place = [&](Index k) { return own[k].first; };
@@ -64,7 +64,7 @@ void archive_particle_pieces(Archive& a, const char* what, std::span<const Index
   });
   Index missing = -1;
   for (Index p = 0; p < n && missing < 0; ++p)
-    if (!filled[p]) missing = nodes.deck_index(node[p]);
+    if (!filled[p]) missing = nodes.node_place(node[p]);
   parallel::check_read(a, what, mismatch, missing, nullptr);
   const auto read = [&](auto& array) {
     bool present = false;

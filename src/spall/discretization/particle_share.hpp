@@ -71,12 +71,17 @@ class ParticleShare {
     if (!bound_ || parallel::world().size() == 1) return;
     const Index n = static_cast<Index>(node.size());
     std::vector<Vec3> x(n), v(n);
-    parallel::for_each(n, [&](Index a) { x[a] = nodes.x[node[a]], v[a] = nodes.v[node[a]]; });
+    if (nodes.windowed() && nodes.size() < nodes.deck_node_count())
+      throw std::logic_error("ParticleShare::complete_nodes: a window of the nodes, not every node");
+    parallel::for_each(n, [&](Index a) {
+      const Index i = nodes.node_row(node[a]);
+      x[a] = nodes.x[i], v[a] = nodes.v[i];
+    });
     (*this)(node, x, v, values...);
     parallel::for_each(n, [&](Index a) {
       if (owns(node[a])) return;
-      nodes.x[node[a]] = x[a];
-      nodes.v[node[a]] = v[a];
+      nodes.x[nodes.node_row(node[a])] = x[a];
+      nodes.v[nodes.node_row(node[a])] = v[a];
     });
   }
 

@@ -16,11 +16,11 @@ void ReachShare::plan(std::span<const std::uint8_t> reads, std::span<const Index
   const parallel::Communicator& ranks = parallel::world();
   const int size = ranks.size();
   std::vector<std::vector<Index>> wanted(size);
-  // This rank's own particles by row, which the others ask for.
+  // This rank's own particles by their nodes' places, which the others ask for.
   std::vector<std::pair<Index, Index>> own;
   for (Index a = within.first; a < within.end; ++a) {
     if (share.owns(node[a]))
-      own.emplace_back(node[a], a);
+      own.emplace_back(nodes.node_place(node[a]), a);
     else if (reads[a])
       wanted[share.rank_of(node[a])].push_back(a);
   }
@@ -33,12 +33,12 @@ void ReachShare::plan(std::span<const std::uint8_t> reads, std::span<const Index
   receive_offsets_[size] = static_cast<Index>(receive_.size());
   send_offsets_ = ranks.offsets_in(receive_offsets_);
   std::vector<Index> wanted_nodes(receive_.size());
-  for (std::size_t k = 0; k < receive_.size(); ++k) wanted_nodes[k] = nodes.deck_index(node[receive_[k]]);
+  for (std::size_t k = 0; k < receive_.size(); ++k) wanted_nodes[k] = nodes.node_place(node[receive_[k]]);
   send_.resize(send_offsets_[size]);
   ranks.exchange(std::span<const Index>(wanted_nodes), receive_offsets_, std::span(send_), send_offsets_);
   // The nodes asked for, as this rank's particles.
   std::sort(own.begin(), own.end());
-  for (Index& k : send_) k = std::lower_bound(own.begin(), own.end(), std::pair(nodes.row_of(k), Index(0)))->second;
+  for (Index& k : send_) k = std::lower_bound(own.begin(), own.end(), std::pair(k, Index(0)))->second;
 }
 
 }  // namespace spall::discretization

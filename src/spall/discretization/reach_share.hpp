@@ -27,7 +27,8 @@ class ReachShare {
     Index first = 0, end = 0;
   };
   // `reads[a]` is 1 where this rank's passes read particle a (its own particles are skipped);
-  // `node[a]` is a's row in `nodes`, whose rank `share` knows. Collective: every rank plans at once.
+  // `node[a]` names a's node in `nodes` (NodeStore::node_place), whose rank `share` knows.
+  // Collective: every rank plans at once.
   // `within`: a stretch of the particles that holds every one read and this rank's own (the others
   // are then not looked at: under MPI a rank's passes stay off the rest).
   void plan(std::span<const std::uint8_t> reads, std::span<const Index> node, const ParticleShare& share,

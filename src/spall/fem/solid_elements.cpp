@@ -802,7 +802,8 @@ bool SolidElements::scale_mass_below(Real step, bool first_step_only) {
   return true;
 }
 
-void SolidElements::book_energies(discretization::EnergyLedger& ledger, std::span<const Vec3> v, Real dt) const {
+void SolidElements::book_energies(discretization::EnergyLedger& ledger, const discretization::NodeStore&,
+                                  std::span<const Vec3> v, Real dt) const {
   using Ledger = discretization::EnergyLedger;
   // The work of the internal forces and of the bulk viscosity's share at the mid-step velocities;
   // the hourglass control's dissipation at each element's own rates (as LS-DYNA books it; an exact

@@ -92,7 +92,8 @@ class SolidElements final : public discretization::Formulation {
   const char* name() const override { return "FEM"; }
   void compute_forces(discretization::NodeStore& nodes, Real dt) override;
   Real stable_time_step(const discretization::NodeStore& nodes) const override;
-  void book_energies(discretization::EnergyLedger& ledger, std::span<const Vec3> v, Real dt) const override;
+  void book_energies(discretization::EnergyLedger& ledger, const discretization::NodeStore& nodes,
+                     std::span<const Vec3> v, Real dt) const override;
   void write_fields(discretization::FieldSet& fields, const discretization::NodeStore& nodes) const override;
   Real max_wave_speed() const override { return max_sound_speed_; }
 

@@ -112,6 +112,10 @@ class TimeLoop::Step {
         if (nodes_.holds_a_block())
           throw std::logic_error("time loop: the set-up built a block of the nodes, which are not dealt by region");
         nodes_.deal(parallel::block_offsets(nodes_.size(), ranks.size()), ranks.rank());
+        // One formulation that brings in every node it reads, with no body or contact to read
+        // others: a rank holds the window of the nodes it computes and reads (docs/SCALING.md §5).
+        nodes_.window_by_reads = halo_by_reach_ && problem_.formulations.size() == 1 &&
+                                 problem_.formulations.front()->holds_window() && !bodies_and_contacts;
       }
     }
     // The loads are measured from here: the set-up's collectives (the cut among them) are not a
@@ -436,7 +440,7 @@ class TimeLoop::Step {
         if (!nodes_.owns(i)) v_n[i] += weight * (nodes_.v[i] - v_n[i]);
     const rigid::RigidBodies::Energies bodies = problem_.rigid_bodies.energies(weight, reaction_weight, dt_mid);
     ledger_.set(EnergyLedger::kinetic_energy, Role::kinetic, sums[2] + bodies.kinetic);
-    for (const auto& f : problem_.formulations) f->book_energies(ledger_, v_n, dt_mid);
+    for (const auto& f : problem_.formulations) f->book_energies(ledger_, nodes_, v_n, dt_mid);
     for (const auto& c : problem_.contacts) c.book_energies(ledger_, nodes_, v_n, dt_mid);
     ledger_.add(EnergyLedger::external_work_name, Role::external,
                 dt_mid * (sums[0] + sums[1] + bodies.reaction_power));

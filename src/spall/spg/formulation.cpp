@@ -25,7 +25,8 @@ discretization::InternalPower SpgFormulation::internal_power(std::span<const Vec
   return p;
 }
 
-void SpgFormulation::book_energies(discretization::EnergyLedger& ledger, std::span<const Vec3> v, Real dt) const {
+void SpgFormulation::book_energies(discretization::EnergyLedger& ledger, const discretization::NodeStore&,
+                                   std::span<const Vec3> v, Real dt) const {
   discretization::book_internal_power(ledger, internal_power(v), dt);
   if (!mass_scaled_) return;
   Real added = 0;

@@ -16,7 +16,8 @@ class SpgFormulation final : public discretization::Formulation {
   const char* name() const override { return "SPG"; }
   void compute_forces(discretization::NodeStore& nodes, Real dt) override;
   Real stable_time_step(const discretization::NodeStore& nodes) const override;
-  void book_energies(discretization::EnergyLedger& ledger, std::span<const Vec3> v, Real dt) const override;
+  void book_energies(discretization::EnergyLedger& ledger, const discretization::NodeStore& nodes,
+                     std::span<const Vec3> v, Real dt) const override;
   void write_fields(discretization::FieldSet& fields, const discretization::NodeStore& nodes) const override;
   // The power of the last internal forces at the node velocities v.
   discretization::InternalPower internal_power(std::span<const Vec3> v) const;

@@ -781,7 +781,8 @@ std::vector<Index> FluidFormulation::neighbour_counts() const {
   return counts;
 }
 
-void FluidFormulation::book_energies(discretization::EnergyLedger& ledger, std::span<const Vec3> v, Real dt) const {
+void FluidFormulation::book_energies(discretization::EnergyLedger& ledger, const discretization::NodeStore&,
+                                     std::span<const Vec3> v, Real dt) const {
   discretization::book_internal_power(ledger, internal_power(v), dt);
 }
 

@@ -384,16 +384,21 @@ bool SolidFormulation::active(Real time) const {
 
 void SolidFormulation::gather_kinematics(const discretization::NodeStore& nodes) {
   const Index n = particle_count();
-  if (first_node_ >= 0) {
+  if (first_node_ >= 0 && !nodes.windowed()) {
     x_ = std::span<const Vec3>(nodes.x).subspan(first_node_, n);
     v_ = std::span<const Vec3>(nodes.v).subspan(first_node_, n);
     return;
   }
+  // Copies: of the particles whose nodes the store holds (with a window of them, the others'
+  // stay as they were, stale).
   x_copy_.resize(n);
   v_copy_.resize(n);
-  parallel::for_each(n, [&](Index a) {
-    x_copy_[a] = nodes.x[node_[a]];
-    v_copy_[a] = nodes.v[node_[a]];
+  const Index held = nodes.window_first();  // the place of the first row (0 but for a window)
+  const auto first = std::lower_bound(node_.begin(), node_.end(), held) - node_.begin();
+  const auto end = std::lower_bound(node_.begin(), node_.end(), held + nodes.size()) - node_.begin();
+  parallel::for_each(parallel::Range{static_cast<Index>(first), static_cast<Index>(end)}, [&](Index a) {
+    x_copy_[a] = nodes.x[row(nodes, a)];
+    v_copy_[a] = nodes.v[row(nodes, a)];
   });
   x_ = x_copy_;
   v_ = v_copy_;
@@ -495,6 +500,10 @@ void SolidFormulation::update_neighbour_list(discretization::NodeStore& nodes) {
   ranks.minimum({&any, 1});
   if (any < 0) {
     complete_list();
+    if (nodes.window_by_reads) {  // every node is read now
+      nodes.hold_window(0, nodes.deck_node_count());
+      gather_kinematics(nodes);
+    }
     complete_kinematics(nodes);
     // Every particle's h and the constants the rows read, each rank's own (held already) in.
     hold_read_state({0, n});
@@ -620,13 +629,21 @@ BoundingBox SolidFormulation::search_near_rows(discretization::NodeStore& nodes)
     held = parallel::hull(held, {a, a + 1});
   }
   hold_read_state(held);  // the stretch grown to the particles that came in, whose h is written below
+  if (nodes.window_by_reads) {  // and the window of the nodes to their nodes
+    Index first = nodes.window_first(), end = first + nodes.size();
+    for (const NearParticle& p : receive) {
+      first = std::min(first, node_[p.particle]);
+      end = std::max(end, node_[p.particle] + 1);
+    }
+    nodes.hold_window(first, end);  // x_ and v_ gathered again below
+  }
   std::vector<Index> binned;
   binned.reserve(own.end - own.begin + receive.size());
   for (Index a = own.begin; a < own.end; ++a) binned.push_back(a);
   for (const NearParticle& p : receive) {
     const auto a = static_cast<Index>(p.particle);
-    nodes.x[node_[a]] = p.x;
-    nodes.v[node_[a]] = p.v;
+    nodes.x[row(nodes, a)] = p.x;
+    nodes.v[row(nodes, a)] = p.v;
     smoothing_length(a) = p.h;
     list_reach_[a] = cutoff_margin * p.h;
     binned.push_back(a);
@@ -1031,15 +1048,16 @@ void SolidFormulation::check_state(const discretization::NodeStore& nodes, Index
   // Under MPI the particle's state is current on its own rank alone, which tells every rank.
   struct Unsound {
     double density, h;
+    std::int64_t id;  // its node's
   };
   const Index a = first_unsound;
-  const Unsound mine = owns(a) ? Unsound{density_[a], smoothing_length(a)} : Unsound{};
+  const Unsound mine = owns(a) ? Unsound{density_[a], smoothing_length(a), nodes.id[row(nodes, a)]} : Unsound{};
   const Unsound found = parallel::world().all(std::span<const Unsound>(&mine, owns(a) ? 1 : 0)).at(0);
   throw InstabilityError(fmt::format(
       "SPH solid: node {} has density {:.6g} and smoothing length {:.6g}: its particle's "
       "neighbourhood has collapsed or torn apart (a smaller TSSFAC, or the artificial stress "
       "against the tensile instability, may help)",
-      nodes.id[node_[a]], found.density, found.h));
+      found.id, found.density, found.h));
 }
 
 void SolidFormulation::share_updated_state() {
@@ -1073,6 +1091,7 @@ void SolidFormulation::deal_anew(discretization::NodeStore& nodes) {
   share_.bind(nodes);
   search_computed_rows(nodes);
   plan_reach(nodes);
+  hold_nodes(nodes, true);  // the old rows sent from below and the new ones come in
   discretization::ReachShare arrivals;
   arrivals.plan(current_, node_, dealt_before, nodes);
   // The Own arrays hold the old own particles (what this rank sends) and those it now reads (what
@@ -1088,11 +1107,22 @@ void SolidFormulation::deal_anew(discretization::NodeStore& nodes) {
   hold_own_state(own_particles());
   hold_read_state(reads);
   held_partition_ = nodes.partition;
-  arrivals.records<Kinematics>([&](Index a) { return Kinematics{nodes.x[node_[a]], nodes.v[node_[a]]}; },
+  arrivals.records<Kinematics>([&](Index a) { return Kinematics{nodes.x[row(nodes, a)], nodes.v[row(nodes, a)]}; },
                                [&](Index a, const Kinematics& k) {
-                                 nodes.x[node_[a]] = k.x;
-                                 nodes.v[node_[a]] = k.v;
+                                 nodes.x[row(nodes, a)] = k.x;
+                                 nodes.v[row(nodes, a)] = k.v;
                                });
+  hold_nodes(nodes, false);
+}
+
+void SolidFormulation::hold_nodes(discretization::NodeStore& nodes, bool keep) {
+  if (!nodes.window_by_reads) return;
+  parallel::Range held{nodes.rank_begin[nodes.rank], nodes.rank_begin[nodes.rank + 1]};
+  const neighbors::ParticleRange reads = parallel::hull(read_stretch(), own_particles());
+  if (reads.begin < reads.end) held = parallel::hull(held, {node_[reads.begin], node_[reads.end - 1] + 1});
+  if (keep) held = parallel::hull(held, {nodes.window_first(), nodes.window_first() + nodes.size()});
+  nodes.hold_window(held.begin, held.end);
+  gather_kinematics(nodes);  // the rows moved: x_ and v_ from them
 }
 
 void SolidFormulation::hold_own_state(neighbors::ParticleRange range) {
@@ -1134,7 +1164,7 @@ void SolidFormulation::search_computed_rows(const discretization::NodeStore& nod
 // Rank 0 writes the nodes and the list's positions whole: every particle's position, velocity and
 // position at the last build.
 void SolidFormulation::complete_state(discretization::NodeStore& nodes) {
-  complete_kinematics(nodes);
+  if (!nodes.windowed()) complete_kinematics(nodes);  // a window's store writes each rank's own rows
   complete_list();
 }
 
@@ -1142,13 +1172,14 @@ parallel::Range SolidFormulation::rows_read(const discretization::NodeStore& nod
   if (!list_built_) return {0, nodes.size()};
   const neighbors::ParticleRange reads = read_state_held();
   if (reads.begin >= reads.end) return {0, 0};
-  return {node_[reads.begin], node_[reads.end - 1] + 1};
+  // Those the store holds: with a window of the nodes, the particles it does not are not read.
+  return {std::max<Index>(row(nodes, reads.begin), 0), std::min(row(nodes, reads.end - 1) + 1, nodes.size())};
 }
 
 void SolidFormulation::share_state(discretization::NodeStore& nodes) {
   if (!nodes.velocities_by_reach || !reach_.planned()) return;
-  reach_.records<Vec3>([&](Index a) { return nodes.v[node_[a]]; },
-                       [&](Index a, const Vec3& v) { nodes.v[node_[a]] = v; });
+  reach_.records<Vec3>([&](Index a) { return nodes.v[row(nodes, a)]; },
+                       [&](Index a, const Vec3& v) { nodes.v[row(nodes, a)] = v; });
   kinematics_complete_ = false;
 }
 
@@ -1341,6 +1372,7 @@ void SolidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt)
   if (distributed && (verlet_.builds() != builds || reach_partition_ != nodes.partition)) {
     plan_reach(nodes);
     hold_read_state(read_stretch());
+    hold_nodes(nodes, false);
     // The step-start state of the particles the new rows read, from their ranks (h came in with the
     // list build's near particles, but not at the first build or after a checkpoint). A particle the
     // old rows did not read lies beyond every support after a rebuild for motion (the skin), but not
@@ -1389,9 +1421,9 @@ void SolidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt)
         }
         if (!owns(a)) return;  // another rank's: its rank finds its limit
         force_[a].head<3>() += viscous_force_[a];
-        nodes.f[node_[a]] += force_[a].head<3>();
+        nodes.f[row(nodes, a)] += force_[a].head<3>();
         found.outgrown = found.outgrown || smoothing_length(a) > list_reach_[a];
-        found.step = std::min(found.step, stable_step_of(a, nodes.v[node_[a]]));
+        found.step = std::min(found.step, stable_step_of(a, nodes.v[row(nodes, a)]));
       },
       [](Found& found, const Found& other) {
         found.outgrown = found.outgrown || other.outgrown;
@@ -1422,19 +1454,20 @@ Real SolidFormulation::stable_time_step(const discretization::NodeStore& nodes) 
   return parallel::reduce_exact(
       own, std::numeric_limits<Real>::infinity(),
       [&](Index a) {
-        return stable_step_of(a, nodes.v[node_[a]]);
+        return stable_step_of(a, nodes.v[row(nodes, a)]);
       },
       [](Real x, Real y) { return std::min(x, y); });
 }
 
-discretization::InternalPower SolidFormulation::internal_power(std::span<const Vec3> v) const {
+discretization::InternalPower SolidFormulation::internal_power(const discretization::NodeStore& nodes,
+                                                               std::span<const Vec3> v) const {
   // Work of the internal forces on the nodes: strain energy grows by -f_stress . v, and the
   // artificial viscosity dissipates -f_visc . v >= 0. Exact sums (parallel::exact_sum).
   const neighbors::ParticleRange own = own_particles();  // under MPI, summed over the ranks
   const Sums<2> sums = parallel::exact_sum(
       own,
       [&](Index a) {
-        const Vec3& va = v[node_[a]];
+        const Vec3& va = v[row(nodes, a)];
         return Sums<2>{{(force_[a].head<3>() - viscous_force_[a]).dot(va), viscous_force_[a].dot(va)}};
       },
       &parallel::world());
@@ -1444,11 +1477,12 @@ discretization::InternalPower SolidFormulation::internal_power(std::span<const V
   return p;
 }
 
-void SolidFormulation::book_energies(discretization::EnergyLedger& ledger, std::span<const Vec3> v, Real dt) const {
-  discretization::book_internal_power(ledger, internal_power(v), dt);
+void SolidFormulation::book_energies(discretization::EnergyLedger& ledger, const discretization::NodeStore& nodes,
+                                     std::span<const Vec3> v, Real dt) const {
+  discretization::book_internal_power(ledger, internal_power(nodes, v), dt);
 }
 
-void SolidFormulation::write_fields(discretization::FieldSet& fields, const discretization::NodeStore&) const {
+void SolidFormulation::write_fields(discretization::FieldSet& fields, const discretization::NodeStore& nodes) const {
   const auto pressure = fields.node_real("pressure"), von_mises = fields.node_real("von_mises"),
              density = fields.node_real("density"), smoothing = fields.node_real("smoothing_length"),
              energy = fields.node_real("internal_energy"),
@@ -1460,7 +1494,7 @@ void SolidFormulation::write_fields(discretization::FieldSet& fields, const disc
   const auto& list = verlet_.list();
   const neighbors::ParticleRange own = own_particles();  // under MPI each rank writes its own
   for (Index a = own.begin; a < own.end; ++a) {
-    const Index i = node_[a];
+    const Index i = row(nodes, a);
     const Mat3& S = state_[a].deviatoric_stress;
     plastic_strain[i] = state_[a].plastic_strain;
     failed[i] = state_[a].failed;
@@ -1477,13 +1511,13 @@ void SolidFormulation::write_fields(discretization::FieldSet& fields, const disc
   }
   if (has_temperature_) {
     const auto temperature = fields.node_real("temperature");
-    for (Index a = own.begin; a < own.end; ++a) temperature[node_[a]] = state_[a].temperature;
+    for (Index a = own.begin; a < own.end; ++a) temperature[row(nodes, a)] = state_[a].temperature;
   }
   if (!category_.empty()) {
     const auto colour = fields.node_real("colour_field"), normal = fields.node_real("colour_normal", 3);
     const auto category = fields.node_integer("category");
     for (Index a = own.begin; a < own.end; ++a) {
-      const Index i = node_[a];
+      const Index i = row(nodes, a);
       colour[i] = colour_[a];
       for (int d = 0; d < 3; ++d) normal[3 * i + d] = colour_normal_[a][d];
       category[i] = static_cast<std::int64_t>(category_[a]);
@@ -1492,7 +1526,8 @@ void SolidFormulation::write_fields(discretization::FieldSet& fields, const disc
   if (!exported_deviator_.empty()) {
     // What the relaxed treatment passes on (docs/THEORY.md §3); von_mises is the material's own.
     const auto exported = fields.node_real("exported_von_mises");
-    for (Index a = own.begin; a < own.end; ++a) exported[node_[a]] = materials::von_mises(exported_deviator_[a]);
+    for (Index a = own.begin; a < own.end; ++a)
+      exported[row(nodes, a)] = materials::von_mises(exported_deviator_[a]);
   }
 }
 

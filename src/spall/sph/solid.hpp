@@ -148,10 +148,11 @@ class SolidFormulation final : public discretization::Formulation {
   const char* name() const override { return "SPH"; }
   void compute_forces(discretization::NodeStore& nodes, Real dt) override;
   Real stable_time_step(const discretization::NodeStore& nodes) const override;
-  void book_energies(discretization::EnergyLedger& ledger, std::span<const Vec3> v, Real dt) const override;
+  void book_energies(discretization::EnergyLedger& ledger, const discretization::NodeStore& nodes,
+                     std::span<const Vec3> v, Real dt) const override;
   void write_fields(discretization::FieldSet& fields, const discretization::NodeStore& nodes) const override;
-  // The power of the last internal forces at the node velocities v.
-  discretization::InternalPower internal_power(std::span<const Vec3> v) const;
+  // The power of the last internal forces at the node velocities v (one a row of `nodes`).
+  discretization::InternalPower internal_power(const discretization::NodeStore& nodes, std::span<const Vec3> v) const;
   // The largest sound speed of the set-up's state.
   Real max_wave_speed() const override;
   void complete_state(discretization::NodeStore& nodes) override;
@@ -161,6 +162,9 @@ class SolidFormulation final : public discretization::Formulation {
   // ranks' particles this rank's rows read (reach_), from their ranks.
   void share_state(discretization::NodeStore& nodes) override;
   bool halo_by_reach() const override { return true; }
+  // With NodeStore::window_by_reads it holds the window of its own block and the nodes of the
+  // particles it reads (hold_nodes): at each list build, each new deal and where every row is read.
+  bool holds_window() const override { return true; }
   // The nodes of the particles whose read state this rank holds (read_state_held), which hold those
   // its rows read; every node until the first list says which.
   parallel::Range rows_read(const discretization::NodeStore& nodes) const override;
@@ -187,6 +191,12 @@ class SolidFormulation final : public discretization::Formulation {
 
  private:
   void gather_kinematics(const discretization::NodeStore& nodes);
+  // Particle a's node's row in `nodes` (the nodes are named by their places: NodeStore::node_row).
+  Index row(const discretization::NodeStore& nodes, Index a) const { return nodes.node_row(node_[a]); }
+  // With NodeStore::window_by_reads: the window of this rank's own block of the nodes and those of
+  // the particles it reads (read_stretch) from now on, with `keep` those it holds too, and x_ and v_
+  // from them (collective).
+  void hold_nodes(discretization::NodeStore& nodes, bool keep);
   void update_records();
   void update_neighbour_list(discretization::NodeStore& nodes);
   neighbors::ParticleRange own_particles() const;
@@ -343,7 +353,8 @@ class SolidFormulation final : public discretization::Formulation {
   Own<Category> category_;
   // Scratch of the current step.
   // x and v of the particles' nodes: the node store's own arrays when the particles own a
-  // contiguous run of nodes (first_node_ >= 0), else copies gathered into x_copy_, v_copy_.
+  // contiguous run of nodes (first_node_ >= 0) and it holds every node, else copies gathered into
+  // x_copy_, v_copy_ (of the particles whose nodes a window holds).
   std::span<const Vec3> x_, v_;
   std::vector<Vec3> x_copy_, v_copy_;
   Index first_node_ = -1;
