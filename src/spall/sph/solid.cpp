@@ -1547,7 +1547,8 @@ std::size_t bytes(const discretization::RangeArray<T>& v) {
 // the list's positions at its build and its reach, not its rows) from rank 0, then each
 // particle's state in pieces from the rank that computes it (discretization/particle_pieces.hpp).
 void SolidFormulation::checkpoint(Archive& a, const discretization::NodeStore& nodes) {
-  a.section("sph solid 4");  // 2: the list without its rows; 3: the constants in pieces; 4: no wave speed
+  // 2: the list without its rows; 3: the constants in pieces; 4: no wave speed; 5: no copies of x and v
+  a.section("sph solid 5");
   a.expect_size("SPH solid particles", node_.size());
   a(node_, uniform_mass_, record_origin_, list_reach_, full_support_gradient_, support_mask_, force_blocks_,
     force_block_length_, verlet_, time_, step_, list_built_, h_outgrown_, stable_step_, has_temperature_);
@@ -1556,8 +1557,8 @@ void SolidFormulation::checkpoint(Archive& a, const discretization::NodeStore& n
       full_support_count_, smoothing_length_, record_, viscosity_record_, stress_, plain_stress_,
       density_, volume_, updated_volume_, pressure_, sound_speed_, updated_sound_speed_, internal_energy_, state_,
       back_stress_, gradient_amplification_, correction_, artificial_stress_, exported_deviator_, colour_,
-      colour_normal_, support_count_, category_, x_copy_, v_copy_, density_rate_, velocity_gradient_,
-      strain_rate_squared_, viscous_heating_, viscous_force_, force_);
+      colour_normal_, support_count_, category_, density_rate_, velocity_gradient_, strain_rate_squared_,
+      viscous_heating_, viscous_force_, force_);
   // Read whole by every rank, which plans its reach again and keeps its own particles' state (and
   // constants, once a list was built: else at the first build).
   if (a.reading()) {
