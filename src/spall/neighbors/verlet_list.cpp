@@ -97,7 +97,7 @@ struct CellOrderedPositions {
   Vec3 lower;
 
   // order[k]: the particle at position k of the cells.
-  CellOrderedPositions(std::span<const Vec3> positions, const CellList& cells, std::span<const Index> order)
+  CellOrderedPositions(StretchView<Vec3> positions, const CellList& cells, std::span<const Index> order)
       : x(order.size() + search_lanes), y(x.size()), z(x.size()), particle(x.size()), lower(cells.lower()) {
     const auto n = static_cast<std::int64_t>(order.size());
     parallel::for_each(n, [&](std::int64_t k) {
@@ -180,7 +180,7 @@ void size_storage(std::vector<Index>& storage, std::size_t total) {
 
 }  // namespace
 
-void VerletList::build(std::span<const Vec3> x, Real cutoff, Real skin, ParticleRange rows) {
+void VerletList::build(StretchView<Vec3> x, Real cutoff, Real skin, ParticleRange rows) {
   if (!(cutoff > 0) || !(skin >= 0)) {
     throw std::invalid_argument("neighbour search: need cutoff > 0 and skin >= 0, got cutoff " +
                                 std::to_string(cutoff) + " and skin " + std::to_string(skin));
@@ -193,7 +193,7 @@ void VerletList::build(std::span<const Vec3> x, Real cutoff, Real skin, Particle
              RowOrder::ascending, rows);
 }
 
-void VerletList::build(std::span<const Vec3> x, std::span<const Real> reach, Real skin, RowOrder order,
+void VerletList::build(StretchView<Vec3> x, std::span<const Real> reach, Real skin, RowOrder order,
                        ParticleRange rows, const BinnedSubset* binned) {
   if (reach.size() != x.size())
     throw std::invalid_argument("neighbour search: need one reach per particle");
@@ -228,7 +228,7 @@ void VerletList::build(std::span<const Vec3> x, std::span<const Real> reach, Rea
   build_reach(x, reach, rows, binned);
 }
 
-void VerletList::build_reach(std::span<const Vec3> x, std::span<const Real> reach, ParticleRange rows,
+void VerletList::build_reach(StretchView<Vec3> x, std::span<const Real> reach, ParticleRange rows,
                              const BinnedSubset* binned) {
   const Real largest = cutoff_ / 2, skin = skin_;
   build_rows(x, cutoff_ + skin,
@@ -250,7 +250,7 @@ void VerletList::search_every_row(std::span<const Real> reach) {
 }
 
 template <typename MakeRadius>
-void VerletList::build_rows(std::span<const Vec3> x, Real radius, const MakeRadius& make_radius,
+void VerletList::build_rows(StretchView<Vec3> x, Real radius, const MakeRadius& make_radius,
                             RowOrder row_order, ParticleRange rows, const BinnedSubset* binned) {
   const auto n = static_cast<Index>(x.size());
   // Of a subset, its positions alone (the others' are not current here, and are not read).
@@ -258,7 +258,8 @@ void VerletList::build_rows(std::span<const Vec3> x, Real radius, const MakeRadi
     x_at_build_.resize(n);
     for (const Index a : binned->particles) x_at_build_[a] = x[a];
   } else {
-    x_at_build_.assign(x.begin(), x.end());
+    const std::span<const Vec3> every = x.every();
+    x_at_build_.assign(every.begin(), every.end());
   }
   subset_ = binned != nullptr;
   rows_ = {std::clamp(rows.begin, Index(0), n), std::clamp(rows.end, Index(0), n)};
@@ -280,7 +281,7 @@ void VerletList::build_rows(std::span<const Vec3> x, Real radius, const MakeRadi
     order = cells.take_order();
     for (Index& k : order) k = subset[k];
   } else {
-    cells.build(x, radius / stencil_reach);
+    cells.build(x.every(), radius / stencil_reach);
     order = cells.take_order();
   }
   const CellOrderedPositions p(x, cells, order);
@@ -348,7 +349,7 @@ void VerletList::build_rows(std::span<const Vec3> x, Real radius, const MakeRadi
   });
 }
 
-bool VerletList::needs_rebuild(std::span<const Vec3> x) const {
+bool VerletList::needs_rebuild(StretchView<Vec3> x) const {
   if (list_.offsets.empty() || x.size() != x_at_build_.size()) return true;
   // The list holds every pair within r_ij + skin at the build (r_ij <= cutoff_). A pair now closer
   // than r_ij was within |x_i - x_j| + |d_i - d_j| < r_ij + |d_i - d_j| then (triangle inequality,
@@ -356,7 +357,7 @@ bool VerletList::needs_rebuild(std::span<const Vec3> x) const {
   return !close_pairs_moved_together(x, x_at_build_, cutoff_, skin_);
 }
 
-bool VerletList::needs_rebuild(std::span<const Vec3> x, ParticleRange own, const parallel::Communicator& ranks) const {
+bool VerletList::needs_rebuild(StretchView<Vec3> x, ParticleRange own, const parallel::Communicator& ranks) const {
   if (list_.offsets.empty() || x.size() != x_at_build_.size()) return true;
   return !close_pairs_moved_together(x, x_at_build_, cutoff_, skin_, own, ranks);
 }

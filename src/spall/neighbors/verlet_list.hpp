@@ -10,6 +10,7 @@
 #include "spall/core/archive.hpp"
 #include "spall/core/bounding_box.hpp"
 #include "spall/core/communicator.hpp"
+#include "spall/core/stretch_view.hpp"
 #include "spall/core/types.hpp"
 #include "spall/neighbors/cell_list.hpp"
 
@@ -49,7 +50,7 @@ class VerletList {
   // InstabilityError when a position is not finite. With `rows`, only the rows of the particles
   // [rows.begin, rows.end) are searched, the others left empty: a rank's own particles under MPI,
   // whose rows the other ranks share (the SPG bonds).
-  void build(std::span<const Vec3> x, Real cutoff, Real skin,
+  void build(StretchView<Vec3> x, Real cutoff, Real skin,
              ParticleRange rows = {0, std::numeric_limits<Index>::max()});
   // Per-particle reach (every reach_i > 0): lists every pair closer than reach_i + reach_j + skin,
   // and stays valid for the pairs closer than reach_i + reach_j while needs_rebuild() is false.
@@ -57,8 +58,9 @@ class VerletList {
   // the largest. cutoff() is twice the largest reach. With `rows`, as above: the rows a rank
   // computes under MPI (the SPH solid's).
   // With `binned`, only its particles are binned (and only their positions and reaches read): each
-  // row searched must have all its neighbours among them.
-  void build(std::span<const Vec3> x, std::span<const Real> reach, Real skin,
+  // row searched must have all its neighbours among them, and `x` may be a stretch of the particles
+  // that holds them (StretchView); without, `x` is every particle's.
+  void build(StretchView<Vec3> x, std::span<const Real> reach, Real skin,
              RowOrder order = RowOrder::ascending, ParticleRange rows = {0, std::numeric_limits<Index>::max()},
              const BinnedSubset* binned = nullptr);
   // Whether the last build left rows empty that it was not asked for.
@@ -92,10 +94,10 @@ class VerletList {
   // positions (close_pairs_moved_together): a body that stretches or spins as a whole keeps its
   // list while neighbouring particles move together. True also for a non-finite position, a
   // changed particle count, or no build.
-  bool needs_rebuild(std::span<const Vec3> x) const;
-  // The same over several ranks, each holding current only the positions of its particles `own`:
-  // every rank gets the answer one process would give.
-  bool needs_rebuild(std::span<const Vec3> x, ParticleRange own, const parallel::Communicator& ranks) const;
+  bool needs_rebuild(StretchView<Vec3> x) const;
+  // The same over several ranks, each holding current only the positions of its particles `own`
+  // (`x` may be a stretch that holds them): every rank gets the answer one process would give.
+  bool needs_rebuild(StretchView<Vec3> x, ParticleRange own, const parallel::Communicator& ranks) const;
   const NeighborList& list() const { return list_; }
   Real cutoff() const { return cutoff_; }
   Real skin() const { return skin_; }
@@ -122,11 +124,11 @@ class VerletList {
   // Lists the pairs within make_radius(cell order).squared(k, j), radius being the largest pair
   // radius.
   template <typename MakeRadius>
-  void build_rows(std::span<const Vec3> x, Real radius, const MakeRadius& make_radius, RowOrder order,
+  void build_rows(StretchView<Vec3> x, Real radius, const MakeRadius& make_radius, RowOrder order,
                   ParticleRange rows, const BinnedSubset* binned = nullptr);
 
   // The per-particle reach build's rows (build_reach), searched on every rank alike.
-  void build_reach(std::span<const Vec3> x, std::span<const Real> reach, ParticleRange rows,
+  void build_reach(StretchView<Vec3> x, std::span<const Real> reach, ParticleRange rows,
                    const BinnedSubset* binned = nullptr);
 
   NeighborList list_;

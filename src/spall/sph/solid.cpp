@@ -389,19 +389,22 @@ void SolidFormulation::gather_kinematics(const discretization::NodeStore& nodes)
     v_ = std::span<const Vec3>(nodes.v).subspan(first_node_, n);
     return;
   }
-  // Copies: of the particles whose nodes the store holds (with a window of them, the others'
-  // stay as they were, stale).
-  x_copy_.resize(n);
-  v_copy_.resize(n);
+  // Copies of the stretch of particles whose nodes the store holds (every particle but for a window).
   const Index held = nodes.window_first();  // the place of the first row (0 but for a window)
-  const auto first = std::lower_bound(node_.begin(), node_.end(), held) - node_.begin();
-  const auto end = std::lower_bound(node_.begin(), node_.end(), held + nodes.size()) - node_.begin();
-  parallel::for_each(parallel::Range{static_cast<Index>(first), static_cast<Index>(end)}, [&](Index a) {
+  const auto particle_at = [&](Index place) {
+    return static_cast<Index>(std::lower_bound(node_.begin(), node_.end(), place) - node_.begin());
+  };
+  const Index first = particle_at(held), end = particle_at(held + nodes.size());
+  for (auto* copy : {&x_copy_, &v_copy_}) {
+    if (copy->empty()) copy->resize(0);  // on
+    copy->hold(first, end);
+  }
+  parallel::for_each(parallel::Range{first, end}, [&](Index a) {
     x_copy_[a] = nodes.x[row(nodes, a)];
     v_copy_[a] = nodes.v[row(nodes, a)];
   });
-  x_ = x_copy_;
-  v_ = v_copy_;
+  x_ = StretchView<Vec3>(x_copy_.data(), first, end - first, n);
+  v_ = StretchView<Vec3>(v_copy_.data(), first, end - first, n);
 }
 
 // The particles of this step into the records of the pair loops.

@@ -352,11 +352,11 @@ class SolidFormulation final : public discretization::Formulation {
   Own<Real> full_support_count_;           // the count of a full support at this h/spacing
   Own<Category> category_;
   // Scratch of the current step.
-  // x and v of the particles' nodes: the node store's own arrays when the particles own a
-  // contiguous run of nodes (first_node_ >= 0) and it holds every node, else copies gathered into
-  // x_copy_, v_copy_ (of the particles whose nodes a window holds).
-  std::span<const Vec3> x_, v_;
-  std::vector<Vec3> x_copy_, v_copy_;
+  // x and v of the particles' nodes, by particle: the node store's own arrays when the particles own
+  // a contiguous run of nodes (first_node_ >= 0) and it holds every node, else copies gathered into
+  // x_copy_, v_copy_, of the stretch of particles whose nodes a window holds under MPI.
+  StretchView<Vec3> x_, v_;
+  discretization::RangeArray<Vec3> x_copy_, v_copy_;
   Index first_node_ = -1;
   // The rates that wait for the categorization (empty when not categorizing).
   Own<Real> density_rate_;
