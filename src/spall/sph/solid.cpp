@@ -1094,7 +1094,7 @@ void SolidFormulation::deal_anew(discretization::NodeStore& nodes) {
   share_.bind(nodes);
   search_computed_rows(nodes);
   plan_reach(nodes);
-  hold_nodes(nodes, true);  // the old rows sent from below and the new ones come in
+  hold_nodes(nodes, true);  // the old own rows, which the arrivals below send from, and the new reads
   discretization::ReachShare arrivals;
   arrivals.plan(current_, node_, dealt_before, nodes);
   // The Own arrays hold the old own particles (what this rank sends) and those it now reads (what
@@ -1164,8 +1164,8 @@ void SolidFormulation::search_computed_rows(const discretization::NodeStore& nod
   if (!verlet_.searched(computed_rows())) verlet_.search_every_row(list_reach_);  // blocks longer than the margin
 }
 
-// Rank 0 writes the nodes and the list's positions whole: every particle's position, velocity and
-// position at the last build.
+// Rank 0 writes the list's positions whole, and the nodes too unless the store is a window (each
+// rank writes its own rows then): every particle's position, velocity and position at the last build.
 void SolidFormulation::complete_state(discretization::NodeStore& nodes) {
   if (!nodes.windowed()) complete_kinematics(nodes);  // a window's store writes each rank's own rows
   complete_list();
