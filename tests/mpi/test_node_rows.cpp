@@ -195,7 +195,6 @@ TEST(NodeRows, AWindowOfTheNodeOrderHeldDealtAndCheckpointed) {
   const parallel::Communicator& ranks = parallel::world();
   const NodeStore reference = whole_store();
   NodeStore nodes = reference;
-  nodes.owner.clear(), nodes.regions = {}, nodes.owned.clear();
   nodes.deal(parallel::block_offsets(nodes.size(), ranks.size()), ranks.rank());
   const Index own_first = nodes.rank_begin[ranks.rank()], own_end = nodes.rank_begin[ranks.rank() + 1];
   // The others' rows go stale here, and this rank's own take forces.

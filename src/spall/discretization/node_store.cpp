@@ -7,6 +7,7 @@
 #include <type_traits>
 
 #include "spall/core/communicator.hpp"
+#include "spall/core/parallel.hpp"
 #include "spall/core/pieces.hpp"
 #include "spall/core/reorder.hpp"
 
@@ -39,6 +40,13 @@ void set_state(NodeStore& nodes, Index i, const NodeStore::Row& row) {
   nodes.fixed[i] = row.fixed;
   nodes.active[i] = row.active;
   nodes.body[i] = row.body;
+}
+
+// Dealt in blocks: the rows of this rank's own block in its rows (none for an empty block).
+void place_owned_rows(NodeStore& nodes) {
+  const Index first = nodes.rank_begin[nodes.rank], end = nodes.rank_begin[nodes.rank + 1];
+  nodes.owned_begin = first < end ? first - nodes.window_first() : 0;
+  nodes.owned_end = first < end ? end - nodes.window_first() : 0;
 }
 
 // Row i from a row that travelled, computed by `rank` (its force is this rank's own, zero at a
@@ -100,17 +108,15 @@ void NodeStore::hold_block(Index first, Index every) {
 
 void NodeStore::deal(std::vector<Index> begins, int self) {
   if (windowed_) {  // every rank, its new block empty or not
-    const bool own_nodes = begins[self] < begins[self + 1];
-    hold_window(own_nodes ? std::min(window_first_, begins[self]) : window_first_,
-                own_nodes ? std::max(window_first_ + size(), begins[self + 1]) : window_first_ + size());
+    const parallel::Range held =
+        parallel::hull({window_first_, window_first_ + size()}, {begins[self], begins[self + 1]});
+    hold_window(held.begin, held.end);
   }
   rank_begin = std::move(begins);
   regions = {};
   owned.clear();
   rank = self;
-  const bool own_nodes = rank_begin[rank] < rank_begin[rank + 1];
-  owned_begin = own_nodes ? rank_begin[rank] - window_first_ : 0;
-  owned_end = own_nodes ? rank_begin[rank + 1] - window_first_ : 0;
+  place_owned_rows(*this);
   std::vector<std::int32_t>().swap(owner);
   block_ = false;
   ++partition;
@@ -163,8 +169,7 @@ void NodeStore::hold_window(Index first, Index end) {
     set_state(*this, i, arrived);
     f[i] = Vec3::Zero();
   }
-  owned_begin = own_first < own_end ? own_first - first : 0;
-  owned_end = own_first < own_end ? own_end - first : 0;
+  place_owned_rows(*this);
   ++layout;
 }
 

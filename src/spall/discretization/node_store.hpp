@@ -195,10 +195,10 @@ struct NodeStore {
 
   // Each node's row and force, in pieces (core/pieces.hpp): each rank's own rows where the rows are
   // not every node (by region, in a window), else rank 0's every row (the whole state, made current
-  // there by the formulations' complete_state). Read back into every node, or into the rows of a rank's own (a block of them,
-  // as the set-up in blocks builds them), whatever the ranks that wrote them; the IDs (the deck's)
-  // are checked, the share of a rank (the run's) is not written. Collective, but for reading every
-  // node.
+  // there by the formulations' complete_state). Read back into every node, or into the rows of a
+  // rank's own (a block of them, as the set-up in blocks builds them), whatever the ranks that wrote
+  // them; the IDs (the deck's) are checked, the share of a rank (the run's) is not written.
+  // Collective, but for reading every node.
   void checkpoint(Archive& a);
 
  private:
