@@ -4,8 +4,8 @@
 // the deck's, and the set-up in blocks from the shares builds on each rank the rows of its block
 // of the one-process node order, byte for byte the whole set-up's, with the nodes other cards name
 // found over the ranks. Bad cards (a node or a particle given twice, a particle on no node or of no
-// part, coordinates out of range, two of them in one deck) stop every rank with the one-process
-// run's message, whichever rank holds the card.
+// part, coordinates out of range, two of them in one deck; an SPH solid's parts that cannot run)
+// stop every rank with the one-process run's message, whichever rank holds the card.
 #include <gtest/gtest.h>
 
 #include <fmt/format.h>
@@ -31,12 +31,15 @@ const model::CardShare& shares() {
 // A water block from a mesh box of 25 x 20 x 20 particles (nodes 900 004 to 910 003), ten
 // particles of their own cards on nodes 10-19 beside it, and three nodes without particles
 // (900 001-900 003) given first, so that the generated node cards are three ahead of the particle
-// cards; `extra` goes before *END.
-std::string deck(const std::string& extra = "") {
+// cards; `extra` goes before *END. With `solid` the block is of an elastic solid, not water.
+std::string deck(const std::string& extra = "", bool solid = false) {
   std::string text = "*KEYWORD\n*CONTROL_TERMINATION\n      0.01\n";
-  text += "*PART\nwater\n         1         1         1         1\n";
   text += "*SECTION_SPH\n         1       1.3       1.0       1.0\n";
-  text += "*MAT_NULL\n         1    1000.0       0.0     0.001\n*EOS_MURNAGHAN\n         1       7.0   81843.4\n";
+  if (solid)
+    text += "*PART\nrubber\n         1         1         1\n*MAT_ELASTIC\n         1    1000.0    1.0e+7      0.45\n";
+  else
+    text += "*PART\nwater\n         1         1         1         1\n"
+            "*MAT_NULL\n         1    1000.0       0.0     0.001\n*EOS_MURNAGHAN\n         1       7.0   81843.4\n";
   text += "*NODE\n";
   for (int k = 1; k <= 3; ++k) text += fmt::format("{:8d}{:16g}{:16g}{:16g}\n", 900000 + k, 0.5, 0.01 * k, 0.0);
   for (int k = 0; k < 10; ++k) text += fmt::format("{:8d}{:16g}{:16g}{:16g}\n", 10 + k, -0.01, 0.01 * k, 0.005);
@@ -166,6 +169,25 @@ TEST(CardsInShares, BadCardsStopEveryRankAsOneProcess) {
     EXPECT_NE(one_process.find(expected), std::string::npos) << one_process << " for " << extra;
     EXPECT_EQ(in_shares, one_process) << extra;
   }
+  // The SPH solid alone, set up in blocks too: two parts whose sections have a death time, which
+  // stops the set-up at the first particle of either in the deck's order (the cards past the mesh
+  // box's, in the third chunk).
+  std::string dying;
+  for (int part = 2; part <= 3; ++part)
+    dying += fmt::format("*PART\nbad\n{:10d}{:10d}{:10d}\n*SECTION_SPH\n{:10d}       1.3       1.0       1.0{:>20s}\n",
+                         part, part, 1, part, "1.0");
+  std::vector<std::string> messages;
+  for (const auto& [first, second] : {std::pair(2, 3), std::pair(3, 2)}) {
+    const std::string text =
+        deck(dying + fmt::format("*ELEMENT_SPH\n  900003{:8d}  -1e-06\n  900002{:8d}  -1e-06\n", first, second), true);
+    const std::string one_process = failure(text, false), in_shares = failure(text, true);
+    EXPECT_NE(one_process.find("DEATH/START: particle birth and death are not implemented"), std::string::npos)
+        << one_process;
+    EXPECT_EQ(in_shares, one_process);
+    messages.push_back(one_process);
+  }
+  EXPECT_NE(messages[0], messages[1]);  // each at its own section's card
+  EXPECT_EQ(failure(deck("", true), true), "");
 }
 
 }  // namespace

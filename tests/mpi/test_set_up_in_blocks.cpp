@@ -4,8 +4,8 @@
 // *INITIAL_VELOCITY_GENERATION and _NODE, mass, the SPC bits of *BOUNDARY_SPC_SET and the plane
 // strain, part); the blocks are every node once; the fluid takes the particles of its block; a
 // rigid wall tracks every rank's nodes in the node order with the same contact state (NSIDEX and
-// OFFSET applied to each block) and a prescribed motion names its node alike. A deck with an SPH
-// solid particle is set up whole.
+// OFFSET applied to each block) and a prescribed motion names its node alike. A deck of SPH solid
+// alone is set up in blocks too; one with an SPH solid particle beside the fluid is set up whole.
 #include <gtest/gtest.h>
 
 #include <fmt/format.h>
@@ -20,17 +20,22 @@
 #include "spall/io/keyword/reader.hpp"
 #include "spall/solver/problem.hpp"
 #include "spall/sph/fluid.hpp"
+#include "spall/sph/solid.hpp"
 
 namespace spall::solver {
 namespace {
 
 // A 2D water block of 9 x 7 particles 1 cm apart, written in an order of its own with sparse IDs,
-// two nodes that carry no particle, and, with `solid`, one particle of an elastic part.
-std::string deck(bool solid) {
+// two nodes that carry no particle, and, with `solid`, one particle of an elastic part; with
+// `rubber`, the block is of an elastic solid instead of water.
+std::string deck(bool solid, bool rubber = false) {
   std::string text = "*KEYWORD\n*CONTROL_TERMINATION\n      0.01\n*CONTROL_SPH\n                                       2\n";
-  text += "*PART\nwater\n         1         1         1         1\n";
   text += "*SECTION_SPH\n         1       1.3       1.0       1.0\n";
-  text += "*MAT_NULL\n         1    1000.0       0.0     0.001\n*EOS_MURNAGHAN\n         1       7.0   81843.4\n";
+  if (rubber)
+    text += "*PART\nrubber\n         1         1         1\n*MAT_ELASTIC\n         1    1000.0    1.0e+7      0.45\n";
+  else
+    text += "*PART\nwater\n         1         1         1         1\n"
+            "*MAT_NULL\n         1    1000.0       0.0     0.001\n*EOS_MURNAGHAN\n         1       7.0   81843.4\n";
   if (solid)
     text += "*PART\nsteel\n         2         2         2\n*SECTION_SPH\n         2       1.3       1.0       1.0\n"
             "*MAT_ELASTIC\n         2    7850.0   2.0e+11       0.3\n";
@@ -121,7 +126,33 @@ TEST(SetUpInBlocks, EachRankBuildsItsBlockOfTheWholeSetUp) {
   EXPECT_EQ(blocks.motions[0].node, whole.motions[0].node);
 }
 
-TEST(SetUpInBlocks, ADeckWithAnSphSolidIsSetUpWhole) {
+// The SPH solid alone is set up in blocks too: the rows are the whole set-up's, and so is the
+// solid (its every particle, each on the same node, the largest sound speed); to continue a
+// restart file (which the solid reads whole) it is set up whole.
+TEST(SetUpInBlocks, TheSphSolidAloneIsSetUpInBlocksButToContinue) {
+  const parallel::Communicator& ranks = parallel::world();
+  const model::Model model = io::keyword::read_deck_text(deck(false, true), "rubber.k");
+  const Problem whole = set_up(model, SetUp::whole);
+  const Problem blocks = set_up(model, SetUp::in_blocks_where_possible);
+  const auto& w = whole.nodes;
+  const auto& b = blocks.nodes;
+  EXPECT_EQ(b.holds_a_block(), ranks.size() > 1);
+  const Index first = parallel::block_begin(w.size(), ranks.rank(), ranks.size());
+  ASSERT_EQ(b.size(), parallel::block_begin(w.size(), ranks.rank() + 1, ranks.size()) - first);
+  for (Index r = 0; r < b.size(); ++r) {
+    const discretization::NodeStore::Row built = b.row(r), reference = w.row(first + r);
+    EXPECT_EQ(std::memcmp(&built, &reference, sizeof built), 0) << "node " << b.id[r];
+  }
+  ASSERT_NE(blocks.sph_solid, nullptr);
+  EXPECT_EQ(blocks.sph_solid->particle_count(), 63);
+  for (Index a = 0; a < 63; ++a) EXPECT_EQ(blocks.sph_solid->node_of(a), whole.sph_solid->node_of(a));
+  EXPECT_GT(whole.sph_solid->max_wave_speed(), 0);
+  EXPECT_EQ(blocks.sph_solid->max_wave_speed(), whole.sph_solid->max_wave_speed());
+  EXPECT_EQ(blocks.rigid_walls[0].tracked(), whole.rigid_walls[0].tracked());
+  EXPECT_FALSE(set_up(model, SetUp::in_blocks_to_continue).nodes.holds_a_block());
+}
+
+TEST(SetUpInBlocks, ADeckWithAnSphSolidBesideTheFluidIsSetUpWhole) {
   const model::Model model = io::keyword::read_deck_text(deck(true), "solid.k");
   const Problem problem = set_up(model, SetUp::in_blocks_where_possible);
   EXPECT_FALSE(problem.nodes.holds_a_block());

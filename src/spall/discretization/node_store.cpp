@@ -107,7 +107,17 @@ void NodeStore::hold_block(Index first, Index every) {
 }
 
 void NodeStore::deal(std::vector<Index> begins, int self) {
-  if (windowed_) {  // every rank, its new block empty or not
+  if (block_) {  // the set-up's block of the nodes is this rank's own: the window of them
+    if (begins.back() != deck_nodes_ || begins[self + 1] - begins[self] != size() ||
+        (size() > 0 && global.front() != begins[self]))
+      throw std::logic_error("NodeStore::deal: blocks other than those the set-up built");
+    window_first_ = begins[self];
+    windowed_ = true;
+    numbered_ = false;
+    std::vector<Index>().swap(global);
+    std::vector<std::pair<Index, Index>>().swap(by_deck_);
+    sorted_by_deck_ = 0;
+  } else if (windowed_) {  // every rank, its new block empty or not
     const parallel::Range held =
         parallel::hull({window_first_, window_first_ + size()}, {begins[self], begins[self + 1]});
     hold_window(held.begin, held.end);

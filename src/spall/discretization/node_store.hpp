@@ -113,7 +113,8 @@ struct NodeStore {
 
   // Rank `r` computes the nodes [begins[r], begins[r + 1]); this process is rank `self`. Holding a
   // window of the nodes (hold_window), each rank first holds the hull of it and its new block, the
-  // rows it lacks from the ranks that computed them: collective then.
+  // rows it lacks from the ranks that computed them: collective then. Rows that are the set-up's
+  // block of the nodes (hold_block) must be this rank's new block, and become the window of it.
   void deal(std::vector<Index> begins, int self);
 
   // Dealt in blocks: from now on this rank holds the nodes [first, end) of the node order, row i the

@@ -1,6 +1,7 @@
 #include "spall/solver/problem.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <fmt/format.h>
 #include <optional>
@@ -12,6 +13,7 @@
 #include "spall/contact/setup.hpp"
 #include "spall/core/bounding_box.hpp"
 #include "spall/core/communicator.hpp"
+#include "spall/core/first_failure.hpp"
 #include "spall/core/log.hpp"
 #include "spall/materials/make_material.hpp"
 #include "spall/neighbors/verlet_list.hpp"
@@ -30,7 +32,8 @@ namespace {
 class Builder {
  public:
   Builder(const model::Model& model, SetUp set_up)
-      : model_(model), in_blocks_(set_up == SetUp::in_blocks_where_possible && sets_up_in_blocks(model)) {
+      : model_(model),
+        in_blocks_(set_up != SetUp::whole && sets_up_in_blocks(model, set_up == SetUp::in_blocks_to_continue)) {
     if (!in_blocks_ && !model.cards.whole())
       throw std::logic_error("set-up: the model holds a share of the cards but is not set up in blocks");
   }
@@ -54,9 +57,10 @@ class Builder {
     build_rigid_walls();
     build_controls();
     if (problem_.controls.mass_scaling_step > 0) scale_masses();
-    if (in_blocks_ && (problem_.formulations.size() != 1 || !problem_.formulations.front()->migrates() ||
-                       !problem_.rigid_bodies.empty() || !problem_.contacts.empty()))
-      throw std::logic_error("set-up in blocks: the deck is not one of SPH fluid alone");
+    if (in_blocks_ && (problem_.formulations.size() != 1 || !problem_.rigid_bodies.empty() ||
+                       !problem_.contacts.empty() ||
+                       !(problem_.formulations.front()->migrates() || problem_.formulations.front()->holds_window())))
+      throw std::logic_error("set-up in blocks: the deck is not one of SPH fluid or SPH solid alone");
     return std::move(problem_);
   }
 
@@ -203,10 +207,16 @@ class Builder {
 
   void build_sph() {
     if (model_.sph_card_count() == 0) return refuse_sph_timestep_without_solid();
-    if (in_blocks_) {  // SPH fluid alone: each rank the particles on its block's nodes
+    if (in_blocks_) {  // SPH fluid or SPH solid alone: each rank the particles on its block's nodes
+      const parallel::Communicator& ranks = parallel::world();
+      std::vector<sph::FluidParticle> block = blocks_->particles();
+      const auto of_solid = [&](const sph::FluidParticle& p) { return !sph::is_fluid_part(model_, p.element->pid); };
+      double solid = std::any_of(block.begin(), block.end(), of_solid) ? -1 : 0;
+      ranks.minimum({&solid, 1});
+      if (solid < 0) return build_sph_solid_in_blocks(block, ranks);
       const sph::SolidOptions options = sph_options();
-      problem_.formulations.push_back(sph::build_fluid(model_, blocks_->particles(), options.viscosity,
-                                                       options.dimension, problem_.nodes, &parallel::world()));
+      problem_.formulations.push_back(
+          sph::build_fluid(model_, block, options.viscosity, options.dimension, problem_.nodes, &ranks));
       return refuse_sph_timestep_without_solid();
     }
     std::vector<materials::Material> table;
@@ -236,54 +246,143 @@ class Builder {
         found = parts.emplace(e.pid, resolve_sph_part(e.pid, e.where, table, material_index)).first;
       SphPart& part = found->second;
       const Index node = carry(e);
-      const Real mass = e.mass > 0 ? e.mass : -e.mass * part.density;
-      if (!(mass > 0)) fail_at(e.where, "*ELEMENT_SPH", fmt::format("MASS: particle {} has no mass", e.nid));
-      problem_.nodes.mass[node] = mass;
-      problem_.nodes.part[node] = e.pid;
-      // In plane strain (IDIM 2) masses are per unit thickness and particles stay in their plane.
-      const Real spacing = options.dimension == 2 ? std::sqrt(mass / part.density) : std::cbrt(mass / part.density);
-      part.spacing = std::max(part.spacing, spacing);
-      if (options.dimension == 2) problem_.nodes.fixed[node] |= 1u << 2;
-      particles.push_back({node, part.material, 0, spacing, 0, 0});
+      const Real mass = particle_mass(e, part);
+      if (!(mass > 0)) fail_at(e.where, "*ELEMENT_SPH", set_up_message::no_mass(e.nid));
+      particles.push_back(place_particle(e, part, mass, node, node, options.dimension));
     }
-    // LS-DYNA: h = CSLH * initial spacing, unless SPHINI gives h directly; it then varies
-    // within [HMIN h0, HMAX h0].
     std::optional<kernels::KernelKind> kernel;
-    for (auto& p : particles) {
-      const SphPart& part = parts.at(problem_.nodes.part[p.node]);
-      const model::SectionSph& section = *part.section;
-      p.smoothing_length = section.sphini > 0 ? section.sphini : section.cslh * part.spacing;
-      // The solid's pair terms are single precision (docs/THEORY.md §3): kernel gradients go as
-      // h^-5 and viscous denominators as h^4, within float's range for these h.
-      if (!(p.smoothing_length >= 1e-6 && p.smoothing_length <= 1e6))
-        fail_at(section.where, "*SECTION_SPH",
-                fmt::format("smoothing length {:.3g} (CSLH x spacing, or SPHINI) is outside 1e-6 to 1e6: the SPH "
-                         "solid's pair terms are single precision; use units (mm, um) that bring it within",
-                         p.smoothing_length));
-      p.h_min_factor = section.hmin;
-      p.h_max_factor = section.hmax;
-      const auto kind = *kernels::kernel_of_code(section.sphkern);  // checked by resolve_sph_part
-      if (kernel && *kernel != kind)
-        fail_at(section.where, "*SECTION_SPH",
-                fmt::format("SPHKERN {}: every SPH part must use the same kernel (particles of "
-                         "different parts interact through it)",
-                         section.sphkern));
-      kernel = kind;
-    }
+    for (auto& p : particles) kernel = smoothing_length(p, parts.at(problem_.nodes.part[p.node]), kernel);
     if (!fluid.empty())
       problem_.formulations.push_back(sph::build_fluid(model_, fluid, options.viscosity, options.dimension,
                                                   problem_.nodes));
     if (particles.empty()) return refuse_sph_timestep_without_solid();
-    options.kernel = *kernel;
+    add_solid(std::move(table), parts, std::move(particles), options, *kernel);
+  }
+
+  // An SPH solid particle's mass: MASS, or its volume -MASS times the part's density.
+  static Real particle_mass(const model::ElementSph& e, const SphPart& part) {
+    return e.mass > 0 ? e.mass : -e.mass * part.density;
+  }
+
+  // The particle of card `e` on the node at `place` in the node order (its row `row`): its node's
+  // mass and part, and its spacing, which the part's largest spacing takes in.
+  sph::ParticleSetup place_particle(const model::ElementSph& e, SphPart& part, Real mass, Index place, Index row,
+                                    int dimension) {
+    problem_.nodes.mass[row] = mass;
+    problem_.nodes.part[row] = e.pid;
+    // In plane strain (IDIM 2) masses are per unit thickness and particles stay in their plane.
+    const Real spacing = dimension == 2 ? std::sqrt(mass / part.density) : std::cbrt(mass / part.density);
+    part.spacing = std::max(part.spacing, spacing);
+    if (dimension == 2) problem_.nodes.fixed[row] |= 1u << 2;
+    return {place, part.material, 0, spacing, 0, 0};
+  }
+
+  // LS-DYNA: h = CSLH * initial spacing, unless SPHINI gives h directly; it then varies within
+  // [HMIN h0, HMAX h0]. Checks h and that the part's kernel is `kernel` (the earlier parts'), which
+  // it returns.
+  static kernels::KernelKind smoothing_length(sph::ParticleSetup& p, const SphPart& part,
+                                              std::optional<kernels::KernelKind> kernel) {
+    const model::SectionSph& section = *part.section;
+    p.smoothing_length = section.sphini > 0 ? section.sphini : section.cslh * part.spacing;
+    // The solid's pair terms are single precision (docs/THEORY.md §3): kernel gradients go as
+    // h^-5 and viscous denominators as h^4, within float's range for these h.
+    if (!(p.smoothing_length >= 1e-6 && p.smoothing_length <= 1e6))
+      fail_at(section.where, "*SECTION_SPH",
+              fmt::format("smoothing length {:.3g} (CSLH x spacing, or SPHINI) is outside 1e-6 to 1e6: the SPH "
+                       "solid's pair terms are single precision; use units (mm, um) that bring it within",
+                       p.smoothing_length));
+    p.h_min_factor = section.hmin;
+    p.h_max_factor = section.hmax;
+    const auto kind = *kernels::kernel_of_code(section.sphkern);  // checked by resolve_sph_part
+    if (kernel && *kernel != kind)
+      fail_at(section.where, "*SECTION_SPH",
+              fmt::format("SPHKERN {}: every SPH part must use the same kernel (particles of "
+                       "different parts interact through it)",
+                       section.sphkern));
+    return kind;
+  }
+
+  // The SPH solid of these particles (every one of the deck's, or with `across` this rank's block
+  // of them), in node (cell) order for memory locality.
+  void add_solid(std::vector<materials::Material> table, const std::unordered_map<Id, SphPart>& parts,
+                 std::vector<sph::ParticleSetup> particles, sph::SolidOptions options, kernels::KernelKind kernel,
+                 const parallel::Communicator* across = nullptr) {
+    options.kernel = kernel;
     options.colour_field = colour_fields(parts, table.size());
     options.part_ids.resize(table.size());
     for (const auto& [pid, part] : parts) options.part_ids[part.material] = pid;
-    // Keep the particles in node (cell) order for memory locality.
-    std::sort(particles.begin(), particles.end(),
-              [](const auto& a, const auto& b) { return a.node < b.node; });
-    auto solid = std::make_unique<sph::SolidFormulation>(std::move(table), particles, options, problem_.nodes);
+    std::sort(particles.begin(), particles.end(), [](const auto& a, const auto& b) { return a.node < b.node; });
+    auto solid =
+        std::make_unique<sph::SolidFormulation>(std::move(table), particles, options, problem_.nodes, across);
     problem_.sph_solid = solid.get();
     problem_.formulations.push_back(std::move(solid));
+  }
+
+  // A deck of SPH solid alone set up in blocks: this rank's particles, those on its block's nodes
+  // (NodesInBlocks::particles, in the deck's order). Every rank sets up every part, in the order of
+  // their first particles over the ranks (the material table's, as the whole set-up's); each part's
+  // spacing is the largest over the ranks; the first failure in the deck's order, at a part's first
+  // particle or a particle without mass, stops every rank (as the whole set-up, card after card).
+  void build_sph_solid_in_blocks(const std::vector<sph::FluidParticle>& block, const parallel::Communicator& ranks) {
+    struct FirstParticle {
+      Id pid;
+      Index ordinal;
+      model::Model::CardLine line;
+      std::int32_t padding = 0;  // no unset byte travels
+    };
+    std::vector<FirstParticle> firsts;
+    for (const auto& p : block)
+      if (std::none_of(firsts.begin(), firsts.end(), [&](const FirstParticle& f) { return f.pid == p.element->pid; }))
+        firsts.push_back({p.element->pid, p.ordinal, model_.card_line(p.element->where)});
+    firsts = ranks.all(std::span<const FirstParticle>(firsts));
+    std::sort(firsts.begin(), firsts.end(),
+              [](const FirstParticle& a, const FirstParticle& b) { return a.ordinal < b.ordinal; });
+    // A failure's place in the deck's order: its card's, then the part's set-up (0) before the mass (1).
+    std::int64_t position = -1;
+    std::optional<InputError> error;
+    const auto fail = [&](Index ordinal, int what, const InputError& e) {
+      const std::int64_t at = 2 * std::int64_t(ordinal) + what;
+      if (position < 0 || at < position) position = at, error = e;
+    };
+    std::vector<materials::Material> table;
+    std::unordered_map<Id, Index> material_index;
+    std::unordered_map<Id, SphPart> parts;
+    for (const FirstParticle& f : firsts) {
+      if (parts.contains(f.pid)) continue;  // a later rank's first of a part set up already
+      try {
+        parts.emplace(f.pid, resolve_sph_part(f.pid, model_.location(f.line), table, material_index));
+      } catch (const InputError& e) {
+        fail(f.ordinal, 0, e);
+        break;  // the parts after it are not reached
+      }
+    }
+    sph::SolidOptions options = sph_options();
+    std::vector<sph::ParticleSetup> particles;
+    for (const auto& p : block) {
+      const model::ElementSph& e = *p.element;
+      const auto found = parts.find(e.pid);
+      if (found == parts.end()) continue;  // its part failed: a failure before this particle's
+      const Real mass = particle_mass(e, found->second);
+      if (!(mass > 0)) {
+        fail(p.ordinal, 1, InputError(e.where, "*ELEMENT_SPH", set_up_message::no_mass(e.nid)));
+        continue;
+      }
+      particles.push_back(place_particle(e, found->second, mass, first_row_ + p.node, p.node, options.dimension));
+    }
+    parallel::throw_first_failure(position, error, ranks);
+    std::vector<double> negated;  // the largest spacing of each part over the ranks
+    for (const FirstParticle& f : firsts) negated.push_back(-parts.at(f.pid).spacing);
+    ranks.minimum(negated);
+    for (std::size_t k = 0; k < firsts.size(); ++k) parts.at(firsts[k].pid).spacing = -negated[k];
+    // h and the kernel by part, in the order of their first particles: the whole set-up's first
+    // failure, alike on every rank.
+    std::optional<kernels::KernelKind> kernel;
+    for (const FirstParticle& f : firsts) {
+      sph::ParticleSetup first;
+      kernel = smoothing_length(first, parts.at(f.pid), kernel);
+    }
+    for (auto& p : particles) smoothing_length(p, parts.at(problem_.nodes.part[p.node - first_row_]), kernel);
+    add_solid(std::move(table), parts, std::move(particles), options, *kernel, &ranks);
   }
 
   // *SPALL_SPH_COLOUR_FIELD per SPH part (indexed like the material table: one entry per part);
@@ -613,17 +712,21 @@ class Builder {
 
 }  // namespace
 
-bool sets_up_in_blocks(const model::Model& model) {
+bool sets_up_in_blocks(const model::Model& model, bool to_continue) {
   const parallel::Communicator& ranks = parallel::world();
   if (ranks.size() == 1) return false;
-  // Every particle card a fluid's, over the ranks where each holds a share of them.
-  double fluid = std::all_of(model.sph_elements.begin(), model.sph_elements.end(),
-                             [&](const model::ElementSph& e) { return sph::is_fluid_part(model, e.pid); })
-                     ? 0
-                     : -1;
-  if (!model.cards.whole()) ranks.minimum({&fluid, 1});
-  if (fluid < 0 || model.sph_card_count() == 0 || !model.solid_elements.empty() || !model.shell_elements.empty() ||
-      !model.contacts.empty() || !model.rcforc_moments.empty() || !model.merged_rigid_bodies.empty())
+  // Every particle card a fluid's, or every one a solid's, over the ranks where each holds a share
+  // of them. A solid that waits for *CONTROL_SPH START would be dealt anew before its first list
+  // build, from every particle's constants (SolidFormulation::compute_forces), and one that
+  // continues a restart file reads its particles' state whole, every node's.
+  std::array<double, 2> some{0, 0};  // -1: some fluid particle [0], some solid particle [1]
+  for (const model::ElementSph& e : model.sph_elements) some[sph::is_fluid_part(model, e.pid) ? 0 : 1] = -1;
+  if (!model.cards.whole()) ranks.minimum(some);
+  const bool fluid = some[0] < 0, solid = some[1] < 0;
+  const bool waits = solid && model.control_sph && model.control_sph->start > 0;
+  if ((fluid && solid) || (solid && to_continue) || waits || model.sph_card_count() == 0 ||
+      !model.solid_elements.empty() || !model.shell_elements.empty() || !model.contacts.empty() ||
+      !model.rcforc_moments.empty() || !model.merged_rigid_bodies.empty())
     return false;
   for (const auto& part : model.parts)
     if (model.rigid_material(part)) return false;

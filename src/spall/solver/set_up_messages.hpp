@@ -13,5 +13,6 @@ namespace spall::solver::set_up_message {
 inline std::string node_defined_twice(Id node) { return fmt::format("node {} is defined twice", node); }
 inline std::string no_such_node(Id node) { return fmt::format("node {} does not exist", node); }
 inline std::string node_with_two_particles(Id node) { return fmt::format("node {} carries two SPH particles", node); }
+inline std::string no_mass(Id node) { return fmt::format("MASS: particle {} has no mass", node); }
 
 }  // namespace spall::solver::set_up_message

@@ -109,13 +109,15 @@ class TimeLoop::Step {
         const std::span<const Vec3> x(nodes_.x.data() + begin, end - begin);
         nodes_.deal(discretization::Regions::cut(x, weight, ranks.size(), ranks), ranks.rank());
       } else {
-        if (nodes_.holds_a_block())
-          throw std::logic_error("time loop: the set-up built a block of the nodes, which are not dealt by region");
-        nodes_.deal(parallel::block_offsets(nodes_.size(), ranks.size()), ranks.rank());
+        // The set-up's blocks when it built one on each rank (the window of it from now on).
+        const bool held = nodes_.holds_a_block();
+        nodes_.deal(parallel::block_offsets(nodes_.deck_node_count(), ranks.size()), ranks.rank());
         // One formulation that brings in every node it reads, with no body or contact to read
         // others: a rank holds the window of the nodes it computes and reads (docs/SCALING.md §5).
         nodes_.window_by_reads = halo_by_reach_ && problem_.formulations.size() == 1 &&
                                  problem_.formulations.front()->holds_window() && !bodies_and_contacts;
+        if (held && !nodes_.window_by_reads)
+          throw std::logic_error("time loop: the set-up built blocks of the nodes, which no formulation holds as windows");
       }
     }
     // The loads are measured from here: the set-up's collectives (the cut among them) are not a

@@ -259,53 +259,78 @@ Index picked_support(const neighbors::NeighborList& list, Index a, Index origin,
 
 SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
                                    const std::vector<ParticleSetup>& particles,
-                                   SolidOptions options, const discretization::NodeStore& nodes)
-    : materials_(std::move(materials)), options_(options) {
-  const auto n = static_cast<Index>(particles.size());
-  node_.resize(n);
-  material_.resize(n);
-  mass_.resize(n);
-  list_reach_.resize(n);
-  initial_smoothing_length_.resize(n);
-  spacing_.resize(n);
-  std::vector<std::uint8_t> used(materials_.size(), 0);
-  full_support_gradient_ = kernels::with_kernel(options_.kernel, options_.dimension, [](auto kernel) {
-    return kernels::gradient_norm_integral<decltype(kernel)>();
-  });
+                                   SolidOptions options, const discretization::NodeStore& nodes,
+                                   const parallel::Communicator* across)
+    : materials_(std::move(materials)), options_(options), set_up_in_blocks_(across != nullptr) {
+  // This rank's particles are [first, end) of every particle (all of them but in blocks).
+  const auto held = static_cast<Index>(particles.size());
+  Index first = 0, n = held;
+  if (across) {
+    const std::vector<Index> counts = across->each(held);
+    first = std::accumulate(counts.begin(), counts.begin() + across->rank(), Index(0));
+    n = std::accumulate(counts.begin(), counts.end(), Index(0));
+  }
+  const Index end = first + held;
   // Particles in node order: the node store is in cell order, so that neighbours are close in
   // memory, and a formulation owning a contiguous run of nodes reads their x and v in place.
-  std::vector<std::size_t> by_node(n);
+  std::vector<std::size_t> by_node(held);
   std::iota(by_node.begin(), by_node.end(), std::size_t{0});
   std::stable_sort(by_node.begin(), by_node.end(),
                    [&](std::size_t i, std::size_t j) { return particles[i].node < particles[j].node; });
-  for (Index a = 0; a < n; ++a) {
-    const auto& p = particles[by_node[a]];
-    node_[a] = p.node;
+  node_.resize(held);
+  for (Index k = 0; k < held; ++k) node_[k] = particles[by_node[k]].node;
+  if (across) node_ = across->all(std::span<const Index>(node_));  // each node's place, every rank's block
+  list_reach_.resize(n);
+  // The set-up's constants of this rank's particles: every particle's, which under MPI each rank
+  // cuts to its own at the first list build; in blocks its own from the start.
+  constants_held_ = across && across->size() > 1;
+  for (auto* constant : {&mass_, &initial_smoothing_length_, &spacing_}) {
+    constant->resize(0);
+    constant->hold(first, end);
+  }
+  material_.resize(0);
+  material_.hold(first, end);
+  std::vector<std::uint8_t> used(materials_.size(), 0);
+  h_bounds_.resize(materials_.size());
+  full_support_gradient_ = kernels::with_kernel(options_.kernel, options_.dimension, [](auto kernel) {
+    return kernels::gradient_norm_integral<decltype(kernel)>();
+  });
+  for (Index a = first; a < end; ++a) {
+    const auto& p = particles[by_node[a - first]];
     material_[a] = p.material;
     used[p.material] = 1;
-    mass_[a] = nodes.mass[p.node];
+    mass_[a] = nodes.mass[nodes.row_of(p.node)];
     initial_smoothing_length_[a] = p.smoothing_length;
-    h_bounds_.resize(std::max(h_bounds_.size(), std::size_t(p.material) + 1));
     h_bounds_[p.material] = {p.h_min_factor, p.h_max_factor};
     spacing_[a] = p.spacing;
   }
   for (const auto& m : materials_)
     if (std::holds_alternative<materials::JohnsonCook>(m.strength)) has_temperature_ = true;
+  // Whether every particle has one mass (a lattice): the pair loops then broadcast it instead of
+  // gathering it (masses never change). In blocks over the ranks, as minima: the least mass, the
+  // largest negated, and each material's use and bounds on h negated (a rank knows those of the
+  // materials of its particles).
+  std::vector<double> least{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+  for (Index a = first; a < end; ++a) least = {std::min(least[0], mass_[a]), std::min(least[1], -mass_[a])};
+  for (std::size_t k = 0; k < materials_.size(); ++k)
+    least.insert(least.end(), {-double(used[k]), -h_bounds_[k].lower, -h_bounds_[k].upper});
+  if (across) across->minimum(least);
+  for (std::size_t k = 0; k < materials_.size(); ++k) {
+    used[k] = least[2 + 3 * k] < 0;
+    h_bounds_[k] = {-least[3 + 3 * k], -least[4 + 3 * k]};
+  }
+  if (n > 0 && least[0] == -least[1]) {
+    uniform_mass_ = least[0];
+  } else {
+    record_mass_.resize(0);
+    record_mass_.hold(first, end);
+    for (Index a = first; a < end; ++a) record_mass_[a] = static_cast<float>(mass_[a]);
+  }
   // The set-up's state (set_up_state) of every material a particle has.
   for (std::size_t k = 0; k < materials_.size(); ++k) {
     const materials::Material& m = materials_[k];
     if (used[k])
       max_wave_speed_ = std::max(max_wave_speed_, materials::sound_speed(m, m.density, m.initial_specific_energy));
-  }
-  // Whether every particle has one mass (a lattice): the pair loops then broadcast it instead of
-  // gathering it (masses never change).
-  bool uniform = n > 0;
-  for (Index a = 1; a < n && uniform; ++a) uniform = mass_[a] == mass_[0];
-  if (uniform) {
-    uniform_mass_ = mass_[0];
-  } else {
-    record_mass_.resize(n);
-    for (Index a = 0; a < n; ++a) record_mass_[a] = static_cast<float>(mass_[a]);
   }
   bool contiguous = n > 0;
   for (Index a = 1; a < n && contiguous; ++a) contiguous = node_[a] == node_[0] + a;
@@ -329,9 +354,10 @@ SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
     if (std::any_of(options_.colour_field.begin(), options_.colour_field.end(),
                     [](const ColourField& c) { return c.enabled && c.treat && !c.literal; }))
       on(exported_deviator_);
-    full_support_count_.resize(n);
+    full_support_count_.resize(0);
+    full_support_count_.hold(first, end);
     // Particles of spacing dp in a sphere (circle) of radius 2h, less the particle itself.
-    for (Index a = 0; a < n; ++a) {
+    for (Index a = first; a < end; ++a) {
       const Real ratio = 2 * initial_smoothing_length_[a] / spacing_[a];
       full_support_count_[a] = options_.dimension == 2 ? M_PI * ratio * ratio - 1
                                                        : 4 * M_PI / 3 * ratio * ratio * ratio - 1;
@@ -435,12 +461,14 @@ void SolidFormulation::update_neighbour_list(discretization::NodeStore& nodes) {
     return ranks.size() > 1 ? verlet_.needs_rebuild(x_, own_particles(), ranks) : verlet_.needs_rebuild(x_);
   };
   if (list_built_ && !h_outgrown_ && !moved_apart()) return;
-  // One process, or the first build (every particle's position is current on every rank then):
-  // every particle binned; every row searched by one process, a rank's own under MPI (the rows it
-  // computes are known once the force blocks' length is, below), each rank's reaches of its own
-  // particles to every rank. Under MPI after that a rank searches the rows it computes, from its
-  // own particles and the others' within reach of those rows (search_near_rows).
-  const bool distributed = ranks.size() > 1, whole_state = !distributed || !list_built_;
+  // One process, or the first build of a set-up whole (every particle's position is current on
+  // every rank then): every particle binned; every row searched by one process, a rank's own under
+  // MPI (the rows it computes are known once the force blocks' length is, below), each rank's
+  // reaches of its own particles to every rank. Under MPI after that, and from the first build when
+  // set up in blocks, a rank searches the rows it computes, from its own particles and the others'
+  // within reach of those rows (search_near_rows).
+  const bool distributed = ranks.size() > 1, whole_state = !distributed || (!list_built_ && !set_up_in_blocks_);
+  const bool first_near = distributed && !list_built_ && set_up_in_blocks_;
   BoundingBox box;
   if (whole_state) {
     const neighbors::ParticleRange rows = distributed ? own_particles() : neighbors::ParticleRange{0, n};
@@ -493,8 +521,11 @@ void SolidFormulation::update_neighbour_list(discretization::NodeStore& nodes) {
   if (force_blocks_ < min_force_blocks) force_blocks_ = 0;
   choose_force_blocks(nodes);
   if (!distributed) return;
-  // The first build under MPI searched a rank's own rows: now those its force blocks may run too.
+  // The first build under MPI searched a rank's own rows: now those its force blocks may run too,
+  // from every particle's position at the build, or set up in blocks, searched again from the
+  // particles near them.
   if (whole_state) verlet_.search_rows(list_reach_, rows_searched(own_particles()));
+  if (first_near && force_blocks_ > 0) search_near_rows(nodes);
   // Blocks longer than the last build's reach rows it did not search: every row then, from every
   // particle's position at the build, and its rows' particles' positions, velocities and h, which
   // the ranks complete together when one needs them.

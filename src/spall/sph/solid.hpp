@@ -141,9 +141,11 @@ struct alignas(32) PlainStressRecord {
 
 class SolidFormulation final : public discretization::Formulation {
  public:
+  // `particles` are every particle, or with `across` (the set-up in blocks under MPI) this rank's
+  // block of them: those on its block of the nodes, each named by its node's place in the node order.
   SolidFormulation(std::vector<materials::Material> materials,
                    const std::vector<ParticleSetup>& particles, SolidOptions options,
-                   const discretization::NodeStore& nodes);
+                   const discretization::NodeStore& nodes, const parallel::Communicator* across = nullptr);
 
   const char* name() const override { return "SPH"; }
   void compute_forces(discretization::NodeStore& nodes, Real dt) override;
@@ -294,11 +296,15 @@ class SolidFormulation final : public discretization::Formulation {
   // The set-up's constants (material, mass, and below the initial h, spacing and full-support
   // count) are held as the state is, by rank and by stretch, once constants_held_: under MPI from
   // the first list build on (a new deal before it, while a part waits for START, sets up the new
-  // own particles' state from every particle's constants, which no rank has brought in yet).
+  // own particles' state from every particle's constants, which no rank has brought in yet), and
+  // from the start where the set-up built each rank's block of them (never a part that waits).
   Read<Index> material_;
   Read<Real> mass_;
   Real uniform_mass_ = 0;  // the mass of every particle when all are equal, else 0
   bool constants_held_ = false;
+  // Set up in blocks (no rank held every particle's position): the first list is built as the later
+  // ones are, from a rank's own particles and those near its rows (search_near_rows).
+  bool set_up_in_blocks_ = false;
   Real max_wave_speed_ = 0;  // the set-up's largest sound speed (max_wave_speed)
   Read<Real> smoothing_length_;  // h (LS-DYNA's); the kernel support is 2h
   Real smoothing_length(Index a) const { return smoothing_length_[a]; }
