@@ -119,7 +119,7 @@ void NodeStore::deal(std::vector<Index> begins, int self) {
     sorted_by_deck_ = 0;
   } else if (windowed_) {  // every rank, its new block empty or not
     const parallel::Range held =
-        parallel::hull({window_first_, window_first_ + size()}, {begins[self], begins[self + 1]});
+        parallel::hull(window(), {begins[self], begins[self + 1]});
     hold_window(held.begin, held.end);
   }
   rank_begin = std::move(begins);
@@ -141,7 +141,7 @@ void NodeStore::hold_window(Index first, Index end) {
   const Index own_first = rank_begin[rank], own_end = rank_begin[rank + 1];
   if (first < 0 || end > deck_nodes_ || (own_first < own_end && (own_first < first || own_end > end)))
     throw std::logic_error("NodeStore::hold_window: a window beyond the nodes or without this rank's own");
-  const Index old_first = window_first_, old_end = window_first_ + size();  // every node until a window
+  const auto [old_first, old_end] = window();  // every node until a window
   struct Window {
     Index old_first, old_end, first, end;
   };
@@ -211,7 +211,7 @@ void NodeStore::keep(std::span<const Index> kept) {
 }
 
 std::pair<Index, Index> NodeStore::places_held() const {
-  if (windowed_) return {window_first_, window_first_ + size()};
+  if (windowed_) return {window().begin, window().end};
   if (!numbered_) return {std::numeric_limits<Index>::min(), std::numeric_limits<Index>::max()};
   if (size() == 0) return {0, 0};
   const auto [lowest, highest] = std::minmax_element(global.begin(), global.end());

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "spall/core/archive.hpp"
+#include "spall/core/parallel.hpp"
 #include "spall/core/types.hpp"
 #include "spall/discretization/regions.hpp"
 
@@ -127,6 +128,9 @@ struct NodeStore {
   // window_first().
   bool windowed() const { return windowed_; }
   Index window_first() const { return window_first_; }
+  // The places of the rows, [window_first(), window_first() + size()): a window's, or every node's
+  // while the rows are every node in the node order.
+  parallel::Range window() const { return {window_first_, window_first_ + size()}; }
 
   // Each node computed by the rank whose region holds its position; this process is rank `self`.
   // Rows that are a block of the nodes (hold_block) stay with this rank until the formulations'

@@ -664,7 +664,7 @@ BoundingBox SolidFormulation::search_near_rows(discretization::NodeStore& nodes)
   }
   hold_read_state(held);  // the stretch grown to the particles that came in, whose h is written below
   if (nodes.window_by_reads) {  // and the window of the nodes to their nodes
-    Index first = nodes.window_first(), end = first + nodes.size();
+    auto [first, end] = nodes.window();
     for (const NearParticle& p : receive) {
       first = std::min(first, node_[p.particle]);
       end = std::max(end, node_[p.particle] + 1);
@@ -1154,7 +1154,7 @@ void SolidFormulation::hold_nodes(discretization::NodeStore& nodes, bool keep) {
   parallel::Range held{nodes.rank_begin[nodes.rank], nodes.rank_begin[nodes.rank + 1]};
   const neighbors::ParticleRange reads = parallel::hull(read_stretch(), own_particles());
   if (reads.begin < reads.end) held = parallel::hull(held, {node_[reads.begin], node_[reads.end - 1] + 1});
-  if (keep) held = parallel::hull(held, {nodes.window_first(), nodes.window_first() + nodes.size()});
+  if (keep) held = parallel::hull(held, nodes.window());
   nodes.hold_window(held.begin, held.end);
   gather_kinematics(nodes);  // the rows moved: x_ and v_ from them
 }
