@@ -66,12 +66,12 @@ void warn_thermal_unused(const model::Model& model) {
 // Under MPI (`cards` dealing them) each rank keeps a share of the node and particle cards, and a
 // deck that is not set up in blocks then gathers them whole on every rank before the checks.
 model::Model read_and_check(const std::string& deck, const std::vector<std::string>& skip,
-                            model::CardShare cards = {}, bool to_continue = false) {
+                            model::CardShare cards = {}) {
   if (!fs::exists(deck)) throw InputError(fmt::format("{}: no such deck file", deck));
   model::Model model = io::keyword::read_deck(deck, cards);
   io::keyword::refuse_unsupported_physics(model, skip);
   warn_unsupported(model);
-  if (!model.cards.whole() && !solver::sets_up_in_blocks(model, to_continue)) model.gather_cards();
+  if (!model.cards.whole() && !solver::sets_up_in_blocks(model)) model.gather_cards();
   io::keyword::validate(model);
   warn_thermal_unused(model);
   return model;
@@ -154,10 +154,9 @@ int run_deck(const RunOptions& options) {
   const std::string deck =
       restart ? (fs::path(options.restart_dir) / "deck" / restart->header.deck).string() : options.deck;
   const std::vector<std::string>& skip = restart ? restart->header.skip : options.skip;
-  model::Model model = read_and_check(deck, skip, model::CardShare{ranks.rank(), ranks.size()}, restart.has_value());
+  model::Model model = read_and_check(deck, skip, model::CardShare{ranks.rank(), ranks.size()});
   // Set up in blocks where the deck allows (a restart file is then read into each rank's block).
-  solver::Problem problem = build_something(
-      model, deck, restart ? solver::SetUp::in_blocks_to_continue : solver::SetUp::in_blocks_where_possible);
+  solver::Problem problem = build_something(model, deck, solver::SetUp::in_blocks_where_possible);
   model.release_mesh();
 
   const fs::path out = restart                      ? fs::path(options.restart_dir)

@@ -127,9 +127,8 @@ TEST(SetUpInBlocks, EachRankBuildsItsBlockOfTheWholeSetUp) {
 }
 
 // The SPH solid alone is set up in blocks too: the rows are the whole set-up's, and so is the
-// solid (its every particle, each on the same node, the largest sound speed); to continue a
-// restart file (which the solid reads whole) it is set up whole.
-TEST(SetUpInBlocks, TheSphSolidAloneIsSetUpInBlocksButToContinue) {
+// solid (its every particle, each on the same node, the largest sound speed).
+TEST(SetUpInBlocks, TheSphSolidAloneIsSetUpInBlocksToo) {
   const parallel::Communicator& ranks = parallel::world();
   const model::Model model = io::keyword::read_deck_text(deck(false, true), "rubber.k");
   const Problem whole = set_up(model, SetUp::whole);
@@ -149,7 +148,6 @@ TEST(SetUpInBlocks, TheSphSolidAloneIsSetUpInBlocksButToContinue) {
   EXPECT_GT(whole.sph_solid->max_wave_speed(), 0);
   EXPECT_EQ(blocks.sph_solid->max_wave_speed(), whole.sph_solid->max_wave_speed());
   EXPECT_EQ(blocks.rigid_walls[0].tracked(), whole.rigid_walls[0].tracked());
-  EXPECT_FALSE(set_up(model, SetUp::in_blocks_to_continue).nodes.holds_a_block());
 }
 
 TEST(SetUpInBlocks, ADeckWithAnSphSolidBesideTheFluidIsSetUpWhole) {

@@ -20,9 +20,10 @@
 
 namespace spall::discretization {
 
-// `node[p]`: particle p's row in `nodes`; `share`: which particles this rank computes; each array a
-// std::vector or a RangeArray that holds at least this rank's own particles, and is read back
-// whole. Collective.
+// `node[p]`: particle p's node as the formulation names it (NodeStore::node_place: its row, or its
+// place in the node order where the rows are every node or a window of them); `share`: which
+// particles this rank computes; each array a std::vector or a RangeArray that holds at least this
+// rank's own particles, and is read back whole, whichever rows the store holds. Collective.
 // Read back, a particle that is not this deck's or one missing stops every rank alike (`what` names
 // the particles in the message).
 template <typename... Array>
@@ -50,14 +51,17 @@ void archive_particle_pieces(Archive& a, const char* what, std::span<const Index
     (write(arrays), ...);
     return;
   }
-  std::vector<Index> particle_of_row(nodes.size(), -1);
-  for (Index p = 0; p < n; ++p) particle_of_row[node[p]] = p;
+  // Every particle by its node's place, whichever rows the store holds (every node, or a rank's
+  // window of them where the set-up built its block).
+  std::vector<std::pair<Index, Index>> by_place(n);
+  for (Index p = 0; p < n; ++p) by_place[p] = {nodes.node_place(node[p]), p};
+  std::sort(by_place.begin(), by_place.end());
   std::vector<Index> particle;  // each item's, in the file's order (-1: not this deck's)
   std::vector<std::uint8_t> filled(n, 0);
   Index mismatch = -1;
   parallel::read_pieces<Index>(a, [&](Index place) {
-    const Index row = nodes.row_of(place);
-    const Index p = row < 0 ? -1 : particle_of_row[row];
+    const auto at = std::lower_bound(by_place.begin(), by_place.end(), std::pair<Index, Index>{place, -1});
+    const Index p = at != by_place.end() && at->first == place ? at->second : -1;
     if ((p < 0 || filled[p]) && mismatch < 0) mismatch = place;
     if (p >= 0) filled[p] = 1;
     particle.push_back(p);

@@ -631,7 +631,7 @@ struct UnsupportedKeyword {
 
 // Which of the deck's *NODE and *ELEMENT_SPH cards a rank keeps (those *DEFINE_SPH_MESH_BOX generates
 // among them, after the deck's own). Under MPI every rank reads every line, so that a card's syntax
-// and ranges fail alike everywhere, but a deck of SPH fluid alone need not be whole on any rank
+// and ranges fail alike everywhere, but a deck of SPH fluid or solid alone need not be whole on any rank
 // (docs/SCALING.md §5 step 4 f1): the cards are dealt in chunks of 4 096 in the deck's order, chunk
 // c to rank c mod ranks, each card known by its ordinal (its place among the deck's cards of its
 // keyword). One process, and every deck that is set up whole, keeps every card (ranks 1).

@@ -32,8 +32,7 @@ namespace {
 class Builder {
  public:
   Builder(const model::Model& model, SetUp set_up)
-      : model_(model),
-        in_blocks_(set_up != SetUp::whole && sets_up_in_blocks(model, set_up == SetUp::in_blocks_to_continue)) {
+      : model_(model), in_blocks_(set_up == SetUp::in_blocks_where_possible && sets_up_in_blocks(model)) {
     if (!in_blocks_ && !model.cards.whole())
       throw std::logic_error("set-up: the model holds a share of the cards but is not set up in blocks");
   }
@@ -712,19 +711,18 @@ class Builder {
 
 }  // namespace
 
-bool sets_up_in_blocks(const model::Model& model, bool to_continue) {
+bool sets_up_in_blocks(const model::Model& model) {
   const parallel::Communicator& ranks = parallel::world();
   if (ranks.size() == 1) return false;
   // Every particle card a fluid's, or every one a solid's, over the ranks where each holds a share
   // of them. A solid that waits for *CONTROL_SPH START would be dealt anew before its first list
-  // build, from every particle's constants (SolidFormulation::compute_forces), and one that
-  // continues a restart file reads its particles' state whole, every node's.
+  // build, from every particle's constants (SolidFormulation::compute_forces).
   std::array<double, 2> some{0, 0};  // -1: some fluid particle [0], some solid particle [1]
   for (const model::ElementSph& e : model.sph_elements) some[sph::is_fluid_part(model, e.pid) ? 0 : 1] = -1;
   if (!model.cards.whole()) ranks.minimum(some);
   const bool fluid = some[0] < 0, solid = some[1] < 0;
   const bool waits = solid && model.control_sph && model.control_sph->start > 0;
-  if ((fluid && solid) || (solid && to_continue) || waits || model.sph_card_count() == 0 ||
+  if ((fluid && solid) || waits || model.sph_card_count() == 0 ||
       !model.solid_elements.empty() || !model.shell_elements.empty() || !model.contacts.empty() ||
       !model.rcforc_moments.empty() || !model.merged_rigid_bodies.empty())
     return false;

@@ -79,16 +79,14 @@ struct Problem {
 // node order where the deck allows (one of SPH fluid alone, whose nodes the time loop deals by
 // region: the fluid's first rebuild, or its first step after a restart file is read into the
 // block, moves each particle to its region's rank; or one of SPH solid alone, whose blocks the time
-// loop keeps; docs/SCALING.md §3), and to continue a restart file, where the deck's particles read
-// it into the blocks (the fluid's: the SPH solid reads its particles' state whole, every node's).
-// Collective under MPI.
-enum class SetUp { whole, in_blocks_where_possible, in_blocks_to_continue };
+// loop keeps as the windows of the nodes; docs/SCALING.md §3). Collective under MPI.
+enum class SetUp { whole, in_blocks_where_possible };
 
-// Whether the deck is one that the set-up builds in blocks under MPI (SPH fluid alone, or SPH solid
-// alone but to continue a restart file: no element, rigid part, contact or coordinate system on
-// nodes): such a deck can be read in shares (model::CardShare), every other needs every card on
-// every rank (Model::gather_cards). Collective where the model holds a share of the cards.
-bool sets_up_in_blocks(const model::Model& model, bool to_continue = false);
+// Whether the deck is one that the set-up builds in blocks under MPI (SPH fluid alone or SPH solid
+// alone: no element, rigid part, contact or coordinate system on nodes): such a deck can be read in
+// shares (model::CardShare), every other needs every card on every rank (Model::gather_cards).
+// Collective where the model holds a share of the cards.
+bool sets_up_in_blocks(const model::Model& model);
 
 // Builds the problem; throws InputError for anything the solver cannot run.
 Problem build_problem(const model::Model& model, SetUp set_up = SetUp::whole);
