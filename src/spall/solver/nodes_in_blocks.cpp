@@ -146,7 +146,7 @@ std::vector<std::pair<Id, Index>> NodesInBlocks::places_of(std::vector<Id> ids) 
   return found;
 }
 
-std::vector<sph::FluidParticle> NodesInBlocks::particles() {
+std::vector<sph::ParticleCard> NodesInBlocks::particles() {
   // A particle card as it travels: first to the rank of its node's ID, then to the rank whose
   // block holds that node's place.
   struct ParticleCard {
@@ -200,7 +200,7 @@ std::vector<sph::FluidParticle> NodesInBlocks::particles() {
             [](const ParticleCard& a, const ParticleCard& b) { return a.ordinal < b.ordinal; });
   particles_.clear();
   particles_.reserve(cards.size());
-  std::vector<sph::FluidParticle> particles;
+  std::vector<sph::ParticleCard> particles;
   particles.reserve(cards.size());
   for (const ParticleCard& card : cards) {
     particles_.push_back({card.nid, card.pid, card.mass, model_.location(card.line)});

@@ -37,7 +37,7 @@ class NodesInBlocks {
   // The deck's particles on the nodes of this rank's block, in the deck's order (their cards are
   // kept here), each with its node's row. Collective; a particle on no node or on a node that
   // carries another stops every rank at the first such card in the deck's order.
-  std::vector<sph::FluidParticle> particles();
+  std::vector<sph::ParticleCard> particles();
 
  private:
   struct Entry {  // a node card's ID, its place in the node order and its line

@@ -208,8 +208,8 @@ class Builder {
     if (model_.sph_card_count() == 0) return refuse_sph_timestep_without_solid();
     if (in_blocks_) {  // SPH fluid or SPH solid alone: each rank the particles on its block's nodes
       const parallel::Communicator& ranks = parallel::world();
-      std::vector<sph::FluidParticle> block = blocks_->particles();
-      const auto of_solid = [&](const sph::FluidParticle& p) { return !sph::is_fluid_part(model_, p.element->pid); };
+      std::vector<sph::ParticleCard> block = blocks_->particles();
+      const auto of_solid = [&](const sph::ParticleCard& p) { return !sph::is_fluid_part(model_, p.element->pid); };
       double solid = std::any_of(block.begin(), block.end(), of_solid) ? -1 : 0;
       ranks.minimum({&solid, 1});
       if (solid < 0) return build_sph_solid_in_blocks(block, ranks);
@@ -231,7 +231,7 @@ class Builder {
       return node;
     };
     sph::SolidOptions options = sph_options();
-    std::vector<sph::FluidParticle> fluid;
+    std::vector<sph::ParticleCard> fluid;
     for (Index k = 0; k < static_cast<Index>(model_.sph_elements.size()); ++k) {
       const model::ElementSph& e = model_.sph_elements[k];
       // *MAT_NULL parts are liquid: the SPH fluid formulation (sph/fluid_setup.cpp) takes them.
@@ -322,7 +322,7 @@ class Builder {
   // their first particles over the ranks (the material table's, as the whole set-up's); each part's
   // spacing is the largest over the ranks; the first failure in the deck's order, at a part's first
   // particle or a particle without mass, stops every rank (as the whole set-up, card after card).
-  void build_sph_solid_in_blocks(const std::vector<sph::FluidParticle>& block, const parallel::Communicator& ranks) {
+  void build_sph_solid_in_blocks(const std::vector<sph::ParticleCard>& block, const parallel::Communicator& ranks) {
     struct FirstParticle {
       Id pid;
       Index ordinal;

@@ -83,7 +83,7 @@ bool is_fluid_part(const model::Model& model, Id pid) {
 }
 
 std::unique_ptr<FluidFormulation> build_fluid(const model::Model& model,
-                                                   const std::vector<FluidParticle>& particles,
+                                                   const std::vector<ParticleCard>& particles,
                                                    const ArtificialViscosity& viscosity,
                                                    int dimension, discretization::NodeStore& nodes,
                                                    const parallel::Communicator* across) {
@@ -147,7 +147,7 @@ std::unique_ptr<FluidFormulation> build_fluid(const model::Model& model,
     Real z;
     Id nid;
   };
-  const auto z = [&](const FluidParticle& p) { return nodes.x0[p.node].z(); };
+  const auto z = [&](const ParticleCard& p) { return nodes.x0[p.node].z(); };
   Plane plane{0, particles.empty() ? 0 : z(particles.front()), particles.empty() ? 0 : particles.front().element->nid};
   if (across && dimension == 2) {
     const Index lowest = across->lowest(particles.empty() ? -1 : particles.front().ordinal);

@@ -15,7 +15,9 @@ namespace spall::sph {
 // True when part `pid` exists and its material is a *MAT_NULL: its particles are liquid.
 bool is_fluid_part(const model::Model& model, Id pid);
 
-struct FluidParticle {
+// An *ELEMENT_SPH card as the set-up takes it, the fluid's here and the solid's in the solver's
+// set-up in blocks (solver::NodesInBlocks::particles).
+struct ParticleCard {
   const model::ElementSph* element = nullptr;
   Index node = 0;     // its node's row
   Index ordinal = 0;  // its card's place among the deck's *ELEMENT_SPH cards
@@ -27,7 +29,7 @@ struct FluidParticle {
 // are in the deck's order: every particle of the deck, or, with `across`, this rank's share of them
 // (those on its block of the nodes; the checks and the parts' spacings then go over the ranks).
 std::unique_ptr<FluidFormulation> build_fluid(const model::Model& model,
-                                                   const std::vector<FluidParticle>& particles,
+                                                   const std::vector<ParticleCard>& particles,
                                                    const ArtificialViscosity& viscosity,
                                                    int dimension, discretization::NodeStore& nodes,
                                                    const parallel::Communicator* across = nullptr);
