@@ -118,8 +118,7 @@ void NodeStore::deal(std::vector<Index> begins, int self) {
     std::vector<std::pair<Index, Index>>().swap(by_deck_);
     sorted_by_deck_ = 0;
   } else if (windowed_) {  // every rank, its new block empty or not
-    const parallel::Range held =
-        parallel::hull(window(), {begins[self], begins[self + 1]});
+    const parallel::Range held = parallel::hull(window(), {begins[self], begins[self + 1]});
     hold_window(held.begin, held.end);
   }
   rank_begin = std::move(begins);

@@ -19,8 +19,9 @@ bool close_pairs_moved_together(StretchView<Vec3> x, std::span<const Vec3> befor
                                 Real limit);
 
 // The same answer over several ranks, each holding current only the positions of its particles
-// `own` (the others' may be stale, or not held: `x` may be a stretch that holds `own`): every rank reads its own, the boxes are merged over `ranks`
-// (min and max: exact), and every rank answers alike, as one process would over all of x.
+// `own` (the others' may be stale, or not held: `x` may be a stretch that holds `own`): every rank
+// reads its own, the boxes are merged over `ranks` (min and max: exact), and every rank answers
+// alike, as one process would over all of x.
 bool close_pairs_moved_together(StretchView<Vec3> x, std::span<const Vec3> before, Real distance, Real limit,
                                 ParticleRange own, const parallel::Communicator& ranks);
 

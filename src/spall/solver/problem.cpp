@@ -323,19 +323,7 @@ class Builder {
   // spacing is the largest over the ranks; the first failure in the deck's order, at a part's first
   // particle or a particle without mass, stops every rank (as the whole set-up, card after card).
   void build_sph_solid_in_blocks(const std::vector<sph::ParticleCard>& block, const parallel::Communicator& ranks) {
-    struct FirstParticle {
-      Id pid;
-      Index ordinal;
-      model::Model::CardLine line;
-      std::int32_t padding = 0;  // no unset byte travels
-    };
-    std::vector<FirstParticle> firsts;
-    for (const auto& p : block)
-      if (std::none_of(firsts.begin(), firsts.end(), [&](const FirstParticle& f) { return f.pid == p.element->pid; }))
-        firsts.push_back({p.element->pid, p.ordinal, model_.card_line(p.element->where)});
-    firsts = ranks.all(std::span<const FirstParticle>(firsts));
-    std::sort(firsts.begin(), firsts.end(),
-              [](const FirstParticle& a, const FirstParticle& b) { return a.ordinal < b.ordinal; });
+    const std::vector<sph::FirstParticle> firsts = sph::parts_by_first_particle(model_, block, &ranks);
     // A failure's place in the deck's order: its card's, then the part's set-up (0) before the mass (1).
     std::int64_t position = -1;
     std::optional<InputError> error;
@@ -346,7 +334,7 @@ class Builder {
     std::vector<materials::Material> table;
     std::unordered_map<Id, Index> material_index;
     std::unordered_map<Id, SphPart> parts;
-    for (const FirstParticle& f : firsts) {
+    for (const sph::FirstParticle& f : firsts) {
       if (parts.contains(f.pid)) continue;  // a later rank's first of a part set up already
       try {
         parts.emplace(f.pid, resolve_sph_part(f.pid, model_.location(f.line), table, material_index));
@@ -370,13 +358,13 @@ class Builder {
     }
     parallel::throw_first_failure(position, error, ranks);
     std::vector<double> negated;  // the largest spacing of each part over the ranks
-    for (const FirstParticle& f : firsts) negated.push_back(-parts.at(f.pid).spacing);
+    for (const sph::FirstParticle& f : firsts) negated.push_back(-parts.at(f.pid).spacing);
     ranks.minimum(negated);
     for (std::size_t k = 0; k < firsts.size(); ++k) parts.at(firsts[k].pid).spacing = -negated[k];
     // h and the kernel by part, in the order of their first particles: the whole set-up's first
     // failure, alike on every rank.
     std::optional<kernels::KernelKind> kernel;
-    for (const FirstParticle& f : firsts) {
+    for (const sph::FirstParticle& f : firsts) {
       sph::ParticleSetup first;
       kernel = smoothing_length(first, parts.at(f.pid), kernel);
     }

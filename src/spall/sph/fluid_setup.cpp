@@ -82,6 +82,19 @@ bool is_fluid_part(const model::Model& model, Id pid) {
   return mat != model.materials.end() && std::holds_alternative<model::MatNull>(mat->second.params);
 }
 
+std::vector<FirstParticle> parts_by_first_particle(const model::Model& model,
+                                                   const std::vector<ParticleCard>& particles,
+                                                   const parallel::Communicator* across) {
+  std::vector<FirstParticle> firsts;
+  for (const auto& p : particles)
+    if (std::none_of(firsts.begin(), firsts.end(), [&](const FirstParticle& f) { return f.pid == p.element->pid; }))
+      firsts.push_back({p.element->pid, p.ordinal, model.card_line(p.element->where)});
+  if (across) firsts = across->all(std::span<const FirstParticle>(firsts));
+  std::sort(firsts.begin(), firsts.end(),
+            [](const FirstParticle& a, const FirstParticle& b) { return a.ordinal < b.ordinal; });
+  return firsts;
+}
+
 std::unique_ptr<FluidFormulation> build_fluid(const model::Model& model,
                                                    const std::vector<ParticleCard>& particles,
                                                    const ArtificialViscosity& viscosity,
@@ -100,17 +113,7 @@ std::unique_ptr<FluidFormulation> build_fluid(const model::Model& model,
   };
 
   // The parts in the order of their first particles (over the ranks), each set up there.
-  struct FirstParticle {
-    Id pid;
-    Index ordinal;
-  };
-  std::vector<FirstParticle> firsts;
-  for (const auto& p : particles)
-    if (std::none_of(firsts.begin(), firsts.end(), [&](const FirstParticle& f) { return f.pid == p.element->pid; }))
-      firsts.push_back({p.element->pid, p.ordinal});
-  if (across) firsts = across->all(std::span<const FirstParticle>(firsts));
-  std::sort(firsts.begin(), firsts.end(),
-            [](const FirstParticle& a, const FirstParticle& b) { return a.ordinal < b.ordinal; });
+  const std::vector<FirstParticle> firsts = parts_by_first_particle(model, particles, across);
   std::unordered_map<Id, FluidPart> parts;
   const FluidPart* first = nullptr;
   bool warned = false;

@@ -2,6 +2,7 @@
 // The SPH fluid of a model: its *MAT_NULL parts (with their *EOS_), checked, as one
 // FluidFormulation (the fluid's own set-up, as spg/setup.hpp is SPG's). Called by the solver's
 // build_problem for the particles of those parts.
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -22,6 +23,22 @@ struct ParticleCard {
   Index node = 0;     // its node's row
   Index ordinal = 0;  // its card's place among the deck's *ELEMENT_SPH cards
 };
+
+// A part's first particle card in the deck: its ordinal and line (a card's line as every rank
+// names it), by which the set-up orders the parts and names where a part fails.
+struct FirstParticle {
+  Id pid;
+  Index ordinal;
+  model::Model::CardLine line;
+  std::int32_t padding = 0;  // no unset byte travels
+};
+
+// The parts of `particles` in the order of their first particles in the deck (the material
+// table's order), over the ranks with `across`, where a part may be listed once by each rank
+// holding some of its particles (the first of them first).
+std::vector<FirstParticle> parts_by_first_particle(const model::Model& model,
+                                                   const std::vector<ParticleCard>& particles,
+                                                   const parallel::Communicator* across);
 
 // Sets the particles' masses and part IDs on their nodes (and holds z in plane strain) and
 // returns the formulation of those particles; checks every particle and throws
