@@ -345,8 +345,9 @@ TEST(neighbors, PerReachRowsOfARangeAreTheWholeBuildsRows) {
 
 // Under MPI a rank of the SPH solid bins only the particles within reach of the rows it searches,
 // in the grid of every particle's box, the others' positions and reaches unknown to it (here:
-// NaN): each row searched is still the whole build's, entry for entry. complete_positions then
-// brings in the positions and search_every_row makes the whole build's list. A subset that lacks
+// NaN): each row searched is still the whole build's, entry for entry. Kept for the rows alone
+// (hold_positions), complete_positions then brings in the others' positions and search_every_row
+// makes the whole build's list. A subset that lacks
 // a row's particle, is not ascending, or holds a reach above the largest given is refused.
 TEST(neighbors, BinnedSubsetGivesTheWholeBuildsRows) {
   // Stored along x, as a bar's nodes are numbered along it: a range of rows is a slab.
@@ -391,7 +392,17 @@ TEST(neighbors, BinnedSubsetGivesTheWholeBuildsRows) {
   EXPECT_NE(short_part.list().neighbors.size(), part.list().neighbors.size());
 
   EXPECT_THROW(part.search_every_row(reach), std::logic_error);
-  part.complete_positions([&](std::vector<Vec3>& positions) { positions = x; });
+  // A rank keeps its own rows' positions at the build alone (hold_positions); complete_positions
+  // brings in the others' around them (here: every position but the rows').
+  part.hold_positions(rows);
+  EXPECT_EQ(part.positions_at_build().held_begin(), rows.begin);
+  EXPECT_EQ(part.positions_at_build().held_end(), rows.end);
+  EXPECT_EQ(part.positions_at_build().size(), n);
+  EXPECT_THROW(part.hold_positions({rows.begin - 1, rows.end}), std::logic_error);
+  part.complete_positions([&](std::vector<Vec3>& positions) {
+    for (Index i = 0; i < n; ++i)
+      if (i < rows.begin || i >= rows.end) positions[i] = x[i];
+  });
   part.search_every_row(reach);
   EXPECT_EQ(part.list().offsets, whole.list().offsets);
   EXPECT_EQ(part.list().neighbors, whole.list().neighbors);

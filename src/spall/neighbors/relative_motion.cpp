@@ -149,7 +149,7 @@ bool any_over_ranks(bool mine, const Share& share) {
 }
 
 // Global test (1): every displacement within limit / 2 of the centre of their box.
-bool within_half_limit_of_centre(StretchView<Vec3> x, std::span<const Vec3> before, const Box& d, Real limit,
+bool within_half_limit_of_centre(StretchView<Vec3> x, StretchView<Vec3> before, const Box& d, Real limit,
                                  const Share& share) {
   const Vec3 centre = d.centre();
   const Real half = limit / 2;
@@ -182,7 +182,7 @@ struct Grid {
 };
 
 // Local test (2), on a grid of at most as many cells as particles.
-bool neighbouring_cells_moved_together(StretchView<Vec3> x, std::span<const Vec3> before,
+bool neighbouring_cells_moved_together(StretchView<Vec3> x, StretchView<Vec3> before,
                                        const Grid& grid, Real limit, const Share& share) {
   const std::int64_t cell_count = grid.count();
   // One box per cell and thread, merged after: min and max are exact, so the merged boxes do not
@@ -225,7 +225,7 @@ bool neighbouring_cells_moved_together(StretchView<Vec3> x, std::span<const Vec3
   return !any_over_ranks(apart, share);
 }
 
-bool moved_together(StretchView<Vec3> x, std::span<const Vec3> before, Real distance, Real limit,
+bool moved_together(StretchView<Vec3> x, StretchView<Vec3> before, Real distance, Real limit,
                     const Share& share) {
   const auto n = static_cast<std::int64_t>(x.size());
   if (n == 0) return true;
@@ -267,12 +267,12 @@ bool moved_together(StretchView<Vec3> x, std::span<const Vec3> before, Real dist
 
 }  // namespace
 
-bool close_pairs_moved_together(StretchView<Vec3> x, std::span<const Vec3> before, Real distance,
+bool close_pairs_moved_together(StretchView<Vec3> x, StretchView<Vec3> before, Real distance,
                                 Real limit) {
   return moved_together(x, before, distance, limit, {0, static_cast<std::int64_t>(x.size()), nullptr});
 }
 
-bool close_pairs_moved_together(StretchView<Vec3> x, std::span<const Vec3> before, Real distance, Real limit,
+bool close_pairs_moved_together(StretchView<Vec3> x, StretchView<Vec3> before, Real distance, Real limit,
                                 ParticleRange own, const parallel::Communicator& ranks) {
   return moved_together(x, before, distance, limit, {own.begin, own.end - own.begin, &ranks});
 }

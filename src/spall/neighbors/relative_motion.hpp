@@ -15,14 +15,13 @@ namespace spall::neighbors {
 // relative to each other since `before`: |d_i - d_j| <= limit with d = x - before. May answer
 // false for a motion that satisfies this (the test bounds displacements by boxes); answers false
 // for a non-finite position. `before` must be finite and as long as x.
-bool close_pairs_moved_together(StretchView<Vec3> x, std::span<const Vec3> before, Real distance,
-                                Real limit);
+bool close_pairs_moved_together(StretchView<Vec3> x, StretchView<Vec3> before, Real distance, Real limit);
 
 // The same answer over several ranks, each holding current only the positions of its particles
-// `own` (the others' may be stale, or not held: `x` may be a stretch that holds `own`): every rank
-// reads its own, the boxes are merged over `ranks` (min and max: exact), and every rank answers
-// alike, as one process would over all of x.
-bool close_pairs_moved_together(StretchView<Vec3> x, std::span<const Vec3> before, Real distance, Real limit,
+// `own` (the others' may be stale, or not held: `x` and `before` may be stretches that hold
+// `own`): every rank reads its own, the boxes are merged over `ranks` (min and max: exact), and
+// every rank answers alike, as one process would over all of x.
+bool close_pairs_moved_together(StretchView<Vec3> x, StretchView<Vec3> before, Real distance, Real limit,
                                 ParticleRange own, const parallel::Communicator& ranks);
 
 }  // namespace spall::neighbors

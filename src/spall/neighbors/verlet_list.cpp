@@ -139,7 +139,7 @@ struct PairRadius {
   Real largest_reach;
   Real skin;
 
-  PairRadius(std::span<const Real> reach_by_particle, std::span<const Index> order, Real largest_reach,
+  PairRadius(StretchView<Real> reach_by_particle, std::span<const Index> order, Real largest_reach,
              Real skin)
       : reach(order.size() + search_lanes), largest_reach(largest_reach), skin(skin) {
     const auto n = static_cast<std::int64_t>(order.size());
@@ -193,7 +193,7 @@ void VerletList::build(StretchView<Vec3> x, Real cutoff, Real skin, ParticleRang
              RowOrder::ascending, rows);
 }
 
-void VerletList::build(StretchView<Vec3> x, std::span<const Real> reach, Real skin, RowOrder order,
+void VerletList::build(StretchView<Vec3> x, StretchView<Real> reach, Real skin, RowOrder order,
                        ParticleRange rows, const BinnedSubset* binned) {
   if (reach.size() != x.size())
     throw std::invalid_argument("neighbour search: need one reach per particle");
@@ -218,7 +218,7 @@ void VerletList::build(StretchView<Vec3> x, std::span<const Real> reach, Real sk
       throw std::invalid_argument("neighbour search: a binned reach above the largest given");
     largest = binned->largest_reach;
   } else {
-    for (const Real r : reach) check(r);
+    for (const Real r : reach.every()) check(r);
   }
   if (!(skin >= 0)) throw std::invalid_argument("neighbour search: need skin >= 0, got " + std::to_string(skin));
   cutoff_ = 2 * largest;
@@ -228,7 +228,7 @@ void VerletList::build(StretchView<Vec3> x, std::span<const Real> reach, Real sk
   build_reach(x, reach, rows, binned);
 }
 
-void VerletList::build_reach(StretchView<Vec3> x, std::span<const Real> reach, ParticleRange rows,
+void VerletList::build_reach(StretchView<Vec3> x, StretchView<Real> reach, ParticleRange rows,
                              const BinnedSubset* binned) {
   const Real largest = cutoff_ / 2, skin = skin_;
   build_rows(x, cutoff_ + skin,
@@ -237,7 +237,7 @@ void VerletList::build_reach(StretchView<Vec3> x, std::span<const Real> reach, P
 }
 
 void VerletList::search_rows(std::span<const Real> reach, ParticleRange rows) {
-  const auto n = static_cast<Index>(x_at_build_.size());
+  const Index n = count_;
   rows = {std::clamp(rows.begin, Index(0), n), std::clamp(rows.end, Index(0), n)};
   if (rows.begin == rows_.begin && rows.end == rows_.end) return;
   if (subset_) throw std::logic_error("VerletList::search_rows: positions at the build not all current");
@@ -246,19 +246,39 @@ void VerletList::search_rows(std::span<const Real> reach, ParticleRange rows) {
 }
 
 void VerletList::search_every_row(std::span<const Real> reach) {
-  if (partial()) search_rows(reach, {0, static_cast<Index>(x_at_build_.size())});
+  if (partial()) search_rows(reach, {0, count_});
+}
+
+void VerletList::hold_positions(ParticleRange keep) {
+  const Index held_end = x_first_ + static_cast<Index>(x_at_build_.size());
+  if (keep.begin >= keep.end) keep = {0, 0};  // none (a rank without particles of its own)
+  if (keep.begin < keep.end && (keep.begin < x_first_ || keep.end > held_end))
+    throw std::logic_error("VerletList::hold_positions: positions not held");
+  if (keep.begin == 0 && keep.end == count_) return;
+  std::vector<Vec3> kept;
+  if (keep.begin < keep.end)
+    kept.assign(x_at_build_.begin() + (keep.begin - x_first_), x_at_build_.begin() + (keep.end - x_first_));
+  x_at_build_ = std::move(kept);
+  x_first_ = keep.begin;
+  subset_ = true;
 }
 
 template <typename MakeRadius>
 void VerletList::build_rows(StretchView<Vec3> x, Real radius, const MakeRadius& make_radius,
                             RowOrder row_order, ParticleRange rows, const BinnedSubset* binned) {
   const auto n = static_cast<Index>(x.size());
-  // Of a subset, its positions alone (the others' are not current here, and are not read).
+  count_ = n;
+  // Of a subset, its positions alone, over the stretch from its first to its last (the others'
+  // are not current here, and are not read).
   if (binned) {
-    x_at_build_.resize(n);
-    for (const Index a : binned->particles) x_at_build_[a] = x[a];
+    const std::span<const Index> subset = binned->particles;
+    x_first_ = subset.empty() ? 0 : subset.front();
+    std::vector<Vec3>().swap(x_at_build_);  // freed first: never both at once
+    x_at_build_.resize(subset.empty() ? 0 : static_cast<std::size_t>(subset.back() + 1 - x_first_));
+    for (const Index a : subset) x_at_build_[a - x_first_] = x[a];
   } else {
     const std::span<const Vec3> every = x.every();
+    x_first_ = 0;
     x_at_build_.assign(every.begin(), every.end());
   }
   subset_ = binned != nullptr;
@@ -350,16 +370,16 @@ void VerletList::build_rows(StretchView<Vec3> x, Real radius, const MakeRadius& 
 }
 
 bool VerletList::needs_rebuild(StretchView<Vec3> x) const {
-  if (list_.offsets.empty() || x.size() != x_at_build_.size()) return true;
+  if (list_.offsets.empty() || x.size() != count_) return true;
   // The list holds every pair within r_ij + skin at the build (r_ij <= cutoff_). A pair now closer
   // than r_ij was within |x_i - x_j| + |d_i - d_j| < r_ij + |d_i - d_j| then (triangle inequality,
   // d = x - x_at_build_), so it is listed when its relative displacement is at most the skin.
-  return !close_pairs_moved_together(x, x_at_build_, cutoff_, skin_);
+  return !close_pairs_moved_together(x, positions_at_build(), cutoff_, skin_);
 }
 
 bool VerletList::needs_rebuild(StretchView<Vec3> x, ParticleRange own, const parallel::Communicator& ranks) const {
-  if (list_.offsets.empty() || x.size() != x_at_build_.size()) return true;
-  return !close_pairs_moved_together(x, x_at_build_, cutoff_, skin_, own, ranks);
+  if (list_.offsets.empty() || x.size() != count_) return true;
+  return !close_pairs_moved_together(x, positions_at_build(), cutoff_, skin_, own, ranks);
 }
 
 std::vector<Index> spatial_order(std::span<const Vec3> x, Real cell_size) {

@@ -2,6 +2,7 @@
 // Neighbour search: a cell-linked list (cell_list.hpp) builds Verlet lists with a skin; particles
 // can be put in cell order for memory locality. OpenMP inside; the result never depends on the
 // thread count.
+#include <algorithm>
 #include <limits>
 #include <span>
 #include <stdexcept>
@@ -60,11 +61,12 @@ class VerletList {
   // With `binned`, only its particles are binned (and only their positions and reaches read): each
   // row searched must have all its neighbours among them, and `x` may be a stretch of the particles
   // that holds them (StretchView); without, `x` is every particle's.
-  void build(StretchView<Vec3> x, std::span<const Real> reach, Real skin,
+  // `reach` may be a stretch that holds the binned particles, as `x`.
+  void build(StretchView<Vec3> x, StretchView<Real> reach, Real skin,
              RowOrder order = RowOrder::ascending, ParticleRange rows = {0, std::numeric_limits<Index>::max()},
              const BinnedSubset* binned = nullptr);
   // Whether the last build left rows empty that it was not asked for.
-  bool partial() const { return rows_.begin > 0 || rows_.end < static_cast<Index>(x_at_build_.size()); }
+  bool partial() const { return rows_.begin > 0 || rows_.end < count_; }
   // Whether the last build searched every row of `rows`.
   bool searched(ParticleRange rows) const {
     return rows.begin >= rows.end || (rows_.begin <= rows.begin && rows.end <= rows_.end);
@@ -78,14 +80,26 @@ class VerletList {
   void search_rows(std::span<const Real> reach, ParticleRange rows);
   // search_rows of every row: the list a build of every row would have made.
   void search_every_row(std::span<const Real> reach);
-  // After a build of a binned subset, whose positions at the build are all it holds current:
-  // `complete(positions)` makes an array of every particle's position whole (under MPI, from the
-  // ranks that binned each particle, its own).
+  // After a build of a binned subset, whose positions at the build are all it holds current, or
+  // hold_positions: `complete(positions)` makes an array of every particle's position whole, those
+  // held already in place (under MPI, from the ranks that binned each particle, its own).
   template <typename Complete>
   void complete_positions(Complete&& complete) {
     if (!subset_) return;
-    complete(x_at_build_);
+    std::vector<Vec3> every(static_cast<std::size_t>(count_));
+    std::copy(x_at_build_.begin(), x_at_build_.end(), every.begin() + x_first_);
+    complete(every);
+    x_at_build_ = std::move(every);
+    x_first_ = 0;
     subset_ = false;
+  }
+  // Keeps the positions at the build of the particles `keep` alone, which must be current here:
+  // under MPI a rank's own, which its rebuild test reads and complete_positions brings to the
+  // others (docs/SCALING.md §3, "The list's positions at its build by rank").
+  void hold_positions(ParticleRange keep);
+  // The positions at the last build that the list holds: every particle's, or a stretch.
+  StretchView<Vec3> positions_at_build() const {
+    return {x_at_build_.data(), x_first_, static_cast<Index>(x_at_build_.size()), count_};
   }
   // False while every pair now within the cutoff (reach_i + reach_j) has moved by at most the skin
   // relative to each other since the build, which keeps such pairs in the list (triangle
@@ -114,8 +128,9 @@ class VerletList {
     if (!a.reading() && subset_) throw std::logic_error("VerletList: a checkpoint of positions not all current");
     a(x_at_build_, order_, cutoff_, skin_, builds_);
     if (!a.reading()) return;
-    const auto n = static_cast<Index>(x_at_build_.size());
-    list_.offsets.assign(n + 1, 0);
+    count_ = static_cast<Index>(x_at_build_.size());
+    x_first_ = 0;
+    list_.offsets.assign(count_ + 1, 0);
     list_.neighbors.clear();
     rows_ = {0, 0}, subset_ = false;
   }
@@ -128,13 +143,18 @@ class VerletList {
                   ParticleRange rows, const BinnedSubset* binned = nullptr);
 
   // The per-particle reach build's rows (build_reach), searched on every rank alike.
-  void build_reach(StretchView<Vec3> x, std::span<const Real> reach, ParticleRange rows,
+  void build_reach(StretchView<Vec3> x, StretchView<Real> reach, ParticleRange rows,
                    const BinnedSubset* binned = nullptr);
 
   NeighborList list_;
+  // The positions at the build of particles [x_first_, x_first_ + size) of count_.
   std::vector<Vec3> x_at_build_;
+  Index x_first_ = 0;
+  Index count_ = 0;
   ParticleRange rows_;  // the rows the last build searched
-  bool subset_ = false;  // the last build binned a subset: x_at_build_ current there alone
+  // Not every particle's position at the build current here: a build of a binned subset (current
+  // there alone) or hold_positions.
+  bool subset_ = false;
   RowOrder order_ = RowOrder::ascending;
   Real cutoff_ = 0;
   Real skin_ = 0;

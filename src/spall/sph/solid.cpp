@@ -280,7 +280,8 @@ SolidFormulation::SolidFormulation(std::vector<materials::Material> materials,
   node_.resize(held);
   for (Index k = 0; k < held; ++k) node_[k] = particles[by_node[k]].node;
   if (across) node_ = across->all(std::span<const Index>(node_));  // each node's place, every rank's block
-  list_reach_.resize(n);
+  list_reach_.resize(0);
+  list_reach_.hold(first, end);
   // The set-up's constants of this rank's particles: every particle's, which under MPI each rank
   // cuts to its own at the first list build; in blocks its own from the start.
   constants_held_ = across && across->size() > 1;
@@ -490,7 +491,7 @@ void SolidFormulation::update_neighbour_list(discretization::NodeStore& nodes) {
       h_largest = -negated;
       share_(node_, list_reach_);
     }
-    verlet_.build(x_, list_reach_, list_skin(h_largest), neighbors::RowOrder::search, rows);
+    verlet_.build(x_, list_reach(), list_skin(h_largest), neighbors::RowOrder::search, rows);
     box = bounding_box(n, [&](Index a) { return x_[a]; });
   } else {
     box = search_near_rows(nodes);
@@ -524,7 +525,7 @@ void SolidFormulation::update_neighbour_list(discretization::NodeStore& nodes) {
   // The first build under MPI searched a rank's own rows: now those its force blocks may run too,
   // from every particle's position at the build, or set up in blocks, searched again from the
   // particles near them.
-  if (whole_state) verlet_.search_rows(list_reach_, rows_searched(own_particles()));
+  if (whole_state) verlet_.search_rows(list_reach().every(), rows_searched(own_particles()));
   if (first_near && force_blocks_ > 0) search_near_rows(nodes);
   // Blocks longer than the last build's reach rows it did not search: every row then, from every
   // particle's position at the build, and its rows' particles' positions, velocities and h, which
@@ -543,7 +544,8 @@ void SolidFormulation::update_neighbour_list(discretization::NodeStore& nodes) {
     hold_read_state({0, n});
     share_(node_, smoothing_length_, material_, initial_smoothing_length_, mass_, spacing_, record_mass_);
   }
-  if (unsearched) verlet_.search_every_row(list_reach_);
+  if (unsearched) verlet_.search_every_row(list_reach().every());
+  keep_own_list_state();
 }
 
 Real SolidFormulation::list_skin(Real h_largest) { return skin_fraction * cutoff_margin * 2 * h_largest; }
@@ -606,6 +608,7 @@ BoundingBox SolidFormulation::search_near_rows(discretization::NodeStore& nodes)
   const parallel::Communicator& ranks = parallel::world();
   const int size = ranks.size(), self = ranks.rank();
   const neighbors::ParticleRange own = own_particles();
+  list_reach_.hold(own.begin, own.end);  // those that come in below too, once known
   struct Own {
     BoundingBox box;
     Real h = 0;
@@ -674,23 +677,35 @@ BoundingBox SolidFormulation::search_near_rows(discretization::NodeStore& nodes)
   std::vector<Index> binned;
   binned.reserve(own.end - own.begin + receive.size());
   for (Index a = own.begin; a < own.end; ++a) binned.push_back(a);
+  for (const NearParticle& p : receive) binned.push_back(static_cast<Index>(p.particle));
+  std::sort(binned.begin(), binned.end());
+  if (!binned.empty()) list_reach_.hold(binned.front(), binned.back() + 1);
   for (const NearParticle& p : receive) {
     const auto a = static_cast<Index>(p.particle);
     nodes.x[row(nodes, a)] = p.x;
     nodes.v[row(nodes, a)] = p.v;
     smoothing_length(a) = p.h;
     list_reach_[a] = cutoff_margin * p.h;
-    binned.push_back(a);
   }
-  std::sort(binned.begin(), binned.end());
   gather_kinematics(nodes);  // x_ and v_ may be copies
   const neighbors::BinnedSubset subset{.particles = binned, .grid = grid, .largest_reach = largest_reach};
-  verlet_.build(x_, list_reach_, skin, neighbors::RowOrder::search, rows, &subset);
+  verlet_.build(x_, list_reach(), skin, neighbors::RowOrder::search, rows, &subset);
   return grid;
 }
 
 void SolidFormulation::complete_list() {
-  verlet_.complete_positions([&](std::vector<Vec3>& x) { share_(node_, x, list_reach_); });
+  verlet_.complete_positions([&](std::vector<Vec3>& x) {
+    list_reach_.hold(0, particle_count());
+    share_(node_, x, list_reach_);
+  });
+  list_reach_.hold(0, particle_count());  // before the first build (which writes them), set up in blocks
+}
+
+void SolidFormulation::keep_own_list_state() {
+  if (!list_built_) return;  // a deal before the first build: nothing held yet
+  const neighbors::ParticleRange own = own_particles();
+  verlet_.hold_positions(own);
+  list_reach_.hold(own.begin, own.end);
 }
 
 // From this rank's first particle to its last (the particles are in node order, so its own are
@@ -1190,9 +1205,11 @@ neighbors::ParticleRange SolidFormulation::read_stretch() const {
 // The rows this rank computes in the present deal, from every particle's position and reach at the
 // last build (complete_list), and the force blocks for the deal.
 void SolidFormulation::search_computed_rows(const discretization::NodeStore& nodes) {
-  verlet_.search_rows(list_reach_, rows_searched(own_particles()));
+  if (list_built_) verlet_.search_rows(list_reach().every(), rows_searched(own_particles()));
   choose_force_blocks(nodes);
-  if (!verlet_.searched(computed_rows())) verlet_.search_every_row(list_reach_);  // blocks longer than the margin
+  if (list_built_ && !verlet_.searched(computed_rows()))
+    verlet_.search_every_row(list_reach().every());  // blocks longer than the margin
+  keep_own_list_state();
 }
 
 // Rank 0 writes the list's positions whole, and the nodes too unless the store is a window (each
@@ -1397,7 +1414,7 @@ void SolidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt)
   }
   // A list read from a checkpoint has no rows (VerletList::checkpoint): one process searches every
   // row, a rank under MPI those it computes (as deal_anew), before a test for a rebuild may keep them.
-  if (!distributed) verlet_.search_every_row(list_reach_);
+  if (!distributed) verlet_.search_every_row(list_reach().every());
   if (distributed && reach_partition_ != nodes.partition) search_computed_rows(nodes);
   gather_kinematics(nodes);
   const long long builds = verlet_.builds();
@@ -1598,6 +1615,8 @@ void SolidFormulation::checkpoint(Archive& a, const discretization::NodeStore& n
   if (a.reading()) {
     set_up_ = true, reach_partition_ = blocks_partition_ = held_partition_ = -1;
     constants_held_ = list_built_ && parallel::world().size() > 1;
+  } else if (list_built_ && parallel::world().size() > 1) {
+    keep_own_list_state();  // completed for rank 0 to write (complete_state)
   }
 }
 

@@ -216,6 +216,13 @@ class SolidFormulation final : public discretization::Formulation {
   // from a rank's own and nearby particles (search_near_rows), before the nodes are dealt anew or a
   // checkpoint (which holds these positions, not the rows).
   void complete_list();
+  // Under MPI, once the rows are searched: the positions and reaches at the build of a rank's own
+  // particles alone, which its rebuild test reads and complete_list brings to the others.
+  void keep_own_list_state();
+  StretchView<Real> list_reach() const {
+    return {list_reach_.data(), list_reach_.held_begin(), list_reach_.held_end() - list_reach_.held_begin(),
+            particle_count()};
+  }
   // corrected: *CONTROL_SPH FORM 1 (the moment and its inverse B), else plain SPH.
   // Returns the first particle whose state update left it unsound (sound()), else
   // particle_count(); none is updated while categorizing.
@@ -323,7 +330,9 @@ class SolidFormulation final : public discretization::Formulation {
   Read<PlainStressRecord> plain_stress_;
   // The stress as the force pass reads it, P = sigma B^T, and the volume after the update.
   void record_stress(Index a, const Mat3& exported, const Mat3& correction);
-  std::vector<Real> list_reach_;  // cutoff_margin h at the last list build
+  // cutoff_margin h at the last list build; under MPI a rank's own particles' between builds, as the
+  // list's positions at the build (keep_own_list_state).
+  Own<Real> list_reach_;
   Read<Real> initial_smoothing_length_;
   struct HBounds {
     Real lower = 0, upper = 0;  // HMIN, HMAX
