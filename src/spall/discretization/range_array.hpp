@@ -6,11 +6,9 @@
 // options switch off is empty; one that is on but holds no particle (a rank without any) is not.
 #include <algorithm>
 #include <cstddef>
-#include <stdexcept>
 #include <utility>
 #include <vector>
 
-#include "spall/core/archive.hpp"
 #include "spall/core/types.hpp"
 
 namespace spall::discretization {
@@ -65,13 +63,6 @@ class RangeArray {
     values_.swap(other.values_);
   }
   std::size_t capacity_bytes() const { return values_.capacity() * sizeof(T); }
-  // Every particle's values as a std::vector's are written (those of an array that holds every
-  // particle), read back holding every particle.
-  void checkpoint(Archive& a) {
-    if (!a.reading() && first_ != 0) throw std::logic_error("RangeArray: a checkpoint of a stretch");
-    a(values_);
-    if (a.reading()) first_ = 0, on_ = true;
-  }
 
  private:
   Index last() const { return first_ + static_cast<Index>(values_.size()); }

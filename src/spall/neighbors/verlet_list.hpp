@@ -80,12 +80,17 @@ class VerletList {
   void search_rows(std::span<const Real> reach, ParticleRange rows);
   // search_rows of every row: the list a build of every row would have made.
   void search_every_row(std::span<const Real> reach);
+  // search_rows from the positions at the build of the particles `binned` alone (ascending, held
+  // here: hold_positions, set_position_at_build) and their reaches, in the grid of the build: each
+  // row of `rows` must have all its neighbours among them. Under MPI after a new deal: a rank's new
+  // rows from its particles' positions at the build and those near them, from their ranks.
+  void search_binned_rows(StretchView<Real> reach, ParticleRange rows, std::span<const Index> binned);
   // After a build of a binned subset, whose positions at the build are all it holds current, or
   // hold_positions: `complete(positions)` makes an array of every particle's position whole, those
-  // held already in place (under MPI, from the ranks that binned each particle, its own).
+  // held already in place (under MPI, from the ranks that binned each particle, its own). Called
+  // whether or not this list holds them all, since under MPI `complete` is the ranks' together.
   template <typename Complete>
   void complete_positions(Complete&& complete) {
-    if (!subset_) return;
     std::vector<Vec3> every(static_cast<std::size_t>(count_));
     std::copy(x_at_build_.begin(), x_at_build_.end(), every.begin() + x_first_);
     complete(every);
@@ -93,10 +98,14 @@ class VerletList {
     x_first_ = 0;
     subset_ = false;
   }
-  // Keeps the positions at the build of the particles `keep` alone, which must be current here:
-  // under MPI a rank's own, which its rebuild test reads and complete_positions brings to the
-  // others (docs/SCALING.md §3, "The list's positions at its build by rank").
+  // Holds the positions at the build of the particles `keep` from now on: those held already keep
+  // theirs, the others start at zero until set (set_position_at_build). Under MPI a rank keeps its
+  // own, which its rebuild test reads and complete_positions brings to the others
+  // (docs/SCALING.md §3, "The list's positions at its build by rank").
   void hold_positions(ParticleRange keep);
+  void set_position_at_build(Index p, const Vec3& x) { x_at_build_[p - x_first_] = x; }
+  // The box of every particle's position at the build: the grid it binned them in.
+  const BoundingBox& grid() const { return grid_; }
   // The positions at the last build that the list holds: every particle's, or a stretch.
   StretchView<Vec3> positions_at_build() const {
     return {x_at_build_.data(), x_first_, static_cast<Index>(x_at_build_.size()), count_};
@@ -120,19 +129,27 @@ class VerletList {
   // Bytes held besides the list itself: the positions saved at the build.
   std::size_t reference_positions_bytes() const { return x_at_build_.capacity() * sizeof(Vec3); }
 
-  // Where the particles were at the build (the next rebuild depends on it) and how it searched, not
-  // its rows: read back, no row is searched, and search_rows gives each the row this build would
-  // have made (a rank's rows under MPI, from a file any count of ranks wrote, without every rank
-  // holding every row to write or read them).
+  // How it searched, not its rows nor where the particles were at the build (the next rebuild
+  // depends on it), which the caller writes as it holds them (positions_at_build: under MPI a
+  // rank's own) and hands back whole (restore_positions): read back, no row is searched, and
+  // search_rows gives each the row this build would have made (a rank's rows under MPI, from a file
+  // any count of ranks wrote, without every rank holding every row to write or read them).
   void checkpoint(Archive& a) {
-    if (!a.reading() && subset_) throw std::logic_error("VerletList: a checkpoint of positions not all current");
-    a(x_at_build_, order_, cutoff_, skin_, builds_);
+    a(count_, order_, cutoff_, skin_, builds_, grid_.lower, grid_.upper, grid_.finite);
     if (!a.reading()) return;
-    count_ = static_cast<Index>(x_at_build_.size());
+    std::vector<Vec3>().swap(x_at_build_);
     x_first_ = 0;
     list_.offsets.assign(count_ + 1, 0);
     list_.neighbors.clear();
-    rows_ = {0, 0}, subset_ = false;
+    rows_ = {0, 0}, subset_ = count_ > 0;  // until restore_positions
+  }
+  // After a checkpoint is read: every particle's position at the build.
+  void restore_positions(std::vector<Vec3> every) {
+    if (static_cast<Index>(every.size()) != count_)
+      throw std::logic_error("VerletList::restore_positions: not every particle's position");
+    x_at_build_ = std::move(every);
+    x_first_ = 0;
+    subset_ = false;
   }
 
  private:
@@ -151,6 +168,7 @@ class VerletList {
   std::vector<Vec3> x_at_build_;
   Index x_first_ = 0;
   Index count_ = 0;
+  BoundingBox grid_;
   ParticleRange rows_;  // the rows the last build searched
   // Not every particle's position at the build current here: a build of a binned subset (current
   // there alone) or hold_positions.

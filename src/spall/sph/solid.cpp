@@ -583,12 +583,12 @@ neighbors::ParticleRange SolidFormulation::rows_searched(neighbors::ParticleRang
 
 // The ranks own blocks of the node order, in which the particles are stored: rank r's particles
 // are those from the first whose node's rank is r to the first whose node's rank is above.
-neighbors::ParticleRange SolidFormulation::particles_of(int r) const {
+neighbors::ParticleRange SolidFormulation::particles_of(int r, const discretization::ParticleShare& share) const {
   const auto first_of_rank_above = [&](int q) {
     Index low = 0, high = particle_count();
     while (low < high) {
       const Index mid = low + (high - low) / 2;
-      if (share_.rank_of(node_[mid]) < q)
+      if (share.rank_of(node_[mid]) < q)
         low = mid + 1;
       else
         high = mid;
@@ -636,23 +636,7 @@ BoundingBox SolidFormulation::search_near_rows(discretization::NodeStore& nodes)
   ranks.minimum({&negated_h, 1});
   const Real h_largest = -negated_h, largest_reach = cutoff_margin * h_largest, skin = list_skin(h_largest);
   const neighbors::ParticleRange rows = rows_searched(own);
-
-  // Each rank's rows' box, from every rank's box of its own particles among them.
-  std::vector<Index> one_each(size + 1);
-  std::iota(one_each.begin(), one_each.end(), 0);
-  std::vector<BoxBounds> part_of_rows(size), rows_parts(size);
-  for (int r = 0; r < size; ++r) {
-    const neighbors::ParticleRange theirs = rows_searched(particles_of(r));
-    const Index first = std::max(own.begin, theirs.begin), last = std::min(own.end, theirs.end);
-    part_of_rows[r] = bounds_of(bounding_box(std::max<Index>(last - first, 0), [&](Index k) { return x_[first + k]; }));
-  }
-  ranks.exchange(std::span<const BoxBounds>(part_of_rows), one_each, std::span(rows_parts), one_each);
-  BoundingBox rows_box;
-  for (const BoxBounds& b : rows_parts) rows_box.include(box_of(b));
-  const Real radius = 2 * largest_reach + skin;
-  const Real rounding = 1e-12 * std::max(grid.lower.cwiseAbs().maxCoeff(), grid.upper.cwiseAbs().maxCoeff());
-  std::vector<BoundingBox> near;
-  for (const BoxBounds& b : ranks.each(bounds_of(rows_box.grown(1.001 * radius + rounding)))) near.push_back(box_of(b));
+  const std::vector<BoundingBox> near = near_rows(x_, 2 * largest_reach + skin, grid);
 
   // This rank's particles within each other rank's reach, to it.
   std::vector<std::vector<NearParticle>> to(size);
@@ -693,12 +677,89 @@ BoundingBox SolidFormulation::search_near_rows(discretization::NodeStore& nodes)
   return grid;
 }
 
+// Each rank's rows' box, from every rank's box of its own particles among them at `x`, grown by the
+// list radius and the rounding of distances in `grid`: where the particles its rows may list lie.
+std::vector<BoundingBox> SolidFormulation::near_rows(StretchView<Vec3> x, Real radius, const BoundingBox& grid) const {
+  const parallel::Communicator& ranks = parallel::world();
+  const int size = ranks.size();
+  const neighbors::ParticleRange own = own_particles();
+  std::vector<Index> one_each(size + 1);
+  std::iota(one_each.begin(), one_each.end(), 0);
+  std::vector<BoxBounds> part_of_rows(size), rows_parts(size);
+  for (int r = 0; r < size; ++r) {
+    const neighbors::ParticleRange theirs = rows_searched(particles_of(r));
+    const Index first = std::max(own.begin, theirs.begin), last = std::min(own.end, theirs.end);
+    part_of_rows[r] = bounds_of(bounding_box(std::max<Index>(last - first, 0), [&](Index k) { return x[first + k]; }));
+  }
+  ranks.exchange(std::span<const BoxBounds>(part_of_rows), one_each, std::span(rows_parts), one_each);
+  BoundingBox rows_box;
+  for (const BoxBounds& b : rows_parts) rows_box.include(box_of(b));
+  const Real rounding = 1e-12 * std::max(grid.lower.cwiseAbs().maxCoeff(), grid.upper.cwiseAbs().maxCoeff());
+  std::vector<BoundingBox> near;
+  for (const BoxBounds& b : ranks.each(bounds_of(rows_box.grown(1.001 * radius + rounding)))) near.push_back(box_of(b));
+  return near;
+}
+
+namespace {
+// A particle's position at the last list build and its reach, as they travel between the ranks.
+struct AtBuild {
+  std::int64_t particle;  // 64 bits: no padding travels
+  Vec3 x;
+  Real reach;
+};
+}  // namespace
+
+// After a new deal, the rows this rank now computes, searched as one process would have at the
+// last build: from the positions at that build and the reaches of its new own particles, which
+// come in from their old ranks, and of the others' near its rows, from their new ranks, in that
+// build's grid (as search_near_rows), in place of every particle's completed on every rank.
+void SolidFormulation::search_dealt_rows(const discretization::ParticleShare& dealt_before) {
+  const parallel::Communicator& ranks = parallel::world();
+  const int size = ranks.size(), self = ranks.rank();
+  const neighbors::ParticleRange was = particles_of(self, dealt_before), own = own_particles();
+  StretchView<Vec3> at_build = verlet_.positions_at_build();
+  std::vector<std::vector<AtBuild>> to(size);
+  for (int r = 0; r < size; ++r) {
+    const neighbors::ParticleRange theirs = particles_of(r);
+    for (Index a = std::max(was.begin, theirs.begin); r != self && a < std::min(was.end, theirs.end); ++a)
+      to[r].push_back({a, at_build[a], list_reach_[a]});
+  }
+  const std::vector<AtBuild> arrived = ranks.deliver(to);
+  keep_own_list_state();
+  for (const AtBuild& p : arrived) {
+    verlet_.set_position_at_build(p.particle, p.x);
+    list_reach_[p.particle] = p.reach;
+  }
+
+  // This rank's particles within each other rank's reach, to it.
+  at_build = verlet_.positions_at_build();
+  const std::vector<BoundingBox> near = near_rows(at_build, verlet_.cutoff() + verlet_.skin(), verlet_.grid());
+  for (auto& out : to) out.clear();
+  for (Index a = own.begin; a < own.end; ++a)
+    for (int r = 0; r < size; ++r)
+      if (r != self && near[r].contains(at_build[a])) to[r].push_back({a, at_build[a], list_reach_[a]});
+  const std::vector<AtBuild> came = ranks.deliver(to);
+  std::vector<Index> binned;
+  binned.reserve(own.end - own.begin + came.size());
+  for (Index a = own.begin; a < own.end; ++a) binned.push_back(a);
+  for (const AtBuild& p : came) binned.push_back(static_cast<Index>(p.particle));
+  std::sort(binned.begin(), binned.end());
+  if (!binned.empty()) {
+    verlet_.hold_positions({binned.front(), binned.back() + 1});
+    list_reach_.hold(binned.front(), binned.back() + 1);
+  }
+  for (const AtBuild& p : came) {
+    verlet_.set_position_at_build(p.particle, p.x);
+    list_reach_[p.particle] = p.reach;
+  }
+  verlet_.search_binned_rows(list_reach(), rows_searched(own), binned);
+}
+
 void SolidFormulation::complete_list() {
   verlet_.complete_positions([&](std::vector<Vec3>& x) {
     list_reach_.hold(0, particle_count());
     share_(node_, x, list_reach_);
   });
-  list_reach_.hold(0, particle_count());  // before the first build (which writes them), set up in blocks
 }
 
 void SolidFormulation::keep_own_list_state() {
@@ -1130,15 +1191,23 @@ struct Kinematics {
 };
 }  // namespace
 
-// The rows this rank computes now are searched from every particle's position and reach at the last
-// build (as one process would have searched them), and the particles they read come in from the ranks that
-// computed them in the old deal, with their whole state and their nodes' positions and velocities:
-// a particle's state travels to the ranks that need it, no further.
+// The rows this rank computes now are searched from the particles' positions and reaches at the last
+// build (as one process would have searched them: search_dealt_rows), and the particles they read
+// come in from the ranks that computed them in the old deal, with their whole state and their
+// nodes' positions and velocities: a particle's state travels to the ranks that need it, no further.
 void SolidFormulation::deal_anew(discretization::NodeStore& nodes) {
   const discretization::ParticleShare dealt_before = share_;
-  complete_list();
   share_.bind(nodes);
-  search_computed_rows(nodes);
+  if (list_built_) search_dealt_rows(dealt_before);
+  choose_force_blocks(nodes);
+  // Blocks longer than the margin: every row then, from every particle's position at the build,
+  // which the ranks complete together when one needs them.
+  const bool unsearched = list_built_ && !verlet_.searched(computed_rows());
+  double any = unsearched ? -1 : 0;
+  parallel::world().minimum({&any, 1});
+  if (any < 0) complete_list();
+  if (unsearched) verlet_.search_every_row(list_reach().every());
+  keep_own_list_state();
   plan_reach(nodes);
   hold_nodes(nodes, true);  // the old own rows, which the arrivals below send from, and the new reads
   discretization::ReachShare arrivals;
@@ -1203,7 +1272,7 @@ neighbors::ParticleRange SolidFormulation::read_stretch() const {
 }
 
 // The rows this rank computes in the present deal, from every particle's position and reach at the
-// last build (complete_list), and the force blocks for the deal.
+// last build (read from a checkpoint), and the force blocks for the deal.
 void SolidFormulation::search_computed_rows(const discretization::NodeStore& nodes) {
   if (list_built_) verlet_.search_rows(list_reach().every(), rows_searched(own_particles()));
   choose_force_blocks(nodes);
@@ -1212,11 +1281,10 @@ void SolidFormulation::search_computed_rows(const discretization::NodeStore& nod
   keep_own_list_state();
 }
 
-// Rank 0 writes the list's positions whole, and the nodes too unless the store is a window (each
-// rank writes its own rows then): every particle's position, velocity and position at the last build.
+// Rank 0 writes the nodes whole unless the store is a window (each rank writes its own rows then):
+// every particle's position and velocity.
 void SolidFormulation::complete_state(discretization::NodeStore& nodes) {
   if (!nodes.windowed()) complete_kinematics(nodes);  // a window's store writes each rank's own rows
-  complete_list();
 }
 
 parallel::Range SolidFormulation::rows_read(const discretization::NodeStore& nodes) const {
@@ -1595,16 +1663,28 @@ std::size_t bytes(const discretization::RangeArray<T>& v) {
 
 // Everything but the materials and options (the deck's) and the spans into the node store or the
 // copies, which the next compute_forces gathers again: what every rank holds alike (the set-up's,
-// the list's positions at its build and its reach, not its rows) from rank 0, then each
-// particle's state in pieces from the rank that computes it (discretization/particle_pieces.hpp).
+// how the list searched, not its rows) from rank 0, then each particle's state, its position at the
+// list's build and its reach among it, in pieces from the rank that computes it
+// (discretization/particle_pieces.hpp).
 void SolidFormulation::checkpoint(Archive& a, const discretization::NodeStore& nodes) {
-  // 2: the list without its rows; 3: the constants in pieces; 4: no wave speed; 5: no copies of x and v
-  a.section("sph solid 5");
+  // 2: the list without its rows; 3: the constants in pieces; 4: no wave speed; 5: no copies of x and v;
+  // 6: the list's positions at its build and reaches in pieces
+  a.section("sph solid 6");
   a.expect_size("SPH solid particles", node_.size());
-  a(node_, uniform_mass_, record_origin_, list_reach_, full_support_gradient_, support_mask_, force_blocks_,
+  a(node_, uniform_mass_, record_origin_, full_support_gradient_, support_mask_, force_blocks_,
     force_block_length_, verlet_, time_, step_, list_built_, h_outgrown_, stable_step_, has_temperature_);
+  // The list's positions at its build, as it holds them (a rank's own under MPI), or none before
+  // the first build.
+  Own<Vec3> at_build;
+  if (!a.reading() && list_built_) {
+    const StretchView<Vec3> held = verlet_.positions_at_build();
+    at_build.resize(0);
+    at_build.hold(held.held_begin(), held.held_end());
+    for (Index p = held.held_begin(); p < held.held_end(); ++p) at_build[p] = held[p];
+  }
   discretization::archive_particle_pieces(
-      a, "SPH particle", node_, share_, nodes, material_, mass_, record_mass_, initial_smoothing_length_, spacing_,
+      a, "SPH particle", node_, share_, nodes, list_reach_, at_build, material_, mass_, record_mass_,
+      initial_smoothing_length_, spacing_,
       full_support_count_, smoothing_length_, record_, viscosity_record_, stress_, plain_stress_,
       density_, volume_, updated_volume_, pressure_, sound_speed_, updated_sound_speed_, internal_energy_, state_,
       back_stress_, gradient_amplification_, correction_, artificial_stress_, exported_deviator_, colour_,
@@ -1613,10 +1693,9 @@ void SolidFormulation::checkpoint(Archive& a, const discretization::NodeStore& n
   // Read whole by every rank, which plans its reach again and keeps its own particles' state (and
   // constants, once a list was built: else at the first build).
   if (a.reading()) {
+    if (!at_build.empty()) verlet_.restore_positions({at_build.data(), at_build.data() + particle_count()});
     set_up_ = true, reach_partition_ = blocks_partition_ = held_partition_ = -1;
     constants_held_ = list_built_ && parallel::world().size() > 1;
-  } else if (list_built_ && parallel::world().size() > 1) {
-    keep_own_list_state();  // completed for rank 0 to write (complete_state)
   }
 }
 

@@ -208,13 +208,19 @@ class SolidFormulation final : public discretization::Formulation {
   // which come in from their ranks; returns every particle's box (the grid's).
   BoundingBox search_near_rows(discretization::NodeStore& nodes);
   neighbors::ParticleRange rows_searched(neighbors::ParticleRange own) const;
-  neighbors::ParticleRange particles_of(int rank) const;  // under MPI, dealt in blocks
+  // Under MPI, dealt in blocks (by share_, or by `share`).
+  neighbors::ParticleRange particles_of(int rank) const { return particles_of(rank, share_); }
+  neighbors::ParticleRange particles_of(int rank, const discretization::ParticleShare& share) const;
+  // Under MPI: each rank's rows' box at the positions x, grown by the list radius (collective).
+  std::vector<BoundingBox> near_rows(StretchView<Vec3> x, Real radius, const BoundingBox& grid) const;
+  // Under MPI after a new deal: the rows this rank computes from the list's positions at its build
+  // of its particles and those near them, in from their ranks (collective).
+  void search_dealt_rows(const discretization::ParticleShare& dealt_before);
   // The list's skin for the largest h of every particle.
   static Real list_skin(Real h_largest);
   // Every particle's position and reach at the last list build (each rank's own come in), where
-  // rows the build did not search are searched from them (VerletList::search_rows): after a build
-  // from a rank's own and nearby particles (search_near_rows), before the nodes are dealt anew or a
-  // checkpoint (which holds these positions, not the rows).
+  // rows no rank searched are searched from them (VerletList::search_every_row): force blocks
+  // longer than the margin of the rows searched (rows_searched). Collective.
   void complete_list();
   // Under MPI, once the rows are searched: the positions and reaches at the build of a rank's own
   // particles alone, which its rebuild test reads and complete_list brings to the others.
