@@ -48,6 +48,22 @@ class Communicator {
   // In place, element by element: the minimum over the ranks (exact: no rounding). Maxima travel
   // negated and flags as 0 / -1, so one call takes every global decision of a step.
   void minimum(std::span<double> values) const;
+  // In place, element by element: the maximum over the ranks (exact), as minimum of the negated.
+  void maximum(std::span<double> values) const {
+    for (double& v : values) v = -v;
+    minimum(values);
+    for (double& v : values) v = -v;
+  }
+  double largest(double value) const {
+    maximum({&value, 1});
+    return value;
+  }
+  // Whether any rank says yes.
+  bool any(bool mine) const {
+    double flag = mine ? -1 : 0;
+    minimum({&flag, 1});
+    return flag < 0;
+  }
   // The lowest of the ranks' item indices, or -1 when every rank has none (-1): the item that every
   // rank then names alike, as when the first failing particle of a step stops the run.
   Index lowest(Index item) const {

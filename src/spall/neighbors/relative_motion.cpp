@@ -143,9 +143,7 @@ CellRange merge_reached_cells(std::span<Box> boxes, std::int64_t reach, const Sh
 
 bool any_over_ranks(bool mine, const Share& share) {
   if (!share.ranks || share.ranks->size() == 1) return mine;
-  double flag = mine ? -1 : 0;
-  share.ranks->minimum({&flag, 1});
-  return flag < 0;
+  return share.ranks->any(mine);
 }
 
 // Global test (1): every displacement within limit / 2 of the centre of their box.

@@ -210,9 +210,7 @@ class Builder {
       const parallel::Communicator& ranks = parallel::world();
       std::vector<sph::ParticleCard> block = blocks_->particles();
       const auto of_solid = [&](const sph::ParticleCard& p) { return !sph::is_fluid_part(model_, p.element->pid); };
-      double solid = std::any_of(block.begin(), block.end(), of_solid) ? -1 : 0;
-      ranks.minimum({&solid, 1});
-      if (solid < 0) return build_sph_solid_in_blocks(block, ranks);
+      if (ranks.any(std::any_of(block.begin(), block.end(), of_solid))) return build_sph_solid_in_blocks(block, ranks);
       const sph::SolidOptions options = sph_options();
       problem_.formulations.push_back(
           sph::build_fluid(model_, block, options.viscosity, options.dimension, problem_.nodes, &ranks));
@@ -357,10 +355,10 @@ class Builder {
       particles.push_back(place_particle(e, found->second, mass, first_row_ + p.node, p.node, options.dimension));
     }
     parallel::throw_first_failure(position, error, ranks);
-    std::vector<double> negated;  // the largest spacing of each part over the ranks
-    for (const sph::FirstParticle& f : firsts) negated.push_back(-parts.at(f.pid).spacing);
-    ranks.minimum(negated);
-    for (std::size_t k = 0; k < firsts.size(); ++k) parts.at(firsts[k].pid).spacing = -negated[k];
+    std::vector<double> spacing;  // the largest of each part over the ranks
+    for (const sph::FirstParticle& f : firsts) spacing.push_back(parts.at(f.pid).spacing);
+    ranks.maximum(spacing);
+    for (std::size_t k = 0; k < firsts.size(); ++k) parts.at(firsts[k].pid).spacing = spacing[k];
     // h and the kernel by part, in the order of their first particles: the whole set-up's first
     // failure, alike on every rank.
     std::optional<kernels::KernelKind> kernel;

@@ -227,9 +227,7 @@ class TimeLoop::Step {
     for (const auto& f : problem_.formulations) c = std::max(c, f->max_wave_speed());
     for (Index i = 0; i < nodes_.size(); ++i) v0 = std::max(v0, nodes_.v[i].norm());
     if (nodes_.holds_a_block()) {
-      double negated = -v0;
-      parallel::world().minimum({&negated, 1});
-      v0 = -negated;
+      v0 = parallel::world().largest(v0);
     }
     return c > 0 ? 10 * (c + v0) : std::numeric_limits<Real>::infinity();
   }

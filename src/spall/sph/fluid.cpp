@@ -642,10 +642,10 @@ void FluidFormulation::pair_pass(discretization::NodeStore& nodes, Real dt) {
     });
   });
   // Over every rank's particles (MPI): the step is global.
-  double negated_maxima[2] = {-max_acceleration, -max_mu};
-  parallel::world().minimum(negated_maxima);
-  max_acceleration_ = -negated_maxima[0];
-  max_mu_ = -negated_maxima[1];
+  double maxima[2] = {max_acceleration, max_mu};
+  parallel::world().maximum(maxima);
+  max_acceleration_ = maxima[0];
+  max_mu_ = maxima[1];
   first_pass_ = false;
 }
 
@@ -698,11 +698,9 @@ void FluidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt)
   // Every particle moved by dt v^{n-1/2} since the last call (under MPI each rank's own, the
   // velocities it holds current, then over the ranks).
   const Index n = particle_count();
-  double negated_speed = -parallel::reduce_exact(
+  max_speed_ = parallel::world().largest(parallel::reduce_exact(
       n, Real(0), [&](Index a) { return owns(a) ? nodes.v[node_[a]].norm() : Real(0); },
-      [](Real x, Real y) { return std::max(x, y); });
-  parallel::world().minimum({&negated_speed, 1});
-  max_speed_ = -negated_speed;
+      [](Real x, Real y) { return std::max(x, y); }));
   travelled_ += dt * max_speed_;
   // Two particles approach each other by at most twice the bound; the search also widens by the
   // rounding margin, and all of it must stay within the skin (see for_each_particle_candidates).

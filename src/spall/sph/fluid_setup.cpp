@@ -184,10 +184,10 @@ std::unique_ptr<FluidFormulation> build_fluid(const model::Model& model,
   }
   if (across) {
     parallel::throw_first_failure(position, error, *across);
-    std::vector<double> negated;  // the largest spacing of each part over the ranks
-    for (const FirstParticle& f : firsts) negated.push_back(-parts.at(f.pid).spacing);
-    across->minimum(negated);
-    for (std::size_t k = 0; k < firsts.size(); ++k) parts.at(firsts[k].pid).spacing = -negated[k];
+    std::vector<double> spacing;  // the largest of each part over the ranks
+    for (const FirstParticle& f : firsts) spacing.push_back(parts.at(f.pid).spacing);
+    across->maximum(spacing);
+    for (std::size_t k = 0; k < firsts.size(); ++k) parts.at(firsts[k].pid).spacing = spacing[k];
   } else if (error) {
     throw *error;
   }

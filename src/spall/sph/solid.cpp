@@ -486,9 +486,7 @@ void SolidFormulation::update_neighbour_list(discretization::NodeStore& nodes) {
       constants_held_ = true;
       hold_own_state(rows);
       hold_read_state({smoothing_length_.held_begin(), smoothing_length_.held_end()});
-      double negated = -h_largest;
-      ranks.minimum({&negated, 1});
-      h_largest = -negated;
+      h_largest = ranks.largest(h_largest);
       share_(node_, list_reach_);
     }
     verlet_.build(x_, list_reach(), list_skin(h_largest), neighbors::RowOrder::search, rows);
@@ -513,9 +511,7 @@ void SolidFormulation::update_neighbour_list(discretization::NodeStore& nodes) {
       },
       [](Index a, Index b) { return std::max(a, b); });
   if (distributed) {
-    double negated = -static_cast<double>(span);
-    parallel::world().minimum({&negated, 1});
-    span = static_cast<Index>(-negated);
+    span = static_cast<Index>(parallel::world().largest(static_cast<double>(span)));
   }
   force_block_length_ = span;
   force_blocks_ = (n + span - 1) / span;
@@ -531,9 +527,7 @@ void SolidFormulation::update_neighbour_list(discretization::NodeStore& nodes) {
   // particle's position at the build, and its rows' particles' positions, velocities and h, which
   // the ranks complete together when one needs them.
   const bool unsearched = !verlet_.searched(computed_rows());
-  double any = unsearched ? -1 : 0;
-  ranks.minimum({&any, 1});
-  if (any < 0) {
+  if (ranks.any(unsearched)) {
     complete_list();
     if (nodes.window_by_reads) {  // every node is read now
       nodes.hold_window(0, nodes.deck_node_count());
@@ -632,9 +626,7 @@ BoundingBox SolidFormulation::search_near_rows(discretization::NodeStore& nodes)
     throw InstabilityError(
         fmt::format("neighbour search: particle {} has a non-finite position", ranks.lowest(worst)));
   }
-  double negated_h = -mine.h;
-  ranks.minimum({&negated_h, 1});
-  const Real h_largest = -negated_h, largest_reach = cutoff_margin * h_largest, skin = list_skin(h_largest);
+  const Real h_largest = ranks.largest(mine.h), largest_reach = cutoff_margin * h_largest, skin = list_skin(h_largest);
   const neighbors::ParticleRange rows = rows_searched(own);
   const std::vector<BoundingBox> near = near_rows(x_, 2 * largest_reach + skin, grid);
 
@@ -1203,9 +1195,7 @@ void SolidFormulation::deal_anew(discretization::NodeStore& nodes) {
   // Blocks longer than the margin: every row then, from every particle's position at the build,
   // which the ranks complete together when one needs them.
   const bool unsearched = list_built_ && !verlet_.searched(computed_rows());
-  double any = unsearched ? -1 : 0;
-  parallel::world().minimum({&any, 1});
-  if (any < 0) complete_list();
+  if (parallel::world().any(unsearched)) complete_list();
   if (unsearched) verlet_.search_every_row(list_reach().every());
   keep_own_list_state();
   plan_reach(nodes);
