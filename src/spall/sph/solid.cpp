@@ -490,7 +490,7 @@ void SolidFormulation::update_neighbour_list(discretization::NodeStore& nodes) {
       share_(node_, list_reach_);
     }
     verlet_.build(x_, list_reach(), list_skin(h_largest), neighbors::RowOrder::search, rows);
-    box = bounding_box(n, [&](Index a) { return x_[a]; });
+    box = verlet_.grid();  // every particle's box, which the build binned them in
   } else {
     box = search_near_rows(nodes);
   }
@@ -1190,14 +1190,7 @@ struct Kinematics {
 void SolidFormulation::deal_anew(discretization::NodeStore& nodes) {
   const discretization::ParticleShare dealt_before = share_;
   share_.bind(nodes);
-  if (list_built_) search_dealt_rows(dealt_before);
-  choose_force_blocks(nodes);
-  // Blocks longer than the margin: every row then, from every particle's position at the build,
-  // which the ranks complete together when one needs them.
-  const bool unsearched = list_built_ && !verlet_.searched(computed_rows());
-  if (parallel::world().any(unsearched)) complete_list();
-  if (unsearched) verlet_.search_every_row(list_reach().every());
-  keep_own_list_state();
+  search_computed_rows(nodes, &dealt_before);
   plan_reach(nodes);
   hold_nodes(nodes, true);  // the old own rows, which the arrivals below send from, and the new reads
   discretization::ReachShare arrivals;
@@ -1261,13 +1254,19 @@ neighbors::ParticleRange SolidFormulation::read_stretch() const {
                         blocks);
 }
 
-// The rows this rank computes in the present deal, from every particle's position and reach at the
-// last build (read from a checkpoint), and the force blocks for the deal.
-void SolidFormulation::search_computed_rows(const discretization::NodeStore& nodes) {
-  if (list_built_) verlet_.search_rows(list_reach().every(), rows_searched(own_particles()));
+// The rows this rank computes in the present deal, as the last build would have searched them, and
+// the force blocks for the deal: after a new deal from the positions at the build near its rows
+// (search_dealt_rows), after a restart from every particle's (read whole).
+void SolidFormulation::search_computed_rows(const discretization::NodeStore& nodes,
+                                            const discretization::ParticleShare* dealt_before) {
+  if (list_built_ && dealt_before) search_dealt_rows(*dealt_before);
+  if (list_built_ && !dealt_before) verlet_.search_rows(list_reach().every(), rows_searched(own_particles()));
   choose_force_blocks(nodes);
-  if (list_built_ && !verlet_.searched(computed_rows()))
-    verlet_.search_every_row(list_reach().every());  // blocks longer than the margin
+  // Blocks longer than the margin: every row then, from every particle's position at the build,
+  // which the ranks complete together when one needs them.
+  const bool unsearched = list_built_ && !verlet_.searched(computed_rows());
+  if (parallel::world().any(unsearched)) complete_list();
+  if (unsearched) verlet_.search_every_row(list_reach().every());
   keep_own_list_state();
 }
 

@@ -280,7 +280,8 @@ class SolidFormulation final : public discretization::Formulation {
   // Under MPI, the nodes dealt anew (load balance): this rank's new rows, and the state they read
   // from the ranks that computed it before (collective).
   void deal_anew(discretization::NodeStore& nodes);
-  void search_computed_rows(const discretization::NodeStore& nodes);
+  void search_computed_rows(const discretization::NodeStore& nodes,
+                            const discretization::ParticleShare* dealt_before = nullptr);
   // The Own arrays hold particles [begin, end) from now on (this rank's own once the particles are
   // dealt; more while a new deal brings their state in), and so do the Own constants once held.
   void hold_own_state(neighbors::ParticleRange range);
