@@ -1,7 +1,9 @@
 #pragma once
 // How much memory this process may still take, so that a deck asking for more (a mesh box or an
 // NEND generation of 10^12 particles) is refused with a message before it allocates, instead of
-// being killed by the kernel's out-of-memory killer halfway.
+// being killed by the kernel's out-of-memory killer halfway; how much it has held; and pages of
+// its own for buffers that must give their memory back when freed (MappedBuffer).
+#include <cstddef>
 #include <cstdint>
 #include <string>
 
@@ -17,6 +19,12 @@ void set_limit(std::uint64_t bytes);
 
 // The most this process has held in memory so far (its peak resident set, getrusage's maxrss).
 std::uint64_t peak_resident_bytes();
+
+// `bytes` of anonymous pages of their own (zero, resident only once written; mmap; huge pages from
+// 2 MiB on where the system grants them), for MappedBuffer and UninitializedAllocator; throws
+// std::bad_alloc when the system refuses. unmap_pages(pages, the same bytes) gives them back.
+void* map_pages(std::size_t bytes);
+void unmap_pages(void* pages, std::size_t bytes);
 
 // "12.3 GB": bytes for a message, in decimal units.
 std::string human_bytes(double bytes);

@@ -10,6 +10,7 @@
 #include <vector>
 
 
+#include "spall/core/mapped_buffer.hpp"
 #include "spall/core/parallel.hpp"
 #include "spall/core/simd.hpp"
 #include "spall/neighbors/cell_list.hpp"
@@ -28,63 +29,37 @@ constexpr int stencil_reach = 2;
 // Candidates tested at once (for_each_within): a simd::Pack of them.
 constexpr int search_lanes = simd::Pack::width;
 
-// A vector whose resize leaves new entries as they are: the search's row buffers grow ahead of the
-// compressed stores that fill them, and zeroing them first was a pass over a second copy of the
-// list at every build (memset: half a per cent of the Taylor bar's step, perf).
-template <typename T>
-struct UninitializedAllocator : std::allocator<T> {
-  template <typename U>
-  struct rebind {
-    using other = UninitializedAllocator<U>;
-  };
-  template <typename U>
-  void construct(U* p) noexcept {
-    ::new (static_cast<void*>(p)) U;
-  }
-};
-using RowBuffer = std::vector<Index, UninitializedAllocator<Index>>;
-
-// A thread's rows as the search finds them, in chunks that are never reallocated, each row whole in
-// one chunk: the buffers hold the rows and at most a chunk more a thread, where one buffer grown by
-// doubling held up to twice the rows and copied itself at each growth (the first build's, the run's
-// peak of memory: 47 MB of buffers for the Taylor bar's 33 MB list at D0/35).
+// A thread's rows as the search finds them, in chunks of pages of their own (MappedBuffer) that are
+// never reallocated, each row whole in one chunk (at most a chunk more than the rows a thread).
+// Each chunk knows the last particle whose row it holds, so that the copy into the list, in
+// particle order, gives a chunk back to the system as soon as it has passed that particle: the
+// build holds the list about once, not twice (the rows found and the list they were copied into
+// were 94 and 99 MB of the Taylor bar's 408 MB heap at D0/50 on one process).
 class FoundRows {
  public:
-  // Room for `room` entries of the next row (a row's candidates and the search_lanes past them that
-  // compress_indices may write), which close() then cuts to the row's length.
-  Index* open(std::size_t room) {
-    if (chunks_.empty() || chunks_.back().capacity() - chunks_.back().size() < room) {
-      chunks_.emplace_back();
-      chunks_.back().reserve(std::max(chunk_entries, room));
-    }
-    RowBuffer& chunk = chunks_.back();
-    const std::size_t start = chunk.size();
-    chunk.resize(start + room);  // within the capacity: the chunk stays where it is
-    return chunk.data() + start;
-  }
-  void close(const Index* row, Index count) {
-    RowBuffer& chunk = chunks_.back();
-    chunk.resize(static_cast<std::size_t>(row - chunk.data()) + static_cast<std::size_t>(count));
-  }
-  // The rows read back in the order they were found: next(length) points at the next row's entries.
-  class Reader {
-   public:
-    explicit Reader(const FoundRows& rows) : chunks_(rows.chunks_) {}
-    const Index* next(std::size_t length) {
-      while (length > 0 && at_ == chunks_[chunk_].size()) ++chunk_, at_ = 0;  // rows fill a chunk exactly
-      const Index* row = chunks_.empty() ? nullptr : chunks_[chunk_].data() + at_;
-      at_ += length;
-      return row;
-    }
-
-   private:
-    const std::vector<RowBuffer>& chunks_;
-    std::size_t chunk_ = 0, at_ = 0;
+  struct Chunk {
+    MappedBuffer<Index> entries;
+    std::size_t size = 0;
+    Index last = -1;  // the last particle whose row it holds
   };
+  // Room for `room` entries of the next row (a row's candidates and the search_lanes past them that
+  // compress_indices may write); close() then takes the row's length.
+  Index* open(std::size_t room) {
+    if (chunks_.empty() || chunks_.back().entries.capacity() - chunks_.back().size < room)
+      chunks_.push_back({MappedBuffer<Index>(std::max(chunk_entries, room)), 0, -1});
+    Chunk& chunk = chunks_.back();
+    return chunk.entries.data() + chunk.size;
+  }
+  void close(Index particle, Index count) {
+    Chunk& chunk = chunks_.back();
+    chunk.size += static_cast<std::size_t>(count);
+    chunk.last = std::max(chunk.last, particle);
+  }
+  std::vector<Chunk>& chunks() { return chunks_; }
 
  private:
-  static constexpr std::size_t chunk_entries = std::size_t(1) << 18;  // 1 MiB
-  std::vector<RowBuffer> chunks_;
+  static constexpr std::size_t chunk_entries = std::size_t(1) << 19;  // 2 MiB
+  std::vector<Chunk> chunks_;
 };
 
 // Positions in cell order, one array per coordinate, and the particle at each position: the
@@ -165,17 +140,6 @@ inline void for_each_within(const CellOrderedPositions& p, const Radius& radius,
     if (k >= j && k < j + search_lanes) mask &= ~(1u << (k - j));
     take(j, mask);
   }
-}
-
-// The storage is kept from one rebuild to the next while it holds between the need and 1.25x it
-// (resize then writes nothing); otherwise it is reallocated with 1/16 to spare, so that a slowly
-// growing list is not copied at every build and a shrunken one gives its memory back.
-void size_storage(std::vector<Index>& storage, std::size_t total) {
-  if (storage.capacity() < total || storage.capacity() > total + total / 4) {
-    std::vector<Index>().swap(storage);  // freed first: never both at once
-    storage.reserve(total + total / 16);
-  }
-  storage.resize(total);
 }
 
 }  // namespace
@@ -292,10 +256,8 @@ void VerletList::build_rows(StretchView<Vec3> x, Real radius, const MakeRadius& 
   subset_ = binned != nullptr;
   rows_ = {std::clamp(rows.begin, Index(0), n), std::clamp(rows.end, Index(0), n)};
   list_.offsets.assign(n + 1, 0);
-  if (n == 0) {
-    list_.neighbors.clear();
-    return;
-  }
+  decltype(list_.neighbors)().swap(list_.neighbors);  // freed first: never the old list and the new at once
+  if (n == 0) return;
 
   // order[k]: the particle at position k of the cells (of a subset: binned in the order given, so
   // that a cell's particles keep ascending index, as the build of every particle has them).
@@ -332,21 +294,18 @@ void VerletList::build_rows(StretchView<Vec3> x, Real radius, const MakeRadius& 
     }, {.chunk = 64});
   };
 
-  // One walk: each thread appends the rows it finds to buffers of its own, with each row's
-  // particle and length; once the lengths give the offsets, each thread copies its rows into
-  // place. Every row is written by one thread and holds what the search found, so the list is the
-  // same for any thread count. The buffers hold the list once more while the build runs.
+  // One walk: each thread appends the rows it finds to buffers of its own, with each row's length
+  // and where it is; once the lengths give the offsets, the rows are copied into place in particle
+  // order, a slab at a time, and each buffer is given back once the copy has passed its last row.
+  // Every row is written by one thread and holds what the search found, so the list is the same
+  // for any thread count.
   std::vector<FoundRows> found_rows;
-  std::vector<std::vector<Index>> found_particles;
+  std::vector<const Index*> found_at(n, nullptr);
   parallel::region([&](const parallel::Team& team) {
-    team.single([&] {
-      found_rows.resize(team.size());
-      found_particles.resize(team.size());
-    });
+    team.single([&] { found_rows.resize(team.size()); });
     // Candidates are gathered search_lanes at a time without a branch per candidate (about one in
     // three is a neighbour, so a branch would mispredict often).
     FoundRows& found = found_rows[team.index()];
-    std::vector<Index>& particles = found_particles[team.index()];
     for_each_particle(team, [&](Index k, const TrimmedStencil::Ranges& ranges, int range_count) {
       Index candidates = 0;
       for (int r = 0; r < range_count; ++r) candidates += ranges[r].end - ranges[r].begin;
@@ -359,22 +318,26 @@ void VerletList::build_rows(StretchView<Vec3> x, Real radius, const MakeRadius& 
         });
       // Particles already in cell order give sorted rows.
       if (row_order == RowOrder::ascending && !std::is_sorted(row, row + count)) std::sort(row, row + count);
-      found.close(row, count);
-      particles.push_back(order[k]);
+      found.close(order[k], count);
+      found_at[order[k]] = row;
       list_.offsets[order[k] + 1] = count;
     });
   });
   for (Index i = 0; i < n; ++i) list_.offsets[i + 1] += list_.offsets[i];
-  size_storage(list_.neighbors, static_cast<std::size_t>(list_.offsets[n]));
-  const auto threads = static_cast<int>(found_rows.size());
-  parallel::for_each(threads, [&](int t) {
-    FoundRows::Reader rows(found_rows[t]);
-    for (const Index i : found_particles[t]) {
-      const Index count = list_.count(i);
-      const Index* from = rows.next(static_cast<std::size_t>(count));
-      std::copy(from, from + count, list_.neighbors.begin() + list_.offsets[i]);
-    }
-  });
+  list_.neighbors.resize(static_cast<std::size_t>(list_.offsets[n]));  // pages written by the copy alone
+  std::vector<FoundRows::Chunk*> by_last;
+  for (FoundRows& found : found_rows)
+    for (FoundRows::Chunk& chunk : found.chunks()) by_last.push_back(&chunk);
+  std::sort(by_last.begin(), by_last.end(), [](const auto* a, const auto* b) { return a->last < b->last; });
+  constexpr Index slab = Index(1) << 14;  // rows a copy pass
+  std::size_t given_back = 0;
+  for (Index first = 0; first < n; first += slab) {
+    const Index end = std::min(n, first + slab);
+    parallel::for_each(parallel::Range{first, end}, [&](Index i) {
+      std::copy_n(found_at[i], list_.count(i), list_.neighbors.begin() + list_.offsets[i]);
+    });
+    while (given_back < by_last.size() && by_last[given_back]->last < end) by_last[given_back++]->entries.release();
+  }
 }
 
 bool VerletList::needs_rebuild(StretchView<Vec3> x) const {

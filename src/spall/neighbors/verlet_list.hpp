@@ -13,18 +13,19 @@
 #include "spall/core/communicator.hpp"
 #include "spall/core/stretch_view.hpp"
 #include "spall/core/types.hpp"
+#include "spall/core/uninitialized_allocator.hpp"
 #include "spall/neighbors/cell_list.hpp"
 
 namespace spall::neighbors {
 
 // Compressed rows: the neighbours of particle i are neighbors[offsets[i] .. offsets[i+1]).
 // Full lists (j in i's row and i in j's row), self excluded, each row in the order asked of the
-// build (RowOrder).
+// build (RowOrder). The entries' pages are written by the build's copy alone (no pass of zeros),
+// which frees the search's buffers as it goes: the build never holds the list twice.
 struct NeighborList {
   std::vector<Index> offsets;
-  std::vector<Index> neighbors;
+  std::vector<Index, UninitializedAllocator<Index>> neighbors;
   Index count(Index i) const { return offsets[i + 1] - offsets[i]; }
-  void checkpoint(Archive& a) { a(offsets, neighbors); }
 };
 
 // The order of the neighbours within a row: ascending index (what a caller that searches its rows

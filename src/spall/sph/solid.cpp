@@ -1640,8 +1640,8 @@ void SolidFormulation::write_fields(discretization::FieldSet& fields, const disc
 }
 
 namespace {
-template <typename T>
-std::size_t bytes(const std::vector<T>& v) {
+template <typename T, typename Allocator>
+std::size_t bytes(const std::vector<T, Allocator>& v) {
   return v.capacity() * sizeof(T);
 }
 template <typename T>
