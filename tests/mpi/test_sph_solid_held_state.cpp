@@ -11,9 +11,11 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <string>
 #include <variant>
 #include <vector>
 
+#include "spall/core/archive.hpp"
 #include "spall/core/communicator.hpp"
 #include "spall/core/log.hpp"
 #include "spall/solver/problem.hpp"
@@ -28,12 +30,8 @@ struct NodeForce {
   double f[3];
 };
 
-// The internal force on every node after four steps of the bar (50 x 5 x 5 particles along x)
-// pulled at v_x = rate x, with the nodes dealt at `begins` for the first two steps and at `then` for
-// the others (a new deal: the state and constants travel to the ranks whose rows now read them);
-// checks each rank's held stretch.
-std::vector<Vec3> forces(const std::vector<Index>& begins, const std::vector<Index>& then) {
-  const parallel::Communicator& ranks = parallel::world();
+// The bar (50 x 5 x 5 particles along x) pulled at v_x = rate x.
+solver::Problem bar_problem() {
   test_support::ElasticBlock bar;
   model::Model model = test_support::elastic_block_model(bar);
   auto& section = std::get<model::SectionSph>(model.sections[1]);
@@ -49,23 +47,31 @@ std::vector<Vec3> forces(const std::vector<Index>& begins, const std::vector<Ind
   }
   model.sph_artificial_stress = model::SphArtificialStress{};
   solver::Problem problem = solver::build_problem(model);
-  discretization::NodeStore& nodes = problem.nodes;
-  const Index n = nodes.size();
   constexpr Real rate = 100;  // 1/s: a strain of 1e-6 a step
-  for (Index i = 0; i < n; ++i) nodes.v[i] = Vec3(rate * nodes.x[i].x(), 0, 0);
-  nodes.deal(begins, ranks.rank());
-  auto& sph = dynamic_cast<sph::SolidFormulation&>(*problem.formulations[0]);
-  for (int step = 0; step < 4; ++step) {
-    if (step == 2) nodes.deal(then, ranks.rank());
-    for (Index i = 0; i < n; ++i) nodes.f[i] = Vec3::Zero();
-    sph.compute_forces(nodes, 1e-8);
-  }
+  for (Index i = 0; i < problem.nodes.size(); ++i) problem.nodes.v[i] = Vec3(rate * problem.nodes.x[i].x(), 0, 0);
+  return problem;
+}
+
+sph::SolidFormulation& solid(solver::Problem& problem) {
+  return dynamic_cast<sph::SolidFormulation&>(*problem.formulations[0]);
+}
+
+void step(solver::Problem& problem) {
+  for (Index i = 0; i < problem.nodes.size(); ++i) problem.nodes.f[i] = Vec3::Zero();
+  solid(problem).compute_forces(problem.nodes, 1e-8);
+}
+
+// Checks the stretch a rank holds: every particle its rows read, and not every particle where it
+// owns some but not all.
+void expect_held_stretch(solver::Problem& problem) {
+  const parallel::Communicator& ranks = parallel::world();
+  const sph::SolidFormulation& sph = solid(problem);
   const neighbors::ParticleRange held = sph.read_state_held();
   const auto& list = sph.neighbor_list();
   const auto in_held = [&](Index a) { return a >= held.begin && a < held.end; };
   Index own = 0, unheld = 0;
   for (Index a = 0; a < sph.particle_count(); ++a) {
-    if (!nodes.owns(sph.node_of(a))) continue;
+    if (!problem.nodes.owns(sph.node_of(a))) continue;
     ++own;
     unheld += !in_held(a);
     for (Index k = list.offsets[a]; k < list.offsets[a + 1]; ++k) unheld += !in_held(list.neighbors[k]);
@@ -74,12 +80,70 @@ std::vector<Vec3> forces(const std::vector<Index>& begins, const std::vector<Ind
   if (own > 0 && own < sph.particle_count()) {
     EXPECT_LT(held.end - held.begin, sph.particle_count()) << "rank " << ranks.rank() << " holds every particle";
   }
+}
+
+// The internal force on every node, every rank's.
+std::vector<Vec3> node_forces(const discretization::NodeStore& nodes) {
+  const parallel::Communicator& ranks = parallel::world();
   std::vector<NodeForce> mine;
-  for (Index i = 0; i < n; ++i)
+  for (Index i = 0; i < nodes.size(); ++i)
     if (nodes.owns(i)) mine.push_back({i, {nodes.f[i].x(), nodes.f[i].y(), nodes.f[i].z()}});
-  std::vector<Vec3> f(n, Vec3::Zero());
+  std::vector<Vec3> f(nodes.size(), Vec3::Zero());
   for (const NodeForce& r : ranks.all(std::span<const NodeForce>(mine))) f[r.node] = Vec3(r.f[0], r.f[1], r.f[2]);
   return f;
+}
+
+// The internal force on every node after four steps of the bar, with the nodes dealt at `begins`
+// for the first two steps and at `then` for the others (a new deal: the state and constants travel
+// to the ranks whose rows now read them); checks each rank's held stretch.
+std::vector<Vec3> forces(const std::vector<Index>& begins, const std::vector<Index>& then) {
+  const parallel::Communicator& ranks = parallel::world();
+  solver::Problem problem = bar_problem();
+  problem.nodes.deal(begins, ranks.rank());
+  for (int k = 0; k < 4; ++k) {
+    if (k == 2) problem.nodes.deal(then, ranks.rank());
+    step(problem);
+  }
+  expect_held_stretch(problem);
+  return node_forces(problem.nodes);
+}
+
+// The same, with a restart file written after two steps (dealt at `begins`) and read back into the
+// bar dealt at `read_into`, then dealt at `then` for the last two steps. Read back, a rank holds its
+// own particles' state alone before its first step (docs/SCALING.md §3, "The list's positions at
+// its build by rank").
+std::vector<Vec3> restarted_forces(const std::vector<Index>& begins, const std::vector<Index>& read_into,
+                                   const std::vector<Index>& then) {
+  const parallel::Communicator& ranks = parallel::world();
+  std::string file;
+  {
+    solver::Problem problem = bar_problem();
+    problem.nodes.deal(begins, ranks.rank());
+    step(problem);
+    step(problem);
+    solid(problem).complete_state(problem.nodes);
+    Archive written = ranks.rank() == 0 ? Archive::for_writing() : Archive::discarding();
+    problem.nodes.checkpoint(written);
+    solid(problem).checkpoint(written, problem.nodes);
+    const std::string& mine = written.bytes();
+    const std::vector<char> whole = ranks.all(std::span<const char>(mine.data(), mine.size()));
+    file.assign(whole.begin(), whole.end());
+  }
+  solver::Problem problem = bar_problem();
+  problem.nodes.deal(read_into, ranks.rank());
+  Archive archive = Archive::for_reading(file, "checkpoint");
+  problem.nodes.checkpoint(archive);
+  solid(problem).checkpoint(archive, problem.nodes);
+  EXPECT_TRUE(archive.at_end());
+  const neighbors::ParticleRange held = solid(problem).read_state_held();
+  Index own = 0;
+  for (Index a = 0; a < solid(problem).particle_count(); ++a) own += problem.nodes.owns(solid(problem).node_of(a));
+  EXPECT_EQ(held.end - held.begin, own) << "rank " << ranks.rank() << " read more than its own particles' state";
+  problem.nodes.deal(then, ranks.rank());
+  step(problem);
+  step(problem);
+  expect_held_stretch(problem);
+  return node_forces(problem.nodes);
 }
 
 TEST(SphSolidOverRanks, ARankHoldsTheStateItsRowsReadAndForcesAreOneRanks) {
@@ -99,6 +163,14 @@ TEST(SphSolidOverRanks, ARankHoldsTheStateItsRowsReadAndForcesAreOneRanks) {
   }
   EXPECT_EQ(differ, 0);
   EXPECT_LT(zero, n / 2);  // the bar is pulled: the forces are not all zero
+  // Continued from a restart file, read into the deal it was written in or into the new one: the
+  // forces of the run that went on, bit for bit.
+  for (const auto& read_into : {blocks, shifted}) {
+    const std::vector<Vec3> restarted = restarted_forces(blocks, read_into, shifted);
+    differ = 0;
+    for (Index i = 0; i < n; ++i) differ += restarted[i] != reference[i];
+    EXPECT_EQ(differ, 0) << "read into the " << (read_into == blocks ? "deal it was written in" : "new deal");
+  }
 }
 
 }  // namespace

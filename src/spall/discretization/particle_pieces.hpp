@@ -13,6 +13,7 @@
 
 #include "spall/core/archive.hpp"
 #include "spall/core/communicator.hpp"
+#include "spall/core/parallel.hpp"
 #include "spall/core/pieces.hpp"
 #include "spall/core/types.hpp"
 #include "spall/discretization/node_store.hpp"
@@ -23,12 +24,13 @@ namespace spall::discretization {
 // `node[p]`: particle p's node as the formulation names it (NodeStore::node_place: its row, or its
 // place in the node order where the rows are every node or a window of them); `share`: which
 // particles this rank computes; each array a std::vector or a RangeArray that holds at least this
-// rank's own particles, and is read back whole, whichever rows the store holds. Collective.
-// Read back, a particle that is not this deck's or one missing stops every rank alike (`what` names
-// the particles in the message).
+// rank's own particles. Read back, a std::vector is every particle's, a RangeArray holds the
+// particles `keep` alone (under MPI a rank's own: no rank holds every particle's state then),
+// whichever rows the store holds. Collective. A particle that is not this deck's or one missing
+// stops every rank alike (`what` names the particles in the message).
 template <typename... Array>
 void archive_particle_pieces(Archive& a, const char* what, std::span<const Index> node, const ParticleShare& share,
-                             const NodeStore& nodes, Array&... arrays) {
+                             const NodeStore& nodes, parallel::Range keep, Array&... arrays) {
   const parallel::Communicator& ranks = parallel::world();
   const Index n = static_cast<Index>(node.size());
   if (!a.reading()) {
@@ -78,10 +80,12 @@ void archive_particle_pieces(Archive& a, const char* what, std::span<const Index
       array.clear();
       return;
     }
-    array.resize(n);
+    constexpr bool stretch = requires { array.hold(keep.begin, keep.end); };
+    array.resize(stretch ? 0 : n);
+    if constexpr (stretch) array.hold(keep.begin, keep.end);
     std::size_t k = 0;
     parallel::read_pieces<Value>(a, [&](const Value& value) {
-      if (const Index p = particle[k++]; p >= 0) array[p] = value;
+      if (const Index p = particle[k++]; p >= 0 && (!stretch || (p >= keep.begin && p < keep.end))) array[p] = value;
     });
   };
   (read(arrays), ...);

@@ -1190,7 +1190,7 @@ struct Kinematics {
 void SolidFormulation::deal_anew(discretization::NodeStore& nodes) {
   const discretization::ParticleShare dealt_before = share_;
   share_.bind(nodes);
-  search_computed_rows(nodes, &dealt_before);
+  search_computed_rows(nodes, dealt_before);
   plan_reach(nodes);
   hold_nodes(nodes, true);  // the old own rows, which the arrivals below send from, and the new reads
   discretization::ReachShare arrivals;
@@ -1256,11 +1256,11 @@ neighbors::ParticleRange SolidFormulation::read_stretch() const {
 
 // The rows this rank computes in the present deal, as the last build would have searched them, and
 // the force blocks for the deal: after a new deal from the positions at the build near its rows
-// (search_dealt_rows), after a restart from every particle's (read whole).
+// (search_dealt_rows), after a restart likewise (the deal share_ was bound to: a rank's own read back,
+// or every particle's).
 void SolidFormulation::search_computed_rows(const discretization::NodeStore& nodes,
-                                            const discretization::ParticleShare* dealt_before) {
-  if (list_built_ && dealt_before) search_dealt_rows(*dealt_before);
-  if (list_built_ && !dealt_before) verlet_.search_rows(list_reach().every(), rows_searched(own_particles()));
+                                            const discretization::ParticleShare& dealt_before) {
+  if (list_built_) search_dealt_rows(dealt_before);
   choose_force_blocks(nodes);
   // Blocks longer than the margin: every row then, from every particle's position at the build,
   // which the ranks complete together when one needs them.
@@ -1472,7 +1472,7 @@ void SolidFormulation::compute_forces(discretization::NodeStore& nodes, Real dt)
   // A list read from a checkpoint has no rows (VerletList::checkpoint): one process searches every
   // row, a rank under MPI those it computes (as deal_anew), before a test for a rebuild may keep them.
   if (!distributed) verlet_.search_every_row(list_reach().every());
-  if (distributed && reach_partition_ != nodes.partition) search_computed_rows(nodes);
+  if (distributed && reach_partition_ != nodes.partition) search_computed_rows(nodes, share_);
   gather_kinematics(nodes);
   const long long builds = verlet_.builds();
   update_neighbour_list(nodes);
@@ -1671,20 +1671,38 @@ void SolidFormulation::checkpoint(Archive& a, const discretization::NodeStore& n
     at_build.hold(held.held_begin(), held.held_end());
     for (Index p = held.held_begin(); p < held.held_end(); ++p) at_build[p] = held[p];
   }
+  // Read back under MPI once a list was built (its constants are held by rank then), into nodes
+  // dealt already (the time loop deals them before it reads a restart file), each rank keeps its own
+  // particles and brings in what its rows read as after a new deal; else every particle's, which
+  // the first deal cuts to a rank's own.
+  bool by_rank = false;
+  if (a.reading() && parallel::world().size() > 1 && list_built_) {
+    discretization::ParticleShare dealt;
+    dealt.bind(nodes);
+    if (dealt.dealt()) share_ = std::move(dealt), by_rank = true;
+  }
+  const neighbors::ParticleRange keep = by_rank ? own_particles() : neighbors::ParticleRange{0, particle_count()};
   discretization::archive_particle_pieces(
-      a, "SPH particle", node_, share_, nodes, list_reach_, at_build, material_, mass_, record_mass_,
+      a, "SPH particle", node_, share_, nodes, keep, list_reach_, at_build, material_, mass_, record_mass_,
       initial_smoothing_length_, spacing_,
       full_support_count_, smoothing_length_, record_, viscosity_record_, stress_, plain_stress_,
       density_, volume_, updated_volume_, pressure_, sound_speed_, updated_sound_speed_, internal_energy_, state_,
       back_stress_, gradient_amplification_, correction_, artificial_stress_, exported_deviator_, colour_,
       colour_normal_, support_count_, category_, density_rate_, velocity_gradient_, strain_rate_squared_,
       viscous_heating_, viscous_force_, force_);
-  // Read whole by every rank, which plans its reach again and keeps its own particles' state (and
-  // constants, once a list was built: else at the first build).
+  // Each rank then plans its reach and searches its rows again (search_computed_rows, from its own
+  // particles' positions at the build and those near them), and read whole keeps its own particles'
+  // state (and constants, once a list was built: else at the first build).
   if (a.reading()) {
-    if (!at_build.empty()) verlet_.restore_positions({at_build.data(), at_build.data() + particle_count()});
     set_up_ = true, reach_partition_ = blocks_partition_ = held_partition_ = -1;
     constants_held_ = list_built_ && parallel::world().size() > 1;
+    if (by_rank) {
+      verlet_.hold_positions(keep);
+      for (Index p = keep.begin; p < keep.end; ++p) verlet_.set_position_at_build(p, at_build[p]);
+      held_partition_ = nodes.partition;
+    } else if (!at_build.empty()) {
+      verlet_.restore_positions({at_build.data(), at_build.data() + particle_count()});
+    }
   }
 }
 

@@ -280,8 +280,7 @@ class SolidFormulation final : public discretization::Formulation {
   // Under MPI, the nodes dealt anew (load balance): this rank's new rows, and the state they read
   // from the ranks that computed it before (collective).
   void deal_anew(discretization::NodeStore& nodes);
-  void search_computed_rows(const discretization::NodeStore& nodes,
-                            const discretization::ParticleShare* dealt_before = nullptr);
+  void search_computed_rows(const discretization::NodeStore& nodes, const discretization::ParticleShare& dealt_before);
   // The Own arrays hold particles [begin, end) from now on (this rank's own once the particles are
   // dealt; more while a new deal brings their state in), and so do the Own constants once held.
   void hold_own_state(neighbors::ParticleRange range);
@@ -410,7 +409,8 @@ class SolidFormulation final : public discretization::Formulation {
   bool current(Index a) const { return current_.empty() || current_[a]; }
   long long reach_partition_ = -1;    // NodeStore::partition that reach_ was planned for
   // NodeStore::partition whose own particles the Own arrays hold. Under MPI each rank sets up its own
-  // particles' state at the first deal (a checkpoint is read whole, then cut to them); it keeps its
+  // particles' state at the first deal (a checkpoint is read by rank, or read whole before the first
+  // list and cut to them); it keeps its
   // own and those its rows read, and no rank gathers another's: the fields, the residual-stress
   // report and a failure report are each rank's own particles', a new deal brings in what the new
   // rows read (deal_anew), and each rank writes its own into a checkpoint.
