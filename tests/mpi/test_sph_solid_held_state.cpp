@@ -7,7 +7,9 @@
 // than the bar, and the internal forces on every node are, bit for bit, those of the bar dealt
 // whole to one rank (the pair sums are taken in one order whatever the deal: THEORY §3). The bar's
 // particles alternate between two materials and three masses, their h follows the density, and
-// the artificial stress is on, so that every constant a row reads of its neighbours matters.
+// the artificial stress is on, so that every constant a row reads of its neighbours matters. The run
+// continued from a restart file (read into the deal it was written in, and into a new one) gives the
+// same forces, and right after the read a rank holds its own particles' state alone.
 #include <gtest/gtest.h>
 
 #include <cstdint>
