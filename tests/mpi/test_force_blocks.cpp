@@ -12,14 +12,14 @@
 #include <vector>
 
 #include "spall/core/communicator.hpp"
-#include "spall/discretization/range_array.hpp"
+#include "spall/core/range_array.hpp"
 #include "spall/sph/force_blocks.hpp"
 
 namespace spall {
 namespace {
 
 constexpr Index particles = 103, length = 8, blocks = (particles + length - 1) / length;  // the last one short
-using Sums = discretization::RangeArray<Eigen::Vector4d>;
+using Sums = RangeArray<Eigen::Vector4d>;
 
 // The term of pair (a, b), b > a: magnitudes over twelve orders, so that the sums' last bits depend
 // on the order the terms are taken in.

@@ -400,7 +400,7 @@ TEST(neighbors, BinnedSubsetGivesTheWholeBuildsRows) {
   EXPECT_EQ(part.positions_at_build().held_begin(), rows.begin);
   EXPECT_EQ(part.positions_at_build().held_end(), rows.end);
   EXPECT_EQ(part.positions_at_build().size(), n);
-  part.complete_positions([&](std::vector<Vec3>& positions) {
+  part.complete_positions([&](RangeArray<Vec3>& positions) {
     for (Index i = 0; i < n; ++i)
       if (i < rows.begin || i >= rows.end) positions[i] = x[i];
   });

@@ -1,11 +1,11 @@
-// The per-particle array that holds one range of particles (discretization/range_array.hpp): a
+// The per-particle array that holds one range of particles (core/range_array.hpp): a
 // particle keeps its value while the range still holds it, whatever the range becomes; the ranks'
 // exchanges tell an array switched off (empty) from one that holds no particle.
 #include <gtest/gtest.h>
 
-#include "spall/discretization/range_array.hpp"
+#include "spall/core/range_array.hpp"
 
-namespace spall::discretization {
+namespace spall {
 namespace {
 
 RangeArray<double> numbered(Index n) {
@@ -52,4 +52,4 @@ TEST(RangeArray, AssignHoldsEveryParticle) {
 }
 
 }  // namespace
-}  // namespace spall::discretization
+}  // namespace spall

@@ -14,9 +14,9 @@
 
 #include "spall/core/communicator.hpp"
 #include "spall/core/parallel.hpp"
+#include "spall/core/range_array.hpp"
 #include "spall/core/types.hpp"
 #include "spall/discretization/node_store.hpp"
-#include "spall/discretization/range_array.hpp"
 
 namespace spall::discretization {
 

@@ -205,7 +205,8 @@ void VerletList::search_rows(std::span<const Real> reach, ParticleRange rows) {
   rows = {std::clamp(rows.begin, Index(0), n), std::clamp(rows.end, Index(0), n)};
   if (rows.begin == rows_.begin && rows.end == rows_.end) return;
   if (subset_) throw std::logic_error("VerletList::search_rows: positions at the build not all current");
-  const std::vector<Vec3> x = x_at_build_;  // build_rows keeps its argument as the new x_at_build_
+  // build_rows keeps its argument as the new x_at_build_
+  const std::vector<Vec3> x(x_at_build_.data(), x_at_build_.data() + n);
   build_reach(x, reach, rows);
 }
 
@@ -214,23 +215,18 @@ void VerletList::search_every_row(std::span<const Real> reach) {
 }
 
 void VerletList::hold_positions(ParticleRange keep) {
-  const Index held_end = x_first_ + static_cast<Index>(x_at_build_.size());
   if (keep.begin >= keep.end) keep = {0, 0};  // none (a rank without particles of its own)
-  if (keep.begin == x_first_ && keep.end == held_end) return;
-  std::vector<Vec3> kept(static_cast<std::size_t>(keep.end - keep.begin), Vec3::Zero());
-  for (Index p = std::max(keep.begin, x_first_); p < std::min(keep.end, held_end); ++p)
-    kept[p - keep.begin] = x_at_build_[p - x_first_];
-  x_at_build_ = std::move(kept);
-  x_first_ = keep.begin;
+  if (keep.begin == x_at_build_.held_begin() && keep.end == x_at_build_.held_end()) return;
+  x_at_build_.hold(keep.begin, keep.end);
   subset_ = true;
 }
 
 void VerletList::search_binned_rows(StretchView<Real> reach, ParticleRange rows, std::span<const Index> binned) {
   rows = {std::clamp(rows.begin, Index(0), count_), std::clamp(rows.end, Index(0), count_)};
   if (rows.begin == rows_.begin && rows.end == rows_.end) return;
-  const std::vector<Vec3> x = x_at_build_;  // build_rows keeps the binned ones as the new x_at_build_
+  const RangeArray<Vec3> x = x_at_build_;  // build_rows keeps the binned ones as the new x_at_build_
   const BinnedSubset subset{.particles = binned, .grid = grid_, .largest_reach = cutoff_ / 2};
-  build_reach(StretchView<Vec3>(x.data(), x_first_, static_cast<Index>(x.size()), count_), reach, rows, &subset);
+  build_reach(x.view(count_), reach, rows, &subset);
 }
 
 template <typename MakeRadius>
@@ -243,15 +239,16 @@ void VerletList::build_rows(StretchView<Vec3> x, Real radius, const MakeRadius& 
   if (binned) {
     const std::span<const Index> subset = binned->particles;
     grid_ = binned->grid;
-    x_first_ = subset.empty() ? 0 : subset.front();
-    std::vector<Vec3>().swap(x_at_build_);  // freed first: never both at once
-    x_at_build_.resize(subset.empty() ? 0 : static_cast<std::size_t>(subset.back() + 1 - x_first_));
-    for (const Index a : subset) x_at_build_[a - x_first_] = x[a];
+    x_at_build_.clear();  // freed first: never both at once
+    x_at_build_.resize(0);
+    if (!subset.empty()) x_at_build_.hold(subset.front(), subset.back() + 1);
+    for (const Index a : subset) x_at_build_[a] = x[a];
   } else {
     const std::span<const Vec3> every = x.every();
     grid_ = bounding_box(n, [&](Index a) { return every[a]; });
-    x_first_ = 0;
-    x_at_build_.assign(every.begin(), every.end());
+    x_at_build_.clear();
+    x_at_build_.resize(n);
+    std::copy(every.begin(), every.end(), x_at_build_.data());
   }
   subset_ = binned != nullptr;
   rows_ = {std::clamp(rows.begin, Index(0), n), std::clamp(rows.end, Index(0), n)};

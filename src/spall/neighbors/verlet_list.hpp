@@ -11,6 +11,7 @@
 #include "spall/core/archive.hpp"
 #include "spall/core/bounding_box.hpp"
 #include "spall/core/communicator.hpp"
+#include "spall/core/range_array.hpp"
 #include "spall/core/stretch_view.hpp"
 #include "spall/core/types.hpp"
 #include "spall/core/uninitialized_allocator.hpp"
@@ -87,30 +88,26 @@ class VerletList {
   // rows from its particles' positions at the build and those near them, from their ranks.
   void search_binned_rows(StretchView<Real> reach, ParticleRange rows, std::span<const Index> binned);
   // After a build of a binned subset, whose positions at the build are all it holds current, or
-  // hold_positions: `complete(positions)` makes an array of every particle's position whole, those
-  // held already in place (under MPI, from the ranks that binned each particle, its own). Called
-  // whether or not this list holds them all, since under MPI `complete` is the ranks' together.
+  // hold_positions: `complete(positions)` makes a RangeArray of every particle's position whole,
+  // those held already in place (under MPI, from the ranks that binned each particle, its own).
+  // Called whether or not this list holds them all, since under MPI `complete` is the ranks'
+  // together.
   template <typename Complete>
   void complete_positions(Complete&& complete) {
-    std::vector<Vec3> every(static_cast<std::size_t>(count_));
-    std::copy(x_at_build_.begin(), x_at_build_.end(), every.begin() + x_first_);
-    complete(every);
-    x_at_build_ = std::move(every);
-    x_first_ = 0;
+    x_at_build_.hold(0, count_);
+    complete(x_at_build_);
     subset_ = false;
   }
   // Holds the positions at the build of the particles `keep` from now on: those held already keep
-  // theirs, the others start at zero until set (set_position_at_build). Under MPI a rank keeps its
+  // theirs, the others are unset until set (set_position_at_build). Under MPI a rank keeps its
   // own, which its rebuild test reads and complete_positions brings to the others
   // (docs/SCALING.md §3, "The list's positions at its build by rank").
   void hold_positions(ParticleRange keep);
-  void set_position_at_build(Index p, const Vec3& x) { x_at_build_[p - x_first_] = x; }
+  void set_position_at_build(Index p, const Vec3& x) { x_at_build_[p] = x; }
   // The box of every particle's position at the build: the grid it binned them in.
   const BoundingBox& grid() const { return grid_; }
   // The positions at the last build that the list holds: every particle's, or a stretch.
-  StretchView<Vec3> positions_at_build() const {
-    return {x_at_build_.data(), x_first_, static_cast<Index>(x_at_build_.size()), count_};
-  }
+  StretchView<Vec3> positions_at_build() const { return x_at_build_.view(count_); }
   // False while every pair now within the cutoff (reach_i + reach_j) has moved by at most the skin
   // relative to each other since the build, which keeps such pairs in the list (triangle
   // inequality). Checked globally (every displacement within skin / 2 of a common vector: a rigid
@@ -128,7 +125,7 @@ class VerletList {
   // Lists built since construction: how often needs_rebuild() said yes, for the benchmarks.
   long long builds() const { return builds_; }
   // Bytes held besides the list itself: the positions saved at the build.
-  std::size_t reference_positions_bytes() const { return x_at_build_.capacity() * sizeof(Vec3); }
+  std::size_t reference_positions_bytes() const { return x_at_build_.capacity_bytes(); }
 
   // How it searched, not its rows nor where the particles were at the build (the next rebuild
   // depends on it), which the caller writes as it holds them (positions_at_build: under MPI a
@@ -138,8 +135,8 @@ class VerletList {
   void checkpoint(Archive& a) {
     a(count_, order_, cutoff_, skin_, builds_, grid_.lower, grid_.upper, grid_.finite);
     if (!a.reading()) return;
-    std::vector<Vec3>().swap(x_at_build_);
-    x_first_ = 0;
+    x_at_build_.clear();
+    x_at_build_.resize(0);
     list_.offsets.assign(count_ + 1, 0);
     list_.neighbors.clear();
     rows_ = {0, 0}, subset_ = count_ > 0;  // until restore_positions
@@ -148,8 +145,8 @@ class VerletList {
   void restore_positions(std::vector<Vec3> every) {
     if (static_cast<Index>(every.size()) != count_)
       throw std::logic_error("VerletList::restore_positions: not every particle's position");
-    x_at_build_ = std::move(every);
-    x_first_ = 0;
+    x_at_build_.resize(count_);
+    std::copy(every.begin(), every.end(), x_at_build_.data());
     subset_ = false;
   }
 
@@ -165,9 +162,8 @@ class VerletList {
                    const BinnedSubset* binned = nullptr);
 
   NeighborList list_;
-  // The positions at the build of particles [x_first_, x_first_ + size) of count_.
-  std::vector<Vec3> x_at_build_;
-  Index x_first_ = 0;
+  // The positions at the build of a stretch of the count_ particles.
+  RangeArray<Vec3> x_at_build_;
   Index count_ = 0;
   BoundingBox grid_;
   ParticleRange rows_;  // the rows the last build searched

@@ -17,8 +17,8 @@
 
 #include <Eigen/Core>
 
+#include "spall/core/range_array.hpp"
 #include "spall/core/types.hpp"
-#include "spall/discretization/range_array.hpp"
 
 namespace spall::sph {
 
@@ -48,10 +48,10 @@ class ForceBlocks {
   // in `sums`, the partial pair sums (x, y, z, 0) of the particles, held for those of the blocks this
   // rank runs (to last_touched()) and of its own particles. Collective: every rank calls both, each
   // step the blocks run. Nothing for one process.
-  void after_even(discretization::RangeArray<Eigen::Vector4d>& sums) const {
+  void after_even(RangeArray<Eigen::Vector4d>& sums) const {
     move(handoff_, sums.data(), sums.held_begin());
   }
-  void after_odd(discretization::RangeArray<Eigen::Vector4d>& sums) const {
+  void after_odd(RangeArray<Eigen::Vector4d>& sums) const {
     move(delivery_, sums.data(), sums.held_begin());
   }
 

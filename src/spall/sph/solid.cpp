@@ -748,7 +748,7 @@ void SolidFormulation::search_dealt_rows(const discretization::ParticleShare& de
 }
 
 void SolidFormulation::complete_list() {
-  verlet_.complete_positions([&](std::vector<Vec3>& x) {
+  verlet_.complete_positions([&](RangeArray<Vec3>& x) {
     list_reach_.hold(0, particle_count());
     share_(node_, x, list_reach_);
   });
@@ -1645,7 +1645,7 @@ std::size_t bytes(const std::vector<T, Allocator>& v) {
   return v.capacity() * sizeof(T);
 }
 template <typename T>
-std::size_t bytes(const discretization::RangeArray<T>& v) {
+std::size_t bytes(const RangeArray<T>& v) {
   return v.capacity_bytes();
 }
 }  // namespace

@@ -32,12 +32,12 @@
 #include <span>
 #include <vector>
 
+#include "spall/core/range_array.hpp"
 #include "spall/kernels/kernel.hpp"
 #include "spall/materials/material.hpp"
 #include "spall/neighbors/verlet_list.hpp"
 #include "spall/discretization/formulation.hpp"
 #include "spall/discretization/particle_share.hpp"
-#include "spall/discretization/range_array.hpp"
 #include "spall/discretization/reach_share.hpp"
 #include "spall/sph/artificial_viscosity.hpp"
 #include "spall/sph/force_blocks.hpp"
@@ -182,7 +182,7 @@ class SolidFormulation final : public discretization::Formulation {
   bool pairs_taken_once() const { return force_blocks_ > 0; }
   // Categories of the last categorization (particle order), empty when no part asks for them.
   // Of this rank's own particles (all on one process).
-  const discretization::RangeArray<Category>& categories() const { return category_; }
+  const RangeArray<Category>& categories() const { return category_; }
   Index node_of(Index particle) const { return node_[particle]; }
   // The particles whose read state (what the rows read of their neighbours: records, h, density,
   // volume, sound speed, stress records, forces) this rank holds: every particle on one process;
@@ -225,10 +225,7 @@ class SolidFormulation final : public discretization::Formulation {
   // Under MPI, once the rows are searched: the positions and reaches at the build of a rank's own
   // particles alone, which its rebuild test reads and complete_list brings to the others.
   void keep_own_list_state();
-  StretchView<Real> list_reach() const {
-    return {list_reach_.data(), list_reach_.held_begin(), list_reach_.held_end() - list_reach_.held_begin(),
-            particle_count()};
-  }
+  StretchView<Real> list_reach() const { return list_reach_.view(particle_count()); }
   // corrected: *CONTROL_SPH FORM 1 (the moment and its inverse B), else plain SPH.
   // Returns the first particle whose state update left it unsound (sound()), else
   // particle_count(); none is updated while categorizing.
@@ -302,9 +299,9 @@ class SolidFormulation final : public discretization::Formulation {
   // their neighbours, for the stretch of particles from the first a rank's rows read to the last
   // (Read, hold_read_state); the rest (each particle's node, the list's reach) for every particle.
   template <typename T>
-  using Own = discretization::RangeArray<T>;
+  using Own = RangeArray<T>;
   template <typename T>
-  using Read = discretization::RangeArray<T>;
+  using Read = RangeArray<T>;
   std::vector<Index> node_;
   // The set-up's constants (material, mass, and below the initial h, spacing and full-support
   // count) are held as the state is, by rank and by stretch, once constants_held_: under MPI from
@@ -377,7 +374,7 @@ class SolidFormulation final : public discretization::Formulation {
   // a contiguous run of nodes (first_node_ >= 0) and it holds every node, else copies gathered into
   // x_copy_, v_copy_, of the stretch of particles whose nodes a window holds under MPI.
   StretchView<Vec3> x_, v_;
-  discretization::RangeArray<Vec3> x_copy_, v_copy_;
+  RangeArray<Vec3> x_copy_, v_copy_;
   Index first_node_ = -1;
   // The rates that wait for the categorization (empty when not categorizing).
   Own<Real> density_rate_;

@@ -2,16 +2,18 @@
 // A per-particle array that holds the values of one contiguous range of particles, indexed by the
 // particle's index as a whole array would be: under MPI a formulation keeps the state that only a
 // particle's own rank reads (its material point, its energy) for the particles of its own block
-// of the node order alone (docs/SCALING.md §3, "Own state held by its rank"). An array that the
-// options switch off is empty; one that is on but holds no particle (a rank without any) is not.
+// of the node order alone (docs/SCALING.md §3, "Own state held by its rank"), and the neighbour list
+// its positions at the build of a rank's own. An array that the options switch off is empty; one
+// that is on but holds no particle (a rank without any) is not. view() reads it as a StretchView.
 #include <algorithm>
 #include <cstddef>
 #include <utility>
 #include <vector>
 
+#include "spall/core/stretch_view.hpp"
 #include "spall/core/types.hpp"
 
-namespace spall::discretization {
+namespace spall {
 
 template <typename T>
 class RangeArray {
@@ -63,6 +65,8 @@ class RangeArray {
     values_.swap(other.values_);
   }
   std::size_t capacity_bytes() const { return values_.capacity() * sizeof(T); }
+  // The values held, read-only, of `count` particles in all.
+  StretchView<T> view(Index count) const { return {values_.data(), first_, last() - first_, count}; }
 
  private:
   Index last() const { return first_ + static_cast<Index>(values_.size()); }
@@ -72,4 +76,4 @@ class RangeArray {
   std::vector<T> values_;
 };
 
-}  // namespace spall::discretization
+}  // namespace spall
