@@ -562,6 +562,29 @@ BoundingBox box_of(const BoxBounds& b) {
   box.upper = Vec3(b[3], b[4], b[5]);
   return box;
 }
+
+// This rank's particles `own` at `x` inside another rank's box near[r] go to that rank as
+// record(a) (a record whose `particle` names it); returns those that came in, and `binned`: the
+// own particles and those, ascending, which a list search bins for the rows near them (a build,
+// search_near_rows; a new deal, search_dealt_rows).
+template <typename Record>
+std::vector<std::invoke_result_t<Record&, Index>> near_particles(neighbors::ParticleRange own, StretchView<Vec3> x,
+                                                                 const std::vector<BoundingBox>& near, Record&& record,
+                                                                 std::vector<Index>& binned) {
+  const parallel::Communicator& ranks = parallel::world();
+  const int size = ranks.size(), self = ranks.rank();
+  std::vector<std::vector<std::invoke_result_t<Record&, Index>>> to(size);
+  for (Index a = own.begin; a < own.end; ++a)
+    for (int r = 0; r < size; ++r)
+      if (r != self && near[r].contains(x[a])) to[r].push_back(record(a));
+  auto came = ranks.deliver(to);
+  binned.clear();
+  binned.reserve(own.end - own.begin + came.size());
+  for (Index a = own.begin; a < own.end; ++a) binned.push_back(a);
+  for (const auto& p : came) binned.push_back(static_cast<Index>(p.particle));
+  std::sort(binned.begin(), binned.end());
+  return came;
+}
 }  // namespace
 
 // Rank r searches the rows of its own particles and, with pair-once blocks, those within 0.75 L of
@@ -600,7 +623,6 @@ neighbors::ParticleRange SolidFormulation::particles_of(int r, const discretizat
 // index) are then the whole build's, and so is every row searched. Returns that box.
 BoundingBox SolidFormulation::search_near_rows(discretization::NodeStore& nodes) {
   const parallel::Communicator& ranks = parallel::world();
-  const int size = ranks.size(), self = ranks.rank();
   const neighbors::ParticleRange own = own_particles();
   list_reach_.hold(own.begin, own.end);  // those that come in below too, once known
   struct Own {
@@ -631,11 +653,9 @@ BoundingBox SolidFormulation::search_near_rows(discretization::NodeStore& nodes)
   const std::vector<BoundingBox> near = near_rows(x_, 2 * largest_reach + skin, grid);
 
   // This rank's particles within each other rank's reach, to it.
-  std::vector<std::vector<NearParticle>> to(size);
-  for (Index a = own.begin; a < own.end; ++a)
-    for (int r = 0; r < size; ++r)
-      if (r != self && near[r].contains(x_[a])) to[r].push_back({a, x_[a], v_[a], smoothing_length(a)});
-  const std::vector<NearParticle> receive = ranks.deliver(to);
+  std::vector<Index> binned;
+  const std::vector<NearParticle> receive = near_particles(
+      own, x_, near, [&](Index a) { return NearParticle{a, x_[a], v_[a], smoothing_length(a)}; }, binned);
   neighbors::ParticleRange held{smoothing_length_.held_begin(), smoothing_length_.held_end()};
   for (const NearParticle& p : receive) {
     const auto a = static_cast<Index>(p.particle);
@@ -650,11 +670,6 @@ BoundingBox SolidFormulation::search_near_rows(discretization::NodeStore& nodes)
     }
     nodes.hold_window(first, end);  // x_ and v_ gathered again below
   }
-  std::vector<Index> binned;
-  binned.reserve(own.end - own.begin + receive.size());
-  for (Index a = own.begin; a < own.end; ++a) binned.push_back(a);
-  for (const NearParticle& p : receive) binned.push_back(static_cast<Index>(p.particle));
-  std::sort(binned.begin(), binned.end());
   if (!binned.empty()) list_reach_.hold(binned.front(), binned.back() + 1);
   for (const NearParticle& p : receive) {
     const auto a = static_cast<Index>(p.particle);
@@ -726,16 +741,9 @@ void SolidFormulation::search_dealt_rows(const discretization::ParticleShare& de
   // This rank's particles within each other rank's reach, to it.
   at_build = verlet_.positions_at_build();
   const std::vector<BoundingBox> near = near_rows(at_build, verlet_.cutoff() + verlet_.skin(), verlet_.grid());
-  for (auto& out : to) out.clear();
-  for (Index a = own.begin; a < own.end; ++a)
-    for (int r = 0; r < size; ++r)
-      if (r != self && near[r].contains(at_build[a])) to[r].push_back({a, at_build[a], list_reach_[a]});
-  const std::vector<AtBuild> came = ranks.deliver(to);
   std::vector<Index> binned;
-  binned.reserve(own.end - own.begin + came.size());
-  for (Index a = own.begin; a < own.end; ++a) binned.push_back(a);
-  for (const AtBuild& p : came) binned.push_back(static_cast<Index>(p.particle));
-  std::sort(binned.begin(), binned.end());
+  const std::vector<AtBuild> came = near_particles(
+      own, at_build, near, [&](Index a) { return AtBuild{a, at_build[a], list_reach_[a]}; }, binned);
   if (!binned.empty()) {
     verlet_.hold_positions({binned.front(), binned.back() + 1});
     list_reach_.hold(binned.front(), binned.back() + 1);
