@@ -129,9 +129,10 @@ class VerletList {
 
   // How it searched, not its rows nor where the particles were at the build (the next rebuild
   // depends on it), which the caller writes as it holds them (positions_at_build: under MPI a
-  // rank's own) and hands back whole (restore_positions): read back, no row is searched, and
-  // search_rows gives each the row this build would have made (a rank's rows under MPI, from a file
-  // any count of ranks wrote, without every rank holding every row to write or read them).
+  // rank's own) and hands back as it read them (restore_positions): read back, no row is searched,
+  // and search_rows (search_binned_rows under MPI) gives each the row this build would have made (a
+  // rank's rows, from a file any count of ranks wrote, without every rank holding every row to
+  // write or read them).
   void checkpoint(Archive& a) {
     a(count_, order_, cutoff_, skin_, builds_, grid_.lower, grid_.upper, grid_.finite);
     if (!a.reading()) return;
@@ -141,13 +142,13 @@ class VerletList {
     list_.neighbors.clear();
     rows_ = {0, 0}, subset_ = count_ > 0;  // until restore_positions
   }
-  // After a checkpoint is read: every particle's position at the build.
-  void restore_positions(std::vector<Vec3> every) {
-    if (static_cast<Index>(every.size()) != count_)
-      throw std::logic_error("VerletList::restore_positions: not every particle's position");
-    x_at_build_.resize(count_);
-    std::copy(every.begin(), every.end(), x_at_build_.data());
-    subset_ = false;
+  // After a checkpoint is read: the positions at the build of every particle, or of a stretch of
+  // them (under MPI a rank's own, as hold_positions keeps them).
+  void restore_positions(RangeArray<Vec3> held) {
+    if (held.held_begin() < 0 || held.held_end() > count_)
+      throw std::logic_error("VerletList::restore_positions: positions of particles the list does not have");
+    x_at_build_ = std::move(held);
+    subset_ = x_at_build_.held_begin() > 0 || x_at_build_.held_end() < count_;
   }
 
  private:

@@ -1704,13 +1704,8 @@ void SolidFormulation::checkpoint(Archive& a, const discretization::NodeStore& n
   if (a.reading()) {
     set_up_ = true, reach_partition_ = blocks_partition_ = held_partition_ = -1;
     constants_held_ = list_built_ && parallel::world().size() > 1;
-    if (by_rank) {
-      verlet_.hold_positions(keep);
-      for (Index p = keep.begin; p < keep.end; ++p) verlet_.set_position_at_build(p, at_build[p]);
-      held_partition_ = nodes.partition;
-    } else if (!at_build.empty()) {
-      verlet_.restore_positions({at_build.data(), at_build.data() + particle_count()});
-    }
+    if (!at_build.empty()) verlet_.restore_positions(std::move(at_build));  // a rank's own, or every particle's
+    if (by_rank) held_partition_ = nodes.partition;
   }
 }
 

@@ -407,10 +407,10 @@ class SolidFormulation final : public discretization::Formulation {
   long long reach_partition_ = -1;    // NodeStore::partition that reach_ was planned for
   // NodeStore::partition whose own particles the Own arrays hold. Under MPI each rank sets up its own
   // particles' state at the first deal (a checkpoint is read by rank, or read whole before the first
-  // list and cut to them); it keeps its
-  // own and those its rows read, and no rank gathers another's: the fields, the residual-stress
-  // report and a failure report are each rank's own particles', a new deal brings in what the new
-  // rows read (deal_anew), and each rank writes its own into a checkpoint.
+  // list and cut to them); it keeps its own and those its rows read, and no rank gathers another's:
+  // the fields, the residual-stress report and a failure report are each rank's own particles', a
+  // new deal brings in what the new rows read (deal_anew), and each rank writes its own into a
+  // checkpoint.
   long long held_partition_ = -1;
   bool set_up_ = false;  // whether the state was set up (set_up_state) or read from a checkpoint
   bool kinematics_complete_ = true;   // every particle's x and v current (complete_kinematics())
