@@ -26,6 +26,13 @@ class RangeArray {
     on_ = true;
     values_.assign(static_cast<std::size_t>(n), value);
   }
+  // On, holding particles [0, values.size()) with `values` (the set-up's, each its own).
+  void assign(std::vector<T> values) {
+    first_ = 0;
+    on_ = true;
+    values_ = std::move(values);
+    values_.shrink_to_fit();
+  }
   void resize(Index n) {
     first_ = 0;
     on_ = true;

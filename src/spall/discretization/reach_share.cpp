@@ -7,23 +7,13 @@
 namespace spall::discretization {
 
 // What this rank reads of each other rank's particles, in particle order, is what it asks of that
-// rank: first how many (one number to each rank), then which, by the node's place in the deck (the
-// particles' order may be each rank's own, the fluid's cells near a rank's region, and so may the
-// rows of its nodes). What each rank is asked is what it
-// sends, in the asker's order.
-void ReachShare::plan(std::span<const std::uint8_t> reads, std::span<const Index> node, const ParticleShare& share,
-                      const NodeStore& nodes, Stretch within) {
+// rank: first how many (one number to each rank), then which, by their places (the node's place in
+// the deck: the particles' order may be each rank's own, the fluid's cells near a rank's region,
+// and so may the rows of its nodes). What each rank is asked is what it sends, in the asker's order.
+void ReachShare::ask(const std::vector<std::vector<Index>>& wanted, std::span<const Index> wanted_places,
+                     std::vector<std::pair<Index, Index>> own) {
   const parallel::Communicator& ranks = parallel::world();
   const int size = ranks.size();
-  std::vector<std::vector<Index>> wanted(size);
-  // This rank's own particles by their nodes' places, which the others ask for.
-  std::vector<std::pair<Index, Index>> own;
-  for (Index a = within.first; a < within.end; ++a) {
-    if (share.owns(node[a]))
-      own.emplace_back(nodes.node_place(node[a]), a);
-    else if (reads[a])
-      wanted[share.rank_of(node[a])].push_back(a);
-  }
   receive_.clear();
   receive_offsets_.assign(size + 1, 0);
   for (int r = 0; r < size; ++r) {
@@ -32,11 +22,9 @@ void ReachShare::plan(std::span<const std::uint8_t> reads, std::span<const Index
   }
   receive_offsets_[size] = static_cast<Index>(receive_.size());
   send_offsets_ = ranks.offsets_in(receive_offsets_);
-  std::vector<Index> wanted_nodes(receive_.size());
-  for (std::size_t k = 0; k < receive_.size(); ++k) wanted_nodes[k] = nodes.node_place(node[receive_[k]]);
   send_.resize(send_offsets_[size]);
-  ranks.exchange(std::span<const Index>(wanted_nodes), receive_offsets_, std::span(send_), send_offsets_);
-  // The nodes asked for, as this rank's particles.
+  ranks.exchange(wanted_places, receive_offsets_, std::span(send_), send_offsets_);
+  // The places asked for, as this rank's particles.
   std::sort(own.begin(), own.end());
   for (Index& k : send_) k = std::lower_bound(own.begin(), own.end(), std::pair(k, Index(0)))->second;
 }

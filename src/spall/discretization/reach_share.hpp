@@ -11,6 +11,7 @@
 #include <cstddef>
 #include <cstring>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "spall/core/communicator.hpp"
@@ -32,7 +33,27 @@ class ReachShare {
   // `within`: a stretch of the particles that holds every one read and this rank's own (the others
   // are then not looked at: under MPI a rank's passes stay off the rest).
   void plan(std::span<const std::uint8_t> reads, std::span<const Index> node, const ParticleShare& share,
-            const NodeStore& nodes, Stretch within);
+            const NodeStore& nodes, Stretch within) {
+    plan_by_place(reads, node, share, [&](Index a) { return nodes.node_place(node[a]); }, within);
+  }
+  // The same where particles share a node (a mesh's elements, each computed by the rank of its
+  // first node, `node[a]`): every rank names particle a by place(a), which no other particle has.
+  template <typename Place>
+  void plan_by_place(std::span<const std::uint8_t> reads, std::span<const Index> node, const ParticleShare& share,
+                     Place&& place, Stretch within) {
+    std::vector<std::vector<Index>> wanted(parallel::world().size());  // by the rank that computes them
+    std::vector<std::pair<Index, Index>> own;                          // (place, particle)
+    for (Index a = within.first; a < within.end; ++a) {
+      if (share.owns(node[a]))
+        own.emplace_back(place(a), a);
+      else if (reads[a])
+        wanted[share.rank_of(node[a])].push_back(a);
+    }
+    std::vector<Index> wanted_places;
+    for (const auto& particles : wanted)
+      for (const Index a : particles) wanted_places.push_back(place(a));
+    ask(wanted, wanted_places, std::move(own));
+  }
   void plan(std::span<const std::uint8_t> reads, std::span<const Index> node, const ParticleShare& share,
             const NodeStore& nodes) {
     plan(reads, node, share, nodes, {0, static_cast<Index>(node.size())});
@@ -160,6 +181,11 @@ class ReachShare {
   }
 
  private:
+  // Receives `wanted` (by rank, the particles' places in that order) and tells each rank which of
+  // `own`'s it sends.
+  void ask(const std::vector<std::vector<Index>>& wanted, std::span<const Index> wanted_places,
+           std::vector<std::pair<Index, Index>> own);
+
   std::vector<Index> send_, send_offsets_;        // this rank's particles each other rank reads
   std::vector<Index> receive_, receive_offsets_;  // the other ranks' particles this rank reads
 };

@@ -5,8 +5,10 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <numeric>
 #include <span>
 #include <stdexcept>
+#include <type_traits>
 
 #include <Eigen/Eigenvalues>
 #include <fmt/format.h>
@@ -15,6 +17,7 @@
 #include "spall/core/cube_root.hpp"
 #include "spall/core/error.hpp"
 #include "spall/core/parallel.hpp"
+#include "spall/core/pieces.hpp"
 #include "spall/fem/hexahedron.hpp"
 #include "spall/fem/lanes.hpp"
 #include "spall/fem/tetrahedron.hpp"
@@ -105,13 +108,22 @@ SolidElements::SolidElements(std::vector<PartSettings> parts, const std::vector<
     const int elform = parts_[e.part].elform;
     return elform == 10 ? Kind::tetrahedron : elform == 2 ? Kind::hexahedron_selective_reduced : Kind::hexahedron;
   };
+  // Each kind's elements in the order of their first nodes, those of one node in the deck's order.
+  std::vector<Index> order(elements.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](Index a, Index b) { return elements[a].node[0] < elements[b].node[0]; });
   for (Kind kind : {Kind::hexahedron, Kind::hexahedron_selective_reduced, Kind::tetrahedron}) {
     Block block;
     block.kind = kind;
     block.nodes_per_element = kind == Kind::tetrahedron ? 4 : 8;
     block.points_per_element = kind == Kind::hexahedron_selective_reduced ? 8 : 1;
     bool stiffness = false, needs_strain = false, kinematic = false;
-    for (const auto& e : elements) {
+    std::vector<materials::PointState> state;
+    std::vector<materials::PointThermo> thermo;
+    std::vector<Real> volumes;
+    for (const Index k : order) {
+      const ElementSetup& e = elements[k];
       if (kind_of(e) != kind) continue;
       const PartSettings& part = parts_[e.part];
       const Real volume = element_volume(e.node, kind == Kind::tetrahedron, nodes);
@@ -121,31 +133,33 @@ SolidElements::SolidElements(std::vector<PartSettings> parts, const std::vector<
       block.part.push_back(e.part);
       block.id.push_back(e.id);
       block.mass.push_back(part.material.density * volume);
-      block.volume.push_back(volume);
+      volumes.push_back(volume);
       const materials::Material& m = part.material;
       const Real e0 = m.initial_specific_energy;
       for (int g = 0; g < block.points_per_element; ++g) {
-        block.state.push_back(materials::initial_state(m));
-        block.thermo.push_back({e0, materials::eos_pressure(m, m.density, e0), materials::sound_speed(m, m.density, e0)});
+        state.push_back(materials::initial_state(m));
+        thermo.push_back({e0, materials::eos_pressure(m, m.density, e0), materials::sound_speed(m, m.density, e0)});
       }
       stiffness |= kind == Kind::hexahedron && part.hourglass.form == HourglassForm::stiffness;
       needs_strain |= part.erosion.needs_strain();
       kinematic |= materials::keeps_back_stress(m);
     }
     if (block.id.empty()) continue;
-    const std::size_t n = block.id.size();
+    const Index n = block.size();
+    block.state.assign(std::move(state));
+    block.thermo.assign(std::move(thermo));
+    block.volume.assign(std::move(volumes));
     if (kind == Kind::hexahedron) block.hourglass_energy.assign(n, 0), block.hourglass_power.assign(n, 0);
     if (stiffness) block.hourglass_force.assign(hourglass_modes * n, Vec3::Zero());
     block.eroded.assign(n, 0);
-    if (kinematic) block.back_stress.assign(block.state.size(), Mat3::Zero());
+    if (kinematic) block.back_stress.assign(block.points_per_element * n, Mat3::Zero());
     if (needs_strain) {
       block.strain.assign(n, Mat3::Zero());
       block.effective_strain.assign(n, 0);
     }
     colour(block);
-    for (auto* values : {&block.mass, &block.volume}) values->shrink_to_fit();
+    block.mass.shrink_to_fit();
     block.node.shrink_to_fit(), block.part.shrink_to_fit(), block.id.shrink_to_fit();
-    block.state.shrink_to_fit(), block.thermo.shrink_to_fit();
     blocks_.push_back(std::move(block));
   }
   live_elements_.assign(node_.size(), 0);
@@ -581,14 +595,17 @@ void SolidElements::remove_eroded(discretization::NodeStore& nodes) {
   for (std::size_t k_block = 0; k_block < blocks_.size(); ++k_block) {
     Block& block = blocks_[k_block];
     const int per = block.nodes_per_element, points = block.points_per_element;
-    for (Index e = 0; e < block.size(); ++e) {
+    // In element order: a node's mass loses its elements' shares in the serial order (a rank
+    // computes every element on its own nodes, and sets only 1 on those it computes).
+    const parallel::Range elements = held(k_block);
+    for (Index e = elements.begin; e < elements.end; ++e) {
       if (block.eroded[e] != 1) continue;
       block.eroded[e] = 2;
       const PartSettings& part = parts_[block.part[e]];
       const Real m = block.mass[e];
       // What its nodes lose: the mass DT2MS added too.
       const Real nodal = (block.mass_scale.empty() ? m : block.mass_scale[e] * m) / per;
-      const bool owned = books(k_block, e);
+      const bool owned = books(block, e);
       Real internal = 0;
       for (int g = 0; g < points; ++g)
         internal += block.thermo[points * e + g].specific_energy - part.material.initial_specific_energy;
@@ -613,33 +630,81 @@ void SolidElements::remove_eroded(discretization::NodeStore& nodes) {
   eroded_mass_ += taken[2].value();
 }
 
-void SolidElements::distribute(discretization::NodeStore& nodes) {
-  if ((share_ && share_->partition == nodes.partition) || parallel::world().size() == 1) return;
-  if (share_) {  // by the old blocks, before they change what each rank computes
-    share_elements();
-    complete_nodes(nodes);
-  }
-  Share& s = share_.emplace();
+void SolidElements::Block::hold(parallel::Range elements) {
+  carried_state([&](auto& array, int per) { array.hold(per * elements.begin, per * elements.end); });
+  hourglass_power.hold(elements.begin, elements.end);
+}
+
+namespace {
+
+// Each element's values of a state array (`per` an element) from the rank `arrivals` planned to
+// send it.
+template <typename T>
+void bring(const discretization::ReachShare& arrivals, RangeArray<T>& array, int per) {
+  if (array.empty()) return;
+  for (int g = 0; g < per; ++g)
+    arrivals.records<T>([&](Index e) { return array[per * e + g]; },
+                        [&](Index e, const T& value) { array[per * e + g] = value; });
+}
+
+}  // namespace
+
+SolidElements::Share SolidElements::plan_share(const discretization::NodeStore& nodes) const {
+  Share s;
   s.partition = nodes.partition;
   s.nodes.bind(nodes);
   std::vector<std::uint8_t> reads(node_.size(), 0);  // the local nodes of the elements computed here
   for (const Block& block : blocks_) {
     const int per = block.nodes_per_element;
-    auto& computed = s.computed.emplace_back(block.size(), 0);
-    auto& first = s.first_node.emplace_back(block.size());
+    std::vector<std::uint8_t> computed(block.size(), 0);
+    Share::Computed& mine = s.blocks.emplace_back();
+    mine.held = {block.size(), 0};
     for (Index e = 0; e < block.size(); ++e) {
-      first[e] = node_[block.node[per * e]];
       for (int a = 0; a < per; ++a) computed[e] |= nodes.owns(node_[block.node[per * e + a]]);
-      if (computed[e])
-        for (int a = 0; a < per; ++a) reads[block.node[per * e + a]] = 1;
+      if (!computed[e]) continue;
+      for (int a = 0; a < per; ++a) reads[block.node[per * e + a]] = 1;
+      mine.held = {std::min(mine.held.begin, e), std::max(mine.held.end, e + 1)};
     }
-    s.elements.emplace_back().bind(nodes);
+    if (mine.held.begin >= mine.held.end) mine.held = {0, 0};
+    // The block's colours, each restricted to the elements computed here.
+    mine.offset.push_back(0);
+    for (std::size_t c = 0; c + 1 < block.colour_offset.size(); ++c) {
+      for (Index j = block.colour_offset[c]; j < block.colour_offset[c + 1]; ++j)
+        if (computed[block.colour_element[j]]) mine.element.push_back(block.colour_element[j]);
+      mine.offset.push_back(static_cast<Index>(mine.element.size()));
+    }
   }
-  if (!nodes.velocities_by_reach) return;
+  if (!nodes.velocities_by_reach) return s;
   s.velocities.plan(reads, node_, s.nodes, nodes);
   s.rows_read = {nodes.owned_begin, nodes.owned_end};
   for (std::size_t k = 0; k < node_.size(); ++k)
     if (reads[k]) s.rows_read = parallel::hull(s.rows_read, {node_[k], node_[k] + 1});
+  return s;
+}
+
+void SolidElements::distribute(discretization::NodeStore& nodes) {
+  if ((share_ && share_->partition == nodes.partition) || parallel::world().size() == 1) return;
+  complete_nodes(nodes);  // in the deal before, which share_ was made for
+  std::optional<Share> before = std::move(share_);
+  share_ = plan_share(nodes);
+  for (std::size_t k = 0; k < blocks_.size(); ++k) {
+    Block& block = blocks_[k];
+    const Share::Computed& mine = share_->blocks[k];
+    if (before) {
+      // The elements computed here anew, from the owners of their first nodes in the deal before
+      // (who computed them); the arrays hold the old stretch (what this rank sends) and the new
+      // (what it receives) while they travel.
+      std::vector<std::uint8_t> computed(block.size(), 0);
+      for (const Index e : mine.element) computed[e] = 1;
+      std::vector<Index> first(block.size());
+      for (Index e = 0; e < block.size(); ++e) first[e] = node_[block.node[block.nodes_per_element * e]];
+      discretization::ReachShare arrivals;
+      arrivals.plan_by_place(computed, first, before->nodes, [](Index e) { return e; }, {0, block.size()});
+      block.hold(parallel::hull(before->blocks[k].held, mine.held));
+      block.carried_state([&](auto& array, int values) { bring(arrivals, array, values); });
+    }
+    block.hold(mine.held);
+  }
 }
 
 void SolidElements::complete_nodes(discretization::NodeStore& nodes) {
@@ -664,19 +729,9 @@ parallel::Range SolidElements::rows_read(const discretization::NodeStore& nodes)
   return share_->rows_read;
 }
 
-void SolidElements::share_elements() {
-  for (std::size_t k = 0; k < blocks_.size(); ++k) {
-    Block& b = blocks_[k];
-    share_->elements[k](share_->first_node[k], b.mass_scale, b.state, b.thermo, b.back_stress, b.volume,
-                        b.hourglass_energy, b.hourglass_force, b.eroded, b.strain, b.effective_strain);
-  }
-}
-
-void SolidElements::complete_state(discretization::NodeStore& nodes) {
-  if (!share_) return;
-  share_elements();
-  complete_nodes(nodes);
-}
+// A checkpoint gets each element's state from the rank that books it (checkpoint): only the nodes
+// are completed.
+void SolidElements::complete_state(discretization::NodeStore& nodes) { complete_nodes(nodes); }
 
 void SolidElements::share_masses(discretization::NodeStore& nodes) {
   share_->nodes(node_, live_elements_);
@@ -717,17 +772,20 @@ void SolidElements::compute_forces(discretization::NodeStore& nodes, Real dt) {
       }
       return Found{step, block.thermo[block.points_per_element * e].sound_speed, 0};
     };
+    // The elements this rank computes, colour by colour.
+    const std::vector<Index>& offset = share_ ? share_->blocks[k_block].offset : block.colour_offset;
+    const std::vector<Index>& computed = share_ ? share_->blocks[k_block].element : block.colour_element;
     const auto run = [&]<Kind kind>() {
-      for (std::size_t c = 0; c + 1 < block.colour_offset.size(); ++c) {
-        const Index begin = block.colour_offset[c], size = block.colour_offset[c + 1] - begin;
-        const Index* colour = &block.colour_element[begin];
+      for (std::size_t c = 0; c + 1 < offset.size(); ++c) {
+        const Index begin = offset[c], size = offset[c + 1] - begin;
+        const Index* colour = computed.data() + begin;
         if constexpr (kind == Kind::hexahedron) {
           // The colour's elements a pack of lanes at a time, each run of one part together.
           found = combine(found, parallel::reduce_exact((size + lanes - 1) / lanes, none, [&](Index j) {
             Index live[lanes];
             int count = 0;
             for (Index k = j * lanes; k < std::min(size, (j + 1) * lanes); ++k)
-              if (!block.eroded[colour[k]] && computes(k_block, colour[k])) live[count++] = colour[k];
+              if (!block.eroded[colour[k]]) live[count++] = colour[k];
             Found result = none;
             Real steps[lanes];
             for (int first = 0, last; first < count; first = last) {
@@ -740,7 +798,7 @@ void SolidElements::compute_forces(discretization::NodeStore& nodes, Real dt) {
         } else {
           found = combine(found, parallel::reduce_exact(size, none, [&](Index j) {
             const Index e = colour[j];
-            if (block.eroded[e] || !computes(k_block, e)) return none;
+            if (block.eroded[e]) return none;
             return outcome(e, element_step<kind>(block, e, nodes, dt));
           }, combine, element_loops));
         }
@@ -779,8 +837,10 @@ void SolidElements::compute_forces(discretization::NodeStore& nodes, Real dt) {
     Real added = 0;
     for (std::size_t k = 0; k < blocks_.size(); ++k) {
       const Block& block = blocks_[k];
-      added += parallel::exact_sum(block.size(), [&](Index e) {
-        return books(k, e) ? (block.mass_scale[e] - 1) * block.mass[e] : Real(0);
+      const parallel::Range elements = held(k);
+      added += parallel::exact_sum(elements.size(), [&](Index j) {
+        const Index e = elements.begin + j;
+        return books(block, e) ? (block.mass_scale[e] - 1) * block.mass[e] : Real(0);
       }, share_ ? &parallel::world() : nullptr);
     }
     mass_scaling_.record(added);
@@ -798,7 +858,10 @@ Real SolidElements::stable_time_step(const discretization::NodeStore&) const { r
 
 bool SolidElements::scale_mass_below(Real step, bool first_step_only) {
   mass_scaling_.start(step, first_step_only);
-  for (Block& block : blocks_) block.mass_scale.assign(block.size(), 1);
+  for (std::size_t k = 0; k < blocks_.size(); ++k) {
+    blocks_[k].mass_scale.assign(blocks_[k].size(), 1);
+    blocks_[k].mass_scale.hold(held(k).begin, held(k).end);
+  }
   return true;
 }
 
@@ -820,8 +883,10 @@ void SolidElements::book_energies(discretization::EnergyLedger& ledger, const di
   for (std::size_t k = 0; k < blocks_.size(); ++k) {
     const Block& block = blocks_[k];
     if (block.hourglass_power.empty()) continue;
-    hourglass += parallel::exact_sum(block.size(), [&](Index e) {
-      return !block.eroded[e] && books(k, e) ? block.hourglass_power[e] : Real(0);
+    const parallel::Range elements = held(k);
+    hourglass += parallel::exact_sum(elements.size(), [&](Index j) {
+      const Index e = elements.begin + j;
+      return !block.eroded[e] && books(block, e) ? block.hourglass_power[e] : Real(0);
     }, share_ ? &parallel::world() : nullptr);
   }
   ledger.add(Ledger::internal_energy, Ledger::Role::stored, dt * (work[0] - work[1] - hourglass) - eroded_internal_step_);
@@ -835,23 +900,86 @@ void SolidElements::book_energies(discretization::EnergyLedger& ledger, const di
   if (mass_scaling_.step > 0) ledger.add(Ledger::added_mass, Ledger::Role::reported, mass_scaling_.added_this_step);
 }
 
-void SolidElements::checkpoint(Archive& a, const discretization::NodeStore& /*nodes*/) {
-  a.section("fem solids");
+// Each block's state in pieces (core/pieces.hpp): each rank writes the elements it books; read
+// back, a rank keeps the stretch of those it computes (every element's where the nodes are not
+// dealt).
+void SolidElements::checkpoint(Archive& a, const discretization::NodeStore& nodes) {
+  a.section("fem solids 2");
   a.expect_size("element blocks", blocks_.size());
-  a(blocks_, force_, bulk_force_, stable_step_, max_sound_speed_, time_, erosion_step_,
-    live_elements_, other_mass_, eroded_kinetic_step_, eroded_internal_step_, eroded_mass_, mass_scaling_,
-    erode_enabled_);
+  const parallel::Communicator& ranks = parallel::world();
+  if (a.reading()) {
+    // Read into nodes dealt already (a restart), a rank keeps the stretch it computes alone; a new
+    // deal before the first step brings the others' from it (distribute).
+    share_.reset();
+    if (ranks.size() > 1 && (!nodes.rank_begin.empty() || nodes.by_region())) share_ = plan_share(nodes);
+  }
+  for (std::size_t k = 0; k < blocks_.size(); ++k) {
+    Block& block = blocks_[k];
+    const Index n = block.size();
+    a.expect_size("elements in a block", static_cast<std::size_t>(n));
+    if (!a.reading()) {
+      // Ascending; rank 0 every element until the nodes are dealt (the set-up's state).
+      std::vector<Index> own;
+      for (Index e = held(k).begin; e < held(k).end; ++e)
+        if (share_ && share_->nodes.dealt() ? books(block, e) : ranks.rank() == 0) own.push_back(e);
+      const Index count = static_cast<Index>(own.size());
+      const auto element = [&](Index j) { return own[j]; };
+      parallel::write_pieces<Index>(a, count, element, element, ranks);
+      block.carried_state([&](auto& array, int per) {
+        bool present = !array.empty();
+        a(present);
+        using Value = typename std::remove_cvref_t<decltype(array)>::value_type;
+        const auto value = [&](Index j) { return per * own[j / per] + j % per; };  // its place in the array
+        if (present)
+          parallel::write_pieces<Value>(a, count * per, [&](Index j) { return array[value(j)]; }, value, ranks);
+      });
+      continue;
+    }
+    std::vector<Index> element;  // each piece's elements, in the file's order
+    std::vector<std::uint8_t> read(n, 0);
+    Index mismatch = -1;
+    parallel::read_pieces<Index>(a, [&](Index e) {
+      if ((e < 0 || e >= n || read[e]) && mismatch < 0) mismatch = e;
+      if (e >= 0 && e < n) read[e] = 1;
+      element.push_back(e);
+    });
+    if (mismatch < 0 && std::find(read.begin(), read.end(), 0) != read.end()) mismatch = n;
+    if (mismatch >= 0)
+      throw InputError(fmt::format("{}: the checkpoint does not match this deck (its solid elements are not this "
+                                   "deck's)", a.source()));
+    block.carried_state([&](auto& array, int per) {
+      bool present = false;
+      a(present);
+      using Value = typename std::remove_cvref_t<decltype(array)>::value_type;
+      if (!present) {
+        array.clear();
+        return;
+      }
+      array.resize(0);
+      array.hold(per * held(k).begin, per * held(k).end);
+      std::size_t j = 0;
+      parallel::read_pieces<Value>(a, [&](const Value& value) {
+        const Index e = element[j / per];
+        if (e >= held(k).begin && e < held(k).end) array[per * e + static_cast<Index>(j % per)] = value;
+        ++j;
+      });
+    });
+    block.hourglass_power.hold(held(k).begin, held(k).end);  // each step's anew
+  }
+  a(force_, bulk_force_, stable_step_, max_sound_speed_, time_, erosion_step_, live_elements_, other_mass_,
+    eroded_kinetic_step_, eroded_internal_step_, eroded_mass_, mass_scaling_, erode_enabled_);
 }
 
-void SolidElements::write_fields(discretization::FieldSet& fields, const discretization::NodeStore& nodes) const {
-  for (const Block& block : blocks_) {
+void SolidElements::write_fields(discretization::FieldSet& fields, const discretization::NodeStore& /*nodes*/) const {
+  for (std::size_t k = 0; k < blocks_.size(); ++k) {
+    const Block& block = blocks_[k];
     auto& cells = fields.add_cell_block(block.kind == Kind::tetrahedron ? discretization::CellShape::tetrahedron
                                                                         : discretization::CellShape::hexahedron);
     const int per = block.nodes_per_element, points = block.points_per_element;
     // The elements whose first node this rank owns: its piece's cells (all of them on one process).
     std::vector<Index> written;
-    for (Index e = 0; e < block.size(); ++e)
-      if (nodes.owns(node_[block.node[static_cast<std::size_t>(per) * e]])) written.push_back(e);
+    for (Index e = held(k).begin; e < held(k).end; ++e)
+      if (books(block, e)) written.push_back(e);
     const Index n = static_cast<Index>(written.size());
     cells.connectivity.resize(static_cast<std::size_t>(per) * n);
     for (Index c = 0; c < n; ++c)
@@ -915,8 +1043,8 @@ void SolidElements::add_nodal_masses(discretization::NodeStore& nodes) {
 
 Index SolidElements::eroded_count() const {
   Index n = 0;
-  for (const Block& block : blocks_)
-    for (std::uint8_t flag : block.eroded) n += flag != 0;
+  for (std::size_t k = 0; k < blocks_.size(); ++k)
+    for (Index e = held(k).begin; e < held(k).end; ++e) n += blocks_[k].eroded[e] != 0 && books(blocks_[k], e);
   return n;
 }
 
@@ -929,12 +1057,13 @@ Index SolidElements::element_count() const {
 std::size_t SolidElements::memory_bytes() const {
   std::size_t total = bytes(node_) + bytes(force_) + bytes(bulk_force_) +
                       bytes(live_elements_) + bytes(other_mass_);
-  for (const Block& b : blocks_)
-    total += bytes(b.node) + bytes(b.part) + bytes(b.id) + bytes(b.mass) + bytes(b.state) + bytes(b.thermo) +
-             bytes(b.back_stress) +
-             bytes(b.volume) + bytes(b.hourglass_energy) + bytes(b.hourglass_force) + bytes(b.hourglass_power) +
-             bytes(b.colour_offset) + bytes(b.colour_element) + bytes(b.eroded) + bytes(b.strain) +
-             bytes(b.effective_strain) + bytes(b.mass_scale);
+  for (const Block& b : blocks_) {
+    total += bytes(b.node) + bytes(b.part) + bytes(b.id) + bytes(b.mass) + bytes(b.colour_offset) +
+             bytes(b.colour_element) + b.hourglass_power.capacity_bytes();
+    b.carried_state([&](const auto& array, int) { total += array.capacity_bytes(); });
+  }
+  if (share_)
+    for (const Share::Computed& c : share_->blocks) total += bytes(c.offset) + bytes(c.element);
   return total;
 }
 

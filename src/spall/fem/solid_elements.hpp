@@ -17,12 +17,15 @@
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "spall/discretization/formulation.hpp"
 #include "spall/discretization/mass_scaling.hpp"
 #include "spall/discretization/particle_share.hpp"
 #include "spall/discretization/reach_share.hpp"
+#include "spall/core/range_array.hpp"
+#include "spall/fem/hexahedron.hpp"
 #include "spall/materials/material.hpp"
 
 namespace spall::fem {
@@ -122,42 +125,68 @@ class SolidElements final : public discretization::Formulation {
   void checkpoint(Archive& archive, const discretization::NodeStore& nodes) override;
 
   Index element_count() const;
-  Index eroded_count() const;  // under MPI: of the elements this rank computes, all after complete_state()
+  Index eroded_count() const;  // under MPI: of the elements this rank books (the owner of their first node)
   std::size_t memory_bytes() const;
   const std::vector<PartSettings>& parts() const { return parts_; }
 
-  // The elements of one kind, structure of arrays.
+  // The elements of one kind, structure of arrays, each kind's in the order of their first nodes
+  // in the node store (so that under MPI the elements a rank computes, those with a node of its
+  // block of the node order, are one stretch short of the block's edges, and neighbours in memory).
   enum class Kind : std::uint8_t { hexahedron, hexahedron_selective_reduced, tetrahedron };
   struct Block {
     Kind kind = Kind::hexahedron;
     int nodes_per_element = 8;
     int points_per_element = 1;
+    // The mesh, every element's.
     std::vector<Index> node;  // local node indices (into node_), nodes_per_element per element
     std::vector<std::int32_t> part;
     std::vector<Id> id;
     std::vector<Real> mass;
-    std::vector<Real> mass_scale;  // DT2MS: the factor f >= 1 on the element's mass (empty without)
-    std::vector<materials::PointState> state;   // points_per_element per element
-    std::vector<materials::PointThermo> thermo;  // points_per_element per element
-    std::vector<Mat3> back_stress;  // per point where a part keeps one (MAT_003 BETA < 1), else empty
-    std::vector<Real> volume;
-    std::vector<Real> hourglass_energy;  // per element, for output
-    std::vector<Vec3> hourglass_force;              // stiffness forms: Q_alpha, 4 per element
-    // Per element: the power its hourglass control dissipates at this step's rates (book_energies).
-    std::vector<Real> hourglass_power;
-    // Erosion: 0 alive, 1 deleted during this step (booked at its end), 2 deleted.
-    std::vector<std::uint8_t> eroded;
-    std::vector<Mat3> strain;             // the element's strain, Jaumann-rotated (strain criteria)
-    std::vector<Real> effective_strain;   // sum of dt sqrt(2/3 dev D : dev D) (EFFEPS)
     std::vector<Index> colour_offset, colour_element;  // the elements of colour c, in order
+    // The state, of the stretch of elements a rank computes under MPI (every element's on one
+    // process): indexed by element, or by point (points_per_element an element).
+    RangeArray<Real> mass_scale;  // DT2MS: the factor f >= 1 on the element's mass (off without)
+    RangeArray<materials::PointState> state;   // per point
+    RangeArray<materials::PointThermo> thermo;  // per point
+    RangeArray<Mat3> back_stress;  // per point where a part keeps one (MAT_003 BETA < 1), else off
+    RangeArray<Real> volume;
+    RangeArray<Real> hourglass_energy;  // per element, for output
+    RangeArray<Vec3> hourglass_force;   // stiffness forms: Q_alpha, hourglass_modes per element
+    // Per element: the power its hourglass control dissipates at this step's rates (book_energies).
+    RangeArray<Real> hourglass_power;
+    // Erosion: 0 alive, 1 deleted during this step (booked at its end), 2 deleted.
+    RangeArray<std::uint8_t> eroded;
+    RangeArray<Mat3> strain;             // the element's strain, Jaumann-rotated (strain criteria)
+    RangeArray<Real> effective_strain;   // sum of dt sqrt(2/3 dev D : dev D) (EFFEPS)
     Index size() const { return static_cast<Index>(id.size()); }
-    // The elements' state; the connectivity and the colours are the deck's.
-    void checkpoint(Archive& a) {
-      a.expect_size("elements in a block", id.size());
-      a(mass, mass_scale, state, thermo, back_stress, volume, hourglass_energy, hourglass_force, eroded, strain,
-        effective_strain);
+    // visit(array, values an element) for each state array a step carries over (all but
+    // hourglass_power, which each step makes anew).
+    template <typename Visit>
+    void carried_state(Visit&& visit) {
+      visit_carried(*this, visit);
     }
+    template <typename Visit>
+    void carried_state(Visit&& visit) const {
+      visit_carried(*this, visit);
+    }
+    template <typename Self, typename Visit>
+    static void visit_carried(Self& b, Visit& visit) {
+      const int points = b.points_per_element;
+      visit(b.mass_scale, 1), visit(b.state, points), visit(b.thermo, points), visit(b.back_stress, points);
+      visit(b.volume, 1), visit(b.hourglass_energy, 1), visit(b.hourglass_force, hourglass_modes);
+      visit(b.eroded, 1), visit(b.strain, 1), visit(b.effective_strain, 1);
+    }
+    // Holds the state of elements [begin, end) from now on (RangeArray::hold).
+    void hold(parallel::Range elements);
   };
+
+  const std::vector<Block>& blocks() const { return blocks_; }
+  std::span<const Index> local_nodes() const { return node_; }  // local node -> node-store index
+  // The elements of block k whose state this rank holds: the stretch from the first it computes to
+  // the last under MPI, every element on one process.
+  parallel::Range held(std::size_t k) const {
+    return share_ ? share_->blocks[k].held : parallel::Range{0, blocks_[k].size()};
+  }
 
  private:
   // One element's step (solid_elements.cpp): its stable step, -1 once it inverted, -2 when it fails.
@@ -178,17 +207,21 @@ class SolidElements final : public discretization::Formulation {
   void remove_eroded(discretization::NodeStore& nodes);
   void colour(Block& block) const;
 
-  // Under MPI (replicated state, docs/SCALING.md): a rank computes every element with a node it owns,
-  // so that each of its nodes sums the forces of all its elements in the serial order (the elements
-  // on a rank boundary are computed by both ranks, alike); the other nodes' sums are read by nobody
-  // there (the energies sum over each rank's own nodes). The state of an element no node of the
-  // rank's touches is read by nobody there either, so the elements
-  // (each by the owner of its first node) are shared only when the state must be whole: before a
-  // checkpoint, and before the nodes are dealt anew (a rank may then compute other elements).
+  // Under MPI (docs/SCALING.md §3, "Solid elements by rank"): a rank computes every element with a
+  // node it owns, so that each of its nodes sums the forces of all its elements in the serial order
+  // (the elements on a rank boundary are computed by both ranks, alike); the other nodes' sums are
+  // read by nobody there (the energies sum over each rank's own nodes). A rank holds the state of
+  // the stretch of elements from the first it computes to the last alone; at a new deal the state
+  // of those it computes anew comes from the ranks that computed them, each element's from the
+  // owner of its first node, and a checkpoint gets each element from that rank too.
   struct Share {
-    std::vector<std::vector<std::uint8_t>> computed;        // per block, per element
-    std::vector<std::vector<Index>> first_node;             // per block: each element's first node
-    std::vector<discretization::ParticleShare> elements;    // per block, by first node
+    // Per block: the elements this rank computes, by colour as in the block (colour c's are
+    // element[offset[c]] to element[offset[c + 1]]), and the stretch from the first to the last.
+    struct Computed {
+      std::vector<Index> offset, element;
+      parallel::Range held;
+    };
+    std::vector<Computed> blocks;
     discretization::ParticleShare nodes;                    // the local nodes
     // With the velocities by reach: the other ranks' local nodes of the elements this rank
     // computes, and the rows from the first of those and its own to the last.
@@ -196,23 +229,25 @@ class SolidElements final : public discretization::Formulation {
     parallel::Range rows_read;
     long long partition = 0;                                // NodeStore::partition planned for
   };
-  bool computes(std::size_t block, Index e) const { return !share_ || share_->computed[block][e]; }
   // Whether this rank owns local node k (its forces are whole here); every node on one process.
   bool owns(Index k) const { return !share_ || share_->nodes.owns(node_[k]); }
   // Whether this rank accounts for element e (its eroded mass and energies, DT2MS's added mass, its
-  // hourglass dissipation): the owner of its first node, so that each element counts once.
-  bool books(std::size_t block, Index e) const {
-    return !share_ || share_->nodes.owns(share_->first_node[block][e]);
+  // hourglass dissipation, its cell in the output and its state in a checkpoint): the owner of its
+  // first node, so that each element counts once.
+  bool books(const Block& block, Index e) const {
+    return !share_ || share_->nodes.owns(node_[block.node[static_cast<std::size_t>(block.nodes_per_element) * e]]);
   }
-  // Makes share_ when the run has several ranks, again (after share_elements and, with the
-  // velocities by reach, complete_nodes) when the nodes were dealt anew.
+  // The elements this rank computes in the nodes' present deal. Collective (with the velocities by
+  // reach, their plan).
+  Share plan_share(const discretization::NodeStore& nodes) const;
+  // Makes share_ when the run has several ranks, again when the nodes were dealt anew (after, with
+  // the velocities by reach, complete_nodes): the elements' state then comes to the ranks that
+  // compute them now.
   void distribute(discretization::NodeStore& nodes);
   // With the velocities by reach: every local node's position, velocity, mass, activity and live
   // element count from its rank (in the deal share_ was made for), where a new deal or a checkpoint
   // needs them all.
   void complete_nodes(discretization::NodeStore& nodes);
-  // Every rank's elements (those whose first node it owns) to every rank.
-  void share_elements();
   // After elements eroded or DT2MS raised masses, unless the velocities go by reach: every rank's
   // nodes' masses, activity and live element counts to every rank.
   void share_masses(discretization::NodeStore& nodes);

@@ -1,0 +1,183 @@
+// The solid elements' state over several ranks, run as 1, 2 and 3 ranks (docs/SCALING.md §3, "Solid
+// elements by rank"): a rank computes the elements with a node of its block of the node order and
+// holds the state of the stretch from the first of them to the last alone (the elements are kept
+// in the order of their first nodes), not every element's. On a bar of hexahedra stretched along
+// its axis past yield, half of it one-point hexahedra (ELFORM 1, stiffness hourglass control,
+// kinematic hardening: state at the point, the back stress and the hourglass forces) and half fully
+// integrated (ELFORM 2, eight points an element), the stretch holds every element a rank computes
+// and is shorter than the bar, and the internal forces on every node are, bit for bit, those of the
+// bar dealt whole to one rank (each node sums its elements in colour order: THEORY §10), through a
+// new deal (the state goes to the ranks that compute it now) and continued from a restart file read
+// into the deal it was written in or into a new one, right after which a rank holds its stretch
+// alone.
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "spall/core/archive.hpp"
+#include "spall/core/communicator.hpp"
+#include "spall/core/log.hpp"
+#include "spall/fem/solid_elements.hpp"
+#include "spall/solver/problem.hpp"
+#include "support/spg_block.hpp"
+
+namespace spall {
+namespace {
+
+struct NodeForce {
+  std::int64_t node;
+  double f[3];
+};
+
+constexpr Real dt = 5e-7;  // s, under a third of the elements' stable step (10 mm / 5 800 m/s)
+
+// The bar (3 x 3 x 24 hexahedra, 0.24 m along z: the node order's slowest axis, so that a rank's
+// block of it is a stretch of the bar) pulled at v_z = rate z: a strain of 2.5e-4 a step, past the
+// yield strain 1.75e-3 from the eighth step on.
+solver::Problem bar_problem() {
+  test_support::SpgBlock b;
+  b.size = Vec3(0.03, 0.03, 0.24);
+  b.elements = {3, 3, 24};
+  b.fem = test_support::FiniteElements{1, model::Hourglass{1, 4, 0.1, 0, 0, {}}};
+  model::Model m = test_support::spg_block_model(b);
+  model::MatPlasticKinematic steel{7850, 200e9, 0.3, 350e6, 1e9, 0.5};  // BETA 0.5: a back stress
+  m.materials[1].keyword = "*MAT_PLASTIC_KINEMATIC";
+  m.materials[1].params = steel;
+  model::SectionSolid full;
+  full.id = 2;
+  full.elform = 2;
+  m.sections[2] = full;
+  m.parts.push_back({2, "fully integrated", 2, 1, 0, 0, 0, {}, {}});
+  for (auto& e : m.solid_elements) e.pid = e.eid % 2 ? 1 : 2;  // the deck's order is not the node order
+  solver::Problem problem = solver::build_problem(m);
+  constexpr Real rate = 500;  // 1/s
+  for (Index i = 0; i < problem.nodes.size(); ++i) problem.nodes.v[i] = Vec3(0, 0, rate * problem.nodes.x[i].z());
+  return problem;
+}
+
+fem::SolidElements& elements(solver::Problem& problem) {
+  return dynamic_cast<fem::SolidElements&>(*problem.formulations.at(0));
+}
+
+void step(solver::Problem& problem) {
+  for (Index i = 0; i < problem.nodes.size(); ++i) problem.nodes.f[i] = Vec3::Zero();
+  elements(problem).compute_forces(problem.nodes, dt);
+  for (Index i = 0; i < problem.nodes.size(); ++i) problem.nodes.x[i] += dt * problem.nodes.v[i];
+}
+
+// Checks the stretch a rank holds of each block: every element it computes (one with a node it
+// owns), and not every element where it owns some nodes but not all. Returns the elements held.
+Index expect_held_stretch(solver::Problem& problem) {
+  const parallel::Communicator& ranks = parallel::world();
+  const fem::SolidElements& fem = elements(problem);
+  Index held = 0, owned_nodes = 0;
+  for (Index i = 0; i < problem.nodes.size(); ++i) owned_nodes += problem.nodes.owns(i);
+  for (std::size_t k = 0; k < fem.blocks().size(); ++k) {
+    const auto& block = fem.blocks()[k];
+    const parallel::Range stretch = fem.held(k);
+    Index unheld = 0;
+    for (Index e = 0; e < block.size(); ++e) {
+      bool computed = false;
+      for (int a = 0; a < block.nodes_per_element; ++a)
+        computed |= problem.nodes.owns(fem.local_nodes()[block.node[block.nodes_per_element * e + a]]);
+      unheld += computed && (e < stretch.begin || e >= stretch.end);
+    }
+    EXPECT_EQ(unheld, 0) << "rank " << ranks.rank() << " computes elements beyond its stretch of block " << k;
+    if (owned_nodes > 0 && owned_nodes < problem.nodes.size()) {
+      EXPECT_LT(stretch.size(), block.size()) << "rank " << ranks.rank() << " holds every element of block " << k;
+    }
+    held += stretch.size();
+  }
+  return held;
+}
+
+// The internal force on every node, every rank's.
+std::vector<Vec3> node_forces(const discretization::NodeStore& nodes) {
+  const parallel::Communicator& ranks = parallel::world();
+  std::vector<NodeForce> mine;
+  for (Index i = 0; i < nodes.size(); ++i)
+    if (nodes.owns(i)) mine.push_back({i, {nodes.f[i].x(), nodes.f[i].y(), nodes.f[i].z()}});
+  std::vector<Vec3> f(nodes.size(), Vec3::Zero());
+  for (const NodeForce& r : ranks.all(std::span<const NodeForce>(mine))) f[r.node] = Vec3(r.f[0], r.f[1], r.f[2]);
+  return f;
+}
+
+constexpr int steps = 12;
+
+// The internal force on every node after `steps` steps of the bar, the nodes dealt at `begins` for
+// the first half and at `then` for the rest.
+std::vector<Vec3> forces(const std::vector<Index>& begins, const std::vector<Index>& then) {
+  const parallel::Communicator& ranks = parallel::world();
+  solver::Problem problem = bar_problem();
+  problem.nodes.deal(begins, ranks.rank());
+  for (int k = 0; k < steps; ++k) {
+    if (k == steps / 2) problem.nodes.deal(then, ranks.rank());
+    step(problem);
+  }
+  expect_held_stretch(problem);
+  return node_forces(problem.nodes);
+}
+
+// The same, with a restart file written after the first half (dealt at `begins`) and read back into
+// the bar dealt at `read_into`, then dealt at `then` for the rest.
+std::vector<Vec3> restarted_forces(const std::vector<Index>& begins, const std::vector<Index>& read_into,
+                                   const std::vector<Index>& then) {
+  const parallel::Communicator& ranks = parallel::world();
+  std::string file;
+  {
+    solver::Problem problem = bar_problem();
+    problem.nodes.deal(begins, ranks.rank());
+    for (int k = 0; k < steps / 2; ++k) step(problem);
+    elements(problem).complete_state(problem.nodes);
+    Archive written = ranks.rank() == 0 ? Archive::for_writing() : Archive::discarding();
+    problem.nodes.checkpoint(written);
+    elements(problem).checkpoint(written, problem.nodes);
+    const std::string& mine = written.bytes();
+    const std::vector<char> whole = ranks.all(std::span<const char>(mine.data(), mine.size()));
+    file.assign(whole.begin(), whole.end());
+  }
+  solver::Problem problem = bar_problem();
+  problem.nodes.deal(read_into, ranks.rank());
+  Archive archive = Archive::for_reading(file, "checkpoint");
+  problem.nodes.checkpoint(archive);
+  elements(problem).checkpoint(archive, problem.nodes);
+  EXPECT_TRUE(archive.at_end());
+  const Index held = expect_held_stretch(problem);
+  if (ranks.size() > 1) {
+    EXPECT_LT(held, elements(problem).element_count()) << "rank " << ranks.rank() << " read every element's state";
+  }
+  problem.nodes.deal(then, ranks.rank());
+  for (int k = steps / 2; k < steps; ++k) step(problem);
+  expect_held_stretch(problem);
+  return node_forces(problem.nodes);
+}
+
+TEST(SolidElementsOverRanks, ARankHoldsTheStateOfTheElementsItComputesAndForcesAreOneRanks) {
+  log::set_quiet(true);
+  const parallel::Communicator& ranks = parallel::world();
+  const Index n = 25 * 4 * 4;
+  std::vector<Index> whole(ranks.size() + 1, n), blocks(ranks.size() + 1, n), shifted(ranks.size() + 1, n);
+  whole[0] = 0;
+  for (int r = 0; r < ranks.size(); ++r) blocks[r] = r * n / ranks.size();
+  for (int r = 1; r < ranks.size(); ++r) shifted[r] = blocks[r] + 37;  // two layers of nodes on
+  shifted[0] = 0;
+  const std::vector<Vec3> reference = forces(whole, whole), dealt = forces(blocks, shifted);
+  Index differ = 0, zero = 0;
+  for (Index i = 0; i < n; ++i) {
+    differ += dealt[i] != reference[i];
+    zero += reference[i] == Vec3::Zero();
+  }
+  EXPECT_EQ(differ, 0);
+  EXPECT_LT(zero, n / 2);  // the bar is pulled: the forces are not all zero
+  for (const auto& read_into : {blocks, shifted}) {
+    const std::vector<Vec3> restarted = restarted_forces(blocks, read_into, shifted);
+    differ = 0;
+    for (Index i = 0; i < n; ++i) differ += restarted[i] != reference[i];
+    EXPECT_EQ(differ, 0) << "read into the " << (read_into == blocks ? "deal it was written in" : "new deal");
+  }
+}
+
+}  // namespace
+}  // namespace spall
