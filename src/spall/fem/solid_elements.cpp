@@ -970,7 +970,7 @@ void SolidElements::checkpoint(Archive& a, const discretization::NodeStore& node
     eroded_kinetic_step_, eroded_internal_step_, eroded_mass_, mass_scaling_, erode_enabled_);
 }
 
-void SolidElements::write_fields(discretization::FieldSet& fields, const discretization::NodeStore& /*nodes*/) const {
+void SolidElements::write_fields(discretization::FieldSet& fields, const discretization::NodeStore& nodes) const {
   for (std::size_t k = 0; k < blocks_.size(); ++k) {
     const Block& block = blocks_[k];
     auto& cells = fields.add_cell_block(block.kind == Kind::tetrahedron ? discretization::CellShape::tetrahedron
@@ -979,7 +979,7 @@ void SolidElements::write_fields(discretization::FieldSet& fields, const discret
     // The elements whose first node this rank owns: its piece's cells (all of them on one process).
     std::vector<Index> written;
     for (Index e = held(k).begin; e < held(k).end; ++e)
-      if (books(block, e)) written.push_back(e);
+      if (nodes.owns(node_[block.node[static_cast<std::size_t>(per) * e]])) written.push_back(e);
     const Index n = static_cast<Index>(written.size());
     cells.connectivity.resize(static_cast<std::size_t>(per) * n);
     for (Index c = 0; c < n; ++c)
