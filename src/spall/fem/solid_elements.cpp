@@ -196,7 +196,7 @@ void SolidElements::colour(Block& block) const {
 namespace {
 
 template <std::size_t N>
-void scatter(const std::array<Vec3, N>& f, const Index* local, std::vector<Vec3>& to) {
+void scatter(const std::array<Vec3, N>& f, const Index* local, RangeArray<Vec3>& to) {
   for (std::size_t n = 0; n < N; ++n) to[local[n]] += f[n];
 }
 
@@ -262,7 +262,7 @@ struct LaneValues {
 };
 
 // Adds the nodal vectors f of the live lanes to their elements' nodes (local node indices).
-void scatter_lanes(const HexArray<LaneVec>& f, const Index* const* local, const bool* live, std::vector<Vec3>& to) {
+void scatter_lanes(const HexArray<LaneVec>& f, const Index* const* local, const bool* live, RangeArray<Vec3>& to) {
   for (int a = 0; a < 8; ++a) {
     const LaneValues x(f[a][0]), y(f[a][1]), z(f[a][2]);
     for (int l = 0; l < lanes; ++l)
@@ -674,6 +674,9 @@ SolidElements::Share SolidElements::plan_share(const discretization::NodeStore& 
       mine.offset.push_back(static_cast<Index>(mine.element.size()));
     }
   }
+  const auto first = std::find(reads.begin(), reads.end(), 1);
+  const auto last = std::find(reads.rbegin(), reads.rend(), 1);
+  if (first != reads.end()) s.forces = {static_cast<Index>(first - reads.begin()), static_cast<Index>(reads.rend() - last)};
   if (!nodes.velocities_by_reach) return s;
   s.velocities.plan(reads, node_, s.nodes, nodes);
   s.rows_read = {nodes.owned_begin, nodes.owned_end};
@@ -705,6 +708,8 @@ void SolidElements::distribute(discretization::NodeStore& nodes) {
     }
     block.hold(mine.held);
   }
+  force_.hold(share_->forces.begin, share_->forces.end);  // each step's anew
+  bulk_force_.hold(share_->forces.begin, share_->forces.end);
 }
 
 void SolidElements::complete_nodes(discretization::NodeStore& nodes) {
@@ -742,7 +747,8 @@ void SolidElements::share_masses(discretization::NodeStore& nodes) {
 
 void SolidElements::compute_forces(discretization::NodeStore& nodes, Real dt) {
   distribute(nodes);
-  parallel::for_each(static_cast<Index>(node_.size()), [&](Index k) { force_[k] = bulk_force_[k] = Vec3::Zero(); },
+  const parallel::Range forces = forces_held();
+  parallel::for_each(forces.size(), [&](Index j) { force_[forces.begin + j] = bulk_force_[forces.begin + j] = Vec3::Zero(); },
                      element_loops);
   time_ += dt;
   eroded_kinetic_step_ = eroded_internal_step_ = 0;
@@ -847,8 +853,8 @@ void SolidElements::compute_forces(discretization::NodeStore& nodes, Real dt) {
   } else {
     mass_scaling_.idle();
   }
-  parallel::for_each(static_cast<Index>(node_.size()), [&](Index k) {
-    if (owns(k)) nodes.f[node_[k]] += force_[k];
+  parallel::for_each(forces.size(), [&](Index j) {
+    if (const Index k = forces.begin + j; owns(k)) nodes.f[node_[k]] += force_[k];
   }, element_loops);
   stable_step_ = found.step;
   max_sound_speed_ = found.sound_speed;
@@ -871,8 +877,10 @@ void SolidElements::book_energies(discretization::EnergyLedger& ledger, const di
   // The work of the internal forces and of the bulk viscosity's share at the mid-step velocities;
   // the hourglass control's dissipation at each element's own rates (as LS-DYNA books it; an exact
   // sum over the elements the rank books, then over the ranks). The rest is stored.
-  const Sums<2> work = parallel::exact_sum(static_cast<Index>(node_.size()), [&](Index k) {
+  const parallel::Range forces = forces_held();
+  const Sums<2> work = parallel::exact_sum(forces.size(), [&](Index j) {
     Sums<2> w;
+    const Index k = forces.begin + j;
     if (!owns(k)) return w;  // another rank's: its forces are whole only there
     const Vec3& u = v[node_[k]];
     w[0] = -force_[k].dot(u);
@@ -966,8 +974,12 @@ void SolidElements::checkpoint(Archive& a, const discretization::NodeStore& node
     });
     block.hourglass_power.hold(held(k).begin, held(k).end);  // each step's anew
   }
-  a(force_, bulk_force_, stable_step_, max_sound_speed_, time_, erosion_step_, live_elements_, other_mass_,
-    eroded_kinetic_step_, eroded_internal_step_, eroded_mass_, mass_scaling_, erode_enabled_);
+  if (a.reading()) {  // each step's anew, before the energies read them
+    force_.hold(forces_held().begin, forces_held().end);
+    bulk_force_.hold(forces_held().begin, forces_held().end);
+  }
+  a(stable_step_, max_sound_speed_, time_, erosion_step_, live_elements_, other_mass_, eroded_kinetic_step_,
+    eroded_internal_step_, eroded_mass_, mass_scaling_, erode_enabled_);
 }
 
 void SolidElements::write_fields(discretization::FieldSet& fields, const discretization::NodeStore& nodes) const {
@@ -1055,7 +1067,7 @@ Index SolidElements::element_count() const {
 }
 
 std::size_t SolidElements::memory_bytes() const {
-  std::size_t total = bytes(node_) + bytes(force_) + bytes(bulk_force_) +
+  std::size_t total = bytes(node_) + force_.capacity_bytes() + bulk_force_.capacity_bytes() +
                       bytes(live_elements_) + bytes(other_mass_);
   for (const Block& b : blocks_) {
     total += bytes(b.node) + bytes(b.part) + bytes(b.id) + bytes(b.mass) + bytes(b.colour_offset) +

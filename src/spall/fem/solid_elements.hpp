@@ -187,6 +187,11 @@ class SolidElements final : public discretization::Formulation {
   parallel::Range held(std::size_t k) const {
     return share_ ? share_->blocks[k].held : parallel::Range{0, blocks_[k].size()};
   }
+  // The local nodes whose forces this rank sums: those of the elements it computes, from the first
+  // to the last (its own among them), every local node on one process.
+  parallel::Range forces_held() const {
+    return share_ ? share_->forces : parallel::Range{0, static_cast<Index>(node_.size())};
+  }
 
  private:
   // One element's step (solid_elements.cpp): its stable step, -1 once it inverted, -2 when it fails.
@@ -222,6 +227,8 @@ class SolidElements final : public discretization::Formulation {
       parallel::Range held;
     };
     std::vector<Computed> blocks;
+    // The local nodes from the first of those elements' to the last (force_ and bulk_force_).
+    parallel::Range forces;
     discretization::ParticleShare nodes;                    // the local nodes
     // With the velocities by reach: the other ranks' local nodes of the elements this rank
     // computes, and the rows from the first of those and its own to the last.
@@ -256,8 +263,9 @@ class SolidElements final : public discretization::Formulation {
   std::vector<Block> blocks_;
   std::vector<Index> node_;   // local node -> node-store index
   // The elements' internal forces on each local node, and the bulk viscosity's share of them (its
-  // work at the nodes' mid-step velocities is what the bulk viscosity dissipates).
-  std::vector<Vec3> force_, bulk_force_;
+  // work at the nodes' mid-step velocities is what the bulk viscosity dissipates): under MPI of
+  // the stretch of local nodes of the elements the rank computes (forces_held).
+  RangeArray<Vec3> force_, bulk_force_;
   Real stable_step_ = 0;
   Real max_sound_speed_ = 0;
   Real time_ = 0;           // the sum of the steps taken (FAILTM)
