@@ -130,8 +130,9 @@ class SolidElements final : public discretization::Formulation {
   const std::vector<PartSettings>& parts() const { return parts_; }
 
   // The elements of one kind, structure of arrays, each kind's in the order of their first nodes
-  // in the node store (so that under MPI the elements a rank computes, those with a node of its
-  // block of the node order, are one stretch short of the block's edges, and neighbours in memory).
+  // in the node store, colour by colour within stretches of 512 of that order (so that under MPI
+  // the elements a rank computes, those with a node of its block of the node order, are one stretch
+  // short of the block's edges; solid_elements.cpp, store_in_colours).
   enum class Kind : std::uint8_t { hexahedron, hexahedron_selective_reduced, tetrahedron };
   struct Block {
     Kind kind = Kind::hexahedron;
@@ -210,7 +211,6 @@ class SolidElements final : public discretization::Formulation {
   // Takes the elements deleted during this step out: their mass from their nodes, their energies
   // into the eroded terms.
   void remove_eroded(discretization::NodeStore& nodes);
-  void colour(Block& block) const;
 
   // Under MPI (docs/SCALING.md §3, "Solid elements by rank"): a rank computes every element with a
   // node it owns, so that each of its nodes sums the forces of all its elements in the serial order
