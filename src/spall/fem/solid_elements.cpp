@@ -129,8 +129,7 @@ SolidElements::SolidElements(std::vector<PartSettings> parts, const std::vector<
       local[i] = static_cast<Index>(node_.size());
       node_.push_back(i);
     }
-  force_.assign(node_.size(), Vec3::Zero());
-  bulk_force_.assign(node_.size(), Vec3::Zero());
+  force_.resize(0), bulk_force_.resize(0);  // held from set_up_state on
   for (const auto& p : parts_) {
     hourglass_ |= p.elform == 1 && p.hourglass.form != HourglassForm::none;
     const Erosion& er = p.erosion;
@@ -158,9 +157,6 @@ SolidElements::SolidElements(std::vector<PartSettings> parts, const std::vector<
     std::vector<int> colour_of;  // each stored element's colour
     store_in_colours(elements, order, block.nodes_per_element, nodes.size(), colour_of);
     bool stiffness = false, needs_strain = false, kinematic = false;
-    std::vector<materials::PointState> state;
-    std::vector<materials::PointThermo> thermo;
-    std::vector<Real> volumes;
     for (const Index k : order) {
       const ElementSetup& e = elements[k];
       const PartSettings& part = parts_[e.part];
@@ -171,30 +167,18 @@ SolidElements::SolidElements(std::vector<PartSettings> parts, const std::vector<
       block.part.push_back(e.part);
       block.id.push_back(e.id);
       block.mass.push_back(part.material.density * volume);
-      volumes.push_back(volume);
-      const materials::Material& m = part.material;
-      const Real e0 = m.initial_specific_energy;
-      for (int g = 0; g < block.points_per_element; ++g) {
-        state.push_back(materials::initial_state(m));
-        thermo.push_back({e0, materials::eos_pressure(m, m.density, e0), materials::sound_speed(m, m.density, e0)});
-      }
       stiffness |= kind == Kind::hexahedron && part.hourglass.form == HourglassForm::stiffness;
       needs_strain |= part.erosion.needs_strain();
-      kinematic |= materials::keeps_back_stress(m);
+      kinematic |= materials::keeps_back_stress(part.material);
     }
     if (block.id.empty()) continue;
     const Index n = block.size();
-    block.state.assign(std::move(state));
-    block.thermo.assign(std::move(thermo));
-    block.volume.assign(std::move(volumes));
-    if (kind == Kind::hexahedron) block.hourglass_energy.assign(n, 0), block.hourglass_power.assign(n, 0);
-    if (stiffness) block.hourglass_force.assign(hourglass_modes * n, Vec3::Zero());
-    block.eroded.assign(n, 0);
-    if (kinematic) block.back_stress.assign(block.points_per_element * n, Mat3::Zero());
-    if (needs_strain) {
-      block.strain.assign(n, Mat3::Zero());
-      block.effective_strain.assign(n, 0);
-    }
+    // The state's arrays on, holding no element yet (set_up_state).
+    block.state.resize(0), block.thermo.resize(0), block.volume.resize(0), block.eroded.resize(0);
+    if (kind == Kind::hexahedron) block.hourglass_energy.resize(0), block.hourglass_power.resize(0);
+    if (stiffness) block.hourglass_force.resize(0);
+    if (kinematic) block.back_stress.resize(0);
+    if (needs_strain) block.strain.resize(0), block.effective_strain.resize(0);
     // Each colour's elements in storage order.
     const int colours = colour_of.empty() ? 0 : *std::max_element(colour_of.begin(), colour_of.end()) + 1;
     block.colour_offset.assign(colours + 1, 0);
@@ -210,6 +194,44 @@ SolidElements::SolidElements(std::vector<PartSettings> parts, const std::vector<
   live_elements_.assign(node_.size(), 0);
   for (const Block& block : blocks_)
     for (Index k : block.node) ++live_elements_[k];
+  // Under MPI each rank sets up the elements it computes alone, once the nodes are dealt
+  // (distribute): no rank holds every element's state, even for a while.
+  if (parallel::world().size() == 1) set_up_state(nodes);
+}
+
+void SolidElements::set_up_state(const discretization::NodeStore& nodes) {
+  for (std::size_t k = 0; k < blocks_.size(); ++k) {
+    Block& block = blocks_[k];
+    const parallel::Range elements = held(k);
+    block.hold(elements);
+    const int per = block.nodes_per_element, points = block.points_per_element;
+    parallel::for_each(elements.size(), [&](Index j) {
+      const Index e = elements.begin + j;
+      std::array<Index, 8> node{};
+      for (int a = 0; a < per; ++a) node[a] = node_[block.node[per * e + a]];
+      block.volume[e] = element_volume(node, block.kind == Kind::tetrahedron, nodes);
+      const materials::Material& m = parts_[block.part[e]].material;
+      const Real e0 = m.initial_specific_energy;
+      for (int g = 0; g < points; ++g) {
+        block.state[points * e + g] = materials::initial_state(m);
+        block.thermo[points * e + g] = {e0, materials::eos_pressure(m, m.density, e0),
+                                        materials::sound_speed(m, m.density, e0)};
+        if (!block.back_stress.empty()) block.back_stress[points * e + g] = Mat3::Zero();
+      }
+      block.eroded[e] = 0;
+      if (!block.mass_scale.empty()) block.mass_scale[e] = 1;
+      if (!block.hourglass_energy.empty()) block.hourglass_energy[e] = block.hourglass_power[e] = 0;
+      if (!block.hourglass_force.empty())
+        for (int m = 0; m < hourglass_modes; ++m) block.hourglass_force[hourglass_modes * e + m] = Vec3::Zero();
+      if (!block.strain.empty()) block.strain[e] = Mat3::Zero(), block.effective_strain[e] = 0;
+    });
+  }
+  const parallel::Range forces = forces_held();
+  force_.hold(forces.begin, forces.end);
+  bulk_force_.hold(forces.begin, forces.end);
+  force_.fill(Vec3::Zero());
+  bulk_force_.fill(Vec3::Zero());
+  state_set_up_ = true;
 }
 
 namespace {
@@ -709,6 +731,10 @@ void SolidElements::distribute(discretization::NodeStore& nodes) {
   complete_nodes(nodes);  // in the deal before, which share_ was made for
   std::optional<Share> before = std::move(share_);
   share_ = plan_share(nodes);
+  if (!state_set_up_) {
+    set_up_state(nodes);
+    return;
+  }
   for (std::size_t k = 0; k < blocks_.size(); ++k) {
     Block& block = blocks_[k];
     const Share::Computed& mine = share_->blocks[k];
@@ -884,8 +910,9 @@ Real SolidElements::stable_time_step(const discretization::NodeStore&) const { r
 bool SolidElements::scale_mass_below(Real step, bool first_step_only) {
   mass_scaling_.start(step, first_step_only);
   for (std::size_t k = 0; k < blocks_.size(); ++k) {
-    blocks_[k].mass_scale.assign(blocks_[k].size(), 1);
+    blocks_[k].mass_scale.resize(0);  // on: set_up_state makes it 1
     blocks_[k].mass_scale.hold(held(k).begin, held(k).end);
+    if (state_set_up_) blocks_[k].mass_scale.fill(1);
   }
   return true;
 }
@@ -939,6 +966,9 @@ void SolidElements::checkpoint(Archive& a, const discretization::NodeStore& node
     // deal before the first step brings the others' from it (distribute).
     share_.reset();
     if (ranks.size() > 1 && (!nodes.rank_begin.empty() || nodes.by_region())) share_ = plan_share(nodes);
+    state_set_up_ = true;
+  } else if (!state_set_up_) {
+    set_up_state(nodes);  // the set-up's, every element's before the nodes are dealt
   }
   for (std::size_t k = 0; k < blocks_.size(); ++k) {
     Block& block = blocks_[k];
@@ -994,6 +1024,7 @@ void SolidElements::checkpoint(Archive& a, const discretization::NodeStore& node
     block.hourglass_power.hold(held(k).begin, held(k).end);  // each step's anew
   }
   if (a.reading()) {  // each step's anew, before the energies read them
+    force_.resize(0), bulk_force_.resize(0);
     force_.hold(forces_held().begin, forces_held().end);
     bulk_force_.hold(forces_held().begin, forces_held().end);
   }

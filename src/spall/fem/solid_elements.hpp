@@ -244,6 +244,9 @@ class SolidElements final : public discretization::Formulation {
   bool books(const Block& block, Index e) const {
     return !share_ || share_->nodes.owns(node_[block.node[static_cast<std::size_t>(block.nodes_per_element) * e]]);
   }
+  // Each held element's state and the held forces as the set-up gives them: on one process at
+  // construction, under MPI at the first deal (every rank its own elements' alone).
+  void set_up_state(const discretization::NodeStore& nodes);
   // The elements this rank computes in the nodes' present deal. Collective (with the velocities by
   // reach, their plan).
   Share plan_share(const discretization::NodeStore& nodes) const;
@@ -279,6 +282,7 @@ class SolidElements final : public discretization::Formulation {
   bool may_erode_ = false;       // some part has an erosion criterion or a material that fails
   bool hourglass_ = false;       // some part's one-point hexahedra have hourglass control
   bool erode_enabled_ = false;   // ERODE
+  bool state_set_up_ = false;    // set_up_state, or a checkpoint read
   std::optional<Share> share_;   // under MPI
 };
 
