@@ -20,11 +20,11 @@
 #include <span>
 #include <vector>
 
+#include "spall/core/range_array.hpp"
 #include "spall/discretization/formulation.hpp"
 #include "spall/discretization/mass_scaling.hpp"
 #include "spall/discretization/particle_share.hpp"
 #include "spall/discretization/reach_share.hpp"
-#include "spall/core/range_array.hpp"
 #include "spall/fem/hexahedron.hpp"
 #include "spall/materials/material.hpp"
 
