@@ -12,24 +12,18 @@
 // alone.
 #include <gtest/gtest.h>
 
-#include <cstdint>
 #include <string>
 #include <vector>
 
-#include "spall/core/archive.hpp"
 #include "spall/core/communicator.hpp"
 #include "spall/core/log.hpp"
 #include "spall/fem/solid_elements.hpp"
 #include "spall/solver/problem.hpp"
+#include "support/forces_over_ranks.hpp"
 #include "support/spg_block.hpp"
 
 namespace spall {
 namespace {
-
-struct NodeForce {
-  std::int64_t node;
-  double f[3];
-};
 
 constexpr Real dt = 5e-7;  // s, under a third of the elements' stable step (10 mm / 5 800 m/s)
 
@@ -93,17 +87,6 @@ Index expect_held_stretch(solver::Problem& problem) {
   return held;
 }
 
-// The internal force on every node, every rank's.
-std::vector<Vec3> node_forces(const discretization::NodeStore& nodes) {
-  const parallel::Communicator& ranks = parallel::world();
-  std::vector<NodeForce> mine;
-  for (Index i = 0; i < nodes.size(); ++i)
-    if (nodes.owns(i)) mine.push_back({i, {nodes.f[i].x(), nodes.f[i].y(), nodes.f[i].z()}});
-  std::vector<Vec3> f(nodes.size(), Vec3::Zero());
-  for (const NodeForce& r : ranks.all(std::span<const NodeForce>(mine))) f[r.node] = Vec3(r.f[0], r.f[1], r.f[2]);
-  return f;
-}
-
 constexpr int steps = 12;
 
 // The internal force on every node after `steps` steps of the bar, the nodes dealt at `begins` for
@@ -117,7 +100,7 @@ std::vector<Vec3> forces(const std::vector<Index>& begins, const std::vector<Ind
     step(problem);
   }
   expect_held_stretch(problem);
-  return node_forces(problem.nodes);
+  return test_support::node_forces(problem.nodes);
 }
 
 // The same, with a restart file written after the first half (dealt at `begins`) and read back into
@@ -130,20 +113,11 @@ std::vector<Vec3> restarted_forces(const std::vector<Index>& begins, const std::
     solver::Problem problem = bar_problem();
     problem.nodes.deal(begins, ranks.rank());
     for (int k = 0; k < steps / 2; ++k) step(problem);
-    elements(problem).complete_state(problem.nodes);
-    Archive written = ranks.rank() == 0 ? Archive::for_writing() : Archive::discarding();
-    problem.nodes.checkpoint(written);
-    elements(problem).checkpoint(written, problem.nodes);
-    const std::string& mine = written.bytes();
-    const std::vector<char> whole = ranks.all(std::span<const char>(mine.data(), mine.size()));
-    file.assign(whole.begin(), whole.end());
+    file = test_support::restart_file(problem.nodes, elements(problem));
   }
   solver::Problem problem = bar_problem();
   problem.nodes.deal(read_into, ranks.rank());
-  Archive archive = Archive::for_reading(file, "checkpoint");
-  problem.nodes.checkpoint(archive);
-  elements(problem).checkpoint(archive, problem.nodes);
-  EXPECT_TRUE(archive.at_end());
+  test_support::read_restart_file(file, problem.nodes, elements(problem));
   const Index held = expect_held_stretch(problem);
   if (ranks.size() > 1) {
     EXPECT_LT(held, elements(problem).element_count()) << "rank " << ranks.rank() << " read every element's state";
@@ -151,32 +125,14 @@ std::vector<Vec3> restarted_forces(const std::vector<Index>& begins, const std::
   problem.nodes.deal(then, ranks.rank());
   for (int k = steps / 2; k < steps; ++k) step(problem);
   expect_held_stretch(problem);
-  return node_forces(problem.nodes);
+  return test_support::node_forces(problem.nodes);
 }
 
 TEST(SolidElementsOverRanks, ARankHoldsTheStateOfTheElementsItComputesAndForcesAreOneRanks) {
   log::set_quiet(true);
-  const parallel::Communicator& ranks = parallel::world();
   const Index n = 25 * 4 * 4;
-  std::vector<Index> whole(ranks.size() + 1, n), blocks(ranks.size() + 1, n), shifted(ranks.size() + 1, n);
-  whole[0] = 0;
-  for (int r = 0; r < ranks.size(); ++r) blocks[r] = r * n / ranks.size();
-  for (int r = 1; r < ranks.size(); ++r) shifted[r] = blocks[r] + 37;  // two layers of nodes on
-  shifted[0] = 0;
-  const std::vector<Vec3> reference = forces(whole, whole), dealt = forces(blocks, shifted);
-  Index differ = 0, zero = 0;
-  for (Index i = 0; i < n; ++i) {
-    differ += dealt[i] != reference[i];
-    zero += reference[i] == Vec3::Zero();
-  }
-  EXPECT_EQ(differ, 0);
-  EXPECT_LT(zero, n / 2);  // the bar is pulled: the forces are not all zero
-  for (const auto& read_into : {blocks, shifted}) {
-    const std::vector<Vec3> restarted = restarted_forces(blocks, read_into, shifted);
-    differ = 0;
-    for (Index i = 0; i < n; ++i) differ += restarted[i] != reference[i];
-    EXPECT_EQ(differ, 0) << "read into the " << (read_into == blocks ? "deal it was written in" : "new deal");
-  }
+  // The blocks shifted two layers of nodes on.
+  test_support::expect_forces_of_one_rank(n, 37, forces, restarted_forces);
 }
 
 }  // namespace

@@ -12,25 +12,19 @@
 // same forces, and right after the read a rank holds its own particles' state alone.
 #include <gtest/gtest.h>
 
-#include <cstdint>
 #include <string>
 #include <variant>
 #include <vector>
 
-#include "spall/core/archive.hpp"
 #include "spall/core/communicator.hpp"
 #include "spall/core/log.hpp"
 #include "spall/solver/problem.hpp"
 #include "spall/sph/solid.hpp"
+#include "support/forces_over_ranks.hpp"
 #include "support/sph_block.hpp"
 
 namespace spall {
 namespace {
-
-struct NodeForce {
-  std::int64_t node;
-  double f[3];
-};
 
 // The bar (50 x 5 x 5 particles along x) pulled at v_x = rate x.
 solver::Problem bar_problem() {
@@ -84,17 +78,6 @@ void expect_held_stretch(solver::Problem& problem) {
   }
 }
 
-// The internal force on every node, every rank's.
-std::vector<Vec3> node_forces(const discretization::NodeStore& nodes) {
-  const parallel::Communicator& ranks = parallel::world();
-  std::vector<NodeForce> mine;
-  for (Index i = 0; i < nodes.size(); ++i)
-    if (nodes.owns(i)) mine.push_back({i, {nodes.f[i].x(), nodes.f[i].y(), nodes.f[i].z()}});
-  std::vector<Vec3> f(nodes.size(), Vec3::Zero());
-  for (const NodeForce& r : ranks.all(std::span<const NodeForce>(mine))) f[r.node] = Vec3(r.f[0], r.f[1], r.f[2]);
-  return f;
-}
-
 // The internal force on every node after four steps of the bar, with the nodes dealt at `begins`
 // for the first two steps and at `then` for the others (a new deal: the state and constants travel
 // to the ranks whose rows now read them); checks each rank's held stretch.
@@ -107,7 +90,7 @@ std::vector<Vec3> forces(const std::vector<Index>& begins, const std::vector<Ind
     step(problem);
   }
   expect_held_stretch(problem);
-  return node_forces(problem.nodes);
+  return test_support::node_forces(problem.nodes);
 }
 
 // The same, with a restart file written after two steps (dealt at `begins`) and read back into the
@@ -123,20 +106,11 @@ std::vector<Vec3> restarted_forces(const std::vector<Index>& begins, const std::
     problem.nodes.deal(begins, ranks.rank());
     step(problem);
     step(problem);
-    solid(problem).complete_state(problem.nodes);
-    Archive written = ranks.rank() == 0 ? Archive::for_writing() : Archive::discarding();
-    problem.nodes.checkpoint(written);
-    solid(problem).checkpoint(written, problem.nodes);
-    const std::string& mine = written.bytes();
-    const std::vector<char> whole = ranks.all(std::span<const char>(mine.data(), mine.size()));
-    file.assign(whole.begin(), whole.end());
+    file = test_support::restart_file(problem.nodes, solid(problem));
   }
   solver::Problem problem = bar_problem();
   problem.nodes.deal(read_into, ranks.rank());
-  Archive archive = Archive::for_reading(file, "checkpoint");
-  problem.nodes.checkpoint(archive);
-  solid(problem).checkpoint(archive, problem.nodes);
-  EXPECT_TRUE(archive.at_end());
+  test_support::read_restart_file(file, problem.nodes, solid(problem));
   const neighbors::ParticleRange held = solid(problem).read_state_held();
   Index own = 0;
   for (Index a = 0; a < solid(problem).particle_count(); ++a) own += problem.nodes.owns(solid(problem).node_of(a));
@@ -145,34 +119,14 @@ std::vector<Vec3> restarted_forces(const std::vector<Index>& begins, const std::
   step(problem);
   step(problem);
   expect_held_stretch(problem);
-  return node_forces(problem.nodes);
+  return test_support::node_forces(problem.nodes);
 }
 
 TEST(SphSolidOverRanks, ARankHoldsTheStateItsRowsReadAndForcesAreOneRanks) {
   log::set_quiet(true);
-  const parallel::Communicator& ranks = parallel::world();
   const Index n = 50 * 5 * 5;
-  std::vector<Index> whole(ranks.size() + 1, n), blocks(ranks.size() + 1, n), shifted(ranks.size() + 1, n);
-  whole[0] = 0;
-  for (int r = 0; r < ranks.size(); ++r) blocks[r] = r * n / ranks.size();
-  for (int r = 1; r < ranks.size(); ++r) shifted[r] = blocks[r] + 10;  // within the stretches of a 50-long bar
-  shifted[0] = 0;
-  const std::vector<Vec3> reference = forces(whole, whole), dealt = forces(blocks, shifted);
-  Index differ = 0, zero = 0;
-  for (Index i = 0; i < n; ++i) {
-    differ += dealt[i] != reference[i];
-    zero += reference[i] == Vec3::Zero();
-  }
-  EXPECT_EQ(differ, 0);
-  EXPECT_LT(zero, n / 2);  // the bar is pulled: the forces are not all zero
-  // Continued from a restart file, read into the deal it was written in or into the new one: the
-  // forces of the run that went on, bit for bit.
-  for (const auto& read_into : {blocks, shifted}) {
-    const std::vector<Vec3> restarted = restarted_forces(blocks, read_into, shifted);
-    differ = 0;
-    for (Index i = 0; i < n; ++i) differ += restarted[i] != reference[i];
-    EXPECT_EQ(differ, 0) << "read into the " << (read_into == blocks ? "deal it was written in" : "new deal");
-  }
+  // The blocks shifted within the stretches of a 50-long bar.
+  test_support::expect_forces_of_one_rank(n, 10, forces, restarted_forces);
 }
 
 }  // namespace

@@ -717,7 +717,8 @@ SolidElements::Share SolidElements::plan_share(const discretization::NodeStore& 
   }
   const auto first = std::find(reads.begin(), reads.end(), 1);
   const auto last = std::find(reads.rbegin(), reads.rend(), 1);
-  if (first != reads.end()) s.forces = {static_cast<Index>(first - reads.begin()), static_cast<Index>(reads.rend() - last)};
+  if (first != reads.end())
+    s.forces = {static_cast<Index>(first - reads.begin()), static_cast<Index>(reads.rend() - last)};
   if (!nodes.velocities_by_reach) return s;
   s.velocities.plan(reads, node_, s.nodes, nodes);
   s.rows_read = {nodes.owned_begin, nodes.owned_end};
@@ -793,8 +794,9 @@ void SolidElements::share_masses(discretization::NodeStore& nodes) {
 void SolidElements::compute_forces(discretization::NodeStore& nodes, Real dt) {
   distribute(nodes);
   const parallel::Range forces = forces_held();
-  parallel::for_each(forces.size(), [&](Index j) { force_[forces.begin + j] = bulk_force_[forces.begin + j] = Vec3::Zero(); },
-                     element_loops);
+  parallel::for_each(forces.size(), [&](Index j) {
+    force_[forces.begin + j] = bulk_force_[forces.begin + j] = Vec3::Zero();
+  }, element_loops);
   time_ += dt;
   eroded_kinetic_step_ = eroded_internal_step_ = 0;
   struct Found {
