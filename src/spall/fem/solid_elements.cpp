@@ -912,9 +912,11 @@ Real SolidElements::stable_time_step(const discretization::NodeStore&) const { r
 bool SolidElements::scale_mass_below(Real step, bool first_step_only) {
   mass_scaling_.start(step, first_step_only);
   for (std::size_t k = 0; k < blocks_.size(); ++k) {
-    blocks_[k].mass_scale.resize(0);  // on: set_up_state makes it 1
-    blocks_[k].mass_scale.hold(held(k).begin, held(k).end);
-    if (state_set_up_) blocks_[k].mass_scale.fill(1);
+    RangeArray<Real>& scale = blocks_[k].mass_scale;
+    scale.resize(0);  // on, holding nothing until set_up_state makes the held elements' 1
+    if (!state_set_up_) continue;
+    scale.hold(held(k).begin, held(k).end);
+    scale.fill(1);
   }
   return true;
 }
