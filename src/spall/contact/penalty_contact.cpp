@@ -59,12 +59,14 @@ void PenaltyContact::apply(NodeStore& nodes, Real t, Real dt) {
       state.started = false;
       continue;
     }
+    // Nodes dealt anew: a slave's last touch (its friction) may be another rank's.
+    if (nodes.partition != partition_) complete_touches(state);
     search(state, nodes);
     respond(state, nodes, dt);
-    share_touches(state);
     gather(state, nodes);
     state.started = true;
   }
+  partition_ = nodes.partition;
 }
 
 // Each slave node's segment: of the segments in its cell (not one it is a corner of, nor one of
@@ -189,41 +191,60 @@ void PenaltyContact::respond(PassState& state, const NodeStore& nodes, Real dt) 
   }, {.serial_below = 256});
 }
 
-// Under MPI each rank has searched and answered its own slave nodes: every rank's touches come in,
-// in slave order, so that each rank gathers every force (a rigid body sums its nodes', rcforc.csv
-// each side's) and keeps every touch's friction for the next step, as one process does.
-void PenaltyContact::share_touches(PassState& state) {
+// Under MPI each rank searches and answers its own slave nodes and keeps their touches; every
+// rank's come in where a slave's last touch may be another rank's (a new deal) and before a
+// checkpoint, in slave order, as one process has them.
+void PenaltyContact::complete_touches(PassState& state) const {
   const parallel::Communicator& ranks = parallel::world();
   if (ranks.size() == 1) return;
   std::vector<Touch> all = ranks.all(std::span<const Touch>(state.touches));
   std::sort(all.begin(), all.end(), [](const Touch& a, const Touch& b) { return a.slave < b.slave; });
   state.touches = std::move(all);
-  std::fill(state.found.begin(), state.found.end(), -1);
-  for (const Touch& touch : state.touches) state.found[touch.slave] = touch.segment;
 }
 
-// Adds the forces to the nodes, in slave order: the slave takes F, the corners -w_J F. Under MPI
-// each rank to its own nodes, whose forces are then whole there (a body takes its nodes' from
-// their ranks); another rank's node may be one whose force this rank no longer clears each step.
+void PenaltyContact::complete_state() {
+  for (auto& state : passes_) complete_touches(state);
+}
+
+// Adds the forces to the nodes: the slave takes F, the corners -w_J F. Each node takes its terms
+// in slave order (the slave's, then each corner's), as one process adds them: under MPI a rank's
+// touches' terms on another rank's node go to that rank, which adds every term on its own nodes
+// (whose forces are then whole there; a body takes its nodes' from their ranks). The resultants
+// and their moments are exact sums over the touches and the ranks: the same for any partition.
 void PenaltyContact::gather(const PassState& state, NodeStore& nodes) {
+  const parallel::Communicator& ranks = parallel::world();
   const Pass& pass = state.pass;
+  struct Term {  // a force on a node, its place in the order: the touch's slave, then 0 or 1 + corner
+    Index slave;
+    std::int32_t order;
+    Index node;
+    double force[3];
+  };
+  std::vector<std::vector<Term>> terms(ranks.size());
+  std::array<ExactSum, 12> sums;  // the slave side's force and moment, then the segment side's
+  const auto add = [&](const Touch& touch, std::int32_t order, Index node, const Vec3& force, const Vec3& at) {
+    terms[nodes.rank_of(node)].push_back({touch.slave, order, node, {force.x(), force.y(), force.z()}});
+    const Vec3 moment = at.cross(force);
+    for (int d = 0; d < 3; ++d) sums[(order > 0 ? 6 : 0) + d] += force[d], sums[(order > 0 ? 9 : 3) + d] += moment[d];
+  };
+  for (const Touch& touch : state.touches) {
+    const Vec3 force = touch.normal_force * touch.normal + touch.friction;
+    add(touch, 0, pass.slave[touch.slave], force, touch.slave_position);
+    const Segment& segment = pass.segment[touch.segment];
+    for (int c = 0; c < segment.corners(); ++c)
+      add(touch, 1 + c, segment.node[c], -touch.weight[c] * force, nodes.x[segment.node[c]]);
+  }
+  ranks.sum(sums);
   Resultant& slave_side = side_[pass.slaves_are_side_a ? 0 : 1];
   Resultant& segment_side = side_[pass.slaves_are_side_a ? 1 : 0];
-  for (const Touch& touch : state.touches) {
-    const Index i = pass.slave[touch.slave];
-    const Vec3 force = touch.normal_force * touch.normal + touch.friction;
-    if (nodes.owns(i)) nodes.f[i] += force;
-    slave_side.force += force;
-    slave_side.moment += touch.slave_position.cross(force);
-    const Segment& segment = pass.segment[touch.segment];
-    for (int c = 0; c < segment.corners(); ++c) {
-      const Index J = segment.node[c];
-      const Vec3 reaction = -touch.weight[c] * force;
-      if (nodes.owns(J)) nodes.f[J] += reaction;
-      segment_side.force += reaction;
-      segment_side.moment += nodes.x[J].cross(reaction);
-    }
-  }
+  slave_side.force += Vec3(sums[0].value(), sums[1].value(), sums[2].value());
+  slave_side.moment += Vec3(sums[3].value(), sums[4].value(), sums[5].value());
+  segment_side.force += Vec3(sums[6].value(), sums[7].value(), sums[8].value());
+  segment_side.moment += Vec3(sums[9].value(), sums[10].value(), sums[11].value());
+  std::vector<Term> mine = ranks.deliver(terms);
+  std::sort(mine.begin(), mine.end(),
+            [](const Term& a, const Term& b) { return a.slave < b.slave || (a.slave == b.slave && a.order < b.order); });
+  for (const Term& term : mine) nodes.f[term.node] += Vec3(term.force[0], term.force[1], term.force[2]);
 }
 
 void PenaltyContact::book_energies(discretization::EnergyLedger& ledger, const NodeStore& nodes,
@@ -233,7 +254,7 @@ void PenaltyContact::book_energies(discretization::EnergyLedger& ledger, const N
   for (const auto& state : passes_)
     for (const Touch& touch : state.touches) {
       const Index i = state.pass.slave[touch.slave];
-      if (!nodes.owns(i)) continue;  // its rank's
+      if (!nodes.owns(i)) continue;  // its rank's (every rank's are here after complete_state)
       const Segment& segment = state.pass.segment[touch.segment];
       Vec3 v_rel = v[i];
       for (int c = 0; c < segment.corners(); ++c) v_rel -= touch.weight[c] * v[segment.node[c]];

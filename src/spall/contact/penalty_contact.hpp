@@ -7,9 +7,10 @@
 // and friction follows an elastic predictor and Coulomb return: F* = F_t - k dt v_t, |F_t| <=
 // mu f_n (and <= VC A). The reaction goes to the segment's corners with the weights of the contact
 // point. The slave node may be of any formulation (SPH, SPG, FEM, rigid), the segments faces of
-// any solid mesh (FEM, SPG, rigid). Forces are gathered in slave order: the same for any thread
-// count, and for any MPI rank count (each rank finds and answers the touches of its own slave
-// nodes, then every rank gathers every touch: solver/simulation.cpp).
+// any solid mesh (FEM, SPG, rigid). Each node takes its forces in slave order and the resultants
+// are exact sums: the same for any thread count, and for any MPI rank count (each rank finds,
+// answers and keeps the touches of its own slave nodes and sends the terms on other ranks' nodes
+// to them: docs/SCALING.md §3, "Contact touches by rank").
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -98,8 +99,10 @@ class PenaltyContact {
   void set_moment_nodes(const std::array<Index, 2>& nodes) { definition_.moment_node = nodes; }
   const Resultant& side_a() const { return side_[0]; }
   const Resultant& side_b() const { return side_[1]; }
-  // How many slave nodes touch a segment now.
+  // How many slave nodes touch a segment now (under MPI, of this rank's own).
   Index touching() const;
+  // Under MPI every rank's touches (their friction) to every rank, where a checkpoint needs them.
+  void complete_state();
 
   // The friction state, the first step's stiffness and the last resultants.
   void checkpoint(Archive& a) {
@@ -143,13 +146,14 @@ class PenaltyContact {
 
   void search(PassState& state, const discretization::NodeStore& nodes) const;
   void respond(PassState& state, const discretization::NodeStore& nodes, Real dt) const;
-  void share_touches(PassState& state);
+  void complete_touches(PassState& state) const;
   void gather(const PassState& state, discretization::NodeStore& nodes);
 
   Definition definition_;
   std::vector<PassState> passes_;
   Real stiffness_step_ = 0;
   Resultant side_[2];
+  long long partition_ = -1;  // NodeStore::partition of the last step: its touches are its own slaves'
 };
 
 }  // namespace spall::contact

@@ -158,6 +158,7 @@ class TimeLoop::Step {
   void complete_state() {
     for (auto& f : problem_.formulations) f->complete_state(nodes_);
     for (auto& wall : problem_.rigid_walls) wall.complete_state();
+    for (auto& c : problem_.contacts) c.complete_state();
   }
 
   // Between two steps: the problem's state (nodes, formulations, walls, contacts, bodies), then the
