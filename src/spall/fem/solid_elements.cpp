@@ -200,6 +200,7 @@ SolidElements::SolidElements(std::vector<PartSettings> parts, const std::vector<
 }
 
 void SolidElements::set_up_state(const discretization::NodeStore& nodes) {
+  state_set_up_ = true;  // from here on held() and forces_held() are what this rank computes
   for (std::size_t k = 0; k < blocks_.size(); ++k) {
     Block& block = blocks_[k];
     const parallel::Range elements = held(k);
@@ -231,7 +232,6 @@ void SolidElements::set_up_state(const discretization::NodeStore& nodes) {
   bulk_force_.hold(forces.begin, forces.end);
   force_.fill(Vec3::Zero());
   bulk_force_.fill(Vec3::Zero());
-  state_set_up_ = true;
 }
 
 namespace {

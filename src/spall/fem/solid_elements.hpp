@@ -184,13 +184,15 @@ class SolidElements final : public discretization::Formulation {
   const std::vector<Block>& blocks() const { return blocks_; }
   std::span<const Index> local_nodes() const { return node_; }  // local node -> node-store index
   // The elements of block k whose state this rank holds: the stretch from the first it computes to
-  // the last under MPI, every element on one process.
+  // the last under MPI, every element on one process; none before the state is set up.
   parallel::Range held(std::size_t k) const {
+    if (!state_set_up_) return {0, 0};
     return share_ ? share_->blocks[k].held : parallel::Range{0, blocks_[k].size()};
   }
   // The local nodes whose forces this rank sums: those of the elements it computes, from the first
-  // to the last (its own among them), every local node on one process.
+  // to the last (its own among them), every local node on one process; none before the set-up.
   parallel::Range forces_held() const {
+    if (!state_set_up_) return {0, 0};
     return share_ ? share_->forces : parallel::Range{0, static_cast<Index>(node_.size())};
   }
 
