@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include "spall/core/communicator.hpp"
 #include "spall/core/exact_sum.hpp"
@@ -52,21 +53,28 @@ Index PenaltyContact::touching() const {
 
 void PenaltyContact::apply(NodeStore& nodes, Real t, Real dt) {
   side_[0] = side_[1] = Resultant{};
-  const bool alive = t >= definition_.birth && t <= definition_.death;
-  for (auto& state : passes_) {
-    if (!alive) {
+  // Nodes dealt anew: a slave's last touch (its friction) may be another rank's.
+  const bool dealt_anew = std::exchange(partition_, nodes.partition) != nodes.partition;
+  if (t < definition_.birth || t > definition_.death) {
+    for (auto& state : passes_) {
       state.touches.clear();  // friction history ends with the contact
       state.started = false;
-      continue;
     }
-    // Nodes dealt anew: a slave's last touch (its friction) may be another rank's.
-    if (nodes.partition != partition_) complete_touches(state);
+    return;
+  }
+  std::array<ExactSum, 12> sums;  // side A's force and moment, then side B's, over the passes
+  for (auto& state : passes_) {
+    if (dealt_anew) complete_touches(state);
     search(state, nodes);
     respond(state, nodes, dt);
-    gather(state, nodes);
+    gather(state, nodes, sums);
     state.started = true;
   }
-  partition_ = nodes.partition;
+  parallel::world().sum(sums);
+  for (int s = 0; s < 2; ++s) {
+    side_[s].force = Vec3(sums[6 * s].value(), sums[6 * s + 1].value(), sums[6 * s + 2].value());
+    side_[s].moment = Vec3(sums[6 * s + 3].value(), sums[6 * s + 4].value(), sums[6 * s + 5].value());
+  }
 }
 
 // Each slave node's segment: of the segments in its cell (not one it is a corner of, nor one of
@@ -211,7 +219,7 @@ void PenaltyContact::complete_state() {
 // touches' terms on another rank's node go to that rank, which adds every term on its own nodes
 // (whose forces are then whole there; a body takes its nodes' from their ranks). The resultants
 // and their moments are exact sums over the touches and the ranks: the same for any partition.
-void PenaltyContact::gather(const PassState& state, NodeStore& nodes) {
+void PenaltyContact::gather(const PassState& state, NodeStore& nodes, std::array<ExactSum, 12>& sums) {
   const parallel::Communicator& ranks = parallel::world();
   const Pass& pass = state.pass;
   struct Term {  // a force on a node, its place in the order: the touch's slave, then 0 or 1 + corner
@@ -220,12 +228,18 @@ void PenaltyContact::gather(const PassState& state, NodeStore& nodes) {
     Index node;
     double force[3];
   };
-  std::vector<std::vector<Term>> terms(ranks.size());
-  std::array<ExactSum, 12> sums;  // the slave side's force and moment, then the segment side's
+  // On one process the touches come in slave order, and so do the terms: each is added at once.
+  const bool alone = ranks.size() == 1;
+  std::vector<std::vector<Term>> terms(alone ? 0 : ranks.size());
+  const int slave_side = pass.slaves_are_side_a ? 0 : 6, segment_side = 6 - slave_side;
   const auto add = [&](const Touch& touch, std::int32_t order, Index node, const Vec3& force, const Vec3& at) {
-    terms[nodes.rank_of(node)].push_back({touch.slave, order, node, {force.x(), force.y(), force.z()}});
+    if (alone)
+      nodes.f[node] += force;
+    else
+      terms[nodes.rank_of(node)].push_back({touch.slave, order, node, {force.x(), force.y(), force.z()}});
     const Vec3 moment = at.cross(force);
-    for (int d = 0; d < 3; ++d) sums[(order > 0 ? 6 : 0) + d] += force[d], sums[(order > 0 ? 9 : 3) + d] += moment[d];
+    const int side = order > 0 ? segment_side : slave_side;
+    for (int d = 0; d < 3; ++d) sums[side + d] += force[d], sums[side + 3 + d] += moment[d];
   };
   for (const Touch& touch : state.touches) {
     const Vec3 force = touch.normal_force * touch.normal + touch.friction;
@@ -234,13 +248,7 @@ void PenaltyContact::gather(const PassState& state, NodeStore& nodes) {
     for (int c = 0; c < segment.corners(); ++c)
       add(touch, 1 + c, segment.node[c], -touch.weight[c] * force, nodes.x[segment.node[c]]);
   }
-  ranks.sum(sums);
-  Resultant& slave_side = side_[pass.slaves_are_side_a ? 0 : 1];
-  Resultant& segment_side = side_[pass.slaves_are_side_a ? 1 : 0];
-  slave_side.force += Vec3(sums[0].value(), sums[1].value(), sums[2].value());
-  slave_side.moment += Vec3(sums[3].value(), sums[4].value(), sums[5].value());
-  segment_side.force += Vec3(sums[6].value(), sums[7].value(), sums[8].value());
-  segment_side.moment += Vec3(sums[9].value(), sums[10].value(), sums[11].value());
+  if (alone) return;
   std::vector<Term> mine = ranks.deliver(terms);
   std::sort(mine.begin(), mine.end(),
             [](const Term& a, const Term& b) { return a.slave < b.slave || (a.slave == b.slave && a.order < b.order); });

@@ -11,6 +11,7 @@
 // are exact sums: the same for any thread count, and for any MPI rank count (each rank finds,
 // answers and keeps the touches of its own slave nodes and sends the terms on other ranks' nodes
 // to them: docs/SCALING.md §3, "Contact touches by rank").
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -18,6 +19,7 @@
 #include "spall/contact/segment.hpp"
 #include "spall/contact/segment_grid.hpp"
 #include "spall/core/archive.hpp"
+#include "spall/core/exact_sum.hpp"
 #include "spall/core/types.hpp"
 #include "spall/discretization/energy_ledger.hpp"
 #include "spall/discretization/node_store.hpp"
@@ -147,7 +149,7 @@ class PenaltyContact {
   void search(PassState& state, const discretization::NodeStore& nodes) const;
   void respond(PassState& state, const discretization::NodeStore& nodes, Real dt) const;
   void complete_touches(PassState& state) const;
-  void gather(const PassState& state, discretization::NodeStore& nodes);
+  void gather(const PassState& state, discretization::NodeStore& nodes, std::array<ExactSum, 12>& sums);
 
   Definition definition_;
   std::vector<PassState> passes_;
