@@ -17,6 +17,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <type_traits>
 #include <vector>
 
 #include <fmt/format.h>
@@ -24,6 +25,7 @@
 #include "spall/core/archive.hpp"
 #include "spall/core/communicator.hpp"
 #include "spall/core/error.hpp"
+#include "spall/core/parallel.hpp"
 
 namespace spall::parallel {
 
@@ -165,6 +167,38 @@ void read_pieces(Archive& a, Visit&& visit, Index first = std::numeric_limits<In
     a.skip(static_cast<std::uint64_t>(n - std::max(begin, stop)) * sizeof(T));
     piece_fences = fence_end;
   }
+}
+
+// An array the options may switch off (empty) in pieces: whether it holds values, then where it
+// does the values of this rank's `count` items, item k's array[at(k)], in ascending place(k).
+// Collective.
+template <class Array, class At, class Place>
+void write_array_pieces(Archive& a, const Array& array, Index count, At&& at, Place&& place, const Communicator& ranks) {
+  bool present = !array.empty();
+  a(present);
+  using Value = typename std::remove_cvref_t<Array>::value_type;
+  if (present) write_pieces<Value>(a, count, [&](Index k) { return array[at(k)]; }, place, ranks);
+}
+
+// Such an array read back: one written off is cleared; else the k-th value in the file goes to
+// array[at(k)] (at(k) < 0: an item of no place here), a std::vector being `size` long, a
+// RangeArray holding `keep` alone (the values outside it are passed over).
+template <class Array, class At>
+void read_array_pieces(Archive& a, Array& array, Index size, Range keep, At&& at) {
+  bool present = false;
+  a(present);
+  if (!present) {
+    array.clear();
+    return;
+  }
+  using Value = typename std::remove_cvref_t<Array>::value_type;
+  constexpr bool stretch = requires { array.hold(keep.begin, keep.end); };
+  array.resize(stretch ? 0 : size);
+  if constexpr (stretch) array.hold(keep.begin, keep.end);
+  Index k = 0;
+  read_pieces<Value>(a, [&](const Value& value) {
+    if (const Index i = at(k++); i >= 0 && (!stretch || (i >= keep.begin && i < keep.end))) array[i] = value;
+  });
 }
 
 }  // namespace spall::parallel

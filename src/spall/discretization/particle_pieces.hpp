@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <cstdint>
 #include <span>
-#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -43,12 +42,8 @@ void archive_particle_pieces(Archive& a, const char* what, std::span<const Index
     const Index count = static_cast<Index>(own.size());
     const auto place = [&](Index k) { return own[k].first; };
     parallel::write_pieces<Index>(a, count, place, place, ranks);
-    const auto write = [&](auto& array) {
-      bool present = !array.empty();
-      a(present);
-      using Value = typename std::remove_cvref_t<decltype(array)>::value_type;
-      if (present)
-        parallel::write_pieces<Value>(a, count, [&](Index k) { return array[own[k].second]; }, place, ranks);
+    const auto write = [&](const auto& array) {
+      parallel::write_array_pieces(a, array, count, [&](Index k) { return own[k].second; }, place, ranks);
     };
     (write(arrays), ...);
     return;
@@ -73,20 +68,7 @@ void archive_particle_pieces(Archive& a, const char* what, std::span<const Index
     if (!filled[p]) missing = nodes.node_place(node[p]);
   parallel::check_read(a, what, mismatch, missing, nullptr);
   const auto read = [&](auto& array) {
-    bool present = false;
-    a(present);
-    using Value = typename std::remove_cvref_t<decltype(array)>::value_type;
-    if (!present) {
-      array.clear();
-      return;
-    }
-    constexpr bool stretch = requires { array.hold(keep.begin, keep.end); };
-    array.resize(stretch ? 0 : n);
-    if constexpr (stretch) array.hold(keep.begin, keep.end);
-    std::size_t k = 0;
-    parallel::read_pieces<Value>(a, [&](const Value& value) {
-      if (const Index p = particle[k++]; p >= 0 && (!stretch || (p >= keep.begin && p < keep.end))) array[p] = value;
-    });
+    parallel::read_array_pieces(a, array, n, keep, [&](Index k) { return particle[k]; });
   };
   (read(arrays), ...);
 }

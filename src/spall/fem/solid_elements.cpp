@@ -8,7 +8,6 @@
 #include <numeric>
 #include <span>
 #include <stdexcept>
-#include <type_traits>
 
 #include <Eigen/Eigenvalues>
 #include <fmt/format.h>
@@ -986,13 +985,9 @@ void SolidElements::checkpoint(Archive& a, const discretization::NodeStore& node
       const Index count = static_cast<Index>(own.size());
       const auto element = [&](Index j) { return own[j]; };
       parallel::write_pieces<Index>(a, count, element, element, ranks);
-      block.carried_state([&](auto& array, int per) {
-        bool present = !array.empty();
-        a(present);
-        using Value = typename std::remove_cvref_t<decltype(array)>::value_type;
+      block.carried_state([&](const auto& array, int per) {
         const auto value = [&](Index j) { return per * own[j / per] + j % per; };  // its place in the array
-        if (present)
-          parallel::write_pieces<Value>(a, count * per, [&](Index j) { return array[value(j)]; }, value, ranks);
+        parallel::write_array_pieces(a, array, count * per, value, value, ranks);
       });
       continue;
     }
@@ -1009,21 +1004,8 @@ void SolidElements::checkpoint(Archive& a, const discretization::NodeStore& node
       throw InputError(fmt::format("{}: the checkpoint does not match this deck (its solid elements are not this "
                                    "deck's)", a.source()));
     block.carried_state([&](auto& array, int per) {
-      bool present = false;
-      a(present);
-      using Value = typename std::remove_cvref_t<decltype(array)>::value_type;
-      if (!present) {
-        array.clear();
-        return;
-      }
-      array.resize(0);
-      array.hold(per * held(k).begin, per * held(k).end);
-      std::size_t j = 0;
-      parallel::read_pieces<Value>(a, [&](const Value& value) {
-        const Index e = element[j / per];
-        if (e >= held(k).begin && e < held(k).end) array[per * e + static_cast<Index>(j % per)] = value;
-        ++j;
-      });
+      parallel::read_array_pieces(a, array, per * n, {per * held(k).begin, per * held(k).end},
+                                  [&](Index j) { return per * element[j / per] + j % per; });
     });
     block.hourglass_power.hold(held(k).begin, held(k).end);  // each step's anew
   }
