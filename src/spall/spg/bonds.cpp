@@ -1,7 +1,6 @@
 #include "spall/spg/bonds.hpp"
 
 #include <algorithm>
-#include <functional>
 #include <iterator>
 
 namespace spall::spg {
@@ -48,27 +47,34 @@ void link_mirrors(BondList& bonds) {
   }, particle_loops);
 }
 
+std::vector<Index> bonds_breaking(const BondList& bonds, std::span<const Real> quantity, std::span<const Vec3> x,
+                                  Real critical_value, Real critical_stretch, parallel::Range rows) {
+  if (rows.size() == 0) return {};
+  const Index first = bonds.offsets[rows.begin];
+  std::vector<std::uint8_t> breaks(static_cast<std::size_t>(bonds.offsets[rows.end] - first), 0);
+  // Each side decides from the same symmetric expression, so the two flags of a bond agree.
+  parallel::for_each(rows, [&](Index i) {
+    for (Index k = bonds.offsets[i]; k < bonds.offsets[i + 1]; ++k) {
+      if (bonds.broken[k]) continue;
+      const Index j = bonds.neighbour[k];
+      const Real average = Real(0.5) * (quantity[i] + quantity[j]);
+      if (!(average > critical_value)) continue;
+      const Real stretch = (x[i] - x[j]).norm() / bonds.rest_length[k];
+      breaks[k - first] = stretch > critical_stretch;
+    }
+  }, particle_loops);
+  std::vector<Index> positions;
+  for (std::size_t k = 0; k < breaks.size(); ++k)
+    if (breaks[k]) positions.push_back(first + static_cast<Index>(k));
+  return positions;
+}
+
 Index break_bonds(BondList& bonds, std::span<const Real> quantity, std::span<const Vec3> x,
                   Real critical_value, Real critical_stretch) {
-  const Index n = bonds.size();
-  // Each side decides from the same symmetric expression, so the two flags of a bond agree.
-  return parallel::reduce_exact(
-      n, Index(0),
-      [&](Index i) {
-        Index broken_here = 0;
-        for (Index k = bonds.offsets[i]; k < bonds.offsets[i + 1]; ++k) {
-          if (bonds.broken[k]) continue;
-          const Index j = bonds.neighbour[k];
-          const Real average = Real(0.5) * (quantity[i] + quantity[j]);
-          if (!(average > critical_value)) continue;
-          const Real stretch = (x[i] - x[j]).norm() / bonds.rest_length[k];
-          if (!(stretch > critical_stretch)) continue;
-          bonds.broken[k] = 1;
-          if (i < j) ++broken_here;
-        }
-        return broken_here;
-      },
-      std::plus<>(), particle_loops);
+  const std::vector<Index> breaking =
+      bonds_breaking(bonds, quantity, x, critical_value, critical_stretch, {0, bonds.size()});
+  for (const Index k : breaking) bonds.broken[k] = 1;
+  return static_cast<Index>(breaking.size()) / 2;  // both sides of each
 }
 
 }  // namespace spall::spg

@@ -59,6 +59,11 @@ void record_broken_pairs(const BondList& bonds, std::vector<BondPair>& broken_pa
 // Returns the number of bonds broken now (each counted once).
 Index break_bonds(BondList& bonds, std::span<const Real> quantity, std::span<const Vec3> x,
                   Real critical_value, Real critical_stretch);
+// The same rule judged on the rows of the particles [rows.begin, rows.end) alone, breaking nothing:
+// the positions of their bonds that break now, ascending. It reads those particles' and their
+// partners' quantities and positions only (under MPI a rank judges its own particles' rows).
+std::vector<Index> bonds_breaking(const BondList& bonds, std::span<const Real> quantity, std::span<const Vec3> x,
+                                  Real critical_value, Real critical_stretch, parallel::Range rows);
 
 // Fills mirror from offsets and neighbour (rows ascending, the pattern symmetric).
 void link_mirrors(BondList& bonds);

@@ -145,7 +145,7 @@ void Part::build_shape_functions(bool at_setup) {
   std::vector<Mat3> window_map;
   if (material_windows) {
     window_map.resize(n);
-    for (Index i = 0; i < n; ++i) window_map[i] = F_total_[i].inverse();
+    for (Index i = read_.begin; i < read_.end; ++i) window_map[i] = F_total_[i].inverse();  // the rows' partners
   }
   parallel::LowestIndex singular;
   parallel::region([&](const parallel::Team& team) {
@@ -341,10 +341,9 @@ void Part::update_stabilization(Real dt) {
 
 // Per particle, the quantity IDAM judges bonds on (bond_failure.hpp). Called after the kernel
 // update has folded F into F_total_, so F_total_ is the deformation from the initial configuration.
-void Part::failure_quantity(std::vector<Real>& out) const {
-  const Index n = particle_count();
-  out.resize(n);
-  parallel::for_each(n, [&](Index j) {
+void Part::failure_quantity(std::vector<Real>& out, parallel::Range particles) const {
+  out.resize(particle_count());
+  parallel::for_each(particles, [&](Index j) {
     switch (settings_.failure_quantity) {
       case BondFailure::plastic_strain:
         out[j] = state_[j].plastic_strain;
@@ -384,17 +383,20 @@ void Part::detach_degraded_particles() {
 
 void Part::update_kernel(const discretization::NodeStore& nodes) {
   const Index n = particle_count();
-  // Every rank folds every particle's F and judges every bond (the bonds are every rank's): of the
-  // state only F and the failure quantity travel whole, each rank's of its own particles.
-  share_(node_, F_);
-  parallel::for_each(n, [&](Index j) {
+  // Under MPI a rank folds F where it holds it current, in the particles it reads (their F,
+  // material state and pressure come each step), and judges the bonds of its own particles' rows
+  // from them: only the bonds it breaks travel, to every rank (the bonds are every rank's). The
+  // others' folded F come with their state where a rank reads them later (complete, deal_anew; an
+  // Eulerian search's new partners below).
+  const bool by_reach = share_.dealt();
+  const parallel::Range folded = by_reach ? read_ : parallel::Range{0, n};
+  parallel::for_each(folded, [&](Index j) {
     volume_ref_[j] *= F_[j].determinant();
     F_total_[j] = F_[j] * F_total_[j];
     F_[j] = Mat3::Identity();
   }, particle_loops);
   std::vector<Real> quantity;
-  failure_quantity(quantity);
-  share_(node_, quantity);
+  failure_quantity(quantity, folded);
   // Broken bonds per particle, over every bond ever broken (also those an Eulerian update drops).
   auto broken_per_particle = [&] {
     std::vector<Index> count(n, 0);
@@ -402,19 +404,27 @@ void Part::update_kernel(const discretization::NodeStore& nodes) {
     return count;
   };
   const std::vector<Index> broken_before = broken_per_particle();
-  break_bonds(bonds_, quantity, x_, settings_.failure_value, settings_.failure_stretch);
+  if (by_reach) {
+    const std::vector<Index> mine =
+        bonds_breaking(bonds_, quantity, x_, settings_.failure_value, settings_.failure_stretch, own_);
+    for (const Index k : parallel::world().all(std::span<const Index>(mine))) bonds_.broken[k] = 1;
+  } else {
+    break_bonds(bonds_, quantity, x_, settings_.failure_value, settings_.failure_stretch);
+  }
   record_broken_pairs(bonds_, broken_pairs_);
   if (settings_.kernel_update != KernelUpdate::updated_lagrangian) {
     // Windows in the current configuration widen with the stretch of the material around each
     // particle (THEORY §9.7): windows of the first size lose the neighbours of material that spreads
     // (the foot of a Taylor bar) and leave their rows ill-conditioned; separation is the bonds' to
     // decide (IDAM), or the kernel's beyond max_window_growth.
-    parallel::for_each(n, [&](Index j) {
+    parallel::for_each(folded, [&](Index j) {
       const Vec3& a = initial_support_[j];
       support_[j] = window_extent(F_total_[j], a).cwiseMax(a).cwiseMin(max_window_growth * a);
     }, particle_loops);
   }
   if (settings_.kernel_update == KernelUpdate::eulerian) {
+    // The search reads the window of any particle near a rank's own: every rank's in whole.
+    share_(node_, support_);
     const BondList previous = std::move(bonds_);
     search_bonds(&previous);
   }
@@ -428,10 +438,11 @@ void Part::update_kernel(const discretization::NodeStore& nodes) {
   const std::vector<Index> broken_after = broken_per_particle();
   for (Index j = 0; j < n; ++j)
     if (broken_after[j] != broken_before[j]) stabilization_force_[j] = Vec3::Zero();
-  // Bonds searched anew may have partners new to a rank: their stress and springs, which the force
-  // and the next step's springs read (the rest comes each step).
+  // Bonds searched anew may have partners new to a rank: their folded F, volume and stress and
+  // their springs, which the correction, the force and the next step's springs read (the rest
+  // comes each step).
   if (settings_.kernel_update == KernelUpdate::eulerian)
-    reach_(state_, pressure_, viscous_pressure_, stabilization_force_, stabilization_total_);
+    reach_(F_, F_total_, volume_ref_, state_, pressure_, viscous_pressure_, stabilization_force_, stabilization_total_);
   correct_integration_constraint(false);
   steps_since_update_ = 0;
   ++kernel_updates_;
@@ -531,13 +542,13 @@ void Part::deal_anew(const discretization::NodeStore& nodes) {
   share_.bind(nodes);
   discretization::ReachShare arrivals;
   arrivals.plan(plan_reach(nodes), node_, dealt_before, nodes);
-  arrivals(F_, spin_, state_, back_stress_, specific_energy_, density_, pressure_, sound_speed_, viscous_pressure_,
-           viscous_power_, stabilization_force_);
+  arrivals(F_, F_total_, volume_ref_, support_, spin_, state_, back_stress_, specific_energy_, density_, pressure_,
+           sound_speed_, viscous_pressure_, viscous_power_, stabilization_force_);
 }
 
 void Part::complete() {
-  share_(node_, F_, spin_, state_, back_stress_, specific_energy_, density_, pressure_, sound_speed_,
-         viscous_pressure_, viscous_power_, stabilization_force_);
+  share_(node_, F_, F_total_, volume_ref_, support_, spin_, state_, back_stress_, specific_energy_, density_,
+         pressure_, sound_speed_, viscous_pressure_, viscous_power_, stabilization_force_);
   complete_ = true;
 }
 

@@ -135,7 +135,8 @@ class Part {
   // Returns the first particle whose F inverted (-1: none); the caller stops the run.
   Index deformation(std::span<const Vec3> x, std::span<const Vec3> v, Real dt);
   void update_stabilization(Real dt);
-  void failure_quantity(std::vector<Real>& out) const;
+  // IDAM's quantity of the particles given (the others' left 0).
+  void failure_quantity(std::vector<Real>& out, parallel::Range particles) const;
   void internal_forces();
   void scale_masses(discretization::NodeStore& nodes);
   Real current_spacing(Index i) const;
@@ -143,11 +144,12 @@ class Part {
   // the run is one process). Under MPI (replicated storage, docs/SCALING.md) each step's state of a
   // rank's particles goes to the ranks whose particles are bonded to them (plan_reach, reach_); a
   // rank smooths, integrates the springs of and weighs the stress of the particles it reads alone
-  // (reads_). At a kernel update every rank folds every particle's F and judges every bond (the
-  // bonds are every rank's), from every rank's F and failure quantity; the bond search (shared
-  // whole), the shape functions and the integration-constraint solve are each rank's for its own
-  // particles, and of them only what the other ranks' rows read travels (reach_, planned anew for
-  // the new bonds; complete_shape_functions for all).
+  // (reads_). At a kernel update a rank folds the F of the particles it reads and judges its own
+  // particles' bonds, and the bonds broken travel to every rank (the bonds are every rank's); the
+  // bond search (KERNEL 1: every particle's window in, the rows shared whole), the shape functions
+  // and the integration-constraint solve are each rank's for its own particles, and of them only
+  // what the other ranks' rows read travels (reach_, planned anew for the new bonds;
+  // complete_shape_functions for all).
   bool owns(Index i) const { return share_.owns(node_[i]); }
   // The other ranks' particles bonded to this rank's: at each kernel update and each new deal.
   // Sets reads_ (this rank's own particles and those), and with the velocities by reach plans
