@@ -134,8 +134,9 @@ inline void check_read(const Archive& a, std::string_view what, Index mismatch, 
 }
 
 // The items whose places may lie in [first, end), piece by piece, to visit(item) one by one (the
-// caller passes over the others): the stretches between the fences around them are read, the
-// rest of each piece is skipped. A rank reading its share of the items (`across`) reads every
+// caller passes over the others), or to visit(item, k) with k the item's place in the file's
+// order (0 for the first piece's first): the stretches between the fences around them are read,
+// the rest of each piece is skipped. A rank reading its share of the items (`across`) reads every
 // place below the first rank's and above the last rank's too, so that an item of no place in the
 // deck is seen (check_read).
 template <class T, class Visit>
@@ -151,6 +152,7 @@ void read_pieces(Archive& a, Visit&& visit, Index first = std::numeric_limits<In
   if (fenced != fences.size() || std::any_of(counts.begin(), counts.end(), [](Index n) { return n < 0; }))
     throw InputError(a.source() + ": the checkpoint is corrupt (its pieces' counts and fences do not match)");
   auto piece_fences = fences.begin();
+  Index before = 0;  // the items of the pieces before
   for (const Index n : counts) {
     const auto fence_end = piece_fences + (n + fence_every - 1) / fence_every;
     // Stretch j holds the places from its fence to the next; those before a fence below `first`
@@ -162,10 +164,14 @@ void read_pieces(Archive& a, Visit&& visit, Index first = std::numeric_limits<In
     for (Index k = begin; k < stop; ++k) {
       T item{};  // read into below (initialized: GCC 12 takes the archive's writing branch for a read of it)
       a(item);
-      visit(item);
+      if constexpr (std::is_invocable_v<Visit, const T&, Index>)
+        visit(item, before + k);
+      else
+        visit(item);
     }
     a.skip(static_cast<std::uint64_t>(n - std::max(begin, stop)) * sizeof(T));
     piece_fences = fence_end;
+    before += n;
   }
 }
 
@@ -182,9 +188,11 @@ void write_array_pieces(Archive& a, const Array& array, Index count, At&& at, Pl
 
 // Such an array read back: one written off is cleared; else the k-th value in the file goes to
 // array[at(k)] (at(k) < 0: an item of no place here), a std::vector being `size` long, a
-// RangeArray holding `keep` alone (the values outside it are passed over).
+// RangeArray holding `keep` alone (the values outside it are passed over). Where place(k) is
+// array index at(k) itself (`places_are_indices`), a RangeArray's read seeks past the stretches
+// of values outside `keep`.
 template <class Array, class At>
-void read_array_pieces(Archive& a, Array& array, Index size, Range keep, At&& at) {
+void read_array_pieces(Archive& a, Array& array, Index size, Range keep, At&& at, bool places_are_indices = false) {
   bool present = false;
   a(present);
   if (!present) {
@@ -195,10 +203,13 @@ void read_array_pieces(Archive& a, Array& array, Index size, Range keep, At&& at
   constexpr bool stretch = requires { array.hold(keep.begin, keep.end); };
   array.resize(stretch ? 0 : size);
   if constexpr (stretch) array.hold(keep.begin, keep.end);
-  Index k = 0;
-  read_pieces<Value>(a, [&](const Value& value) {
-    if (const Index i = at(k++); i >= 0 && (!stretch || (i >= keep.begin && i < keep.end))) array[i] = value;
-  });
+  const auto visit = [&](const Value& value, Index k) {
+    if (const Index i = at(k); i >= 0 && (!stretch || (i >= keep.begin && i < keep.end))) array[i] = value;
+  };
+  if (stretch && places_are_indices)
+    read_pieces<Value>(a, visit, keep.begin, keep.end);
+  else
+    read_pieces<Value>(a, visit);
 }
 
 }  // namespace spall::parallel

@@ -1005,7 +1005,7 @@ void SolidElements::checkpoint(Archive& a, const discretization::NodeStore& node
                                    "deck's)", a.source()));
     block.carried_state([&](auto& array, int per) {
       parallel::read_array_pieces(a, array, per * n, {per * held(k).begin, per * held(k).end},
-                                  [&](Index j) { return per * element[j / per] + j % per; });
+                                  [&](Index j) { return per * element[j / per] + j % per; }, true);
     });
     block.hourglass_power.hold(held(k).begin, held(k).end);  // each step's anew
   }
