@@ -3,7 +3,8 @@
 // its block of the places: the block's items come back, each once, and a rank reads the block's
 // share of the file and the stretches around it, not the whole file (a restart of a large run read
 // on many ranks, docs/SCALING.md §3); an item of no place in the deck reaches the first or the last
-// rank. Written into a file, each rank writes its own items at their place: the file is the
+// rank. An array whose places are its indices, read into a stretch, reads that stretch's values
+// alone. Written into a file, each rank writes its own items at their place: the file is the
 // archive rank 0 writes in memory, and a rank that cannot write stops every rank alike.
 #include <gtest/gtest.h>
 
@@ -27,6 +28,7 @@
 #include "spall/core/communicator.hpp"
 #include "spall/core/error.hpp"
 #include "spall/core/pieces.hpp"
+#include "spall/core/range_array.hpp"
 
 namespace spall::parallel {
 namespace {
@@ -126,6 +128,51 @@ TEST(Pieces, EveryPlaceReadsEveryItem) {
   read_pieces<Item>(read, [&](const Item& item) { ++seen[static_cast<std::size_t>(item.place)]; });
   EXPECT_TRUE(read.at_end());
   for (std::size_t p = 0; p < seen.size(); ++p) ASSERT_EQ(seen[p], 1) << "place " << p;
+}
+
+// An array in pieces whose places are its indices (the solid elements' state, keyed by element):
+// read back into a RangeArray holding a rank's block of the indices, each value lands at the index
+// its place in the file's order names, and a rank reads its block's stretches of the pieces, not
+// the whole array; an array switched off comes back off.
+TEST(Pieces, AnArrayReadIntoAStretchSeeksPastTheRest) {
+  const Communicator& ranks = world();
+  const Index n = 1'000'000;
+  std::vector<std::int64_t> values(n), off;
+  std::vector<Index> own;  // this rank's indices, ascending, dealt by a hash: every piece spans them all
+  for (Index i = 0; i < n; ++i) {
+    values[i] = 5 * std::int64_t(i) + 3;
+    if (static_cast<int>((i * 2654435761u) % 1000 % ranks.size()) == ranks.rank()) own.push_back(i);
+  }
+  const auto index = [&](Index k) { return own[k]; };
+  Archive written = ranks.rank() == 0 ? Archive::for_writing() : Archive::discarding();
+  const auto count = static_cast<Index>(own.size());
+  write_pieces<Index>(written, count, index, index, ranks);
+  write_array_pieces(written, values, count, index, index, ranks);
+  write_array_pieces(written, off, count, index, index, ranks);
+  const std::vector<char> all = ranks.all(std::span<const char>(written.bytes().data(), written.bytes().size()));
+  const std::string file(all.begin(), all.end());
+
+  auto stream = std::make_shared<CountingStream>(file);
+  Archive read = Archive::for_reading_from(stream, file.size(), "file");
+  std::vector<Index> listed;  // the indices in the file's order, read whole
+  read_pieces<Index>(read, [&](Index i) { listed.push_back(i); });
+  const std::streamsize before = stream->buffer.delivered;
+  const Index first = block_begin(n, ranks.rank(), ranks.size()), end = block_begin(n, ranks.rank() + 1, ranks.size());
+  RangeArray<std::int64_t> array, absent;
+  absent.resize(0);  // on, to be switched off by the read
+  read_array_pieces(read, array, n, {first, end}, [&](Index k) { return listed[k]; }, true);
+  const std::streamsize array_bytes = stream->buffer.delivered - before;
+  read_array_pieces(read, absent, n, {first, end}, [&](Index k) { return listed[k]; }, true);
+  EXPECT_TRUE(read.at_end());
+  EXPECT_TRUE(absent.empty());
+  for (Index i = first; i < end; ++i) ASSERT_EQ(array[i], 5 * std::int64_t(i) + 3) << "index " << i;
+  // The block's values and a stretch on either side in each piece, a refill's worth at each seek.
+  const auto value_bytes = static_cast<std::streamsize>(sizeof(std::int64_t));
+  EXPECT_LE(array_bytes, ((end - first) + 2 * ranks.size() * fence_every) * value_bytes +
+                             static_cast<std::streamsize>((ranks.size() + 1) * Archive::flush_bytes) + n / fence_every * 8 + 4096);
+  if (ranks.size() > 1) {
+    EXPECT_LT(array_bytes, n * value_bytes * 3 / 4);
+  }
 }
 
 // A header, a piece of every rank's items over more than a stretch, a mark, a second piece, a
