@@ -160,9 +160,9 @@ TEST(Pieces, AnArrayReadIntoAStretchSeeksPastTheRest) {
   const Index first = block_begin(n, ranks.rank(), ranks.size()), end = block_begin(n, ranks.rank() + 1, ranks.size());
   RangeArray<std::int64_t> array, absent;
   absent.resize(0);  // on, to be switched off by the read
-  read_array_pieces(read, array, n, {first, end}, [&](Index k) { return listed[k]; }, true);
+  read_array_pieces(read, array, n, {first, end}, [&](Index k) { return listed[k]; }, {first, end});
   const std::streamsize array_bytes = stream->buffer.delivered - before;
-  read_array_pieces(read, absent, n, {first, end}, [&](Index k) { return listed[k]; }, true);
+  read_array_pieces(read, absent, n, {first, end}, [&](Index k) { return listed[k]; }, {first, end});
   EXPECT_TRUE(read.at_end());
   EXPECT_TRUE(absent.empty());
   for (Index i = first; i < end; ++i) ASSERT_EQ(array[i], 5 * std::int64_t(i) + 3) << "index " << i;

@@ -188,11 +188,12 @@ void write_array_pieces(Archive& a, const Array& array, Index count, At&& at, Pl
 
 // Such an array read back: one written off is cleared; else the k-th value in the file goes to
 // array[at(k)] (at(k) < 0: an item of no place here), a std::vector being `size` long, a
-// RangeArray holding `keep` alone (the values outside it are passed over). Where place(k) is
-// array index at(k) itself (`places_are_indices`), a RangeArray's read seeks past the stretches
-// of values outside `keep`.
+// RangeArray holding `keep` alone (the values outside it are passed over). A RangeArray whose
+// values in `keep` were written with places in `places` reads those stretches of each piece
+// alone, seeking past the rest (read_pieces).
 template <class Array, class At>
-void read_array_pieces(Archive& a, Array& array, Index size, Range keep, At&& at, bool places_are_indices = false) {
+void read_array_pieces(Archive& a, Array& array, Index size, Range keep, At&& at,
+                       Range places = {std::numeric_limits<Index>::min(), std::numeric_limits<Index>::max()}) {
   bool present = false;
   a(present);
   if (!present) {
@@ -206,8 +207,8 @@ void read_array_pieces(Archive& a, Array& array, Index size, Range keep, At&& at
   const auto visit = [&](const Value& value, Index k) {
     if (const Index i = at(k); i >= 0 && (!stretch || (i >= keep.begin && i < keep.end))) array[i] = value;
   };
-  if (stretch && places_are_indices)
-    read_pieces<Value>(a, visit, keep.begin, keep.end);
+  if (stretch)
+    read_pieces<Value>(a, visit, places.begin, places.end);
   else
     read_pieces<Value>(a, visit);
 }

@@ -67,8 +67,14 @@ void archive_particle_pieces(Archive& a, const char* what, std::span<const Index
   for (Index p = 0; p < n && missing < 0; ++p)
     if (!filled[p]) missing = nodes.node_place(node[p]);
   parallel::check_read(a, what, mismatch, missing, nullptr);
+  // The places of the particles kept: a stretch of them reads those stretches of each piece alone.
+  parallel::Range places{0, 0};
+  for (Index p = keep.begin; p < keep.end; ++p) {
+    const Index place = nodes.node_place(node[p]);
+    places = parallel::hull(places, {place, place + 1});
+  }
   const auto read = [&](auto& array) {
-    parallel::read_array_pieces(a, array, n, keep, [&](Index k) { return particle[k]; });
+    parallel::read_array_pieces(a, array, n, keep, [&](Index k) { return particle[k]; }, places);
   };
   (read(arrays), ...);
 }

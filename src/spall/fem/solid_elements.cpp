@@ -1004,8 +1004,9 @@ void SolidElements::checkpoint(Archive& a, const discretization::NodeStore& node
       throw InputError(fmt::format("{}: the checkpoint does not match this deck (its solid elements are not this "
                                    "deck's)", a.source()));
     block.carried_state([&](auto& array, int per) {
-      parallel::read_array_pieces(a, array, per * n, {per * held(k).begin, per * held(k).end},
-                                  [&](Index j) { return per * element[j / per] + j % per; }, true);
+      const parallel::Range values{per * held(k).begin, per * held(k).end};  // each written at its own index
+      parallel::read_array_pieces(a, array, per * n, values, [&](Index j) { return per * element[j / per] + j % per; },
+                                  values);
     });
     block.hourglass_power.hold(held(k).begin, held(k).end);  // each step's anew
   }
