@@ -52,6 +52,15 @@ TEST(SpgBonds, RowsAreMirroredAndRestLengthsAreTheDistances) {
   EXPECT_EQ(near.count(3), 0);
 }
 
+// Breaks the bonds of every row that break now (bonds_breaking over every row, as one process
+// does): the number broken, each counted once.
+Index break_bonds(BondList& b, std::span<const Real> quantity, std::span<const Vec3> x, Real critical_value,
+                  Real critical_stretch) {
+  const std::vector<Index> breaking = bonds_breaking(b, quantity, x, critical_value, critical_stretch, {0, b.size()});
+  for (const Index k : breaking) b.broken[k] = 1;
+  return static_cast<Index>(breaking.size()) / 2;  // both sides of each
+}
+
 // Seed 001 eq. 14: Phi_K(x_J) = 0 when (eps_K + eps_J) / 2 > eps_crit AND e_KJ > e_crit.
 TEST(SpgBonds, FailureNeedsBothThePlasticStrainAndTheStretch) {
   const std::vector<Vec3> X = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(2, 0, 0), Vec3(3, 0, 0)};

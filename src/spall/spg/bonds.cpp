@@ -69,12 +69,4 @@ std::vector<Index> bonds_breaking(const BondList& bonds, std::span<const Real> q
   return positions;
 }
 
-Index break_bonds(BondList& bonds, std::span<const Real> quantity, std::span<const Vec3> x,
-                  Real critical_value, Real critical_stretch) {
-  const std::vector<Index> breaking =
-      bonds_breaking(bonds, quantity, x, critical_value, critical_stretch, {0, bonds.size()});
-  for (const Index k : breaking) bonds.broken[k] = 1;
-  return static_cast<Index>(breaking.size()) / 2;  // both sides of each
-}
-
 }  // namespace spall::spg

@@ -56,12 +56,9 @@ void record_broken_pairs(const BondList& bonds, std::vector<BondPair>& broken_pa
 // of the particles' failure quantity (IDAM 1: the effective plastic strain; bond_failure.hpp)
 // exceeds `critical_value` (FS) and the relative stretch |x_K - x_J| / rest length exceeds
 // `critical_stretch` (STRETCH). Both sides of a bond see the same numbers and break together.
-// Returns the number of bonds broken now (each counted once).
-Index break_bonds(BondList& bonds, std::span<const Real> quantity, std::span<const Vec3> x,
-                  Real critical_value, Real critical_stretch);
-// The same rule judged on the rows of the particles [rows.begin, rows.end) alone, breaking nothing:
-// the positions of their bonds that break now, ascending. It reads those particles' and their
-// partners' quantities and positions only (under MPI a rank judges its own particles' rows).
+// Judged on the rows of the particles [rows.begin, rows.end), breaking nothing: the positions of
+// their intact bonds that break now, ascending. It reads those particles' and their partners'
+// quantities and positions only (under MPI a rank judges its own particles' rows).
 std::vector<Index> bonds_breaking(const BondList& bonds, std::span<const Real> quantity, std::span<const Vec3> x,
                                   Real critical_value, Real critical_stretch, parallel::Range rows);
 

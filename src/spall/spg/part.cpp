@@ -383,20 +383,18 @@ void Part::detach_degraded_particles() {
 
 void Part::update_kernel(const discretization::NodeStore& nodes) {
   const Index n = particle_count();
-  // Under MPI a rank folds F where it holds it current, in the particles it reads (their F,
-  // material state and pressure come each step), and judges the bonds of its own particles' rows
-  // from them: only the bonds it breaks travel, to every rank (the bonds are every rank's). The
-  // others' folded F come with their state where a rank reads them later (complete, deal_anew; an
-  // Eulerian search's new partners below).
-  const bool by_reach = share_.dealt();
-  const parallel::Range folded = by_reach ? read_ : parallel::Range{0, n};
-  parallel::for_each(folded, [&](Index j) {
+  // A rank folds F where it holds it current, in the particles it reads (every one on one
+  // process; under MPI their F, material state and pressure come each step), and judges the bonds
+  // of its own particles' rows from them: only the bonds it breaks travel, to every rank (the bonds
+  // are every rank's). The others' folded F come with their state where a rank reads them later
+  // (complete, deal_anew; an Eulerian search's new partners below).
+  parallel::for_each(read_, [&](Index j) {
     volume_ref_[j] *= F_[j].determinant();
     F_total_[j] = F_[j] * F_total_[j];
     F_[j] = Mat3::Identity();
   }, particle_loops);
   std::vector<Real> quantity;
-  failure_quantity(quantity, folded);
+  failure_quantity(quantity, read_);
   // Broken bonds per particle, over every bond ever broken (also those an Eulerian update drops).
   auto broken_per_particle = [&] {
     std::vector<Index> count(n, 0);
@@ -404,20 +402,17 @@ void Part::update_kernel(const discretization::NodeStore& nodes) {
     return count;
   };
   const std::vector<Index> broken_before = broken_per_particle();
-  if (by_reach) {
-    const std::vector<Index> mine =
-        bonds_breaking(bonds_, quantity, x_, settings_.failure_value, settings_.failure_stretch, own_);
-    for (const Index k : parallel::world().all(std::span<const Index>(mine))) bonds_.broken[k] = 1;
-  } else {
-    break_bonds(bonds_, quantity, x_, settings_.failure_value, settings_.failure_stretch);
-  }
+  const std::vector<Index> mine =
+      bonds_breaking(bonds_, quantity, x_, settings_.failure_value, settings_.failure_stretch, own_);
+  const std::vector<Index> breaking = share_.dealt() ? parallel::world().all(std::span<const Index>(mine)) : mine;
+  for (const Index k : breaking) bonds_.broken[k] = 1;
   record_broken_pairs(bonds_, broken_pairs_);
   if (settings_.kernel_update != KernelUpdate::updated_lagrangian) {
     // Windows in the current configuration widen with the stretch of the material around each
     // particle (THEORY §9.7): windows of the first size lose the neighbours of material that spreads
     // (the foot of a Taylor bar) and leave their rows ill-conditioned; separation is the bonds' to
     // decide (IDAM), or the kernel's beyond max_window_growth.
-    parallel::for_each(folded, [&](Index j) {
+    parallel::for_each(read_, [&](Index j) {
       const Vec3& a = initial_support_[j];
       support_[j] = window_extent(F_total_[j], a).cwiseMax(a).cwiseMin(max_window_growth * a);
     }, particle_loops);
