@@ -201,6 +201,11 @@ TEST(keyword_materials, JohnsonCookRefusesOtherRateFormsAndAZeroSpallStrength) {
       prefix(folder, 4, "*MAT_JOHNSON_COOK") +
           "field PC: 0 with SPALL 2 would spall at any tension; give PC < 0 (the spall "
           "strength)");
+  // One keyword, one material: a line after card 4 is refused, not dropped.
+  EXPECT_EQ(read_error(folder, "*MAT_JOHNSON_COOK\n" + row({"7", "8960", "46.3e9"}) + cards23 + row({"0"}) +
+                                   row({"8", "8960", "46.3e9"})),
+            prefix(folder, 6, "*MAT_JOHNSON_COOK") +
+                "unexpected data line after card 4; one *MAT_JOHNSON_COOK defines one material");
 }
 
 TEST(keyword_materials, NullFields) {
@@ -284,6 +289,10 @@ TEST(keyword_materials, EquationOfStateErrors) {
           "field LCID: an energy deposition curve is not implemented; leave LCID 0");
   EXPECT_EQ(read_error(folder, "*EOS_MURNAGHAN\n" + row({"5", "7.0", "-3.2e8"})),
             prefix(folder, 2, "*EOS_MURNAGHAN") + "field K0: -3.2e+08 must be positive");
+  // One keyword, one equation of state: a further data line is refused, not read as a second.
+  EXPECT_EQ(read_error(folder, "*EOS_MURNAGHAN\n" + row({"5", "7.0", "3.2e8"}) + "\n" + row({"6", "7.0", "3.2e8"})),
+            prefix(folder, 4, "*EOS_MURNAGHAN") +
+                "unexpected data line after card 1; one *EOS_MURNAGHAN defines one equation of state");
   EXPECT_EQ(read_error(folder, "*EOS_MURNAGHAN\n" + row({"5", "7.0", "3.2e8"}) +
                                    "*EOS_GRUNEISEN\n" + row({"5", "1483000"})),
             prefix(folder, 4, "*EOS_GRUNEISEN") +

@@ -70,9 +70,7 @@ void read_mat_add_erosion(CardCursor& cursor, const KeywordCall& call, model::Mo
                                                              "VOLEPS MNPRES SIGP1 SIGVM MXEPS FAILTM)");
     }
   }
-  cursor.skip_blank_lines();
-  if (!cursor.done())
-    cursor.context().fail(cursor.peek().line, "unexpected data line after card 5; one *MAT_ADD_EROSION per material");
+  cursor.expect_end("card 5", "one *MAT_ADD_EROSION per material");
   if (model.add_erosions.contains(e.mid))
     card1.context().fail(card1.line(), fmt::format("material {} has a *MAT_ADD_EROSION already (at {})", e.mid,
                                                    to_string(model.add_erosions.at(e.mid).where)));

@@ -15,15 +15,6 @@ void skip_id_card(CardCursor& cursor, const KeywordCall& call) {
 Vec3 read_vec3(const Card& card, int first, const char* x, const char* y, const char* z) {
   return Vec3(card.real(first, x, 0.0), card.real(first + 1, y, 0.0), card.real(first + 2, z, 0.0));
 }
-
-// Extra lines after a single-instance keyword would otherwise be dropped without a word.
-void expect_end(CardCursor& cursor, std::string_view keyword_defines) {
-  cursor.skip_blank_lines();
-  if (!cursor.done())
-    cursor.context().fail(cursor.peek().line, "unexpected data line; one " +
-                                                  cursor.context().keyword + " defines " +
-                                                  std::string(keyword_defines));
-}
 }  // namespace
 
 void read_boundary_spc(CardCursor& cursor, const KeywordCall& call, model::Model& model) {
@@ -106,7 +97,7 @@ void read_initial_velocity(CardCursor& cursor, const KeywordCall&, model::Model&
     velocity.v_exempt = read_vec3(card3, 0, "VXE", "VYE", "VZE");
     velocity.vr_exempt = read_vec3(card3, 3, "VXRE", "VYRE", "VZRE");
   }
-  expect_end(cursor, "one initial velocity");
+  cursor.expect_end({}, "one " + cursor.context().keyword + " defines one initial velocity");
   model.initial_velocities.push_back(std::move(velocity));
 }
 

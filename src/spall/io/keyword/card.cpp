@@ -158,4 +158,13 @@ void CardCursor::skip_blank_lines() {
   while (!done() && trim(peek().text).empty()) ++next_;
 }
 
+void CardCursor::expect_end(std::string_view last_card, std::string_view why) {
+  skip_blank_lines();
+  if (done()) return;
+  std::string message = "unexpected data line";
+  if (!last_card.empty()) message += " after " + std::string(last_card);
+  if (!why.empty()) message += "; " + std::string(why);
+  context_.fail(peek().line, message);
+}
+
 }  // namespace spall::io::keyword

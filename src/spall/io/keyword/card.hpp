@@ -89,6 +89,11 @@ class CardCursor {
   std::string next_text(std::string_view card);
   // Skips lines that are entirely blank (blank separators between repeated cards).
   void skip_blank_lines();
+  // The keyword's cards end here, after `last_card`: a further data line (blank lines aside) fails
+  // as "unexpected data line after <last_card>" ("unexpected data line" where last_card is empty),
+  // and `why` after a semicolon where given ("one *MAT_RIGID defines one material"), rather than
+  // being read as a second item or dropped without a word.
+  void expect_end(std::string_view last_card, std::string_view why = {});
   int line_of_block() const { return context_.block.line; }
   const CardContext& context() const { return context_; }
 

@@ -323,10 +323,7 @@ void read_contact(CardCursor& cursor, const KeywordCall& call, model::Model& mod
   if (const auto card = cursor.next_if_any(standard_fields)) read_card_c(*card, contact);
   read_cards_d_to_g(cursor);
 
-  cursor.skip_blank_lines();
-  if (!cursor.done())
-    cursor.context().fail(cursor.peek().line, "unexpected data line after optional card G; one " +
-                                                  contact.keyword + " defines one contact");
+  cursor.expect_end("optional card G", "one " + contact.keyword + " defines one contact");
   model.contacts.push_back(std::move(contact));
 }
 
@@ -407,9 +404,7 @@ void read_control_contact(CardCursor& cursor, const KeywordCall&, model::Model& 
     refuse_nonzero(*card, 0, "ISYM", "leaving out the faces on symmetry planes is not implemented");
   cursor.next_if_any(standard_fields);
   cursor.next_if_any(standard_fields);
-  cursor.skip_blank_lines();
-  if (!cursor.done())
-    cursor.context().fail(cursor.peek().line, "unexpected data line after card 7");
+  cursor.expect_end("card 7");
   model.control_contact = control;
 }
 

@@ -19,15 +19,6 @@ Real read_v0(const Card& card, int field) {
   return v0;
 }
 
-void require_end(CardCursor& cursor, std::string_view keyword, std::string_view last_card) {
-  cursor.skip_blank_lines();
-  if (!cursor.done())
-    cursor.context().fail(cursor.peek().line,
-                          fmt::format("unexpected data line after {}; one {} defines one "
-                                      "equation of state",
-                                      last_card, keyword));
-}
-
 model::Eos start_eos(const Card& card, std::string keyword) {
   model::Eos eos;
   eos.id = card.required_integer(0, "EOSID");
@@ -49,7 +40,7 @@ void read_eos_linear_polynomial(CardCursor& cursor, const KeywordCall& call, mod
     polynomial.e0 = card2->real(0, "E0", 0.0);
     polynomial.v0 = read_v0(*card2, 1);
   }
-  require_end(cursor, "*EOS_LINEAR_POLYNOMIAL", "card 2");
+  cursor.expect_end("card 2", "one *EOS_LINEAR_POLYNOMIAL defines one equation of state");
   eos.params = polynomial;
   insert_unique(model.eos, eos.id, std::move(eos), card1, "equation of state");
 }
@@ -74,7 +65,7 @@ void read_eos_gruneisen(CardCursor& cursor, const KeywordCall& call, model::Mode
     if (gruneisen.lcid != 0)
       card2->fail("LCID", "an energy deposition curve is not implemented; leave LCID 0");
   }
-  require_end(cursor, "*EOS_GRUNEISEN", "card 2");
+  cursor.expect_end("card 2", "one *EOS_GRUNEISEN defines one equation of state");
   eos.params = gruneisen;
   insert_unique(model.eos, eos.id, std::move(eos), card1, "equation of state");
 }
@@ -90,7 +81,7 @@ void read_eos_murnaghan(CardCursor& cursor, const KeywordCall& call, model::Mode
   if (!(murnaghan.gamma > 0))
     card.fail("GAMMA", fmt::format("{:g} must be positive", murnaghan.gamma));
   if (!(murnaghan.k0 > 0)) card.fail("K0", fmt::format("{:g} must be positive", murnaghan.k0));
-  require_end(cursor, "*EOS_MURNAGHAN", "card 1");
+  cursor.expect_end("card 1", "one *EOS_MURNAGHAN defines one equation of state");
   eos.params = murnaghan;
   insert_unique(model.eos, eos.id, std::move(eos), card, "equation of state");
 }

@@ -19,15 +19,6 @@ void require_poisson_ratio(const Card& card, Real pr) {
   if (pr < 0 || pr >= 0.5) card.fail("PR", fmt::format("{:g} is outside [0, 0.5)", pr));
 }
 
-// One keyword, one material: any further data line is an error rather than a second material.
-void require_end(CardCursor& cursor, std::string_view keyword, std::string_view last_card) {
-  cursor.skip_blank_lines();
-  if (!cursor.done())
-    cursor.context().fail(cursor.peek().line,
-                          fmt::format("unexpected data line after {}; one {} defines one material",
-                                      last_card, keyword));
-}
-
 model::Material start_material(const Card& card, std::string keyword) {
   model::Material material;
   material.id = card.required_integer(0, "MID");
@@ -80,7 +71,7 @@ void read_mat_plastic_kinematic(CardCursor& cursor, const KeywordCall& call, mod
           "1 (viscoplastic rate formulation) is not implemented; use 0 (scale the yield stress)");
     if (plastic.vp != 0) card2->fail("VP", fmt::format("{} is not 0 or 1", plastic.vp));
   }
-  require_end(cursor, "*MAT_PLASTIC_KINEMATIC", "card 2");
+  cursor.expect_end("card 2", "one *MAT_PLASTIC_KINEMATIC defines one material");
   material.params = plastic;
   insert_unique(model.materials, material.id, std::move(material), card1, "material");
 }
@@ -164,7 +155,7 @@ void read_mat_piecewise_linear_plasticity(CardCursor& cursor, const KeywordCall&
       card1.fail("ETAN", fmt::format("{:g} must be at least 0 and below E = {:g}", plastic.etan,
                                      plastic.e));
   }
-  require_end(cursor, "*MAT_PIECEWISE_LINEAR_PLASTICITY", "card 4");
+  cursor.expect_end("card 4", "one *MAT_PIECEWISE_LINEAR_PLASTICITY defines one material");
   material.params = std::move(plastic);
   insert_unique(model.materials, material.id, std::move(material), card1, "material");
 }
@@ -253,7 +244,7 @@ void read_mat_johnson_cook(CardCursor& cursor, const KeywordCall& call, model::M
     card2.fail("EPSO", fmt::format("{:g}: the reference strain rate must be positive when C or D4 "
                                    "is not 0",
                                    jc.epso));
-  require_end(cursor, "*MAT_JOHNSON_COOK", "card 4");
+  cursor.expect_end("card 4", "one *MAT_JOHNSON_COOK defines one material");
   material.params = jc;
   insert_unique(model.materials, material.id, std::move(material), card1, "material");
 }

@@ -82,10 +82,7 @@ void read_rigidwall_planar(CardCursor& cursor, const KeywordCall& call, model::M
     wall.v0 = card.real(1, "V0", 0.0);
   }
 
-  cursor.skip_blank_lines();
-  if (!cursor.done())
-    cursor.context().fail(cursor.peek().line, "unexpected data line; one " +
-                                                  cursor.context().keyword + " defines one wall");
+  cursor.expect_end({}, "one " + cursor.context().keyword + " defines one wall");
   model.rigid_walls.push_back(std::move(wall));
 }
 

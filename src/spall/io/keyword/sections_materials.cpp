@@ -224,10 +224,7 @@ void read_mat_rigid(CardCursor& cursor, const KeywordCall& call, model::Model& m
     card2.fail("CON2", quoted(card2.text(2)) + " is not a constraint code 0..7");
   // Card 3 (LCO, or local axes A1..V3) is optional; Spall's rigid bodies use global axes.
   cursor.next_if_any(standard_fields);
-  cursor.skip_blank_lines();
-  if (!cursor.done())
-    cursor.context().fail(cursor.peek().line,
-                          "unexpected data line after card 3; one *MAT_RIGID defines one material");
+  cursor.expect_end("card 3", "one *MAT_RIGID defines one material");
   material.params = rigid;
   insert_unique(model.materials, material.id, std::move(material), card1, "material");
 }
