@@ -217,22 +217,27 @@ void Part::correct_integration_constraint(bool at_setup) {
   const Index n = particle_count();
   // Surface particles: on the mesh's boundary, next to a broken bond, or without a strain of their
   // own. A particle is interior when no particle within the reach of its column of D (two rings of
-  // bonds for G A, one for G) is on the surface.
-  std::vector<std::uint8_t> near(n);
-  for (Index j = 0; j < n; ++j) near[j] = on_surface_[j] || degraded_[j] || bonds_.broken_count(j) > 0;
+  // bonds for G A, one for G) is on the surface. The solve reads it at a rank's own particles
+  // alone: the last ring grows over them, the one before over the particles they read (read_),
+  // from the surface flags of those and their partners (smoothed_): every particle on one process.
   const int rings = settings_.stabilization == Stabilization::fluid_particle ? 2 : 1;
+  std::vector<std::uint8_t> near(n);
+  parallel::for_each(rings == 2 ? smoothed_ : read_, [&](Index j) {
+    near[j] = on_surface_[j] || degraded_[j] || bonds_.broken_count(j) > 0;
+  }, particle_loops);
   for (int ring = 0; ring < rings; ++ring) {
     std::vector<std::uint8_t> grown = near;
-    for (Index j = 0; j < n; ++j)
+    parallel::for_each(ring + 1 == rings ? own_ : read_, [&](Index j) {
       for (Index k = bonds_.offsets[j]; k < bonds_.offsets[j + 1]; ++k)
         if (!bonds_.broken[k] && near[bonds_.neighbour[k]]) grown[j] = 1;
+    }, particle_loops);
     near.swap(grown);
   }
   std::vector<std::uint8_t> interior(n), active(n);
-  for (Index j = 0; j < n; ++j) {
+  parallel::for_each(n, [&](Index j) {
     interior[j] = near[j] ? 0 : 1;
     active[j] = degraded_[j] ? 0 : 1;
-  }
+  }, particle_loops);
   // g_I = sum_J V_J grad Psi_I(X_J); with smoothing e_K = sum_I Psi_K(X_I) g_I. Of a rank's own
   // particles, which the solve is for, and g of their bond partners.
   std::vector<Vec3> g(n), defect(n);
