@@ -9,7 +9,11 @@
 // bar dealt whole to one rank (each node sums its elements in colour order: THEORY §10), through a
 // new deal (the state goes to the ranks that compute it now) and continued from a restart file read
 // into the deal it was written in or into a new one, right after which a rank holds its stretch
-// alone.
+// alone. The same once more with the velocities by reach and the rows a window of the node order
+// (the elements alone in a deck, NodeStore::window_by_reads): a rank holds the window from the first
+// of its own nodes and its elements' to the last, fewer rows than every node, and the forces are
+// still the single rank's, through the new deals (each row current, from the rank that computed it)
+// and the restart files (each rank's own rows).
 #include <gtest/gtest.h>
 
 #include <string>
@@ -62,39 +66,60 @@ void step(solver::Problem& problem) {
 }
 
 // Checks the stretch a rank holds of each block: every element it computes (one with a node it
-// owns), and not every element where it owns some nodes but not all. Returns the elements held.
-Index expect_held_stretch(solver::Problem& problem) {
+// owns), and not every element where it owns some nodes but not all; and, where the rows are a
+// window (`window`), that they are those its elements read and its own, fewer than every node.
+// Returns the elements held.
+Index expect_held_stretch(solver::Problem& problem, bool window = true) {
   const parallel::Communicator& ranks = parallel::world();
   const fem::SolidElements& fem = elements(problem);
+  const discretization::NodeStore& nodes = problem.nodes;
   Index held = 0, owned_nodes = 0;
-  for (Index i = 0; i < problem.nodes.size(); ++i) owned_nodes += problem.nodes.owns(i);
+  for (Index i = 0; i < nodes.size(); ++i) owned_nodes += nodes.owns(i);
+  parallel::Range read{nodes.rank_begin[ranks.rank()], nodes.rank_begin[ranks.rank() + 1]};
   for (std::size_t k = 0; k < fem.blocks().size(); ++k) {
     const auto& block = fem.blocks()[k];
     const parallel::Range stretch = fem.held(k);
     Index unheld = 0;
     for (Index e = 0; e < block.size(); ++e) {
+      const auto place = [&](int a) { return fem.local_nodes()[block.node[block.nodes_per_element * e + a]]; };
       bool computed = false;
-      for (int a = 0; a < block.nodes_per_element; ++a)
-        computed |= problem.nodes.owns(fem.local_nodes()[block.node[block.nodes_per_element * e + a]]);
+      for (int a = 0; a < block.nodes_per_element; ++a) computed |= nodes.owns(nodes.node_row(place(a)));
       unheld += computed && (e < stretch.begin || e >= stretch.end);
+      if (computed)
+        for (int a = 0; a < block.nodes_per_element; ++a) read = parallel::hull(read, {place(a), place(a) + 1});
     }
     EXPECT_EQ(unheld, 0) << "rank " << ranks.rank() << " computes elements beyond its stretch of block " << k;
-    if (owned_nodes > 0 && owned_nodes < problem.nodes.size()) {
+    if (owned_nodes > 0 && owned_nodes < nodes.deck_node_count()) {
       EXPECT_LT(stretch.size(), block.size()) << "rank " << ranks.rank() << " holds every element of block " << k;
     }
     held += stretch.size();
+  }
+  // Its rows a window of the node order: from the first of its own nodes and its elements' to the
+  // last, no more (every node where it computes them all).
+  if (window && nodes.window_by_reads && owned_nodes < nodes.deck_node_count()) {
+    EXPECT_TRUE(nodes.windowed()) << "rank " << ranks.rank() << " holds no window of the nodes";
+    EXPECT_EQ(nodes.window().begin, read.begin) << "rank " << ranks.rank();
+    EXPECT_EQ(nodes.window().end, read.end) << "rank " << ranks.rank();
+    EXPECT_LT(nodes.size(), nodes.deck_node_count()) << "rank " << ranks.rank() << " holds every node";
   }
   return held;
 }
 
 constexpr int steps = 12;
 
+// Deals the bar's nodes at `begins`; `window`: with the velocities by reach, the rows a window of
+// the nodes from the elements' first step on, as the time loop deals a deck of solid elements alone.
+void deal(solver::Problem& problem, const std::vector<Index>& begins, bool window) {
+  problem.nodes.deal(begins, parallel::world().rank());
+  problem.nodes.velocities_by_reach = problem.nodes.window_by_reads = window;
+}
+
 // The internal force on every node after `steps` steps of the bar, the nodes dealt at `begins` for
 // the first half and at `then` for the rest.
-std::vector<Vec3> forces(const std::vector<Index>& begins, const std::vector<Index>& then) {
+std::vector<Vec3> forces(const std::vector<Index>& begins, const std::vector<Index>& then, bool window) {
   const parallel::Communicator& ranks = parallel::world();
   solver::Problem problem = bar_problem();
-  problem.nodes.deal(begins, ranks.rank());
+  deal(problem, begins, window);
   for (int k = 0; k < steps; ++k) {
     if (k == steps / 2) problem.nodes.deal(then, ranks.rank());
     step(problem);
@@ -106,19 +131,19 @@ std::vector<Vec3> forces(const std::vector<Index>& begins, const std::vector<Ind
 // The same, with a restart file written after the first half (dealt at `begins`) and read back into
 // the bar dealt at `read_into`, then dealt at `then` for the rest.
 std::vector<Vec3> restarted_forces(const std::vector<Index>& begins, const std::vector<Index>& read_into,
-                                   const std::vector<Index>& then) {
+                                   const std::vector<Index>& then, bool window) {
   const parallel::Communicator& ranks = parallel::world();
   std::string file;
   {
     solver::Problem problem = bar_problem();
-    problem.nodes.deal(begins, ranks.rank());
+    deal(problem, begins, window);
     for (int k = 0; k < steps / 2; ++k) step(problem);
     file = test_support::restart_file(problem.nodes, elements(problem));
   }
   solver::Problem problem = bar_problem();
-  problem.nodes.deal(read_into, ranks.rank());
+  deal(problem, read_into, window);
   test_support::read_restart_file(file, problem.nodes, elements(problem));
-  const Index held = expect_held_stretch(problem);
+  const Index held = expect_held_stretch(problem, false);  // the window is held from the first step on
   if (ranks.size() > 1) {
     EXPECT_LT(held, elements(problem).element_count()) << "rank " << ranks.rank() << " read every element's state";
   }
@@ -132,7 +157,21 @@ TEST(SolidElementsOverRanks, ARankHoldsTheStateOfTheElementsItComputesAndForcesA
   log::set_quiet(true);
   const Index n = 25 * 4 * 4;
   // The blocks shifted two layers of nodes on.
-  test_support::expect_forces_of_one_rank(n, 37, forces, restarted_forces);
+  test_support::expect_forces_of_one_rank(
+      n, 37, [](const auto& begins, const auto& then) { return forces(begins, then, false); },
+      [](const auto& begins, const auto& read_into, const auto& then) {
+        return restarted_forces(begins, read_into, then, false);
+      });
+}
+
+TEST(SolidElementsOverRanks, AloneARankHoldsTheWindowOfTheNodesItsElementsReadAndForcesAreOneRanks) {
+  log::set_quiet(true);
+  const Index n = 25 * 4 * 4;
+  test_support::expect_forces_of_one_rank(
+      n, 37, [](const auto& begins, const auto& then) { return forces(begins, then, true); },
+      [](const auto& begins, const auto& read_into, const auto& then) {
+        return restarted_forces(begins, read_into, then, true);
+      });
 }
 
 }  // namespace

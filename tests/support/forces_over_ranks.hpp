@@ -33,7 +33,7 @@ inline Deals deals(Index n, Index shift) {
   return d;
 }
 
-// The internal force on every node, every rank's.
+// The internal force on every node of the deck, every rank's (its rows every node or a window).
 inline std::vector<Vec3> node_forces(const discretization::NodeStore& nodes) {
   struct NodeForce {
     std::int64_t node;
@@ -42,8 +42,8 @@ inline std::vector<Vec3> node_forces(const discretization::NodeStore& nodes) {
   const parallel::Communicator& ranks = parallel::world();
   std::vector<NodeForce> mine;
   for (Index i = 0; i < nodes.size(); ++i)
-    if (nodes.owns(i)) mine.push_back({i, {nodes.f[i].x(), nodes.f[i].y(), nodes.f[i].z()}});
-  std::vector<Vec3> f(nodes.size(), Vec3::Zero());
+    if (nodes.owns(i)) mine.push_back({nodes.deck_index(i), {nodes.f[i].x(), nodes.f[i].y(), nodes.f[i].z()}});
+  std::vector<Vec3> f(nodes.deck_node_count(), Vec3::Zero());
   for (const NodeForce& r : ranks.all(std::span<const NodeForce>(mine))) f[r.node] = Vec3(r.f[0], r.f[1], r.f[2]);
   return f;
 }

@@ -119,7 +119,8 @@ Real element_volume(const std::array<Index, 8>& node, bool tetrahedron, const di
 SolidElements::SolidElements(std::vector<PartSettings> parts, const std::vector<ElementSetup>& elements,
                              const discretization::NodeStore& nodes)
     : parts_(std::move(parts)) {
-  // Local nodes in node-store order (the store is in spatial order already).
+  // Local nodes in node-store order (the store is in spatial order already, and the set-up holds
+  // every node: a row is its place in the node order).
   std::vector<Index> local(nodes.size(), -1);
   for (const auto& e : elements)
     for (Index i : e.node) local[i] = 0;
@@ -208,7 +209,7 @@ void SolidElements::set_up_state(const discretization::NodeStore& nodes) {
     parallel::for_each(elements.size(), [&](Index j) {
       const Index e = elements.begin + j;
       std::array<Index, 8> node{};
-      for (int a = 0; a < per; ++a) node[a] = node_[block.node[per * e + a]];
+      for (int a = 0; a < per; ++a) node[a] = nodes.node_row(node_[block.node[per * e + a]]);
       block.volume[e] = element_volume(node, block.kind == Kind::tetrahedron, nodes);
       const materials::Material& m = parts_[block.part[e]].material;
       const Real e0 = m.initial_specific_energy;
@@ -249,7 +250,7 @@ template <int N>
 Gathered<N> gather(const Index* local, const std::vector<Index>& node, const discretization::NodeStore& nodes) {
   Gathered<N> g;
   for (int a = 0; a < N; ++a) {
-    const Index i = node[local[a]];
+    const Index i = nodes.node_row(node[local[a]]);
     g.x[a] = nodes.x[i];
     g.v[a] = nodes.v[i];
   }
@@ -322,11 +323,11 @@ void SolidElements::hexahedra(Block& block, const Index* elements, int count, di
   const PartSettings& part = parts_[block.part[elements[0]]];
   Index e[lanes];
   const Index* local[lanes];
-  alignas(64) Index node[8][lanes];  // node a of each lane's element, in the node store
+  alignas(64) Index node[8][lanes];  // node a of each lane's element: its row in the node store
   for (int l = 0; l < lanes; ++l) {
     e[l] = elements[l < count ? l : 0];
     local[l] = &block.node[8 * e[l]];
-    for (int a = 0; a < 8; ++a) node[a][l] = node_[local[l][a]];
+    for (int a = 0; a < 8; ++a) node[a][l] = nodes.node_row(node_[local[l][a]]);
   }
   HexArray<LaneVec> x, v;
   for (int a = 0; a < 8; ++a) x[a] = gather_lanes(nodes.x, node[a]), v[a] = gather_lanes(nodes.v, node[a]);
@@ -573,7 +574,7 @@ Real SolidElements::scaled_step(Block& block, Index e, Real length, Real c, Real
     if (ratio * ratio > f) {
       const int per = block.nodes_per_element;
       const Real added = (ratio * ratio - f) * block.mass[e] / per;
-      for (int a = 0; a < per; ++a) nodes.mass[node_[block.node[per * e + a]]] += added;
+      for (int a = 0; a < per; ++a) nodes.mass[nodes.node_row(node_[block.node[per * e + a]])] += added;
       f = ratio * ratio;
     }
   }
@@ -654,7 +655,7 @@ void SolidElements::remove_eroded(discretization::NodeStore& nodes) {
         taken[2] += m;
       }
       for (int a = 0; a < per; ++a) {
-        const Index k = block.node[per * e + a], i = node_[k];
+        const Index k = block.node[per * e + a], i = nodes.node_row(node_[k]);
         if (owned) taken[0] += Real(0.5) * nodal * nodes.v[i].squaredNorm();
         nodes.mass[i] -= nodal;
         if (--live_elements_[k] == 0) {
@@ -700,7 +701,7 @@ SolidElements::Share SolidElements::plan_share(const discretization::NodeStore& 
     Share::Computed& mine = s.blocks.emplace_back();
     mine.held = {block.size(), 0};
     for (Index e = 0; e < block.size(); ++e) {
-      for (int a = 0; a < per; ++a) computed[e] |= nodes.owns(node_[block.node[per * e + a]]);
+      for (int a = 0; a < per; ++a) computed[e] |= s.nodes.owns(node_[block.node[per * e + a]]);
       if (!computed[e]) continue;
       for (int a = 0; a < per; ++a) reads[block.node[per * e + a]] = 1;
       mine.held = {std::min(mine.held.begin, e), std::max(mine.held.end, e + 1)};
@@ -720,17 +721,26 @@ SolidElements::Share SolidElements::plan_share(const discretization::NodeStore& 
     s.forces = {static_cast<Index>(first - reads.begin()), static_cast<Index>(reads.rend() - last)};
   if (!nodes.velocities_by_reach) return s;
   s.velocities.plan(reads, node_, s.nodes, nodes);
-  s.rows_read = {nodes.owned_begin, nodes.owned_end};
+  s.places_read = {nodes.rank_begin[nodes.rank], nodes.rank_begin[nodes.rank + 1]};
   for (std::size_t k = 0; k < node_.size(); ++k)
-    if (reads[k]) s.rows_read = parallel::hull(s.rows_read, {node_[k], node_[k] + 1});
+    if (reads[k]) s.places_read = parallel::hull(s.places_read, {node_[k], node_[k] + 1});
   return s;
 }
 
+void SolidElements::hold_nodes(discretization::NodeStore& nodes) const {
+  if (nodes.window_by_reads) nodes.hold_window(share_->places_read.begin, share_->places_read.end);
+}
+
 void SolidElements::distribute(discretization::NodeStore& nodes) {
-  if ((share_ && share_->partition == nodes.partition) || parallel::world().size() == 1) return;
-  complete_nodes(nodes);  // in the deal before, which share_ was made for
+  if (parallel::world().size() == 1) return;
+  if (share_ && share_->partition == nodes.partition) {
+    if (!nodes.windowed()) hold_nodes(nodes);  // every node, as a restart file was read into them
+    return;
+  }
+  refresh_nodes(nodes);  // from the deal before, which share_ was made for
   std::optional<Share> before = std::move(share_);
   share_ = plan_share(nodes);
+  hold_nodes(nodes);  // the rows it lacks from their new ranks, whose own are current now
   if (!state_set_up_) {
     set_up_state(nodes);
     return;
@@ -757,31 +767,58 @@ void SolidElements::distribute(discretization::NodeStore& nodes) {
   bulk_force_.hold(share_->forces.begin, share_->forces.end);
 }
 
-void SolidElements::complete_nodes(discretization::NodeStore& nodes) {
+namespace {
+
+// A local node's state as it travels to a rank that holds its row (explicit padding: no unset byte
+// travels).
+struct NodeState {
+  Vec3 x, v;
+  Real mass;
+  std::int32_t live_elements;
+  std::uint8_t active, padding[3];
+};
+
+}  // namespace
+
+void SolidElements::refresh_nodes(discretization::NodeStore& nodes) {
   if (!share_ || !nodes.velocities_by_reach) return;
-  const Index n = static_cast<Index>(node_.size());
-  std::vector<Real> mass(n);
-  std::vector<std::uint8_t> active(n);
-  for (Index k = 0; k < n; ++k) mass[k] = nodes.mass[node_[k]], active[k] = nodes.active[node_[k]];
-  share_->nodes.complete_nodes(node_, nodes, mass, active, live_elements_);
-  for (Index k = 0; k < n; ++k)
-    if (!owns(k)) nodes.mass[node_[k]] = mass[k], nodes.active[node_[k]] = active[k];
+  const parallel::Range held = nodes.window();  // the places of the rows: every node unless a window
+  std::vector<std::uint8_t> wanted(node_.size());
+  for (std::size_t k = 0; k < node_.size(); ++k) wanted[k] = held.begin <= node_[k] && node_[k] < held.end;
+  discretization::ReachShare arrivals;
+  arrivals.plan(wanted, node_, share_->nodes, nodes);
+  arrivals.records<NodeState>(
+      [&](Index k) {
+        const Index i = nodes.node_row(node_[k]);
+        return NodeState{nodes.x[i], nodes.v[i], nodes.mass[i], live_elements_[k], nodes.active[i], {0, 0, 0}};
+      },
+      [&](Index k, const NodeState& s) {
+        const Index i = nodes.node_row(node_[k]);
+        nodes.x[i] = s.x, nodes.v[i] = s.v, nodes.mass[i] = s.mass, nodes.active[i] = s.active;
+        live_elements_[k] = s.live_elements;
+      });
 }
 
 void SolidElements::share_state(discretization::NodeStore& nodes) {
   if (!share_ || !nodes.velocities_by_reach) return;
-  share_->velocities.records<Vec3>([&](Index k) { return nodes.v[node_[k]]; },
-                                   [&](Index k, const Vec3& v) { nodes.v[node_[k]] = v; });
+  share_->velocities.records<Vec3>([&](Index k) { return nodes.v[nodes.node_row(node_[k])]; },
+                                   [&](Index k, const Vec3& v) { nodes.v[nodes.node_row(node_[k])] = v; });
 }
 
 parallel::Range SolidElements::rows_read(const discretization::NodeStore& nodes) const {
   if (!share_ || !nodes.velocities_by_reach) return {0, nodes.size()};
-  return share_->rows_read;
+  const Index first = std::max(share_->places_read.begin, nodes.window_first());
+  const Index end = std::min(share_->places_read.end, nodes.window_first() + nodes.size());
+  return {first - nodes.window_first(), std::max(first, end) - nodes.window_first()};
 }
 
-// A checkpoint gets each element's state from the rank that books it (checkpoint): only the nodes
-// are completed.
-void SolidElements::complete_state(discretization::NodeStore& nodes) { complete_nodes(nodes); }
+// A checkpoint gets each element's state from the rank that books it (checkpoint), and each row
+// from its rank where the rows are a window (NodeStore::checkpoint); rank 0 writes every local
+// node's live element count.
+void SolidElements::complete_state(discretization::NodeStore& nodes) {
+  if (!nodes.windowed()) return refresh_nodes(nodes);
+  if (share_) share_->nodes(node_, live_elements_);
+}
 
 void SolidElements::share_masses(discretization::NodeStore& nodes) {
   share_->nodes(node_, live_elements_);
@@ -900,7 +937,7 @@ void SolidElements::compute_forces(discretization::NodeStore& nodes, Real dt) {
     mass_scaling_.idle();
   }
   parallel::for_each(forces.size(), [&](Index j) {
-    if (const Index k = forces.begin + j; owns(k)) nodes.f[node_[k]] += force_[k];
+    if (const Index k = forces.begin + j; owns(k)) nodes.f[nodes.node_row(node_[k])] += force_[k];
   }, element_loops);
   stable_step_ = found.step;
   max_sound_speed_ = found.sound_speed;
@@ -920,7 +957,7 @@ bool SolidElements::scale_mass_below(Real step, bool first_step_only) {
   return true;
 }
 
-void SolidElements::book_energies(discretization::EnergyLedger& ledger, const discretization::NodeStore&,
+void SolidElements::book_energies(discretization::EnergyLedger& ledger, const discretization::NodeStore& nodes,
                                   std::span<const Vec3> v, Real dt) const {
   using Ledger = discretization::EnergyLedger;
   // The work of the internal forces and of the bulk viscosity's share at the mid-step velocities;
@@ -931,7 +968,7 @@ void SolidElements::book_energies(discretization::EnergyLedger& ledger, const di
     Sums<2> w;
     const Index k = forces.begin + j;
     if (!owns(k)) return w;  // another rank's: its forces are whole only there
-    const Vec3& u = v[node_[k]];
+    const Vec3& u = v[nodes.node_row(node_[k])];
     w[0] = -force_[k].dot(u);
     w[1] = -bulk_force_[k].dot(u);
     return w;
@@ -1028,11 +1065,12 @@ void SolidElements::write_fields(discretization::FieldSet& fields, const discret
     // The elements whose first node this rank owns: its piece's cells (all of them on one process).
     std::vector<Index> written;
     for (Index e = held(k).begin; e < held(k).end; ++e)
-      if (nodes.owns(node_[block.node[static_cast<std::size_t>(per) * e]])) written.push_back(e);
+      if (books(block, e)) written.push_back(e);
     const Index n = static_cast<Index>(written.size());
     cells.connectivity.resize(static_cast<std::size_t>(per) * n);
     for (Index c = 0; c < n; ++c)
-      for (int k = 0; k < per; ++k) cells.connectivity[per * c + k] = node_[block.node[per * written[c] + k]];
+      for (int k = 0; k < per; ++k)
+        cells.connectivity[per * c + k] = nodes.node_row(node_[block.node[per * written[c] + k]]);
     const auto field = [&](const char* name, int components, std::vector<std::string> labels = {}) {
       auto& f = cells.fields.emplace_back();
       f.name = name;
@@ -1083,11 +1121,12 @@ void SolidElements::write_fields(discretization::FieldSet& fields, const discret
 
 void SolidElements::add_nodal_masses(discretization::NodeStore& nodes) {
   other_mass_.resize(node_.size());
-  for (std::size_t k = 0; k < node_.size(); ++k) other_mass_[k] = nodes.mass[node_[k]];
+  for (std::size_t k = 0; k < node_.size(); ++k) other_mass_[k] = nodes.mass[nodes.node_row(node_[k])];
   for (const Block& block : blocks_)
     for (Index e = 0; e < block.size(); ++e)
       for (int a = 0; a < block.nodes_per_element; ++a)
-        nodes.mass[node_[block.node[block.nodes_per_element * e + a]]] += block.mass[e] / block.nodes_per_element;
+        nodes.mass[nodes.node_row(node_[block.node[block.nodes_per_element * e + a]])] +=
+            block.mass[e] / block.nodes_per_element;
 }
 
 Index SolidElements::eroded_count() const {

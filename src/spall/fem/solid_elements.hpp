@@ -114,11 +114,14 @@ class SolidElements final : public discretization::Formulation {
   void complete_state(discretization::NodeStore& nodes) override;
   // Under MPI with the velocities by reach (NodeStore::velocities_by_reach): v^{n+1/2} of the other
   // ranks' nodes of the elements this rank computes, from their ranks; the rest go stale until a
-  // new deal or a checkpoint completes them (complete_nodes).
+  // new deal or a checkpoint completes them (refresh_nodes).
   void share_state(discretization::NodeStore& nodes) override;
   bool halo_by_reach() const override { return true; }
   // The rows of the nodes of the elements this rank computes, and its own; every row until dealt.
   parallel::Range rows_read(const discretization::NodeStore& nodes) const override;
+  // Alone in a deck, a rank holds the window of the node order from the first of its own nodes and
+  // its elements' to the last (hold_nodes).
+  bool holds_window() const override { return true; }
   // A rank writes the cells whose first node it owns (solver/field_output.cpp), elements it
   // computes: nothing to bring in.
   void complete_for_output(discretization::NodeStore& /*nodes*/) override {}
@@ -182,7 +185,8 @@ class SolidElements final : public discretization::Formulation {
   };
 
   const std::vector<Block>& blocks() const { return blocks_; }
-  std::span<const Index> local_nodes() const { return node_; }  // local node -> node-store index
+  // Local node -> its place in the node order (NodeStore::node_row finds its row).
+  std::span<const Index> local_nodes() const { return node_; }
   // The elements of block k whose state this rank holds: the stretch from the first it computes to
   // the last under MPI, every element on one process; none before the state is set up.
   parallel::Range held(std::size_t k) const {
@@ -233,9 +237,9 @@ class SolidElements final : public discretization::Formulation {
     parallel::Range forces;
     discretization::ParticleShare nodes;                    // the local nodes
     // With the velocities by reach: the other ranks' local nodes of the elements this rank
-    // computes, and the rows from the first of those and its own to the last.
+    // computes, and the places from the first of those and its own to the last.
     discretization::ReachShare velocities;
-    parallel::Range rows_read;
+    parallel::Range places_read;  // in the node order, from the first of those and its own to the last
     long long partition = 0;                                // NodeStore::partition planned for
   };
   // Whether this rank owns local node k (its forces are whole here); every node on one process.
@@ -253,20 +257,23 @@ class SolidElements final : public discretization::Formulation {
   // reach, their plan).
   Share plan_share(const discretization::NodeStore& nodes) const;
   // Makes share_ when the run has several ranks, again when the nodes were dealt anew (after, with
-  // the velocities by reach, complete_nodes): the elements' state then comes to the ranks that
-  // compute them now.
+  // the velocities by reach, refresh_nodes, and with a window, hold_nodes): the elements' state then
+  // comes to the ranks that compute them now.
   void distribute(discretization::NodeStore& nodes);
-  // With the velocities by reach: every local node's position, velocity, mass, activity and live
-  // element count from its rank (in the deal share_ was made for), where a new deal or a checkpoint
-  // needs them all.
-  void complete_nodes(discretization::NodeStore& nodes);
+  // With the velocities by reach: the position, velocity, mass, activity and live element count of
+  // every local node this rank holds a row of, from the rank that computes it in the deal share_
+  // was made for (which keeps them current), where a new deal or a checkpoint needs them. Collective.
+  void refresh_nodes(discretization::NodeStore& nodes);
+  // With NodeStore::window_by_reads: the window of the nodes share_ reads (Share::places_read), the
+  // rows this rank lacked brought whole from their ranks. Collective.
+  void hold_nodes(discretization::NodeStore& nodes) const;
   // After elements eroded or DT2MS raised masses, unless the velocities go by reach: every rank's
   // nodes' masses, activity and live element counts to every rank.
   void share_masses(discretization::NodeStore& nodes);
 
   std::vector<PartSettings> parts_;
   std::vector<Block> blocks_;
-  std::vector<Index> node_;   // local node -> node-store index
+  std::vector<Index> node_;   // local node -> its place in the node order
   // The elements' internal forces on each local node, and the bulk viscosity's share of them (its
   // work at the nodes' mid-step velocities is what the bulk viscosity dissipates): under MPI of
   // the stretch of local nodes of the elements the rank computes (forces_held).
