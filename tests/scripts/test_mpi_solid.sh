@@ -33,7 +33,8 @@
 # The restart files (each SPH particle's state written by its own rank, the rest by rank 0): the
 # Taylor bar's and the eroding bar's 2-rank runrsf and both SPG bars' 3-rank ones (the nodes, shape
 # functions and correction beyond rank 0's reach completed for it) continued on one process, the
-# Taylor bar's 3-rank one on 2 ranks and its 1-process one on 3, end as the uninterrupted runs.
+# Taylor bar's and the eroding bar's 3-rank ones on 2 ranks and the Taylor bar's 1-process one on 3,
+# end as the uninterrupted runs.
 # Arguments, as CTest passes them: CLI SOURCE_DIR SHARED_DIR.
 set -euo pipefail
 cli=$1
@@ -149,6 +150,11 @@ same_on_ranks "$work/eroding.k" "$work/eroding.serial" "2 1" "3 1" "2 2" "3 1 re
 for run in fem_ends.serial.np2.t1 eroding.serial.np3.t1.rebalanced; do
   grep -q '"halo": "by reach"' "$work/$run/run.json" || fail "$run: the velocities do not go by reach"
 done
+# Alone in a deck, the solid elements hold a window of the node order on each rank, not every node
+# (docs/SCALING.md, "The solid elements' window of the nodes").
+rows=$(grep -o '"node_rows": {"mean": [0-9.]*, "max": [0-9]*' "$work/eroding.serial.np3.t1/run.json" | grep -o '[0-9]*$')
+nodes=$(grep -o '"nodes": [0-9]*' "$work/eroding.serial.np3.t1/run.json" | grep -o '[0-9]*$')
+[ "$rows" -lt "$nodes" ] || fail "the eroding bar on 3 ranks: a rank holds $rows rows of $nodes nodes"
 
 # An SPH bar whose first layer of particles sits on the last face of a block of hexahedra (shared
 # nodes), pulled apart there: a rank writes a cell of its own with a particle another rank computes,
@@ -207,6 +213,7 @@ for deck in taylor eroding; do
   continue_run $deck.serial.np2.t1 1 $deck.serial
 done
 continue_run taylor.serial.np3.t1 2 taylor.serial
+continue_run eroding.serial.np3.t1 2 eroding.serial
 continue_run spg.serial.np3.t2 1 spg.serial
 continue_run spg_core.serial.np3.t1 1 spg_core.serial
 continue_run taylor.serial.np2.t1 3 taylor.serial
