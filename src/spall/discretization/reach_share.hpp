@@ -126,11 +126,12 @@ class ReachShare {
 
   // The same for arrays of rows of different lengths (compressed rows, the SPG bonds): particle a's
   // entries are [row_offsets[a], row_offsets[a + 1]), the same offsets on every rank, so each rank
-  // knows how many entries of a particle come in. Empty arrays travel not, as above.
-  template <typename... T>
-  void rows(std::span<const Index> row_offsets, std::vector<T>&... values) const {
+  // knows how many entries of a particle come in; an array indexed by entry (a std::vector, or a
+  // RangeArray holding the entries of the rows sent and received). Empty arrays travel not.
+  template <typename... Array>
+  void rows(std::span<const Index> row_offsets, Array&... values) const {
     if (!planned()) return;
-    const std::size_t record = ((values.empty() ? 0 : sizeof(T)) + ... + 0);  // bytes an entry
+    const std::size_t record = ((values.empty() ? 0 : sizeof(typename Array::value_type)) + ... + 0);  // bytes an entry
     if (record == 0) return;
     // Each particle's first entry in the message, and each rank's.
     const auto places = [&](const std::vector<Index>& particles, const std::vector<Index>& by_rank,
@@ -152,7 +153,7 @@ class ReachShare {
         const Index a = particles[k], count = row_offsets[a + 1] - row_offsets[a];
         std::byte* at = message.data() + first[k] * record;
         const auto copy = [&](auto& array) {
-          if (array.empty()) return;
+          if (array.empty() || count == 0) return;
           const std::size_t bytes = count * sizeof(array[0]);
           void* entries = &array[row_offsets[a]];
           if (packing)

@@ -265,7 +265,7 @@ void correct_integration(const BondList& bonds, std::span<const Vec3> X, std::sp
   correction.mu = z.mu;
 
   correction.self.assign(n, Vec3::Zero());
-  correction.bond.assign(bonds.neighbour.size(), Vec3::Zero());
+  correction.bond.fill(Vec3::Zero());  // the rows the caller holds: a rank's own computed here, the rest below
   parallel::region([&](const parallel::Team& team) {
     std::vector<Vec3> row;
     std::vector<std::uint8_t> usable;

@@ -19,6 +19,7 @@
 #include <span>
 #include <vector>
 
+#include "spall/core/range_array.hpp"
 #include "spall/core/types.hpp"
 #include "spall/discretization/particle_share.hpp"
 #include "spall/discretization/reach_share.hpp"
@@ -28,7 +29,9 @@ namespace spall::spg {
 
 struct IntegrationCorrection {
   std::vector<Vec3> self;  // C_JJ
-  std::vector<Vec3> bond;  // C_JK for bond k in row J (neighbour K)
+  // C_JK for bond k in row J (neighbour K): under MPI of the rows a rank reads alone (Part holds
+  // them; a checkpoint writes them in pieces).
+  RangeArray<Vec3> bond;
   // The multipliers of the last solve, the start of the next one (the configuration changes little
   // between kernel updates).
   std::vector<Vec3> lambda;  // component i: the divergence multiplier of gradient component i
@@ -36,7 +39,7 @@ struct IntegrationCorrection {
   int iterations = 0;
   Real relative_residual = 0;
 
-  void checkpoint(Archive& a) { a(self, bond, lambda, mu, iterations, relative_residual); }
+  void checkpoint(Archive& a) { a(self, lambda, mu, iterations, relative_residual); }
 };
 
 // Computes the correction for the bonds (broken bonds and bonds of inactive particles excluded)
@@ -49,8 +52,9 @@ struct IntegrationCorrection {
 // stretch of them: the particles are in node order; `defect` of those) and brings in the
 // multipliers and search direction of their bond partners (`reach`, planned for the bonds) once an
 // iteration and the partners' rows of the correction at the end (the rest of the correction and
-// of the multipliers is current on its own rank alone); the dot products are exact sums, so the
-// result does not depend on the number of ranks or threads.
+// of the multipliers is current on its own rank alone; `correction.bond` must hold those rows and
+// its own); the dot products are exact sums, so the result does not depend on the number of ranks
+// or threads.
 void correct_integration(const BondList& bonds, std::span<const Vec3> X, std::span<const Real> volume,
                          std::span<const std::uint8_t> interior, std::span<const std::uint8_t> active,
                          std::span<const Vec3> defect, int max_iterations, parallel::Range own,

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "spall/core/cube_root.hpp"
+#include "spall/core/pieces.hpp"
 #include "spall/spg/parallel.hpp"
 #include "spall/spg/rk_shape.hpp"
 
@@ -137,8 +138,11 @@ void Part::build_shape_functions(bool at_setup) {
   const Index n = particle_count();
   psi_self_.resize(n);
   grad_self_.resize(n);
-  psi_.assign(bonds_.neighbour.size(), 0);
-  grad_.assign(bonds_.neighbour.size(), Vec3::Zero());
+  // Of the rows of the particles read (every row on one process): a rank's own computed here, the
+  // others' in from their ranks below; a broken bond's entries stay 0.
+  const parallel::Range rows = entries(read_);
+  psi_.resize(0), psi_.hold(rows.begin, rows.end), psi_.fill(0);
+  grad_.resize(0), grad_.hold(rows.begin, rows.end), grad_.fill(Vec3::Zero());
   // KERNEL 0: the windows deform with the material (mapped through each particle's accumulated
   // deformation), so a stretched bond keeps its weight until it fails (THEORY §9.7).
   const bool material_windows = settings_.kernel_update == KernelUpdate::updated_lagrangian;
@@ -261,6 +265,8 @@ void Part::correct_integration_constraint(bool at_setup) {
   // Set-up: solve to round-off (the patch test of the mesh as given). Kernel updates: the geometry
   // has moved little since the last solve, whose multipliers start a short one.
   const int iterations = at_setup ? setup_iterations : update_iterations;
+  const parallel::Range rows = entries(read_);  // of the rows read, as the shape functions
+  correction_.bond.resize(0), correction_.bond.hold(rows.begin, rows.end);
   correct_integration(bonds_, x_, volume_ref_, interior, active, defect, iterations, own_, share_, reach_,
                       correction_);
 }
@@ -525,8 +531,14 @@ parallel::Range Part::nodes_read(const discretization::NodeStore& nodes) const {
 void Part::complete_shape_functions() {
   if (shape_functions_complete_) return;
   share_(node_, psi_self_, grad_self_, correction_.self, correction_.lambda, correction_.mu);
-  share_.rows(node_, bonds_.offsets, psi_, grad_, correction_.bond);
   shape_functions_complete_ = true;
+}
+
+void Part::shape_rows() {
+  const parallel::Range rows = entries(read_);
+  psi_.hold(rows.begin, rows.end);
+  grad_.hold(rows.begin, rows.end);
+  correction_.bond.hold(rows.begin, rows.end);
 }
 
 void Part::complete_kinematics(discretization::NodeStore& nodes) {
@@ -535,15 +547,28 @@ void Part::complete_kinematics(discretization::NodeStore& nodes) {
   kinematics_complete_ = true;
 }
 
-// What complete() shares, for the particles this rank's new rows read alone (a ReachShare planned
-// against the old deal's ranks): a particle's state travels to the ranks that need it, no further.
+// What complete() and complete_shape_functions() share, and the bonds' shape functions and
+// correction, for the particles this rank's new rows read alone (a ReachShare planned against the
+// old deal's ranks, each of which holds the rows of its own particles then): a particle's state
+// travels to the ranks that need it, no further.
 void Part::deal_anew(const discretization::NodeStore& nodes) {
   const discretization::ParticleShare dealt_before = share_;
+  const parallel::Range held_before{psi_.held_begin(), psi_.held_end()};
   share_.bind(nodes);
   discretization::ReachShare arrivals;
   arrivals.plan(plan_reach(nodes), node_, dealt_before, nodes);
-  arrivals(F_, F_total_, volume_ref_, support_, spin_, state_, back_stress_, specific_energy_, density_, pressure_,
-           sound_speed_, viscous_pressure_, viscous_power_, stabilization_force_);
+  if (!complete_)
+    arrivals(F_, F_total_, volume_ref_, support_, spin_, state_, back_stress_, specific_energy_, density_, pressure_,
+             sound_speed_, viscous_pressure_, viscous_power_, stabilization_force_);
+  arrivals(psi_self_, grad_self_, correction_.self, correction_.lambda, correction_.mu);
+  // The rows held before (those sent) and the rows read now (those received) while they travel.
+  const parallel::Range rows = parallel::hull(held_before, entries(read_));
+  psi_.hold(rows.begin, rows.end);
+  grad_.hold(rows.begin, rows.end);
+  correction_.bond.hold(rows.begin, rows.end);
+  arrivals.rows(bonds_.offsets, psi_, grad_, correction_.bond);
+  shape_rows();
+  shape_functions_complete_ = false;
 }
 
 void Part::complete() {
@@ -560,11 +585,13 @@ void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
   // deal's rows the shape functions and the positions and velocities of particles this rank may
   // not have read before: with the velocities by reach, from the deal they were computed in.
   const bool updating = dt > 0 && steps_since_update_ + 1 >= settings_.update_interval;
-  if (distributed && share_.stale(nodes)) complete_shape_functions();
   if (distributed && (updating || share_.stale(nodes))) complete_kinematics(nodes);
-  if (distributed && !complete_ && share_.stale(nodes)) deal_anew(nodes);
+  if (distributed && share_.stale(nodes)) deal_anew(nodes);
   share_.bind(nodes);
-  if (distributed && reach_partition_ != nodes.partition) plan_reach(nodes);
+  if (distributed && reach_partition_ != nodes.partition) {  // the first deal, or a restart file read whole
+    plan_reach(nodes);
+    shape_rows();
+  }
   parallel::for_each(updating ? parallel::Range{0, n} : smoothed_, [&](Index i) {
     x_[i] = nodes.x[node_[i]];
     v_[i] = nodes.v[node_[i]];
@@ -700,14 +727,32 @@ void Part::write_fields(discretization::FieldSet& fields) const {
 }
 
 void Part::checkpoint(Archive& a) {
-  a.section("spg part");
+  a.section("spg part 2");
   a.expect_size("SPG particles", node_.size());
   a(mass_, volume0_, volume_ref_, support_, spacing_, mean_spacing_, stiffness_, F_, F_total_, state_, back_stress_,
     pressure_, density_, sound_speed_, specific_energy_, viscous_pressure_, viscous_power_, stabilization_force_,
-    dashpot_, stabilization_total_, stabilization_power_, initial_bond_count_, degraded_, psi_self_, grad_self_, psi_,
-    grad_, bonds_, broken_pairs_, on_surface_, correction_, x_, v_, xs_, vs_, h_, force_, weighted_stress_, spin_,
+    dashpot_, stabilization_total_, stabilization_power_, initial_bond_count_, degraded_, psi_self_, grad_self_,
+    bonds_, broken_pairs_, on_surface_, correction_, x_, v_, xs_, vs_, h_, force_, weighted_stress_, spin_,
     steps_since_update_, kernel_updates_, mass_scaling_, mass_scale_);
-  // Written whole (complete_state), read by ranks that plan their reach again.
+  // The bonds' shape functions and correction in pieces (core/pieces.hpp): each rank writes the rows
+  // of its own particles (rank 0 every row until the nodes are dealt); read back whole, a rank keeps
+  // the rows it reads from its first step on (shape_rows).
+  const parallel::Communicator& ranks = parallel::world();
+  if (!a.reading()) {
+    const Index n = particle_count();
+    const parallel::Range mine = share_.dealt() ? entries(own_) : ranks.rank() == 0 ? entries({0, n}) : parallel::Range{};
+    const auto at = [&](Index j) { return mine.begin + j; };
+    parallel::write_array_pieces(a, psi_, mine.size(), at, at, ranks);
+    parallel::write_array_pieces(a, grad_, mine.size(), at, at, ranks);
+    parallel::write_array_pieces(a, correction_.bond, mine.size(), at, at, ranks);
+  } else {
+    const Index total = bonds_.offsets.empty() ? 0 : bonds_.offsets.back();
+    const auto at = [](Index k) { return k; };
+    parallel::read_array_pieces(a, psi_, total, {0, total}, at);
+    parallel::read_array_pieces(a, grad_, total, {0, total}, at);
+    parallel::read_array_pieces(a, correction_.bond, total, {0, total}, at);
+  }
+  // The rest written whole (complete_state), read by ranks that plan their reach again.
   if (a.reading()) complete_ = kinematics_complete_ = shape_functions_complete_ = true, reach_partition_ = -1;
 }
 
@@ -726,7 +771,8 @@ std::size_t Part::memory_bytes() const {
          bytes(specific_energy_) + bytes(stabilization_force_) + bytes(stabilization_total_) +
          bytes(stabilization_power_) + bytes(dashpot_) + bytes(initial_bond_count_) +
          bytes(degraded_) + bytes(on_surface_) + bytes(correction_.self) +
-         bytes(correction_.bond) + bytes(correction_.lambda) + bytes(correction_.mu) + bytes(psi_self_) + bytes(grad_self_) + bytes(psi_) + bytes(grad_) +
+         correction_.bond.capacity_bytes() + bytes(correction_.lambda) + bytes(correction_.mu) + bytes(psi_self_) +
+         bytes(grad_self_) + psi_.capacity_bytes() + grad_.capacity_bytes() +
          bytes(bonds_.offsets) + bytes(bonds_.neighbour) + bytes(bonds_.mirror) +
          bytes(bonds_.broken) + bytes(bonds_.rest_length) + bytes(broken_pairs_) + bytes(x_) +
          bytes(v_) + bytes(xs_) + bytes(vs_) + bytes(h_) + bytes(force_) + bytes(weighted_stress_) +

@@ -21,11 +21,13 @@
 // configuration with windows that deform with the material; 1 Eulerian, bonds searched anew in the
 // current configuration; 2 pseudo-Lagrangian, the bonds of the first configuration. With 1 and 2 the
 // windows, in the current configuration, widen with the material's stretch (at most 4 times).
-#include <limits>
+#include <algorithm>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "spall/core/error.hpp"
+#include "spall/core/range_array.hpp"
 #include "spall/discretization/energy_ledger.hpp"
 #include "spall/discretization/field_set.hpp"
 #include "spall/discretization/mass_scaling.hpp"
@@ -159,13 +161,22 @@ class Part {
   // particle on one process, else those it reads.
   bool computes(Index i) const { return reads_.empty() || reads_[i]; }
   // Under MPI, the nodes dealt anew (load balance): the particles this rank now reads come in with
-  // their whole state from the ranks that computed them before (collective).
+  // their shape functions and correction, and with their whole state unless it is every rank's
+  // (complete_), from the ranks that computed them before (collective).
   void deal_anew(const discretization::NodeStore& nodes);
   // Every rank's whole state of its own particles in (share_): before a checkpoint.
   void complete();
   // Every rank's shape functions and correction of its own particles in (share_, in the deal they
-  // were computed in): before a checkpoint and for a new deal's rows.
+  // were computed in), but for the bonds' (psi_, grad_, correction_.bond): before a checkpoint,
+  // which writes those in pieces.
   void complete_shape_functions();
+  // The entries of the rows of particles [begin, end).
+  parallel::Range entries(parallel::Range particles) const {
+    return {bonds_.offsets[particles.begin], bonds_.offsets[std::max(particles.begin, particles.end)]};
+  }
+  // From now on the bonds' shape functions and correction hold the rows of the particles read_
+  // (every row on one process), those of the rows held before keeping their values.
+  void shape_rows();
   // With the velocities by reach, every rank's positions and velocities of its own particles' nodes
   // in (share_, in the deal they were computed in): what a kernel update and a new deal's rows read.
   void complete_kinematics(discretization::NodeStore& nodes);
@@ -202,8 +213,10 @@ class Part {
   // Shape functions in the reference configuration: self term per particle, the rest per bond.
   std::vector<Real> psi_self_;
   std::vector<Vec3> grad_self_;
-  std::vector<Real> psi_;   // psi_[k], k in row J: Psi_{neighbour}(X_J)
-  std::vector<Vec3> grad_;  // grad Psi_{neighbour}(X_J)
+  // Per bond, of the rows of the particles a rank reads alone (read_; every row on one process):
+  // the other rows are read by no pass of the rank's (shape_rows).
+  RangeArray<Real> psi_;   // psi_[k], k in row J: Psi_{neighbour}(X_J)
+  RangeArray<Vec3> grad_;  // grad Psi_{neighbour}(X_J)
   BondList bonds_;
   std::vector<BondPair> broken_pairs_;
   std::vector<std::uint8_t> on_surface_;  // on the mesh's boundary faces

@@ -1,0 +1,125 @@
+// SPG's shape functions and integration-constraint correction of the bonds over several ranks, run
+// as 1, 2 and 3 ranks (docs/SCALING.md §3, "SPG's shape functions by rank"): a rank holds them for
+// the rows of the particles it reads alone (its own and their bond partners, one stretch of the
+// node order), not for every bond. On an elastic bar of SPG particles stretched along its axis, its
+// kernel updated every third step, the rows held are exactly those and fewer than every row where a
+// rank owns some nodes but not all, and the internal forces on every node are, bit for bit, those
+// of the bar dealt whole to one rank, through a new deal (the rows a rank reads anew come from the
+// ranks that computed them) and continued from a restart file (each rank's own rows in pieces) read
+// into the deal it was written in or into a new one.
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "spall/core/communicator.hpp"
+#include "spall/core/log.hpp"
+#include "spall/solver/problem.hpp"
+#include "spall/spg/formulation.hpp"
+#include "support/forces_over_ranks.hpp"
+#include "support/spg_block.hpp"
+
+namespace spall {
+namespace {
+
+constexpr Real dt = 4e-7;  // s, under a third of the particles' stable step (10 mm / 5 000 m/s)
+
+// The bar (3 x 3 x 24 elements, 0.24 m along z: the node order's slowest axis, so that a rank's
+// block of it is a stretch of the bar) pulled at v_z = rate z.
+solver::Problem bar_problem() {
+  test_support::SpgBlock b;
+  b.size = Vec3(0.03, 0.03, 0.24);
+  b.elements = {3, 3, 24};
+  b.section.smstep = 3;
+  solver::Problem problem = solver::build_problem(test_support::spg_block_model(b));
+  constexpr Real rate = 200;  // 1/s
+  for (Index i = 0; i < problem.nodes.size(); ++i) problem.nodes.v[i] = Vec3(0, 0, rate * problem.nodes.x[i].z());
+  return problem;
+}
+
+discretization::Formulation& formulation(solver::Problem& problem) { return *problem.formulations.at(0); }
+
+const spg::Part& part(solver::Problem& problem) {
+  return dynamic_cast<const spg::SpgFormulation&>(formulation(problem)).parts().at(0);
+}
+
+void step(solver::Problem& problem) {
+  for (Index i = 0; i < problem.nodes.size(); ++i) problem.nodes.f[i] = Vec3::Zero();
+  formulation(problem).compute_forces(problem.nodes, dt);
+  for (Index i = 0; i < problem.nodes.size(); ++i) problem.nodes.x[i] += dt * problem.nodes.v[i];
+}
+
+// Checks the rows whose correction a rank holds (the shape functions are held alike): those of
+// its own particles and their bond partners, from the first to the last, and fewer than every row
+// where it owns some nodes but not all. Every node is a particle, particle a on node a.
+void expect_held_rows(solver::Problem& problem) {
+  const parallel::Communicator& ranks = parallel::world();
+  const discretization::NodeStore& nodes = problem.nodes;
+  const spg::Part& p = part(problem);
+  const spg::BondList& bonds = p.bonds();
+  ASSERT_EQ(p.particle_count(), nodes.size());
+  parallel::Range read;
+  Index owned = 0;
+  for (Index a = 0; a < p.particle_count(); ++a) {
+    if (!nodes.owns(a)) continue;
+    ++owned;
+    read = parallel::hull(read, {a, a + 1});
+    for (Index k = bonds.offsets[a]; k < bonds.offsets[a + 1]; ++k)
+      read = parallel::hull(read, {bonds.neighbour[k], bonds.neighbour[k] + 1});
+  }
+  const auto& held = p.integration_correction().bond;
+  const Index every = bonds.offsets.back();
+  if (owned == 0 || owned == nodes.size()) return;
+  EXPECT_EQ(held.held_begin(), bonds.offsets[read.begin]) << "rank " << ranks.rank();
+  EXPECT_EQ(held.held_end(), bonds.offsets[read.end]) << "rank " << ranks.rank();
+  EXPECT_LT(held.held_end() - held.held_begin(), every) << "rank " << ranks.rank() << " holds every row";
+}
+
+constexpr int steps = 12;
+
+// The internal force on every node after `steps` steps of the bar, the nodes dealt at `begins` for
+// the first half and at `then` for the rest.
+std::vector<Vec3> forces(const std::vector<Index>& begins, const std::vector<Index>& then) {
+  const parallel::Communicator& ranks = parallel::world();
+  solver::Problem problem = bar_problem();
+  problem.nodes.deal(begins, ranks.rank());
+  for (int k = 0; k < steps; ++k) {
+    if (k == steps / 2) problem.nodes.deal(then, ranks.rank());
+    step(problem);
+  }
+  expect_held_rows(problem);
+  return test_support::node_forces(problem.nodes);
+}
+
+// The same, with a restart file written after the first half (dealt at `begins`) and read back into
+// the bar dealt at `read_into`, then dealt at `then` for the rest.
+std::vector<Vec3> restarted_forces(const std::vector<Index>& begins, const std::vector<Index>& read_into,
+                                   const std::vector<Index>& then) {
+  const parallel::Communicator& ranks = parallel::world();
+  std::string file;
+  {
+    solver::Problem problem = bar_problem();
+    problem.nodes.deal(begins, ranks.rank());
+    for (int k = 0; k < steps / 2; ++k) step(problem);
+    file = test_support::restart_file(problem.nodes, formulation(problem));
+  }
+  solver::Problem problem = bar_problem();
+  problem.nodes.deal(read_into, ranks.rank());
+  test_support::read_restart_file(file, problem.nodes, formulation(problem));
+  step(problem);  // the rows held from the first step on
+  expect_held_rows(problem);
+  problem.nodes.deal(then, ranks.rank());
+  for (int k = steps / 2 + 1; k < steps; ++k) step(problem);
+  expect_held_rows(problem);
+  return test_support::node_forces(problem.nodes);
+}
+
+TEST(SpgOverRanks, ARankHoldsTheShapeFunctionsOfTheRowsItReadsAndForcesAreOneRanks) {
+  log::set_quiet(true);
+  const Index n = 25 * 4 * 4;
+  // The blocks shifted two layers of nodes on.
+  test_support::expect_forces_of_one_rank(n, 37, forces, restarted_forces);
+}
+
+}  // namespace
+}  // namespace spall
