@@ -51,6 +51,18 @@ Real node_order_cell(const BoundingBox& box, Index count) {
   return volume > 0 ? std::cbrt(16 * volume / count) : std::max((box.upper - box.lower).maxCoeff(), Real(1));
 }
 
+NodeOrderAxes::NodeOrderAxes(const BoundingBox& box) {
+  const Vec3 extent = box.upper - box.lower;
+  std::stable_sort(axis.begin(), axis.end(), [&](int a, int b) { return extent[a] < extent[b]; });
+}
+
+BoundingBox NodeOrderAxes::operator()(const BoundingBox& box) const {
+  BoundingBox binned = box;
+  binned.lower = (*this)(box.lower);
+  binned.upper = (*this)(box.upper);
+  return binned;
+}
+
 NodesInBlocks::NodesInBlocks(const model::Model& model, discretization::NodeStore& nodes,
                              const parallel::Communicator& ranks)
     : model_(model), ranks_(ranks), deck_nodes_(model.node_card_count()) {
@@ -90,10 +102,12 @@ NodesInBlocks::NodesInBlocks(const model::Model& model, discretization::NodeStor
   box.lower = Vec3(extremes[0], extremes[1], extremes[2]);
   box.upper = -Vec3(extremes[3], extremes[4], extremes[5]);
   if (!cards.empty()) {
+    const NodeOrderAxes axes(box);
     std::vector<Vec3> x(cards.size());
-    for (std::size_t k = 0; k < cards.size(); ++k) x[k] = cards[k].x;
+    for (std::size_t k = 0; k < cards.size(); ++k) x[k] = axes(cards[k].x);
+    const BoundingBox binned = axes(box);
     neighbors::CellList cells;
-    cells.build(x, node_order_cell(box, deck_nodes_), {}, &box);
+    cells.build(x, node_order_cell(box, deck_nodes_), {}, &binned);
     for (Index c = 0; c < cells.cell_count(); ++c)
       for (Index k = cells.cell_start(c); k < cells.cell_start(c + 1); ++k)
         cards[cells.order()[k]].key = cells.cell_key(c);

@@ -21,6 +21,19 @@ void check_node_position(const model::Node& node);
 // nodes a cell for a uniform cloud of `count` nodes in `box` (the order matters, the exact size not).
 Real node_order_cell(const BoundingBox& box, Index count);
 
+// The axes of the node order: the cells are row-major over the box's axes from its shortest extent
+// to its longest (ties in x, y, z order), so that a block of the order is a slab across a body's
+// length (a bar, a sheet's width), whose elements and particles read the nodes within a layer of
+// cells either side, not a slab along it, whose neighbours lie a whole layer of cells away in the
+// order (docs/SCALING.md §3, "The node order's axes").
+struct NodeOrderAxes {
+  explicit NodeOrderAxes(const BoundingBox& box);
+  // The position as the cells of the order bin it: its coordinates on those axes, in that order.
+  Vec3 operator()(const Vec3& x) const { return {x[axis[0]], x[axis[1]], x[axis[2]]}; }
+  BoundingBox operator()(const BoundingBox& box) const;
+  std::array<int, 3> axis{0, 1, 2};
+};
+
 class NodesInBlocks {
  public:
   // This rank's block of the node order, [first_row(), first_row() + nodes.size()), as rows of

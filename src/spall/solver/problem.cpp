@@ -132,13 +132,14 @@ class Builder {
     const Index n = static_cast<Index>(model_.nodes.size());
     deck_nodes_ = n;
     {
-      std::vector<Vec3> x(n);
       BoundingBox box;
       for (Index i = 0; i < n; ++i) {
         check_node_position(model_.nodes[i]);
-        x[i] = model_.nodes[i].x;
-        box.include(x[i]);
+        box.include(model_.nodes[i].x);
       }
+      const NodeOrderAxes axes(box);
+      std::vector<Vec3> x(n);
+      for (Index i = 0; i < n; ++i) x[i] = axes(model_.nodes[i].x);
       if (n > 0) model_node_ = neighbors::spatial_order(x, node_order_cell(box, n));
     }
     std::vector<Id> id(n);
