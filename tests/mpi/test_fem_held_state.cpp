@@ -16,7 +16,6 @@
 // and the restart files (each rank's own rows).
 #include <gtest/gtest.h>
 
-#include <string>
 #include <vector>
 
 #include "spall/core/communicator.hpp"
@@ -105,73 +104,39 @@ Index expect_held_stretch(solver::Problem& problem, bool window = true) {
   return held;
 }
 
-constexpr int steps = 12;
-
-// Deals the bar's nodes at `begins`; `window`: with the velocities by reach, the rows a window of
-// the nodes from the elements' first step on, as the time loop deals a deck of solid elements alone.
-void deal(solver::Problem& problem, const std::vector<Index>& begins, bool window) {
-  problem.nodes.deal(begins, parallel::world().rank());
-  problem.nodes.velocities_by_reach = problem.nodes.window_by_reads = window;
-}
-
-// The internal force on every node after `steps` steps of the bar, the nodes dealt at `begins` for
-// the first half and at `then` for the rest.
-std::vector<Vec3> forces(const std::vector<Index>& begins, const std::vector<Index>& then, bool window) {
-  const parallel::Communicator& ranks = parallel::world();
-  solver::Problem problem = bar_problem();
-  deal(problem, begins, window);
-  for (int k = 0; k < steps; ++k) {
-    if (k == steps / 2) problem.nodes.deal(then, ranks.rank());
-    step(problem);
+// The bar's runs (test_support::dealt_forces, restarted_forces), `window`: with the velocities by
+// reach, the rows a window of the nodes from the elements' first step on, as the time loop deals a
+// deck of solid elements alone. Right after a restart file was read into dealt nodes, a rank holds
+// the stretch of elements it computes alone (the window comes at the first step).
+struct Bar {
+  bool window = false;
+  solver::Problem make() const { return bar_problem(); }
+  void deal(solver::Problem& problem, const std::vector<Index>& begins) const {
+    problem.nodes.deal(begins, parallel::world().rank());
+    problem.nodes.velocities_by_reach = problem.nodes.window_by_reads = window;
   }
-  expect_held_stretch(problem);
-  return test_support::node_forces(problem.nodes);
-}
-
-// The same, with a restart file written after the first half (dealt at `begins`) and read back into
-// the bar dealt at `read_into`, then dealt at `then` for the rest.
-std::vector<Vec3> restarted_forces(const std::vector<Index>& begins, const std::vector<Index>& read_into,
-                                   const std::vector<Index>& then, bool window) {
-  const parallel::Communicator& ranks = parallel::world();
-  std::string file;
-  {
-    solver::Problem problem = bar_problem();
-    deal(problem, begins, window);
-    for (int k = 0; k < steps / 2; ++k) step(problem);
-    file = test_support::restart_file(problem.nodes, elements(problem));
+  void step(solver::Problem& problem) const { spall::step(problem); }
+  discretization::Formulation& formulation(solver::Problem& problem) const { return elements(problem); }
+  void check(solver::Problem& problem, bool read) const {
+    const Index held = expect_held_stretch(problem, !read);
+    if (read && parallel::world().size() > 1) {
+      EXPECT_LT(held, elements(problem).element_count())
+          << "rank " << parallel::world().rank() << " read every element's state";
+    }
   }
-  solver::Problem problem = bar_problem();
-  deal(problem, read_into, window);
-  test_support::read_restart_file(file, problem.nodes, elements(problem));
-  const Index held = expect_held_stretch(problem, false);  // the window is held from the first step on
-  if (ranks.size() > 1) {
-    EXPECT_LT(held, elements(problem).element_count()) << "rank " << ranks.rank() << " read every element's state";
-  }
-  problem.nodes.deal(then, ranks.rank());
-  for (int k = steps / 2; k < steps; ++k) step(problem);
-  expect_held_stretch(problem);
-  return test_support::node_forces(problem.nodes);
-}
+};
 
 TEST(SolidElementsOverRanks, ARankHoldsTheStateOfTheElementsItComputesAndForcesAreOneRanks) {
   log::set_quiet(true);
   const Index n = 25 * 4 * 4;
   // The blocks shifted two layers of nodes on.
-  test_support::expect_forces_of_one_rank(
-      n, 37, [](const auto& begins, const auto& then) { return forces(begins, then, false); },
-      [](const auto& begins, const auto& read_into, const auto& then) {
-        return restarted_forces(begins, read_into, then, false);
-      });
+  test_support::expect_body_forces_of_one_rank(n, 37, Bar{false}, 12);
 }
 
 TEST(SolidElementsOverRanks, AloneARankHoldsTheWindowOfTheNodesItsElementsReadAndForcesAreOneRanks) {
   log::set_quiet(true);
   const Index n = 25 * 4 * 4;
-  test_support::expect_forces_of_one_rank(
-      n, 37, [](const auto& begins, const auto& then) { return forces(begins, then, true); },
-      [](const auto& begins, const auto& read_into, const auto& then) {
-        return restarted_forces(begins, read_into, then, true);
-      });
+  test_support::expect_body_forces_of_one_rank(n, 37, Bar{true}, 12);
 }
 
 }  // namespace

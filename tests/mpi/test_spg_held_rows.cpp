@@ -9,7 +9,6 @@
 // into the deal it was written in or into a new one.
 #include <gtest/gtest.h>
 
-#include <string>
 #include <vector>
 
 #include "spall/core/communicator.hpp"
@@ -75,50 +74,25 @@ void expect_held_rows(solver::Problem& problem) {
   EXPECT_LT(held.held_end() - held.held_begin(), every) << "rank " << ranks.rank() << " holds every row";
 }
 
-constexpr int steps = 12;
-
-// The internal force on every node after `steps` steps of the bar, the nodes dealt at `begins` for
-// the first half and at `then` for the rest.
-std::vector<Vec3> forces(const std::vector<Index>& begins, const std::vector<Index>& then) {
-  const parallel::Communicator& ranks = parallel::world();
-  solver::Problem problem = bar_problem();
-  problem.nodes.deal(begins, ranks.rank());
-  for (int k = 0; k < steps; ++k) {
-    if (k == steps / 2) problem.nodes.deal(then, ranks.rank());
-    step(problem);
+// The bar's runs (test_support::dealt_forces, restarted_forces): the rows are held from the first
+// step on, so none is checked right after a restart file was read.
+struct Bar {
+  solver::Problem make() const { return bar_problem(); }
+  void deal(solver::Problem& problem, const std::vector<Index>& begins) const {
+    problem.nodes.deal(begins, parallel::world().rank());
   }
-  expect_held_rows(problem);
-  return test_support::node_forces(problem.nodes);
-}
-
-// The same, with a restart file written after the first half (dealt at `begins`) and read back into
-// the bar dealt at `read_into`, then dealt at `then` for the rest.
-std::vector<Vec3> restarted_forces(const std::vector<Index>& begins, const std::vector<Index>& read_into,
-                                   const std::vector<Index>& then) {
-  const parallel::Communicator& ranks = parallel::world();
-  std::string file;
-  {
-    solver::Problem problem = bar_problem();
-    problem.nodes.deal(begins, ranks.rank());
-    for (int k = 0; k < steps / 2; ++k) step(problem);
-    file = test_support::restart_file(problem.nodes, formulation(problem));
+  void step(solver::Problem& problem) const { spall::step(problem); }
+  discretization::Formulation& formulation(solver::Problem& problem) const { return spall::formulation(problem); }
+  void check(solver::Problem& problem, bool read) const {
+    if (!read) expect_held_rows(problem);
   }
-  solver::Problem problem = bar_problem();
-  problem.nodes.deal(read_into, ranks.rank());
-  test_support::read_restart_file(file, problem.nodes, formulation(problem));
-  step(problem);  // the rows held from the first step on
-  expect_held_rows(problem);
-  problem.nodes.deal(then, ranks.rank());
-  for (int k = steps / 2 + 1; k < steps; ++k) step(problem);
-  expect_held_rows(problem);
-  return test_support::node_forces(problem.nodes);
-}
+};
 
 TEST(SpgOverRanks, ARankHoldsTheShapeFunctionsOfTheRowsItReadsAndForcesAreOneRanks) {
   log::set_quiet(true);
   const Index n = 25 * 4 * 4;
-  // The blocks shifted two layers of nodes on.
-  test_support::expect_forces_of_one_rank(n, 37, forces, restarted_forces);
+  // The blocks shifted two layers of nodes on; a kernel update every third step of 12.
+  test_support::expect_body_forces_of_one_rank(n, 37, Bar{}, 12);
 }
 
 }  // namespace

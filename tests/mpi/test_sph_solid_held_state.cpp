@@ -12,7 +12,6 @@
 // same forces, and right after the read a rank holds its own particles' state alone.
 #include <gtest/gtest.h>
 
-#include <string>
 #include <variant>
 #include <vector>
 
@@ -78,55 +77,31 @@ void expect_held_stretch(solver::Problem& problem) {
   }
 }
 
-// The internal force on every node after four steps of the bar, with the nodes dealt at `begins`
-// for the first two steps and at `then` for the others (a new deal: the state and constants travel
-// to the ranks whose rows now read them); checks each rank's held stretch.
-std::vector<Vec3> forces(const std::vector<Index>& begins, const std::vector<Index>& then) {
-  const parallel::Communicator& ranks = parallel::world();
-  solver::Problem problem = bar_problem();
-  problem.nodes.deal(begins, ranks.rank());
-  for (int k = 0; k < 4; ++k) {
-    if (k == 2) problem.nodes.deal(then, ranks.rank());
-    step(problem);
+// The bar's runs (test_support::dealt_forces, restarted_forces): four steps, a new deal after two
+// (the state and constants travel to the ranks whose rows now read them). Read back from a restart
+// file, a rank holds its own particles' state alone before its first step (docs/SCALING.md §3, "The
+// list's positions at its build by rank").
+struct Bar {
+  solver::Problem make() const { return bar_problem(); }
+  void deal(solver::Problem& problem, const std::vector<Index>& begins) const {
+    problem.nodes.deal(begins, parallel::world().rank());
   }
-  expect_held_stretch(problem);
-  return test_support::node_forces(problem.nodes);
-}
-
-// The same, with a restart file written after two steps (dealt at `begins`) and read back into the
-// bar dealt at `read_into`, then dealt at `then` for the last two steps. Read back, a rank holds its
-// own particles' state alone before its first step (docs/SCALING.md §3, "The list's positions at
-// its build by rank").
-std::vector<Vec3> restarted_forces(const std::vector<Index>& begins, const std::vector<Index>& read_into,
-                                   const std::vector<Index>& then) {
-  const parallel::Communicator& ranks = parallel::world();
-  std::string file;
-  {
-    solver::Problem problem = bar_problem();
-    problem.nodes.deal(begins, ranks.rank());
-    step(problem);
-    step(problem);
-    file = test_support::restart_file(problem.nodes, solid(problem));
+  void step(solver::Problem& problem) const { spall::step(problem); }
+  discretization::Formulation& formulation(solver::Problem& problem) const { return solid(problem); }
+  void check(solver::Problem& problem, bool read) const {
+    if (!read) return expect_held_stretch(problem);
+    const neighbors::ParticleRange held = solid(problem).read_state_held();
+    Index own = 0;
+    for (Index a = 0; a < solid(problem).particle_count(); ++a) own += problem.nodes.owns(solid(problem).node_of(a));
+    EXPECT_EQ(held.end - held.begin, own) << "rank " << parallel::world().rank() << " read more than its own particles' state";
   }
-  solver::Problem problem = bar_problem();
-  problem.nodes.deal(read_into, ranks.rank());
-  test_support::read_restart_file(file, problem.nodes, solid(problem));
-  const neighbors::ParticleRange held = solid(problem).read_state_held();
-  Index own = 0;
-  for (Index a = 0; a < solid(problem).particle_count(); ++a) own += problem.nodes.owns(solid(problem).node_of(a));
-  EXPECT_EQ(held.end - held.begin, own) << "rank " << ranks.rank() << " read more than its own particles' state";
-  problem.nodes.deal(then, ranks.rank());
-  step(problem);
-  step(problem);
-  expect_held_stretch(problem);
-  return test_support::node_forces(problem.nodes);
-}
+};
 
 TEST(SphSolidOverRanks, ARankHoldsTheStateItsRowsReadAndForcesAreOneRanks) {
   log::set_quiet(true);
   const Index n = 50 * 5 * 5;
   // The blocks shifted within the stretches of a 50-long bar.
-  test_support::expect_forces_of_one_rank(n, 10, forces, restarted_forces);
+  test_support::expect_body_forces_of_one_rank(n, 10, Bar{}, 4);
 }
 
 }  // namespace

@@ -93,4 +93,54 @@ void expect_forces_of_one_rank(Index n, Index shift, Forces&& forces, Restarted&
         << "read into the " << (read_into == blocks ? "deal it was written in" : "new deal");
 }
 
+// A body's runs for expect_forces_of_one_rank, each test's own: `make()` builds its problem,
+// loaded; `deal(problem, begins)` deals its nodes; `step(problem)` takes a step;
+// `formulation(problem)` is what a restart file holds beside the nodes; `check(problem, read)`
+// checks what each rank holds after a run, or (`read`) right after a restart file was read.
+// The forces after `steps` steps of the body dealt at `begins`, dealt at `then` from the middle on.
+template <class Body>
+std::vector<Vec3> dealt_forces(const Body& body, int steps, const std::vector<Index>& begins,
+                               const std::vector<Index>& then) {
+  auto problem = body.make();
+  body.deal(problem, begins);
+  for (int k = 0; k < steps; ++k) {
+    if (k == steps / 2) body.deal(problem, then);
+    body.step(problem);
+  }
+  body.check(problem, false);
+  return node_forces(problem.nodes);
+}
+
+// The same, written to a restart file in the middle and read back into the body dealt at
+// `read_into`, then dealt at `then` for the rest.
+template <class Body>
+std::vector<Vec3> restarted_forces(const Body& body, int steps, const std::vector<Index>& begins,
+                                   const std::vector<Index>& read_into, const std::vector<Index>& then) {
+  std::string file;
+  {
+    auto problem = body.make();
+    body.deal(problem, begins);
+    for (int k = 0; k < steps / 2; ++k) body.step(problem);
+    file = restart_file(problem.nodes, body.formulation(problem));
+  }
+  auto problem = body.make();
+  body.deal(problem, read_into);
+  read_restart_file(file, problem.nodes, body.formulation(problem));
+  body.check(problem, true);
+  body.deal(problem, then);
+  for (int k = steps / 2; k < steps; ++k) body.step(problem);
+  body.check(problem, false);
+  return node_forces(problem.nodes);
+}
+
+// expect_forces_of_one_rank for a body's runs of `steps` steps (dealt_forces, restarted_forces).
+template <class Body>
+void expect_body_forces_of_one_rank(Index n, Index shift, const Body& body, int steps) {
+  expect_forces_of_one_rank(
+      n, shift, [&](const auto& begins, const auto& then) { return dealt_forces(body, steps, begins, then); },
+      [&](const auto& begins, const auto& read_into, const auto& then) {
+        return restarted_forces(body, steps, begins, read_into, then);
+      });
+}
+
 }  // namespace spall::test_support
