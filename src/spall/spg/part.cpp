@@ -581,18 +581,21 @@ void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
   const Index n = particle_count();
   const parallel::Communicator& ranks = parallel::world();
   const bool distributed = ranks.size() > 1;
-  // A kernel update reads every particle's position (the bond failure, the search), and a new
-  // deal's rows the shape functions and the positions and velocities of particles this rank may
-  // not have read before: with the velocities by reach, from the deal they were computed in.
+  // A kernel update reads the positions of the particles a rank reads (the bond failure, the shape
+  // functions and the correction of its own rows), which are current here (they are among those
+  // whose velocities come in, smoothed_), and KERNEL 1's search every particle's; a new deal's
+  // rows read the shape functions and the positions and velocities of particles this rank may not
+  // have read before: with the velocities by reach, from the deal they were computed in.
   const bool updating = dt > 0 && steps_since_update_ + 1 >= settings_.update_interval;
-  if (distributed && (updating || share_.stale(nodes))) complete_kinematics(nodes);
+  const bool searching = updating && settings_.kernel_update == KernelUpdate::eulerian;
+  if (distributed && (searching || share_.stale(nodes))) complete_kinematics(nodes);
   if (distributed && share_.stale(nodes)) deal_anew(nodes);
   share_.bind(nodes);
   if (distributed && reach_partition_ != nodes.partition) {  // the first deal, or a restart file read whole
     plan_reach(nodes);
     shape_rows();
   }
-  parallel::for_each(updating ? parallel::Range{0, n} : smoothed_, [&](Index i) {
+  parallel::for_each(searching ? parallel::Range{0, n} : smoothed_, [&](Index i) {
     x_[i] = nodes.x[node_[i]];
     v_[i] = nodes.v[node_[i]];
   }, particle_loops);
