@@ -19,8 +19,9 @@
 #  - the coarse friction-drilling deck of test_drilling, cut after the tool has entered the sheet:
 #    SPG and hexahedra sharing nodes, bonds breaking, the rigid drill in frictional contact; on 2
 #    ranks also with the nodes dealt out anew every 5 steps (the load balancing, forced).
-# The 2-rank punch's runrsf, continued on 3 ranks and on one process, and the 3-rank punch's in fixed
-# blocks, continued on one process, end as the uninterrupted run.
+# The 2-rank punch's runrsf, continued on 3 ranks and on one process, the 3-rank punch's in fixed
+# blocks, continued on one process, and the 2-rank drill's (SPG's DT2MS masses raised by each rank
+# for its own particles), continued on 3 ranks, end as the uninterrupted run.
 # Arguments, as CTest passes them: CLI SOURCE_DIR SHARED_DIR.
 set -euo pipefail
 cli=$1
@@ -120,7 +121,7 @@ grep -q '"halo": "every node"' "$work/soft.serial.np2.t1/run.json" || fail "soft
 
 python3 "$source_dir/tools/make_drilling_deck.py" --spacing 0.4e-3 --layers 4 --ring-layers 3 --segments 24 \
   --time-scale 2000 --dt2ms=-2e-7 --smstep 15 --outputs 2 --histories 200 >"$work/drill_full.k"
-cut_deck "$work/drill_full.k" 3e-4 >"$work/drill.k"
+cut_deck "$work/drill_full.k" 3e-4 700 >"$work/drill.k"
 run_serial drill 1000
 awk -F, '$3 == 2 { last = $0; fz = $6 } END { print last; exit !(fz > 500) }' "$work/drill.serial/rcforc.csv" \
   >"$work/drill.last" || fail "the drill does not press on the sheet: $(cat "$work/drill.last")"
@@ -129,6 +130,8 @@ same_on_ranks "$work/drill.k" "$work/drill.serial" "2 1" "3 2" "2 1 rebalanced"
 for run in punch.serial.np3.t1.fixed drill.serial.np2.t1; do
   grep -q '"halo": "by reach"' "$work/$run/run.json" || fail "$run: the velocities do not go by reach"
 done
+[ -s "$work/drill.serial.np2.t1/runrsf" ] || fail "no runrsf from the 2-rank drill"
+continue_run drill.serial.np2.t1 3 drill.serial
 
 # The 2-rank punch's runrsf (the friction forces of the touches in it) continued on 3 ranks and on one
 # process.

@@ -543,7 +543,18 @@ void Part::shape_rows() {
 
 void Part::complete_kinematics(discretization::NodeStore& nodes) {
   if (kinematics_complete_) return;
-  share_.complete_nodes(node_, nodes);
+  if (mass_scale_.empty()) {
+    share_.complete_nodes(node_, nodes);
+  } else {
+    // With DT2MS by reach the factors and the nodes' masses too, which each rank raises for its
+    // own particles alone between new deals (scale_masses).
+    const Index n = particle_count();
+    std::vector<Real> mass(n);
+    for (Index a = 0; a < n; ++a) mass[a] = nodes.mass[node_[a]];
+    share_.complete_nodes(node_, nodes, mass_scale_, mass);
+    for (Index a = 0; a < n; ++a)
+      if (!owns(a)) nodes.mass[node_[a]] = mass[a];
+  }
   kinematics_complete_ = true;
 }
 
@@ -588,6 +599,7 @@ void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
   // have read before: with the velocities by reach, from the deal they were computed in.
   const bool updating = dt > 0 && steps_since_update_ + 1 >= settings_.update_interval;
   const bool searching = updating && settings_.kernel_update == KernelUpdate::eulerian;
+  const bool dealt_anew = distributed && share_.stale(nodes);
   if (distributed && (searching || share_.stale(nodes))) complete_kinematics(nodes);
   if (distributed && share_.stale(nodes)) deal_anew(nodes);
   share_.bind(nodes);
@@ -621,7 +633,7 @@ void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
   internal_forces();
   parallel::for_each(own_, [&](Index i) { nodes.f[node_[i]] += force_[i]; }, particle_loops);
   if (mass_scaling_.active)
-    scale_masses(nodes);
+    scale_masses(nodes, !nodes.velocities_by_reach || dealt_anew);
   else
     mass_scaling_.idle();
 }
@@ -631,9 +643,14 @@ void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
 // s = alpha h / target (but never below s / 2: a particle faster than s / 2 keeps a step below the
 // target rather than take unbounded mass), (f - 1) m more mass on its node, kept from then on. Its
 // material keeps its density.
-// Under MPI each rank scales its own particles, and every rank adds every particle's new mass to
-// its node (the contacts, every rank's whole, read every node's mass).
-void Part::scale_masses(discretization::NodeStore& nodes) {
+// Under MPI each rank scales its own particles. With the velocities by reach only a node's rank
+// reads its mass (its velocity update and energies, its slaves' touches), so each rank adds its own
+// particles' new mass alone, and the factors and masses come to the other ranks where they are
+// needed whole (complete_kinematics: a KERNEL 1 update, a checkpoint, a new deal); otherwise, and
+// on a new deal's step, every rank adds every particle's (a contact with deformable segments reads
+// any node's mass; after a new deal other formulations bring their nodes' state from the ranks that
+// computed them before, after this pass: those ranks must hold this step's raise too).
+void Part::scale_masses(discretization::NodeStore& nodes, bool whole) {
   const Index n = particle_count();
   const std::vector<Real> before = mass_scale_;
   parallel::for_each(own_, [&](Index i) {
@@ -641,11 +658,15 @@ void Part::scale_masses(discretization::NodeStore& nodes) {
     const Real ratio = sound_speed_[i] / std::max(s - speed, s / 2);
     mass_scale_[i] = std::max(mass_scale_[i], ratio * ratio);
   }, particle_loops);
-  share_(node_, mass_scale_);
-  parallel::for_each(n, [&](Index i) {
+  if (whole)
+    share_(node_, mass_scale_);
+  else
+    kinematics_complete_ = false;
+  parallel::for_each(whole ? parallel::Range{0, n} : own_, [&](Index i) {
     if (mass_scale_[i] > before[i]) nodes.mass[node_[i]] += (mass_scale_[i] - before[i]) * mass_[i];
   }, particle_loops);
-  const Real added = parallel::exact_sum(n, [&](Index i) { return (mass_scale_[i] - 1) * mass_[i]; });
+  const Real added =
+      parallel::exact_sum(own_, [&](Index i) { return (mass_scale_[i] - 1) * mass_[i]; }, &parallel::world());
   mass_scaling_.record(added);
 }
 

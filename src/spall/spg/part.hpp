@@ -140,7 +140,8 @@ class Part {
   // IDAM's quantity of the particles given (the others' left 0).
   void failure_quantity(std::vector<Real>& out, parallel::Range particles) const;
   void internal_forces();
-  void scale_masses(discretization::NodeStore& nodes);
+  // `whole`: every rank adds every particle's raise (else each its own particles').
+  void scale_masses(discretization::NodeStore& nodes, bool whole);
   Real current_spacing(Index i) const;
   // Whether this rank computes particle i's strain and force (NodeStore::owns; every particle when
   // the run is one process). Under MPI (replicated storage, docs/SCALING.md) each step's state of a
