@@ -807,9 +807,8 @@ void SolidElements::share_state(discretization::NodeStore& nodes) {
 
 parallel::Range SolidElements::rows_read(const discretization::NodeStore& nodes) const {
   if (!share_ || !nodes.velocities_by_reach) return {0, nodes.size()};
-  const Index first = std::max(share_->places_read.begin, nodes.window_first());
-  const Index end = std::min(share_->places_read.end, nodes.window_first() + nodes.size());
-  return {first - nodes.window_first(), std::max(first, end) - nodes.window_first()};
+  // The rows hold those places: the window is held over them, or a new deal's hull over them.
+  return {share_->places_read.begin - nodes.window_first(), share_->places_read.end - nodes.window_first()};
 }
 
 // A checkpoint gets each element's state from the rank that books it (checkpoint), and each row

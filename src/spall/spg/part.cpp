@@ -534,8 +534,7 @@ void Part::complete_shape_functions() {
   shape_functions_complete_ = true;
 }
 
-void Part::shape_rows() {
-  const parallel::Range rows = entries(read_);
+void Part::hold_shape_rows(parallel::Range rows) {
   psi_.hold(rows.begin, rows.end);
   grad_.hold(rows.begin, rows.end);
   correction_.bond.hold(rows.begin, rows.end);
@@ -573,12 +572,9 @@ void Part::deal_anew(const discretization::NodeStore& nodes) {
              sound_speed_, viscous_pressure_, viscous_power_, stabilization_force_);
   arrivals(psi_self_, grad_self_, correction_.self, correction_.lambda, correction_.mu);
   // The rows held before (those sent) and the rows read now (those received) while they travel.
-  const parallel::Range rows = parallel::hull(held_before, entries(read_));
-  psi_.hold(rows.begin, rows.end);
-  grad_.hold(rows.begin, rows.end);
-  correction_.bond.hold(rows.begin, rows.end);
+  hold_shape_rows(parallel::hull(held_before, entries(read_)));
   arrivals.rows(bonds_.offsets, psi_, grad_, correction_.bond);
-  shape_rows();
+  hold_shape_rows(entries(read_));
   shape_functions_complete_ = false;
 }
 
@@ -599,13 +595,13 @@ void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
   // have read before: with the velocities by reach, from the deal they were computed in.
   const bool updating = dt > 0 && steps_since_update_ + 1 >= settings_.update_interval;
   const bool searching = updating && settings_.kernel_update == KernelUpdate::eulerian;
-  const bool dealt_anew = distributed && share_.stale(nodes);
-  if (distributed && (searching || share_.stale(nodes))) complete_kinematics(nodes);
-  if (distributed && share_.stale(nodes)) deal_anew(nodes);
+  const bool new_deal = distributed && share_.stale(nodes);
+  if (new_deal || (distributed && searching)) complete_kinematics(nodes);
+  if (new_deal) deal_anew(nodes);
   share_.bind(nodes);
   if (distributed && reach_partition_ != nodes.partition) {  // the first deal, or a restart file read whole
     plan_reach(nodes);
-    shape_rows();
+    hold_shape_rows(entries(read_));
   }
   parallel::for_each(searching ? parallel::Range{0, n} : smoothed_, [&](Index i) {
     x_[i] = nodes.x[node_[i]];
@@ -633,7 +629,7 @@ void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
   internal_forces();
   parallel::for_each(own_, [&](Index i) { nodes.f[node_[i]] += force_[i]; }, particle_loops);
   if (mass_scaling_.active)
-    scale_masses(nodes, !nodes.velocities_by_reach || dealt_anew);
+    scale_masses(nodes, !nodes.velocities_by_reach || new_deal);
   else
     mass_scaling_.idle();
 }
@@ -760,7 +756,7 @@ void Part::checkpoint(Archive& a) {
     steps_since_update_, kernel_updates_, mass_scaling_, mass_scale_);
   // The bonds' shape functions and correction in pieces (core/pieces.hpp): each rank writes the rows
   // of its own particles (rank 0 every row until the nodes are dealt); read back whole, a rank keeps
-  // the rows it reads from its first step on (shape_rows).
+  // the rows it reads from its first step on (hold_shape_rows).
   const parallel::Communicator& ranks = parallel::world();
   if (!a.reading()) {
     const Index n = particle_count();

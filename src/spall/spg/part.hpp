@@ -175,11 +175,13 @@ class Part {
   parallel::Range entries(parallel::Range particles) const {
     return {bonds_.offsets[particles.begin], bonds_.offsets[std::max(particles.begin, particles.end)]};
   }
-  // From now on the bonds' shape functions and correction hold the rows of the particles read_
-  // (every row on one process), those of the rows held before keeping their values.
-  void shape_rows();
+  // From now on the bonds' shape functions and correction hold the entries `rows` (those of the
+  // particles read_, every row on one process, but while a new deal's rows travel), the entries
+  // held before keeping their values.
+  void hold_shape_rows(parallel::Range rows);
   // With the velocities by reach, every rank's positions and velocities of its own particles' nodes
-  // in (share_, in the deal they were computed in): what a kernel update and a new deal's rows read.
+  // in (share_, in the deal they were computed in), and with DT2MS their masses and the particles'
+  // factors: what a KERNEL 1 update, a new deal's rows and a checkpoint read.
   void complete_kinematics(discretization::NodeStore& nodes);
   void correct_integration_constraint(bool at_setup);
 
@@ -215,7 +217,7 @@ class Part {
   std::vector<Real> psi_self_;
   std::vector<Vec3> grad_self_;
   // Per bond, of the rows of the particles a rank reads alone (read_; every row on one process):
-  // the other rows are read by no pass of the rank's (shape_rows).
+  // the other rows are read by no pass of the rank's (hold_shape_rows).
   RangeArray<Real> psi_;   // psi_[k], k in row J: Psi_{neighbour}(X_J)
   RangeArray<Vec3> grad_;  // grad Psi_{neighbour}(X_J)
   BondList bonds_;
