@@ -6,12 +6,16 @@
 // rank owns some nodes but not all, and the internal forces on every node are, bit for bit, those
 // of the bar dealt whole to one rank, through a new deal (the rows a rank reads anew come from the
 // ranks that computed them) and continued from a restart file (each rank's own rows in pieces) read
-// into the deal it was written in or into a new one.
+// into the deal it was written in or into a new one. Under MPI the set-up builds no row: each rank
+// builds its own at the first deal, and a support too small for a linear field there stops every
+// rank with the one-process run's message.
 #include <gtest/gtest.h>
 
+#include <string>
 #include <vector>
 
 #include "spall/core/communicator.hpp"
+#include "spall/core/error.hpp"
 #include "spall/core/log.hpp"
 #include "spall/solver/problem.hpp"
 #include "spall/spg/formulation.hpp"
@@ -93,6 +97,40 @@ TEST(SpgOverRanks, ARankHoldsTheShapeFunctionsOfTheRowsItReadsAndForcesAreOneRan
   const Index n = 25 * 4 * 4;
   // The blocks shifted two layers of nodes on; a kernel update every third step of 12.
   test_support::expect_body_forces_of_one_rank(n, 37, Bar{}, 12);
+}
+
+TEST(SpgOverRanks, TheSetUpBuildsNoRowUnderMpi) {
+  log::set_quiet(true);
+  solver::Problem problem = bar_problem();
+  const parallel::Communicator& ranks = parallel::world();
+  const auto& held = part(problem).integration_correction().bond;
+  const Index every = part(problem).bonds().offsets.back();
+  EXPECT_EQ(held.held_end() - held.held_begin(), ranks.size() == 1 ? every : 0);
+  problem.nodes.deal(parallel::block_offsets(problem.nodes.size(), ranks.size()), ranks.rank());
+  step(problem);
+  expect_held_rows(problem);
+}
+
+// DX 1.0 on a regular mesh: the support ends exactly at the neighbours, where the window is 0
+// (test_spg_setup's one-process case): every rank stops at the first deal, naming node 1.
+TEST(SpgOverRanks, ASupportTooSmallStopsEveryRankWithTheOneProcessMessage) {
+  log::set_quiet(true);
+  test_support::SpgBlock b;
+  b.elements = {2, 2, 6};
+  b.size = Vec3(0.2, 0.2, 0.6);
+  b.section.dx = b.section.dy = b.section.dz = 1.0;
+  const parallel::Communicator& ranks = parallel::world();
+  std::string message;
+  try {
+    solver::Problem problem = solver::build_problem(test_support::spg_block_model(b));
+    problem.nodes.deal(parallel::block_offsets(problem.nodes.size(), ranks.size()), ranks.rank());
+    step(problem);
+  } catch (const InputError& e) {
+    message = e.what();
+  }
+  EXPECT_NE(message.find("*SECTION_SOLID_SPG"), std::string::npos) << "rank " << ranks.rank() << ": " << message;
+  EXPECT_NE(message.find("singular moment matrix"), std::string::npos) << message;
+  EXPECT_NE(message.find("node 1 "), std::string::npos) << message;
 }
 
 }  // namespace

@@ -17,13 +17,15 @@ using Vec4 = Eigen::Matrix<Real, 4, 1>;
 
 using Mat4 = Eigen::Matrix<Real, 4, 4>;
 
-// The unknowns (or a residual) of the normal equations, per particle.
+// The unknowns (or a residual) of the normal equations, per particle: of the particles a stretch
+// holds (under MPI a rank's own, and for the vectors whose bond partners' values a rank reads,
+// those partners too; every particle on one process), zero to start.
 struct Multipliers {
-  std::vector<Vec3> lambda;
-  std::vector<Mat3> mu;
-  void resize(Index n) {
-    lambda.assign(n, Vec3::Zero());
-    mu.assign(n, Mat3::Zero());
+  RangeArray<Vec3> lambda;
+  RangeArray<Mat3> mu;
+  explicit Multipliers(parallel::Range held) {
+    lambda.resize(0), lambda.hold(held.begin, held.end), lambda.fill(Vec3::Zero());
+    mu.resize(0), mu.hold(held.begin, held.end), mu.fill(Mat3::Zero());
   }
 };
 
@@ -62,11 +64,11 @@ class NormalEquations {
   NormalEquations(const BondList& bonds, std::span<const Vec3> X, std::span<const std::uint8_t> interior,
                   std::span<const std::uint8_t> active, const Ownership& own)
       : bonds_(bonds), X_(X), interior_(interior), active_(active), own_(own) {
-    const Index n = bonds.size();
     // Block-Jacobi preconditioner: the particle's own 4 x 4 block sum_L [1; d][1; d]^T (3 x 3
     // without the divergence row where the particle is not interior), the same for every
-    // gradient component.
-    preconditioner_.assign(n, Mat4::Zero());
+    // gradient component. Of a rank's own particles.
+    preconditioner_.resize(0), preconditioner_.hold(own.particles.begin, own.particles.end);
+    preconditioner_.fill(Mat4::Zero());
     parallel::for_each(own.particles, [&](Index j) {
       if (!active_[j]) return;
       Mat4 P = Mat4::Zero();
@@ -137,7 +139,7 @@ class NormalEquations {
   std::span<const std::uint8_t> interior_;
   std::span<const std::uint8_t> active_;
   const Ownership& own_;
-  std::vector<Mat4> preconditioner_;
+  RangeArray<Mat4> preconditioner_;
 };
 
 // z += a r per gradient component (a_i scales component i), for this rank's particles.
@@ -196,21 +198,21 @@ void correct_integration(const BondList& bonds, std::span<const Vec3> X, std::sp
   const Index n = bonds.size();
   const Ownership own{own_particles, share.across()};
   const NormalEquations equations(bonds, X, interior, active, own);
-  Multipliers z, r, p, q, s;
-  z.resize(n);
+  // The fluxes of a rank's rows read the multipliers and the search direction of the bond partners
+  // of its own particles (brought in by `reach`): those two hold the stretch from the first of
+  // them to the last, the others a rank's own particles.
+  parallel::Range read = own.particles;
+  for (Index j = own.particles.begin; j < own.particles.end; ++j)
+    for (Index k = bonds.offsets[j]; k < bonds.offsets[j + 1]; ++k)
+      read = parallel::hull(read, {bonds.neighbour[k], bonds.neighbour[k] + 1});
+  Multipliers z(read), p(read), r(own.particles), q(own.particles), s(own.particles);
   if (static_cast<Index>(correction.lambda.size()) == n) {
-    z.lambda = correction.lambda;
-    z.mu = correction.mu;
-    reach(z.lambda, z.mu);  // the fluxes of a rank's rows read the bond partners' multipliers
+    for (Index j = read.begin; j < read.end; ++j) z.lambda[j] = correction.lambda[j], z.mu[j] = correction.mu[j];
+    reach(z.lambda, z.mu);
   }
-  r.resize(n);
-  p.resize(n);
-  q.resize(n);
-  s.resize(n);
   // Right-hand side: sum_L c_JL = e_J / 2 at interior particles (then the column sums of D' are
   // zero there), zero first moments everywhere.
-  Multipliers b;
-  b.resize(n);
+  Multipliers b(own.particles);
   for (Index j = own.particles.begin; j < own.particles.end; ++j)
     if (interior[j] && active[j]) b.lambda[j] = Real(0.5) * defect[j];
   equations.apply(z, q);
@@ -231,7 +233,7 @@ void correct_integration(const BondList& bonds, std::span<const Vec3> X, std::sp
   // The search direction is the one vector whose neighbours' values a rank reads (apply).
   auto share_direction = [&] { reach(p.lambda, p.mu); };
   equations.precondition(r, s);
-  p = s;
+  for (Index j = own.particles.begin; j < own.particles.end; ++j) p.lambda[j] = s.lambda[j], p.mu[j] = s.mu[j];
   share_direction();
   auto [rs, rr] = dots<2>({{{&r, &s}, {&r, &r}}}, own);
   int iteration = 0;
@@ -261,8 +263,10 @@ void correct_integration(const BondList& bonds, std::span<const Vec3> X, std::sp
     if (b_norm[i] > 0) worst = std::max(worst, std::sqrt(rr[i]) / b_norm[i]);
   correction.relative_residual = worst;
   reach(z.lambda, z.mu);
-  correction.lambda = z.lambda;
-  correction.mu = z.mu;
+  // Kept whole: the particles beyond the stretch keep the multipliers of the last solve there.
+  correction.lambda.resize(n, Vec3::Zero());
+  correction.mu.resize(n, Mat3::Zero());
+  for (Index j = read.begin; j < read.end; ++j) correction.lambda[j] = z.lambda[j], correction.mu[j] = z.mu[j];
 
   correction.self.assign(n, Vec3::Zero());
   correction.bond.fill(Vec3::Zero());  // the rows the caller holds: a rank's own computed here, the rest below

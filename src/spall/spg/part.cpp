@@ -111,8 +111,17 @@ Part::Part(PartSettings settings, const std::vector<ParticleSetup>& particles,
   search_bonds(nullptr);
   initial_bond_count_.resize(n);
   for (std::size_t i = 0; i < n; ++i) initial_bond_count_[i] = bonds_.count(static_cast<Index>(i));
+  // Under MPI each rank builds the shape functions and correction of its own particles' rows at the
+  // first deal (compute_forces), where the set-up would build every row's on every rank: they are
+  // the largest arrays of an SPG part, 56 B a bond.
+  shape_functions_pending_ = parallel::world().size() > 1;
+  if (!shape_functions_pending_) set_up_shape_functions();
+}
+
+void Part::set_up_shape_functions() {
   build_shape_functions(true);
   correct_integration_constraint(true);
+  shape_functions_pending_ = false;
 }
 
 // Bonds: the pairs in which one particle lies inside the other's support, in the current positions.
@@ -206,7 +215,8 @@ void Part::build_shape_functions(bool at_setup) {
   reach_(psi_self_, grad_self_);
   reach_.rows(bonds_.offsets, psi_, grad_);
   if (reach_.planned()) shape_functions_complete_ = false;
-  if (const Index j = singular.value(); j >= 0) {
+  // At the set-up every rank stops at the same particle (under MPI each looked at its own).
+  if (const Index j = at_setup ? parallel::world().lowest(singular.value()) : singular.value(); j >= 0) {
     throw InputError(settings_.where, "*SECTION_SOLID_SPG",
                      fmt::format("part {}: node {} has {} particles in its kernel support, too few (or "
                                  "all in one plane) for linear RK shape functions (singular moment "
@@ -603,6 +613,7 @@ void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
     plan_reach(nodes);
     hold_shape_rows(entries(read_));
   }
+  if (shape_functions_pending_) set_up_shape_functions();
   parallel::for_each(searching ? parallel::Range{0, n} : smoothed_, [&](Index i) {
     x_[i] = nodes.x[node_[i]];
     v_[i] = nodes.v[node_[i]];
@@ -773,7 +784,9 @@ void Part::checkpoint(Archive& a) {
     parallel::read_array_pieces(a, correction_.bond, total, {0, total}, at);
   }
   // The rest written whole (complete_state), read by ranks that plan their reach again.
-  if (a.reading()) complete_ = kinematics_complete_ = shape_functions_complete_ = true, reach_partition_ = -1;
+  if (a.reading())
+    complete_ = kinematics_complete_ = shape_functions_complete_ = true, shape_functions_pending_ = false,
+    reach_partition_ = -1;
 }
 
 Index Part::degraded_count() const {

@@ -130,6 +130,9 @@ class Part {
 
  private:
   void search_bonds(const BondList* previous);
+  // The set-up's shape functions and integration-constraint correction (on one process in the
+  // constructor, under MPI at the first deal: shape_functions_pending_).
+  void set_up_shape_functions();
   void build_shape_functions(bool at_setup);
   void update_kernel(const discretization::NodeStore& nodes);
   void detach_degraded_particles();
@@ -244,6 +247,7 @@ class Part {
   // passes run over them (every particle on one process and until the nodes are dealt; plan_reach).
   parallel::Range own_, read_, smoothed_;
   bool shape_functions_complete_ = true;  // every particle's shape functions and correction current here
+  bool shape_functions_pending_ = false;  // under MPI until the first deal: none built yet
 
   int steps_since_update_ = 0;
   long long kernel_updates_ = 0;
