@@ -6,9 +6,10 @@
 // rank owns some nodes but not all, and the internal forces on every node are, bit for bit, those
 // of the bar dealt whole to one rank, through a new deal (the rows a rank reads anew come from the
 // ranks that computed them) and continued from a restart file (each rank's own rows in pieces) read
-// into the deal it was written in or into a new one. Under MPI the set-up builds no row: each rank
-// builds its own at the first deal, and a support too small for a linear field there stops every
-// rank with the one-process run's message.
+// into the deal it was written in or into a new one. The particles' state is held for the particles
+// read alike. Under MPI the set-up builds no row and holds no state: each rank builds its own at the
+// first deal, and a support too small for a linear field there stops every rank with the one-process
+// run's message.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -52,9 +53,10 @@ void step(solver::Problem& problem) {
   for (Index i = 0; i < problem.nodes.size(); ++i) problem.nodes.x[i] += dt * problem.nodes.v[i];
 }
 
-// Checks the rows whose correction a rank holds (the shape functions are held alike): those of
-// its own particles and their bond partners, from the first to the last, and fewer than every row
-// where it owns some nodes but not all. Every node is a particle, particle a on node a.
+// Checks the rows whose correction a rank holds (the shape functions are held alike), and the
+// particles whose state it holds: those of its own particles and their bond partners, from the
+// first to the last, and fewer than every row where it owns some nodes but not all. Every node is
+// a particle, particle a on node a.
 void expect_held_rows(solver::Problem& problem) {
   const parallel::Communicator& ranks = parallel::world();
   const discretization::NodeStore& nodes = problem.nodes;
@@ -76,6 +78,9 @@ void expect_held_rows(solver::Problem& problem) {
   EXPECT_EQ(held.held_begin(), bonds.offsets[read.begin]) << "rank " << ranks.rank();
   EXPECT_EQ(held.held_end(), bonds.offsets[read.end]) << "rank " << ranks.rank();
   EXPECT_LT(held.held_end() - held.held_begin(), every) << "rank " << ranks.rank() << " holds every row";
+  // The particles' state (F, the material point, the spring, the step's scratch) alike.
+  EXPECT_EQ(p.held_state().begin, read.begin) << "rank " << ranks.rank();
+  EXPECT_EQ(p.held_state().end, read.end) << "rank " << ranks.rank();
 }
 
 // The bar's runs (test_support::dealt_forces, restarted_forces): the rows are held from the first
@@ -106,6 +111,7 @@ TEST(SpgOverRanks, TheSetUpBuildsNoRowUnderMpi) {
   const auto& held = part(problem).integration_correction().bond;
   const Index every = part(problem).bonds().offsets.back();
   EXPECT_EQ(held.held_end() - held.held_begin(), ranks.size() == 1 ? every : 0);
+  EXPECT_EQ(part(problem).held_state().size(), ranks.size() == 1 ? part(problem).particle_count() : 0);
   problem.nodes.deal(parallel::block_offsets(problem.nodes.size(), ranks.size()), ranks.rank());
   step(problem);
   expect_held_rows(problem);

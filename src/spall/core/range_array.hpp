@@ -46,14 +46,12 @@ class RangeArray {
   bool empty() const { return !on_; }
 
   // Holds particles [begin, end) from now on: those it held already keep their values, the others
-  // start value-initialized (the caller brings theirs in).
+  // start value-initialized (the caller brings theirs in), or as `fresh`.
   void hold(Index begin, Index end) {
-    end = std::max(begin, end);
-    if (!on_ || (begin == first_ && end == last())) return;
-    std::vector<T> held(static_cast<std::size_t>(end - begin));
-    for (Index p = std::max(begin, first_); p < std::min(end, last()); ++p) held[p - begin] = values_[p - first_];
-    first_ = begin;
-    values_ = std::move(held);
+    hold_with(begin, end, [](std::size_t n) { return std::vector<T>(n); });
+  }
+  void hold(Index begin, Index end, const T& fresh) {
+    hold_with(begin, end, [&](std::size_t n) { return std::vector<T>(n, fresh); });
   }
 
   // The particles it holds: [held_begin(), held_end()).
@@ -77,6 +75,15 @@ class RangeArray {
 
  private:
   Index last() const { return first_ + static_cast<Index>(values_.size()); }
+  template <typename Make>
+  void hold_with(Index begin, Index end, Make&& make) {
+    end = std::max(begin, end);
+    if (!on_ || (begin == first_ && end == last())) return;
+    std::vector<T> held = make(static_cast<std::size_t>(end - begin));
+    for (Index p = std::max(begin, first_); p < std::min(end, last()); ++p) held[p - begin] = values_[p - first_];
+    first_ = begin;
+    values_ = std::move(held);
+  }
 
   Index first_ = 0;
   bool on_ = false;

@@ -83,39 +83,46 @@ Part::Part(PartSettings settings, const std::vector<ParticleSetup>& particles,
   }
   volume_ref_ = volume0_;
   initial_support_ = support_;
-  F_.assign(n, Mat3::Identity());
-  F_total_.assign(n, Mat3::Identity());
-  state_.assign(n, materials::initial_state(mat));
-  if (materials::keeps_back_stress(mat)) back_stress_.assign(n, Mat3::Zero());
+  F_.resize(0), F_total_.resize(0), state_.resize(0);
+  if (materials::keeps_back_stress(mat)) back_stress_.resize(0);
+  stabilization_force_.resize(0), stabilization_total_.resize(0);
+  xs_.resize(0), vs_.resize(0), h_.resize(0), force_.resize(0), weighted_stress_.resize(0), spin_.resize(0);
   specific_energy_.assign(n, mat.initial_specific_energy);
   pressure_.assign(n, materials::eos_pressure(mat, mat.density, mat.initial_specific_energy));
   density_.assign(n, mat.density);
   viscous_pressure_.assign(n, 0);
   viscous_power_.assign(n, 0);
   sound_speed_.assign(n, c0);
-  stabilization_force_.assign(n, Vec3::Zero());
-  stabilization_total_.assign(n, Vec3::Zero());
   stabilization_power_.assign(n, 0);
   dashpot_.resize(n);
   for (std::size_t i = 0; i < n; ++i)
     dashpot_[i] = 2 * settings_.stabilization_damping * std::sqrt(stiffness_[i] * mass_[i]);
   v_.assign(n, Vec3::Zero());
-  xs_.assign(n, Vec3::Zero());
-  vs_.assign(n, Vec3::Zero());
-  h_.assign(n, Vec3::Zero());
-  force_.assign(n, Vec3::Zero());
-  weighted_stress_.assign(n, Mat3::Zero());
-  spin_.assign(n, Mat3::Zero());
   degraded_.assign(n, 0);
 
   search_bonds(nullptr);
   initial_bond_count_.resize(n);
   for (std::size_t i = 0; i < n; ++i) initial_bond_count_[i] = bonds_.count(static_cast<Index>(i));
-  // Under MPI each rank builds the shape functions and correction of its own particles' rows at the
-  // first deal (compute_forces), where the set-up would build every row's on every rank: they are
-  // the largest arrays of an SPG part, 56 B a bond.
+  // Under MPI each rank holds the state of the particles it reads and builds the shape functions
+  // and correction of its own particles' rows at the first deal (compute_forces), where the set-up
+  // would build every particle's and every row's on every rank: the shape functions are the largest
+  // arrays of an SPG part, 56 B a bond, and the state about 650 B a particle.
   shape_functions_pending_ = parallel::world().size() > 1;
-  if (!shape_functions_pending_) set_up_shape_functions();
+  if (shape_functions_pending_) return;
+  hold_state(read_);
+  set_up_shape_functions();
+}
+
+void Part::hold_state(parallel::Range particles) {
+  const auto [begin, end] = particles;
+  F_.hold(begin, end, Mat3::Identity());
+  F_total_.hold(begin, end, Mat3::Identity());
+  state_.hold(begin, end, materials::initial_state(settings_.material));
+  back_stress_.hold(begin, end, Mat3::Zero());
+  for (RangeArray<Vec3>* vectors : {&stabilization_force_, &stabilization_total_, &xs_, &vs_, &h_, &force_})
+    vectors->hold(begin, end, Vec3::Zero());
+  weighted_stress_.hold(begin, end, Mat3::Zero());
+  spin_.hold(begin, end, Mat3::Zero());
 }
 
 void Part::set_up_shape_functions() {
@@ -281,7 +288,7 @@ void Part::correct_integration_constraint(bool at_setup) {
                       correction_);
 }
 
-void Part::smooth(std::span<const Vec3> field, std::vector<Vec3>& smoothed) const {
+void Part::smooth(std::span<const Vec3> field, RangeArray<Vec3>& smoothed) const {
   parallel::for_each(read_, [&](Index i) {
     if (!computes(i)) return;
     Vec3 s = psi_self_[i] * field[i];
@@ -292,10 +299,13 @@ void Part::smooth(std::span<const Vec3> field, std::vector<Vec3>& smoothed) cons
 }
 
 // F and L at every particle from the (smoothed) positions and velocities, then the stress update.
-Index Part::deformation(std::span<const Vec3> x, std::span<const Vec3> v, Real dt) {
+Index Part::deformation(StretchView<Vec3> x, StretchView<Vec3> v, Real dt) {
   const auto& mat = settings_.material;
   parallel::LowestIndex inverted;
-  parallel::for_each(own_, [&](Index j) {
+  // The bonds' values read through views held by the pass (as internal_forces).
+  const Index bonds = bonds_.offsets.back();
+  const StretchView<Vec3> grad = grad_.view(bonds), correction = correction_.bond.view(bonds);
+  parallel::for_each(own_, [&, x, v, grad, correction](Index j) {
     if (degraded_[j]) {
       spin_[j] = Mat3::Zero();
       viscous_pressure_[j] = 0;
@@ -308,8 +318,8 @@ Index Part::deformation(std::span<const Vec3> x, std::span<const Vec3> v, Real d
     Mat3 dF = v[j] * grad_self_[j].transpose() + v_[j] * correction_.self[j].transpose();
     for (Index k = bonds_.offsets[j]; k < bonds_.offsets[j + 1]; ++k) {
       const Index i = bonds_.neighbour[k];
-      F.noalias() += x[i] * grad_[k].transpose() + x_[i] * correction_.bond[k].transpose();
-      dF.noalias() += v[i] * grad_[k].transpose() + v_[i] * correction_.bond[k].transpose();
+      F.noalias() += x[i] * grad[k].transpose() + x_[i] * correction[k].transpose();
+      dF.noalias() += v[i] * grad[k].transpose() + v_[i] * correction[k].transpose();
     }
     const Real det = F.determinant();
     if (!(det > 0)) {
@@ -446,13 +456,16 @@ void Part::update_kernel(const discretization::NodeStore& nodes) {
   }
   // Under MPI the shape functions and the correction of the particles the new rows read come in
   // from their ranks.
-  if (parallel::world().size() > 1) plan_reach(nodes);
+  if (parallel::world().size() > 1) {
+    plan_reach(nodes);
+    hold_state(read_);  // KERNEL 1's new partners: their state comes in below
+  }
   build_shape_functions(false);
   detach_degraded_particles();
   // A particle that lost bonds has lost the neighbourhood its spring measured the non-affine
   // motion against: the spring starts again from rest (else it kicks the new crack surface).
   const std::vector<Index> broken_after = broken_per_particle();
-  for (Index j = 0; j < n; ++j)
+  for (Index j = read_.begin; j < read_.end; ++j)
     if (broken_after[j] != broken_before[j]) stabilization_force_[j] = Vec3::Zero();
   // Bonds searched anew may have partners new to a rank: their folded F, volume and stress and
   // their springs, which the correction, the force and the next step's springs read (the rest
@@ -476,27 +489,33 @@ void Part::internal_forces() {
     const Mat3 sigma = state_[j].deviatoric_stress - (pressure_[j] + viscous_pressure_[j]) * Mat3::Identity();
     weighted_stress_[j] = volume * sigma * F_[j].inverse().transpose();
   }, particle_loops);
-  parallel::for_each(own_, [&](Index i) {
-    Vec3 h = weighted_stress_[i] * grad_self_[i];
+  // The bond passes read the partners' values through views held by the passes (a RangeArray's
+  // first index and data reloaded at every bond, integration_constraint.cpp).
+  const Index n = particle_count(), bonds = bonds_.offsets.back();
+  const StretchView<Mat3> P = weighted_stress_.view(n);
+  const StretchView<Real> psi = psi_.view(bonds);
+  const StretchView<Vec3> grad = grad_.view(bonds), correction = correction_.bond.view(bonds);
+  parallel::for_each(own_, [&, P, grad](Index i) {
+    Vec3 h = P[i] * grad_self_[i];
     for (Index k = bonds_.offsets[i]; k < bonds_.offsets[i + 1]; ++k)
-      h.noalias() += weighted_stress_[bonds_.neighbour[k]] * grad_[bonds_.mirror[k]];
+      h.noalias() += P[bonds_.neighbour[k]] * grad[bonds_.mirror[k]];
     h_[i] = h;
   }, particle_loops);
   reach_(h_);
   const bool smoothed = settings_.stabilization == Stabilization::fluid_particle;
-  const auto& s = stabilization_total_;
-  parallel::for_each(own_, [&](Index K) {
+  const StretchView<Vec3> h = h_.view(n), s = stabilization_total_.view(n);
+  parallel::for_each(own_, [&, P, psi, correction, h, s](Index K) {
     // f_K = -sum_I Psi_K(X_I) (h_I - s_I) - s_K, or with ITB 2 -h_K - s_K + sum_I Psi_K(X_I) s_I.
-    Vec3 gathered = psi_self_[K] * (smoothed ? Vec3(h_[K] - s[K]) : Vec3(-s[K]));
+    Vec3 gathered = psi_self_[K] * (smoothed ? Vec3(h[K] - s[K]) : Vec3(-s[K]));
     for (Index k = bonds_.offsets[K]; k < bonds_.offsets[K + 1]; ++k) {
       const Index I = bonds_.neighbour[k];
-      gathered.noalias() += psi_[bonds_.mirror[k]] * (smoothed ? Vec3(h_[I] - s[I]) : Vec3(-s[I]));
+      gathered.noalias() += psi[bonds_.mirror[k]] * (smoothed ? Vec3(h[I] - s[I]) : Vec3(-s[I]));
     }
     // The correction's share: -sum_J V_J P_J C_JK.
-    Vec3 corrected = weighted_stress_[K] * correction_.self[K];
+    Vec3 corrected = P[K] * correction_.self[K];
     for (Index k = bonds_.offsets[K]; k < bonds_.offsets[K + 1]; ++k)
-      corrected.noalias() += weighted_stress_[bonds_.neighbour[k]] * correction_.bond[bonds_.mirror[k]];
-    force_[K] = (smoothed ? Vec3(-gathered - s[K]) : Vec3(-h_[K] - gathered - s[K])) - corrected;
+      corrected.noalias() += P[bonds_.neighbour[k]] * correction[bonds_.mirror[k]];
+    force_[K] = (smoothed ? Vec3(-gathered - s[K]) : Vec3(-h[K] - gathered - s[K])) - corrected;
   }, particle_loops);
 }
 
@@ -573,13 +592,17 @@ void Part::complete_kinematics(discretization::NodeStore& nodes) {
 // travels to the ranks that need it, no further.
 void Part::deal_anew(const discretization::NodeStore& nodes) {
   const discretization::ParticleShare dealt_before = share_;
-  const parallel::Range held_before{psi_.held_begin(), psi_.held_end()};
+  const parallel::Range held_before{psi_.held_begin(), psi_.held_end()}, state_before = held_state();
   share_.bind(nodes);
   discretization::ReachShare arrivals;
   arrivals.plan(plan_reach(nodes), node_, dealt_before, nodes);
+  // The state held before (that sent) and of the particles read now (that received) while it travels.
+  hold_state(parallel::hull(state_before, read_));
+  arrivals(F_, F_total_, spin_, state_, back_stress_, stabilization_force_);
+  hold_state(read_);
   if (!complete_)
-    arrivals(F_, F_total_, volume_ref_, support_, spin_, state_, back_stress_, specific_energy_, density_, pressure_,
-             sound_speed_, viscous_pressure_, viscous_power_, stabilization_force_);
+    arrivals(volume_ref_, support_, specific_energy_, density_, pressure_, sound_speed_, viscous_pressure_,
+             viscous_power_);
   arrivals(psi_self_, grad_self_, correction_.self, correction_.lambda, correction_.mu);
   // The rows held before (those sent) and the rows read now (those received) while they travel.
   hold_shape_rows(parallel::hull(held_before, entries(read_)));
@@ -589,8 +612,8 @@ void Part::deal_anew(const discretization::NodeStore& nodes) {
 }
 
 void Part::complete() {
-  share_(node_, F_, F_total_, volume_ref_, support_, spin_, state_, back_stress_, specific_energy_, density_,
-         pressure_, sound_speed_, viscous_pressure_, viscous_power_, stabilization_force_);
+  share_(node_, volume_ref_, support_, specific_energy_, density_, pressure_, sound_speed_, viscous_pressure_,
+         viscous_power_);
   complete_ = true;
 }
 
@@ -612,6 +635,7 @@ void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
   if (distributed && reach_partition_ != nodes.partition) {  // the first deal, or a restart file read whole
     plan_reach(nodes);
     hold_shape_rows(entries(read_));
+    hold_state(read_);
   }
   if (shape_functions_pending_) set_up_shape_functions();
   parallel::for_each(searching ? parallel::Range{0, n} : smoothed_, [&](Index i) {
@@ -622,8 +646,8 @@ void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
     smooth(v_, vs_);
     const bool smoothed = settings_.stabilization == Stabilization::fluid_particle;
     if (smoothed) smooth(x_, xs_);
-    Index inverted = deformation(smoothed ? std::span<const Vec3>(xs_) : std::span<const Vec3>(x_),
-                                 smoothed ? std::span<const Vec3>(vs_) : std::span<const Vec3>(v_), dt);
+    Index inverted = deformation(smoothed ? xs_.view(n) : StretchView<Vec3>(x_),
+                                 smoothed ? vs_.view(n) : StretchView<Vec3>(v_), dt);
     inverted = ranks.lowest(inverted);  // every rank stops, naming the same particle
     if (inverted >= 0)
       throw InstabilityError(fmt::format("SPG part {}: the deformation gradient at node {} is no longer "
@@ -758,32 +782,42 @@ void Part::write_fields(discretization::FieldSet& fields) const {
 }
 
 void Part::checkpoint(Archive& a) {
-  a.section("spg part 2");
+  a.section("spg part 3");
   a.expect_size("SPG particles", node_.size());
-  a(mass_, volume0_, volume_ref_, support_, spacing_, mean_spacing_, stiffness_, F_, F_total_, state_, back_stress_,
-    pressure_, density_, sound_speed_, specific_energy_, viscous_pressure_, viscous_power_, stabilization_force_,
-    dashpot_, stabilization_total_, stabilization_power_, initial_bond_count_, degraded_, psi_self_, grad_self_,
-    bonds_, broken_pairs_, on_surface_, correction_, x_, v_, xs_, vs_, h_, force_, weighted_stress_, spin_,
-    steps_since_update_, kernel_updates_, mass_scaling_, mass_scale_);
-  // The bonds' shape functions and correction in pieces (core/pieces.hpp): each rank writes the rows
-  // of its own particles (rank 0 every row until the nodes are dealt); read back whole, a rank keeps
-  // the rows it reads from its first step on (hold_shape_rows).
+  a(mass_, volume0_, volume_ref_, support_, spacing_, mean_spacing_, stiffness_, pressure_, density_, sound_speed_,
+    specific_energy_, viscous_pressure_, viscous_power_, dashpot_, stabilization_power_, initial_bond_count_, degraded_,
+    psi_self_, grad_self_, bonds_, broken_pairs_, on_surface_, correction_, x_, v_, steps_since_update_,
+    kernel_updates_, mass_scaling_, mass_scale_);
+  // The state held by stretch and the bonds' shape functions and correction in pieces
+  // (core/pieces.hpp): each rank writes its own particles' and their rows (rank 0 every one until
+  // the nodes are dealt); read back whole, a rank keeps those it reads from its first step on
+  // (hold_state, hold_shape_rows).
   const parallel::Communicator& ranks = parallel::world();
+  const Index n = particle_count();
+  const auto held_by_stretch = [&](auto&& visit) {
+    visit(F_, F_total_, state_, back_stress_, stabilization_force_, stabilization_total_, xs_, vs_, h_, force_,
+          weighted_stress_, spin_);
+  };
   if (!a.reading()) {
-    const Index n = particle_count();
-    const parallel::Range mine = share_.dealt() ? entries(own_) : ranks.rank() == 0 ? entries({0, n}) : parallel::Range{};
-    const auto at = [&](Index j) { return mine.begin + j; };
-    parallel::write_array_pieces(a, psi_, mine.size(), at, at, ranks);
-    parallel::write_array_pieces(a, grad_, mine.size(), at, at, ranks);
-    parallel::write_array_pieces(a, correction_.bond, mine.size(), at, at, ranks);
+    const parallel::Range mine = share_.dealt() ? own_ : ranks.rank() == 0 ? parallel::Range{0, n} : parallel::Range{};
+    const auto write = [&](parallel::Range items) {
+      return [&, items](const auto&... arrays) {
+        const auto at = [&](Index j) { return items.begin + j; };
+        (parallel::write_array_pieces(a, arrays, items.size(), at, at, ranks), ...);
+      };
+    };
+    held_by_stretch(write(mine));
+    write(entries(mine))(psi_, grad_, correction_.bond);
   } else {
-    const Index total = bonds_.offsets.empty() ? 0 : bonds_.offsets.back();
-    const auto at = [](Index k) { return k; };
-    parallel::read_array_pieces(a, psi_, total, {0, total}, at);
-    parallel::read_array_pieces(a, grad_, total, {0, total}, at);
-    parallel::read_array_pieces(a, correction_.bond, total, {0, total}, at);
+    const auto read = [&](Index count) {
+      return [&, count](auto&... arrays) {
+        (parallel::read_array_pieces(a, arrays, count, {0, count}, [](Index k) { return k; }), ...);
+      };
+    };
+    held_by_stretch(read(n));
+    read(bonds_.offsets.empty() ? 0 : bonds_.offsets.back())(psi_, grad_, correction_.bond);
   }
-  // The rest written whole (complete_state), read by ranks that plan their reach again.
+  // The rest written whole (complete_state); read back, the ranks plan their reach again.
   if (a.reading())
     complete_ = kinematics_complete_ = shape_functions_complete_ = true, shape_functions_pending_ = false,
     reach_partition_ = -1;
@@ -797,19 +831,17 @@ Index Part::degraded_count() const {
 
 std::size_t Part::memory_bytes() const {
   return bytes(node_) + bytes(node_id_) + bytes(mass_) + bytes(mass_scale_) + bytes(volume0_) + bytes(volume_ref_) +
-         bytes(support_) + bytes(initial_support_) + bytes(spacing_) + bytes(mean_spacing_) +
-         bytes(stiffness_) +
-         bytes(viscous_pressure_) + bytes(viscous_power_) + bytes(F_) + bytes(F_total_) +
-         bytes(state_) + bytes(back_stress_) + bytes(pressure_) + bytes(density_) + bytes(sound_speed_) +
-         bytes(specific_energy_) + bytes(stabilization_force_) + bytes(stabilization_total_) +
-         bytes(stabilization_power_) + bytes(dashpot_) + bytes(initial_bond_count_) +
-         bytes(degraded_) + bytes(on_surface_) + bytes(correction_.self) +
+         bytes(support_) + bytes(initial_support_) + bytes(spacing_) + bytes(mean_spacing_) + bytes(stiffness_) +
+         bytes(viscous_pressure_) + bytes(viscous_power_) + F_.capacity_bytes() + F_total_.capacity_bytes() +
+         state_.capacity_bytes() + back_stress_.capacity_bytes() + bytes(pressure_) + bytes(density_) +
+         bytes(sound_speed_) + bytes(specific_energy_) + stabilization_force_.capacity_bytes() +
+         stabilization_total_.capacity_bytes() + bytes(stabilization_power_) + bytes(dashpot_) +
+         bytes(initial_bond_count_) + bytes(degraded_) + bytes(on_surface_) + bytes(correction_.self) +
          correction_.bond.capacity_bytes() + bytes(correction_.lambda) + bytes(correction_.mu) + bytes(psi_self_) +
-         bytes(grad_self_) + psi_.capacity_bytes() + grad_.capacity_bytes() +
-         bytes(bonds_.offsets) + bytes(bonds_.neighbour) + bytes(bonds_.mirror) +
-         bytes(bonds_.broken) + bytes(bonds_.rest_length) + bytes(broken_pairs_) + bytes(x_) +
-         bytes(v_) + bytes(xs_) + bytes(vs_) + bytes(h_) + bytes(force_) + bytes(weighted_stress_) +
-         bytes(spin_);
+         bytes(grad_self_) + psi_.capacity_bytes() + grad_.capacity_bytes() + bytes(bonds_.offsets) +
+         bytes(bonds_.neighbour) + bytes(bonds_.mirror) + bytes(bonds_.broken) + bytes(bonds_.rest_length) +
+         bytes(broken_pairs_) + bytes(x_) + bytes(v_) + xs_.capacity_bytes() + vs_.capacity_bytes() +
+         h_.capacity_bytes() + force_.capacity_bytes() + weighted_stress_.capacity_bytes() + spin_.capacity_bytes();
 }
 
 }  // namespace spall::spg

@@ -104,6 +104,8 @@ class Part {
   // Every bond broken so far, also those an Eulerian update has dropped from the rows since.
   const std::vector<BondPair>& broken_pairs() const { return broken_pairs_; }
   const IntegrationCorrection& integration_correction() const { return correction_; }
+  // The particles whose state (F, the material point, the spring) this rank holds (hold_state).
+  parallel::Range held_state() const { return {state_.held_begin(), state_.held_end()}; }
   long long kernel_updates() const { return kernel_updates_; }
   // Particles whose bonds no longer hold a linear field (Shepard smoothing, no strain of their own).
   Index degraded_count() const;
@@ -133,12 +135,16 @@ class Part {
   // The set-up's shape functions and integration-constraint correction (on one process in the
   // constructor, under MPI at the first deal: shape_functions_pending_).
   void set_up_shape_functions();
+  // The per-particle state of particles [begin, end) held from now on (every particle on one
+  // process, those a rank reads under MPI: read_): the particles held before keep their values, the
+  // others start at the set-up's, and come in from their ranks where a pass reads them.
+  void hold_state(parallel::Range particles);
   void build_shape_functions(bool at_setup);
   void update_kernel(const discretization::NodeStore& nodes);
   void detach_degraded_particles();
-  void smooth(std::span<const Vec3> field, std::vector<Vec3>& smoothed) const;
+  void smooth(std::span<const Vec3> field, RangeArray<Vec3>& smoothed) const;
   // Returns the first particle whose F inverted (-1: none); the caller stops the run.
-  Index deformation(std::span<const Vec3> x, std::span<const Vec3> v, Real dt);
+  Index deformation(StretchView<Vec3> x, StretchView<Vec3> v, Real dt);
   void update_stabilization(Real dt);
   // IDAM's quantity of the particles given (the others' left 0).
   void failure_quantity(std::vector<Real>& out, parallel::Range particles) const;
@@ -165,10 +171,12 @@ class Part {
   // particle on one process, else those it reads.
   bool computes(Index i) const { return reads_.empty() || reads_[i]; }
   // Under MPI, the nodes dealt anew (load balance): the particles this rank now reads come in with
-  // their shape functions and correction, and with their whole state unless it is every rank's
-  // (complete_), from the ranks that computed them before (collective).
+  // their shape functions and correction and their state held by stretch, and with the state kept
+  // whole unless it is every rank's (complete_), from the ranks that computed them before
+  // (collective).
   void deal_anew(const discretization::NodeStore& nodes);
-  // Every rank's whole state of its own particles in (share_): before a checkpoint.
+  // Every rank's state of its own particles that every rank keeps whole in (share_): before a
+  // checkpoint, which writes the rest (hold_state's) in pieces.
   void complete();
   // Every rank's shape functions and correction of its own particles in (share_, in the deal they
   // were computed in), but for the bonds' (psi_, grad_, correction_.bond): before a checkpoint,
@@ -202,16 +210,17 @@ class Part {
   std::vector<Real> spacing_;        // smallest nodal spacing, for the stable step
   std::vector<Real> mean_spacing_;   // (h_x h_y h_z)^(1/3)
   std::vector<Real> stiffness_;      // kappa_I of the stabilization spring
-  std::vector<Mat3> F_;              // deformation gradient since the last kernel update
-  std::vector<Mat3> F_total_;        // from the initial configuration to the last kernel update
-  std::vector<materials::PointState> state_;
-  std::vector<Mat3> back_stress_;  // where the material keeps one (materials::keeps_back_stress), else empty
+  // Of the particles a rank reads (read_; every particle on one process; hold_state).
+  RangeArray<Mat3> F_;        // deformation gradient since the last kernel update
+  RangeArray<Mat3> F_total_;  // from the initial configuration to the last kernel update
+  RangeArray<materials::PointState> state_;
+  RangeArray<Mat3> back_stress_;  // where the material keeps one (materials::keeps_back_stress), else off
   std::vector<Real> pressure_, density_, sound_speed_, specific_energy_;
   std::vector<Real> viscous_pressure_;  // bulk viscosity q, added to the pressure
   std::vector<Real> viscous_power_;     // V q (-tr D): the rate of energy it dissipates
-  std::vector<Vec3> stabilization_force_;  // s_J, the spring
-  std::vector<Real> dashpot_;              // c_J
-  std::vector<Vec3> stabilization_total_;  // s_J + c_J (v_J - vs_J), what the force gathers
+  RangeArray<Vec3> stabilization_force_;  // s_J, the spring (read_)
+  std::vector<Real> dashpot_;             // c_J
+  RangeArray<Vec3> stabilization_total_;  // s_J + c_J (v_J - vs_J), what the force gathers (read_)
   std::vector<Real> stabilization_power_;  // c_J |v_J - vs_J|^2, dissipated
   std::vector<Index> initial_bond_count_;
   // 1 where the bonds left no longer hold a linear field: Shepard smoothing, no strain of its own.
@@ -227,10 +236,12 @@ class Part {
   std::vector<BondPair> broken_pairs_;
   std::vector<std::uint8_t> on_surface_;  // on the mesh's boundary faces
   IntegrationCorrection correction_;
-  // Scratch of the current step.
-  std::vector<Vec3> x_, v_, xs_, vs_, h_, force_;
-  std::vector<Mat3> weighted_stress_;  // V_J P_J
-  std::vector<Mat3> spin_;             // W_J
+  // Scratch of the current step: x and v of every particle (a KERNEL 1 search reads them all), the
+  // rest of the particles read (read_).
+  std::vector<Vec3> x_, v_;
+  RangeArray<Vec3> xs_, vs_, h_, force_;
+  RangeArray<Mat3> weighted_stress_;  // V_J P_J
+  RangeArray<Mat3> spin_;             // W_J
 
   discretization::ParticleShare share_;  // under MPI: the particles this rank computes, theirs to all
   discretization::ReachShare reach_;     // under MPI: the other ranks' particles bonded to this rank's
