@@ -210,10 +210,8 @@ void correct_integration(const BondList& bonds, std::span<const Vec3> X, std::sp
     for (Index k = bonds.offsets[j]; k < bonds.offsets[j + 1]; ++k)
       read = parallel::hull(read, {bonds.neighbour[k], bonds.neighbour[k] + 1});
   Multipliers z(read), p(read), r(own.particles), q(own.particles), s(own.particles);
-  if (static_cast<Index>(correction.lambda.size()) == n) {
-    for (Index j = read.begin; j < read.end; ++j) z.lambda[j] = correction.lambda[j], z.mu[j] = correction.mu[j];
-    reach(z.lambda, z.mu);
-  }
+  for (Index j = read.begin; j < read.end; ++j) z.lambda[j] = correction.lambda[j], z.mu[j] = correction.mu[j];
+  reach(z.lambda, z.mu);
   // Right-hand side: sum_L c_JL = e_J / 2 at interior particles (then the column sums of D' are
   // zero there), zero first moments everywhere.
   Multipliers b(own.particles);
@@ -267,12 +265,9 @@ void correct_integration(const BondList& bonds, std::span<const Vec3> X, std::sp
     if (b_norm[i] > 0) worst = std::max(worst, std::sqrt(rr[i]) / b_norm[i]);
   correction.relative_residual = worst;
   reach(z.lambda, z.mu);
-  // Kept whole: the particles beyond the stretch keep the multipliers of the last solve there.
-  correction.lambda.resize(n, Vec3::Zero());
-  correction.mu.resize(n, Mat3::Zero());
   for (Index j = read.begin; j < read.end; ++j) correction.lambda[j] = z.lambda[j], correction.mu[j] = z.mu[j];
 
-  correction.self.assign(n, Vec3::Zero());
+  correction.self.fill(Vec3::Zero());
   correction.bond.fill(Vec3::Zero());  // the rows the caller holds: a rank's own computed here, the rest below
   const StretchView<Vec3> lambda = z.lambda.view(n);
   const StretchView<Mat3> mu = z.mu.view(n);

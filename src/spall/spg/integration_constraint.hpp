@@ -27,19 +27,19 @@
 
 namespace spall::spg {
 
+// Under MPI each array holds the particles a rank reads, or their rows (Part holds them; a
+// checkpoint writes them in pieces), every particle's on one process.
 struct IntegrationCorrection {
-  std::vector<Vec3> self;  // C_JJ
-  // C_JK for bond k in row J (neighbour K): under MPI of the rows a rank reads alone (Part holds
-  // them; a checkpoint writes them in pieces).
-  RangeArray<Vec3> bond;
+  RangeArray<Vec3> self;  // C_JJ
+  RangeArray<Vec3> bond;  // C_JK for bond k in row J (neighbour K)
   // The multipliers of the last solve, the start of the next one (the configuration changes little
-  // between kernel updates).
-  std::vector<Vec3> lambda;  // component i: the divergence multiplier of gradient component i
-  std::vector<Mat3> mu;      // row i: the first-moment multipliers of gradient component i
+  // between kernel updates; zero before the first).
+  RangeArray<Vec3> lambda;  // component i: the divergence multiplier of gradient component i
+  RangeArray<Mat3> mu;      // row i: the first-moment multipliers of gradient component i
   int iterations = 0;
   Real relative_residual = 0;
 
-  void checkpoint(Archive& a) { a(self, lambda, mu, iterations, relative_residual); }
+  void checkpoint(Archive& a) { a(iterations, relative_residual); }
 };
 
 // Computes the correction for the bonds (broken bonds and bonds of inactive particles excluded)
@@ -52,9 +52,9 @@ struct IntegrationCorrection {
 // stretch of them: the particles are in node order; `defect` of those) and brings in the
 // multipliers and search direction of their bond partners (`reach`, planned for the bonds) once an
 // iteration and the partners' rows of the correction at the end (the rest of the correction and
-// of the multipliers is current on its own rank alone; `correction.bond` must hold those rows and
-// its own); the dot products are exact sums, so the result does not depend on the number of ranks
-// or threads.
+// of the multipliers is current on its own rank alone; `correction` must hold its own particles and
+// their partners, and their rows); the dot products are exact sums, so the result does not depend
+// on the number of ranks or threads.
 void correct_integration(const BondList& bonds, std::span<const Vec3> X, std::span<const Real> volume,
                          std::span<const std::uint8_t> interior, std::span<const std::uint8_t> active,
                          std::span<const Vec3> defect, int max_iterations, parallel::Range own,

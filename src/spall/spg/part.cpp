@@ -87,6 +87,8 @@ Part::Part(PartSettings settings, const std::vector<ParticleSetup>& particles,
   if (materials::keeps_back_stress(mat)) back_stress_.resize(0);
   stabilization_force_.resize(0), stabilization_total_.resize(0);
   xs_.resize(0), vs_.resize(0), h_.resize(0), force_.resize(0), weighted_stress_.resize(0), spin_.resize(0);
+  psi_self_.resize(0), grad_self_.resize(0);
+  correction_.self.resize(0), correction_.lambda.resize(0), correction_.mu.resize(0);
   specific_energy_.assign(n, mat.initial_specific_energy);
   pressure_.assign(n, materials::eos_pressure(mat, mat.density, mat.initial_specific_energy));
   density_.assign(n, mat.density);
@@ -118,11 +120,12 @@ void Part::hold_state(parallel::Range particles) {
   F_.hold(begin, end, Mat3::Identity());
   F_total_.hold(begin, end, Mat3::Identity());
   state_.hold(begin, end, materials::initial_state(settings_.material));
-  back_stress_.hold(begin, end, Mat3::Zero());
-  for (RangeArray<Vec3>* vectors : {&stabilization_force_, &stabilization_total_, &xs_, &vs_, &h_, &force_})
+  for (RangeArray<Mat3>* matrices : {&back_stress_, &weighted_stress_, &spin_, &correction_.mu})
+    matrices->hold(begin, end, Mat3::Zero());
+  for (RangeArray<Vec3>* vectors : {&stabilization_force_, &stabilization_total_, &xs_, &vs_, &h_, &force_, &grad_self_,
+                                    &correction_.self, &correction_.lambda})
     vectors->hold(begin, end, Vec3::Zero());
-  weighted_stress_.hold(begin, end, Mat3::Zero());
-  spin_.hold(begin, end, Mat3::Zero());
+  psi_self_.hold(begin, end, 0);
 }
 
 void Part::set_up_shape_functions() {
@@ -152,8 +155,6 @@ void Part::search_bonds(const BondList* previous) {
 // configuration X. Broken bonds take no part (seed 001 eq. 14: Phi_K(x_J) = 0 across them).
 void Part::build_shape_functions(bool at_setup) {
   const Index n = particle_count();
-  psi_self_.resize(n);
-  grad_self_.resize(n);
   // Of the rows of the particles read (every row on one process): a rank's own computed here, the
   // others' in from their ranks below; a broken bond's entries stay 0.
   const parallel::Range rows = entries(read_);
@@ -217,11 +218,10 @@ void Part::build_shape_functions(bool at_setup) {
     });
   }, n > parallel_threshold);
   // Every rank detaches and corrects by every particle's degradation (the bonds are every rank's);
-  // the rest reaches the particles whose rows read them (complete_shape_functions for all).
+  // the rest reaches the particles whose rows read them.
   share_(node_, degraded_);
   reach_(psi_self_, grad_self_);
   reach_.rows(bonds_.offsets, psi_, grad_);
-  if (reach_.planned()) shape_functions_complete_ = false;
   // At the set-up every rank stops at the same particle (under MPI each looked at its own).
   if (const Index j = at_setup ? parallel::world().lowest(singular.value()) : singular.value(); j >= 0) {
     throw InputError(settings_.where, "*SECTION_SOLID_SPG",
@@ -557,12 +557,6 @@ parallel::Range Part::nodes_read(const discretization::NodeStore& nodes) const {
   return {node_[smoothed_.begin], node_[smoothed_.end - 1] + 1};  // node order
 }
 
-void Part::complete_shape_functions() {
-  if (shape_functions_complete_) return;
-  share_(node_, psi_self_, grad_self_, correction_.self, correction_.lambda, correction_.mu);
-  shape_functions_complete_ = true;
-}
-
 void Part::hold_shape_rows(parallel::Range rows) {
   psi_.hold(rows.begin, rows.end);
   grad_.hold(rows.begin, rows.end);
@@ -586,9 +580,9 @@ void Part::complete_kinematics(discretization::NodeStore& nodes) {
   kinematics_complete_ = true;
 }
 
-// What complete() and complete_shape_functions() share, and the bonds' shape functions and
+// The state held by stretch, what complete() shares, and the bonds' shape functions and
 // correction, for the particles this rank's new rows read alone (a ReachShare planned against the
-// old deal's ranks, each of which holds the rows of its own particles then): a particle's state
+// old deal's ranks, each of which holds its own particles and their rows then): a particle's state
 // travels to the ranks that need it, no further.
 void Part::deal_anew(const discretization::NodeStore& nodes) {
   const discretization::ParticleShare dealt_before = share_;
@@ -598,17 +592,16 @@ void Part::deal_anew(const discretization::NodeStore& nodes) {
   arrivals.plan(plan_reach(nodes), node_, dealt_before, nodes);
   // The state held before (that sent) and of the particles read now (that received) while it travels.
   hold_state(parallel::hull(state_before, read_));
-  arrivals(F_, F_total_, spin_, state_, back_stress_, stabilization_force_);
+  arrivals(F_, F_total_, spin_, state_, back_stress_, stabilization_force_, psi_self_, grad_self_, correction_.self,
+           correction_.lambda, correction_.mu);
   hold_state(read_);
   if (!complete_)
     arrivals(volume_ref_, support_, specific_energy_, density_, pressure_, sound_speed_, viscous_pressure_,
              viscous_power_);
-  arrivals(psi_self_, grad_self_, correction_.self, correction_.lambda, correction_.mu);
   // The rows held before (those sent) and the rows read now (those received) while they travel.
   hold_shape_rows(parallel::hull(held_before, entries(read_)));
   arrivals.rows(bonds_.offsets, psi_, grad_, correction_.bond);
   hold_shape_rows(entries(read_));
-  shape_functions_complete_ = false;
 }
 
 void Part::complete() {
@@ -782,11 +775,11 @@ void Part::write_fields(discretization::FieldSet& fields) const {
 }
 
 void Part::checkpoint(Archive& a) {
-  a.section("spg part 3");
+  a.section("spg part 4");
   a.expect_size("SPG particles", node_.size());
   a(mass_, volume0_, volume_ref_, support_, spacing_, mean_spacing_, stiffness_, pressure_, density_, sound_speed_,
     specific_energy_, viscous_pressure_, viscous_power_, dashpot_, stabilization_power_, initial_bond_count_, degraded_,
-    psi_self_, grad_self_, bonds_, broken_pairs_, on_surface_, correction_, x_, v_, steps_since_update_,
+    bonds_, broken_pairs_, on_surface_, correction_, x_, v_, steps_since_update_,
     kernel_updates_, mass_scaling_, mass_scale_);
   // The state held by stretch and the bonds' shape functions and correction in pieces
   // (core/pieces.hpp): each rank writes its own particles' and their rows (rank 0 every one until
@@ -796,7 +789,7 @@ void Part::checkpoint(Archive& a) {
   const Index n = particle_count();
   const auto held_by_stretch = [&](auto&& visit) {
     visit(F_, F_total_, state_, back_stress_, stabilization_force_, stabilization_total_, xs_, vs_, h_, force_,
-          weighted_stress_, spin_);
+          weighted_stress_, spin_, psi_self_, grad_self_, correction_.self, correction_.lambda, correction_.mu);
   };
   if (!a.reading()) {
     const parallel::Range mine = share_.dealt() ? own_ : ranks.rank() == 0 ? parallel::Range{0, n} : parallel::Range{};
@@ -819,7 +812,7 @@ void Part::checkpoint(Archive& a) {
   }
   // The rest written whole (complete_state); read back, the ranks plan their reach again.
   if (a.reading())
-    complete_ = kinematics_complete_ = shape_functions_complete_ = true, shape_functions_pending_ = false,
+    complete_ = kinematics_complete_ = true, shape_functions_pending_ = false,
     reach_partition_ = -1;
 }
 
@@ -836,9 +829,9 @@ std::size_t Part::memory_bytes() const {
          state_.capacity_bytes() + back_stress_.capacity_bytes() + bytes(pressure_) + bytes(density_) +
          bytes(sound_speed_) + bytes(specific_energy_) + stabilization_force_.capacity_bytes() +
          stabilization_total_.capacity_bytes() + bytes(stabilization_power_) + bytes(dashpot_) +
-         bytes(initial_bond_count_) + bytes(degraded_) + bytes(on_surface_) + bytes(correction_.self) +
-         correction_.bond.capacity_bytes() + bytes(correction_.lambda) + bytes(correction_.mu) + bytes(psi_self_) +
-         bytes(grad_self_) + psi_.capacity_bytes() + grad_.capacity_bytes() + bytes(bonds_.offsets) +
+         bytes(initial_bond_count_) + bytes(degraded_) + bytes(on_surface_) + correction_.self.capacity_bytes() +
+         correction_.bond.capacity_bytes() + correction_.lambda.capacity_bytes() + correction_.mu.capacity_bytes() +
+         psi_self_.capacity_bytes() + grad_self_.capacity_bytes() + psi_.capacity_bytes() + grad_.capacity_bytes() + bytes(bonds_.offsets) +
          bytes(bonds_.neighbour) + bytes(bonds_.mirror) + bytes(bonds_.broken) + bytes(bonds_.rest_length) +
          bytes(broken_pairs_) + bytes(x_) + bytes(v_) + xs_.capacity_bytes() + vs_.capacity_bytes() +
          h_.capacity_bytes() + force_.capacity_bytes() + weighted_stress_.capacity_bytes() + spin_.capacity_bytes();

@@ -104,17 +104,16 @@ class Part {
   // Every bond broken so far, also those an Eulerian update has dropped from the rows since.
   const std::vector<BondPair>& broken_pairs() const { return broken_pairs_; }
   const IntegrationCorrection& integration_correction() const { return correction_; }
-  // The particles whose state (F, the material point, the spring) this rank holds (hold_state).
+  // The particles whose state (F, the material point, the spring, ...) this rank holds (hold_state).
   parallel::Range held_state() const { return {state_.held_begin(), state_.held_end()}; }
   long long kernel_updates() const { return kernel_updates_; }
   // Particles whose bonds no longer hold a linear field (Shepard smoothing, no strain of their own).
   Index degraded_count() const;
-  // Under MPI: every rank's state of its own particles in to every rank (the others' go stale
-  // between; complete()), their shape functions and correction, and with the velocities by reach
-  // their nodes' positions and velocities, before a checkpoint.
+  // Under MPI: every rank's per-particle scalars of its own particles in to every rank (the
+  // others' go stale between; complete()), and with the velocities by reach their nodes' positions
+  // and velocities, before a checkpoint (which writes the state held by stretch in pieces).
   void complete_state(discretization::NodeStore& nodes) {
     if (!complete_) complete();
-    complete_shape_functions();
     complete_kinematics(nodes);
   }
   // Under MPI with the velocities by reach (NodeStore::velocities_by_reach): v^{n+1/2} of the other
@@ -135,9 +134,11 @@ class Part {
   // The set-up's shape functions and integration-constraint correction (on one process in the
   // constructor, under MPI at the first deal: shape_functions_pending_).
   void set_up_shape_functions();
-  // The per-particle state of particles [begin, end) held from now on (every particle on one
-  // process, those a rank reads under MPI: read_): the particles held before keep their values, the
-  // others start at the set-up's, and come in from their ranks where a pass reads them.
+  // The per-particle state (F, the material point, the spring, the step's scratch, the shape
+  // functions' self terms and the correction's) of particles [begin, end) held from now on (every
+  // particle on one process, those a rank reads under MPI: read_): the particles held before keep
+  // their values, the others start at the set-up's, and come in from their ranks where a pass
+  // reads them.
   void hold_state(parallel::Range particles);
   void build_shape_functions(bool at_setup);
   void update_kernel(const discretization::NodeStore& nodes);
@@ -160,8 +161,7 @@ class Part {
   // particles' bonds, and the bonds broken travel to every rank (the bonds are every rank's); the
   // bond search (KERNEL 1: every particle's window in, the rows shared whole), the shape functions
   // and the integration-constraint solve are each rank's for its own particles, and of them only
-  // what the other ranks' rows read travels (reach_, planned anew for the new bonds;
-  // complete_shape_functions for all).
+  // what the other ranks' rows read travels (reach_, planned anew for the new bonds).
   bool owns(Index i) const { return share_.owns(node_[i]); }
   // The other ranks' particles bonded to this rank's: at each kernel update and each new deal.
   // Sets reads_ (this rank's own particles and those), and with the velocities by reach plans
@@ -178,10 +178,6 @@ class Part {
   // Every rank's state of its own particles that every rank keeps whole in (share_): before a
   // checkpoint, which writes the rest (hold_state's) in pieces.
   void complete();
-  // Every rank's shape functions and correction of its own particles in (share_, in the deal they
-  // were computed in), but for the bonds' (psi_, grad_, correction_.bond): before a checkpoint,
-  // which writes those in pieces.
-  void complete_shape_functions();
   // The entries of the rows of particles [begin, end).
   parallel::Range entries(parallel::Range particles) const {
     return {bonds_.offsets[particles.begin], bonds_.offsets[std::max(particles.begin, particles.end)]};
@@ -225,9 +221,9 @@ class Part {
   std::vector<Index> initial_bond_count_;
   // 1 where the bonds left no longer hold a linear field: Shepard smoothing, no strain of its own.
   std::vector<std::uint8_t> degraded_;
-  // Shape functions in the reference configuration: self term per particle, the rest per bond.
-  std::vector<Real> psi_self_;
-  std::vector<Vec3> grad_self_;
+  // Shape functions in the reference configuration: self term per particle (read_), the rest per bond.
+  RangeArray<Real> psi_self_;
+  RangeArray<Vec3> grad_self_;
   // Per bond, of the rows of the particles a rank reads alone (read_; every row on one process):
   // the other rows are read by no pass of the rank's (hold_shape_rows).
   RangeArray<Real> psi_;   // psi_[k], k in row J: Psi_{neighbour}(X_J)
@@ -257,7 +253,6 @@ class Part {
   // those whose positions and velocities the smoothing of the particles it reads reads: the step's
   // passes run over them (every particle on one process and until the nodes are dealt; plan_reach).
   parallel::Range own_, read_, smoothed_;
-  bool shape_functions_complete_ = true;  // every particle's shape functions and correction current here
   bool shape_functions_pending_ = false;  // under MPI until the first deal: none built yet
 
   int steps_since_update_ = 0;
