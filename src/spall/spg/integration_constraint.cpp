@@ -223,9 +223,11 @@ void correct_integration(const BondList& bonds, std::span<const Vec3> X, std::sp
     r.mu[j] = -q.mu[j];
   }
   const Vec3 b_norm = dot(b, b, own).cwiseSqrt();
-  // The natural size of the column sums, V_J / h_J ~ V_J^(2/3) per particle.
-  Real reference = 0;
-  for (Index j = 0; j < n; ++j) reference += std::pow(volume[j], Real(4) / 3);
+  // The natural size of the column sums, V_J / h_J ~ V_J^(2/3) per particle: an exact sum over
+  // every rank's own particles, whose volumes are current there (a rank's copies of the others'
+  // are stale between new deals), so that every rank stops the solve at the same iteration.
+  const Real reference =
+      parallel::exact_sum(own.particles, [&](Index j) { return std::pow(volume[j], Real(4) / 3); }, own.across);
   const Real floor = natural_tolerance * std::sqrt(reference);
   auto converged = [&](const Vec3& rr) {
     for (int i = 0; i < 3; ++i)
