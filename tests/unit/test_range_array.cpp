@@ -29,6 +29,17 @@ TEST(RangeArray, AParticleKeepsItsValueWhileHeld) {
   EXPECT_EQ(a.capacity_bytes(), 15 * sizeof(double));
 }
 
+TEST(RangeArray, ParticlesNewlyHeldStartAsGiven) {
+  RangeArray<double> a = numbered(100);
+  a.hold(40, 60);
+  a.hold(30, 50, -1.0);  // dealt anew: 40..49 stay, 30..39 start at the set-up's value
+  for (Index p = 30; p < 40; ++p) EXPECT_EQ(a[p], -1.0);
+  for (Index p = 40; p < 50; ++p) EXPECT_EQ(a[p], 10.0 * p);
+  RangeArray<double> off;
+  off.hold(0, 10, 5.0);  // an array switched off stays off
+  EXPECT_TRUE(off.empty());
+}
+
 TEST(RangeArray, NoParticlesIsNotOff) {
   RangeArray<double> a = numbered(8);
   a.hold(8, 8);  // a rank without particles
