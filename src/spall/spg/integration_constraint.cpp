@@ -24,8 +24,8 @@ struct Multipliers {
   RangeArray<Vec3> lambda;
   RangeArray<Mat3> mu;
   explicit Multipliers(parallel::Range held) {
-    lambda.resize(0), lambda.hold(held.begin, held.end), lambda.fill(Vec3::Zero());
-    mu.resize(0), mu.hold(held.begin, held.end), mu.fill(Mat3::Zero());
+    lambda.resize(0), lambda.hold(held.begin, held.end, Vec3::Zero());
+    mu.resize(0), mu.hold(held.begin, held.end, Mat3::Zero());
   }
 };
 
@@ -67,8 +67,7 @@ class NormalEquations {
     // Block-Jacobi preconditioner: the particle's own 4 x 4 block sum_L [1; d][1; d]^T (3 x 3
     // without the divergence row where the particle is not interior), the same for every
     // gradient component. Of a rank's own particles.
-    preconditioner_.resize(0), preconditioner_.hold(own.particles.begin, own.particles.end);
-    preconditioner_.fill(Mat4::Zero());
+    preconditioner_.resize(0), preconditioner_.hold(own.particles.begin, own.particles.end, Mat4::Zero());
     parallel::for_each(own.particles, [&](Index j) {
       if (!active_[j]) return;
       Mat4 P = Mat4::Zero();
@@ -104,7 +103,7 @@ class NormalEquations {
   }
 
   // y = R R^T z: per particle the divergence (interior only) and first moment of the fluxes (this
-  // rank's particles; z whole).
+  // rank's particles; z of them and their bond partners).
   void apply(const Multipliers& z, Multipliers& y) const {
     // The multipliers read through views held by the pass (a RangeArray's first index and data
     // reloaded at every bond cost the solve a tenth of its time).

@@ -83,12 +83,9 @@ Part::Part(PartSettings settings, const std::vector<ParticleSetup>& particles,
   }
   volume_ref_ = volume0_;
   initial_support_ = support_;
-  F_.resize(0), F_total_.resize(0), state_.resize(0);
-  if (materials::keeps_back_stress(mat)) back_stress_.resize(0);
-  stabilization_force_.resize(0), stabilization_total_.resize(0);
-  xs_.resize(0), vs_.resize(0), h_.resize(0), force_.resize(0), weighted_stress_.resize(0), spin_.resize(0);
-  psi_self_.resize(0), grad_self_.resize(0);
-  correction_.self.resize(0), correction_.lambda.resize(0), correction_.mu.resize(0);
+  // The state held by stretch on, holding no particle until hold_state.
+  visit_held_state(*this, [](auto& array, const auto&) { array.resize(0); });
+  if (!materials::keeps_back_stress(mat)) back_stress_.clear();
   specific_energy_.assign(n, mat.initial_specific_energy);
   pressure_.assign(n, materials::eos_pressure(mat, mat.density, mat.initial_specific_energy));
   density_.assign(n, mat.density);
@@ -115,17 +112,21 @@ Part::Part(PartSettings settings, const std::vector<ParticleSetup>& particles,
   set_up_shape_functions();
 }
 
+template <typename Self, typename Visit>
+void Part::visit_held_state(Self& part, Visit&& visit) {
+  const Mat3 identity = Mat3::Identity(), zero = Mat3::Zero();
+  const Vec3 none = Vec3::Zero();
+  visit(part.F_, identity), visit(part.F_total_, identity);
+  visit(part.state_, materials::initial_state(part.settings_.material)), visit(part.back_stress_, zero);
+  visit(part.stabilization_force_, none), visit(part.stabilization_total_, none);
+  visit(part.xs_, none), visit(part.vs_, none), visit(part.h_, none), visit(part.force_, none);
+  visit(part.weighted_stress_, zero), visit(part.spin_, zero);
+  visit(part.psi_self_, Real(0)), visit(part.grad_self_, none);
+  visit(part.correction_.self, none), visit(part.correction_.lambda, none), visit(part.correction_.mu, zero);
+}
+
 void Part::hold_state(parallel::Range particles) {
-  const auto [begin, end] = particles;
-  F_.hold(begin, end, Mat3::Identity());
-  F_total_.hold(begin, end, Mat3::Identity());
-  state_.hold(begin, end, materials::initial_state(settings_.material));
-  for (RangeArray<Mat3>* matrices : {&back_stress_, &weighted_stress_, &spin_, &correction_.mu})
-    matrices->hold(begin, end, Mat3::Zero());
-  for (RangeArray<Vec3>* vectors : {&stabilization_force_, &stabilization_total_, &xs_, &vs_, &h_, &force_, &grad_self_,
-                                    &correction_.self, &correction_.lambda})
-    vectors->hold(begin, end, Vec3::Zero());
-  psi_self_.hold(begin, end, 0);
+  visit_held_state(*this, [&](auto& array, const auto& fresh) { array.hold(particles.begin, particles.end, fresh); });
 }
 
 void Part::set_up_shape_functions() {
@@ -158,8 +159,8 @@ void Part::build_shape_functions(bool at_setup) {
   // Of the rows of the particles read (every row on one process): a rank's own computed here, the
   // others' in from their ranks below; a broken bond's entries stay 0.
   const parallel::Range rows = entries(read_);
-  psi_.resize(0), psi_.hold(rows.begin, rows.end), psi_.fill(0);
-  grad_.resize(0), grad_.hold(rows.begin, rows.end), grad_.fill(Vec3::Zero());
+  psi_.resize(0), psi_.hold(rows.begin, rows.end, 0);
+  grad_.resize(0), grad_.hold(rows.begin, rows.end, Vec3::Zero());
   // KERNEL 0: the windows deform with the material (mapped through each particle's accumulated
   // deformation), so a stretched bond keeps its weight until it fails (THEORY §9.7).
   const bool material_windows = settings_.kernel_update == KernelUpdate::updated_lagrangian;
@@ -779,41 +780,33 @@ void Part::checkpoint(Archive& a) {
   a.expect_size("SPG particles", node_.size());
   a(mass_, volume0_, volume_ref_, support_, spacing_, mean_spacing_, stiffness_, pressure_, density_, sound_speed_,
     specific_energy_, viscous_pressure_, viscous_power_, dashpot_, stabilization_power_, initial_bond_count_, degraded_,
-    bonds_, broken_pairs_, on_surface_, correction_, x_, v_, steps_since_update_,
-    kernel_updates_, mass_scaling_, mass_scale_);
+    bonds_, broken_pairs_, on_surface_, correction_, x_, v_, steps_since_update_, kernel_updates_, mass_scaling_,
+    mass_scale_);
   // The state held by stretch and the bonds' shape functions and correction in pieces
   // (core/pieces.hpp): each rank writes its own particles' and their rows (rank 0 every one until
   // the nodes are dealt); read back whole, a rank keeps those it reads from its first step on
   // (hold_state, hold_shape_rows).
   const parallel::Communicator& ranks = parallel::world();
   const Index n = particle_count();
-  const auto held_by_stretch = [&](auto&& visit) {
-    visit(F_, F_total_, state_, back_stress_, stabilization_force_, stabilization_total_, xs_, vs_, h_, force_,
-          weighted_stress_, spin_, psi_self_, grad_self_, correction_.self, correction_.lambda, correction_.mu);
-  };
   if (!a.reading()) {
     const parallel::Range mine = share_.dealt() ? own_ : ranks.rank() == 0 ? parallel::Range{0, n} : parallel::Range{};
-    const auto write = [&](parallel::Range items) {
-      return [&, items](const auto&... arrays) {
-        const auto at = [&](Index j) { return items.begin + j; };
-        (parallel::write_array_pieces(a, arrays, items.size(), at, at, ranks), ...);
-      };
+    const auto write = [&](const auto& array, parallel::Range items) {
+      const auto at = [&](Index j) { return items.begin + j; };
+      parallel::write_array_pieces(a, array, items.size(), at, at, ranks);
     };
-    held_by_stretch(write(mine));
-    write(entries(mine))(psi_, grad_, correction_.bond);
+    visit_held_state(*this, [&](const auto& array, const auto&) { write(array, mine); });
+    const parallel::Range rows = entries(mine);
+    write(psi_, rows), write(grad_, rows), write(correction_.bond, rows);
   } else {
-    const auto read = [&](Index count) {
-      return [&, count](auto&... arrays) {
-        (parallel::read_array_pieces(a, arrays, count, {0, count}, [](Index k) { return k; }), ...);
-      };
+    const auto read = [&](auto& array, Index count) {
+      parallel::read_array_pieces(a, array, count, {0, count}, [](Index k) { return k; });
     };
-    held_by_stretch(read(n));
-    read(bonds_.offsets.empty() ? 0 : bonds_.offsets.back())(psi_, grad_, correction_.bond);
+    visit_held_state(*this, [&](auto& array, const auto&) { read(array, n); });
+    const Index bonds = bonds_.offsets.empty() ? 0 : bonds_.offsets.back();
+    read(psi_, bonds), read(grad_, bonds), read(correction_.bond, bonds);
   }
   // The rest written whole (complete_state); read back, the ranks plan their reach again.
-  if (a.reading())
-    complete_ = kinematics_complete_ = true, shape_functions_pending_ = false,
-    reach_partition_ = -1;
+  if (a.reading()) complete_ = kinematics_complete_ = true, shape_functions_pending_ = false, reach_partition_ = -1;
 }
 
 Index Part::degraded_count() const {
@@ -823,18 +816,16 @@ Index Part::degraded_count() const {
 }
 
 std::size_t Part::memory_bytes() const {
-  return bytes(node_) + bytes(node_id_) + bytes(mass_) + bytes(mass_scale_) + bytes(volume0_) + bytes(volume_ref_) +
-         bytes(support_) + bytes(initial_support_) + bytes(spacing_) + bytes(mean_spacing_) + bytes(stiffness_) +
-         bytes(viscous_pressure_) + bytes(viscous_power_) + F_.capacity_bytes() + F_total_.capacity_bytes() +
-         state_.capacity_bytes() + back_stress_.capacity_bytes() + bytes(pressure_) + bytes(density_) +
-         bytes(sound_speed_) + bytes(specific_energy_) + stabilization_force_.capacity_bytes() +
-         stabilization_total_.capacity_bytes() + bytes(stabilization_power_) + bytes(dashpot_) +
-         bytes(initial_bond_count_) + bytes(degraded_) + bytes(on_surface_) + correction_.self.capacity_bytes() +
-         correction_.bond.capacity_bytes() + correction_.lambda.capacity_bytes() + correction_.mu.capacity_bytes() +
-         psi_self_.capacity_bytes() + grad_self_.capacity_bytes() + psi_.capacity_bytes() + grad_.capacity_bytes() + bytes(bonds_.offsets) +
-         bytes(bonds_.neighbour) + bytes(bonds_.mirror) + bytes(bonds_.broken) + bytes(bonds_.rest_length) +
-         bytes(broken_pairs_) + bytes(x_) + bytes(v_) + xs_.capacity_bytes() + vs_.capacity_bytes() +
-         h_.capacity_bytes() + force_.capacity_bytes() + weighted_stress_.capacity_bytes() + spin_.capacity_bytes();
+  std::size_t held = 0;
+  visit_held_state(*this, [&](const auto& array, const auto&) { held += array.capacity_bytes(); });
+  return held + bytes(node_) + bytes(node_id_) + bytes(mass_) + bytes(mass_scale_) + bytes(volume0_) +
+         bytes(volume_ref_) + bytes(support_) + bytes(initial_support_) + bytes(spacing_) + bytes(mean_spacing_) +
+         bytes(stiffness_) + bytes(viscous_pressure_) + bytes(viscous_power_) + bytes(pressure_) + bytes(density_) +
+         bytes(sound_speed_) + bytes(specific_energy_) + bytes(stabilization_power_) + bytes(dashpot_) +
+         bytes(initial_bond_count_) + bytes(degraded_) + bytes(on_surface_) + correction_.bond.capacity_bytes() +
+         psi_.capacity_bytes() + grad_.capacity_bytes() + bytes(bonds_.offsets) + bytes(bonds_.neighbour) +
+         bytes(bonds_.mirror) + bytes(bonds_.broken) + bytes(bonds_.rest_length) + bytes(broken_pairs_) + bytes(x_) +
+         bytes(v_);
 }
 
 }  // namespace spall::spg

@@ -140,6 +140,10 @@ class Part {
   // their values, the others start at the set-up's, and come in from their ranks where a pass
   // reads them.
   void hold_state(parallel::Range particles);
+  // visit(array, fresh) for each array of that state, in one order (the checkpoint's), with the
+  // value a particle newly held starts at.
+  template <typename Self, typename Visit>
+  static void visit_held_state(Self& part, Visit&& visit);
   void build_shape_functions(bool at_setup);
   void update_kernel(const discretization::NodeStore& nodes);
   void detach_degraded_particles();
