@@ -30,13 +30,10 @@ namespace {
 
 constexpr Real dt = 5e-7;  // s, under a third of the elements' stable step (10 mm / 5 800 m/s)
 
-// The bar (3 x 3 x 24 hexahedra, 0.24 m along z: the node order's slowest axis, so that a rank's
-// block of it is a stretch of the bar) pulled at v_z = rate z: a strain of 2.5e-4 a step, past the
-// yield strain 1.75e-3 from the eighth step on.
+// The bar (test_support::bar_along_z, as hexahedra) pulled at v_z = rate z: a strain of 2.5e-4 a
+// step, past the yield strain 1.75e-3 from the eighth step on.
 solver::Problem bar_problem() {
-  test_support::SpgBlock b;
-  b.size = Vec3(0.03, 0.03, 0.24);
-  b.elements = {3, 3, 24};
+  test_support::SpgBlock b = test_support::bar_along_z();
   b.fem = test_support::FiniteElements{1, model::Hourglass{1, 4, 0.1, 0, 0, {}}};
   model::Model m = test_support::spg_block_model(b);
   model::MatPlasticKinematic steel{7850, 200e9, 0.3, 350e6, 1e9, 0.5};  // BETA 0.5: a back stress
@@ -49,8 +46,7 @@ solver::Problem bar_problem() {
   m.parts.push_back({2, "fully integrated", 2, 1, 0, 0, 0, {}, {}});
   for (auto& e : m.solid_elements) e.pid = e.eid % 2 ? 1 : 2;  // the deck's order is not the node order
   solver::Problem problem = solver::build_problem(m);
-  constexpr Real rate = 500;  // 1/s
-  for (Index i = 0; i < problem.nodes.size(); ++i) problem.nodes.v[i] = Vec3(0, 0, rate * problem.nodes.x[i].z());
+  test_support::pull(problem.nodes, 2, 500);  // 1/s
   return problem;
 }
 

@@ -28,16 +28,12 @@ namespace {
 
 constexpr Real dt = 4e-7;  // s, under a third of the particles' stable step (10 mm / 5 000 m/s)
 
-// The bar (3 x 3 x 24 elements, 0.24 m along z: the node order's slowest axis, so that a rank's
-// block of it is a stretch of the bar) pulled at v_z = rate z.
+// The bar (test_support::bar_along_z) pulled at v_z = rate z.
 solver::Problem bar_problem() {
-  test_support::SpgBlock b;
-  b.size = Vec3(0.03, 0.03, 0.24);
-  b.elements = {3, 3, 24};
+  test_support::SpgBlock b = test_support::bar_along_z();
   b.section.smstep = 3;
   solver::Problem problem = solver::build_problem(test_support::spg_block_model(b));
-  constexpr Real rate = 200;  // 1/s
-  for (Index i = 0; i < problem.nodes.size(); ++i) problem.nodes.v[i] = Vec3(0, 0, rate * problem.nodes.x[i].z());
+  test_support::pull(problem.nodes, 2, 200);  // 1/s
   return problem;
 }
 

@@ -42,8 +42,7 @@ solver::Problem bar_problem() {
   }
   model.sph_artificial_stress = model::SphArtificialStress{};
   solver::Problem problem = solver::build_problem(model);
-  constexpr Real rate = 100;  // 1/s: a strain of 1e-6 a step
-  for (Index i = 0; i < problem.nodes.size(); ++i) problem.nodes.v[i] = Vec3(rate * problem.nodes.x[i].x(), 0, 0);
+  test_support::pull(problem.nodes, 0, 100);  // 1/s: a strain of 1e-6 a step
   return problem;
 }
 

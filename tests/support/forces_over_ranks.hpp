@@ -16,6 +16,14 @@
 
 namespace spall::test_support {
 
+// Pulls a body along `axis` at the rate given: v = rate x_axis along the axis, at every node.
+inline void pull(discretization::NodeStore& nodes, int axis, Real rate) {
+  for (Index i = 0; i < nodes.size(); ++i) {
+    nodes.v[i] = Vec3::Zero();
+    nodes.v[i][axis] = rate * nodes.x[i][axis];
+  }
+}
+
 // NodeStore::deal's first nodes of each rank, and the count after them.
 struct Deals {
   std::vector<Index> whole, blocks, shifted;

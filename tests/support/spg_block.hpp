@@ -28,6 +28,15 @@ struct SpgBlock {
   std::optional<FiniteElements> fem;
 };
 
+// The bar of the tests over ranks: 3 x 3 x 24 elements, 0.24 m along z, the node order's slowest
+// axis, so that a rank's block of it is a stretch of the bar.
+inline SpgBlock bar_along_z() {
+  SpgBlock b;
+  b.size = Vec3(0.03, 0.03, 0.24);
+  b.elements = {3, 3, 24};
+  return b;
+}
+
 inline Id spg_node_id(const SpgBlock& b, int i, int j, int k) {
   return 1 + i + (b.elements[0] + 1) * (j + (b.elements[1] + 1) * k);
 }
