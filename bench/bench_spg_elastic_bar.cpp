@@ -58,7 +58,7 @@ void BM_SpgElasticBar(benchmark::State& state) {
   state.counters["nodes"] = n;
   state.counters["threads"] = threads;
   state.counters["itb"] = itb;
-  state.counters["bonds"] = double(spg.parts().front().bonds().neighbour.size()) / n;
+  state.counters["bonds"] = double(spg.parts().front().bonds().entry_count()) / n;
   state.counters["bytes_per_node"] = bytes / n;
   state.counters["node_steps_per_s_per_core"] =
       benchmark::Counter(n * (steps + 1) / threads, benchmark::Counter::kIsIterationInvariantRate);

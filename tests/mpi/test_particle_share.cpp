@@ -163,53 +163,11 @@ TEST(ParticleShare, SeveralValuesAParticle) {
 }
 
 // Rows of different lengths (SPG bonds): particle a has a % 4 entries, entry e of it worth
-// 100 a + e. rows() shares whole rows each rank filled in; complete_rows() starts from rows that
-// only this rank's particles have (the others empty) and ends with every row in place.
+// 100 a + e.
 std::vector<Index> row_offsets_of(Index n) {
   std::vector<Index> offsets(n + 1, 0);
   for (Index a = 0; a < n; ++a) offsets[a + 1] = offsets[a] + a % 4;
   return offsets;
-}
-
-void expect_every_row(const std::vector<Index>& offsets, const std::vector<double>& entries) {
-  ASSERT_EQ(offsets, row_offsets_of(static_cast<Index>(offsets.size()) - 1));
-  ASSERT_EQ(entries.size(), static_cast<std::size_t>(offsets.back()));
-  for (Index a = 0; a + 1 < static_cast<Index>(offsets.size()); ++a)
-    for (Index k = offsets[a]; k < offsets[a + 1]; ++k) EXPECT_EQ(entries[k], 100.0 * a + (k - offsets[a]));
-}
-
-TEST(ParticleShare, RowsOfEveryRank) {
-  std::vector<Index> node(70);
-  for (Index a = 0; a < 70; ++a) node[a] = 2 * a;  // in node order, every other node
-  ParticleShare share;
-  share.bind(dealt_nodes(140));
-  const std::vector<Index> offsets = row_offsets_of(70);
-  std::vector<double> entries(offsets.back(), -1.0);
-  for (Index a = 0; a < 70; ++a)
-    if (share.owns(node[a]))
-      for (Index k = offsets[a]; k < offsets[a + 1]; ++k) entries[k] = 100.0 * a + (k - offsets[a]);
-  share.rows(node, offsets, entries);
-  expect_every_row(offsets, entries);
-}
-
-// Particles on nodes 0-29 and 60-89 of 90: on 3 ranks the middle one has none (its arrays are
-// empty before the share, as are those of a rank whose particles have no entries).
-TEST(ParticleShare, CompleteRowsFromEachRanksOwn) {
-  std::vector<Index> node;
-  for (Index k = 0; k < 90; ++k)
-    if (k < 30 || k >= 60) node.push_back(k);
-  const auto n = static_cast<Index>(node.size());
-  ParticleShare share;
-  share.bind(dealt_nodes(90));
-  std::vector<Index> offsets(n + 1, 0);
-  std::vector<double> entries;
-  for (Index a = 0; a < n; ++a) {
-    if (share.owns(node[a]))
-      for (Index e = 0; e < a % 4; ++e) entries.push_back(100.0 * a + e);
-    offsets[a + 1] = static_cast<Index>(entries.size());
-  }
-  share.complete_rows(node, offsets, entries);
-  expect_every_row(offsets, entries);
 }
 
 // ReachShare: each rank reads a few particles of the others' (those within `reach` of its own, in

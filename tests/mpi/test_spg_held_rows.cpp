@@ -6,9 +6,10 @@
 // rank owns some nodes but not all, and the internal forces on every node are, bit for bit, those
 // of the bar dealt whole to one rank, through a new deal (the rows a rank reads anew come from the
 // ranks that computed them) and continued from a restart file (each rank's own rows in pieces) read
-// into the deal it was written in or into a new one. The particles' state is held for the particles
-// read alike. Under MPI the set-up builds no row and holds no state: each rank builds its own at the
-// first deal, and a support too small for a linear field there stops every rank with the one-process
+// into the deal it was written in or into a new one. The bonds themselves (neighbours, flags, rest
+// lengths) and the particles' state are held for the rows and particles read alike. Under MPI the
+// set-up searches no bond, builds no row and holds no state: each rank builds its own at the first
+// deal, and a support too small for a linear field there stops every rank with the one-process
 // run's message.
 #include <gtest/gtest.h>
 
@@ -59,21 +60,32 @@ void expect_held_rows(solver::Problem& problem) {
   const spg::Part& p = part(problem);
   const spg::BondList& bonds = p.bonds();
   ASSERT_EQ(p.particle_count(), nodes.size());
-  parallel::Range read;
+  parallel::Range read, own;
   Index owned = 0;
   for (Index a = 0; a < p.particle_count(); ++a) {
     if (!nodes.owns(a)) continue;
     ++owned;
+    own = parallel::hull(own, {a, a + 1});
     read = parallel::hull(read, {a, a + 1});
     for (Index k = bonds.offsets[a]; k < bonds.offsets[a + 1]; ++k)
       read = parallel::hull(read, {bonds.neighbour[k], bonds.neighbour[k] + 1});
   }
   const auto& held = p.integration_correction().bond;
-  const Index every = bonds.offsets.back();
+  const Index every = bonds.entry_count();
   if (owned == 0 || owned == nodes.size()) return;
   EXPECT_EQ(held.held_begin(), bonds.offsets[read.begin]) << "rank " << ranks.rank();
   EXPECT_EQ(held.held_end(), bonds.offsets[read.end]) << "rank " << ranks.rank();
   EXPECT_LT(held.held_end() - held.held_begin(), every) << "rank " << ranks.rank() << " holds every row";
+  // The bonds themselves alike, and their mirrors for the rows of the rank's own particles.
+  for (const parallel::Range bond_rows :
+       {parallel::Range{bonds.neighbour.held_begin(), bonds.neighbour.held_end()},
+        parallel::Range{bonds.broken.held_begin(), bonds.broken.held_end()},
+        parallel::Range{bonds.rest_length.held_begin(), bonds.rest_length.held_end()}}) {
+    EXPECT_EQ(bond_rows.begin, held.held_begin()) << "rank " << ranks.rank();
+    EXPECT_EQ(bond_rows.end, held.held_end()) << "rank " << ranks.rank();
+  }
+  EXPECT_EQ(bonds.mirror.held_begin(), bonds.offsets[own.begin]) << "rank " << ranks.rank();
+  EXPECT_EQ(bonds.mirror.held_end(), bonds.offsets[own.end]) << "rank " << ranks.rank();
   // The particles' state (F, the material point, the spring, the step's scratch) alike.
   EXPECT_EQ(p.held_state().begin, read.begin) << "rank " << ranks.rank();
   EXPECT_EQ(p.held_state().end, read.end) << "rank " << ranks.rank();
@@ -105,7 +117,8 @@ TEST(SpgOverRanks, TheSetUpBuildsNoRowUnderMpi) {
   solver::Problem problem = bar_problem();
   const parallel::Communicator& ranks = parallel::world();
   const auto& held = part(problem).integration_correction().bond;
-  const Index every = part(problem).bonds().offsets.back();
+  const Index every = part(problem).bonds().entry_count();
+  EXPECT_EQ(every > 0, ranks.size() == 1);  // under MPI no bond is searched before the deal either
   EXPECT_EQ(held.held_end() - held.held_begin(), ranks.size() == 1 ? every : 0);
   EXPECT_EQ(part(problem).held_state().size(), ranks.size() == 1 ? part(problem).particle_count() : 0);
   problem.nodes.deal(parallel::block_offsets(problem.nodes.size(), ranks.size()), ranks.rank());

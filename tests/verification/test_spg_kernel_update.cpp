@@ -55,7 +55,7 @@ void prescribe_velocity_field(model::Model& m, const Mat3& G) {
   }
 }
 
-Index total_bonds(const spg::Part& part) { return static_cast<Index>(part.bonds().neighbour.size()); }
+Index total_bonds(const spg::Part& part) { return part.bonds().entry_count(); }
 
 }  // namespace
 

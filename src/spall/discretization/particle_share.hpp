@@ -85,49 +85,6 @@ class ParticleShare {
     });
   }
 
-  // The same for arrays of rows of different lengths: particle a's entries are
-  // [row_offsets[a], row_offsets[a + 1]) (compressed rows, the SPG bonds). The particles must be
-  // stored in node order, so that every rank's rows are one block of entries.
-  template <typename... T>
-  void rows(std::span<const Index> node, std::span<const Index> row_offsets, std::vector<T>&... values) {
-    if (!bound_ || parallel::world().size() == 1) return;
-    if (offsets_.empty()) plan(node);
-    if (!order_.empty() || row_offsets.size() != node.size() + 1)
-      throw std::logic_error("ParticleShare::rows: particles not in node order, or rows not one a particle");
-    std::vector<Index> entries(offsets_.size());
-    for (std::size_t r = 0; r < offsets_.size(); ++r) entries[r] = row_offsets[offsets_[r]];
-    (share_entries(values, entries), ...);
-  }
-
-  // Rows that each rank has made for its own particles alone (the others' rows empty in
-  // `row_offsets`) become every particle's rows: the offsets are rebuilt from every rank's row
-  // lengths and each array's entries shared. Particles in node order, as for rows(). Every array
-  // is taken as in use: it is empty on a rank whose particles have no entries (or that has none).
-  template <typename... T>
-  void complete_rows(std::span<const Index> node, std::vector<Index>& row_offsets, std::vector<T>&... values) {
-    if (!bound_ || parallel::world().size() == 1) return;
-    if (offsets_.empty()) plan(node);
-    const Index n = static_cast<Index>(node.size());
-    if (!order_.empty() || static_cast<Index>(row_offsets.size()) != n + 1)
-      throw std::logic_error("ParticleShare::complete_rows: particles not in node order, or rows not one a particle");
-    const int rank = parallel::world().rank();
-    const Index first = offsets_[rank], last = offsets_[rank + 1];
-    const Index own_begin = row_offsets[first], own_end = row_offsets[last];
-    std::vector<Index> length(n);
-    for (Index a = 0; a < n; ++a) length[a] = row_offsets[a + 1] - row_offsets[a];
-    (*this)(node, length);
-    for (Index a = 0; a < n; ++a) row_offsets[a + 1] = row_offsets[a] + length[a];
-    // This rank's entries move up to where the rows before them end (they only grow: the rows
-    // before were empty), then every rank's come in.
-    const auto move_own = [&](auto& array) {
-      array.resize(row_offsets[n]);
-      std::copy_backward(array.begin() + own_begin, array.begin() + own_end,
-                         array.begin() + row_offsets[first] + (own_end - own_begin));
-    };
-    (move_own(values), ...);
-    rows(node, row_offsets, values...);
-  }
-
  private:
   void plan(std::span<const Index> node) {
     const int ranks = parallel::world().size();
@@ -185,14 +142,6 @@ class ParticleShare {
     parallel::for_each(n, [&](Index k) {
       std::copy_n(by_rank.begin() + k * per, per, values.begin() + order_[k] * per);
     });
-  }
-
-  template <typename T>
-  static void share_entries(std::vector<T>& values, std::span<const Index> entries) {
-    if (values.empty()) return;
-    if (static_cast<Index>(values.size()) != entries.back())
-      throw std::logic_error("ParticleShare::rows: an array that is not one value an entry");
-    parallel::world().share(std::span(values), entries);
   }
 
   // The partition bound to: by region NodeStore::owner, in blocks NodeStore::rank_begin (both

@@ -16,6 +16,7 @@
 
 #include "spall/core/communicator.hpp"
 #include "spall/core/parallel.hpp"
+#include "spall/core/stretch_view.hpp"
 #include "spall/core/types.hpp"
 #include "spall/discretization/particle_share.hpp"
 
@@ -59,10 +60,10 @@ class ReachShare {
     plan(reads, node, share, nodes, {0, static_cast<Index>(node.size())});
   }
   // The same for passes over rows in compressed form (a neighbour list, SPG's bonds): the rank
-  // reads every row it computes (`computes(a)`, in `rows`, which holds its own particles) and each
-  // particle in it. Returns those reads.
+  // reads every row it computes (`computes(a)`, in `rows`, which holds its own particles; the
+  // entries of those rows held in `entries`) and each particle in it. Returns those reads.
   template <typename Computes>
-  std::vector<std::uint8_t> plan_rows(std::span<const Index> offsets, std::span<const Index> entries,
+  std::vector<std::uint8_t> plan_rows(std::span<const Index> offsets, StretchView<Index> entries,
                                       Computes&& computes, std::span<const Index> node, const ParticleShare& share,
                                       const NodeStore& nodes, Stretch rows) {
     std::vector<std::uint8_t> reads(node.size(), 0);
@@ -81,7 +82,7 @@ class ReachShare {
     return reads;
   }
   template <typename Computes>
-  std::vector<std::uint8_t> plan_rows(std::span<const Index> offsets, std::span<const Index> entries,
+  std::vector<std::uint8_t> plan_rows(std::span<const Index> offsets, StretchView<Index> entries,
                                       Computes&& computes, std::span<const Index> node, const ParticleShare& share,
                                       const NodeStore& nodes) {
     return plan_rows(offsets, entries, computes, node, share, nodes, {0, static_cast<Index>(node.size())});

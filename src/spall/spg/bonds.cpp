@@ -5,50 +5,64 @@
 
 namespace spall::spg {
 
+namespace {
+
+// The neighbours of row i, held.
+std::span<const Index> row(const BondList& bonds, Index i) {
+  return {bonds.neighbour.data() + (bonds.offsets[i] - bonds.neighbour.held_begin()),
+          static_cast<std::size_t>(bonds.count(i))};
+}
+
+}  // namespace
+
 Index BondList::broken_count(Index i) const {
   Index c = 0;
   for (Index k = offsets[i]; k < offsets[i + 1]; ++k) c += broken[k];
   return c;
 }
 
-Real previous_rest_length(const BondList& previous, Index i, Index j, bool& found) {
-  found = false;
-  if (i >= previous.size()) return 0;
-  const auto begin = previous.neighbour.begin() + previous.offsets[i];
-  const auto end = previous.neighbour.begin() + previous.offsets[i + 1];
-  const auto it = std::lower_bound(begin, end, j);
-  if (it == end || *it != j) return 0;
-  found = true;
-  return previous.rest_length[it - previous.neighbour.begin()];
+Index BondList::find(Index i, Index j) const {
+  const std::span<const Index> r = row(*this, i);
+  const auto it = std::lower_bound(r.begin(), r.end(), j);
+  return it == r.end() || *it != j ? -1 : offsets[i] + static_cast<Index>(it - r.begin());
 }
 
-void record_broken_pairs(const BondList& bonds, std::vector<BondPair>& broken_pairs) {
-  std::vector<BondPair> now;
-  for (Index i = 0; i < bonds.size(); ++i)
-    for (Index k = bonds.offsets[i]; k < bonds.offsets[i + 1]; ++k)
-      if (bonds.broken[k] && i < bonds.neighbour[k]) now.emplace_back(i, bonds.neighbour[k]);
+std::vector<Index> row_offsets(std::span<const Index> length) {
+  std::vector<Index> offsets(length.size() + 1, 0);
+  for (std::size_t i = 0; i < length.size(); ++i) offsets[i + 1] = offsets[i] + length[i];
+  return offsets;
+}
+
+Real previous_rest_length(const BondList& previous, Index i, Index j, bool& found) {
+  const Index k = i < previous.size() ? previous.find(i, j) : -1;
+  found = k >= 0;
+  return found ? previous.rest_length[k] : 0;
+}
+
+void break_bonds(BondList& bonds, std::span<const std::uint8_t> held, std::span<const BondPair> pairs,
+                 std::vector<BondPair>& broken_pairs) {
+  for (const auto& [i, j] : pairs) {
+    if (held.empty() || held[i]) bonds.broken[bonds.find(i, j)] = 1;
+    if (held.empty() || held[j]) bonds.broken[bonds.find(j, i)] = 1;
+  }
   std::vector<BondPair> merged;
-  merged.reserve(broken_pairs.size() + now.size());
-  std::set_union(broken_pairs.begin(), broken_pairs.end(), now.begin(), now.end(), std::back_inserter(merged));
+  merged.reserve(broken_pairs.size() + pairs.size());
+  std::set_union(broken_pairs.begin(), broken_pairs.end(), pairs.begin(), pairs.end(), std::back_inserter(merged));
   broken_pairs.swap(merged);
 }
 
-void link_mirrors(BondList& bonds) {
-  const Index n = bonds.size();
-  bonds.mirror.resize(bonds.neighbour.size());
-  parallel::for_each(n, [&](Index i) {
-    for (Index k = bonds.offsets[i]; k < bonds.offsets[i + 1]; ++k) {
-      const Index j = bonds.neighbour[k];
-      const auto begin = bonds.neighbour.begin() + bonds.offsets[j];
-      const auto end = bonds.neighbour.begin() + bonds.offsets[j + 1];
-      // The pattern is symmetric, so i is in row j.
-      bonds.mirror[k] = static_cast<Index>(std::lower_bound(begin, end, i) - bonds.neighbour.begin());
-    }
+void link_mirrors(BondList& bonds, parallel::Range rows) {
+  const parallel::Range held = bonds.entries(rows);
+  bonds.mirror.resize(0);
+  bonds.mirror.hold(held.begin, held.end);
+  parallel::for_each(rows, [&](Index i) {
+    // The pattern is symmetric, so i is in row j.
+    for (Index k = bonds.offsets[i]; k < bonds.offsets[i + 1]; ++k) bonds.mirror[k] = bonds.find(bonds.neighbour[k], i);
   }, particle_loops);
 }
 
-std::vector<Index> bonds_breaking(const BondList& bonds, std::span<const Real> quantity, std::span<const Vec3> x,
-                                  Real critical_value, Real critical_stretch, parallel::Range rows) {
+std::vector<BondPair> bonds_breaking(const BondList& bonds, std::span<const Real> quantity, std::span<const Vec3> x,
+                                     Real critical_value, Real critical_stretch, parallel::Range rows) {
   if (rows.size() == 0) return {};
   const Index first = bonds.offsets[rows.begin];
   std::vector<std::uint8_t> breaks(static_cast<std::size_t>(bonds.offsets[rows.end] - first), 0);
@@ -63,10 +77,13 @@ std::vector<Index> bonds_breaking(const BondList& bonds, std::span<const Real> q
       breaks[k - first] = stretch > critical_stretch;
     }
   }, particle_loops);
-  std::vector<Index> positions;
-  for (std::size_t k = 0; k < breaks.size(); ++k)
-    if (breaks[k]) positions.push_back(first + static_cast<Index>(k));
-  return positions;
+  std::vector<BondPair> pairs;
+  for (Index i = rows.begin; i < rows.end; ++i)
+    for (Index k = bonds.offsets[i]; k < bonds.offsets[i + 1]; ++k)
+      if (breaks[k - first]) pairs.push_back(std::minmax(i, bonds.neighbour[k]));
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  return pairs;
 }
 
 }  // namespace spall::spg

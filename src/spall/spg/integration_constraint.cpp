@@ -63,7 +63,13 @@ class NormalEquations {
  public:
   NormalEquations(const BondList& bonds, std::span<const Vec3> X, std::span<const std::uint8_t> interior,
                   std::span<const std::uint8_t> active, const Ownership& own)
-      : bonds_(bonds), X_(X), interior_(interior), active_(active), own_(own) {
+      : bonds_(bonds),
+        neighbour_(bonds.neighbour.view(bonds.entry_count())),
+        broken_(bonds.broken.view(bonds.entry_count())),
+        X_(X),
+        interior_(interior),
+        active_(active),
+        own_(own) {
     // Block-Jacobi preconditioner: the particle's own 4 x 4 block sum_L [1; d][1; d]^T (3 x 3
     // without the divergence row where the particle is not interior), the same for every
     // gradient component. Of a rank's own particles.
@@ -74,7 +80,7 @@ class NormalEquations {
       for (Index k = bonds.offsets[j]; k < bonds.offsets[j + 1]; ++k) {
         if (!usable(j, k)) continue;
         Vec4 h;
-        h << 1, X_[bonds.neighbour[k]] - X_[j];
+        h << 1, X_[neighbour_[k]] - X_[j];
         P += h * h.transpose();
       }
       if (!interior_[j]) {
@@ -94,11 +100,11 @@ class NormalEquations {
     }, particle_loops);
   }
 
-  bool usable(Index j, Index k) const { return !bonds_.broken[k] && active_[bonds_.neighbour[k]] && active_[j]; }
+  bool usable(Index j, Index k) const { return !broken_[k] && active_[neighbour_[k]] && active_[j]; }
 
   // The flux of bond k (row j) for multipliers (lambda, mu): c = (lambda_j - lambda_l) + (mu_j + mu_l) d.
   Vec3 flux(StretchView<Vec3> lambda, StretchView<Mat3> mu, Index j, Index k) const {
-    const Index l = bonds_.neighbour[k];
+    const Index l = neighbour_[k];
     return (lambda[j] - lambda[l]) + (mu[j] + mu[l]) * (X_[l] - X_[j]);
   }
 
@@ -117,7 +123,7 @@ class NormalEquations {
           if (!usable(j, k)) continue;
           const Vec3 c = flux(lambda, mu, j, k);
           div += c;
-          moment.noalias() += c * (X_[bonds_.neighbour[k]] - X_[j]).transpose();
+          moment.noalias() += c * (X_[neighbour_[k]] - X_[j]).transpose();
         }
       y.lambda[j] = interior_[j] ? div : Vec3::Zero();
       y.mu[j] = moment;
@@ -138,6 +144,9 @@ class NormalEquations {
 
  private:
   const BondList& bonds_;
+  // The rows' neighbours and flags through views (as the multipliers in apply).
+  StretchView<Index> neighbour_;
+  StretchView<std::uint8_t> broken_;
   std::span<const Vec3> X_;
   std::span<const std::uint8_t> interior_;
   std::span<const std::uint8_t> active_;

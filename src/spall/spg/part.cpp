@@ -99,15 +99,15 @@ Part::Part(PartSettings settings, const std::vector<ParticleSetup>& particles,
   v_.assign(n, Vec3::Zero());
   degraded_.assign(n, 0);
 
+  // Under MPI each rank searches the bonds of its own particles, holds the rows and the state of
+  // the particles it reads and builds the shape functions and correction of its own particles' rows
+  // at the first deal (compute_forces), where the set-up would build every particle's and every
+  // row's on every rank: the bonds take 17 B a bond, the shape functions 56 B, the state about
+  // 650 B a particle.
+  set_up_pending_ = parallel::world().size() > 1;
+  if (set_up_pending_) return;
   search_bonds(nullptr);
-  initial_bond_count_.resize(n);
-  for (std::size_t i = 0; i < n; ++i) initial_bond_count_[i] = bonds_.count(static_cast<Index>(i));
-  // Under MPI each rank holds the state of the particles it reads and builds the shape functions
-  // and correction of its own particles' rows at the first deal (compute_forces), where the set-up
-  // would build every particle's and every row's on every rank: the shape functions are the largest
-  // arrays of an SPG part, 56 B a bond, and the state about 650 B a particle.
-  shape_functions_pending_ = parallel::world().size() > 1;
-  if (shape_functions_pending_) return;
+  link_mirrors(bonds_, own_);
   hold_state(read_);
   set_up_shape_functions();
 }
@@ -132,11 +132,12 @@ void Part::hold_state(parallel::Range particles) {
 void Part::set_up_shape_functions() {
   build_shape_functions(true);
   correct_integration_constraint(true);
-  shape_functions_pending_ = false;
+  set_up_pending_ = false;
 }
 
 // Bonds: the pairs in which one particle lies inside the other's support, in the current positions.
-// Under MPI each rank searches the rows of its own particles and the rows are then shared.
+// Each rank searches the rows of its own particles; under MPI every row's length comes in (the
+// offsets are every row's), and the rows a rank reads follow (take_read_rows).
 void Part::search_bonds(const BondList* previous) {
   Real radius = 0;
   for (const auto& a : support_) radius = std::max(radius, support_radius(settings_.shape, a));
@@ -147,9 +148,30 @@ void Part::search_bonds(const BondList* previous) {
     return kernel_value(shape, x_[i] - x_[j], support_[j]).value > 0 ||
            kernel_value(shape, x_[j] - x_[i], support_[i]).value > 0;
   };
-  bonds_ = make_bond_rows(verlet.list(), x_, covers, previous, broken_pairs_);
-  share_.complete_rows(node_, bonds_.offsets, bonds_.neighbour, bonds_.broken, bonds_.rest_length);
-  link_mirrors(bonds_);
+  std::vector<Index> length = bond_row_lengths(verlet.list(), covers, own_);
+  share_(node_, length);
+  BondList bonds;
+  bonds.offsets = row_offsets(length);
+  bonds.neighbour.resize(0), bonds.broken.resize(0), bonds.rest_length.resize(0);
+  bonds.hold(bonds.entries(own_));
+  fill_bond_rows(bonds, verlet.list(), x_, covers, previous, broken_pairs_, own_);
+  bonds_ = std::move(bonds);
+  if (previous) return;
+  // The set-up's rows, which bond_damage counts against.
+  initial_bond_count_.resize(length.size());
+  for (Index i = 0; i < particle_count(); ++i) initial_bond_count_[i] = bonds_.count(i);
+}
+
+void Part::bring_bond_rows(const discretization::ReachShare& from, parallel::Range particles) {
+  const parallel::Range held{bonds_.neighbour.held_begin(), bonds_.neighbour.held_end()};
+  bonds_.hold(parallel::hull(held, bonds_.entries(particles)));
+  from.rows(bonds_.offsets, bonds_.neighbour, bonds_.broken, bonds_.rest_length);
+}
+
+void Part::take_read_rows(const discretization::ReachShare& from) {
+  bring_bond_rows(from, read_);
+  bonds_.hold(bonds_.entries(read_));
+  link_mirrors(bonds_, own_);
 }
 
 // RK shape functions of every particle's row in the current positions, which become the reference
@@ -158,7 +180,7 @@ void Part::build_shape_functions(bool at_setup) {
   const Index n = particle_count();
   // Of the rows of the particles read (every row on one process): a rank's own computed here, the
   // others' in from their ranks below; a broken bond's entries stay 0.
-  const parallel::Range rows = entries(read_);
+  const parallel::Range rows = bonds_.entries(read_);
   psi_.resize(0), psi_.hold(rows.begin, rows.end, 0);
   grad_.resize(0), grad_.hold(rows.begin, rows.end, Vec3::Zero());
   // KERNEL 0: the windows deform with the material (mapped through each particle's accumulated
@@ -241,12 +263,14 @@ void Part::correct_integration_constraint(bool at_setup) {
   // own. A particle is interior when no particle within the reach of its column of D (two rings of
   // bonds for G A, one for G) is on the surface. The solve reads it at a rank's own particles
   // alone: the last ring grows over them, the one before over the particles they read (read_),
-  // from the surface flags of those and their partners (smoothed_): every particle on one process.
+  // from the surface flags of those and their partners, each flagged by its rank (a rank holds
+  // the rows of the particles it reads alone) and every rank's in: every particle's.
   const int rings = settings_.stabilization == Stabilization::fluid_particle ? 2 : 1;
   std::vector<std::uint8_t> near(n);
-  parallel::for_each(rings == 2 ? smoothed_ : read_, [&](Index j) {
+  parallel::for_each(own_, [&](Index j) {
     near[j] = on_surface_[j] || degraded_[j] || bonds_.broken_count(j) > 0;
   }, particle_loops);
+  share_(node_, near);
   for (int ring = 0; ring < rings; ++ring) {
     std::vector<std::uint8_t> grown = near;
     parallel::for_each(ring + 1 == rings ? own_ : read_, [&](Index j) {
@@ -283,18 +307,21 @@ void Part::correct_integration_constraint(bool at_setup) {
   // Set-up: solve to round-off (the patch test of the mesh as given). Kernel updates: the geometry
   // has moved little since the last solve, whose multipliers start a short one.
   const int iterations = at_setup ? setup_iterations : update_iterations;
-  const parallel::Range rows = entries(read_);  // of the rows read, as the shape functions
+  const parallel::Range rows = bonds_.entries(read_);  // of the rows read, as the shape functions
   correction_.bond.resize(0), correction_.bond.hold(rows.begin, rows.end);
   correct_integration(bonds_, x_, volume_ref_, interior, active, defect, iterations, own_, share_, reach_,
                       correction_);
 }
 
 void Part::smooth(std::span<const Vec3> field, RangeArray<Vec3>& smoothed) const {
-  parallel::for_each(read_, [&](Index i) {
+  const Index bonds = bonds_.entry_count();
+  const StretchView<Index> neighbour = bonds_.neighbour.view(bonds);
+  const StretchView<Real> psi = psi_.view(bonds);
+  parallel::for_each(read_, [&, neighbour, psi](Index i) {
     if (!computes(i)) return;
     Vec3 s = psi_self_[i] * field[i];
     for (Index k = bonds_.offsets[i]; k < bonds_.offsets[i + 1]; ++k)
-      s.noalias() += psi_[k] * field[bonds_.neighbour[k]];
+      s.noalias() += psi[k] * field[neighbour[k]];
     smoothed[i] = s;
   }, particle_loops);
 }
@@ -304,9 +331,10 @@ Index Part::deformation(StretchView<Vec3> x, StretchView<Vec3> v, Real dt) {
   const auto& mat = settings_.material;
   parallel::LowestIndex inverted;
   // The bonds' values read through views held by the pass (as internal_forces).
-  const Index bonds = bonds_.offsets.back();
+  const Index bonds = bonds_.entry_count();
+  const StretchView<Index> neighbour = bonds_.neighbour.view(bonds);
   const StretchView<Vec3> grad = grad_.view(bonds), correction = correction_.bond.view(bonds);
-  parallel::for_each(own_, [&, x, v, grad, correction](Index j) {
+  parallel::for_each(own_, [&, x, v, neighbour, grad, correction](Index j) {
     if (degraded_[j]) {
       spin_[j] = Mat3::Zero();
       viscous_pressure_[j] = 0;
@@ -318,7 +346,7 @@ Index Part::deformation(StretchView<Vec3> x, StretchView<Vec3> v, Real dt) {
     Mat3 F = x[j] * grad_self_[j].transpose() + x_[j] * correction_.self[j].transpose();
     Mat3 dF = v[j] * grad_self_[j].transpose() + v_[j] * correction_.self[j].transpose();
     for (Index k = bonds_.offsets[j]; k < bonds_.offsets[j + 1]; ++k) {
-      const Index i = bonds_.neighbour[k];
+      const Index i = neighbour[k];
       F.noalias() += x[i] * grad[k].transpose() + x_[i] * correction[k].transpose();
       dF.noalias() += v[i] * grad[k].transpose() + v_[i] * correction[k].transpose();
     }
@@ -393,32 +421,38 @@ void Part::failure_quantity(std::vector<Real>& out, parallel::Range particles) c
 // A particle that bond failure left without a linear approximation can neither carry nor pass on
 // a stress consistently; the bonds it still has would only let its stressed neighbours fling it
 // off the crack. It is detached: its remaining bonds break too, and its neighbours' rows are
-// rebuilt without it (which may detach them in turn). Particles degraded without any broken bond
+// rebuilt without it (which may detach them in turn: a pass detaches the particles degraded at its
+// start, each rank its own, whatever the order). Particles degraded without any broken bond
 // (neighbours lost to a stretch beyond the windows' bound) keep their bonds.
 void Part::detach_degraded_particles() {
-  const Index n = particle_count();
   for (int pass = 0; pass < 16; ++pass) {
-    bool detached = false;
-    for (Index j = 0; j < n; ++j) {
-      if (!degraded_[j] || bonds_.broken_count(j) == 0 || bonds_.broken_count(j) == bonds_.count(j)) continue;
-      for (Index k = bonds_.offsets[j]; k < bonds_.offsets[j + 1]; ++k) {
-        bonds_.broken[k] = 1;
-        bonds_.broken[bonds_.mirror[k]] = 1;
-      }
-      detached = true;
+    std::vector<BondPair> detaching;
+    for (Index j = own_.begin; j < own_.end; ++j) {
+      const Index broken = bonds_.broken_count(j);
+      if (!degraded_[j] || broken == 0 || broken == bonds_.count(j)) continue;
+      for (Index k = bonds_.offsets[j]; k < bonds_.offsets[j + 1]; ++k)
+        if (!bonds_.broken[k]) detaching.push_back(std::minmax(j, bonds_.neighbour[k]));
     }
-    if (!detached) return;
-    record_broken_pairs(bonds_, broken_pairs_);
+    detaching = every_ranks(std::move(detaching));
+    if (detaching.empty()) return;
+    break_bonds(bonds_, reads_, detaching, broken_pairs_);
     build_shape_functions(false);
   }
+}
+
+std::vector<BondPair> Part::every_ranks(std::vector<BondPair> pairs) const {
+  if (share_.dealt()) pairs = parallel::world().all(std::span<const BondPair>(pairs));
+  std::sort(pairs.begin(), pairs.end());
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  return pairs;
 }
 
 void Part::update_kernel(const discretization::NodeStore& nodes) {
   const Index n = particle_count();
   // A rank folds F where it holds it current, in the particles it reads (every one on one
   // process; under MPI their F, material state and pressure come each step), and judges the bonds
-  // of its own particles' rows from them: only the bonds it breaks travel, to every rank (the bonds
-  // are every rank's). The others' folded F come with their state where a rank reads them later
+  // of its own particles' rows from them: only the bonds it breaks travel, to every rank (the
+  // broken pairs are every rank's). The others' folded F come with their state where a rank reads them later
   // (complete, deal_anew; an Eulerian search's new partners below).
   parallel::for_each(read_, [&](Index j) {
     volume_ref_[j] *= F_[j].determinant();
@@ -434,11 +468,10 @@ void Part::update_kernel(const discretization::NodeStore& nodes) {
     return count;
   };
   const std::vector<Index> broken_before = broken_per_particle();
-  const std::vector<Index> mine =
-      bonds_breaking(bonds_, quantity, x_, settings_.failure_value, settings_.failure_stretch, own_);
-  const std::vector<Index> breaking = share_.dealt() ? parallel::world().all(std::span<const Index>(mine)) : mine;
-  for (const Index k : breaking) bonds_.broken[k] = 1;
-  record_broken_pairs(bonds_, broken_pairs_);
+  break_bonds(bonds_, reads_,
+              every_ranks(bonds_breaking(bonds_, quantity, x_, settings_.failure_value, settings_.failure_stretch,
+                                         own_)),
+              broken_pairs_);
   if (settings_.kernel_update != KernelUpdate::updated_lagrangian) {
     // Windows in the current configuration widen with the stretch of the material around each
     // particle (THEORY §9.7): windows of the first size lose the neighbours of material that spreads
@@ -449,16 +482,20 @@ void Part::update_kernel(const discretization::NodeStore& nodes) {
       support_[j] = window_extent(F_total_[j], a).cwiseMax(a).cwiseMin(max_window_growth * a);
     }, particle_loops);
   }
-  if (settings_.kernel_update == KernelUpdate::eulerian) {
+  const bool searching = settings_.kernel_update == KernelUpdate::eulerian;
+  if (searching) {
     // The search reads the window of any particle near a rank's own: every rank's in whole.
     share_(node_, support_);
     const BondList previous = std::move(bonds_);
     search_bonds(&previous);
   }
-  // Under MPI the shape functions and the correction of the particles the new rows read come in
-  // from their ranks.
-  if (parallel::world().size() > 1) {
-    plan_reach(nodes);
+  // Under MPI the bonds, the shape functions and the correction of the particles the new rows read
+  // come in from their ranks.
+  const bool distributed = parallel::world().size() > 1;
+  if (distributed) plan_reads(nodes);
+  if (searching) take_read_rows(reach_);
+  if (distributed) {
+    plan_smoothed(nodes);
     hold_state(read_);  // KERNEL 1's new partners: their state comes in below
   }
   build_shape_functions(false);
@@ -492,57 +529,65 @@ void Part::internal_forces() {
   }, particle_loops);
   // The bond passes read the partners' values through views held by the passes (a RangeArray's
   // first index and data reloaded at every bond, integration_constraint.cpp).
-  const Index n = particle_count(), bonds = bonds_.offsets.back();
+  const Index n = particle_count(), bonds = bonds_.entry_count();
   const StretchView<Mat3> P = weighted_stress_.view(n);
+  const StretchView<Index> neighbour = bonds_.neighbour.view(bonds), mirror = bonds_.mirror.view(bonds);
   const StretchView<Real> psi = psi_.view(bonds);
   const StretchView<Vec3> grad = grad_.view(bonds), correction = correction_.bond.view(bonds);
-  parallel::for_each(own_, [&, P, grad](Index i) {
+  parallel::for_each(own_, [&, P, neighbour, mirror, grad](Index i) {
     Vec3 h = P[i] * grad_self_[i];
     for (Index k = bonds_.offsets[i]; k < bonds_.offsets[i + 1]; ++k)
-      h.noalias() += P[bonds_.neighbour[k]] * grad[bonds_.mirror[k]];
+      h.noalias() += P[neighbour[k]] * grad[mirror[k]];
     h_[i] = h;
   }, particle_loops);
   reach_(h_);
   const bool smoothed = settings_.stabilization == Stabilization::fluid_particle;
   const StretchView<Vec3> h = h_.view(n), s = stabilization_total_.view(n);
-  parallel::for_each(own_, [&, P, psi, correction, h, s](Index K) {
+  parallel::for_each(own_, [&, P, neighbour, mirror, psi, correction, h, s](Index K) {
     // f_K = -sum_I Psi_K(X_I) (h_I - s_I) - s_K, or with ITB 2 -h_K - s_K + sum_I Psi_K(X_I) s_I.
     Vec3 gathered = psi_self_[K] * (smoothed ? Vec3(h[K] - s[K]) : Vec3(-s[K]));
     for (Index k = bonds_.offsets[K]; k < bonds_.offsets[K + 1]; ++k) {
-      const Index I = bonds_.neighbour[k];
-      gathered.noalias() += psi[bonds_.mirror[k]] * (smoothed ? Vec3(h[I] - s[I]) : Vec3(-s[I]));
+      const Index I = neighbour[k];
+      gathered.noalias() += psi[mirror[k]] * (smoothed ? Vec3(h[I] - s[I]) : Vec3(-s[I]));
     }
     // The correction's share: -sum_J V_J P_J C_JK.
     Vec3 corrected = P[K] * correction_.self[K];
     for (Index k = bonds_.offsets[K]; k < bonds_.offsets[K + 1]; ++k)
-      corrected.noalias() += P[bonds_.neighbour[k]] * correction[bonds_.mirror[k]];
+      corrected.noalias() += P[neighbour[k]] * correction[mirror[k]];
     force_[K] = (smoothed ? Vec3(-gathered - s[K]) : Vec3(-h[K] - gathered - s[K])) - corrected;
   }, particle_loops);
 }
 
-const std::vector<std::uint8_t>& Part::plan_reach(const discretization::NodeStore& nodes) {
-  reach_partition_ = nodes.partition;
+void Part::find_own(const discretization::NodeStore& nodes) {
   // The particles are in node order and the nodes dealt in blocks: a rank's own are one stretch.
   const auto first_at = [&](Index node) {
     return static_cast<Index>(std::lower_bound(node_.begin(), node_.end(), node) - node_.begin());
   };
   own_ = {first_at(nodes.owned_begin), first_at(nodes.owned_end)};
-  reads_ = reach_.plan_rows(bonds_.offsets, bonds_.neighbour, [&](Index j) { return owns(j); }, node_, share_, nodes,
-                            {own_.begin, own_.end});
-  // The stretches holding the particles read, and their bond partners, whose positions and
-  // velocities the smoothing of the particles read reads (eq. 11).
-  read_ = smoothed_ = {};
-  for (Index a = 0; a < particle_count(); ++a) {
+}
+
+const std::vector<std::uint8_t>& Part::plan_reads(const discretization::NodeStore& nodes) {
+  reach_partition_ = nodes.partition;
+  reads_ = reach_.plan_rows(bonds_.offsets, bonds_.neighbour.view(bonds_.entry_count()),
+                            [&](Index j) { return owns(j); }, node_, share_, nodes, {own_.begin, own_.end});
+  read_ = {};
+  for (Index a = 0; a < particle_count(); ++a)
+    if (reads_[a]) read_ = parallel::hull(read_, {a, a + 1});
+  return reads_;
+}
+
+void Part::plan_smoothed(const discretization::NodeStore& nodes) {
+  // The stretch holding the particles read and their bond partners, whose positions and velocities
+  // the smoothing of the particles read reads (eq. 11).
+  smoothed_ = read_;
+  for (Index a = read_.begin; a < read_.end; ++a) {
     if (!reads_[a]) continue;
-    read_ = parallel::hull(read_, {a, a + 1});
-    smoothed_ = parallel::hull(smoothed_, {a, a + 1});
     for (Index k = bonds_.offsets[a]; k < bonds_.offsets[a + 1]; ++k)
       smoothed_ = parallel::hull(smoothed_, {bonds_.neighbour[k], bonds_.neighbour[k] + 1});
   }
   if (nodes.velocities_by_reach)
-    velocity_reach_.plan_rows(bonds_.offsets, bonds_.neighbour, [&](Index j) { return reads_[j] != 0; }, node_, share_,
-                              nodes, {read_.begin, read_.end});
-  return reads_;
+    velocity_reach_.plan_rows(bonds_.offsets, bonds_.neighbour.view(bonds_.entry_count()),
+                              [&](Index j) { return reads_[j] != 0; }, node_, share_, nodes, {read_.begin, read_.end});
 }
 
 void Part::share_velocities(discretization::NodeStore& nodes) {
@@ -589,8 +634,17 @@ void Part::deal_anew(const discretization::NodeStore& nodes) {
   const discretization::ParticleShare dealt_before = share_;
   const parallel::Range held_before{psi_.held_begin(), psi_.held_end()}, state_before = held_state();
   share_.bind(nodes);
+  find_own(nodes);
+  // The rows of this rank's own particles first, which tell what it reads.
+  std::vector<std::uint8_t> own(particle_count(), 0);
+  std::fill(own.begin() + own_.begin, own.begin() + own_.end, 1);
+  discretization::ReachShare owned;
+  owned.plan(own, node_, dealt_before, nodes);
+  bring_bond_rows(owned, own_);
   discretization::ReachShare arrivals;
-  arrivals.plan(plan_reach(nodes), node_, dealt_before, nodes);
+  arrivals.plan(plan_reads(nodes), node_, dealt_before, nodes);
+  take_read_rows(arrivals);
+  plan_smoothed(nodes);
   // The state held before (that sent) and of the particles read now (that received) while it travels.
   hold_state(parallel::hull(state_before, read_));
   arrivals(F_, F_total_, spin_, state_, back_stress_, stabilization_force_, psi_self_, grad_self_, correction_.self,
@@ -600,9 +654,9 @@ void Part::deal_anew(const discretization::NodeStore& nodes) {
     arrivals(volume_ref_, support_, specific_energy_, density_, pressure_, sound_speed_, viscous_pressure_,
              viscous_power_);
   // The rows held before (those sent) and the rows read now (those received) while they travel.
-  hold_shape_rows(parallel::hull(held_before, entries(read_)));
+  hold_shape_rows(parallel::hull(held_before, bonds_.entries(read_)));
   arrivals.rows(bonds_.offsets, psi_, grad_, correction_.bond);
-  hold_shape_rows(entries(read_));
+  hold_shape_rows(bonds_.entries(read_));
 }
 
 void Part::complete() {
@@ -627,11 +681,15 @@ void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
   if (new_deal) deal_anew(nodes);
   share_.bind(nodes);
   if (distributed && reach_partition_ != nodes.partition) {  // the first deal, or a restart file read whole
-    plan_reach(nodes);
-    hold_shape_rows(entries(read_));
+    find_own(nodes);
+    if (set_up_pending_) search_bonds(nullptr);
+    plan_reads(nodes);
+    take_read_rows(reach_);
+    plan_smoothed(nodes);
+    hold_shape_rows(bonds_.entries(read_));
     hold_state(read_);
   }
-  if (shape_functions_pending_) set_up_shape_functions();
+  if (set_up_pending_) set_up_shape_functions();
   parallel::for_each(searching ? parallel::Range{0, n} : smoothed_, [&](Index i) {
     x_[i] = nodes.x[node_[i]];
     v_[i] = nodes.v[node_[i]];
@@ -776,16 +834,16 @@ void Part::write_fields(discretization::FieldSet& fields) const {
 }
 
 void Part::checkpoint(Archive& a) {
-  a.section("spg part 4");
+  a.section("spg part 5");
   a.expect_size("SPG particles", node_.size());
   a(mass_, volume0_, volume_ref_, support_, spacing_, mean_spacing_, stiffness_, pressure_, density_, sound_speed_,
     specific_energy_, viscous_pressure_, viscous_power_, dashpot_, stabilization_power_, initial_bond_count_, degraded_,
-    bonds_, broken_pairs_, on_surface_, correction_, x_, v_, steps_since_update_, kernel_updates_, mass_scaling_,
-    mass_scale_);
-  // The state held by stretch and the bonds' shape functions and correction in pieces
+    bonds_.offsets, broken_pairs_, on_surface_, correction_, x_, v_, steps_since_update_, kernel_updates_,
+    mass_scaling_, mass_scale_);
+  // The state held by stretch and the bonds, their shape functions and correction in pieces
   // (core/pieces.hpp): each rank writes its own particles' and their rows (rank 0 every one until
   // the nodes are dealt); read back whole, a rank keeps those it reads from its first step on
-  // (hold_state, hold_shape_rows).
+  // (hold_state, take_read_rows, hold_shape_rows).
   const parallel::Communicator& ranks = parallel::world();
   const Index n = particle_count();
   if (!a.reading()) {
@@ -795,18 +853,21 @@ void Part::checkpoint(Archive& a) {
       parallel::write_array_pieces(a, array, items.size(), at, at, ranks);
     };
     visit_held_state(*this, [&](const auto& array, const auto&) { write(array, mine); });
-    const parallel::Range rows = entries(mine);
+    const parallel::Range rows = bonds_.entries(mine);
+    write(bonds_.neighbour, rows), write(bonds_.broken, rows), write(bonds_.rest_length, rows);
     write(psi_, rows), write(grad_, rows), write(correction_.bond, rows);
   } else {
     const auto read = [&](auto& array, Index count) {
       parallel::read_array_pieces(a, array, count, {0, count}, [](Index k) { return k; });
     };
     visit_held_state(*this, [&](auto& array, const auto&) { read(array, n); });
-    const Index bonds = bonds_.offsets.empty() ? 0 : bonds_.offsets.back();
+    const Index bonds = bonds_.entry_count();
+    read(bonds_.neighbour, bonds), read(bonds_.broken, bonds), read(bonds_.rest_length, bonds);
     read(psi_, bonds), read(grad_, bonds), read(correction_.bond, bonds);
+    link_mirrors(bonds_, {0, n});
   }
   // The rest written whole (complete_state); read back, the ranks plan their reach again.
-  if (a.reading()) complete_ = kinematics_complete_ = true, shape_functions_pending_ = false, reach_partition_ = -1;
+  if (a.reading()) complete_ = kinematics_complete_ = true, set_up_pending_ = false, reach_partition_ = -1;
 }
 
 Index Part::degraded_count() const {
@@ -823,9 +884,9 @@ std::size_t Part::memory_bytes() const {
          bytes(stiffness_) + bytes(viscous_pressure_) + bytes(viscous_power_) + bytes(pressure_) + bytes(density_) +
          bytes(sound_speed_) + bytes(specific_energy_) + bytes(stabilization_power_) + bytes(dashpot_) +
          bytes(initial_bond_count_) + bytes(degraded_) + bytes(on_surface_) + correction_.bond.capacity_bytes() +
-         psi_.capacity_bytes() + grad_.capacity_bytes() + bytes(bonds_.offsets) + bytes(bonds_.neighbour) +
-         bytes(bonds_.mirror) + bytes(bonds_.broken) + bytes(bonds_.rest_length) + bytes(broken_pairs_) + bytes(x_) +
-         bytes(v_);
+         psi_.capacity_bytes() + grad_.capacity_bytes() + bytes(bonds_.offsets) + bonds_.neighbour.capacity_bytes() +
+         bonds_.mirror.capacity_bytes() + bonds_.broken.capacity_bytes() + bonds_.rest_length.capacity_bytes() +
+         bytes(broken_pairs_) + bytes(x_) + bytes(v_);
 }
 
 }  // namespace spall::spg

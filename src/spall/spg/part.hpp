@@ -118,7 +118,7 @@ class Part {
   }
   // Under MPI with the velocities by reach (NodeStore::velocities_by_reach): v^{n+1/2} of the other
   // ranks' particles that this rank's smoothing reads, the bond partners of the particles it reads
-  // (plan_reach), in from their ranks; the rest go stale until a kernel update, a new deal or a
+  // (plan_smoothed), in from their ranks; the rest go stale until a kernel update, a new deal or a
   // checkpoint completes them (complete_kinematics). The time loop advances the positions of the
   // rows those particles' nodes span (nodes_read).
   void share_velocities(discretization::NodeStore& nodes);
@@ -130,9 +130,17 @@ class Part {
   std::size_t memory_bytes() const;
 
  private:
+  // The rows of this rank's own particles (every particle's on one process), in the current
+  // positions; `previous`: the rows before (a KERNEL 1 update), whose bonds keep their rest lengths.
   void search_bonds(const BondList* previous);
+  // The bonds of the rows this rank reads (read_) in from the ranks that hold them (`from`, planned
+  // for those rows), the rows held now kept while they travel (this rank's own after a search, a
+  // new deal's senders'), and the mirrors of its own rows linked.
+  void take_read_rows(const discretization::ReachShare& from);
+  // The bonds of the rows of `particles` in (`from`, planned for them), those held now kept.
+  void bring_bond_rows(const discretization::ReachShare& from, parallel::Range particles);
   // The set-up's shape functions and integration-constraint correction (on one process in the
-  // constructor, under MPI at the first deal: shape_functions_pending_).
+  // constructor, under MPI at the first deal: set_up_pending_).
   void set_up_shape_functions();
   // The per-particle state (F, the material point, the spring, the step's scratch, the shape
   // functions' self terms and the correction's) of particles [begin, end) held from now on (every
@@ -159,18 +167,24 @@ class Part {
   Real current_spacing(Index i) const;
   // Whether this rank computes particle i's strain and force (NodeStore::owns; every particle when
   // the run is one process). Under MPI (replicated storage, docs/SCALING.md) each step's state of a
-  // rank's particles goes to the ranks whose particles are bonded to them (plan_reach, reach_); a
+  // rank's particles goes to the ranks whose particles are bonded to them (plan_reads, reach_); a
   // rank smooths, integrates the springs of and weighs the stress of the particles it reads alone
-  // (reads_). At a kernel update a rank folds the F of the particles it reads and judges its own
-  // particles' bonds, and the bonds broken travel to every rank (the bonds are every rank's); the
-  // bond search (KERNEL 1: every particle's window in, the rows shared whole), the shape functions
-  // and the integration-constraint solve are each rank's for its own particles, and of them only
-  // what the other ranks' rows read travels (reach_, planned anew for the new bonds).
+  // (reads_), and holds the bonds of their rows alone. At a kernel update a rank folds the F of the
+  // particles it reads and judges its own particles' bonds, and the bonds broken travel to every
+  // rank (every rank keeps every broken pair); the bond search (KERNEL 1: every particle's window
+  // in), the shape functions and the integration-constraint solve are each rank's for its own
+  // particles, and of them only what the other ranks' rows read travels (reach_, planned anew for
+  // the new bonds).
   bool owns(Index i) const { return share_.owns(node_[i]); }
-  // The other ranks' particles bonded to this rank's: at each kernel update and each new deal.
-  // Sets reads_ (this rank's own particles and those), and with the velocities by reach plans
-  // velocity_reach_ (collective).
-  const std::vector<std::uint8_t>& plan_reach(const discretization::NodeStore& nodes);
+  // own_ in the nodes' deal.
+  void find_own(const discretization::NodeStore& nodes);
+  // The other ranks' particles bonded to this rank's (from its own rows): at each kernel update and
+  // each new deal. Sets reads_ (this rank's own particles and those) and read_ (collective).
+  const std::vector<std::uint8_t>& plan_reads(const discretization::NodeStore& nodes);
+  // Then, from the rows read: smoothed_, and with the velocities by reach velocity_reach_ (collective).
+  void plan_smoothed(const discretization::NodeStore& nodes);
+  // The pairs given by every rank (under MPI; each rank's own alone before the deal), sorted, each once.
+  std::vector<BondPair> every_ranks(std::vector<BondPair> pairs) const;
   // Whether this rank computes particle i's smoothed fields, spring and weighted stress: every
   // particle on one process, else those it reads.
   bool computes(Index i) const { return reads_.empty() || reads_[i]; }
@@ -182,10 +196,6 @@ class Part {
   // Every rank's state of its own particles that every rank keeps whole in (share_): before a
   // checkpoint, which writes the rest (hold_state's) in pieces.
   void complete();
-  // The entries of the rows of particles [begin, end).
-  parallel::Range entries(parallel::Range particles) const {
-    return {bonds_.offsets[particles.begin], bonds_.offsets[std::max(particles.begin, particles.end)]};
-  }
   // From now on the bonds' shape functions and correction hold the entries `rows` (those of the
   // particles read_, every row on one process, but while a new deal's rows travel), the entries
   // held before keeping their values.
@@ -229,7 +239,7 @@ class Part {
   RangeArray<Real> psi_self_;
   RangeArray<Vec3> grad_self_;
   // Per bond, of the rows of the particles a rank reads alone (read_; every row on one process):
-  // the other rows are read by no pass of the rank's (hold_shape_rows).
+  // the other rows are read by no pass of the rank's (hold_shape_rows; the bonds alike).
   RangeArray<Real> psi_;   // psi_[k], k in row J: Psi_{neighbour}(X_J)
   RangeArray<Vec3> grad_;  // grad Psi_{neighbour}(X_J)
   BondList bonds_;
@@ -245,7 +255,7 @@ class Part {
 
   discretization::ParticleShare share_;  // under MPI: the particles this rank computes, theirs to all
   discretization::ReachShare reach_;     // under MPI: the other ranks' particles bonded to this rank's
-  std::vector<std::uint8_t> reads_;      // under MPI: 1 for this rank's particles and those (plan_reach)
+  std::vector<std::uint8_t> reads_;      // under MPI: 1 for this rank's particles and those (plan_reads)
   long long reach_partition_ = -1;       // NodeStore::partition that reach_ was planned for
   bool complete_ = true;                 // every particle's state current on this rank (complete())
   // With the velocities by reach: the other ranks' particles whose velocities this rank's smoothing
@@ -255,9 +265,10 @@ class Part {
   bool kinematics_complete_ = true;
   // The stretches of the particles (in node order) that hold this rank's own, those it reads, and
   // those whose positions and velocities the smoothing of the particles it reads reads: the step's
-  // passes run over them (every particle on one process and until the nodes are dealt; plan_reach).
+  // passes run over them (every particle on one process and until the nodes are dealt; find_own,
+  // plan_reads, plan_smoothed).
   parallel::Range own_, read_, smoothed_;
-  bool shape_functions_pending_ = false;  // under MPI until the first deal: none built yet
+  bool set_up_pending_ = false;  // under MPI until the first deal: no bond, shape function or correction yet
 
   int steps_since_update_ = 0;
   long long kernel_updates_ = 0;
