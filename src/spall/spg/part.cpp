@@ -86,13 +86,7 @@ Part::Part(PartSettings settings, const std::vector<ParticleSetup>& particles,
   // The state held by stretch on, holding no particle until hold_state.
   visit_held_state(*this, [](auto& array, const auto&) { array.resize(0); });
   if (!materials::keeps_back_stress(mat)) back_stress_.clear();
-  specific_energy_.assign(n, mat.initial_specific_energy);
-  pressure_.assign(n, materials::eos_pressure(mat, mat.density, mat.initial_specific_energy));
-  density_.assign(n, mat.density);
-  viscous_pressure_.assign(n, 0);
-  viscous_power_.assign(n, 0);
   sound_speed_.assign(n, c0);
-  stabilization_power_.assign(n, 0);
   dashpot_.resize(n);
   for (std::size_t i = 0; i < n; ++i)
     dashpot_[i] = 2 * settings_.stabilization_damping * std::sqrt(stiffness_[i] * mass_[i]);
@@ -123,6 +117,11 @@ void Part::visit_held_state(Self& part, Visit&& visit) {
   visit(part.weighted_stress_, zero), visit(part.spin_, zero);
   visit(part.psi_self_, Real(0)), visit(part.grad_self_, none);
   visit(part.correction_.self, none), visit(part.correction_.lambda, none), visit(part.correction_.mu, zero);
+  const auto& mat = part.settings_.material;
+  visit(part.specific_energy_, mat.initial_specific_energy), visit(part.density_, mat.density);
+  visit(part.pressure_, materials::eos_pressure(mat, mat.density, mat.initial_specific_energy));
+  visit(part.viscous_pressure_, Real(0)), visit(part.viscous_power_, Real(0));
+  visit(part.stabilization_power_, Real(0));
 }
 
 void Part::hold_state(parallel::Range particles) {
@@ -648,11 +647,9 @@ void Part::deal_anew(const discretization::NodeStore& nodes) {
   // The state held before (that sent) and of the particles read now (that received) while it travels.
   hold_state(parallel::hull(state_before, read_));
   arrivals(F_, F_total_, spin_, state_, back_stress_, stabilization_force_, psi_self_, grad_self_, correction_.self,
-           correction_.lambda, correction_.mu);
+           correction_.lambda, correction_.mu, specific_energy_, density_, pressure_, viscous_pressure_, viscous_power_);
   hold_state(read_);
-  if (!complete_)
-    arrivals(volume_ref_, support_, specific_energy_, density_, pressure_, sound_speed_, viscous_pressure_,
-             viscous_power_);
+  if (!complete_) arrivals(volume_ref_, support_, sound_speed_);
   // The rows held before (those sent) and the rows read now (those received) while they travel.
   hold_shape_rows(parallel::hull(held_before, bonds_.entries(read_)));
   arrivals.rows(bonds_.offsets, psi_, grad_, correction_.bond);
@@ -660,8 +657,7 @@ void Part::deal_anew(const discretization::NodeStore& nodes) {
 }
 
 void Part::complete() {
-  share_(node_, volume_ref_, support_, specific_energy_, density_, pressure_, sound_speed_, viscous_pressure_,
-         viscous_power_);
+  share_(node_, volume_ref_, support_, sound_speed_);
   complete_ = true;
 }
 
@@ -834,10 +830,10 @@ void Part::write_fields(discretization::FieldSet& fields) const {
 }
 
 void Part::checkpoint(Archive& a) {
-  a.section("spg part 5");
+  a.section("spg part 6");
   a.expect_size("SPG particles", node_.size());
-  a(mass_, volume0_, volume_ref_, support_, spacing_, mean_spacing_, stiffness_, pressure_, density_, sound_speed_,
-    specific_energy_, viscous_pressure_, viscous_power_, dashpot_, stabilization_power_, initial_bond_count_, degraded_,
+  a(mass_, volume0_, volume_ref_, support_, spacing_, mean_spacing_, stiffness_, sound_speed_, dashpot_,
+    initial_bond_count_, degraded_,
     bonds_.offsets, broken_pairs_, on_surface_, correction_, x_, v_, steps_since_update_, kernel_updates_,
     mass_scaling_, mass_scale_);
   // The state held by stretch and the bonds, their shape functions and correction in pieces
@@ -881,8 +877,7 @@ std::size_t Part::memory_bytes() const {
   visit_held_state(*this, [&](const auto& array, const auto&) { held += array.capacity_bytes(); });
   return held + bytes(node_) + bytes(node_id_) + bytes(mass_) + bytes(mass_scale_) + bytes(volume0_) +
          bytes(volume_ref_) + bytes(support_) + bytes(initial_support_) + bytes(spacing_) + bytes(mean_spacing_) +
-         bytes(stiffness_) + bytes(viscous_pressure_) + bytes(viscous_power_) + bytes(pressure_) + bytes(density_) +
-         bytes(sound_speed_) + bytes(specific_energy_) + bytes(stabilization_power_) + bytes(dashpot_) +
+         bytes(stiffness_) + bytes(sound_speed_) + bytes(dashpot_) +
          bytes(initial_bond_count_) + bytes(degraded_) + bytes(on_surface_) + correction_.bond.capacity_bytes() +
          psi_.capacity_bytes() + grad_.capacity_bytes() + bytes(bonds_.offsets) + bonds_.neighbour.capacity_bytes() +
          bonds_.mirror.capacity_bytes() + bonds_.broken.capacity_bytes() + bonds_.rest_length.capacity_bytes() +

@@ -225,13 +225,15 @@ class Part {
   RangeArray<Mat3> F_total_;  // from the initial configuration to the last kernel update
   RangeArray<materials::PointState> state_;
   RangeArray<Mat3> back_stress_;  // where the material keeps one (materials::keeps_back_stress), else off
-  std::vector<Real> pressure_, density_, sound_speed_, specific_energy_;
-  std::vector<Real> viscous_pressure_;  // bulk viscosity q, added to the pressure
-  std::vector<Real> viscous_power_;     // V q (-tr D): the rate of energy it dissipates
+  RangeArray<Real> pressure_, density_, specific_energy_;
+  RangeArray<Real> viscous_pressure_;  // bulk viscosity q, added to the pressure
+  RangeArray<Real> viscous_power_;     // V q (-tr D): the rate of energy it dissipates
+  // Every particle's: the stable step's and the runaway check's (max_wave_speed) at the loop's start.
+  std::vector<Real> sound_speed_;
   RangeArray<Vec3> stabilization_force_;  // s_J, the spring (read_)
   std::vector<Real> dashpot_;             // c_J
   RangeArray<Vec3> stabilization_total_;  // s_J + c_J (v_J - vs_J), what the force gathers (read_)
-  std::vector<Real> stabilization_power_;  // c_J |v_J - vs_J|^2, dissipated
+  RangeArray<Real> stabilization_power_;  // c_J |v_J - vs_J|^2, dissipated (read_)
   std::vector<Index> initial_bond_count_;
   // 1 where the bonds left no longer hold a linear field: Shepard smoothing, no strain of its own.
   std::vector<std::uint8_t> degraded_;
