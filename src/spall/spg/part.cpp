@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 #include <limits>
 
+#include "spall/core/bounding_box.hpp"
 #include "spall/core/cube_root.hpp"
 #include "spall/core/pieces.hpp"
 #include "spall/spg/parallel.hpp"
@@ -137,23 +138,43 @@ void Part::set_up_shape_functions() {
 // Bonds: the pairs in which one particle lies inside the other's support, in the current positions.
 // Each rank searches the rows of its own particles; under MPI every row's length comes in (the
 // offsets are every row's), and the rows a rank reads follow (take_read_rows).
-void Part::search_bonds(const BondList* previous) {
+void Part::search_bonds(const BondList* previous, std::span<const Index> near) {
   Real radius = 0;
-  for (const auto& a : support_) radius = std::max(radius, support_radius(settings_.shape, a));
+  for (Index a = own_.begin; a < own_.end; ++a) radius = std::max(radius, support_radius(settings_.shape, support_[a]));
+  radius = parallel::world().largest(radius);
   neighbors::VerletList verlet;
-  verlet.build(x_, radius, 0, own_);
+  neighbors::NeighborList found;  // of the particles `near`, by particle
+  if (near.empty()) {
+    verlet.build(x_, radius, 0, own_);
+  } else {
+    // The rows are ascending in the particles' order, which `near` keeps: the same rows as a search
+    // among every particle's positions.
+    std::vector<Vec3> x(near.size());
+    for (std::size_t k = 0; k < near.size(); ++k) x[k] = x_[near[k]];
+    const Index first = static_cast<Index>(std::lower_bound(near.begin(), near.end(), own_.begin) - near.begin());
+    verlet.build(x, radius, 0, {first, first + own_.size()});
+    const neighbors::NeighborList& local = verlet.list();
+    found.offsets.assign(particle_count() + 1, 0);
+    for (Index a = own_.begin; a < own_.end; ++a) {
+      const Index row = first + a - own_.begin;
+      for (Index k = local.offsets[row]; k < local.offsets[row + 1]; ++k) found.neighbors.push_back(near[local.neighbors[k]]);
+      found.offsets[a + 1] = static_cast<Index>(found.neighbors.size());
+    }
+    std::fill(found.offsets.begin() + own_.end + 1, found.offsets.end(), found.offsets[own_.end]);
+  }
+  const neighbors::NeighborList& list = near.empty() ? verlet.list() : found;
   const auto shape = settings_.shape;
   auto covers = [&](Index i, Index j) {
     return kernel_value(shape, x_[i] - x_[j], support_[j]).value > 0 ||
            kernel_value(shape, x_[j] - x_[i], support_[i]).value > 0;
   };
-  std::vector<Index> length = bond_row_lengths(verlet.list(), covers, own_);
+  std::vector<Index> length = bond_row_lengths(list, covers, own_);
   share_(node_, length);
   BondList bonds;
   bonds.offsets = row_offsets(length);
   bonds.neighbour.resize(0), bonds.broken.resize(0), bonds.rest_length.resize(0);
   bonds.hold(bonds.entries(own_));
-  fill_bond_rows(bonds, verlet.list(), x_, covers, previous, broken_pairs_, own_);
+  fill_bond_rows(bonds, list, x_, covers, previous, broken_pairs_, own_);
   bonds_ = std::move(bonds);
   if (previous) return;
   // The set-up's rows, which bond_damage counts against.
@@ -165,6 +186,38 @@ void Part::bring_bond_rows(const discretization::ReachShare& from, parallel::Ran
   const parallel::Range held{bonds_.neighbour.held_begin(), bonds_.neighbour.held_end()};
   bonds_.hold(parallel::hull(held, bonds_.entries(particles)));
   from.rows(bonds_.offsets, bonds_.neighbour, bonds_.broken, bonds_.rest_length);
+}
+
+std::vector<Index> Part::bring_neighbourhood(discretization::NodeStore& nodes) {
+  const parallel::Communicator& ranks = parallel::world();
+  // A bond joins particles closer than the largest support radius R: the rows read are within R of
+  // a rank's own particles, and the partners of those, which its smoothing reads, within 2 R.
+  Real radius = 0;
+  for (Index a = own_.begin; a < own_.end; ++a) radius = std::max(radius, support_radius(settings_.shape, support_[a]));
+  radius = ranks.largest(radius);
+  BoundingBox own;
+  for (Index a = own_.begin; a < own_.end; ++a) own.include(x_[a]);
+  const std::vector<BoundingBox> near = ranks.each(own.grown(2 * radius));
+  struct Particle {
+    Index index;
+    Vec3 x, v, support;
+  };
+  std::vector<std::vector<Particle>> out(ranks.size());
+  for (int r = 0; r < ranks.size(); ++r) {
+    if (r == ranks.rank() || near[r].empty()) continue;
+    for (Index a = own_.begin; a < own_.end; ++a)
+      if (near[r].contains(x_[a])) out[r].push_back({a, x_[a], v_[a], support_[a]});
+  }
+  std::vector<Index> particles;
+  for (const Particle& p : ranks.deliver(out)) {
+    x_[p.index] = nodes.x[node_[p.index]] = p.x;
+    v_[p.index] = nodes.v[node_[p.index]] = p.v;
+    support_[p.index] = p.support;
+    particles.push_back(p.index);
+  }
+  for (Index a = own_.begin; a < own_.end; ++a) particles.push_back(a);
+  std::sort(particles.begin(), particles.end());
+  return particles;
 }
 
 void Part::take_read_rows(const discretization::ReachShare& from) {
@@ -446,7 +499,7 @@ std::vector<BondPair> Part::every_ranks(std::vector<BondPair> pairs) const {
   return pairs;
 }
 
-void Part::update_kernel(const discretization::NodeStore& nodes) {
+void Part::update_kernel(discretization::NodeStore& nodes) {
   const Index n = particle_count();
   // A rank folds F where it holds it current, in the particles it reads (every one on one
   // process; under MPI their F, material state and pressure come each step), and judges the bonds
@@ -482,15 +535,14 @@ void Part::update_kernel(const discretization::NodeStore& nodes) {
     }, particle_loops);
   }
   const bool searching = settings_.kernel_update == KernelUpdate::eulerian;
+  const bool distributed = parallel::world().size() > 1;
   if (searching) {
-    // The search reads the window of any particle near a rank's own: every rank's in whole.
-    share_(node_, support_);
+    const std::vector<Index> near = distributed ? bring_neighbourhood(nodes) : std::vector<Index>{};
     const BondList previous = std::move(bonds_);
-    search_bonds(&previous);
+    search_bonds(&previous, near);
   }
   // Under MPI the bonds, the shape functions and the correction of the particles the new rows read
   // come in from their ranks.
-  const bool distributed = parallel::world().size() > 1;
   if (distributed) plan_reads(nodes);
   if (searching) take_read_rows(reach_);
   if (distributed) {
@@ -667,13 +719,12 @@ void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
   const bool distributed = ranks.size() > 1;
   // A kernel update reads the positions of the particles a rank reads (the bond failure, the shape
   // functions and the correction of its own rows), which are current here (they are among those
-  // whose velocities come in, smoothed_), and KERNEL 1's search every particle's; a new deal's
-  // rows read the shape functions and the positions and velocities of particles this rank may not
-  // have read before: with the velocities by reach, from the deal they were computed in.
-  const bool updating = dt > 0 && steps_since_update_ + 1 >= settings_.update_interval;
-  const bool searching = updating && settings_.kernel_update == KernelUpdate::eulerian;
+  // whose velocities come in, smoothed_), and KERNEL 1's search those near its own particles
+  // (bring_neighbourhood); a new deal's rows read the shape functions and the positions and
+  // velocities of particles this rank may not have read before: with the velocities by reach,
+  // from the deal they were computed in.
   const bool new_deal = distributed && share_.stale(nodes);
-  if (new_deal || (distributed && searching)) complete_kinematics(nodes);
+  if (new_deal) complete_kinematics(nodes);
   if (new_deal) deal_anew(nodes);
   share_.bind(nodes);
   if (distributed && reach_partition_ != nodes.partition) {  // the first deal, or a restart file read whole
@@ -686,7 +737,7 @@ void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
     hold_state(read_);
   }
   if (set_up_pending_) set_up_shape_functions();
-  parallel::for_each(searching ? parallel::Range{0, n} : smoothed_, [&](Index i) {
+  parallel::for_each(smoothed_, [&](Index i) {
     x_[i] = nodes.x[node_[i]];
     v_[i] = nodes.v[node_[i]];
   }, particle_loops);
@@ -725,7 +776,7 @@ void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
 // Under MPI each rank scales its own particles. With the velocities by reach only a node's rank
 // reads its mass (its velocity update and energies, its slaves' touches), so each rank adds its own
 // particles' new mass alone, and the factors and masses come to the other ranks where they are
-// needed whole (complete_kinematics: a KERNEL 1 update, a checkpoint, a new deal); otherwise, and
+// needed whole (complete_kinematics: a checkpoint, a new deal); otherwise, and
 // on a new deal's step, every rank adds every particle's (a contact with deformable segments reads
 // any node's mass; after a new deal other formulations bring their nodes' state from the ranks that
 // computed them before, after this pass: those ranks must hold this step's raise too).

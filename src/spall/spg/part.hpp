@@ -131,8 +131,15 @@ class Part {
 
  private:
   // The rows of this rank's own particles (every particle's on one process), in the current
-  // positions; `previous`: the rows before (a KERNEL 1 update), whose bonds keep their rest lengths.
-  void search_bonds(const BondList* previous);
+  // positions; `previous`: the rows before (a KERNEL 1 update), whose bonds keep their rest lengths;
+  // `near`: the particles whose positions and windows are current here, ascending (every one where
+  // empty), among them every particle within the search radius of this rank's own.
+  void search_bonds(const BondList* previous, std::span<const Index> near = {});
+  // Under MPI at a KERNEL 1 update: the positions, velocities and windows of the particles within
+  // twice the search radius of the box around this rank's own (those its new rows and their
+  // partners read) in from their ranks, into x_, v_, support_ and the nodes; returns those and its
+  // own, ascending. Collective.
+  std::vector<Index> bring_neighbourhood(discretization::NodeStore& nodes);
   // The bonds of the rows this rank reads (read_) in from the ranks that hold them (`from`, planned
   // for those rows), the rows held now kept while they travel (this rank's own after a search, a
   // new deal's senders'), and the mirrors of its own rows linked.
@@ -153,7 +160,7 @@ class Part {
   template <typename Self, typename Visit>
   static void visit_held_state(Self& part, Visit&& visit);
   void build_shape_functions(bool at_setup);
-  void update_kernel(const discretization::NodeStore& nodes);
+  void update_kernel(discretization::NodeStore& nodes);
   void detach_degraded_particles();
   void smooth(std::span<const Vec3> field, RangeArray<Vec3>& smoothed) const;
   // Returns the first particle whose F inverted (-1: none); the caller stops the run.
@@ -171,8 +178,8 @@ class Part {
   // rank smooths, integrates the springs of and weighs the stress of the particles it reads alone
   // (reads_), and holds the bonds of their rows alone. At a kernel update a rank folds the F of the
   // particles it reads and judges its own particles' bonds, and the bonds broken travel to every
-  // rank (every rank keeps every broken pair); the bond search (KERNEL 1: every particle's window
-  // in), the shape functions and the integration-constraint solve are each rank's for its own
+  // rank (every rank keeps every broken pair); the bond search (KERNEL 1: the positions and windows
+  // of the particles near its own in), the shape functions and the integration-constraint solve are each rank's for its own
   // particles, and of them only what the other ranks' rows read travels (reach_, planned anew for
   // the new bonds).
   bool owns(Index i) const { return share_.owns(node_[i]); }
@@ -202,7 +209,7 @@ class Part {
   void hold_shape_rows(parallel::Range rows);
   // With the velocities by reach, every rank's positions and velocities of its own particles' nodes
   // in (share_, in the deal they were computed in), and with DT2MS their masses and the particles'
-  // factors: what a KERNEL 1 update, a new deal's rows and a checkpoint read.
+  // factors: what a new deal's rows and a checkpoint read.
   void complete_kinematics(discretization::NodeStore& nodes);
   void correct_integration_constraint(bool at_setup);
 
@@ -248,8 +255,9 @@ class Part {
   std::vector<BondPair> broken_pairs_;
   std::vector<std::uint8_t> on_surface_;  // on the mesh's boundary faces
   IntegrationCorrection correction_;
-  // Scratch of the current step: x and v of every particle (a KERNEL 1 search reads them all), the
-  // rest of the particles read (read_).
+  // Scratch of the current step: x and v of every particle, current for those the smoothing reads
+  // (smoothed_) and at a KERNEL 1 update those near a rank's own; the rest of the particles read
+  // (read_).
   std::vector<Vec3> x_, v_;
   RangeArray<Vec3> xs_, vs_, h_, force_;
   RangeArray<Mat3> weighted_stress_;  // V_J P_J
