@@ -138,10 +138,14 @@ void Part::set_up_shape_functions() {
 // Bonds: the pairs in which one particle lies inside the other's support, in the current positions.
 // Each rank searches the rows of its own particles; under MPI every row's length comes in (the
 // offsets are every row's), and the rows a rank reads follow (take_read_rows).
-void Part::search_bonds(const BondList* previous, std::span<const Index> near) {
+Real Part::search_radius() const {
   Real radius = 0;
   for (Index a = own_.begin; a < own_.end; ++a) radius = std::max(radius, support_radius(settings_.shape, support_[a]));
-  radius = parallel::world().largest(radius);
+  return parallel::world().largest(radius);
+}
+
+void Part::search_bonds(const BondList* previous, std::span<const Index> near) {
+  const Real radius = search_radius();
   neighbors::VerletList verlet;
   neighbors::NeighborList found;  // of the particles `near`, by particle
   if (near.empty()) {
@@ -190,11 +194,9 @@ void Part::bring_bond_rows(const discretization::ReachShare& from, parallel::Ran
 
 std::vector<Index> Part::bring_neighbourhood(discretization::NodeStore& nodes) {
   const parallel::Communicator& ranks = parallel::world();
-  // A bond joins particles closer than the largest support radius R: the rows read are within R of
-  // a rank's own particles, and the partners of those, which its smoothing reads, within 2 R.
-  Real radius = 0;
-  for (Index a = own_.begin; a < own_.end; ++a) radius = std::max(radius, support_radius(settings_.shape, support_[a]));
-  radius = ranks.largest(radius);
+  // A bond joins particles closer than the search radius R: the rows read are within R of a rank's
+  // own particles, and the partners of those, which its smoothing reads, within 2 R.
+  const Real radius = search_radius();
   BoundingBox own;
   for (Index a = own_.begin; a < own_.end; ++a) own.include(x_[a]);
   const std::vector<BoundingBox> near = ranks.each(own.grown(2 * radius));

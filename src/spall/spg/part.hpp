@@ -135,6 +135,8 @@ class Part {
   // `near`: the particles whose positions and windows are current here, ascending (every one where
   // empty), among them every particle within the search radius of this rank's own.
   void search_bonds(const BondList* previous, std::span<const Index> near = {});
+  // The largest support radius of every rank's own particles: no bond is longer (collective).
+  Real search_radius() const;
   // Under MPI at a KERNEL 1 update: the positions, velocities and windows of the particles within
   // twice the search radius of the box around this rank's own (those its new rows and their
   // partners read) in from their ranks, into x_, v_, support_ and the nodes; returns those and its
