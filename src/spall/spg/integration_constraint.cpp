@@ -202,7 +202,7 @@ void remove_row_moment(const BondList& bonds, std::span<const Vec3> X, Index j, 
   }
 }
 
-void correct_integration(const BondList& bonds, std::span<const Vec3> X, std::span<const Real> volume,
+void correct_integration(const BondList& bonds, std::span<const Vec3> X, StretchView<Real> volume,
                          std::span<const std::uint8_t> interior, std::span<const std::uint8_t> active,
                          std::span<const Vec3> defect, int max_iterations, parallel::Range own_particles,
                          const discretization::ParticleShare& share, const discretization::ReachShare& reach,

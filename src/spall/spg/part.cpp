@@ -56,41 +56,36 @@ Part::Part(PartSettings settings, const std::vector<ParticleSetup>& particles,
   node_.resize(n);
   node_id_.resize(n);
   own_ = read_ = smoothed_ = {0, static_cast<Index>(n)};  // every particle until the nodes are dealt
+  // The state held by stretch on, holding no particle until hold_state, but the constants, set up
+  // here for every particle (each rank keeps those it reads from its first deal on).
+  visit_held_state(*this, [](auto& array, const auto&) { array.resize(0); });
+  if (!materials::keeps_back_stress(mat)) back_stress_.clear();
+  const Index count = static_cast<Index>(n);
+  volume0_.resize(count), volume_ref_.resize(count), initial_support_.resize(count), spacing_.resize(count);
+  mean_spacing_.resize(count), stiffness_.resize(count), dashpot_.resize(count), on_surface_.resize(count);
   mass_.resize(n);
-  volume0_.resize(n);
   support_.resize(n);
-  spacing_.resize(n);
-  mean_spacing_.resize(n);
-  stiffness_.resize(n);
   x_.resize(n);
-  on_surface_.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     const auto& p = particles[i];
     node_[i] = p.node;
     node_id_[i] = nodes.id[p.node];
-    volume0_[i] = p.volume;
+    volume0_[i] = volume_ref_[i] = p.volume;
     mass_[i] = mat.density * p.volume;
     // A direction in which the elements around the node have no extent (a flat patch) takes the
     // largest spacing of the other two.
     Vec3 h = p.spacing;
     for (int d = 0; d < 3; ++d)
       if (!(h[d] > 0)) h[d] = p.spacing.maxCoeff();
-    support_[i] = settings_.dilation.cwiseProduct(h);
+    support_[i] = initial_support_[i] = settings_.dilation.cwiseProduct(h);
     spacing_[i] = h.minCoeff();
     mean_spacing_[i] = std::cbrt(h.prod());
     stiffness_[i] = settings_.stabilization_factor * p_wave_modulus * p.volume / (mean_spacing_[i] * mean_spacing_[i]);
+    dashpot_[i] = 2 * settings_.stabilization_damping * std::sqrt(stiffness_[i] * mass_[i]);
     x_[i] = nodes.x[p.node];
     on_surface_[i] = p.on_surface ? 1 : 0;
   }
-  volume_ref_ = volume0_;
-  initial_support_ = support_;
-  // The state held by stretch on, holding no particle until hold_state.
-  visit_held_state(*this, [](auto& array, const auto&) { array.resize(0); });
-  if (!materials::keeps_back_stress(mat)) back_stress_.clear();
   sound_speed_.assign(n, c0);
-  dashpot_.resize(n);
-  for (std::size_t i = 0; i < n; ++i)
-    dashpot_[i] = 2 * settings_.stabilization_damping * std::sqrt(stiffness_[i] * mass_[i]);
   v_.assign(n, Vec3::Zero());
   degraded_.assign(n, 0);
 
@@ -123,6 +118,11 @@ void Part::visit_held_state(Self& part, Visit&& visit) {
   visit(part.pressure_, materials::eos_pressure(mat, mat.density, mat.initial_specific_energy));
   visit(part.viscous_pressure_, Real(0)), visit(part.viscous_power_, Real(0));
   visit(part.stabilization_power_, Real(0));
+  // The constants (and the volume, folded at each kernel update) come with the particle from the
+  // rank that holds it, set up for every particle in the constructor: never fresh.
+  visit(part.volume0_, Real(0)), visit(part.volume_ref_, Real(0)), visit(part.initial_support_, none);
+  visit(part.spacing_, Real(0)), visit(part.mean_spacing_, Real(0)), visit(part.stiffness_, Real(0));
+  visit(part.dashpot_, Real(0)), visit(part.initial_bond_count_, Index(0)), visit(part.on_surface_, std::uint8_t(0));
 }
 
 void Part::hold_state(parallel::Range particles) {
@@ -182,7 +182,7 @@ void Part::search_bonds(const BondList* previous, std::span<const Index> near) {
   bonds_ = std::move(bonds);
   if (previous) return;
   // The set-up's rows, which bond_damage counts against.
-  initial_bond_count_.resize(length.size());
+  initial_bond_count_.resize(particle_count());
   for (Index i = 0; i < particle_count(); ++i) initial_bond_count_[i] = bonds_.count(i);
 }
 
@@ -363,7 +363,7 @@ void Part::correct_integration_constraint(bool at_setup) {
   const int iterations = at_setup ? setup_iterations : update_iterations;
   const parallel::Range rows = bonds_.entries(read_);  // of the rows read, as the shape functions
   correction_.bond.resize(0), correction_.bond.hold(rows.begin, rows.end);
-  correct_integration(bonds_, x_, volume_ref_, interior, active, defect, iterations, own_, share_, reach_,
+  correct_integration(bonds_, x_, volume_ref_.view(n), interior, active, defect, iterations, own_, share_, reach_,
                       correction_);
 }
 
@@ -562,7 +562,8 @@ void Part::update_kernel(discretization::NodeStore& nodes) {
   // their springs, which the correction, the force and the next step's springs read (the rest
   // comes each step).
   if (settings_.kernel_update == KernelUpdate::eulerian)
-    reach_(F_, F_total_, volume_ref_, state_, pressure_, viscous_pressure_, stabilization_force_, stabilization_total_);
+    reach_(F_, F_total_, volume_ref_, state_, pressure_, viscous_pressure_, stabilization_force_, stabilization_total_,
+           volume0_, initial_support_, spacing_, mean_spacing_, stiffness_, dashpot_, initial_bond_count_, on_surface_);
   correct_integration_constraint(false);
   steps_since_update_ = 0;
   ++kernel_updates_;
@@ -701,9 +702,11 @@ void Part::deal_anew(const discretization::NodeStore& nodes) {
   // The state held before (that sent) and of the particles read now (that received) while it travels.
   hold_state(parallel::hull(state_before, read_));
   arrivals(F_, F_total_, spin_, state_, back_stress_, stabilization_force_, psi_self_, grad_self_, correction_.self,
-           correction_.lambda, correction_.mu, specific_energy_, density_, pressure_, viscous_pressure_, viscous_power_);
+           correction_.lambda, correction_.mu, specific_energy_, density_, pressure_, viscous_pressure_, viscous_power_,
+           volume0_, volume_ref_, initial_support_, spacing_, mean_spacing_, stiffness_, dashpot_, initial_bond_count_,
+           on_surface_);
   hold_state(read_);
-  if (!complete_) arrivals(volume_ref_, support_, sound_speed_);
+  if (!complete_) arrivals(support_, sound_speed_);
   // The rows held before (those sent) and the rows read now (those received) while they travel.
   hold_shape_rows(parallel::hull(held_before, bonds_.entries(read_)));
   arrivals.rows(bonds_.offsets, psi_, grad_, correction_.bond);
@@ -711,7 +714,7 @@ void Part::deal_anew(const discretization::NodeStore& nodes) {
 }
 
 void Part::complete() {
-  share_(node_, volume_ref_, support_, sound_speed_);
+  share_(node_, support_, sound_speed_);
   complete_ = true;
 }
 
@@ -883,12 +886,10 @@ void Part::write_fields(discretization::FieldSet& fields) const {
 }
 
 void Part::checkpoint(Archive& a) {
-  a.section("spg part 6");
+  a.section("spg part 7");
   a.expect_size("SPG particles", node_.size());
-  a(mass_, volume0_, volume_ref_, support_, spacing_, mean_spacing_, stiffness_, sound_speed_, dashpot_,
-    initial_bond_count_, degraded_,
-    bonds_.offsets, broken_pairs_, on_surface_, correction_, x_, v_, steps_since_update_, kernel_updates_,
-    mass_scaling_, mass_scale_);
+  a(mass_, support_, sound_speed_, degraded_, bonds_.offsets, broken_pairs_, correction_, x_, v_, steps_since_update_,
+    kernel_updates_, mass_scaling_, mass_scale_);
   // The state held by stretch and the bonds, their shape functions and correction in pieces
   // (core/pieces.hpp): each rank writes its own particles' and their rows (rank 0 every one until
   // the nodes are dealt); read back whole, a rank keeps those it reads from its first step on
@@ -928,10 +929,8 @@ Index Part::degraded_count() const {
 std::size_t Part::memory_bytes() const {
   std::size_t held = 0;
   visit_held_state(*this, [&](const auto& array, const auto&) { held += array.capacity_bytes(); });
-  return held + bytes(node_) + bytes(node_id_) + bytes(mass_) + bytes(mass_scale_) + bytes(volume0_) +
-         bytes(volume_ref_) + bytes(support_) + bytes(initial_support_) + bytes(spacing_) + bytes(mean_spacing_) +
-         bytes(stiffness_) + bytes(sound_speed_) + bytes(dashpot_) +
-         bytes(initial_bond_count_) + bytes(degraded_) + bytes(on_surface_) + correction_.bond.capacity_bytes() +
+  return held + bytes(node_) + bytes(node_id_) + bytes(mass_) + bytes(mass_scale_) + bytes(support_) +
+         bytes(sound_speed_) + bytes(degraded_) + correction_.bond.capacity_bytes() +
          psi_.capacity_bytes() + grad_.capacity_bytes() + bytes(bonds_.offsets) + bonds_.neighbour.capacity_bytes() +
          bonds_.mirror.capacity_bytes() + bonds_.broken.capacity_bytes() + bonds_.rest_length.capacity_bytes() +
          bytes(broken_pairs_) + bytes(x_) + bytes(v_);

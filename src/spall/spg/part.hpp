@@ -219,17 +219,21 @@ class Part {
   // Per particle.
   std::vector<Index> node_;
   std::vector<Id> node_id_;          // the deck's node ID, for messages
-  std::vector<Real> mass_;           // rho_0 V_0: this part's share of the node's mass
-  std::vector<Real> volume0_;        // V_0
-  std::vector<Real> volume_ref_;     // volume in the reference configuration of the kernel
-  std::vector<Vec3> initial_support_;  // a_I = (DX, DY, DZ) x nodal spacing
+  std::vector<Real> mass_;  // rho_0 V_0: this part's share of the node's mass (DT2MS adds every one's)
   // The window's half-widths in the reference configuration of the kernel: a_I, or with KERNEL 1
   // and 2 the box around a_I carried by the deformation since the start (window_extent, part.cpp).
+  // Every particle's: a KERNEL 1 search reads those near a rank's own.
   std::vector<Vec3> support_;
-  std::vector<Real> spacing_;        // smallest nodal spacing, for the stable step
-  std::vector<Real> mean_spacing_;   // (h_x h_y h_z)^(1/3)
-  std::vector<Real> stiffness_;      // kappa_I of the stabilization spring
   // Of the particles a rank reads (read_; every particle on one process; hold_state).
+  RangeArray<Real> volume0_;            // V_0
+  RangeArray<Real> volume_ref_;         // volume in the reference configuration of the kernel
+  RangeArray<Vec3> initial_support_;    // a_I = (DX, DY, DZ) x nodal spacing
+  RangeArray<Real> spacing_;            // smallest nodal spacing, for the stable step
+  RangeArray<Real> mean_spacing_;       // (h_x h_y h_z)^(1/3)
+  RangeArray<Real> stiffness_;          // kappa_I of the stabilization spring
+  RangeArray<Real> dashpot_;            // c_J
+  RangeArray<Index> initial_bond_count_;
+  RangeArray<std::uint8_t> on_surface_;  // on the mesh's boundary faces
   RangeArray<Mat3> F_;        // deformation gradient since the last kernel update
   RangeArray<Mat3> F_total_;  // from the initial configuration to the last kernel update
   RangeArray<materials::PointState> state_;
@@ -240,10 +244,8 @@ class Part {
   // Every particle's: the stable step's and the runaway check's (max_wave_speed) at the loop's start.
   std::vector<Real> sound_speed_;
   RangeArray<Vec3> stabilization_force_;  // s_J, the spring (read_)
-  std::vector<Real> dashpot_;             // c_J
   RangeArray<Vec3> stabilization_total_;  // s_J + c_J (v_J - vs_J), what the force gathers (read_)
   RangeArray<Real> stabilization_power_;  // c_J |v_J - vs_J|^2, dissipated (read_)
-  std::vector<Index> initial_bond_count_;
   // 1 where the bonds left no longer hold a linear field: Shepard smoothing, no strain of its own.
   std::vector<std::uint8_t> degraded_;
   // Shape functions in the reference configuration: self term per particle (read_), the rest per bond.
@@ -255,7 +257,6 @@ class Part {
   RangeArray<Vec3> grad_;  // grad Psi_{neighbour}(X_J)
   BondList bonds_;
   std::vector<BondPair> broken_pairs_;
-  std::vector<std::uint8_t> on_surface_;  // on the mesh's boundary faces
   IntegrationCorrection correction_;
   // Scratch of the current step: x and v of every particle, current for those the smoothing reads
   // (smoothed_) and at a KERNEL 1 update those near a rank's own; the rest of the particles read
