@@ -151,11 +151,11 @@ class Part {
   // The set-up's shape functions and integration-constraint correction (on one process in the
   // constructor, under MPI at the first deal: set_up_pending_).
   void set_up_shape_functions();
-  // The per-particle state (F, the material point, the spring, the step's scratch, the shape
-  // functions' self terms and the correction's) of particles [begin, end) held from now on (every
-  // particle on one process, those a rank reads under MPI: read_): the particles held before keep
-  // their values, the others start at the set-up's, and come in from their ranks where a pass
-  // reads them.
+  // The per-particle state (F, the material point, the thermodynamic scalars, the spring, the
+  // step's scratch, the shape functions' self terms and the correction's, the constants) of
+  // particles [begin, end) held from now on (every particle on one process, those a rank reads
+  // under MPI: read_): the particles held before keep their values, the others start at the
+  // set-up's (the constants at none), and come in from their ranks where a pass reads them.
   void hold_state(parallel::Range particles);
   // visit(array, fresh) for each array of that state, in one order (the checkpoint's), with the
   // value a particle newly held starts at.
