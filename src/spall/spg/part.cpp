@@ -161,7 +161,8 @@ void Part::search_bonds(const BondList* previous, std::span<const Index> near) {
     found.offsets.assign(particle_count() + 1, 0);
     for (Index a = own_.begin; a < own_.end; ++a) {
       const Index row = first + a - own_.begin;
-      for (Index k = local.offsets[row]; k < local.offsets[row + 1]; ++k) found.neighbors.push_back(near[local.neighbors[k]]);
+      for (Index k = local.offsets[row]; k < local.offsets[row + 1]; ++k)
+        found.neighbors.push_back(near[local.neighbors[k]]);
       found.offsets[a + 1] = static_cast<Index>(found.neighbors.size());
     }
     std::fill(found.offsets.begin() + own_.end + 1, found.offsets.end(), found.offsets[own_.end]);

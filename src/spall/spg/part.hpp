@@ -181,9 +181,9 @@ class Part {
   // (reads_), and holds the bonds of their rows alone. At a kernel update a rank folds the F of the
   // particles it reads and judges its own particles' bonds, and the bonds broken travel to every
   // rank (every rank keeps every broken pair); the bond search (KERNEL 1: the positions and windows
-  // of the particles near its own in), the shape functions and the integration-constraint solve are each rank's for its own
-  // particles, and of them only what the other ranks' rows read travels (reach_, planned anew for
-  // the new bonds).
+  // of the particles near its own in), the shape functions and the integration-constraint solve
+  // are each rank's for its own particles, and of them only what the other ranks' rows read
+  // travels (reach_, planned anew for the new bonds).
   bool owns(Index i) const { return share_.owns(node_[i]); }
   // own_ in the nodes' deal.
   void find_own(const discretization::NodeStore& nodes);
