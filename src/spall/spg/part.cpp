@@ -8,6 +8,7 @@
 #include "spall/core/bounding_box.hpp"
 #include "spall/core/cube_root.hpp"
 #include "spall/core/pieces.hpp"
+#include "spall/neighbors/near_particles.hpp"
 #include "spall/spg/parallel.hpp"
 #include "spall/spg/rk_shape.hpp"
 
@@ -200,26 +201,20 @@ std::vector<Index> Part::bring_neighbourhood(discretization::NodeStore& nodes) {
   const Real radius = search_radius();
   BoundingBox own;
   for (Index a = own_.begin; a < own_.end; ++a) own.include(x_[a]);
-  const std::vector<BoundingBox> near = ranks.each(own.grown(2 * radius));
-  struct Particle {
-    Index index;
+  struct Near {
+    std::int64_t particle;  // 64 bits: no padding travels
     Vec3 x, v, support;
   };
-  std::vector<std::vector<Particle>> out(ranks.size());
-  for (int r = 0; r < ranks.size(); ++r) {
-    if (r == ranks.rank() || near[r].empty()) continue;
-    for (Index a = own_.begin; a < own_.end; ++a)
-      if (near[r].contains(x_[a])) out[r].push_back({a, x_[a], v_[a], support_[a]});
-  }
   std::vector<Index> particles;
-  for (const Particle& p : ranks.deliver(out)) {
-    x_[p.index] = nodes.x[node_[p.index]] = p.x;
-    v_[p.index] = nodes.v[node_[p.index]] = p.v;
-    support_[p.index] = p.support;
-    particles.push_back(p.index);
+  const std::vector<Near> came = neighbors::near_particles(
+      own_, x_, ranks.each(own.grown(2 * radius)), [&](Index a) { return Near{a, x_[a], v_[a], support_[a]}; },
+      particles);
+  for (const Near& p : came) {
+    const auto a = static_cast<Index>(p.particle);
+    x_[a] = nodes.x[node_[a]] = p.x;
+    v_[a] = nodes.v[node_[a]] = p.v;
+    support_[a] = p.support;
   }
-  for (Index a = own_.begin; a < own_.end; ++a) particles.push_back(a);
-  std::sort(particles.begin(), particles.end());
   return particles;
 }
 

@@ -16,6 +16,7 @@
 #include "spall/core/parallel.hpp"
 #include "spall/core/simd.hpp"
 #include "spall/discretization/particle_pieces.hpp"
+#include "spall/neighbors/near_particles.hpp"
 #include "spall/materials/elastic.hpp"
 #include "spall/materials/radial_return.hpp"
 
@@ -563,28 +564,6 @@ BoundingBox box_of(const BoxBounds& b) {
   return box;
 }
 
-// This rank's particles `own` at `x` inside another rank's box near[r] go to that rank as
-// record(a) (a record whose `particle` names it); returns those that came in, and `binned`: the
-// own particles and those, ascending, which a list search bins for the rows near them (a build,
-// search_near_rows; a new deal, search_dealt_rows).
-template <typename Record>
-std::vector<std::invoke_result_t<Record&, Index>> near_particles(neighbors::ParticleRange own, StretchView<Vec3> x,
-                                                                 const std::vector<BoundingBox>& near, Record&& record,
-                                                                 std::vector<Index>& binned) {
-  const parallel::Communicator& ranks = parallel::world();
-  const int size = ranks.size(), self = ranks.rank();
-  std::vector<std::vector<std::invoke_result_t<Record&, Index>>> to(size);
-  for (Index a = own.begin; a < own.end; ++a)
-    for (int r = 0; r < size; ++r)
-      if (r != self && near[r].contains(x[a])) to[r].push_back(record(a));
-  auto came = ranks.deliver(to);
-  binned.clear();
-  binned.reserve(own.end - own.begin + came.size());
-  for (Index a = own.begin; a < own.end; ++a) binned.push_back(a);
-  for (const auto& p : came) binned.push_back(static_cast<Index>(p.particle));
-  std::sort(binned.begin(), binned.end());
-  return came;
-}
 }  // namespace
 
 // Rank r searches the rows of its own particles and, with pair-once blocks, those within 0.75 L of
@@ -654,7 +633,7 @@ BoundingBox SolidFormulation::search_near_rows(discretization::NodeStore& nodes)
 
   // This rank's particles within each other rank's reach, to it.
   std::vector<Index> binned;
-  const std::vector<NearParticle> receive = near_particles(
+  const std::vector<NearParticle> receive = neighbors::near_particles(
       own, x_, near, [&](Index a) { return NearParticle{a, x_[a], v_[a], smoothing_length(a)}; }, binned);
   neighbors::ParticleRange held{smoothing_length_.held_begin(), smoothing_length_.held_end()};
   for (const NearParticle& p : receive) {
@@ -742,7 +721,7 @@ void SolidFormulation::search_dealt_rows(const discretization::ParticleShare& de
   at_build = verlet_.positions_at_build();
   const std::vector<BoundingBox> near = near_rows(at_build, verlet_.cutoff() + verlet_.skin(), verlet_.grid());
   std::vector<Index> binned;
-  const std::vector<AtBuild> came = near_particles(
+  const std::vector<AtBuild> came = neighbors::near_particles(
       own, at_build, near, [&](Index a) { return AtBuild{a, at_build[a], list_reach_[a]}; }, binned);
   if (!binned.empty()) {
     verlet_.hold_positions({binned.front(), binned.back() + 1});
