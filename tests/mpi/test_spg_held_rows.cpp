@@ -130,10 +130,7 @@ TEST(SpgOverRanks, TheSetUpBuildsNoRowUnderMpi) {
 // (test_spg_setup's one-process case): every rank stops at the first deal, naming node 1.
 TEST(SpgOverRanks, ASupportTooSmallStopsEveryRankWithTheOneProcessMessage) {
   log::set_quiet(true);
-  test_support::SpgBlock b;
-  b.elements = {2, 2, 6};
-  b.size = Vec3(0.2, 0.2, 0.6);
-  b.section.dx = b.section.dy = b.section.dz = 1.0;
+  const test_support::SpgBlock b = test_support::support_too_small(6);
   const parallel::Communicator& ranks = parallel::world();
   std::string message;
   try {

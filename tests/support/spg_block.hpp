@@ -37,6 +37,16 @@ inline SpgBlock bar_along_z() {
   return b;
 }
 
+// 2 x 2 x `layers` elements of 0.1 m with DX 1.0: on a regular mesh the support ends exactly at
+// the neighbours, where the window is 0, so node 1's moment matrix is singular.
+inline SpgBlock support_too_small(int layers) {
+  SpgBlock b;
+  b.elements = {2, 2, layers};
+  b.size = Vec3(0.2, 0.2, layers / 10.0);
+  b.section.dx = b.section.dy = b.section.dz = 1.0;
+  return b;
+}
+
 inline Id spg_node_id(const SpgBlock& b, int i, int j, int k) {
   return 1 + i + (b.elements[0] + 1) * (j + (b.elements[1] + 1) * k);
 }

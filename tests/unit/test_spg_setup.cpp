@@ -177,11 +177,7 @@ TEST(SpgSetup, FieldsWithoutAnImplementationAreRefusedByName) {
 TEST(SpgSetup, TooSmallSupportIsASingularMomentMatrixAtTheSection) {
   log::set_quiet(true);
   // DX 1.0 on a regular mesh: the support ends exactly at the neighbours, where the window is 0.
-  test_support::SpgBlock b;
-  b.elements = {2, 2, 2};
-  b.size = Vec3(0.2, 0.2, 0.2);
-  b.section.dx = b.section.dy = b.section.dz = 1.0;
-  const std::string message = build_error(test_support::spg_block_model(b));
+  const std::string message = build_error(test_support::spg_block_model(test_support::support_too_small(2)));
   EXPECT_NE(message.find("*SECTION_SOLID_SPG"), std::string::npos) << message;
   EXPECT_NE(message.find("singular moment matrix"), std::string::npos) << message;
   EXPECT_NE(message.find("node 1 "), std::string::npos) << message;
