@@ -64,11 +64,11 @@ std::vector<Index> row_offsets(std::span<const Index> length);
 // held it in between; a pair that `previous` held in row i keeps its rest length; a new bond gets
 // the distance in x as its rest length.
 template <typename Keep>
-void fill_bond_rows(BondList& bonds, const neighbors::NeighborList& list, std::span<const Vec3> x, Keep&& keep,
+void fill_bond_rows(BondList& bonds, const neighbors::NeighborList& list, StretchView<Vec3> x, Keep&& keep,
                     const BondList* previous, std::span<const BondPair> broken_pairs, parallel::Range rows);
 // Every row's bonds, as one process makes them, with the mirrors linked.
 template <typename Keep>
-BondList make_bonds(const neighbors::NeighborList& list, std::span<const Vec3> x, Keep&& keep,
+BondList make_bonds(const neighbors::NeighborList& list, StretchView<Vec3> x, Keep&& keep,
                     const BondList* previous, std::span<const BondPair> broken_pairs);
 
 // The bond-failure rule of seed 001 eq. 14: bond K-J breaks when the bond average (q_K + q_J) / 2
@@ -78,7 +78,7 @@ BondList make_bonds(const neighbors::NeighborList& list, std::span<const Vec3> x
 // Judged on the rows of the particles [rows.begin, rows.end), breaking nothing: the intact bonds
 // that break now, as pairs, sorted, each once. It reads those particles' and their partners'
 // quantities and positions only (under MPI a rank judges its own particles' rows).
-std::vector<BondPair> bonds_breaking(const BondList& bonds, std::span<const Real> quantity, std::span<const Vec3> x,
+std::vector<BondPair> bonds_breaking(const BondList& bonds, std::span<const Real> quantity, StretchView<Vec3> x,
                                      Real critical_value, Real critical_stretch, parallel::Range rows);
 
 // Marks the bonds `pairs` (sorted, each in the rows of both its particles) broken in the rows
@@ -108,7 +108,7 @@ std::vector<Index> bond_row_lengths(const neighbors::NeighborList& list, Keep&& 
 }
 
 template <typename Keep>
-void fill_bond_rows(BondList& bonds, const neighbors::NeighborList& list, std::span<const Vec3> x, Keep&& keep,
+void fill_bond_rows(BondList& bonds, const neighbors::NeighborList& list, StretchView<Vec3> x, Keep&& keep,
                     const BondList* previous, std::span<const BondPair> broken_pairs, parallel::Range rows) {
   parallel::for_each(rows, [&](Index i) {
     Index out = bonds.offsets[i];
@@ -127,7 +127,7 @@ void fill_bond_rows(BondList& bonds, const neighbors::NeighborList& list, std::s
 }
 
 template <typename Keep>
-BondList make_bonds(const neighbors::NeighborList& list, std::span<const Vec3> x, Keep&& keep,
+BondList make_bonds(const neighbors::NeighborList& list, StretchView<Vec3> x, Keep&& keep,
                     const BondList* previous, std::span<const BondPair> broken_pairs) {
   const parallel::Range every{0, static_cast<Index>(list.offsets.size()) - 1};
   BondList bonds;

@@ -61,7 +61,7 @@ Vec3 dot(const Multipliers& a, const Multipliers& b, const Ownership& own) {
 
 class NormalEquations {
  public:
-  NormalEquations(const BondList& bonds, std::span<const Vec3> X, std::span<const std::uint8_t> interior,
+  NormalEquations(const BondList& bonds, StretchView<Vec3> X, std::span<const std::uint8_t> interior,
                   std::span<const std::uint8_t> active, const Ownership& own)
       : bonds_(bonds),
         neighbour_(bonds.neighbour.view(bonds.entry_count())),
@@ -147,7 +147,7 @@ class NormalEquations {
   // The rows' neighbours and flags through views (as the multipliers in apply).
   StretchView<Index> neighbour_;
   StretchView<std::uint8_t> broken_;
-  std::span<const Vec3> X_;
+  StretchView<Vec3> X_;
   std::span<const std::uint8_t> interior_;
   std::span<const std::uint8_t> active_;
   const Ownership& own_;
@@ -174,7 +174,7 @@ constexpr Real natural_tolerance = 1e-15;
 // sum_L delta_L [1, d_L] = [0, moment] (the 4 x 4 system of the row's bond geometry). The row then
 // reproduces linear fields exactly whatever the solver reached; only its column sums (the
 // integration constraint) carry the solver's residual.
-void remove_row_moment(const BondList& bonds, std::span<const Vec3> X, Index j, std::span<Vec3> row,
+void remove_row_moment(const BondList& bonds, StretchView<Vec3> X, Index j, std::span<Vec3> row,
                        const std::vector<std::uint8_t>& usable) {
   Mat4 M = Mat4::Zero();
   Mat3 moment = Mat3::Zero();  // row i: gradient component i
@@ -202,7 +202,7 @@ void remove_row_moment(const BondList& bonds, std::span<const Vec3> X, Index j, 
   }
 }
 
-void correct_integration(const BondList& bonds, std::span<const Vec3> X, StretchView<Real> volume,
+void correct_integration(const BondList& bonds, StretchView<Vec3> X, StretchView<Real> volume,
                          std::span<const std::uint8_t> interior, std::span<const std::uint8_t> active,
                          std::span<const Vec3> defect, int max_iterations, parallel::Range own_particles,
                          const discretization::ParticleShare& share, const discretization::ReachShare& reach,

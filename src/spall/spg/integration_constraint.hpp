@@ -55,7 +55,7 @@ struct IntegrationCorrection {
 // of the multipliers is current on its own rank alone; `correction` must hold its own particles and
 // their partners, and their rows); the dot products are exact sums, so the result does not depend
 // on the number of ranks or threads.
-void correct_integration(const BondList& bonds, std::span<const Vec3> X, StretchView<Real> volume,
+void correct_integration(const BondList& bonds, StretchView<Vec3> X, StretchView<Real> volume,
                          std::span<const std::uint8_t> interior, std::span<const std::uint8_t> active,
                          std::span<const Vec3> defect, int max_iterations, parallel::Range own,
                          const discretization::ParticleShare& share, const discretization::ReachShare& reach,

@@ -57,16 +57,16 @@ Part::Part(PartSettings settings, const std::vector<ParticleSetup>& particles,
   node_.resize(n);
   node_id_.resize(n);
   own_ = read_ = smoothed_ = {0, static_cast<Index>(n)};  // every particle until the nodes are dealt
-  // The state held by stretch on, holding no particle until hold_state, but the constants, set up
-  // here for every particle (each rank keeps those it reads from its first deal on).
+  // The state held by stretch on, holding no particle until hold_state, but the constants, windows
+  // and sound speeds, set up here for every particle (each rank keeps those it reads from its first
+  // deal on), and the positions and velocities (those the smoothing reads from then on).
   visit_held_state(*this, [](auto& array, const auto&) { array.resize(0); });
   if (!materials::keeps_back_stress(mat)) back_stress_.clear();
   const Index count = static_cast<Index>(n);
   volume0_.resize(count), volume_ref_.resize(count), initial_support_.resize(count), spacing_.resize(count);
   mean_spacing_.resize(count), stiffness_.resize(count), dashpot_.resize(count), on_surface_.resize(count);
   mass_.resize(n);
-  support_.resize(n);
-  x_.resize(n);
+  support_.resize(count), x_.resize(count);
   for (std::size_t i = 0; i < n; ++i) {
     const auto& p = particles[i];
     node_[i] = p.node;
@@ -86,8 +86,8 @@ Part::Part(PartSettings settings, const std::vector<ParticleSetup>& particles,
     x_[i] = nodes.x[p.node];
     on_surface_[i] = p.on_surface ? 1 : 0;
   }
-  sound_speed_.assign(n, c0);
-  v_.assign(n, Vec3::Zero());
+  sound_speed_.assign(count, c0);
+  v_.assign(count, Vec3::Zero());
   degraded_.assign(n, 0);
 
   // Under MPI each rank searches the bonds of its own particles, holds the rows and the state of
@@ -119,9 +119,11 @@ void Part::visit_held_state(Self& part, Visit&& visit) {
   visit(part.pressure_, materials::eos_pressure(mat, mat.density, mat.initial_specific_energy));
   visit(part.viscous_pressure_, Real(0)), visit(part.viscous_power_, Real(0));
   visit(part.stabilization_power_, Real(0));
-  // The constants (and the volume, folded at each kernel update) come with the particle from the
-  // rank that holds it, set up for every particle in the constructor: never fresh.
-  visit(part.volume0_, Real(0)), visit(part.volume_ref_, Real(0)), visit(part.initial_support_, none);
+  visit(part.sound_speed_, materials::sound_speed(mat, mat.density, mat.initial_specific_energy));
+  // The constants (and the volume and window, updated at each kernel update) come with the particle
+  // from the rank that holds it, set up for every particle in the constructor: never fresh.
+  visit(part.volume0_, Real(0)), visit(part.volume_ref_, Real(0)), visit(part.support_, none);
+  visit(part.initial_support_, none);
   visit(part.spacing_, Real(0)), visit(part.mean_spacing_, Real(0)), visit(part.stiffness_, Real(0));
   visit(part.dashpot_, Real(0)), visit(part.initial_bond_count_, Index(0)), visit(part.on_surface_, std::uint8_t(0));
 }
@@ -145,30 +147,32 @@ Real Part::search_radius() const {
   return parallel::world().largest(radius);
 }
 
-void Part::search_bonds(const BondList* previous, std::span<const Index> near) {
+void Part::search_bonds(const BondList* previous, const std::vector<Index>* near) {
   const Real radius = search_radius();
   neighbors::VerletList verlet;
   neighbors::NeighborList found;  // of the particles `near`, by particle
-  if (near.empty()) {
-    verlet.build(x_, radius, 0, own_);
+  if (!near) {
+    verlet.build(x_.view(particle_count()).every(), radius, 0, own_);  // every particle's until the first deal
   } else {
     // The rows are ascending in the particles' order, which `near` keeps: the same rows as a search
     // among every particle's positions.
-    std::vector<Vec3> x(near.size());
-    for (std::size_t k = 0; k < near.size(); ++k) x[k] = x_[near[k]];
-    const Index first = static_cast<Index>(std::lower_bound(near.begin(), near.end(), own_.begin) - near.begin());
-    verlet.build(x, radius, 0, {first, first + own_.size()});
-    const neighbors::NeighborList& local = verlet.list();
+    std::vector<Vec3> x(near->size());
+    for (std::size_t k = 0; k < near->size(); ++k) x[k] = x_[(*near)[k]];
+    const Index first = static_cast<Index>(std::lower_bound(near->begin(), near->end(), own_.begin) - near->begin());
     found.offsets.assign(particle_count() + 1, 0);
-    for (Index a = own_.begin; a < own_.end; ++a) {
-      const Index row = first + a - own_.begin;
-      for (Index k = local.offsets[row]; k < local.offsets[row + 1]; ++k)
-        found.neighbors.push_back(near[local.neighbors[k]]);
-      found.offsets[a + 1] = static_cast<Index>(found.neighbors.size());
+    if (!near->empty()) {
+      verlet.build(x, radius, 0, {first, first + own_.size()});
+      const neighbors::NeighborList& local = verlet.list();
+      for (Index a = own_.begin; a < own_.end; ++a) {
+        const Index row = first + a - own_.begin;
+        for (Index k = local.offsets[row]; k < local.offsets[row + 1]; ++k)
+          found.neighbors.push_back((*near)[local.neighbors[k]]);
+        found.offsets[a + 1] = static_cast<Index>(found.neighbors.size());
+      }
+      std::fill(found.offsets.begin() + own_.end + 1, found.offsets.end(), found.offsets[own_.end]);
     }
-    std::fill(found.offsets.begin() + own_.end + 1, found.offsets.end(), found.offsets[own_.end]);
   }
-  const neighbors::NeighborList& list = near.empty() ? verlet.list() : found;
+  const neighbors::NeighborList& list = near ? found : verlet.list();
   const auto shape = settings_.shape;
   auto covers = [&](Index i, Index j) {
     return kernel_value(shape, x_[i] - x_[j], support_[j]).value > 0 ||
@@ -180,7 +184,7 @@ void Part::search_bonds(const BondList* previous, std::span<const Index> near) {
   bonds.offsets = row_offsets(length);
   bonds.neighbour.resize(0), bonds.broken.resize(0), bonds.rest_length.resize(0);
   bonds.hold(bonds.entries(own_));
-  fill_bond_rows(bonds, list, x_, covers, previous, broken_pairs_, own_);
+  fill_bond_rows(bonds, list, x_.view(particle_count()), covers, previous, broken_pairs_, own_);
   bonds_ = std::move(bonds);
   if (previous) return;
   // The set-up's rows, which bond_damage counts against.
@@ -207,8 +211,16 @@ std::vector<Index> Part::bring_neighbourhood(discretization::NodeStore& nodes) {
   };
   std::vector<Index> particles;
   const std::vector<Near> came = neighbors::near_particles(
-      own_, x_, ranks.each(own.grown(2 * radius)), [&](Index a) { return Near{a, x_[a], v_[a], support_[a]}; },
-      particles);
+      own_, x_.view(particle_count()), ranks.each(own.grown(2 * radius)),
+      [&](Index a) { return Near{a, x_[a], v_[a], support_[a]}; }, particles);
+  // Held for the search beside the particles held already (those read, and those smoothed).
+  if (!particles.empty()) {
+    const parallel::Range near{particles.front(), particles.back() + 1};
+    const parallel::Range kinematics = parallel::hull({x_.held_begin(), x_.held_end()}, near);
+    const parallel::Range windows = parallel::hull({support_.held_begin(), support_.held_end()}, near);
+    x_.hold(kinematics.begin, kinematics.end), v_.hold(kinematics.begin, kinematics.end);
+    support_.hold(windows.begin, windows.end);
+  }
   for (const Near& p : came) {
     const auto a = static_cast<Index>(p.particle);
     x_[a] = nodes.x[node_[a]] = p.x;
@@ -359,15 +371,15 @@ void Part::correct_integration_constraint(bool at_setup) {
   const int iterations = at_setup ? setup_iterations : update_iterations;
   const parallel::Range rows = bonds_.entries(read_);  // of the rows read, as the shape functions
   correction_.bond.resize(0), correction_.bond.hold(rows.begin, rows.end);
-  correct_integration(bonds_, x_, volume_ref_.view(n), interior, active, defect, iterations, own_, share_, reach_,
-                      correction_);
+  correct_integration(bonds_, x_.view(n), volume_ref_.view(n), interior, active, defect, iterations, own_, share_,
+                      reach_, correction_);
 }
 
-void Part::smooth(std::span<const Vec3> field, RangeArray<Vec3>& smoothed) const {
+void Part::smooth(StretchView<Vec3> field, RangeArray<Vec3>& smoothed) const {
   const Index bonds = bonds_.entry_count();
   const StretchView<Index> neighbour = bonds_.neighbour.view(bonds);
   const StretchView<Real> psi = psi_.view(bonds);
-  parallel::for_each(read_, [&, neighbour, psi](Index i) {
+  parallel::for_each(read_, [&, field, neighbour, psi](Index i) {
     if (!computes(i)) return;
     Vec3 s = psi_self_[i] * field[i];
     for (Index k = bonds_.offsets[i]; k < bonds_.offsets[i + 1]; ++k)
@@ -384,7 +396,8 @@ Index Part::deformation(StretchView<Vec3> x, StretchView<Vec3> v, Real dt) {
   const Index bonds = bonds_.entry_count();
   const StretchView<Index> neighbour = bonds_.neighbour.view(bonds);
   const StretchView<Vec3> grad = grad_.view(bonds), correction = correction_.bond.view(bonds);
-  parallel::for_each(own_, [&, x, v, neighbour, grad, correction](Index j) {
+  const StretchView<Vec3> X = x_.view(particle_count()), V = v_.view(particle_count());  // as they are, unsmoothed
+  parallel::for_each(own_, [&, x, v, X, V, neighbour, grad, correction](Index j) {
     if (degraded_[j]) {
       spin_[j] = Mat3::Zero();
       viscous_pressure_[j] = 0;
@@ -393,12 +406,12 @@ Index Part::deformation(StretchView<Vec3> x, StretchView<Vec3> v, Real dt) {
     }
     // D' = D + C: the gradient of the (smoothed) field plus the correction acting on the nodal
     // values themselves.
-    Mat3 F = x[j] * grad_self_[j].transpose() + x_[j] * correction_.self[j].transpose();
-    Mat3 dF = v[j] * grad_self_[j].transpose() + v_[j] * correction_.self[j].transpose();
+    Mat3 F = x[j] * grad_self_[j].transpose() + X[j] * correction_.self[j].transpose();
+    Mat3 dF = v[j] * grad_self_[j].transpose() + V[j] * correction_.self[j].transpose();
     for (Index k = bonds_.offsets[j]; k < bonds_.offsets[j + 1]; ++k) {
       const Index i = neighbour[k];
-      F.noalias() += x[i] * grad[k].transpose() + x_[i] * correction[k].transpose();
-      dF.noalias() += v[i] * grad[k].transpose() + v_[i] * correction[k].transpose();
+      F.noalias() += x[i] * grad[k].transpose() + X[i] * correction[k].transpose();
+      dF.noalias() += v[i] * grad[k].transpose() + V[i] * correction[k].transpose();
     }
     const Real det = F.determinant();
     if (!(det > 0)) {
@@ -519,8 +532,8 @@ void Part::update_kernel(discretization::NodeStore& nodes) {
   };
   const std::vector<Index> broken_before = broken_per_particle();
   break_bonds(bonds_, reads_,
-              every_ranks(bonds_breaking(bonds_, quantity, x_, settings_.failure_value, settings_.failure_stretch,
-                                         own_)),
+              every_ranks(bonds_breaking(bonds_, quantity, x_.view(n), settings_.failure_value,
+                                         settings_.failure_stretch, own_)),
               broken_pairs_);
   if (settings_.kernel_update != KernelUpdate::updated_lagrangian) {
     // Windows in the current configuration widen with the stretch of the material around each
@@ -537,7 +550,7 @@ void Part::update_kernel(discretization::NodeStore& nodes) {
   if (searching) {
     const std::vector<Index> near = distributed ? bring_neighbourhood(nodes) : std::vector<Index>{};
     const BondList previous = std::move(bonds_);
-    search_bonds(&previous, near);
+    search_bonds(&previous, distributed ? &near : nullptr);
   }
   // Under MPI the bonds, the shape functions and the correction of the particles the new rows read
   // come in from their ranks.
@@ -635,6 +648,7 @@ void Part::plan_smoothed(const discretization::NodeStore& nodes) {
     for (Index k = bonds_.offsets[a]; k < bonds_.offsets[a + 1]; ++k)
       smoothed_ = parallel::hull(smoothed_, {bonds_.neighbour[k], bonds_.neighbour[k] + 1});
   }
+  x_.hold(smoothed_.begin, smoothed_.end), v_.hold(smoothed_.begin, smoothed_.end);
   if (nodes.velocities_by_reach)
     velocity_reach_.plan_rows(bonds_.offsets, bonds_.neighbour.view(bonds_.entry_count()),
                               [&](Index j) { return reads_[j] != 0; }, node_, share_, nodes, {read_.begin, read_.end});
@@ -676,7 +690,7 @@ void Part::complete_kinematics(discretization::NodeStore& nodes) {
   kinematics_complete_ = true;
 }
 
-// The state held by stretch, what complete() shares, and the bonds' shape functions and
+// The state held by stretch and the bonds' shape functions and
 // correction, for the particles this rank's new rows read alone (a ReachShare planned against the
 // old deal's ranks, each of which holds its own particles and their rows then): a particle's state
 // travels to the ranks that need it, no further.
@@ -699,19 +713,13 @@ void Part::deal_anew(const discretization::NodeStore& nodes) {
   hold_state(parallel::hull(state_before, read_));
   arrivals(F_, F_total_, spin_, state_, back_stress_, stabilization_force_, psi_self_, grad_self_, correction_.self,
            correction_.lambda, correction_.mu, specific_energy_, density_, pressure_, viscous_pressure_, viscous_power_,
-           volume0_, volume_ref_, initial_support_, spacing_, mean_spacing_, stiffness_, dashpot_, initial_bond_count_,
-           on_surface_);
+           sound_speed_, volume0_, volume_ref_, support_, initial_support_, spacing_, mean_spacing_, stiffness_,
+           dashpot_, initial_bond_count_, on_surface_);
   hold_state(read_);
-  if (!complete_) arrivals(support_, sound_speed_);
   // The rows held before (those sent) and the rows read now (those received) while they travel.
   hold_shape_rows(parallel::hull(held_before, bonds_.entries(read_)));
   arrivals.rows(bonds_.offsets, psi_, grad_, correction_.bond);
   hold_shape_rows(bonds_.entries(read_));
-}
-
-void Part::complete() {
-  share_(node_, support_, sound_speed_);
-  complete_ = true;
 }
 
 void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
@@ -743,21 +751,17 @@ void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
     v_[i] = nodes.v[node_[i]];
   }, particle_loops);
   if (dt > 0) {
-    smooth(v_, vs_);
+    smooth(v_.view(n), vs_);
     const bool smoothed = settings_.stabilization == Stabilization::fluid_particle;
-    if (smoothed) smooth(x_, xs_);
-    Index inverted = deformation(smoothed ? xs_.view(n) : StretchView<Vec3>(x_),
-                                 smoothed ? vs_.view(n) : StretchView<Vec3>(v_), dt);
+    if (smoothed) smooth(x_.view(n), xs_);
+    Index inverted = deformation(smoothed ? xs_.view(n) : x_.view(n), smoothed ? vs_.view(n) : v_.view(n), dt);
     inverted = ranks.lowest(inverted);  // every rank stops, naming the same particle
     if (inverted >= 0)
       throw InstabilityError(fmt::format("SPG part {}: the deformation gradient at node {} is no longer "
                                          "invertible (det F <= 0): the particles have inverted",
                                          settings_.part_id, node_id_[inverted]));
     // What the bonded particles of other ranks read (the stress and the spin).
-    if (distributed) {
-      reach_(F_, spin_, state_, pressure_, viscous_pressure_);
-      complete_ = false;
-    }
+    if (distributed) reach_(F_, spin_, state_, pressure_, viscous_pressure_);
     update_stabilization(dt);
     if (++steps_since_update_ >= settings_.update_interval) update_kernel(nodes);
   }
@@ -852,8 +856,8 @@ discretization::InternalPower Part::internal_power(std::span<const Vec3> v) cons
 
 Real Part::max_wave_speed() const {
   Real c = 0;
-  for (Real s : sound_speed_) c = std::max(c, s);
-  return c;
+  for (Index a = own_.begin; a < own_.end; ++a) c = std::max(c, sound_speed_[a]);
+  return parallel::world().largest(c);
 }
 
 void Part::write_fields(discretization::FieldSet& fields) const {
@@ -882,10 +886,11 @@ void Part::write_fields(discretization::FieldSet& fields) const {
 }
 
 void Part::checkpoint(Archive& a) {
-  a.section("spg part 7");
+  a.section("spg part 8");
   a.expect_size("SPG particles", node_.size());
-  a(mass_, support_, sound_speed_, degraded_, bonds_.offsets, broken_pairs_, correction_, x_, v_, steps_since_update_,
-    kernel_updates_, mass_scaling_, mass_scale_);
+  // x_ and v_ are the step's copies of the nodes' (compute_forces).
+  a(mass_, degraded_, bonds_.offsets, broken_pairs_, correction_, steps_since_update_, kernel_updates_, mass_scaling_,
+    mass_scale_);
   // The state held by stretch and the bonds, their shape functions and correction in pieces
   // (core/pieces.hpp): each rank writes its own particles' and their rows (rank 0 every one until
   // the nodes are dealt); read back whole, a rank keeps those it reads from its first step on
@@ -913,7 +918,7 @@ void Part::checkpoint(Archive& a) {
     link_mirrors(bonds_, {0, n});
   }
   // The rest written whole (complete_state); read back, the ranks plan their reach again.
-  if (a.reading()) complete_ = kinematics_complete_ = true, set_up_pending_ = false, reach_partition_ = -1;
+  if (a.reading()) kinematics_complete_ = true, set_up_pending_ = false, reach_partition_ = -1;
 }
 
 Index Part::degraded_count() const {
@@ -925,11 +930,11 @@ Index Part::degraded_count() const {
 std::size_t Part::memory_bytes() const {
   std::size_t held = 0;
   visit_held_state(*this, [&](const auto& array, const auto&) { held += array.capacity_bytes(); });
-  return held + bytes(node_) + bytes(node_id_) + bytes(mass_) + bytes(mass_scale_) + bytes(support_) +
-         bytes(sound_speed_) + bytes(degraded_) + correction_.bond.capacity_bytes() +
+  return held + bytes(node_) + bytes(node_id_) + bytes(mass_) + bytes(mass_scale_) + bytes(degraded_) +
+         correction_.bond.capacity_bytes() +
          psi_.capacity_bytes() + grad_.capacity_bytes() + bytes(bonds_.offsets) + bonds_.neighbour.capacity_bytes() +
          bonds_.mirror.capacity_bytes() + bonds_.broken.capacity_bytes() + bonds_.rest_length.capacity_bytes() +
-         bytes(broken_pairs_) + bytes(x_) + bytes(v_);
+         bytes(broken_pairs_) + x_.capacity_bytes() + v_.capacity_bytes();
 }
 
 }  // namespace spall::spg

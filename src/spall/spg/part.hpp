@@ -109,13 +109,9 @@ class Part {
   long long kernel_updates() const { return kernel_updates_; }
   // Particles whose bonds no longer hold a linear field (Shepard smoothing, no strain of their own).
   Index degraded_count() const;
-  // Under MPI: every rank's per-particle scalars of its own particles in to every rank (the
-  // others' go stale between; complete()), and with the velocities by reach their nodes' positions
-  // and velocities, before a checkpoint (which writes the state held by stretch in pieces).
-  void complete_state(discretization::NodeStore& nodes) {
-    if (!complete_) complete();
-    complete_kinematics(nodes);
-  }
+  // Under MPI with the velocities by reach: every rank's positions and velocities of its own
+  // particles' nodes in, before a checkpoint (which writes the state held by stretch in pieces).
+  void complete_state(discretization::NodeStore& nodes) { complete_kinematics(nodes); }
   // Under MPI with the velocities by reach (NodeStore::velocities_by_reach): v^{n+1/2} of the other
   // ranks' particles that this rank's smoothing reads, the bond partners of the particles it reads
   // (plan_smoothed), in from their ranks; the rest go stale until a kernel update, a new deal or a
@@ -133,8 +129,8 @@ class Part {
   // The rows of this rank's own particles (every particle's on one process), in the current
   // positions; `previous`: the rows before (a KERNEL 1 update), whose bonds keep their rest lengths;
   // `near`: the particles whose positions and windows are current here, ascending (every one where
-  // empty), among them every particle within the search radius of this rank's own.
-  void search_bonds(const BondList* previous, std::span<const Index> near = {});
+  // null), among them every particle within the search radius of this rank's own.
+  void search_bonds(const BondList* previous, const std::vector<Index>* near = nullptr);
   // The largest support radius of every rank's own particles: no bond is longer (collective).
   Real search_radius() const;
   // Under MPI at a KERNEL 1 update: the positions, velocities and windows of the particles within
@@ -152,10 +148,11 @@ class Part {
   // constructor, under MPI at the first deal: set_up_pending_).
   void set_up_shape_functions();
   // The per-particle state (F, the material point, the thermodynamic scalars, the spring, the
-  // step's scratch, the shape functions' self terms and the correction's, the constants) of
-  // particles [begin, end) held from now on (every particle on one process, those a rank reads
-  // under MPI: read_): the particles held before keep their values, the others start at the
-  // set-up's (the constants at none), and come in from their ranks where a pass reads them.
+  // step's scratch, the shape functions' self terms and the correction's, the windows, the
+  // constants) of particles [begin, end) held from now on (every particle on one process, those a
+  // rank reads under MPI: read_): the particles held before keep their values, the others start at
+  // the set-up's (the windows and constants at none), and come in from their ranks where a pass
+  // reads them.
   void hold_state(parallel::Range particles);
   // visit(array, fresh) for each array of that state, in one order (the checkpoint's), with the
   // value a particle newly held starts at.
@@ -164,7 +161,7 @@ class Part {
   void build_shape_functions(bool at_setup);
   void update_kernel(discretization::NodeStore& nodes);
   void detach_degraded_particles();
-  void smooth(std::span<const Vec3> field, RangeArray<Vec3>& smoothed) const;
+  void smooth(StretchView<Vec3> field, RangeArray<Vec3>& smoothed) const;
   // Returns the first particle whose F inverted (-1: none); the caller stops the run.
   Index deformation(StretchView<Vec3> x, StretchView<Vec3> v, Real dt);
   void update_stabilization(Real dt);
@@ -190,7 +187,8 @@ class Part {
   // The other ranks' particles bonded to this rank's (from its own rows): at each kernel update and
   // each new deal. Sets reads_ (this rank's own particles and those) and read_ (collective).
   const std::vector<std::uint8_t>& plan_reads(const discretization::NodeStore& nodes);
-  // Then, from the rows read: smoothed_, and with the velocities by reach velocity_reach_ (collective).
+  // Then, from the rows read: smoothed_ (x_ and v_ held for it), and with the velocities by reach
+  // velocity_reach_ (collective).
   void plan_smoothed(const discretization::NodeStore& nodes);
   // The pairs given by every rank (under MPI; each rank's own alone before the deal), sorted, each once.
   std::vector<BondPair> every_ranks(std::vector<BondPair> pairs) const;
@@ -198,13 +196,9 @@ class Part {
   // particle on one process, else those it reads.
   bool computes(Index i) const { return reads_.empty() || reads_[i]; }
   // Under MPI, the nodes dealt anew (load balance): the particles this rank now reads come in with
-  // their shape functions and correction and their state held by stretch, and with the state kept
-  // whole unless it is every rank's (complete_), from the ranks that computed them before
-  // (collective).
+  // their shape functions and correction and their state held by stretch from the ranks that
+  // computed them before (collective).
   void deal_anew(const discretization::NodeStore& nodes);
-  // Every rank's state of its own particles that every rank keeps whole in (share_): before a
-  // checkpoint, which writes the rest (hold_state's) in pieces.
-  void complete();
   // From now on the bonds' shape functions and correction hold the entries `rows` (those of the
   // particles read_, every row on one process, but while a new deal's rows travel), the entries
   // held before keeping their values.
@@ -220,11 +214,11 @@ class Part {
   std::vector<Index> node_;
   std::vector<Id> node_id_;          // the deck's node ID, for messages
   std::vector<Real> mass_;  // rho_0 V_0: this part's share of the node's mass (DT2MS adds every one's)
-  // The window's half-widths in the reference configuration of the kernel: a_I, or with KERNEL 1
-  // and 2 the box around a_I carried by the deformation since the start (window_extent, part.cpp).
-  // Every particle's: a KERNEL 1 search reads those near a rank's own.
-  std::vector<Vec3> support_;
   // Of the particles a rank reads (read_; every particle on one process; hold_state).
+  // The window's half-widths in the reference configuration of the kernel: a_I, or with KERNEL 1
+  // and 2 the box around a_I carried by the deformation since the start (window_extent, part.cpp);
+  // a KERNEL 1 search holds those near a rank's own too while it runs (bring_neighbourhood).
+  RangeArray<Vec3> support_;
   RangeArray<Real> volume0_;            // V_0
   RangeArray<Real> volume_ref_;         // volume in the reference configuration of the kernel
   RangeArray<Vec3> initial_support_;    // a_I = (DX, DY, DZ) x nodal spacing
@@ -241,8 +235,7 @@ class Part {
   RangeArray<Real> pressure_, density_, specific_energy_;
   RangeArray<Real> viscous_pressure_;  // bulk viscosity q, added to the pressure
   RangeArray<Real> viscous_power_;     // V q (-tr D): the rate of energy it dissipates
-  // Every particle's: the stable step's and the runaway check's (max_wave_speed) at the loop's start.
-  std::vector<Real> sound_speed_;
+  RangeArray<Real> sound_speed_;  // (read_) read at a rank's own: the stable step, the bulk viscosity, DT2MS
   RangeArray<Vec3> stabilization_force_;  // s_J, the spring (read_)
   RangeArray<Vec3> stabilization_total_;  // s_J + c_J (v_J - vs_J), what the force gathers (read_)
   RangeArray<Real> stabilization_power_;  // c_J |v_J - vs_J|^2, dissipated (read_)
@@ -258,10 +251,11 @@ class Part {
   BondList bonds_;
   std::vector<BondPair> broken_pairs_;
   IntegrationCorrection correction_;
-  // Scratch of the current step: x and v of every particle, current for those the smoothing reads
-  // (smoothed_) and at a KERNEL 1 update those near a rank's own; the rest of the particles read
-  // (read_).
-  std::vector<Vec3> x_, v_;
+  // Scratch of the current step: x and v of the particles the smoothing reads (smoothed_; every
+  // particle's until the first deal, whose search reads them), copied from the nodes at each step,
+  // and while a KERNEL 1 search runs those near a rank's own (bring_neighbourhood).
+  RangeArray<Vec3> x_, v_;
+  // Of the particles read (read_).
   RangeArray<Vec3> xs_, vs_, h_, force_;
   RangeArray<Mat3> weighted_stress_;  // V_J P_J
   RangeArray<Mat3> spin_;             // W_J
@@ -270,7 +264,6 @@ class Part {
   discretization::ReachShare reach_;     // under MPI: the other ranks' particles bonded to this rank's
   std::vector<std::uint8_t> reads_;      // under MPI: 1 for this rank's particles and those (plan_reads)
   long long reach_partition_ = -1;       // NodeStore::partition that reach_ was planned for
-  bool complete_ = true;                 // every particle's state current on this rank (complete())
   // With the velocities by reach: the other ranks' particles whose velocities this rank's smoothing
   // reads (two bonds from its own), and whether every particle's position and velocity is current
   // here (complete_kinematics).
