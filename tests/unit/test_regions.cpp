@@ -183,6 +183,36 @@ TEST(Regions, NearFindsEveryGrownBoxThatHoldsThePoint) {
   }
 }
 
+// BoundingBox::meets, by which a rank picks the ranks its particles may go to (near_particles):
+// boxes that touch at a face or a corner meet, boxes apart by any gap do not, an empty box meets
+// none, and two boxes that both contain a point meet.
+TEST(Regions, BoxesMeetWhereTheyShareAPoint) {
+  BoundingBox unit;
+  unit.include(Vec3(0, 0, 0)), unit.include(Vec3(1, 1, 1));
+  BoundingBox face = unit, corner = unit, apart = unit;
+  face.lower[0] = 1, face.upper[0] = 2;
+  corner.lower = Vec3(1, 1, 1), corner.upper = Vec3(2, 2, 2);
+  apart.lower[1] = std::nextafter(Real(1), Real(2)), apart.upper[1] = 2;
+  EXPECT_TRUE(unit.meets(face) && face.meets(unit));
+  EXPECT_TRUE(unit.meets(corner) && corner.meets(unit));
+  EXPECT_FALSE(unit.meets(apart) || apart.meets(unit));
+  EXPECT_FALSE(unit.meets(BoundingBox{}) || BoundingBox{}.meets(unit));
+  const auto corners = random_points(400, Vec3(2, 2, 2), 31), probes = random_points(200, Vec3(2, 2, 2), 37);
+  for (std::size_t k = 0; k + 3 < corners.size(); k += 4) {
+    BoundingBox a, b;
+    a.include(corners[k]), a.include(corners[k + 1]), b.include(corners[k + 2]), b.include(corners[k + 3]);
+    for (const Vec3& p : probes) {
+      if (a.contains(p) && b.contains(p)) {
+        EXPECT_TRUE(a.meets(b) && b.meets(a)) << p.transpose();
+      }
+    }
+    // Apart along some axis exactly when they do not meet.
+    bool apart_along_an_axis = false;
+    for (int d = 0; d < 3; ++d) apart_along_an_axis |= a.upper[d] < b.lower[d] || b.upper[d] < a.lower[d];
+    EXPECT_EQ(a.meets(b), !apart_along_an_axis);
+  }
+}
+
 // Regions in order along the longest side: a rod along z on 4 ranks.
 TEST(Regions, RodCutAcrossItsLength) {
   const auto x = random_points(500, Vec3(0.1, 0.2, 5), 9);

@@ -32,6 +32,10 @@ struct BoundingBox {
   bool contains(const Vec3& p) const {
     return (p.array() >= lower.array()).all() && (p.array() <= upper.array()).all();
   }
+  // Whether the two boxes share a point (their faces included).
+  bool meets(const BoundingBox& other) const {
+    return (lower.array() <= other.upper.array()).all() && (other.lower.array() <= upper.array()).all();
+  }
   // The box widened by `margin` on every side (empty stays empty).
   BoundingBox grown(Real margin) const {
     BoundingBox box = *this;

@@ -24,9 +24,16 @@ std::vector<std::invoke_result_t<Record&, Index>> near_particles(ParticleRange o
   const parallel::Communicator& ranks = parallel::world();
   const int size = ranks.size(), self = ranks.rank();
   std::vector<std::vector<std::invoke_result_t<Record&, Index>>> to(size);
+  // Only the ranks whose boxes meet the box of this rank's particles can take any (each particle
+  // tested against every rank's box would be O(ranks) a particle); all where a position is not finite.
+  BoundingBox mine;
+  for (Index a = own.begin; a < own.end; ++a) mine.include(x[a]);
+  std::vector<int> meeting;
+  for (int r = 0; r < size; ++r)
+    if (r != self && (!mine.finite || near[r].meets(mine))) meeting.push_back(r);
   for (Index a = own.begin; a < own.end; ++a)
-    for (int r = 0; r < size; ++r)
-      if (r != self && near[r].contains(x[a])) to[r].push_back(record(a));
+    for (const int r : meeting)
+      if (near[r].contains(x[a])) to[r].push_back(record(a));
   auto came = ranks.deliver(to);
   binned.clear();
   binned.reserve(own.end - own.begin + came.size());
