@@ -61,7 +61,7 @@ void link_mirrors(BondList& bonds, parallel::Range rows) {
   }, particle_loops);
 }
 
-std::vector<BondPair> bonds_breaking(const BondList& bonds, std::span<const Real> quantity, StretchView<Vec3> x,
+std::vector<BondPair> bonds_breaking(const BondList& bonds, StretchView<Real> quantity, StretchView<Vec3> x,
                                      Real critical_value, Real critical_stretch, parallel::Range rows) {
   if (rows.size() == 0) return {};
   const Index first = bonds.offsets[rows.begin];

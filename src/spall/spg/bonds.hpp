@@ -78,7 +78,7 @@ BondList make_bonds(const neighbors::NeighborList& list, StretchView<Vec3> x, Ke
 // Judged on the rows of the particles [rows.begin, rows.end), breaking nothing: the intact bonds
 // that break now, as pairs, sorted, each once. It reads those particles' and their partners'
 // quantities and positions only (under MPI a rank judges its own particles' rows).
-std::vector<BondPair> bonds_breaking(const BondList& bonds, std::span<const Real> quantity, StretchView<Vec3> x,
+std::vector<BondPair> bonds_breaking(const BondList& bonds, StretchView<Real> quantity, StretchView<Vec3> x,
                                      Real critical_value, Real critical_stretch, parallel::Range rows);
 
 // Marks the bonds `pairs` (sorted, each in the rows of both its particles) broken in the rows

@@ -204,7 +204,7 @@ void remove_row_moment(const BondList& bonds, StretchView<Vec3> X, Index j, std:
 
 void correct_integration(const BondList& bonds, StretchView<Vec3> X, StretchView<Real> volume,
                          std::span<const std::uint8_t> interior, std::span<const std::uint8_t> active,
-                         std::span<const Vec3> defect, int max_iterations, parallel::Range own_particles,
+                         StretchView<Vec3> defect, int max_iterations, parallel::Range own_particles,
                          const discretization::ParticleShare& share, const discretization::ReachShare& reach,
                          IntegrationCorrection& correction) {
   const Index n = bonds.size();

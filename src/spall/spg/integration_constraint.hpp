@@ -57,7 +57,7 @@ struct IntegrationCorrection {
 // on the number of ranks or threads.
 void correct_integration(const BondList& bonds, StretchView<Vec3> X, StretchView<Real> volume,
                          std::span<const std::uint8_t> interior, std::span<const std::uint8_t> active,
-                         std::span<const Vec3> defect, int max_iterations, parallel::Range own,
+                         StretchView<Vec3> defect, int max_iterations, parallel::Range own,
                          const discretization::ParticleShare& share, const discretization::ReachShare& reach,
                          IntegrationCorrection& correction);
 

@@ -248,10 +248,10 @@ void Part::build_shape_functions(bool at_setup) {
   // KERNEL 0: the windows deform with the material (mapped through each particle's accumulated
   // deformation), so a stretched bond keeps its weight until it fails (THEORY §9.7).
   const bool material_windows = settings_.kernel_update == KernelUpdate::updated_lagrangian;
-  std::vector<Mat3> window_map;
+  RangeArray<Mat3> window_map;  // of the rows' partners, among the particles read
   if (material_windows) {
-    window_map.resize(n);
-    for (Index i = read_.begin; i < read_.end; ++i) window_map[i] = F_total_[i].inverse();  // the rows' partners
+    window_map.resize(0), window_map.hold(read_.begin, read_.end);
+    for (Index i = read_.begin; i < read_.end; ++i) window_map[i] = F_total_[i].inverse();
   }
   parallel::LowestIndex singular;
   parallel::region([&](const parallel::Team& team) {
@@ -347,8 +347,9 @@ void Part::correct_integration_constraint(bool at_setup) {
     active[j] = degraded_[j] ? 0 : 1;
   }, particle_loops);
   // g_I = sum_J V_J grad Psi_I(X_J); with smoothing e_K = sum_I Psi_K(X_I) g_I. Of a rank's own
-  // particles, which the solve is for, and g of their bond partners.
-  std::vector<Vec3> g(n), defect(n);
+  // particles, which the solve is for, and g of their bond partners (among those read).
+  RangeArray<Vec3> g, defect;
+  g.resize(0), g.hold(read_.begin, read_.end), defect.resize(0), defect.hold(own_.begin, own_.end);
   parallel::for_each(own_, [&](Index i) {
     Vec3 sum = volume_ref_[i] * grad_self_[i];
     for (Index k = bonds_.offsets[i]; k < bonds_.offsets[i + 1]; ++k)
@@ -364,15 +365,15 @@ void Part::correct_integration_constraint(bool at_setup) {
       defect[K] = sum;
     }, particle_loops);
   } else {
-    defect = g;
+    parallel::for_each(own_, [&](Index K) { defect[K] = g[K]; }, particle_loops);
   }
   // Set-up: solve to round-off (the patch test of the mesh as given). Kernel updates: the geometry
   // has moved little since the last solve, whose multipliers start a short one.
   const int iterations = at_setup ? setup_iterations : update_iterations;
   const parallel::Range rows = bonds_.entries(read_);  // of the rows read, as the shape functions
   correction_.bond.resize(0), correction_.bond.hold(rows.begin, rows.end);
-  correct_integration(bonds_, x_.view(n), volume_ref_.view(n), interior, active, defect, iterations, own_, share_,
-                      reach_, correction_);
+  correct_integration(bonds_, x_.view(n), volume_ref_.view(n), interior, active, defect.view(n), iterations, own_,
+                      share_, reach_, correction_);
 }
 
 void Part::smooth(StretchView<Vec3> field, RangeArray<Vec3>& smoothed) const {
@@ -464,8 +465,8 @@ void Part::update_stabilization(Real dt) {
 
 // Per particle, the quantity IDAM judges bonds on (bond_failure.hpp). Called after the kernel
 // update has folded F into F_total_, so F_total_ is the deformation from the initial configuration.
-void Part::failure_quantity(std::vector<Real>& out, parallel::Range particles) const {
-  out.resize(particle_count());
+void Part::failure_quantity(RangeArray<Real>& out, parallel::Range particles) const {
+  out.resize(0), out.hold(particles.begin, particles.end);
   parallel::for_each(particles, [&](Index j) {
     switch (settings_.failure_quantity) {
       case BondFailure::plastic_strain:
@@ -522,17 +523,23 @@ void Part::update_kernel(discretization::NodeStore& nodes) {
     F_total_[j] = F_[j] * F_total_[j];
     F_[j] = Mat3::Identity();
   }, particle_loops);
-  std::vector<Real> quantity;
+  RangeArray<Real> quantity;
   failure_quantity(quantity, read_);
-  // Broken bonds per particle, over every bond ever broken (also those an Eulerian update drops).
+  // Broken bonds of each particle read, over every bond ever broken (also those an Eulerian update
+  // drops).
   auto broken_per_particle = [&] {
-    std::vector<Index> count(n, 0);
-    for (const auto& [i, j] : broken_pairs_) ++count[i], ++count[j];
+    RangeArray<Index> count;
+    count.resize(0), count.hold(read_.begin, read_.end, 0);
+    const auto counts = [&](Index i) { return i >= read_.begin && i < read_.end; };
+    for (const auto& [i, j] : broken_pairs_) {
+      if (counts(i)) ++count[i];
+      if (counts(j)) ++count[j];
+    }
     return count;
   };
-  const std::vector<Index> broken_before = broken_per_particle();
+  const RangeArray<Index> broken_before = broken_per_particle();
   break_bonds(bonds_, reads_,
-              every_ranks(bonds_breaking(bonds_, quantity, x_.view(n), settings_.failure_value,
+              every_ranks(bonds_breaking(bonds_, quantity.view(n), x_.view(n), settings_.failure_value,
                                          settings_.failure_stretch, own_)),
               broken_pairs_);
   if (settings_.kernel_update != KernelUpdate::updated_lagrangian) {
@@ -564,7 +571,7 @@ void Part::update_kernel(discretization::NodeStore& nodes) {
   detach_degraded_particles();
   // A particle that lost bonds has lost the neighbourhood its spring measured the non-affine
   // motion against: the spring starts again from rest (else it kicks the new crack surface).
-  const std::vector<Index> broken_after = broken_per_particle();
+  const RangeArray<Index> broken_after = broken_per_particle();
   for (Index j = read_.begin; j < read_.end; ++j)
     if (broken_after[j] != broken_before[j]) stabilization_force_[j] = Vec3::Zero();
   // Bonds searched anew may have partners new to a rank: their folded F, volume and stress and

@@ -165,8 +165,8 @@ class Part {
   // Returns the first particle whose F inverted (-1: none); the caller stops the run.
   Index deformation(StretchView<Vec3> x, StretchView<Vec3> v, Real dt);
   void update_stabilization(Real dt);
-  // IDAM's quantity of the particles given (the others' left 0).
-  void failure_quantity(std::vector<Real>& out, parallel::Range particles) const;
+  // IDAM's quantity, held for the particles given alone.
+  void failure_quantity(RangeArray<Real>& out, parallel::Range particles) const;
   void internal_forces();
   // `whole`: every rank adds every particle's raise (else each its own particles').
   void scale_masses(discretization::NodeStore& nodes, bool whole);
