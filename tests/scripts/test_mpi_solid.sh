@@ -152,9 +152,12 @@ for run in fem_ends.serial.np2.t1 eroding.serial.np3.t1.rebalanced; do
 done
 # Alone in a deck, the solid elements hold a window of the node order on each rank, not every node
 # (docs/SCALING.md, "The solid elements' window of the nodes").
-rows=$(grep -o '"node_rows": {"mean": [0-9.]*, "max": [0-9]*' "$work/eroding.serial.np3.t1/run.json" | grep -o '[0-9]*$')
-nodes=$(grep -o '"nodes": [0-9]*' "$work/eroding.serial.np3.t1/run.json" | grep -o '[0-9]*$')
-[ "$rows" -lt "$nodes" ] || fail "the eroding bar on 3 ranks: a rank holds $rows rows of $nodes nodes"
+# So does SPG (docs/SCALING.md, "SPG's window of the nodes").
+for run in eroding.serial.np3.t1 spg_core.serial.np3.t1.rebalanced spg_k1.serial.np3.t1; do
+  rows=$(grep -o '"node_rows": {"mean": [0-9.]*, "max": [0-9]*' "$work/$run/run.json" | grep -o '[0-9]*$')
+  nodes=$(grep -o '"nodes": [0-9]*' "$work/$run/run.json" | grep -o '[0-9]*$')
+  [ "$rows" -lt "$nodes" ] || fail "$run: a rank holds $rows rows of $nodes nodes"
+done
 
 # An SPH bar whose first layer of particles sits on the last face of a block of hexahedra (shared
 # nodes), pulled apart there: a rank writes a cell of its own with a particle another rank computes,
@@ -216,5 +219,6 @@ continue_run taylor.serial.np3.t1 2 taylor.serial
 continue_run eroding.serial.np3.t1 2 eroding.serial
 continue_run spg.serial.np3.t2 1 spg.serial
 continue_run spg_core.serial.np3.t1 1 spg_core.serial
+continue_run spg_core.serial.np2.t2 3 spg_core.serial
 continue_run taylor.serial.np2.t1 3 taylor.serial
 echo "mpi solid: OK"

@@ -6,7 +6,15 @@
 namespace spall::spg {
 
 void SpgFormulation::compute_forces(discretization::NodeStore& nodes, Real dt) {
-  for (auto& part : parts_) part.compute_forces(nodes, dt);
+  const Part::HoldNodes hold = [&](parallel::Range places) { hold_nodes(nodes, places); };
+  for (auto& part : parts_) part.compute_forces(nodes, dt, hold);
+}
+
+void SpgFormulation::hold_nodes(discretization::NodeStore& nodes, parallel::Range places) const {
+  if (!nodes.window_by_reads) return;
+  places = parallel::hull(places, {nodes.rank_begin[nodes.rank], nodes.rank_begin[nodes.rank + 1]});
+  for (const auto& part : parts_) places = parallel::hull(places, part.places_read());
+  nodes.hold_window(places.begin, places.end);
 }
 
 Real SpgFormulation::stable_time_step(const discretization::NodeStore& nodes) const {
@@ -15,19 +23,20 @@ Real SpgFormulation::stable_time_step(const discretization::NodeStore& nodes) co
   return dt;
 }
 
-discretization::InternalPower SpgFormulation::internal_power(std::span<const Vec3> v) const {
+discretization::InternalPower SpgFormulation::internal_power(const discretization::NodeStore& nodes,
+                                                            std::span<const Vec3> v) const {
   discretization::InternalPower p;
   for (const auto& part : parts_) {
-    const auto q = part.internal_power(v);
+    const auto q = part.internal_power(nodes, v);
     p.stored += q.stored;
     p.dissipated += q.dissipated;
   }
   return p;
 }
 
-void SpgFormulation::book_energies(discretization::EnergyLedger& ledger, const discretization::NodeStore&,
+void SpgFormulation::book_energies(discretization::EnergyLedger& ledger, const discretization::NodeStore& nodes,
                                    std::span<const Vec3> v, Real dt) const {
-  discretization::book_internal_power(ledger, internal_power(v), dt);
+  discretization::book_internal_power(ledger, internal_power(nodes, v), dt);
   if (!mass_scaled_) return;
   Real added = 0;
   for (const auto& part : parts_) added += part.added_mass_step();
@@ -60,8 +69,8 @@ void SpgFormulation::checkpoint(Archive& a, const discretization::NodeStore& /*n
   a(mass_scaled_);
 }
 
-void SpgFormulation::write_fields(discretization::FieldSet& fields, const discretization::NodeStore&) const {
-  for (const auto& part : parts_) part.write_fields(fields);
+void SpgFormulation::write_fields(discretization::FieldSet& fields, const discretization::NodeStore& nodes) const {
+  for (const auto& part : parts_) part.write_fields(fields, nodes);
 }
 
 Real SpgFormulation::max_wave_speed() const {

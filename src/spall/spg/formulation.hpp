@@ -19,8 +19,8 @@ class SpgFormulation final : public discretization::Formulation {
   void book_energies(discretization::EnergyLedger& ledger, const discretization::NodeStore& nodes,
                      std::span<const Vec3> v, Real dt) const override;
   void write_fields(discretization::FieldSet& fields, const discretization::NodeStore& nodes) const override;
-  // The power of the last internal forces at the node velocities v.
-  discretization::InternalPower internal_power(std::span<const Vec3> v) const;
+  // The power of the last internal forces at the node velocities v (of the rows).
+  discretization::InternalPower internal_power(const discretization::NodeStore& nodes, std::span<const Vec3> v) const;
   Real max_wave_speed() const override;
   bool scale_mass_below(Real step, bool first_step_only) override;
   void complete_state(discretization::NodeStore& nodes) override;
@@ -28,6 +28,10 @@ class SpgFormulation final : public discretization::Formulation {
   void share_state(discretization::NodeStore& nodes) override;
   bool halo_by_reach() const override { return true; }
   parallel::Range rows_read(const discretization::NodeStore& nodes) const override;
+  // Alone in a deck, each rank holds the window of the node order from the first of its own nodes
+  // and of every part's nodes it reads to the last (hold_nodes), each part calling for it where it
+  // plans what it reads anew (the first deal, a new deal, a kernel update).
+  bool holds_window() const override { return true; }
   // The fields read a rank's own particles alone, and the bonds, which every rank keeps current.
   void complete_for_output(discretization::NodeStore& /*nodes*/) override {}
   void checkpoint(Archive& archive, const discretization::NodeStore& nodes) override;
@@ -37,6 +41,10 @@ class SpgFormulation final : public discretization::Formulation {
   std::size_t memory_bytes() const;
 
  private:
+  // With NodeStore::window_by_reads, the window of this rank's own nodes, the nodes each part
+  // reads (Part::places_read) and `places` (collective).
+  void hold_nodes(discretization::NodeStore& nodes, parallel::Range places) const;
+
   std::vector<Part> parts_;
   bool mass_scaled_ = false;  // DT2MS
 };

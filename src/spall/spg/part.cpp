@@ -221,10 +221,15 @@ std::vector<Index> Part::bring_neighbourhood(discretization::NodeStore& nodes) {
     x_.hold(kinematics.begin, kinematics.end), v_.hold(kinematics.begin, kinematics.end);
     support_.hold(windows.begin, windows.end);
   }
+  // Their nodes' rows too (collective).
+  if (hold_nodes_)
+    (*hold_nodes_)(particles.empty() ? parallel::Range{}
+                                     : parallel::Range{node_[particles.front()], node_[particles.back()] + 1});
   for (const Near& p : came) {
     const auto a = static_cast<Index>(p.particle);
-    x_[a] = nodes.x[node_[a]] = p.x;
-    v_[a] = nodes.v[node_[a]] = p.v;
+    const Index i = nodes.node_row(node_[a]);
+    x_[a] = nodes.x[i] = p.x;
+    v_[a] = nodes.v[i] = p.v;
     support_[a] = p.support;
   }
   return particles;
@@ -633,7 +638,7 @@ void Part::find_own(const discretization::NodeStore& nodes) {
   const auto first_at = [&](Index node) {
     return static_cast<Index>(std::lower_bound(node_.begin(), node_.end(), node) - node_.begin());
   };
-  own_ = {first_at(nodes.owned_begin), first_at(nodes.owned_end)};
+  own_ = {first_at(nodes.rank_begin[nodes.rank]), first_at(nodes.rank_begin[nodes.rank + 1])};  // places
 }
 
 const std::vector<std::uint8_t>& Part::plan_reads(const discretization::NodeStore& nodes) {
@@ -656,6 +661,7 @@ void Part::plan_smoothed(const discretization::NodeStore& nodes) {
       smoothed_ = parallel::hull(smoothed_, {bonds_.neighbour[k], bonds_.neighbour[k] + 1});
   }
   x_.hold(smoothed_.begin, smoothed_.end), v_.hold(smoothed_.begin, smoothed_.end);
+  if (hold_nodes_) (*hold_nodes_)({});
   if (nodes.velocities_by_reach)
     velocity_reach_.plan_rows(bonds_.offsets, bonds_.neighbour.view(bonds_.entry_count()),
                               [&](Index j) { return reads_[j] != 0; }, node_, share_, nodes, {read_.begin, read_.end});
@@ -663,15 +669,16 @@ void Part::plan_smoothed(const discretization::NodeStore& nodes) {
 
 void Part::share_velocities(discretization::NodeStore& nodes) {
   if (!nodes.velocities_by_reach || !velocity_reach_.planned()) return;
-  velocity_reach_.records<Vec3>([&](Index a) { return nodes.v[node_[a]]; },
-                                [&](Index a, const Vec3& v) { nodes.v[node_[a]] = v; });
+  velocity_reach_.records<Vec3>([&](Index a) { return nodes.v[nodes.node_row(node_[a])]; },
+                                [&](Index a, const Vec3& v) { nodes.v[nodes.node_row(node_[a])] = v; });
   kinematics_complete_ = false;
 }
 
 parallel::Range Part::nodes_read(const discretization::NodeStore& nodes) const {
   if (!velocity_reach_.planned()) return {0, nodes.size()};
   if (smoothed_.size() == 0) return {0, 0};
-  return {node_[smoothed_.begin], node_[smoothed_.end - 1] + 1};  // node order
+  const parallel::Range places = places_read();  // in node order: rows of the window
+  return {nodes.node_row(places.begin), nodes.node_row(places.end - 1) + 1};
 }
 
 void Part::hold_shape_rows(parallel::Range rows) {
@@ -682,17 +689,41 @@ void Part::hold_shape_rows(parallel::Range rows) {
 
 void Part::complete_kinematics(discretization::NodeStore& nodes) {
   if (kinematics_complete_) return;
-  if (mass_scale_.empty()) {
+  if (nodes.windowed()) {
+    // The rows held, from the ranks that computed them (share_ is still the deal's they were
+    // computed in): each rank writes its own rows into a checkpoint, and a new deal's rows that a
+    // rank lacks come from their new ranks, which hold them current after this.
+    const parallel::Range held = nodes.window();
+    std::vector<std::uint8_t> wanted(node_.size());
+    for (std::size_t a = 0; a < node_.size(); ++a) wanted[a] = held.begin <= node_[a] && node_[a] < held.end;
+    discretization::ReachShare arrivals;
+    arrivals.plan(wanted, node_, share_, nodes);
+    struct Kinematics {
+      Vec3 x, v;
+      Real mass;
+    };
+    arrivals.records<Kinematics>(
+        [&](Index a) {
+          const Index i = nodes.node_row(node_[a]);
+          return Kinematics{nodes.x[i], nodes.v[i], nodes.mass[i]};
+        },
+        [&](Index a, const Kinematics& k) {
+          const Index i = nodes.node_row(node_[a]);
+          nodes.x[i] = k.x, nodes.v[i] = k.v;
+          if (!mass_scale_.empty()) nodes.mass[i] = k.mass;
+        });
+    share_(node_, mass_scale_);
+  } else if (mass_scale_.empty()) {
     share_.complete_nodes(node_, nodes);
   } else {
     // With DT2MS by reach the factors and the nodes' masses too, which each rank raises for its
     // own particles alone between new deals (scale_masses).
     const Index n = particle_count();
     std::vector<Real> mass(n);
-    for (Index a = 0; a < n; ++a) mass[a] = nodes.mass[node_[a]];
+    for (Index a = 0; a < n; ++a) mass[a] = nodes.mass[nodes.node_row(node_[a])];
     share_.complete_nodes(node_, nodes, mass_scale_, mass);
     for (Index a = 0; a < n; ++a)
-      if (!owns(a)) nodes.mass[node_[a]] = mass[a];
+      if (!owns(a)) nodes.mass[nodes.node_row(node_[a])] = mass[a];
   }
   kinematics_complete_ = true;
 }
@@ -729,7 +760,8 @@ void Part::deal_anew(const discretization::NodeStore& nodes) {
   hold_shape_rows(bonds_.entries(read_));
 }
 
-void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
+void Part::compute_forces(discretization::NodeStore& nodes, Real dt, const HoldNodes& hold_nodes) {
+  hold_nodes_ = hold_nodes ? &hold_nodes : nullptr;
   const Index n = particle_count();
   const parallel::Communicator& ranks = parallel::world();
   const bool distributed = ranks.size() > 1;
@@ -754,8 +786,9 @@ void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
   }
   if (set_up_pending_) set_up_shape_functions();
   parallel::for_each(smoothed_, [&](Index i) {
-    x_[i] = nodes.x[node_[i]];
-    v_[i] = nodes.v[node_[i]];
+    const Index row = nodes.node_row(node_[i]);
+    x_[i] = nodes.x[row];
+    v_[i] = nodes.v[row];
   }, particle_loops);
   if (dt > 0) {
     smooth(v_.view(n), vs_);
@@ -773,11 +806,12 @@ void Part::compute_forces(discretization::NodeStore& nodes, Real dt) {
     if (++steps_since_update_ >= settings_.update_interval) update_kernel(nodes);
   }
   internal_forces();
-  parallel::for_each(own_, [&](Index i) { nodes.f[node_[i]] += force_[i]; }, particle_loops);
+  parallel::for_each(own_, [&](Index i) { nodes.f[nodes.node_row(node_[i])] += force_[i]; }, particle_loops);
   if (mass_scaling_.active)
     scale_masses(nodes, !nodes.velocities_by_reach || new_deal);
   else
     mass_scaling_.idle();
+  hold_nodes_ = nullptr;
 }
 
 // DT2MS (THEORY §1, mass scaling): a particle f times heavier has the sound speed c / sqrt(f); one whose step
@@ -796,7 +830,8 @@ void Part::scale_masses(discretization::NodeStore& nodes, bool whole) {
   const Index n = particle_count();
   const std::vector<Real> before = mass_scale_;
   parallel::for_each(own_, [&](Index i) {
-    const Real s = courant_factor * current_spacing(i) / mass_scaling_.step, speed = nodes.v[node_[i]].norm();
+    const Real s = courant_factor * current_spacing(i) / mass_scaling_.step;
+    const Real speed = nodes.v[nodes.node_row(node_[i])].norm();
     const Real ratio = sound_speed_[i] / std::max(s - speed, s / 2);
     mass_scale_[i] = std::max(mass_scale_[i], ratio * ratio);
   }, particle_loops);
@@ -804,8 +839,10 @@ void Part::scale_masses(discretization::NodeStore& nodes, bool whole) {
     share_(node_, mass_scale_);
   else
     kinematics_complete_ = false;
+  const parallel::Range held = nodes.window();  // every node's places unless a window
   parallel::for_each(whole ? parallel::Range{0, n} : own_, [&](Index i) {
-    if (mass_scale_[i] > before[i]) nodes.mass[node_[i]] += (mass_scale_[i] - before[i]) * mass_[i];
+    if (mass_scale_[i] > before[i] && held.begin <= node_[i] && node_[i] < held.end)
+      nodes.mass[nodes.node_row(node_[i])] += (mass_scale_[i] - before[i]) * mass_[i];
   }, particle_loops);
   const Real added =
       parallel::exact_sum(own_, [&](Index i) { return (mass_scale_[i] - 1) * mass_[i]; }, &parallel::world());
@@ -839,20 +876,21 @@ Real Part::stable_time_step(const discretization::NodeStore& nodes) const {
       own_, infinity,
       [&](Index i) {
         const Real c = mass_scale_.empty() ? sound_speed_[i] : sound_speed_[i] / std::sqrt(mass_scale_[i]);
-        return courant_factor * current_spacing(i) / (c + nodes.v[node_[i]].norm());
+        return courant_factor * current_spacing(i) / (c + nodes.v[nodes.node_row(node_[i])].norm());
       },
       [](Real a, Real b) { return std::min(a, b); }, particle_loops);
   parallel::world().minimum({&step, 1});
   return step;
 }
 
-discretization::InternalPower Part::internal_power(std::span<const Vec3> v) const {
+discretization::InternalPower Part::internal_power(const discretization::NodeStore& nodes,
+                                                  std::span<const Vec3> v) const {
   // The viscous share is the stress power of q and of the dashpot; the rest of the work of the
   // internal forces is stored. Exact sums over every rank's own particles (parallel::exact_sum).
   const Sums<2> sums = parallel::exact_sum(
       own_,
       [&](Index i) {
-        return Sums<2>{{-force_[i].dot(v[node_[i]]), viscous_power_[i] + stabilization_power_[i]}};
+        return Sums<2>{{-force_[i].dot(v[nodes.node_row(node_[i])]), viscous_power_[i] + stabilization_power_[i]}};
       },
       &parallel::world());
   discretization::InternalPower p;
@@ -867,7 +905,7 @@ Real Part::max_wave_speed() const {
   return parallel::world().largest(c);
 }
 
-void Part::write_fields(discretization::FieldSet& fields) const {
+void Part::write_fields(discretization::FieldSet& fields, const discretization::NodeStore& nodes) const {
   const auto pressure = fields.node_real("pressure"), von_mises = fields.node_real("von_mises"),
              density = fields.node_real("density"),
              plastic_strain = fields.node_real("effective_plastic_strain"),
@@ -876,7 +914,7 @@ void Part::write_fields(discretization::FieldSet& fields) const {
   const auto broken_bonds = fields.node_integer("broken_bonds"), bond_count = fields.node_integer("bond_count");
   for (Index a = 0; a < particle_count(); ++a) {
     if (!owns(a)) continue;  // under MPI each rank writes its own particles (the others' are stale)
-    const Index i = node_[a];
+    const Index i = nodes.node_row(node_[a]);
     const Mat3& S = state_[a].deviatoric_stress;
     pressure[i] = pressure_[a];
     von_mises[i] = std::sqrt(Real(1.5) * S.cwiseProduct(S).sum());

@@ -23,6 +23,7 @@
 // windows, in the current configuration, widen with the material's stretch (at most 4 times).
 #include <algorithm>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <vector>
 
@@ -80,11 +81,18 @@ struct ParticleSetup {
 
 class Part {
  public:
+  // The particles' nodes are named by their places in the node order (the rows of every node's
+  // store at the set-up; NodeStore::node_row finds their rows in a window).
   Part(PartSettings settings, const std::vector<ParticleSetup>& particles, const discretization::NodeStore& nodes);
 
+  // What holds the nodes a part reads under MPI with NodeStore::window_by_reads (collective): the
+  // formulation's window of every part's places_read() and the places given
+  // (SpgFormulation::hold_nodes).
+  using HoldNodes = std::function<void(parallel::Range places)>;
   // Advances the state over dt with x^n and v^{n-1/2}, updates the kernel when it is due, and
-  // adds the internal forces at x^n to nodes.f.
-  void compute_forces(discretization::NodeStore& nodes, Real dt);
+  // adds the internal forces at x^n to nodes.f. Where it plans what it reads anew (the first deal,
+  // a new deal, a kernel update), it calls hold_nodes.
+  void compute_forces(discretization::NodeStore& nodes, Real dt, const HoldNodes& hold_nodes = {});
   Real stable_time_step(const discretization::NodeStore& nodes) const;
   // DT2MS (discretization::Formulation::scale_mass_below).
   void scale_mass_below(Real step, bool first_step_only);
@@ -92,11 +100,12 @@ class Part {
   Real added_mass_step() const { return mass_scaling_.added_this_step; }
   // The power of the internal forces at the velocities v: stored (strain energy, stabilization
   // springs) and dissipated by the bulk viscosity.
-  discretization::InternalPower internal_power(std::span<const Vec3> v) const;
+  discretization::InternalPower internal_power(const discretization::NodeStore& nodes,
+                                              std::span<const Vec3> v) const;
   Real max_wave_speed() const;
 
   // Writes this part's output fields for the nodes of its own particles (all on one process).
-  void write_fields(discretization::FieldSet& fields) const;
+  void write_fields(discretization::FieldSet& fields, const discretization::NodeStore& nodes) const;
 
   const PartSettings& settings() const { return settings_; }
   Index particle_count() const { return static_cast<Index>(node_.size()); }
@@ -110,7 +119,8 @@ class Part {
   // Particles whose bonds no longer hold a linear field (Shepard smoothing, no strain of their own).
   Index degraded_count() const;
   // Under MPI with the velocities by reach: every rank's positions and velocities of its own
-  // particles' nodes in, before a checkpoint (which writes the state held by stretch in pieces).
+  // particles' nodes in (with a window the rows are each rank's to write: DT2MS's factors alone),
+  // before a checkpoint (which writes the state held by stretch in pieces).
   void complete_state(discretization::NodeStore& nodes) { complete_kinematics(nodes); }
   // Under MPI with the velocities by reach (NodeStore::velocities_by_reach): v^{n+1/2} of the other
   // ranks' particles that this rank's smoothing reads, the bond partners of the particles it reads
@@ -121,6 +131,11 @@ class Part {
   // The rows from the lowest node of those particles and this rank's own to past the highest;
   // every row until planned.
   parallel::Range nodes_read(const discretization::NodeStore& nodes) const;
+  // The places in the node order of those nodes (of the particles the smoothing reads).
+  parallel::Range places_read() const {
+    if (smoothed_.size() == 0) return {};
+    return {node_[smoothed_.begin], node_[smoothed_.end - 1] + 1};
+  }
   // Everything but the settings (the deck's) and the particles' nodes, which must match.
   void checkpoint(Archive& archive);
   std::size_t memory_bytes() const;
@@ -205,13 +220,14 @@ class Part {
   void hold_shape_rows(parallel::Range rows);
   // With the velocities by reach, every rank's positions and velocities of its own particles' nodes
   // in (share_, in the deal they were computed in), and with DT2MS their masses and the particles'
-  // factors: what a new deal's rows and a checkpoint read.
+  // factors: what a new deal's rows and a checkpoint read. With a window of the nodes, those of the
+  // rows it holds alone (from the ranks that computed them), and the factors whole.
   void complete_kinematics(discretization::NodeStore& nodes);
   void correct_integration_constraint(bool at_setup);
 
   PartSettings settings_;
   // Per particle.
-  std::vector<Index> node_;
+  std::vector<Index> node_;          // the node's place in the node order (its row: NodeStore::node_row)
   std::vector<Id> node_id_;          // the deck's node ID, for messages
   std::vector<Real> mass_;  // rho_0 V_0: this part's share of the node's mass (DT2MS adds every one's)
   // Of the particles a rank reads (read_; every particle on one process; hold_state).
@@ -275,6 +291,7 @@ class Part {
   // plan_reads, plan_smoothed).
   parallel::Range own_, read_, smoothed_;
   bool set_up_pending_ = false;  // under MPI until the first deal: no bond, shape function or correction yet
+  const HoldNodes* hold_nodes_ = nullptr;  // compute_forces's, while it runs
 
   int steps_since_update_ = 0;
   long long kernel_updates_ = 0;
