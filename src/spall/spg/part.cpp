@@ -39,6 +39,15 @@ Vec3 window_extent(const Mat3& F, const Vec3& a) { return (F * a.asDiagonal()).r
 // current_spacing). A Taylor bar at 350 m/s needs 3 with KERNEL 2 (test_spg_taylor_bar.cpp).
 constexpr Real max_window_growth = 4;
 
+// The node's spacing in each direction: a direction in which the elements around it have no extent
+// (a flat patch) takes the largest spacing of the other two.
+Vec3 nodal_spacing(const ParticleSetup& p) {
+  Vec3 h = p.spacing;
+  for (int d = 0; d < 3; ++d)
+    if (!(h[d] > 0)) h[d] = p.spacing.maxCoeff();
+  return h;
+}
+
 template <typename T>
 std::size_t bytes(const std::vector<T>& v) {
   return v.capacity() * sizeof(T);
@@ -51,43 +60,29 @@ Part::Part(PartSettings settings, const std::vector<ParticleSetup>& particles,
     : settings_(std::move(settings)) {
   const std::size_t n = particles.size();
   const auto& mat = settings_.material;
-  // K + 4G/3 of the reference state, from its longitudinal wave speed.
-  const Real c0 = materials::sound_speed(mat, mat.density, mat.initial_specific_energy);
-  const Real p_wave_modulus = mat.density * c0 * c0;
   node_.resize(n);
   node_id_.resize(n);
   own_ = read_ = smoothed_ = {0, static_cast<Index>(n)};  // every particle until the nodes are dealt
-  // The state held by stretch on, holding no particle until hold_state, but the constants, windows
-  // and sound speeds, set up here for every particle (each rank keeps those it reads from its first
-  // deal on), and the positions and velocities (those the smoothing reads from then on).
+  // The state held by stretch on, holding no particle until hold_state, the constants set up from
+  // `particles` for the particles held (under MPI, each rank those it reads, at its first deal:
+  // particles_at_set_up_); but the windows, sound speeds and positions, which the first deal's
+  // search and the runaway check read, set up here for every particle, as the velocities on one
+  // process (under MPI those the smoothing reads from the first deal on).
   visit_held_state(*this, [](auto& array, const auto&) { array.resize(0); });
   if (!materials::keeps_back_stress(mat)) back_stress_.clear();
   const Index count = static_cast<Index>(n);
-  volume0_.resize(count), volume_ref_.resize(count), initial_support_.resize(count), spacing_.resize(count);
-  mean_spacing_.resize(count), stiffness_.resize(count), dashpot_.resize(count), on_surface_.resize(count);
   mass_.resize(n);
   support_.resize(count), x_.resize(count);
   for (std::size_t i = 0; i < n; ++i) {
     const auto& p = particles[i];
     node_[i] = p.node;
     node_id_[i] = nodes.id[p.node];
-    volume0_[i] = volume_ref_[i] = p.volume;
     mass_[i] = mat.density * p.volume;
-    // A direction in which the elements around the node have no extent (a flat patch) takes the
-    // largest spacing of the other two.
-    Vec3 h = p.spacing;
-    for (int d = 0; d < 3; ++d)
-      if (!(h[d] > 0)) h[d] = p.spacing.maxCoeff();
-    support_[i] = initial_support_[i] = settings_.dilation.cwiseProduct(h);
-    spacing_[i] = h.minCoeff();
-    mean_spacing_[i] = std::cbrt(h.prod());
-    stiffness_[i] = settings_.stabilization_factor * p_wave_modulus * p.volume / (mean_spacing_[i] * mean_spacing_[i]);
-    dashpot_[i] = 2 * settings_.stabilization_damping * std::sqrt(stiffness_[i] * mass_[i]);
+    support_[i] = settings_.dilation.cwiseProduct(nodal_spacing(p));
     x_[i] = nodes.x[p.node];
-    on_surface_[i] = p.on_surface ? 1 : 0;
   }
-  sound_speed_.assign(count, c0);
-  v_.assign(count, Vec3::Zero());
+  sound_speed_.assign(count, materials::sound_speed(mat, mat.density, mat.initial_specific_energy));
+  v_.resize(0);
   degraded_.assign(n, 0);
 
   // Under MPI each rank searches the bonds of its own particles, holds the rows and the state of
@@ -96,10 +91,15 @@ Part::Part(PartSettings settings, const std::vector<ParticleSetup>& particles,
   // row's on every rank: the bonds take 17 B a bond, the shape functions 56 B, the state about
   // 650 B a particle.
   set_up_pending_ = parallel::world().size() > 1;
-  if (set_up_pending_) return;
+  if (set_up_pending_) {
+    particles_at_set_up_ = particles;
+    return;
+  }
+  v_.assign(count, Vec3::Zero());
   search_bonds(nullptr);
   link_mirrors(bonds_, own_);
   hold_state(read_);
+  set_up_constants(particles, read_);
   set_up_shape_functions();
 }
 
@@ -130,6 +130,27 @@ void Part::visit_held_state(Self& part, Visit&& visit) {
 
 void Part::hold_state(parallel::Range particles) {
   visit_held_state(*this, [&](auto& array, const auto& fresh) { array.hold(particles.begin, particles.end, fresh); });
+  if (particles_at_set_up_.empty()) return;
+  set_up_constants(particles_at_set_up_, particles);
+  particles_at_set_up_ = {};
+}
+
+void Part::set_up_constants(const std::vector<ParticleSetup>& setup, parallel::Range particles) {
+  const auto& mat = settings_.material;
+  // K + 4G/3 of the reference state, from its longitudinal wave speed.
+  const Real c0 = materials::sound_speed(mat, mat.density, mat.initial_specific_energy);
+  const Real p_wave_modulus = mat.density * c0 * c0;
+  for (Index i = particles.begin; i < particles.end; ++i) {
+    const ParticleSetup& p = setup[i];
+    const Vec3 h = nodal_spacing(p);
+    volume0_[i] = volume_ref_[i] = p.volume;
+    initial_support_[i] = settings_.dilation.cwiseProduct(h);
+    spacing_[i] = h.minCoeff();
+    mean_spacing_[i] = std::cbrt(h.prod());
+    stiffness_[i] = settings_.stabilization_factor * p_wave_modulus * p.volume / (mean_spacing_[i] * mean_spacing_[i]);
+    dashpot_[i] = 2 * settings_.stabilization_damping * std::sqrt(stiffness_[i] * mass_[i]);
+    on_surface_[i] = p.on_surface ? 1 : 0;
+  }
 }
 
 void Part::set_up_shape_functions() {
@@ -963,7 +984,8 @@ void Part::checkpoint(Archive& a) {
     link_mirrors(bonds_, {0, n});
   }
   // The rest written whole (complete_state); read back, the ranks plan their reach again.
-  if (a.reading()) kinematics_complete_ = true, set_up_pending_ = false, reach_partition_ = -1;
+  if (a.reading())
+    kinematics_complete_ = true, set_up_pending_ = false, reach_partition_ = -1, particles_at_set_up_ = {};
 }
 
 Index Part::degraded_count() const {

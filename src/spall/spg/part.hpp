@@ -167,8 +167,11 @@ class Part {
   // constants) of particles [begin, end) held from now on (every particle on one process, those a
   // rank reads under MPI: read_): the particles held before keep their values, the others start at
   // the set-up's (the windows and constants at none), and come in from their ranks where a pass
-  // reads them.
+  // reads them; under MPI the first call sets up the constants of those it holds.
   void hold_state(parallel::Range particles);
+  // The constants (volumes, first windows, spacings, spring stiffnesses and dashpots, surface flags)
+  // of `particles`, held, from the builder's `setup`.
+  void set_up_constants(const std::vector<ParticleSetup>& setup, parallel::Range particles);
   // visit(array, fresh) for each array of that state, in one order (the checkpoint's), with the
   // value a particle newly held starts at.
   template <typename Self, typename Visit>
@@ -291,6 +294,9 @@ class Part {
   // plan_reads, plan_smoothed).
   parallel::Range own_, read_, smoothed_;
   bool set_up_pending_ = false;  // under MPI until the first deal: no bond, shape function or correction yet
+  // Under MPI the builder's particles, until the first deal's hold_state sets up the constants of
+  // those it holds.
+  std::vector<ParticleSetup> particles_at_set_up_;
   const HoldNodes* hold_nodes_ = nullptr;  // compute_forces's, while it runs
 
   int steps_since_update_ = 0;
