@@ -65,8 +65,7 @@ struct OutputSchedule {
 class TimeLoop::Step {
  public:
   Step(Problem& problem, const Observer& observer, const LoadBalance& balance)
-      : problem_(problem), nodes_(problem.nodes), controls_(problem.controls), observer_(observer), balance_(balance),
-        v_old_(nodes_.size()) {
+      : problem_(problem), nodes_(problem.nodes), controls_(problem.controls), observer_(observer), balance_(balance) {
     field_output_ = {controls_.d3plot_dt, controls_.d3plot_dt_curve};
     history_ = {controls_.glstat_dt, nullptr};
     rwforc_ = {controls_.rwforc_dt, controls_.rwforc_dt_curve};
@@ -327,7 +326,9 @@ class TimeLoop::Step {
   // the constraints and contacts read.
   void velocity_update() {
     const Real dt_mid = dt_mid_;
-    v_old_.resize(nodes_.size());  // with rows of its own, a rank's nodes change at rebuilds
+    // Sized to the rows, its storage too: with rows of its own, a rank's nodes change at rebuilds,
+    // and a window of the nodes is held from the first step on (the set-up's every node would stay).
+    if (v_old_.size() != static_cast<std::size_t>(nodes_.size())) v_old_ = std::vector<Vec3>(nodes_.size());
     const bool own_only = nodes_.velocities_by_reach;
     parallel::for_each(own_only ? nodes_.owned_count() : nodes_.size(), [&](Index k) {
       const Index i = own_only ? nodes_.owned_node(k) : k;
