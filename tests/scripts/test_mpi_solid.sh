@@ -110,6 +110,25 @@ for deck in spg spg_k1; do
 done
 same_on_ranks "$work/spg.k" "$work/spg.serial" "2 1" "3 2" "3 1 checkpointed"
 same_on_ranks "$work/spg_k1.k" "$work/spg_k1.serial" "3 1" "2 1 rebalanced"
+# The KERNEL 1 bar as two SPG parts (its halves along the bar, sharing the nodes between them): each
+# part plans what it reads at its own points, and a rank's window of the nodes holds both parts'
+# (SpgFormulation::hold_nodes).
+python3 - "$work/spg_k1.k" >"$work/spg_parts.k" <<'PY'
+import sys
+lines, out, elements = open(sys.argv[1]).read().split("\n"), [], False
+for line in lines:
+    if line.startswith("*"):
+        elements = line.startswith("*ELEMENT_SOLID")
+    elif elements and line.strip() and not line.startswith("$"):
+        eid = int(line.split()[0])
+        line = "%8d%8d" % (eid, 1 if (eid - 1) % 16 < 8 else 2) + line[16:]  # 16 elements along x first
+    out.append(line)
+deck = "\n".join(out)
+print(deck.replace("*SECTION_SOLID_SPG", "*PART\nsecond half\n         2         1         1\n*SECTION_SOLID_SPG", 1), end="")
+PY
+[ "$(grep -c '^\*PART' "$work/spg_parts.k")" -eq 2 ] || fail "the two-part SPG deck"
+run_serial spg_parts 400
+same_on_ranks "$work/spg_parts.k" "$work/spg_parts.serial" "3 1 rebalanced" "4 1"
 # The SPG bar with 6 elements across: particles two rings of bonds inside the surface, where the
 # integration-constraint correction acts (each rank solves for its own particles, the partners'
 # multipliers, defect terms and correction rows brought in), 5 kernel updates, with KERNEL 0 and
@@ -153,7 +172,7 @@ done
 # Alone in a deck, the solid elements hold a window of the node order on each rank, not every node
 # (docs/SCALING.md, "The solid elements' window of the nodes").
 # So does SPG (docs/SCALING.md, "SPG's window of the nodes").
-for run in eroding.serial.np3.t1 spg_core.serial.np3.t1.rebalanced spg_k1.serial.np3.t1; do
+for run in eroding.serial.np3.t1 spg_core.serial.np3.t1.rebalanced spg_k1.serial.np3.t1 spg_parts.serial.np4.t1; do
   rows=$(grep -o '"node_rows": {"mean": [0-9.]*, "max": [0-9]*' "$work/$run/run.json" | grep -o '[0-9]*$')
   nodes=$(grep -o '"nodes": [0-9]*' "$work/$run/run.json" | grep -o '[0-9]*$')
   [ "$rows" -lt "$nodes" ] || fail "$run: a rank holds $rows rows of $nodes nodes"
