@@ -131,6 +131,8 @@ struct NodeStore {
   // The places of the rows, [window_first(), window_first() + size()): a window's, or every node's
   // while the rows are every node in the node order.
   parallel::Range window() const { return {window_first_, window_first_ + size()}; }
+  // Whether a row holds the node at `place` (one of window()'s places).
+  bool holds_place(Index place) const { return window_first_ <= place && place < window_first_ + size(); }
 
   // Each node computed by the rank whose region holds its position; this process is rank `self`.
   // Rows that are a block of the nodes (hold_block) stay with this rank until the formulations'

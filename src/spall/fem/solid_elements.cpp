@@ -782,9 +782,8 @@ struct NodeState {
 
 void SolidElements::refresh_nodes(discretization::NodeStore& nodes) {
   if (!share_ || !nodes.velocities_by_reach) return;
-  const parallel::Range held = nodes.window();  // the places of the rows: every node unless a window
-  std::vector<std::uint8_t> wanted(node_.size());
-  for (std::size_t k = 0; k < node_.size(); ++k) wanted[k] = held.begin <= node_[k] && node_[k] < held.end;
+  std::vector<std::uint8_t> wanted(node_.size());  // the nodes of the rows: every node unless a window
+  for (std::size_t k = 0; k < node_.size(); ++k) wanted[k] = nodes.holds_place(node_[k]);
   discretization::ReachShare arrivals;
   arrivals.plan(wanted, node_, share_->nodes, nodes);
   arrivals.records<NodeState>(

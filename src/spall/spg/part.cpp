@@ -714,9 +714,8 @@ void Part::complete_kinematics(discretization::NodeStore& nodes) {
     // The rows held, from the ranks that computed them (share_ is still the deal's they were
     // computed in): each rank writes its own rows into a checkpoint, and a new deal's rows that a
     // rank lacks come from their new ranks, which hold them current after this.
-    const parallel::Range held = nodes.window();
     std::vector<std::uint8_t> wanted(node_.size());
-    for (std::size_t a = 0; a < node_.size(); ++a) wanted[a] = held.begin <= node_[a] && node_[a] < held.end;
+    for (std::size_t a = 0; a < node_.size(); ++a) wanted[a] = nodes.holds_place(node_[a]);
     discretization::ReachShare arrivals;
     arrivals.plan(wanted, node_, share_, nodes);
     struct Kinematics {
@@ -860,9 +859,8 @@ void Part::scale_masses(discretization::NodeStore& nodes, bool whole) {
     share_(node_, mass_scale_);
   else
     kinematics_complete_ = false;
-  const parallel::Range held = nodes.window();  // every node's places unless a window
   parallel::for_each(whole ? parallel::Range{0, n} : own_, [&](Index i) {
-    if (mass_scale_[i] > before[i] && held.begin <= node_[i] && node_[i] < held.end)
+    if (mass_scale_[i] > before[i] && nodes.holds_place(node_[i]))  // every node unless a window
       nodes.mass[nodes.node_row(node_[i])] += (mass_scale_[i] - before[i]) * mass_[i];
   }, particle_loops);
   const Real added =
