@@ -54,6 +54,19 @@ class RangeArray {
     hold_with(begin, end, [&](std::size_t n) { return std::vector<T>(n, fresh); });
   }
 
+  // On, holding particles [begin, end), every one afresh (value-initialized, or `fresh`): what it
+  // held before is dropped (scratch that a pass fills anew).
+  void hold_afresh(Index begin, Index end) {
+    first_ = begin;
+    on_ = true;
+    values_ = std::vector<T>(count(begin, end));
+  }
+  void hold_afresh(Index begin, Index end, const T& fresh) {
+    first_ = begin;
+    on_ = true;
+    values_ = std::vector<T>(count(begin, end), fresh);
+  }
+
   // The particles it holds: [held_begin(), held_end()).
   Index held_begin() const { return first_; }
   Index held_end() const { return last(); }
@@ -75,6 +88,7 @@ class RangeArray {
 
  private:
   Index last() const { return first_ + static_cast<Index>(values_.size()); }
+  static std::size_t count(Index begin, Index end) { return static_cast<std::size_t>(std::max(begin, end) - begin); }
   template <typename Make>
   void hold_with(Index begin, Index end, Make&& make) {
     end = std::max(begin, end);

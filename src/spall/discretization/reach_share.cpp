@@ -10,6 +10,12 @@ namespace spall::discretization {
 // rank: first how many (one number to each rank), then which, by their places (the node's place in
 // the deck: the particles' order may be each rank's own, the fluid's cells near a rank's region,
 // and so may the rows of its nodes). What each rank is asked is what it sends, in the asker's order.
+void ReachShare::plan_held(std::span<const Index> node, const ParticleShare& share, const NodeStore& nodes) {
+  std::vector<std::uint8_t> held(node.size());
+  for (std::size_t a = 0; a < node.size(); ++a) held[a] = nodes.holds_place(node[a]);
+  plan(held, node, share, nodes);
+}
+
 void ReachShare::ask(const std::vector<std::vector<Index>>& wanted, std::span<const Index> wanted_places,
                      std::vector<std::pair<Index, Index>> own) {
   const parallel::Communicator& ranks = parallel::world();

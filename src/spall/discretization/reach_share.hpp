@@ -87,6 +87,10 @@ class ReachShare {
                                       const NodeStore& nodes) {
     return plan_rows(offsets, entries, computes, node, share, nodes, {0, static_cast<Index>(node.size())});
   }
+  // The particles whose nodes `nodes` holds rows of (every node unless a window:
+  // NodeStore::holds_place), each from the rank that computed it (`share`: the deal it was computed
+  // in). Collective.
+  void plan_held(std::span<const Index> node, const ParticleShare& share, const NodeStore& nodes);
   bool planned() const { return !receive_offsets_.empty(); }
   // Particles this rank sends and receives a step.
   Index sent() const { return static_cast<Index>(send_.size()); }
@@ -98,31 +102,35 @@ class ReachShare {
   // bytes, as MPI sends them: plain structs and Eigen's fixed-size matrices.
   template <typename... Array>
   void operator()(Array&... values) const {
+    arrays([&](auto&& each) { (each(values), ...); });
+  }
+  // The same for the arrays that for_each_array(each) hands to each(array), always in one order.
+  template <typename ForEachArray>
+  void arrays(ForEachArray&& for_each_array) const {
     if (!planned()) return;
-    const std::size_t record = ((values.empty() ? 0 : sizeof(typename Array::value_type)) + ... + 0);
+    std::size_t record = 0;
+    for_each_array([&](auto& array) { record += array.empty() ? 0 : sizeof(array[0]); });
     if (record == 0) return;
     std::vector<std::byte> send(send_.size() * record), receive(receive_.size() * record);
-    const auto pack = [&](auto& array, std::size_t& at) {
+    std::size_t at = 0;
+    for_each_array([&](auto& array) {
       if (array.empty()) return;
       constexpr std::size_t bytes = sizeof(array[0]);
       parallel::for_each(static_cast<Index>(send_.size()), [&](Index k) {
         std::memcpy(send.data() + k * record + at, &array[send_[k]], bytes);
       });
       at += bytes;
-    };
-    const auto unpack = [&](auto& array, std::size_t& at) {
+    });
+    parallel::world().exchange_records(send, record, send_offsets_, receive, receive_offsets_);
+    at = 0;
+    for_each_array([&](auto& array) {
       if (array.empty()) return;
       constexpr std::size_t bytes = sizeof(array[0]);
       parallel::for_each(static_cast<Index>(receive_.size()), [&](Index k) {
         std::memcpy(static_cast<void*>(&array[receive_[k]]), receive.data() + k * record + at, bytes);
       });
       at += bytes;
-    };
-    std::size_t at = 0;
-    (pack(values, at), ...);
-    parallel::world().exchange_records(send, record, send_offsets_, receive, receive_offsets_);
-    at = 0;
-    (unpack(values, at), ...);
+    });
   }
 
   // The same for arrays of rows of different lengths (compressed rows, the SPG bonds): particle a's

@@ -782,10 +782,8 @@ struct NodeState {
 
 void SolidElements::refresh_nodes(discretization::NodeStore& nodes) {
   if (!share_ || !nodes.velocities_by_reach) return;
-  std::vector<std::uint8_t> wanted(node_.size());  // the nodes of the rows: every node unless a window
-  for (std::size_t k = 0; k < node_.size(); ++k) wanted[k] = nodes.holds_place(node_[k]);
   discretization::ReachShare arrivals;
-  arrivals.plan(wanted, node_, share_->nodes, nodes);
+  arrivals.plan_held(node_, share_->nodes, nodes);
   arrivals.records<NodeState>(
       [&](Index k) {
         const Index i = nodes.node_row(node_[k]);

@@ -53,8 +53,7 @@ void break_bonds(BondList& bonds, std::span<const std::uint8_t> held, std::span<
 
 void link_mirrors(BondList& bonds, parallel::Range rows) {
   const parallel::Range held = bonds.entries(rows);
-  bonds.mirror.resize(0);
-  bonds.mirror.hold(held.begin, held.end);
+  bonds.mirror.hold_afresh(held.begin, held.end);
   parallel::for_each(rows, [&](Index i) {
     // The pattern is symmetric, so i is in row j.
     for (Index k = bonds.offsets[i]; k < bonds.offsets[i + 1]; ++k) bonds.mirror[k] = bonds.find(bonds.neighbour[k], i);

@@ -24,8 +24,8 @@ struct Multipliers {
   RangeArray<Vec3> lambda;
   RangeArray<Mat3> mu;
   explicit Multipliers(parallel::Range held) {
-    lambda.resize(0), lambda.hold(held.begin, held.end, Vec3::Zero());
-    mu.resize(0), mu.hold(held.begin, held.end, Mat3::Zero());
+    lambda.hold_afresh(held.begin, held.end, Vec3::Zero());
+    mu.hold_afresh(held.begin, held.end, Mat3::Zero());
   }
 };
 
@@ -61,8 +61,8 @@ Vec3 dot(const Multipliers& a, const Multipliers& b, const Ownership& own) {
 
 class NormalEquations {
  public:
-  NormalEquations(const BondList& bonds, StretchView<Vec3> X, std::span<const std::uint8_t> interior,
-                  std::span<const std::uint8_t> active, const Ownership& own)
+  NormalEquations(const BondList& bonds, StretchView<Vec3> X, StretchView<std::uint8_t> interior,
+                  StretchView<std::uint8_t> active, const Ownership& own)
       : bonds_(bonds),
         neighbour_(bonds.neighbour.view(bonds.entry_count())),
         broken_(bonds.broken.view(bonds.entry_count())),
@@ -73,7 +73,7 @@ class NormalEquations {
     // Block-Jacobi preconditioner: the particle's own 4 x 4 block sum_L [1; d][1; d]^T (3 x 3
     // without the divergence row where the particle is not interior), the same for every
     // gradient component. Of a rank's own particles.
-    preconditioner_.resize(0), preconditioner_.hold(own.particles.begin, own.particles.end, Mat4::Zero());
+    preconditioner_.hold_afresh(own.particles.begin, own.particles.end, Mat4::Zero());
     parallel::for_each(own.particles, [&](Index j) {
       if (!active_[j]) return;
       Mat4 P = Mat4::Zero();
@@ -148,8 +148,8 @@ class NormalEquations {
   StretchView<Index> neighbour_;
   StretchView<std::uint8_t> broken_;
   StretchView<Vec3> X_;
-  std::span<const std::uint8_t> interior_;
-  std::span<const std::uint8_t> active_;
+  StretchView<std::uint8_t> interior_;
+  StretchView<std::uint8_t> active_;
   const Ownership& own_;
   RangeArray<Mat4> preconditioner_;
 };
@@ -203,7 +203,7 @@ void remove_row_moment(const BondList& bonds, StretchView<Vec3> X, Index j, std:
 }
 
 void correct_integration(const BondList& bonds, StretchView<Vec3> X, StretchView<Real> volume,
-                         std::span<const std::uint8_t> interior, std::span<const std::uint8_t> active,
+                         StretchView<std::uint8_t> interior, StretchView<std::uint8_t> active,
                          StretchView<Vec3> defect, int max_iterations, parallel::Range own_particles,
                          const discretization::ParticleShare& share, const discretization::ReachShare& reach,
                          IntegrationCorrection& correction) {

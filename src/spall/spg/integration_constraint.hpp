@@ -49,14 +49,14 @@ struct IntegrationCorrection {
 // conjugate-gradient iterations: the rows always keep zero sums and zero first moments (momentum,
 // exact constant strain); only the integration constraint carries what the solve left.
 // Under MPI (replicated state, docs/SCALING.md) a rank solves for its own particles (`own`, one
-// stretch of them: the particles are in node order; `defect` of those) and brings in the
-// multipliers and search direction of their bond partners (`reach`, planned for the bonds) once an
-// iteration and the partners' rows of the correction at the end (the rest of the correction and
-// of the multipliers is current on its own rank alone; `correction` must hold its own particles and
-// their partners, and their rows); the dot products are exact sums, so the result does not depend
-// on the number of ranks or threads.
+// stretch of them: the particles are in node order; `defect` and `interior` of those, `active` of
+// those and their bond partners) and brings in the multipliers and search direction of their bond
+// partners (`reach`, planned for the bonds) once an iteration and the partners' rows of the
+// correction at the end (the rest of the correction and of the multipliers is current on its own
+// rank alone; `correction` must hold its own particles and their partners, and their rows); the dot
+// products are exact sums, so the result does not depend on the number of ranks or threads.
 void correct_integration(const BondList& bonds, StretchView<Vec3> X, StretchView<Real> volume,
-                         std::span<const std::uint8_t> interior, std::span<const std::uint8_t> active,
+                         StretchView<std::uint8_t> interior, StretchView<std::uint8_t> active,
                          StretchView<Vec3> defect, int max_iterations, parallel::Range own,
                          const discretization::ParticleShare& share, const discretization::ReachShare& reach,
                          IntegrationCorrection& correction);

@@ -48,6 +48,11 @@ Vec3 nodal_spacing(const ParticleSetup& p) {
   return h;
 }
 
+// The longitudinal wave speed of the material at rest: its density and initial specific energy.
+Real reference_sound_speed(const materials::Material& mat) {
+  return materials::sound_speed(mat, mat.density, mat.initial_specific_energy);
+}
+
 template <typename T>
 std::size_t bytes(const std::vector<T>& v) {
   return v.capacity() * sizeof(T);
@@ -61,7 +66,6 @@ Part::Part(PartSettings settings, const std::vector<ParticleSetup>& particles,
   const std::size_t n = particles.size();
   const auto& mat = settings_.material;
   node_.resize(n);
-  node_id_.resize(n);
   own_ = read_ = smoothed_ = {0, static_cast<Index>(n)};  // every particle until the nodes are dealt
   // The state held by stretch on, holding no particle until hold_state, the constants set up from
   // `particles` for the particles held (under MPI, each rank those it reads, at its first deal:
@@ -71,19 +75,15 @@ Part::Part(PartSettings settings, const std::vector<ParticleSetup>& particles,
   visit_held_state(*this, [](auto& array, const auto&) { array.resize(0); });
   if (!materials::keeps_back_stress(mat)) back_stress_.clear();
   const Index count = static_cast<Index>(n);
-  mass_.resize(n);
   support_.resize(count), x_.resize(count);
   for (std::size_t i = 0; i < n; ++i) {
     const auto& p = particles[i];
     node_[i] = p.node;
-    node_id_[i] = nodes.id[p.node];
-    mass_[i] = mat.density * p.volume;
     support_[i] = settings_.dilation.cwiseProduct(nodal_spacing(p));
     x_[i] = nodes.x[p.node];
   }
-  sound_speed_.assign(count, materials::sound_speed(mat, mat.density, mat.initial_specific_energy));
+  sound_speed_.assign(count, reference_sound_speed(mat));
   v_.resize(0);
-  degraded_.assign(n, 0);
 
   // Under MPI each rank searches the bonds of its own particles, holds the rows and the state of
   // the particles it reads and builds the shape functions and correction of its own particles' rows
@@ -100,32 +100,39 @@ Part::Part(PartSettings settings, const std::vector<ParticleSetup>& particles,
   link_mirrors(bonds_, own_);
   hold_state(read_);
   set_up_constants(particles, read_);
-  set_up_shape_functions();
+  set_up_shape_functions(nodes);
 }
 
 template <typename Self, typename Visit>
-void Part::visit_held_state(Self& part, Visit&& visit) {
+void Part::visit_carried_state(Self& part, Visit&& visit) {
   const Mat3 identity = Mat3::Identity(), zero = Mat3::Zero();
   const Vec3 none = Vec3::Zero();
-  visit(part.F_, identity), visit(part.F_total_, identity);
+  visit(part.F_, identity), visit(part.F_total_, identity), visit(part.spin_, zero);
   visit(part.state_, materials::initial_state(part.settings_.material)), visit(part.back_stress_, zero);
-  visit(part.stabilization_force_, none), visit(part.stabilization_total_, none);
-  visit(part.xs_, none), visit(part.vs_, none), visit(part.h_, none), visit(part.force_, none);
-  visit(part.weighted_stress_, zero), visit(part.spin_, zero);
+  visit(part.stabilization_force_, none);
   visit(part.psi_self_, Real(0)), visit(part.grad_self_, none);
   visit(part.correction_.self, none), visit(part.correction_.lambda, none), visit(part.correction_.mu, zero);
   const auto& mat = part.settings_.material;
   visit(part.specific_energy_, mat.initial_specific_energy), visit(part.density_, mat.density);
   visit(part.pressure_, materials::eos_pressure(mat, mat.density, mat.initial_specific_energy));
   visit(part.viscous_pressure_, Real(0)), visit(part.viscous_power_, Real(0));
-  visit(part.stabilization_power_, Real(0));
-  visit(part.sound_speed_, materials::sound_speed(mat, mat.density, mat.initial_specific_energy));
+  visit(part.sound_speed_, reference_sound_speed(mat));
+  visit(part.degraded_, std::uint8_t(0));
   // The constants (and the volume and window, updated at each kernel update) come with the particle
   // from the rank that holds it, set up for every particle in the constructor: never fresh.
   visit(part.volume0_, Real(0)), visit(part.volume_ref_, Real(0)), visit(part.support_, none);
   visit(part.initial_support_, none);
   visit(part.spacing_, Real(0)), visit(part.mean_spacing_, Real(0)), visit(part.stiffness_, Real(0));
   visit(part.dashpot_, Real(0)), visit(part.initial_bond_count_, Index(0)), visit(part.on_surface_, std::uint8_t(0));
+}
+
+template <typename Self, typename Visit>
+void Part::visit_held_state(Self& part, Visit&& visit) {
+  visit_carried_state(part, visit);
+  const Vec3 none = Vec3::Zero();
+  visit(part.stabilization_total_, none), visit(part.stabilization_power_, Real(0));
+  visit(part.xs_, none), visit(part.vs_, none), visit(part.h_, none), visit(part.force_, none);
+  visit(part.weighted_stress_, Mat3::Zero());
 }
 
 void Part::hold_state(parallel::Range particles) {
@@ -138,7 +145,7 @@ void Part::hold_state(parallel::Range particles) {
 void Part::set_up_constants(const std::vector<ParticleSetup>& setup, parallel::Range particles) {
   const auto& mat = settings_.material;
   // K + 4G/3 of the reference state, from its longitudinal wave speed.
-  const Real c0 = materials::sound_speed(mat, mat.density, mat.initial_specific_energy);
+  const Real c0 = reference_sound_speed(mat);
   const Real p_wave_modulus = mat.density * c0 * c0;
   for (Index i = particles.begin; i < particles.end; ++i) {
     const ParticleSetup& p = setup[i];
@@ -148,15 +155,27 @@ void Part::set_up_constants(const std::vector<ParticleSetup>& setup, parallel::R
     spacing_[i] = h.minCoeff();
     mean_spacing_[i] = std::cbrt(h.prod());
     stiffness_[i] = settings_.stabilization_factor * p_wave_modulus * p.volume / (mean_spacing_[i] * mean_spacing_[i]);
-    dashpot_[i] = 2 * settings_.stabilization_damping * std::sqrt(stiffness_[i] * mass_[i]);
+    dashpot_[i] = 2 * settings_.stabilization_damping * std::sqrt(stiffness_[i] * mass(i));
     on_surface_[i] = p.on_surface ? 1 : 0;
   }
 }
 
-void Part::set_up_shape_functions() {
-  build_shape_functions(true);
+void Part::set_up_shape_functions(const discretization::NodeStore& nodes) {
+  if (const Index j = build_shape_functions(true); j >= 0)
+    throw InputError(settings_.where, "*SECTION_SOLID_SPG",
+                     fmt::format("part {}: node {} has {} particles in its kernel support, too few (or "
+                                 "all in one plane) for linear RK shape functions (singular moment "
+                                 "matrix); increase DX/DY/DZ or refine the mesh",
+                                 settings_.part_id, node_id(nodes, j), bonds_.count(j) + 1));
   correct_integration_constraint(true);
   set_up_pending_ = false;
+}
+
+Id Part::node_id(const discretization::NodeStore& nodes, Index particle) const {
+  double id = owns(particle) ? static_cast<double>(nodes.id[nodes.node_row(node_[particle])])
+                             : std::numeric_limits<double>::infinity();
+  parallel::world().minimum({&id, 1});
+  return static_cast<Id>(id);
 }
 
 // Bonds: the pairs in which one particle lies inside the other's support, in the current positions.
@@ -264,19 +283,19 @@ void Part::take_read_rows(const discretization::ReachShare& from) {
 
 // RK shape functions of every particle's row in the current positions, which become the reference
 // configuration X. Broken bonds take no part (seed 001 eq. 14: Phi_K(x_J) = 0 across them).
-void Part::build_shape_functions(bool at_setup) {
+Index Part::build_shape_functions(bool at_setup) {
   const Index n = particle_count();
   // Of the rows of the particles read (every row on one process): a rank's own computed here, the
   // others' in from their ranks below; a broken bond's entries stay 0.
   const parallel::Range rows = bonds_.entries(read_);
-  psi_.resize(0), psi_.hold(rows.begin, rows.end, 0);
-  grad_.resize(0), grad_.hold(rows.begin, rows.end, Vec3::Zero());
+  psi_.hold_afresh(rows.begin, rows.end, 0);
+  grad_.hold_afresh(rows.begin, rows.end, Vec3::Zero());
   // KERNEL 0: the windows deform with the material (mapped through each particle's accumulated
   // deformation), so a stretched bond keeps its weight until it fails (THEORY §9.7).
   const bool material_windows = settings_.kernel_update == KernelUpdate::updated_lagrangian;
   RangeArray<Mat3> window_map;  // of the rows' partners, among the particles read
   if (material_windows) {
-    window_map.resize(0), window_map.hold(read_.begin, read_.end);
+    window_map.hold_afresh(read_.begin, read_.end);
     for (Index i = read_.begin; i < read_.end; ++i) window_map[i] = F_total_[i].inverse();
   }
   parallel::LowestIndex singular;
@@ -328,19 +347,12 @@ void Part::build_shape_functions(bool at_setup) {
       }
     });
   }, n > parallel_threshold);
-  // Every rank detaches and corrects by every particle's degradation (the bonds are every rank's);
-  // the rest reaches the particles whose rows read them.
-  share_(node_, degraded_);
-  reach_(psi_self_, grad_self_);
+  // What reaches the particles whose rows read them: their rows' self terms and degradation (the
+  // smoothing, the springs, the stress weighing and the correction's solve at the particles read).
+  reach_(psi_self_, grad_self_, degraded_);
   reach_.rows(bonds_.offsets, psi_, grad_);
-  // At the set-up every rank stops at the same particle (under MPI each looked at its own).
-  if (const Index j = at_setup ? parallel::world().lowest(singular.value()) : singular.value(); j >= 0) {
-    throw InputError(settings_.where, "*SECTION_SOLID_SPG",
-                     fmt::format("part {}: node {} has {} particles in its kernel support, too few (or "
-                                 "all in one plane) for linear RK shape functions (singular moment "
-                                 "matrix); increase DX/DY/DZ or refine the mesh",
-                                 settings_.part_id, node_id_[j], bonds_.count(j) + 1));
-  }
+  // At the set-up every rank names the same particle (under MPI each looked at its own).
+  return at_setup ? parallel::world().lowest(singular.value()) : -1;
 }
 
 // The defect e_K = sum_J V_J D_JK of the nodal gradient operator (D = G A with ITB 1, G with ITB 2)
@@ -350,32 +362,33 @@ void Part::correct_integration_constraint(bool at_setup) {
   // Surface particles: on the mesh's boundary, next to a broken bond, or without a strain of their
   // own. A particle is interior when no particle within the reach of its column of D (two rings of
   // bonds for G A, one for G) is on the surface. The solve reads it at a rank's own particles
-  // alone: the last ring grows over them, the one before over the particles they read (read_),
-  // from the surface flags of those and their partners, each flagged by its rank (a rank holds
-  // the rows of the particles it reads alone) and every rank's in: every particle's.
+  // alone. A rank flags the particles it reads itself (it holds their surface and degraded flags
+  // and their rows), grows each ring over its own particles, and takes the grown flags of the
+  // particles they read from their ranks before the next ring.
   const int rings = settings_.stabilization == Stabilization::fluid_particle ? 2 : 1;
-  std::vector<std::uint8_t> near(n);
-  parallel::for_each(own_, [&](Index j) {
-    near[j] = on_surface_[j] || degraded_[j] || bonds_.broken_count(j) > 0;
+  RangeArray<std::uint8_t> near;
+  near.hold_afresh(read_.begin, read_.end, 0);
+  parallel::for_each(read_, [&](Index j) {
+    if (computes(j)) near[j] = on_surface_[j] || degraded_[j] || bonds_.broken_count(j) > 0;
   }, particle_loops);
-  share_(node_, near);
   for (int ring = 0; ring < rings; ++ring) {
-    std::vector<std::uint8_t> grown = near;
-    parallel::for_each(ring + 1 == rings ? own_ : read_, [&](Index j) {
+    RangeArray<std::uint8_t> grown = near;
+    parallel::for_each(own_, [&](Index j) {
       for (Index k = bonds_.offsets[j]; k < bonds_.offsets[j + 1]; ++k)
         if (!bonds_.broken[k] && near[bonds_.neighbour[k]]) grown[j] = 1;
     }, particle_loops);
     near.swap(grown);
+    if (ring + 1 < rings) reach_(near);
   }
-  std::vector<std::uint8_t> interior(n), active(n);
-  parallel::for_each(n, [&](Index j) {
-    interior[j] = near[j] ? 0 : 1;
-    active[j] = degraded_[j] ? 0 : 1;
-  }, particle_loops);
+  // Interior of a rank's own particles, active of those and their partners.
+  RangeArray<std::uint8_t> interior, active;
+  interior.hold_afresh(own_.begin, own_.end), active.hold_afresh(read_.begin, read_.end);
+  parallel::for_each(own_, [&](Index j) { interior[j] = near[j] ? 0 : 1; }, particle_loops);
+  parallel::for_each(read_, [&](Index j) { active[j] = degraded_[j] ? 0 : 1; }, particle_loops);
   // g_I = sum_J V_J grad Psi_I(X_J); with smoothing e_K = sum_I Psi_K(X_I) g_I. Of a rank's own
   // particles, which the solve is for, and g of their bond partners (among those read).
   RangeArray<Vec3> g, defect;
-  g.resize(0), g.hold(read_.begin, read_.end), defect.resize(0), defect.hold(own_.begin, own_.end);
+  g.hold_afresh(read_.begin, read_.end), defect.hold_afresh(own_.begin, own_.end);
   parallel::for_each(own_, [&](Index i) {
     Vec3 sum = volume_ref_[i] * grad_self_[i];
     for (Index k = bonds_.offsets[i]; k < bonds_.offsets[i + 1]; ++k)
@@ -397,9 +410,9 @@ void Part::correct_integration_constraint(bool at_setup) {
   // has moved little since the last solve, whose multipliers start a short one.
   const int iterations = at_setup ? setup_iterations : update_iterations;
   const parallel::Range rows = bonds_.entries(read_);  // of the rows read, as the shape functions
-  correction_.bond.resize(0), correction_.bond.hold(rows.begin, rows.end);
-  correct_integration(bonds_, x_.view(n), volume_ref_.view(n), interior, active, defect.view(n), iterations, own_,
-                      share_, reach_, correction_);
+  correction_.bond.hold_afresh(rows.begin, rows.end);
+  correct_integration(bonds_, x_.view(n), volume_ref_.view(n), interior.view(n), active.view(n), defect.view(n),
+                      iterations, own_, share_, reach_, correction_);
 }
 
 void Part::smooth(StretchView<Vec3> field, RangeArray<Vec3>& smoothed) const {
@@ -448,7 +461,7 @@ Index Part::deformation(StretchView<Vec3> x, StretchView<Vec3> v, Real dt) {
     F_[j] = F;
     const Mat3 L = dF * F.inverse();
     spin_[j] = Real(0.5) * (L - L.transpose());
-    const Real rho = mass_[j] / (volume_ref_[j] * det);
+    const Real rho = mass(j) / (volume_ref_[j] * det);
     materials::PointThermo thermo{specific_energy_[j], pressure_[j], sound_speed_[j]};
     materials::advance_point(mat, state_[j], thermo, L, dt, rho, materials::kept_back_stress(back_stress_, j));
     specific_energy_[j] = thermo.specific_energy;
@@ -492,7 +505,7 @@ void Part::update_stabilization(Real dt) {
 // Per particle, the quantity IDAM judges bonds on (bond_failure.hpp). Called after the kernel
 // update has folded F into F_total_, so F_total_ is the deformation from the initial configuration.
 void Part::failure_quantity(RangeArray<Real>& out, parallel::Range particles) const {
-  out.resize(0), out.hold(particles.begin, particles.end);
+  out.hold_afresh(particles.begin, particles.end);
   parallel::for_each(particles, [&](Index j) {
     switch (settings_.failure_quantity) {
       case BondFailure::plastic_strain:
@@ -542,8 +555,8 @@ void Part::update_kernel(discretization::NodeStore& nodes) {
   // A rank folds F where it holds it current, in the particles it reads (every one on one
   // process; under MPI their F, material state and pressure come each step), and judges the bonds
   // of its own particles' rows from them: only the bonds it breaks travel, to every rank (the
-  // broken pairs are every rank's). The others' folded F come with their state where a rank reads them later
-  // (complete, deal_anew; an Eulerian search's new partners below).
+  // broken pairs are every rank's). The others' folded F come with their state where a rank reads
+  // them later (deal_anew; an Eulerian search's new partners below).
   parallel::for_each(read_, [&](Index j) {
     volume_ref_[j] *= F_[j].determinant();
     F_total_[j] = F_[j] * F_total_[j];
@@ -555,7 +568,7 @@ void Part::update_kernel(discretization::NodeStore& nodes) {
   // drops).
   auto broken_per_particle = [&] {
     RangeArray<Index> count;
-    count.resize(0), count.hold(read_.begin, read_.end, 0);
+    count.hold_afresh(read_.begin, read_.end, 0);
     const auto counts = [&](Index i) { return i >= read_.begin && i < read_.end; };
     for (const auto& [i, j] : broken_pairs_) {
       if (counts(i)) ++count[i];
@@ -714,10 +727,8 @@ void Part::complete_kinematics(discretization::NodeStore& nodes) {
     // The rows held, from the ranks that computed them (share_ is still the deal's they were
     // computed in): each rank writes its own rows into a checkpoint, and a new deal's rows that a
     // rank lacks come from their new ranks, which hold them current after this.
-    std::vector<std::uint8_t> wanted(node_.size());
-    for (std::size_t a = 0; a < node_.size(); ++a) wanted[a] = nodes.holds_place(node_[a]);
     discretization::ReachShare arrivals;
-    arrivals.plan(wanted, node_, share_, nodes);
+    arrivals.plan_held(node_, share_, nodes);
     struct Kinematics {
       Vec3 x, v;
       Real mass;
@@ -748,7 +759,7 @@ void Part::complete_kinematics(discretization::NodeStore& nodes) {
   kinematics_complete_ = true;
 }
 
-// The state held by stretch and the bonds' shape functions and
+// The state a particle carries (visit_carried_state) and the bonds' shape functions and
 // correction, for the particles this rank's new rows read alone (a ReachShare planned against the
 // old deal's ranks, each of which holds its own particles and their rows then): a particle's state
 // travels to the ranks that need it, no further.
@@ -769,10 +780,7 @@ void Part::deal_anew(const discretization::NodeStore& nodes) {
   plan_smoothed(nodes);
   // The state held before (that sent) and of the particles read now (that received) while it travels.
   hold_state(parallel::hull(state_before, read_));
-  arrivals(F_, F_total_, spin_, state_, back_stress_, stabilization_force_, psi_self_, grad_self_, correction_.self,
-           correction_.lambda, correction_.mu, specific_energy_, density_, pressure_, viscous_pressure_, viscous_power_,
-           sound_speed_, volume0_, volume_ref_, support_, initial_support_, spacing_, mean_spacing_, stiffness_,
-           dashpot_, initial_bond_count_, on_surface_);
+  arrivals.arrays([&](auto&& bring) { visit_carried_state(*this, [&](auto& array, const auto&) { bring(array); }); });
   hold_state(read_);
   // The rows held before (those sent) and the rows read now (those received) while they travel.
   hold_shape_rows(parallel::hull(held_before, bonds_.entries(read_)));
@@ -804,7 +812,7 @@ void Part::compute_forces(discretization::NodeStore& nodes, Real dt, const HoldN
     hold_shape_rows(bonds_.entries(read_));
     hold_state(read_);
   }
-  if (set_up_pending_) set_up_shape_functions();
+  if (set_up_pending_) set_up_shape_functions(nodes);
   parallel::for_each(smoothed_, [&](Index i) {
     const Index row = nodes.node_row(node_[i]);
     x_[i] = nodes.x[row];
@@ -819,7 +827,7 @@ void Part::compute_forces(discretization::NodeStore& nodes, Real dt, const HoldN
     if (inverted >= 0)
       throw InstabilityError(fmt::format("SPG part {}: the deformation gradient at node {} is no longer "
                                          "invertible (det F <= 0): the particles have inverted",
-                                         settings_.part_id, node_id_[inverted]));
+                                         settings_.part_id, node_id(nodes, inverted)));
     // What the bonded particles of other ranks read (the stress and the spin).
     if (distributed) reach_(F_, spin_, state_, pressure_, viscous_pressure_);
     update_stabilization(dt);
@@ -848,23 +856,25 @@ void Part::compute_forces(discretization::NodeStore& nodes, Real dt, const HoldN
 // computed them before, after this pass: those ranks must hold this step's raise too).
 void Part::scale_masses(discretization::NodeStore& nodes, bool whole) {
   const Index n = particle_count();
-  const std::vector<Real> before = mass_scale_;
+  std::vector<Real> raise(n, 0);  // the mass each particle adds to its node this step
   parallel::for_each(own_, [&](Index i) {
     const Real s = courant_factor * current_spacing(i) / mass_scaling_.step;
     const Real speed = nodes.v[nodes.node_row(node_[i])].norm();
     const Real ratio = sound_speed_[i] / std::max(s - speed, s / 2);
-    mass_scale_[i] = std::max(mass_scale_[i], ratio * ratio);
+    const Real factor = std::max(mass_scale_[i], ratio * ratio);
+    raise[i] = (factor - mass_scale_[i]) * mass(i);
+    mass_scale_[i] = factor;
   }, particle_loops);
   if (whole)
-    share_(node_, mass_scale_);
+    share_(node_, mass_scale_, raise);
   else
     kinematics_complete_ = false;
   parallel::for_each(whole ? parallel::Range{0, n} : own_, [&](Index i) {
-    if (mass_scale_[i] > before[i] && nodes.holds_place(node_[i]))  // every node unless a window
-      nodes.mass[nodes.node_row(node_[i])] += (mass_scale_[i] - before[i]) * mass_[i];
+    if (raise[i] > 0 && nodes.holds_place(node_[i]))  // every node unless a window
+      nodes.mass[nodes.node_row(node_[i])] += raise[i];
   }, particle_loops);
   const Real added =
-      parallel::exact_sum(own_, [&](Index i) { return (mass_scale_[i] - 1) * mass_[i]; }, &parallel::world());
+      parallel::exact_sum(own_, [&](Index i) { return (mass_scale_[i] - 1) * mass(i); }, &parallel::world());
   mass_scaling_.record(added);
 }
 
@@ -950,10 +960,10 @@ void Part::write_fields(discretization::FieldSet& fields, const discretization::
 }
 
 void Part::checkpoint(Archive& a) {
-  a.section("spg part 8");
+  a.section("spg part 9");
   a.expect_size("SPG particles", node_.size());
   // x_ and v_ are the step's copies of the nodes' (compute_forces).
-  a(mass_, degraded_, bonds_.offsets, broken_pairs_, correction_, steps_since_update_, kernel_updates_, mass_scaling_,
+  a(bonds_.offsets, broken_pairs_, correction_, steps_since_update_, kernel_updates_, mass_scaling_,
     mass_scale_);
   // The state held by stretch and the bonds, their shape functions and correction in pieces
   // (core/pieces.hpp): each rank writes its own particles' and their rows (rank 0 every one until
@@ -987,15 +997,16 @@ void Part::checkpoint(Archive& a) {
 }
 
 Index Part::degraded_count() const {
-  Index n = 0;
-  for (auto d : degraded_) n += d;
-  return n;
+  std::int64_t n = 0;
+  for (Index j = own_.begin; j < own_.end; ++j) n += degraded_[j];
+  parallel::world().sum({&n, 1});
+  return static_cast<Index>(n);
 }
 
 std::size_t Part::memory_bytes() const {
   std::size_t held = 0;
   visit_held_state(*this, [&](const auto& array, const auto&) { held += array.capacity_bytes(); });
-  return held + bytes(node_) + bytes(node_id_) + bytes(mass_) + bytes(mass_scale_) + bytes(degraded_) +
+  return held + bytes(node_) + bytes(mass_scale_) +
          correction_.bond.capacity_bytes() +
          psi_.capacity_bytes() + grad_.capacity_bytes() + bytes(bonds_.offsets) + bonds_.neighbour.capacity_bytes() +
          bonds_.mirror.capacity_bytes() + bonds_.broken.capacity_bytes() + bonds_.rest_length.capacity_bytes() +

@@ -116,7 +116,8 @@ class Part {
   // The particles whose state (F, the material point, the spring, ...) this rank holds (hold_state).
   parallel::Range held_state() const { return {state_.held_begin(), state_.held_end()}; }
   long long kernel_updates() const { return kernel_updates_; }
-  // Particles whose bonds no longer hold a linear field (Shepard smoothing, no strain of their own).
+  // Particles whose bonds no longer hold a linear field (Shepard smoothing, no strain of their own),
+  // over the ranks (collective).
   Index degraded_count() const;
   // Under MPI with the velocities by reach: every rank's positions and velocities of its own
   // particles' nodes in (with a window the rows are each rank's to write: DT2MS's factors alone),
@@ -161,7 +162,7 @@ class Part {
   void bring_bond_rows(const discretization::ReachShare& from, parallel::Range particles);
   // The set-up's shape functions and integration-constraint correction (on one process in the
   // constructor, under MPI at the first deal: set_up_pending_).
-  void set_up_shape_functions();
+  void set_up_shape_functions(const discretization::NodeStore& nodes);
   // The per-particle state (F, the material point, the thermodynamic scalars, the spring, the
   // step's scratch, the shape functions' self terms and the correction's, the windows, the
   // constants) of particles [begin, end) held from now on (every particle on one process, those a
@@ -173,10 +174,19 @@ class Part {
   // of `particles`, held, from the builder's `setup`.
   void set_up_constants(const std::vector<ParticleSetup>& setup, parallel::Range particles);
   // visit(array, fresh) for each array of that state, in one order (the checkpoint's), with the
-  // value a particle newly held starts at.
+  // value a particle newly held starts at: the state a particle carries to the ranks that read it
+  // anew (a new deal), then the step's scratch, which the passes fill before they read it.
+  template <typename Self, typename Visit>
+  static void visit_carried_state(Self& part, Visit&& visit);
   template <typename Self, typename Visit>
   static void visit_held_state(Self& part, Visit&& visit);
-  void build_shape_functions(bool at_setup);
+  // Returns at the set-up the lowest particle over the ranks whose support holds too few particles
+  // for a linear field (-1: none), which stops the run; later such a particle is degraded.
+  Index build_shape_functions(bool at_setup);
+  // The deck's ID of particle's node, from the rank that computes it (collective: for messages).
+  Id node_id(const discretization::NodeStore& nodes, Index particle) const;
+  // rho_0 V_0: this part's share of the node's mass (DT2MS adds to it), of a particle held.
+  Real mass(Index i) const { return settings_.material.density * volume0_[i]; }
   void update_kernel(discretization::NodeStore& nodes);
   void detach_degraded_particles();
   void smooth(StretchView<Vec3> field, RangeArray<Vec3>& smoothed) const;
@@ -231,8 +241,6 @@ class Part {
   PartSettings settings_;
   // Per particle.
   std::vector<Index> node_;          // the node's place in the node order (its row: NodeStore::node_row)
-  std::vector<Id> node_id_;          // the deck's node ID, for messages
-  std::vector<Real> mass_;  // rho_0 V_0: this part's share of the node's mass (DT2MS adds every one's)
   // Of the particles a rank reads (read_; every particle on one process; hold_state).
   // The window's half-widths in the reference configuration of the kernel: a_I, or with KERNEL 1
   // and 2 the box around a_I carried by the deformation since the start (window_extent, part.cpp);
@@ -258,8 +266,9 @@ class Part {
   RangeArray<Vec3> stabilization_force_;  // s_J, the spring (read_)
   RangeArray<Vec3> stabilization_total_;  // s_J + c_J (v_J - vs_J), what the force gathers (read_)
   RangeArray<Real> stabilization_power_;  // c_J |v_J - vs_J|^2, dissipated (read_)
-  // 1 where the bonds left no longer hold a linear field: Shepard smoothing, no strain of its own.
-  std::vector<std::uint8_t> degraded_;
+  // 1 where the bonds left no longer hold a linear field: Shepard smoothing, no strain of its own
+  // (read_: a rank's own set by the shape functions, the others' in from their ranks).
+  RangeArray<std::uint8_t> degraded_;
   // Shape functions in the reference configuration: self term per particle (read_), the rest per bond.
   RangeArray<Real> psi_self_;
   RangeArray<Vec3> grad_self_;
