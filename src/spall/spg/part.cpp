@@ -774,17 +774,22 @@ void Part::deal_anew(const discretization::NodeStore& nodes) {
   discretization::ReachShare owned;
   owned.plan(own, node_, dealt_before, nodes);
   bring_bond_rows(owned, own_);
+  // Then the other particles it reads, theirs alone (its own rows are here).
+  std::vector<std::uint8_t> others = plan_reads(nodes);
+  std::fill(others.begin() + own_.begin, others.begin() + own_.end, 0);
   discretization::ReachShare arrivals;
-  arrivals.plan(plan_reads(nodes), node_, dealt_before, nodes);
+  arrivals.plan(others, node_, dealt_before, nodes);
   take_read_rows(arrivals);
   plan_smoothed(nodes);
   // The state held before (that sent) and of the particles read now (that received) while it travels.
   hold_state(parallel::hull(state_before, read_));
-  arrivals.arrays([&](auto&& bring) { visit_carried_state(*this, [&](auto& array, const auto&) { bring(array); }); });
+  for (const discretization::ReachShare* from : {&owned, &arrivals})
+    from->arrays([&](auto&& bring) { visit_carried_state(*this, [&](auto& array, const auto&) { bring(array); }); });
   hold_state(read_);
   // The rows held before (those sent) and the rows read now (those received) while they travel.
   hold_shape_rows(parallel::hull(held_before, bonds_.entries(read_)));
-  arrivals.rows(bonds_.offsets, psi_, grad_, correction_.bond);
+  for (const discretization::ReachShare* from : {&owned, &arrivals})
+    from->rows(bonds_.offsets, psi_, grad_, correction_.bond);
   hold_shape_rows(bonds_.entries(read_));
 }
 
