@@ -74,6 +74,7 @@ Part::Part(PartSettings settings, const std::vector<ParticleSetup>& particles,
   // process (under MPI those the smoothing reads from the first deal on).
   visit_held_state(*this, [](auto& array, const auto&) { array.resize(0); });
   if (!materials::keeps_back_stress(mat)) back_stress_.clear();
+  mass_scale_.clear();  // on with DT2MS (scale_mass_below)
   const Index count = static_cast<Index>(n);
   support_.resize(count), x_.resize(count);
   for (std::size_t i = 0; i < n; ++i) {
@@ -117,7 +118,7 @@ void Part::visit_carried_state(Self& part, Visit&& visit) {
   visit(part.pressure_, materials::eos_pressure(mat, mat.density, mat.initial_specific_energy));
   visit(part.viscous_pressure_, Real(0)), visit(part.viscous_power_, Real(0));
   visit(part.sound_speed_, reference_sound_speed(mat));
-  visit(part.degraded_, std::uint8_t(0));
+  visit(part.degraded_, std::uint8_t(0)), visit(part.mass_scale_, Real(1));
   // The constants (and the volume and window, updated at each kernel update) come with the particle
   // from the rank that holds it, set up for every particle in the constructor: never fresh.
   visit(part.volume0_, Real(0)), visit(part.volume_ref_, Real(0)), visit(part.support_, none);
@@ -743,16 +744,15 @@ void Part::complete_kinematics(discretization::NodeStore& nodes) {
           nodes.x[i] = k.x, nodes.v[i] = k.v;
           if (!mass_scale_.empty()) nodes.mass[i] = k.mass;
         });
-    share_(node_, mass_scale_);
   } else if (mass_scale_.empty()) {
     share_.complete_nodes(node_, nodes);
   } else {
-    // With DT2MS by reach the factors and the nodes' masses too, which each rank raises for its
-    // own particles alone between new deals (scale_masses).
+    // With DT2MS by reach the nodes' masses too, which each rank raises for its own particles
+    // alone between new deals (scale_masses).
     const Index n = particle_count();
     std::vector<Real> mass(n);
     for (Index a = 0; a < n; ++a) mass[a] = nodes.mass[nodes.node_row(node_[a])];
-    share_.complete_nodes(node_, nodes, mass_scale_, mass);
+    share_.complete_nodes(node_, nodes, mass);
     for (Index a = 0; a < n; ++a)
       if (!owns(a)) nodes.mass[nodes.node_row(node_[a])] = mass[a];
   }
@@ -852,13 +852,14 @@ void Part::compute_forces(discretization::NodeStore& nodes, Real dt, const HoldN
 // s = alpha h / target (but never below s / 2: a particle faster than s / 2 keeps a step below the
 // target rather than take unbounded mass), (f - 1) m more mass on its node, kept from then on. Its
 // material keeps its density.
-// Under MPI each rank scales its own particles. With the velocities by reach only a node's rank
-// reads its mass (its velocity update and energies, its slaves' touches), so each rank adds its own
-// particles' new mass alone, and the factors and masses come to the other ranks where they are
-// needed whole (complete_kinematics: a checkpoint, a new deal); otherwise, and
-// on a new deal's step, every rank adds every particle's (a contact with deformable segments reads
-// any node's mass; after a new deal other formulations bring their nodes' state from the ranks that
-// computed them before, after this pass: those ranks must hold this step's raise too).
+// Under MPI each rank scales its own particles (their factors travel with their state). With the
+// velocities by reach only a node's rank reads its mass (its velocity update and energies, its
+// slaves' touches), so each rank adds its own particles' new mass alone, and the masses come to
+// the other ranks where they are needed (complete_kinematics: a checkpoint, a new deal); otherwise,
+// and on a new deal's step, every rank adds every particle's raise, in from its rank (a contact
+// with deformable segments reads any node's mass; after a new deal other formulations bring their
+// nodes' state from the ranks that computed them before, after this pass: those ranks must hold
+// this step's raise too).
 void Part::scale_masses(discretization::NodeStore& nodes, bool whole) {
   const Index n = particle_count();
   std::vector<Real> raise(n, 0);  // the mass each particle adds to its node this step
@@ -871,7 +872,7 @@ void Part::scale_masses(discretization::NodeStore& nodes, bool whole) {
     mass_scale_[i] = factor;
   }, particle_loops);
   if (whole)
-    share_(node_, mass_scale_, raise);
+    share_(node_, raise);
   else
     kinematics_complete_ = false;
   parallel::for_each(whole ? parallel::Range{0, n} : own_, [&](Index i) {
@@ -885,7 +886,8 @@ void Part::scale_masses(discretization::NodeStore& nodes, bool whole) {
 
 void Part::scale_mass_below(Real step, bool first_step_only) {
   mass_scaling_.start(step, first_step_only);
-  mass_scale_.assign(particle_count(), 1);
+  const parallel::Range held = held_state();
+  mass_scale_.hold_afresh(held.begin, held.end, 1);
 }
 
 // The nodal spacing h scaled with the particle's volume change since the start; with KERNEL 2, the
@@ -965,11 +967,10 @@ void Part::write_fields(discretization::FieldSet& fields, const discretization::
 }
 
 void Part::checkpoint(Archive& a) {
-  a.section("spg part 9");
+  a.section("spg part 10");
   a.expect_size("SPG particles", node_.size());
   // x_ and v_ are the step's copies of the nodes' (compute_forces).
-  a(bonds_.offsets, broken_pairs_, correction_, steps_since_update_, kernel_updates_, mass_scaling_,
-    mass_scale_);
+  a(bonds_.offsets, broken_pairs_, correction_, steps_since_update_, kernel_updates_, mass_scaling_);
   // The state held by stretch and the bonds, their shape functions and correction in pieces
   // (core/pieces.hpp): each rank writes its own particles' and their rows (rank 0 every one until
   // the nodes are dealt); read back whole, a rank keeps those it reads from its first step on
@@ -1011,7 +1012,7 @@ Index Part::degraded_count() const {
 std::size_t Part::memory_bytes() const {
   std::size_t held = 0;
   visit_held_state(*this, [&](const auto& array, const auto&) { held += array.capacity_bytes(); });
-  return held + bytes(node_) + bytes(mass_scale_) +
+  return held + bytes(node_) +
          correction_.bond.capacity_bytes() +
          psi_.capacity_bytes() + grad_.capacity_bytes() + bytes(bonds_.offsets) + bonds_.neighbour.capacity_bytes() +
          bonds_.mirror.capacity_bytes() + bonds_.broken.capacity_bytes() + bonds_.rest_length.capacity_bytes() +

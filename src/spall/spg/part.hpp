@@ -120,8 +120,8 @@ class Part {
   // over the ranks (collective).
   Index degraded_count() const;
   // Under MPI with the velocities by reach: every rank's positions and velocities of its own
-  // particles' nodes in (with a window the rows are each rank's to write: DT2MS's factors alone),
-  // before a checkpoint (which writes the state held by stretch in pieces).
+  // particles' nodes in (with a window, those of the rows held), before a checkpoint (which writes
+  // the state held by stretch in pieces).
   void complete_state(discretization::NodeStore& nodes) { complete_kinematics(nodes); }
   // Under MPI with the velocities by reach (NodeStore::velocities_by_reach): v^{n+1/2} of the other
   // ranks' particles that this rank's smoothing reads, the bond partners of the particles it reads
@@ -232,9 +232,9 @@ class Part {
   // held before keeping their values.
   void hold_shape_rows(parallel::Range rows);
   // With the velocities by reach, every rank's positions and velocities of its own particles' nodes
-  // in (share_, in the deal they were computed in), and with DT2MS their masses and the particles'
-  // factors: what a new deal's rows and a checkpoint read. With a window of the nodes, those of the
-  // rows it holds alone (from the ranks that computed them), and the factors whole.
+  // in (share_, in the deal they were computed in), and with DT2MS their masses: what a new deal's
+  // rows and a checkpoint read. With a window of the nodes, those of the rows it holds alone (from
+  // the ranks that computed them). DT2MS's factors travel with the state (visit_carried_state).
   void complete_kinematics(discretization::NodeStore& nodes);
   void correct_integration_constraint(bool at_setup);
 
@@ -311,7 +311,7 @@ class Part {
   int steps_since_update_ = 0;
   long long kernel_updates_ = 0;
   discretization::MassScaling mass_scaling_;  // DT2MS
-  std::vector<Real> mass_scale_;  // DT2MS: the factor f >= 1 on each particle's mass (empty without)
+  RangeArray<Real> mass_scale_;  // DT2MS: the factor f >= 1 on each particle's mass (read_; off without)
 };
 
 }  // namespace spall::spg
