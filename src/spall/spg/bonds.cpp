@@ -39,11 +39,14 @@ Real previous_rest_length(const BondList& previous, Index i, Index j, bool& foun
   return found ? previous.rest_length[k] : 0;
 }
 
-void break_bonds(BondList& bonds, std::span<const std::uint8_t> held, std::span<const BondPair> pairs,
+void break_bonds(BondList& bonds, StretchView<std::uint8_t> held, std::span<const BondPair> pairs,
                  std::vector<BondPair>& broken_pairs) {
+  const auto holds = [&](Index i) {
+    return held.size() == 0 || (i >= held.held_begin() && i < held.held_end() && held[i]);
+  };
   for (const auto& [i, j] : pairs) {
-    if (held.empty() || held[i]) bonds.broken[bonds.find(i, j)] = 1;
-    if (held.empty() || held[j]) bonds.broken[bonds.find(j, i)] = 1;
+    if (holds(i)) bonds.broken[bonds.find(i, j)] = 1;
+    if (holds(j)) bonds.broken[bonds.find(j, i)] = 1;
   }
   std::vector<BondPair> merged;
   merged.reserve(broken_pairs.size() + pairs.size());

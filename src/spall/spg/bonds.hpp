@@ -82,9 +82,9 @@ std::vector<BondPair> bonds_breaking(const BondList& bonds, StretchView<Real> qu
                                      Real critical_value, Real critical_stretch, parallel::Range rows);
 
 // Marks the bonds `pairs` (sorted, each in the rows of both its particles) broken in the rows
-// held (`held[i]` 1 where row i is, every row where `held` is empty) and adds them to the sorted
-// list `broken_pairs`.
-void break_bonds(BondList& bonds, std::span<const std::uint8_t> held, std::span<const BondPair> pairs,
+// held (`held[i]` 1 where row i is, among the particles the view holds; every row where `held` is
+// of no particle) and adds them to the sorted list `broken_pairs`.
+void break_bonds(BondList& bonds, StretchView<std::uint8_t> held, std::span<const BondPair> pairs,
                  std::vector<BondPair>& broken_pairs);
 
 // Fills mirror for the rows of particles `rows` (their partners' rows held; the pattern symmetric),

@@ -539,7 +539,7 @@ void Part::detach_degraded_particles() {
     }
     detaching = every_ranks(std::move(detaching));
     if (detaching.empty()) return;
-    break_bonds(bonds_, reads_, detaching, broken_pairs_);
+    break_bonds(bonds_, rows_read(), detaching, broken_pairs_);
     build_shape_functions(false);
   }
 }
@@ -578,7 +578,7 @@ void Part::update_kernel(discretization::NodeStore& nodes) {
     return count;
   };
   const RangeArray<Index> broken_before = broken_per_particle();
-  break_bonds(bonds_, reads_,
+  break_bonds(bonds_, rows_read(),
               every_ranks(bonds_breaking(bonds_, quantity.view(n), x_.view(n), settings_.failure_value,
                                          settings_.failure_stretch, own_)),
               broken_pairs_);
@@ -676,14 +676,17 @@ void Part::find_own(const discretization::NodeStore& nodes) {
   own_ = {first_at(nodes.rank_begin[nodes.rank]), first_at(nodes.rank_begin[nodes.rank + 1])};  // places
 }
 
-const std::vector<std::uint8_t>& Part::plan_reads(const discretization::NodeStore& nodes) {
+std::vector<std::uint8_t> Part::plan_reads(const discretization::NodeStore& nodes) {
   reach_partition_ = nodes.partition;
-  reads_ = reach_.plan_rows(bonds_.offsets, bonds_.neighbour.view(bonds_.entry_count()),
-                            [&](Index j) { return owns(j); }, node_, share_, nodes, {own_.begin, own_.end});
+  std::vector<std::uint8_t> reads =
+      reach_.plan_rows(bonds_.offsets, bonds_.neighbour.view(bonds_.entry_count()), [&](Index j) { return owns(j); },
+                       node_, share_, nodes, {own_.begin, own_.end});
   read_ = {};
   for (Index a = 0; a < particle_count(); ++a)
-    if (reads_[a]) read_ = parallel::hull(read_, {a, a + 1});
-  return reads_;
+    if (reads[a]) read_ = parallel::hull(read_, {a, a + 1});
+  reads_.hold_afresh(read_.begin, read_.end);
+  std::copy(reads.begin() + read_.begin, reads.begin() + read_.end, reads_.data());
+  return reads;
 }
 
 void Part::plan_smoothed(const discretization::NodeStore& nodes) {
@@ -1012,7 +1015,7 @@ Index Part::degraded_count() const {
 std::size_t Part::memory_bytes() const {
   std::size_t held = 0;
   visit_held_state(*this, [&](const auto& array, const auto&) { held += array.capacity_bytes(); });
-  return held + bytes(node_) +
+  return held + bytes(node_) + reads_.capacity_bytes() +
          correction_.bond.capacity_bytes() +
          psi_.capacity_bytes() + grad_.capacity_bytes() + bytes(bonds_.offsets) + bonds_.neighbour.capacity_bytes() +
          bonds_.mirror.capacity_bytes() + bonds_.broken.capacity_bytes() + bonds_.rest_length.capacity_bytes() +

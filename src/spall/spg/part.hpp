@@ -213,8 +213,9 @@ class Part {
   // own_ in the nodes' deal.
   void find_own(const discretization::NodeStore& nodes);
   // The other ranks' particles bonded to this rank's (from its own rows): at each kernel update and
-  // each new deal. Sets reads_ (this rank's own particles and those) and read_ (collective).
-  const std::vector<std::uint8_t>& plan_reads(const discretization::NodeStore& nodes);
+  // each new deal. Sets reads_ (this rank's own particles and those) and read_, and returns the
+  // flags of every particle, as reads_ holds them (collective).
+  std::vector<std::uint8_t> plan_reads(const discretization::NodeStore& nodes);
   // Then, from the rows read: smoothed_ (x_ and v_ held for it), and with the velocities by reach
   // velocity_reach_ (collective).
   void plan_smoothed(const discretization::NodeStore& nodes);
@@ -223,6 +224,11 @@ class Part {
   // Whether this rank computes particle i's smoothed fields, spring and weighted stress: every
   // particle on one process, else those it reads.
   bool computes(Index i) const { return reads_.empty() || reads_[i]; }
+  // The rows a rank holds current, as break_bonds takes them: those of the particles it reads (an
+  // empty view, every row, on one process).
+  StretchView<std::uint8_t> rows_read() const {
+    return reads_.empty() ? StretchView<std::uint8_t>{} : reads_.view(particle_count());
+  }
   // Under MPI, the nodes dealt anew (load balance): the particles this rank now reads come in with
   // their shape functions and correction and their state held by stretch from the ranks that
   // computed them before (collective).
@@ -290,7 +296,7 @@ class Part {
 
   discretization::ParticleShare share_;  // under MPI: the particles this rank computes, theirs to all
   discretization::ReachShare reach_;     // under MPI: the other ranks' particles bonded to this rank's
-  std::vector<std::uint8_t> reads_;      // under MPI: 1 for this rank's particles and those (plan_reads)
+  RangeArray<std::uint8_t> reads_;       // under MPI: 1 for this rank's particles and those (read_; plan_reads)
   long long reach_partition_ = -1;       // NodeStore::partition that reach_ was planned for
   // With the velocities by reach: the other ranks' particles whose velocities this rank's smoothing
   // reads (two bonds from its own), and whether every particle's position and velocity is current
