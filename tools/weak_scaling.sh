@@ -5,6 +5,10 @@
 # walls under it (the two side walls are shared by all). One rank per core, one thread a rank.
 # SCENE=taylor_bar: the SPH solid instead, the Taylor bar at 32 P^(1/3) particles across on P ranks
 # (about 80 000 particles a rank) to 3e-6 s x 32 / across (about 87 steps).
+# SCENE=spg_bar: SPG, the tensile bar of tools/make_spg_tension_deck.py at SPG_ELEMENTS P^(1/3)
+# elements along it on P ranks (SPG_ELEMENTS=80: 23 000 particles a rank; 100: 44 500), pulled at
+# 100 m/s for about 50 steps (three kernel updates), one output at the end; the deck of SPG alone
+# holds a window of the nodes (docs/SCALING.md §3).
 # Then the busy node's baseline: B one-rank runs of the one-column deck at once, one a core, so that
 # the ranks' shared memory bandwidth and clocks are in the baseline too (docs/SCALING.md §4).
 # Prints a row a run: the time in the step without output (each rank's, the slowest counted by the
@@ -20,7 +24,14 @@ out=${1:-results/weak_scaling}
 mkdir -p "$out"
 cd "$out"
 deck() {
-  if [ "${SCENE:-dam_break}" = taylor_bar ]; then
+  if [ "${SCENE:-dam_break}" = spg_bar ]; then
+    local elements
+    elements=$(python3 -c "print(round(${SPG_ELEMENTS:-80} * $1 ** (1 / 3)))")
+    python3 "$here/make_spg_tension_deck.py" --elements "$elements" --speed 100 \
+      --end-time "$(python3 -c "print(3.8e-5 / $elements)")" |
+      python3 -c "import re, sys; t = sys.stdin.read(); print(re.sub(r'(\*DATABASE_BINARY_D3PLOT\n)\S+', r'\g<1>1.0', t), end='')" \
+      > "columns$1.k"
+  elif [ "${SCENE:-dam_break}" = taylor_bar ]; then
     local across
     across=$(python3 -c "print(round(32 * $1 ** (1 / 3)))")
     python3 "$here/make_taylor_bar_deck.py" --across "$across" --end-time "$(python3 -c "print(3e-6 * 32 / $across)")" \
