@@ -610,9 +610,11 @@ void Part::update_kernel(discretization::NodeStore& nodes) {
   build_shape_functions(false);
   detach_degraded_particles();
   // A particle that lost bonds has lost the neighbourhood its spring measured the non-affine
-  // motion against: the spring starts again from rest (else it kicks the new crack surface).
+  // motion against: the spring starts again from rest (else it kicks the new crack surface). Of
+  // the particles read before and now: a KERNEL 1 search's new partners bring their springs below.
   const RangeArray<Index> broken_after = broken_per_particle();
-  for (Index j = read_.begin; j < read_.end; ++j)
+  for (Index j = std::max(read_.begin, broken_before.held_begin()); j < std::min(read_.end, broken_before.held_end());
+       ++j)
     if (broken_after[j] != broken_before[j]) stabilization_force_[j] = Vec3::Zero();
   // Bonds searched anew may have partners new to a rank: their folded F, volume and stress and
   // their springs, which the correction, the force and the next step's springs read (the rest
