@@ -208,9 +208,16 @@ void SolidElements::set_up_state(const discretization::NodeStore& nodes) {
     const int per = block.nodes_per_element, points = block.points_per_element;
     parallel::for_each(elements.size(), [&](Index j) {
       const Index e = elements.begin + j;
+      // The stretch held may hold elements another rank computes, whose nodes a window need not
+      // hold: their volume is never read here (a new deal brings it with their state).
+      bool nodes_held = true;
       std::array<Index, 8> node{};
-      for (int a = 0; a < per; ++a) node[a] = nodes.node_row(node_[block.node[per * e + a]]);
-      block.volume[e] = element_volume(node, block.kind == Kind::tetrahedron, nodes);
+      for (int a = 0; a < per; ++a) {
+        const Index place = node_[block.node[per * e + a]];
+        nodes_held = nodes_held && nodes.holds_place(place);
+        node[a] = nodes.node_row(place);
+      }
+      block.volume[e] = nodes_held ? element_volume(node, block.kind == Kind::tetrahedron, nodes) : 0;
       const materials::Material& m = parts_[block.part[e]].material;
       const Real e0 = m.initial_specific_energy;
       for (int g = 0; g < points; ++g) {

@@ -778,7 +778,8 @@ Index SolidFormulation::compute_rates(Real dt) {
   const bool normal_on = colour_on || row_sums;
   // The records from the first particle they hold on; the rows' neighbours less `origin` (keep_row).
   const Index origin = record_.held_begin();
-  const float* records = &record_.data()->x;
+  // None on a rank without particles (a member of a null record would be undefined, even unread).
+  const float* records = record_.data() ? &record_.data()->x : nullptr;
   const float* masses = record_mass_.empty() ? nullptr : record_mass_.data() + (origin - record_mass_.held_begin());
   const float alpha = static_cast<float>(options_.viscosity.alpha), beta = static_cast<float>(options_.viscosity.beta);
   const float eta2 = static_cast<float>(options_.viscosity.eta * options_.viscosity.eta);
@@ -1310,10 +1311,12 @@ void SolidFormulation::compute_pair_forces() {
   const Real exponent = options_.artificial_stress.exponent;
   // The records and the sums from the first particle they hold on (keep_row).
   const Index origin = record_.held_begin();
-  const float* records = &record_.data()->x;
+  // None on a rank without particles (as in compute_rates).
+  const float* records = record_.data() ? &record_.data()->x : nullptr;
   // P_b(i, j) = P[stress_stride b + i + 3 j]; plain SPH: sigma_b's components at
   // plain_stress_stride b.
-  const float* P = corrected ? stress_.data()->P : plain_stress_.data()->sigma;
+  const float* P = corrected ? (stress_.data() ? stress_.data()->P : nullptr)
+                             : (plain_stress_.data() ? plain_stress_.data()->sigma : nullptr);
   // The pair terms of particle a's row (half: the pairs with b > a, each added to a and taken
   // from b), returned as a's sum; `terms` is the caller's scratch.
   const auto row_force = [&]<bool half>(Index a, RowTerms& terms) {
