@@ -5,7 +5,8 @@
 // of the one-process node order, byte for byte the whole set-up's, with the nodes other cards name
 // found over the ranks. Bad cards (a node or a particle given twice, a particle on no node or of no
 // part, coordinates out of range, two of them in one deck; an SPH solid's parts that cannot run)
-// stop every rank with the one-process run's message, whichever rank holds the card.
+// stop every rank with the one-process run's message, whichever rank holds the card; so do an SPG
+// deck's bad element cards and section, set up in blocks from the node cards in shares.
 #include <gtest/gtest.h>
 
 #include <fmt/format.h>
@@ -188,6 +189,65 @@ TEST(CardsInShares, BadCardsStopEveryRankAsOneProcess) {
   }
   EXPECT_NE(messages[0], messages[1]);  // each at its own section's card
   EXPECT_EQ(failure(deck("", true), true), "");
+}
+
+// An SPG block of 16 x 16 x 16 elements of 1 mm (4 913 nodes: two chunks of node cards, the
+// 4 096 elements one), IDs k + 1 in x-fastest order; `extra` goes before *END.
+std::string spg_deck(const std::string& extra = "") {
+  std::string text = "*KEYWORD\n*CONTROL_TERMINATION\n      0.01\n*PART\nblock\n         1         1         1\n";
+  text += "*SECTION_SOLID_SPG\n         1        47\n       1.6       1.6       1.6\n         1\n";
+  text += "*MAT_ELASTIC\n         1    7850.0   2.0e+11       0.3\n*NODE\n";
+  const auto id = [](int i, int j, int k) { return 1 + i + 17 * (j + 17 * k); };
+  for (int k = 0; k <= 16; ++k)
+    for (int j = 0; j <= 16; ++j)
+      for (int i = 0; i <= 16; ++i)
+        text += fmt::format("{:8d}{:16g}{:16g}{:16g}\n", id(i, j, k), 1e-3 * i, 1e-3 * j, 1e-3 * k);
+  text += "*ELEMENT_SOLID\n";
+  int eid = 1;
+  for (int k = 0; k < 16; ++k)
+    for (int j = 0; j < 16; ++j)
+      for (int i = 0; i < 16; ++i)
+        text += fmt::format("{:8d}{:8d}\n{:8d}{:8d}{:8d}{:8d}{:8d}{:8d}{:8d}{:8d}\n", eid++, 1, id(i, j, k),
+                            id(i + 1, j, k), id(i + 1, j + 1, k), id(i, j + 1, k), id(i, j, k + 1), id(i + 1, j, k + 1),
+                            id(i + 1, j + 1, k + 1), id(i, j + 1, k + 1));
+  return text + extra + "*END\n";
+}
+
+// SPG alone is set up in blocks: bad element cards (a corner on no node, of no part, an inverted
+// element, two of them in one deck) and a section that cannot run stop every rank as one process.
+TEST(CardsInShares, BadSpgCardsStopEveryRankAsOneProcess) {
+  model::Model shared = io::keyword::read_deck_text(spg_deck(), "spg.k", shares());
+  EXPECT_EQ(sets_up_in_blocks(shared), parallel::world().size() > 1);
+  // Element 5001 on the first cell upside down (N5-N8 below N1-N4); 5002 on the last cell likewise.
+  const std::string inverted_first =
+      "*ELEMENT_SOLID\n    5001       1\n     290     291     308     307       1       2      19      18\n";
+  const std::string inverted_last =
+      "*ELEMENT_SOLID\n    5002       1\n    4895    4896    4913    4912    4606    4607    4624    4623\n";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"*ELEMENT_SOLID\n    5000       1\n       1       2   99999      18     290     291     308     307\n",
+       "element 5000: node N3 = 99999 is not defined"},
+      {"*ELEMENT_SOLID\n    5000       7\n       1       2      19      18     290     291     308     307\n",
+       "element 5000: part 7 is not defined"},
+      // Two: the missing node of the later card is found at another rank than the part of the first.
+      {"*ELEMENT_SOLID\n    5000       7\n       1       2      19      18     290     291     308     307\n"
+       "    5003       1\n       1       2   99999      18     290     291     308     307\n",
+       "element 5000: part 7 is not defined"},
+      {inverted_first, "element 5001: inverted or flat"},
+      {inverted_last + inverted_first, "element 5002: inverted or flat"},
+      {inverted_first + inverted_last, "element 5001: inverted or flat"},
+  };
+  for (const auto& [extra, expected] : cases) {
+    const std::string text = spg_deck(extra);
+    const std::string one_process = failure(text, false), in_shares = failure(text, true);
+    EXPECT_NE(one_process.find(expected), std::string::npos) << one_process << " for " << extra;
+    EXPECT_EQ(in_shares, one_process) << extra;
+  }
+  std::string itb3 = spg_deck();
+  itb3.replace(itb3.find("\n         1\n*MAT_ELASTIC"), 12, "\n         1       0.0       0.0         3\n");
+  const std::string one_process = failure(itb3, false);
+  EXPECT_NE(one_process.find("ITB 3"), std::string::npos) << one_process;
+  EXPECT_EQ(failure(itb3, true), one_process);
+  EXPECT_EQ(failure(spg_deck(), true), "");
 }
 
 }  // namespace

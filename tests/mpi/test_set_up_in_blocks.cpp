@@ -18,9 +18,14 @@
 #include "spall/core/communicator.hpp"
 #include "spall/core/parallel.hpp"
 #include "spall/io/keyword/reader.hpp"
+#include "spall/discretization/node_index.hpp"
+#include "spall/solver/nodes_in_blocks.hpp"
 #include "spall/solver/problem.hpp"
+#include "spall/spg/formulation.hpp"
+#include "spall/spg/setup.hpp"
 #include "spall/sph/fluid.hpp"
 #include "spall/sph/solid.hpp"
+#include "support/spg_block.hpp"
 
 namespace spall::solver {
 namespace {
@@ -148,6 +153,76 @@ TEST(SetUpInBlocks, TheSphSolidAloneIsSetUpInBlocksToo) {
   EXPECT_GT(whole.sph_solid->max_wave_speed(), 0);
   EXPECT_EQ(blocks.sph_solid->max_wave_speed(), whole.sph_solid->max_wave_speed());
   EXPECT_EQ(blocks.rigid_walls[0].tracked(), whole.rigid_walls[0].tracked());
+}
+
+// SPG alone is set up in blocks too: each rank's rows are the whole set-up's (their masses the
+// nodal volumes, added up in the same order), and its particles of each part are the whole
+// set-up's on its block's nodes, byte for byte: the nodal volumes, spacings and surface flags
+// (spg/setup.hpp) from the corners and faces that came from the other ranks' elements.
+TEST(SetUpInBlocks, SpgAloneIsSetUpInBlocksToo) {
+  const parallel::Communicator& ranks = parallel::world();
+  test_support::SpgBlock bar = test_support::bar_along_z();
+  bar.elements = {3, 2, 9};
+  bar.jitter = 0.2;  // no two volumes alike
+  model::Model model = test_support::spg_block_model(bar);
+  // Two parts, the upper half of the bar the second, sharing the nodes between them.
+  model.parts.push_back(model.parts.front());
+  model.parts.back().id = 2;
+  for (auto& e : model.solid_elements) e.pid = e.eid > 3 * 2 * 5 ? 2 : 1;
+  const Problem whole = set_up(model, SetUp::whole);
+  // As read under MPI: each rank holds its share of the node cards (every element card).
+  model::Model dealt = model;
+  dealt.cards = model::CardShare{ranks.rank(), ranks.size()};
+  dealt.node_cards = static_cast<Index>(model.nodes.size());
+  dealt.nodes.clear();
+  for (Index k = 0; k < dealt.node_cards; ++k)
+    if (dealt.cards.holds(k)) dealt.nodes.push_back(model.nodes[k]);
+  const Problem blocks = set_up(ranks.size() > 1 ? dealt : model, SetUp::in_blocks_where_possible);
+  const auto& w = whole.nodes;
+  const auto& b = blocks.nodes;
+  ASSERT_EQ(w.size(), 4 * 3 * 10);
+  EXPECT_EQ(b.holds_a_block(), ranks.size() > 1);
+  const Index first = parallel::block_begin(w.size(), ranks.rank(), ranks.size());
+  ASSERT_EQ(b.size(), parallel::block_begin(w.size(), ranks.rank() + 1, ranks.size()) - first);
+  for (Index r = 0; r < b.size(); ++r) {
+    const discretization::NodeStore::Row built = b.row(r), reference = w.row(first + r);
+    EXPECT_EQ(std::memcmp(&built, &reference, sizeof built), 0) << "node " << b.id[r];
+  }
+  ASSERT_EQ(blocks.formulations.size(), 1u);
+  const auto& formulation = dynamic_cast<const spg::SpgFormulation&>(*blocks.formulations.front());
+  EXPECT_EQ(formulation.particle_count(), 4 * 3 * 10 + 4 * 3);
+
+  // The particles, from the element cards this rank is dealt, against the whole set-up's.
+  discretization::NodeStore store;
+  const NodesInBlocks in_blocks(dealt, store, ranks);
+  const std::vector<spg::PartSetup> parts = spg::spg_parts_in_blocks(
+      dealt, in_blocks.solid_elements(store), parallel::block_offsets(in_blocks.deck_nodes(), ranks.size()), ranks);
+  discretization::NodeIndex index;
+  ASSERT_EQ(index.assign(w.id), -1);
+  const std::vector<spg::PartSetup> every = spg::spg_parts(model, index, w);
+  ASSERT_EQ(parts.size(), 2u);
+  ASSERT_EQ(every.size(), 2u);
+  int surface = 0, inside = 0;
+  for (std::size_t p = 0; p < 2; ++p) {
+    EXPECT_EQ(parts[p].settings.part_id, every[p].settings.part_id);
+    std::vector<spg::ParticleSetup> held;
+    for (const auto& particle : every[p].particles)
+      if (particle.node >= first && particle.node < first + b.size()) held.push_back(particle);
+    ASSERT_EQ(parts[p].particles.size(), held.size());
+    for (std::size_t k = 0; k < held.size(); ++k) {
+      const spg::ParticleSetup &built = parts[p].particles[k], &reference = held[k];
+      EXPECT_EQ(built.node, reference.node);
+      EXPECT_EQ(std::memcmp(&built.volume, &reference.volume, sizeof built.volume), 0) << "particle at " << built.node;
+      EXPECT_EQ(std::memcmp(built.spacing.data(), reference.spacing.data(), 3 * sizeof(Real)), 0);
+      EXPECT_EQ(built.on_surface, reference.on_surface) << "particle at " << built.node;
+      ++(reference.on_surface ? surface : inside);
+    }
+  }
+  // Inside the parts of 3 x 2 x 5 and 3 x 2 x 4 elements: 2 x 1 x 4 nodes and 2 x 1 x 3.
+  std::int64_t counts[2] = {surface, inside};
+  ranks.sum(counts);
+  EXPECT_EQ(counts[1], 8 + 6);
+  EXPECT_EQ(counts[0] + counts[1], 4 * 3 * 10 + 4 * 3);  // the layer between the parts twice
 }
 
 TEST(SetUpInBlocks, ADeckWithAnSphSolidBesideTheFluidIsSetUpWhole) {

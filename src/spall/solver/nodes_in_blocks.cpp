@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <fmt/format.h>
 #include <optional>
 #include <span>
@@ -33,6 +34,31 @@ void for_each_own_card(const model::Model& model, const std::vector<Card>& cards
     const Index ordinal = whole ? static_cast<Index>(k) : share.ordinal(static_cast<Index>(k));
     if (!whole || share.holds(ordinal)) f(cards[k], ordinal);
   }
+}
+
+// answer(q) for each question, asked of rank rank_of(q), which answers it: the answers in the
+// questions' order (collective). Questions and answers of whole 8-byte words.
+template <class Answer, class Question, class RankOf, class Reply>
+std::vector<Answer> ask(const std::vector<Question>& questions, RankOf&& rank_of, Reply&& answer,
+                        const parallel::Communicator& ranks) {
+  struct Asked {
+    Question question;
+    std::int64_t from, slot;
+  };
+  struct Answered {
+    std::int64_t slot;
+    Answer answer;
+  };
+  static_assert(sizeof(Asked) == sizeof(Question) + 16 && sizeof(Answered) == sizeof(Answer) + 8,
+                "records of whole words: no padding travels");
+  std::vector<std::vector<Asked>> out(ranks.size());
+  for (std::size_t k = 0; k < questions.size(); ++k)
+    out[rank_of(questions[k])].push_back({questions[k], ranks.rank(), static_cast<std::int64_t>(k)});
+  std::vector<std::vector<Answered>> back(ranks.size());
+  for (const Asked& a : ranks.deliver(out)) back[a.from].push_back({a.slot, answer(a.question)});
+  std::vector<Answer> answers(questions.size());
+  for (const Answered& a : ranks.deliver(back)) answers[a.slot] = a.answer;
+  return answers;
 }
 
 }  // namespace
@@ -221,6 +247,49 @@ std::vector<sph::ParticleCard> NodesInBlocks::particles() {
     particles.push_back({&particles_.back(), card.place - first_row_, card.ordinal});
   }
   return particles;
+}
+
+std::vector<spg::ElementCorners> NodesInBlocks::solid_elements(const discretization::NodeStore& nodes) const {
+  // The element cards are every rank's (model::CardShare deals the node and particle cards alone):
+  // each rank takes those that CardShare{rank, ranks} would deal it.
+  std::vector<spg::ElementCorners> elements;
+  const model::CardShare share{ranks_.rank(), ranks_.size()};
+  for (std::size_t k = 0; k < model_.solid_elements.size(); ++k)
+    if (share.holds(static_cast<Index>(k)))
+      elements.push_back({&model_.solid_elements[k], static_cast<Index>(k), {}, {}});
+  // The corners' nodes' places, each ID asked once of the rank of the ID (-1: no card gives it).
+  std::vector<Id> ids;
+  for (const auto& e : elements) ids.insert(ids.end(), e.card->n.begin(), e.card->n.end());
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  const std::vector<std::int64_t> place_of_id = ask<std::int64_t>(
+      ids, [&](Id id) { return parallel::rank_of_id(id, ranks_.size()); },
+      [&](Id id) {
+        const auto node = std::lower_bound(directory_.begin(), directory_.end(), id,
+                                           [](const Entry& e, Id value) { return e.id < value; });
+        return std::int64_t(node != directory_.end() && node->id == id ? node->place : -1);
+      },
+      ranks_);
+  std::vector<std::int64_t> places;
+  for (auto& e : elements)
+    for (int a = 0; a < 8; ++a) {
+      const auto id = std::lower_bound(ids.begin(), ids.end(), e.card->n[a]);
+      e.place[a] = static_cast<Index>(place_of_id[id - ids.begin()]);
+      if (e.place[a] >= 0) places.push_back(e.place[a]);
+    }
+  // Their positions, each place asked once of the rank whose block holds it.
+  std::sort(places.begin(), places.end());
+  places.erase(std::unique(places.begin(), places.end()), places.end());
+  const std::vector<Index> blocks = parallel::block_offsets(deck_nodes_, ranks_.size());
+  const std::vector<Vec3> x = ask<Vec3>(
+      places,
+      [&](std::int64_t place) { return std::upper_bound(blocks.begin(), blocks.end(), place) - blocks.begin() - 1; },
+      [&](std::int64_t place) { return nodes.x0[place - first_row_]; }, ranks_);
+  for (auto& e : elements)
+    for (int a = 0; a < 8; ++a)
+      if (e.place[a] >= 0)
+        e.x[a] = x[std::lower_bound(places.begin(), places.end(), std::int64_t(e.place[a])) - places.begin()];
+  return elements;
 }
 
 }  // namespace spall::solver

@@ -1,7 +1,7 @@
 #pragma once
 // The set-up of a rank's block of the node order from every rank's share of the deck's node and
 // particle cards (model::CardShare), for a deck of SPH fluid or SPH solid alone under MPI
-// (docs/SCALING.md §5 step 4 f1-f4): no rank holds every card or every node. The node order is the
+// (docs/SCALING.md §5 step 4 f1-f4), and of a deck of SPG alone (§3): no rank holds every node. The node order is the
 // one-process run's (the cells of the nodes' box, then the deck's order), found as a sort over the
 // ranks; a node's place is looked up at the rank of its ID, where every node card's ID and place
 // went.
@@ -11,6 +11,7 @@
 #include "spall/core/communicator.hpp"
 #include "spall/discretization/node_store.hpp"
 #include "spall/model/model.hpp"
+#include "spall/spg/setup.hpp"
 #include "spall/sph/fluid_setup.hpp"
 
 namespace spall::solver {
@@ -52,6 +53,11 @@ class NodesInBlocks {
   // kept here), each with its node's row. Collective; a particle on no node or on a node that
   // carries another stops every rank at the first such card in the deck's order.
   std::vector<sph::ParticleCard> particles();
+
+  // This rank's share of the *ELEMENT_SOLID cards (every rank holds them all; CardShare{rank,
+  // ranks} deals them), ascending in the deck's order, with their corners' places (asked of the
+  // ranks of their IDs) and positions (of the ranks whose blocks of `nodes` hold them). Collective.
+  std::vector<spg::ElementCorners> solid_elements(const discretization::NodeStore& nodes) const;
 
  private:
   struct Entry {  // a node card's ID, its place in the node order and its line

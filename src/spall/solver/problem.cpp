@@ -42,8 +42,7 @@ class Builder {
     build_nodes();
     build_sph();
     std::vector<Index>().swap(model_node_);  // read by build_sph alone
-    if (auto spg = spg::build_spg(model_, index_of_node_, problem_.nodes))
-      problem_.formulations.push_back(std::move(spg));
+    if (auto spg = build_spg()) problem_.formulations.push_back(std::move(spg));
     if (auto fem = fem::build_fem(model_, index_of_node_, problem_.nodes))
       problem_.formulations.push_back(std::move(fem));
     rigid::add_rigid_masses(model_, index_of_node_, problem_.nodes);
@@ -59,7 +58,7 @@ class Builder {
     if (in_blocks_ && (problem_.formulations.size() != 1 || !problem_.rigid_bodies.empty() ||
                        !problem_.contacts.empty() ||
                        !(problem_.formulations.front()->migrates() || problem_.formulations.front()->holds_window())))
-      throw std::logic_error("set-up in blocks: the deck is not one of SPH fluid or SPH solid alone");
+      throw std::logic_error("set-up in blocks: the deck is not one of SPH fluid, SPH solid or SPG alone");
     return std::move(problem_);
   }
 
@@ -157,6 +156,15 @@ class Builder {
       nodes.x[k] = node.x;
       nodes.fixed[k] = model::constraint_axes(node.tc);
     }
+  }
+
+  // The SPG parts; set up in blocks (a deck of SPG alone), each rank's particles those on its block
+  // of the nodes, from its share of the element cards (docs/SCALING.md §3).
+  std::unique_ptr<discretization::Formulation> build_spg() {
+    if (!in_blocks_) return spg::build_spg(model_, index_of_node_, problem_.nodes);
+    const parallel::Communicator& ranks = parallel::world();
+    return spg::build_spg_in_blocks(model_, blocks_->solid_elements(problem_.nodes),
+                                    parallel::block_offsets(deck_nodes_, ranks.size()), problem_.nodes, ranks);
   }
 
   // An SPH part as the solver needs it, checked once however many particles it has.
@@ -696,11 +704,28 @@ class Builder {
   Index first_row_ = 0;                      // the place in the node order of this rank's first row
 };
 
+// No shell, contact, rigid part or body, or coordinate system on nodes (which takes their positions
+// from the cards, Model::axes): what a deck set up in blocks has none of.
+bool has_nothing_whole(const model::Model& model) {
+  if (!model.shell_elements.empty() || !model.contacts.empty() || !model.rcforc_moments.empty() ||
+      !model.merged_rigid_bodies.empty())
+    return false;
+  if (std::any_of(model.parts.begin(), model.parts.end(), [&](const auto& part) { return model.rigid_material(part); }))
+    return false;
+  return std::none_of(model.coordinate_systems.begin(), model.coordinate_systems.end(),
+                      [](const auto& system) { return system.second.nodes[0] != 0; });
+}
+
 }  // namespace
 
 bool sets_up_in_blocks(const model::Model& model) {
   const parallel::Communicator& ranks = parallel::world();
-  if (ranks.size() == 1) return false;
+  if (ranks.size() == 1 || !has_nothing_whole(model)) return false;
+  // SPG alone: every solid element an SPG part's, and no particle.
+  if (!model.solid_elements.empty())
+    return model.sph_card_count() == 0 &&
+           std::all_of(model.solid_elements.begin(), model.solid_elements.end(),
+                       [&](const model::ElementSolid& e) { return spg::is_spg_part(model, e.pid); });
   // Every particle card a fluid's, or every one a solid's, over the ranks where each holds a share
   // of them. A solid that waits for *CONTROL_SPH START would be dealt anew before its first list
   // build, from every particle's constants (SolidFormulation::compute_forces).
@@ -709,15 +734,7 @@ bool sets_up_in_blocks(const model::Model& model) {
   if (!model.cards.whole()) ranks.minimum(some);
   const bool fluid = some[0] < 0, solid = some[1] < 0;
   const bool waits = solid && model.control_sph && model.control_sph->start > 0;
-  if ((fluid && solid) || waits || model.sph_card_count() == 0 ||
-      !model.solid_elements.empty() || !model.shell_elements.empty() || !model.contacts.empty() ||
-      !model.rcforc_moments.empty() || !model.merged_rigid_bodies.empty())
-    return false;
-  for (const auto& part : model.parts)
-    if (model.rigid_material(part)) return false;
-  // A coordinate system on nodes takes their positions from the cards (Model::axes).
-  return std::none_of(model.coordinate_systems.begin(), model.coordinate_systems.end(),
-                      [](const auto& system) { return system.second.nodes[0] != 0; });
+  return !(fluid && solid) && !waits && model.sph_card_count() > 0;
 }
 
 Problem build_problem(const model::Model& model, SetUp set_up) { return Builder(model, set_up).build(); }

@@ -82,9 +82,10 @@ struct Problem {
 // loop keeps as the windows of the nodes; docs/SCALING.md §3). Collective under MPI.
 enum class SetUp { whole, in_blocks_where_possible };
 
-// Whether the deck is one that the set-up builds in blocks under MPI (SPH fluid alone or SPH solid
-// alone: no element, rigid part, contact or coordinate system on nodes): such a deck can be read in
-// shares (model::CardShare), every other needs every card on every rank (Model::gather_cards).
+// Whether the deck is one that the set-up builds in blocks under MPI (SPH fluid alone, SPH solid
+// alone or SPG alone: no other element, rigid part, contact or coordinate system on nodes): such a
+// deck can be read in shares (model::CardShare), every other needs every card on every rank
+// (Model::gather_cards).
 // Collective where the model holds a share of the cards.
 bool sets_up_in_blocks(const model::Model& model);
 

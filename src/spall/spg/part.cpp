@@ -4,6 +4,8 @@
 #include <cmath>
 #include <fmt/format.h>
 #include <limits>
+#include <numeric>
+#include <span>
 
 #include "spall/core/bounding_box.hpp"
 #include "spall/core/cube_root.hpp"
@@ -60,31 +62,35 @@ std::size_t bytes(const std::vector<T>& v) {
 
 }  // namespace
 
-Part::Part(PartSettings settings, const std::vector<ParticleSetup>& particles,
-           const discretization::NodeStore& nodes)
+Part::Part(PartSettings settings, const std::vector<ParticleSetup>& particles, const discretization::NodeStore& nodes,
+           const parallel::Communicator* across)
     : settings_(std::move(settings)) {
-  const std::size_t n = particles.size();
   const auto& mat = settings_.material;
-  node_.resize(n);
-  own_ = read_ = smoothed_ = {0, static_cast<Index>(n)};  // every particle until the nodes are dealt
+  // Set up in blocks, this rank's particles follow those of the ranks before it in node order.
+  const Index held = static_cast<Index>(particles.size());
+  Index first = 0;
+  if (across) {
+    const std::vector<Index> counts = across->each(held);
+    first = std::accumulate(counts.begin(), counts.begin() + across->rank(), Index(0));
+  }
+  node_.resize(held);
+  for (Index k = 0; k < held; ++k) node_[k] = particles[k].node;
+  if (across) node_ = across->all(std::span<const Index>(node_));  // each particle's node's place, every rank's
+  const Index count = particle_count();
+  // Every particle is this rank's own until the nodes are dealt; set up in blocks, those of its block.
+  own_ = read_ = smoothed_ = {first, first + held};
   // The state held by stretch on, holding no particle until hold_state, the constants set up from
-  // `particles` for the particles held (under MPI, each rank those it reads, at its first deal:
-  // particles_at_set_up_); but the windows, sound speeds and positions, which the first deal's
-  // search and the runaway check read, set up here for every particle, as the velocities on one
-  // process (under MPI those the smoothing reads from the first deal on).
+  // `particles` for the particles held (under MPI each rank its own at its first deal, the others'
+  // coming from their ranks: particles_at_set_up_); but the windows and sound speeds, which the
+  // first deal's search and the runaway check read, set up here for the particles given.
   visit_held_state(*this, [](auto& array, const auto&) { array.resize(0); });
   if (!materials::keeps_back_stress(mat)) back_stress_.clear();
   mass_scale_.clear();  // on with DT2MS (scale_mass_below)
-  const Index count = static_cast<Index>(n);
-  support_.resize(count), x_.resize(count);
-  for (std::size_t i = 0; i < n; ++i) {
-    const auto& p = particles[i];
-    node_[i] = p.node;
-    support_[i] = settings_.dilation.cwiseProduct(nodal_spacing(p));
-    x_[i] = nodes.x[p.node];
-  }
-  sound_speed_.assign(count, reference_sound_speed(mat));
-  v_.resize(0);
+  support_.hold_afresh(own_.begin, own_.end);
+  for (Index i = own_.begin; i < own_.end; ++i)
+    support_[i] = settings_.dilation.cwiseProduct(nodal_spacing(particles[i - first]));
+  sound_speed_.hold_afresh(own_.begin, own_.end, reference_sound_speed(mat));
+  x_.resize(0), v_.resize(0);
 
   // Under MPI each rank searches the bonds of its own particles, holds the rows and the state of
   // the particles it reads and builds the shape functions and correction of its own particles' rows
@@ -94,13 +100,15 @@ Part::Part(PartSettings settings, const std::vector<ParticleSetup>& particles,
   set_up_pending_ = parallel::world().size() > 1;
   if (set_up_pending_) {
     particles_at_set_up_ = particles;
+    set_up_first_ = first;
     return;
   }
-  v_.assign(count, Vec3::Zero());
+  x_.hold_afresh(0, count), v_.hold_afresh(0, count, Vec3::Zero());
+  for (Index i = 0; i < count; ++i) x_[i] = nodes.x[node_[i]];
   search_bonds(nullptr);
   link_mirrors(bonds_, own_);
   hold_state(read_);
-  set_up_constants(particles, read_);
+  set_up_constants(particles, 0, read_);
   set_up_shape_functions(nodes);
 }
 
@@ -138,18 +146,15 @@ void Part::visit_held_state(Self& part, Visit&& visit) {
 
 void Part::hold_state(parallel::Range particles) {
   visit_held_state(*this, [&](auto& array, const auto& fresh) { array.hold(particles.begin, particles.end, fresh); });
-  if (particles_at_set_up_.empty()) return;
-  set_up_constants(particles_at_set_up_, particles);
-  particles_at_set_up_ = {};
 }
 
-void Part::set_up_constants(const std::vector<ParticleSetup>& setup, parallel::Range particles) {
+void Part::set_up_constants(const std::vector<ParticleSetup>& setup, Index first, parallel::Range particles) {
   const auto& mat = settings_.material;
   // K + 4G/3 of the reference state, from its longitudinal wave speed.
   const Real c0 = reference_sound_speed(mat);
   const Real p_wave_modulus = mat.density * c0 * c0;
   for (Index i = particles.begin; i < particles.end; ++i) {
-    const ParticleSetup& p = setup[i];
+    const ParticleSetup& p = setup[i - first];
     const Vec3 h = nodal_spacing(p);
     volume0_[i] = volume_ref_[i] = p.volume;
     initial_support_[i] = settings_.dilation.cwiseProduct(h);
@@ -193,7 +198,7 @@ void Part::search_bonds(const BondList* previous, const std::vector<Index>* near
   neighbors::VerletList verlet;
   neighbors::NeighborList found;  // of the particles `near`, by particle
   if (!near) {
-    verlet.build(x_.view(particle_count()).every(), radius, 0, own_);  // every particle's until the first deal
+    verlet.build(x_.view(particle_count()).every(), radius, 0, own_);  // one process: every particle's
   } else {
     // The rows are ascending in the particles' order, which `near` keeps: the same rows as a search
     // among every particle's positions.
@@ -274,6 +279,24 @@ std::vector<Index> Part::bring_neighbourhood(discretization::NodeStore& nodes) {
     support_[a] = p.support;
   }
   return particles;
+}
+
+void Part::search_from_own(discretization::NodeStore& nodes) {
+  x_.hold_afresh(own_.begin, own_.end), v_.hold_afresh(own_.begin, own_.end);
+  for (Index a = own_.begin; a < own_.end; ++a) {
+    const Index i = nodes.node_row(node_[a]);
+    x_[a] = nodes.x[i], v_[a] = nodes.v[i];
+  }
+  const std::vector<Index> near = bring_neighbourhood(nodes);
+  search_bonds(nullptr, &near);
+}
+
+void Part::set_up_read_constants() {
+  if (own_.begin < set_up_first_ || own_.end > set_up_first_ + static_cast<Index>(particles_at_set_up_.size()))
+    throw std::logic_error("SPG: the first deal gave a rank particles other than those it set up");
+  set_up_constants(particles_at_set_up_, set_up_first_, own_);
+  std::vector<ParticleSetup>().swap(particles_at_set_up_);
+  reach_.arrays([&](auto&& bring) { visit_carried_state(*this, [&](auto& array, const auto&) { bring(array); }); });
 }
 
 void Part::take_read_rows(const discretization::ReachShare& from) {
@@ -815,12 +838,13 @@ void Part::compute_forces(discretization::NodeStore& nodes, Real dt, const HoldN
   share_.bind(nodes);
   if (distributed && reach_partition_ != nodes.partition) {  // the first deal, or a restart file read whole
     find_own(nodes);
-    if (set_up_pending_) search_bonds(nullptr);
+    if (set_up_pending_) search_from_own(nodes);
     plan_reads(nodes);
     take_read_rows(reach_);
     plan_smoothed(nodes);
     hold_shape_rows(bonds_.entries(read_));
     hold_state(read_);
+    if (set_up_pending_) set_up_read_constants();
   }
   if (set_up_pending_) set_up_shape_functions(nodes);
   parallel::for_each(smoothed_, [&](Index i) {
@@ -1003,8 +1027,10 @@ void Part::checkpoint(Archive& a) {
     link_mirrors(bonds_, {0, n});
   }
   // The rest written whole (complete_state); read back, the ranks plan their reach again.
-  if (a.reading())
-    kinematics_complete_ = true, set_up_pending_ = false, reach_partition_ = -1, particles_at_set_up_ = {};
+  if (a.reading()) {
+    kinematics_complete_ = true, set_up_pending_ = false, reach_partition_ = -1;
+    std::vector<ParticleSetup>().swap(particles_at_set_up_);
+  }
 }
 
 Index Part::degraded_count() const {

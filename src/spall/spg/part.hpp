@@ -27,6 +27,7 @@
 #include <limits>
 #include <vector>
 
+#include "spall/core/communicator.hpp"
 #include "spall/core/error.hpp"
 #include "spall/core/range_array.hpp"
 #include "spall/discretization/energy_ledger.hpp"
@@ -82,8 +83,11 @@ struct ParticleSetup {
 class Part {
  public:
   // The particles' nodes are named by their places in the node order (the rows of every node's
-  // store at the set-up; NodeStore::node_row finds their rows in a window).
-  Part(PartSettings settings, const std::vector<ParticleSetup>& particles, const discretization::NodeStore& nodes);
+  // store at the set-up; NodeStore::node_row finds their rows in a window), ascending. With
+  // `across` (the set-up in blocks), `particles` are those on this rank's block of the nodes, the
+  // part's others on the other ranks' blocks (collective).
+  Part(PartSettings settings, const std::vector<ParticleSetup>& particles, const discretization::NodeStore& nodes,
+       const parallel::Communicator* across = nullptr);
 
   // What holds the nodes a part reads under MPI with NodeStore::window_by_reads (collective): the
   // formulation's window of every part's places_read() and the places given
@@ -149,7 +153,14 @@ class Part {
   void search_bonds(const BondList* previous, const std::vector<Index>* near = nullptr);
   // The largest support radius of every rank's own particles: no bond is longer (collective).
   Real search_radius() const;
-  // Under MPI at a KERNEL 1 update: the positions, velocities and windows of the particles within
+  // Under MPI at the first deal: the bonds of this rank's own particles, searched among those near
+  // them (bring_neighbourhood), their positions and velocities from the nodes.
+  void search_from_own(discretization::NodeStore& nodes);
+  // Under MPI at the first deal, once the particles read are held: the constants of this rank's
+  // own particles from the builder's (particles_at_set_up_), the state the others carry
+  // (visit_carried_state: their constants among it) in from their ranks (reach_). Collective.
+  void set_up_read_constants();
+  // Under MPI at the first deal and at a KERNEL 1 update: the positions, velocities and windows of the particles within
   // twice the search radius of the box around this rank's own (those its new rows and their
   // partners read) in from their ranks, into x_, v_, support_ and the nodes; returns those and its
   // own, ascending. Collective.
@@ -171,8 +182,8 @@ class Part {
   // reads them; under MPI the first call sets up the constants of those it holds.
   void hold_state(parallel::Range particles);
   // The constants (volumes, first windows, spacings, spring stiffnesses and dashpots, surface flags)
-  // of `particles`, held, from the builder's `setup`.
-  void set_up_constants(const std::vector<ParticleSetup>& setup, parallel::Range particles);
+  // of `particles`, held, from the builder's `setup`, whose first is particle `first`.
+  void set_up_constants(const std::vector<ParticleSetup>& setup, Index first, parallel::Range particles);
   // visit(array, fresh) for each array of that state, in one order (the checkpoint's), with the
   // value a particle newly held starts at: the state a particle carries to the ranks that read it
   // anew (a new deal), then the step's scratch, which the passes fill before they read it.
@@ -309,9 +320,11 @@ class Part {
   // plan_reads, plan_smoothed).
   parallel::Range own_, read_, smoothed_;
   bool set_up_pending_ = false;  // under MPI until the first deal: no bond, shape function or correction yet
-  // Under MPI the builder's particles, until the first deal's hold_state sets up the constants of
-  // those it holds.
+  // Under MPI the builder's particles (every one, or set up in blocks those of this rank's block,
+  // the first of them particle set_up_first_), until the first deal sets up the constants of its
+  // own (set_up_read_constants).
   std::vector<ParticleSetup> particles_at_set_up_;
+  Index set_up_first_ = 0;
   const HoldNodes* hold_nodes_ = nullptr;  // compute_forces's, while it runs
 
   int steps_since_update_ = 0;

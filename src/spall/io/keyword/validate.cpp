@@ -170,15 +170,13 @@ class Validator {
   }
 
   void check_elements() {
+    if (!model_.cards.whole()) check_solid_elements_over_ranks();
     for (const auto& element : model_.solid_elements) {
-      require_part(element.pid, element.where, "*ELEMENT_SOLID",
-                   "element " + std::to_string(element.eid));
-      for (int k = 0; k < 8; ++k)
-        if (!node_defined(element.n[k]))
-          throw InputError(element.where, "*ELEMENT_SOLID",
-                           "element " + std::to_string(element.eid) + ": node N" +
-                               std::to_string(k + 1) + " = " + std::to_string(element.n[k]) +
-                               " is not defined");
+      if (model_.cards.whole()) {
+        require_part(element.pid, element.where, "*ELEMENT_SOLID", "element " + std::to_string(element.eid));
+        for (int k = 0; k < 8; ++k)
+          if (!node_defined(element.n[k])) throw element_without_node(element.eid, k, element.n[k], element.where);
+      }
       first_solid_.try_emplace(element.pid, &element.where);
     }
     for (const auto& element : model_.shell_elements) {
@@ -197,6 +195,53 @@ class Validator {
       if (!node_defined(particle.nid)) throw particle_without_node(particle.nid, particle.where);
       first_sph_.try_emplace(particle.pid, particle.where);
     }
+  }
+
+  static InputError element_without_node(Id eid, int corner, Id nid, const SourceLocation& where) {
+    return InputError(where, "*ELEMENT_SOLID",
+                      "element " + std::to_string(eid) + ": node N" + std::to_string(corner + 1) + " = " +
+                          std::to_string(nid) + " is not defined");
+  }
+
+  // check_elements' solid elements where each rank holds a share of the node cards (the element
+  // cards are every rank's; each checks those CardShare would deal it): the part of each at its
+  // rank, each corner's node at its ID's rank (which every node card's ID went to), the first
+  // failure in the deck's order (an element's part, then its corners N1-N8) stopping every rank.
+  void check_solid_elements_over_ranks() {
+    const parallel::Communicator& ranks = parallel::world();
+    const model::CardShare share{ranks.rank(), ranks.size()};
+    std::int64_t position = -1;  // 9 ordinal, + 1 + k for corner k
+    std::optional<InputError> error;
+    const auto fail = [&](std::int64_t at, const InputError& e) {
+      if (position < 0 || at < position) position = at, error = e;
+    };
+    struct Corner {  // whole words: no padding travels
+      Id node, element;
+      std::int64_t position;
+      Model::CardLine line;
+    };
+    std::vector<std::vector<Corner>> out(ranks.size());
+    const auto& elements = model_.solid_elements;
+    for (std::size_t k = 0; k < elements.size(); ++k) {
+      if (!share.holds(static_cast<Index>(k))) continue;
+      const model::ElementSolid& e = elements[k];
+      try {
+        require_part(e.pid, e.where, "*ELEMENT_SOLID", "element " + std::to_string(e.eid));
+      } catch (const InputError& bad) {
+        fail(9 * std::int64_t(k), bad);
+      }
+      for (int c = 0; c < 8; ++c)
+        out[parallel::rank_of_id(e.n[c], ranks.size())].push_back(
+            {e.n[c], e.eid, 9 * std::int64_t(k) + 1 + c, model_.card_line(e.where)});
+    }
+    for (const Corner& c : ranks.deliver(out)) {
+      const auto node = std::lower_bound(node_cards_.begin(), node_cards_.end(), c.node,
+                                         [](const CardId& card, Id id) { return card.id < id; });
+      if (node == node_cards_.end() || node->id != c.node)
+        fail(c.position,
+             element_without_node(c.element, static_cast<int>((c.position - 1) % 9), c.node, model_.location(c.line)));
+    }
+    parallel::throw_first_failure(position, error, ranks);
   }
 
   static InputError particle_without_node(Id nid, const SourceLocation& where) {
