@@ -78,6 +78,19 @@ std::string deck(bool solid, bool rubber = false) {
 
 Problem set_up(const model::Model& model, SetUp how) { return build_problem(model, how); }
 
+// Under MPI the rows `b` of a set-up in blocks are this rank's block of the node order, each byte
+// for byte the row of the whole set-up `w` at its place.
+void expect_whole_rows(const discretization::NodeStore& w, const discretization::NodeStore& b) {
+  const parallel::Communicator& ranks = parallel::world();
+  EXPECT_EQ(b.holds_a_block(), ranks.size() > 1);
+  const Index first = parallel::block_begin(w.size(), ranks.rank(), ranks.size());
+  ASSERT_EQ(b.size(), parallel::block_begin(w.size(), ranks.rank() + 1, ranks.size()) - first);
+  for (Index r = 0; r < b.size(); ++r) {
+    const discretization::NodeStore::Row built = b.row(r), reference = w.row(first + r);
+    EXPECT_EQ(std::memcmp(&built, &reference, sizeof built), 0) << "node " << b.id[r];
+  }
+}
+
 TEST(SetUpInBlocks, EachRankBuildsItsBlockOfTheWholeSetUp) {
   const parallel::Communicator& ranks = parallel::world();
   const model::Model model = io::keyword::read_deck_text(deck(false), "blocks.k");
@@ -134,19 +147,12 @@ TEST(SetUpInBlocks, EachRankBuildsItsBlockOfTheWholeSetUp) {
 // The SPH solid alone is set up in blocks too: the rows are the whole set-up's, and so is the
 // solid (its every particle, each on the same node, the largest sound speed).
 TEST(SetUpInBlocks, TheSphSolidAloneIsSetUpInBlocksToo) {
-  const parallel::Communicator& ranks = parallel::world();
   const model::Model model = io::keyword::read_deck_text(deck(false, true), "rubber.k");
   const Problem whole = set_up(model, SetUp::whole);
   const Problem blocks = set_up(model, SetUp::in_blocks_where_possible);
   const auto& w = whole.nodes;
   const auto& b = blocks.nodes;
-  EXPECT_EQ(b.holds_a_block(), ranks.size() > 1);
-  const Index first = parallel::block_begin(w.size(), ranks.rank(), ranks.size());
-  ASSERT_EQ(b.size(), parallel::block_begin(w.size(), ranks.rank() + 1, ranks.size()) - first);
-  for (Index r = 0; r < b.size(); ++r) {
-    const discretization::NodeStore::Row built = b.row(r), reference = w.row(first + r);
-    EXPECT_EQ(std::memcmp(&built, &reference, sizeof built), 0) << "node " << b.id[r];
-  }
+  expect_whole_rows(w, b);
   ASSERT_NE(blocks.sph_solid, nullptr);
   EXPECT_EQ(blocks.sph_solid->particle_count(), 63);
   for (Index a = 0; a < 63; ++a) EXPECT_EQ(blocks.sph_solid->node_of(a), whole.sph_solid->node_of(a));
@@ -181,13 +187,7 @@ TEST(SetUpInBlocks, SpgAloneIsSetUpInBlocksToo) {
   const auto& w = whole.nodes;
   const auto& b = blocks.nodes;
   ASSERT_EQ(w.size(), 4 * 3 * 10);
-  EXPECT_EQ(b.holds_a_block(), ranks.size() > 1);
-  const Index first = parallel::block_begin(w.size(), ranks.rank(), ranks.size());
-  ASSERT_EQ(b.size(), parallel::block_begin(w.size(), ranks.rank() + 1, ranks.size()) - first);
-  for (Index r = 0; r < b.size(); ++r) {
-    const discretization::NodeStore::Row built = b.row(r), reference = w.row(first + r);
-    EXPECT_EQ(std::memcmp(&built, &reference, sizeof built), 0) << "node " << b.id[r];
-  }
+  expect_whole_rows(w, b);
   ASSERT_EQ(blocks.formulations.size(), 1u);
   const auto& formulation = dynamic_cast<const spg::SpgFormulation&>(*blocks.formulations.front());
   EXPECT_EQ(formulation.particle_count(), 4 * 3 * 10 + 4 * 3);
@@ -202,6 +202,7 @@ TEST(SetUpInBlocks, SpgAloneIsSetUpInBlocksToo) {
   const std::vector<spg::PartSetup> every = spg::spg_parts(model, index, w);
   ASSERT_EQ(parts.size(), 2u);
   ASSERT_EQ(every.size(), 2u);
+  const Index first = parallel::block_begin(w.size(), ranks.rank(), ranks.size());
   int surface = 0, inside = 0;
   for (std::size_t p = 0; p < 2; ++p) {
     EXPECT_EQ(parts[p].settings.part_id, every[p].settings.part_id);
