@@ -231,8 +231,7 @@ std::vector<sph::ParticleCard> NodesInBlocks::particles() {
   const std::vector<Index> blocks = parallel::block_offsets(deck_nodes_, ranks_.size());
   for (auto& o : out) o.clear();
   for (const ParticleCard& card : cards) {
-    const auto rank = std::upper_bound(blocks.begin(), blocks.end(), card.place) - blocks.begin() - 1;
-    out[rank].push_back(card);
+    out[parallel::rank_of_place(blocks, card.place)].push_back(card);
   }
   std::vector<ParticleCard>().swap(cards);
   cards = ranks_.deliver(out);
@@ -282,8 +281,7 @@ std::vector<spg::ElementCorners> NodesInBlocks::solid_elements(const discretizat
   places.erase(std::unique(places.begin(), places.end()), places.end());
   const std::vector<Index> blocks = parallel::block_offsets(deck_nodes_, ranks_.size());
   const std::vector<Vec3> x = ask<Vec3>(
-      places,
-      [&](std::int64_t place) { return std::upper_bound(blocks.begin(), blocks.end(), place) - blocks.begin() - 1; },
+      places, [&](std::int64_t place) { return parallel::rank_of_place(blocks, place); },
       [&](std::int64_t place) { return nodes.x0[place - first_row_]; }, ranks_);
   for (auto& e : elements)
     for (int a = 0; a < 8; ++a)

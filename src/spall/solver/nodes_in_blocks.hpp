@@ -1,10 +1,10 @@
 #pragma once
 // The set-up of a rank's block of the node order from every rank's share of the deck's node and
 // particle cards (model::CardShare), for a deck of SPH fluid or SPH solid alone under MPI
-// (docs/SCALING.md §5 step 4 f1-f4), and of a deck of SPG alone (§3): no rank holds every node. The node order is the
-// one-process run's (the cells of the nodes' box, then the deck's order), found as a sort over the
-// ranks; a node's place is looked up at the rank of its ID, where every node card's ID and place
-// went.
+// (docs/SCALING.md §5 step 4 f1-f4), and of a deck of SPG alone (§3): no rank holds every node.
+// The node order is the one-process run's (the cells of the nodes' box, then the deck's order),
+// found as a sort over the ranks; a node's place is looked up at the rank of its ID, where every
+// node card's ID and place went.
 #include <utility>
 #include <vector>
 

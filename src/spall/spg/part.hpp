@@ -160,9 +160,9 @@ class Part {
   // own particles from the builder's (particles_at_set_up_), the state the others carry
   // (visit_carried_state: their constants among it) in from their ranks (reach_). Collective.
   void set_up_read_constants();
-  // Under MPI at the first deal and at a KERNEL 1 update: the positions, velocities and windows of the particles within
-  // twice the search radius of the box around this rank's own (those its new rows and their
-  // partners read) in from their ranks, into x_, v_, support_ and the nodes; returns those and its
+  // Under MPI at the first deal and at a KERNEL 1 update: the positions, velocities and windows of
+  // the particles within twice the search radius of the box around this rank's own (those its new
+  // rows and their partners read) in from their ranks, into x_, v_, support_ and the nodes; returns those and its
   // own, ascending. Collective.
   std::vector<Index> bring_neighbourhood(discretization::NodeStore& nodes);
   // The bonds of the rows this rank reads (read_) in from the ranks that hold them (`from`, planned
@@ -179,7 +179,7 @@ class Part {
   // constants) of particles [begin, end) held from now on (every particle on one process, those a
   // rank reads under MPI: read_): the particles held before keep their values, the others start at
   // the set-up's (the windows and constants at none), and come in from their ranks where a pass
-  // reads them; under MPI the first call sets up the constants of those it holds.
+  // reads them (at the first deal, the constants too: set_up_read_constants).
   void hold_state(parallel::Range particles);
   // The constants (volumes, first windows, spacings, spring stiffnesses and dashpots, surface flags)
   // of `particles`, held, from the builder's `setup`, whose first is particle `first`.

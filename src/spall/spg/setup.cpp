@@ -8,6 +8,7 @@
 #include <tuple>
 
 #include "spall/core/first_failure.hpp"
+#include "spall/core/id_deal.hpp"
 #include "spall/materials/make_material.hpp"
 #include "spall/spg/formulation.hpp"
 
@@ -248,9 +249,7 @@ std::vector<PartSetup> spg_parts_in_blocks(const model::Model& model, const std:
     Id pid;
     FaceKey key;
   };
-  const auto rank_of = [&](Index place) {
-    return static_cast<int>(std::upper_bound(blocks.begin(), blocks.end(), place) - blocks.begin()) - 1;
-  };
+  const auto rank_of = [&](Index place) { return parallel::rank_of_place(blocks, place); };
   std::vector<std::vector<Corner>> corners(ranks.size());
   std::vector<std::vector<Face>> faces(ranks.size());
   std::vector<Id> pids;
@@ -337,25 +336,37 @@ std::vector<PartSetup> spg_parts_in_blocks(const model::Model& model, const std:
   return setups;
 }
 
-std::unique_ptr<discretization::Formulation> build_spg(const model::Model& model,
-                                               const discretization::NodeIndex& index_of_node,
-                                               discretization::NodeStore& nodes) {
-  std::vector<PartSetup> setups = spg_parts(model, index_of_node, nodes);
-  if (setups.empty()) return nullptr;
+namespace {
+
+// The formulation of `setups`, their masses and part added to the rows of their nodes (the node at
+// place p in row p - first; set up in blocks, `across` the ranks whose blocks hold the others).
+std::unique_ptr<discretization::Formulation> build_parts(const model::Model& model, std::vector<PartSetup> setups,
+                                                         discretization::NodeStore& nodes, Index first,
+                                                         const parallel::Communicator* across) {
+  if (setups.empty()) return nullptr;  // alike on every rank
   std::vector<Part> built;
   for (auto& setup : setups) {
     const Id pid = setup.settings.part_id;
     for (const auto& p : setup.particles) {
-      if (nodes.part[p.node] != 0 && !is_spg_part(model, nodes.part[p.node]))
+      const Index row = p.node - first;
+      if (nodes.part[row] != 0 && !is_spg_part(model, nodes.part[row]))
         fail_at(model.find_part(pid)->where, "*PART",
                 fmt::format("part {}: node {} is also an SPH particle of part {}; SPG and SPH parts cannot "
-                         "share nodes", pid, nodes.id[p.node], nodes.part[p.node]));
-      if (nodes.part[p.node] == 0) nodes.part[p.node] = pid;
-      nodes.mass[p.node] += setup.settings.material.density * p.volume;
+                         "share nodes", pid, nodes.id[row], nodes.part[row]));
+      if (nodes.part[row] == 0) nodes.part[row] = pid;
+      nodes.mass[row] += setup.settings.material.density * p.volume;
     }
-    built.emplace_back(std::move(setup.settings), setup.particles, nodes);
+    built.emplace_back(std::move(setup.settings), setup.particles, nodes, across);
   }
   return std::make_unique<SpgFormulation>(std::move(built));
+}
+
+}  // namespace
+
+std::unique_ptr<discretization::Formulation> build_spg(const model::Model& model,
+                                               const discretization::NodeIndex& index_of_node,
+                                               discretization::NodeStore& nodes) {
+  return build_parts(model, spg_parts(model, index_of_node, nodes), nodes, 0, nullptr);
 }
 
 std::unique_ptr<discretization::Formulation> build_spg_in_blocks(const model::Model& model,
@@ -363,19 +374,7 @@ std::unique_ptr<discretization::Formulation> build_spg_in_blocks(const model::Mo
                                                                  const std::vector<Index>& blocks,
                                                                  discretization::NodeStore& nodes,
                                                                  const parallel::Communicator& ranks) {
-  std::vector<PartSetup> setups = spg_parts_in_blocks(model, elements, blocks, ranks);
-  if (setups.empty()) return nullptr;  // alike on every rank
-  const Index first = blocks[ranks.rank()];
-  std::vector<Part> built;
-  for (auto& setup : setups) {
-    for (const auto& p : setup.particles) {
-      const Index row = p.node - first;
-      if (nodes.part[row] == 0) nodes.part[row] = setup.settings.part_id;
-      nodes.mass[row] += setup.settings.material.density * p.volume;
-    }
-    built.emplace_back(std::move(setup.settings), setup.particles, nodes, &ranks);
-  }
-  return std::make_unique<SpgFormulation>(std::move(built));
+  return build_parts(model, spg_parts_in_blocks(model, elements, blocks, ranks), nodes, blocks[ranks.rank()], &ranks);
 }
 
 }  // namespace spall::spg
