@@ -59,6 +59,16 @@ Vec3 dot(const Multipliers& a, const Multipliers& b, const Ownership& own) {
   return dots<1>({{{&a, &b}}}, own)[0];
 }
 
+// The root mean square length of row j's bonds that `counts` (1 where it has none).
+template <typename Counts>
+Real row_length(const BondList& bonds, StretchView<Vec3> X, Index j, Counts&& counts) {
+  Real sum = 0;
+  Index count = 0;
+  for (Index k = bonds.offsets[j]; k < bonds.offsets[j + 1]; ++k)
+    if (counts(k)) sum += (X[bonds.neighbour[k]] - X[j]).squaredNorm(), ++count;
+  return count > 0 && sum > 0 ? std::sqrt(sum / count) : Real(1);
+}
+
 class NormalEquations {
  public:
   NormalEquations(const BondList& bonds, StretchView<Vec3> X, StretchView<std::uint8_t> interior,
@@ -76,11 +86,14 @@ class NormalEquations {
     preconditioner_.hold_afresh(own.particles.begin, own.particles.end, Mat4::Zero());
     parallel::for_each(own.particles, [&](Index j) {
       if (!active_[j]) return;
+      // In the row's length scale l (the block is T P~ T with T = diag(1, l, l, l)), so that the
+      // ridge below, and the preconditioner, do not depend on the deck's units.
+      const Real l = row_length(bonds, X_, j, [&](Index k) { return usable(j, k); });
       Mat4 P = Mat4::Zero();
       for (Index k = bonds.offsets[j]; k < bonds.offsets[j + 1]; ++k) {
         if (!usable(j, k)) continue;
         Vec4 h;
-        h << 1, X_[neighbour_[k]] - X_[j];
+        h << 1, (X_[neighbour_[k]] - X_[j]) / l;
         P += h * h.transpose();
       }
       if (!interior_[j]) {
@@ -91,7 +104,8 @@ class NormalEquations {
       // A particle with its bonds in a plane leaves P singular: a small ridge keeps the
       // preconditioner positive definite (it only changes the convergence speed).
       P += 1e-12 * P.trace() * Mat4::Identity();
-      Mat4 inverse = P.inverse();
+      const Vec4 t_inverse(1, 1 / l, 1 / l, 1 / l);
+      Mat4 inverse = t_inverse.asDiagonal() * P.inverse() * t_inverse.asDiagonal();
       if (!interior_[j]) {
         inverse.row(0).setZero();
         inverse.col(0).setZero();
@@ -174,19 +188,24 @@ constexpr Real natural_tolerance = 1e-15;
 // sum_L delta_L [1, d_L] = [0, moment] (the 4 x 4 system of the row's bond geometry). The row then
 // reproduces linear fields exactly whatever the solver reached; only its column sums (the
 // integration constraint) carry the solver's residual.
+// The system is taken in the row's length scale l (d / l for d), so that its rank test does not
+// depend on the deck's units.
 void remove_row_moment(const BondList& bonds, StretchView<Vec3> X, Index j, std::span<Vec3> row,
                        const std::vector<std::uint8_t>& usable) {
+  const Real l = row_length(bonds, X, j, [&](Index k) { return usable[k - bonds.offsets[j]] != 0; });
   Mat4 M = Mat4::Zero();
-  Mat3 moment = Mat3::Zero();  // row i: gradient component i
+  Mat3 moment = Mat3::Zero();  // row i: gradient component i, over l
   for (Index k = bonds.offsets[j]; k < bonds.offsets[j + 1]; ++k) {
     if (!usable[k - bonds.offsets[j]]) continue;
-    const Vec3 d = X[bonds.neighbour[k]] - X[j];
+    const Vec3 d = (X[bonds.neighbour[k]] - X[j]) / l;
     Vec4 h;
     h << 1, d;
     M += h * h.transpose();
     moment.noalias() += row[k - bonds.offsets[j]] * d.transpose();
   }
-  if (moment.isZero()) return;
+  // Exactly zero only: Eigen's isZero() compares with an absolute 1e-12, below which every moment
+  // of a deck in metres falls (a flux times a spacing, of order h^3).
+  if (moment.isZero(0)) return;
   const Eigen::FullPivLU<Mat4> lu(M);
   if (lu.rank() < 4) return;  // bonds in a plane: the particle is degraded and has no row
   for (int i = 0; i < 3; ++i) {
@@ -196,7 +215,7 @@ void remove_row_moment(const BondList& bonds, StretchView<Vec3> X, Index j, std:
     for (Index k = bonds.offsets[j]; k < bonds.offsets[j + 1]; ++k) {
       if (!usable[k - bonds.offsets[j]]) continue;
       Vec4 h;
-      h << 1, X[bonds.neighbour[k]] - X[j];
+      h << 1, (X[bonds.neighbour[k]] - X[j]) / l;
       row[k - bonds.offsets[j]][i] -= ab.dot(h);
     }
   }
@@ -217,7 +236,7 @@ void correct_integration(const BondList& bonds, StretchView<Vec3> X, StretchView
   for (Index j = own.particles.begin; j < own.particles.end; ++j)
     for (Index k = bonds.offsets[j]; k < bonds.offsets[j + 1]; ++k)
       read = parallel::hull(read, {bonds.neighbour[k], bonds.neighbour[k] + 1});
-  Multipliers z(read), p(read), r(own.particles), q(own.particles), s(own.particles);
+  Multipliers z(read), r(own.particles);
   for (Index j = read.begin; j < read.end; ++j) z.lambda[j] = correction.lambda[j], z.mu[j] = correction.mu[j];
   reach(z.lambda, z.mu);
   // Right-hand side: sum_L c_JL = e_J / 2 at interior particles (then the column sums of D' are
@@ -225,54 +244,69 @@ void correct_integration(const BondList& bonds, StretchView<Vec3> X, StretchView
   Multipliers b(own.particles);
   for (Index j = own.particles.begin; j < own.particles.end; ++j)
     if (interior[j] && active[j]) b.lambda[j] = Real(0.5) * defect[j];
-  equations.apply(z, q);
+  equations.apply(z, r);
   for (Index j = own.particles.begin; j < own.particles.end; ++j) {
-    r.lambda[j] = b.lambda[j] - q.lambda[j];
-    r.mu[j] = -q.mu[j];
+    r.lambda[j] = b.lambda[j] - r.lambda[j];
+    r.mu[j] = -r.mu[j];
   }
-  const Vec3 b_norm = dot(b, b, own).cwiseSqrt();
+  // Sizes are taken in the preconditioner's norm, |r|^2 = r . M^-1 r: the norm the solve below
+  // lowers at every iteration, and one the deck's units do not change (a residual's divergence
+  // and first moment differ by a length; M^-1 scales them alike).
+  Multipliers s(read), As(own.particles), p(own.particles), Ap(own.particles), q(own.particles);
+  equations.precondition(b, s);
+  const Vec3 b_norm = dot(b, s, own).cwiseSqrt();
   // The natural size of the column sums, V_J / h_J ~ V_J^(2/3) per particle: an exact sum over
   // every rank's own particles, whose volumes are current there (a rank's copies of the others'
   // are stale between new deals), so that every rank stops the solve at the same iteration.
   const Real reference =
       parallel::exact_sum(own.particles, [&](Index j) { return std::pow(volume[j], Real(4) / 3); }, own.across);
   const Real floor = natural_tolerance * std::sqrt(reference);
-  auto converged = [&](const Vec3& rr) {
+  auto converged = [&](const Vec3& rs) {
     for (int i = 0; i < 3; ++i)
-      if (std::sqrt(rr[i]) > std::max(tolerance * b_norm[i], floor)) return false;
+      if (std::sqrt(rs[i]) > std::max(tolerance * b_norm[i], floor)) return false;
     return true;
   };
-  // The search direction is the one vector whose neighbours' values a rank reads (apply).
-  auto share_direction = [&] { reach(p.lambda, p.mu); };
+  // Preconditioned conjugate residuals (Saad 2003, Iterative Methods for Sparse Linear Systems, the
+  // conjugate residual method applied to M^-1 A in the M inner product): of the Krylov space's
+  // iterates it takes the one whose residual is least in the M^-1 norm, which therefore never rises.
+  // Conjugate gradients' residual does, and on a body too large for the solve to converge it ended
+  // at 4.8 times its start (THEORY §9.4). The preconditioned residual s is the one vector whose
+  // neighbours' values a rank reads (apply).
+  auto next_residual = [&] {
+    reach(s.lambda, s.mu);
+    equations.apply(s, As);
+    return dots<2>({{{&s, &As}, {&r, &s}}}, own);
+  };
   equations.precondition(r, s);
-  for (Index j = own.particles.begin; j < own.particles.end; ++j) p.lambda[j] = s.lambda[j], p.mu[j] = s.mu[j];
-  share_direction();
-  auto [rs, rr] = dots<2>({{{&r, &s}, {&r, &r}}}, own);
+  auto [sAs, rs] = next_residual();
+  for (Index j = own.particles.begin; j < own.particles.end; ++j)
+    p.lambda[j] = s.lambda[j], p.mu[j] = s.mu[j], Ap.lambda[j] = As.lambda[j], Ap.mu[j] = As.mu[j];
   int iteration = 0;
-  while (!converged(rr) && iteration < max_iterations) {
-    equations.apply(p, q);
-    const Vec3 pq = dot(p, q, own);
+  while (!converged(rs) && iteration < max_iterations) {
+    equations.precondition(Ap, q);
+    const Vec3 Ap_q = dot(Ap, q, own);
     Vec3 alpha = Vec3::Zero();
-    for (int i = 0; i < 3; ++i) alpha[i] = pq[i] > 0 ? rs[i] / pq[i] : 0;
+    for (int i = 0; i < 3; ++i) alpha[i] = Ap_q[i] > 0 ? sAs[i] / Ap_q[i] : 0;
     axpy(alpha, p, z, own);
-    axpy(-alpha, q, r, own);
-    equations.precondition(r, s);
-    const auto [rs_next, rr_next] = dots<2>({{{&r, &s}, {&r, &r}}}, own);
+    axpy(-alpha, Ap, r, own);
+    axpy(-alpha, q, s, own);
+    const auto [sAs_next, rs_next] = next_residual();
     Vec3 beta = Vec3::Zero();
-    for (int i = 0; i < 3; ++i) beta[i] = rs[i] > 0 ? rs_next[i] / rs[i] : 0;
+    for (int i = 0; i < 3; ++i) beta[i] = sAs[i] > 0 ? sAs_next[i] / sAs[i] : 0;
+    sAs = sAs_next;
     rs = rs_next;
-    rr = rr_next;
     parallel::for_each(own.particles, [&](Index j) {
       p.lambda[j] = s.lambda[j] + beta.cwiseProduct(p.lambda[j]);
       p.mu[j] = s.mu[j] + beta.asDiagonal() * p.mu[j];
+      Ap.lambda[j] = As.lambda[j] + beta.cwiseProduct(Ap.lambda[j]);
+      Ap.mu[j] = As.mu[j] + beta.asDiagonal() * Ap.mu[j];
     }, particle_loops);
-    share_direction();
     ++iteration;
   }
   correction.iterations = iteration;
   Real worst = 0;
   for (int i = 0; i < 3; ++i)
-    if (b_norm[i] > 0) worst = std::max(worst, std::sqrt(rr[i]) / b_norm[i]);
+    if (b_norm[i] > 0) worst = std::max(worst, std::sqrt(rs[i]) / b_norm[i]);
   correction.relative_residual = worst;
   reach(z.lambda, z.mu);
   for (Index j = read.begin; j < read.end; ++j) correction.lambda[j] = z.lambda[j], correction.mu[j] = z.mu[j];

@@ -11,9 +11,10 @@
 // V_J C_JJ = -sum_L c_JL. Of all such fluxes it takes the smallest (least squares), whose form is
 //   c_JL = (lambda_J - lambda_L) + (mu_J + mu_L) (X_L - X_J)
 // per gradient component, with lambda (interior particles only) and mu found by preconditioned
-// conjugate gradients on the normal equations. The same D' serves the strain and the force (a
+// conjugate residuals on the normal equations. The same D' serves the strain and the force (a
 // Galerkin, energy-consistent pair). The solve is global and its conditioning worsens with the
-// size of the body (the admissible fluxes are second differences), so its iterations are capped:
+// size of the body (smooth multipliers lambda = phi, mu = grad phi / 2 give fluxes of third order
+// in the spacing, THEORY §9.4), so its iterations are capped:
 // fully at set-up (the patch test), a few warm-started ones at each kernel update.
 #include <cstdint>
 #include <span>
@@ -37,7 +38,7 @@ struct IntegrationCorrection {
   RangeArray<Vec3> lambda;  // component i: the divergence multiplier of gradient component i
   RangeArray<Mat3> mu;      // row i: the first-moment multipliers of gradient component i
   int iterations = 0;
-  Real relative_residual = 0;
+  Real relative_residual = 0;  // of the normal equations, in the preconditioner's norm, the largest component's
 
   void checkpoint(Archive& a) { a(iterations, relative_residual); }
 };
@@ -46,7 +47,7 @@ struct IntegrationCorrection {
 // given the positions X of the reference configuration, the nodal volumes, which particles are
 // interior (their integration constraint is imposed), which are active (inactive ones take no
 // part), and the defect e_K = sum_J V_J D_JK of the uncorrected operator. At most max_iterations
-// conjugate-gradient iterations: the rows always keep zero sums and zero first moments (momentum,
+// conjugate-residual iterations: the rows always keep zero sums and zero first moments (momentum,
 // exact constant strain); only the integration constraint carries what the solve left.
 // Under MPI (replicated state, docs/SCALING.md) a rank solves for its own particles (`own`, one
 // stretch of them: the particles are in node order; `defect` and `interior` of those, `active` of
