@@ -176,7 +176,10 @@ void Part::set_up_shape_functions(const discretization::NodeStore& nodes) {
                                  settings_.part_id, node_id(nodes, j), bonds_.count(j) + 1));
   correct_integration_constraint(true);
   // The set-up's solve is the patch test of the mesh as given: the user is told how far it got.
-  if (correction_.iterations < setup_iterations)
+  if (correction_.iterations == 0)
+    log::info(fmt::format("part {}: SPG integration constraint met by the particles as they are (no correction)",
+                          settings_.part_id));
+  else if (correction_.iterations < setup_iterations)
     log::info(fmt::format("part {}: SPG integration constraint met in {} iterations (residual {:.1e} of the "
                           "defect)", settings_.part_id, correction_.iterations, correction_.relative_residual));
   else
