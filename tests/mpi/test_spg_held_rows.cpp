@@ -1,4 +1,4 @@
-// SPG's shape functions and integration-constraint correction of the bonds over several ranks, run
+// SPG's shape functions of the bonds over several ranks, run
 // as 1, 2 and 3 ranks (docs/SCALING.md §3, "SPG's shape functions by rank"): a rank holds them for
 // the rows of the particles it reads alone (its own and their bond partners, one stretch of the
 // node order), not for every bond. On an elastic bar of SPG particles stretched along its axis, its
@@ -50,10 +50,9 @@ void step(solver::Problem& problem) {
   for (Index i = 0; i < problem.nodes.size(); ++i) problem.nodes.x[i] += dt * problem.nodes.v[i];
 }
 
-// Checks the rows whose correction a rank holds (the shape functions are held alike), and the
-// particles whose state it holds: those of its own particles and their bond partners, from the
-// first to the last, and fewer than every row where it owns some nodes but not all. Every node is
-// a particle, particle a on node a.
+// Checks the rows whose shape functions a rank holds, and the particles whose state it holds: those
+// of its own particles and their bond partners, from the first to the last, and fewer than every
+// row where it owns some nodes but not all. Every node is a particle, particle a on node a.
 void expect_held_rows(solver::Problem& problem) {
   const parallel::Communicator& ranks = parallel::world();
   const discretization::NodeStore& nodes = problem.nodes;
@@ -70,19 +69,19 @@ void expect_held_rows(solver::Problem& problem) {
     for (Index k = bonds.offsets[a]; k < bonds.offsets[a + 1]; ++k)
       read = parallel::hull(read, {bonds.neighbour[k], bonds.neighbour[k] + 1});
   }
-  const auto& held = p.integration_correction().bond;
+  const parallel::Range held = p.held_shape_rows();
   const Index every = bonds.entry_count();
   if (owned == 0 || owned == nodes.size()) return;
-  EXPECT_EQ(held.held_begin(), bonds.offsets[read.begin]) << "rank " << ranks.rank();
-  EXPECT_EQ(held.held_end(), bonds.offsets[read.end]) << "rank " << ranks.rank();
-  EXPECT_LT(held.held_end() - held.held_begin(), every) << "rank " << ranks.rank() << " holds every row";
+  EXPECT_EQ(held.begin, bonds.offsets[read.begin]) << "rank " << ranks.rank();
+  EXPECT_EQ(held.end, bonds.offsets[read.end]) << "rank " << ranks.rank();
+  EXPECT_LT(held.end - held.begin, every) << "rank " << ranks.rank() << " holds every row";
   // The bonds themselves alike, and their mirrors for the rows of the rank's own particles.
   for (const parallel::Range bond_rows :
        {parallel::Range{bonds.neighbour.held_begin(), bonds.neighbour.held_end()},
         parallel::Range{bonds.broken.held_begin(), bonds.broken.held_end()},
         parallel::Range{bonds.rest_length.held_begin(), bonds.rest_length.held_end()}}) {
-    EXPECT_EQ(bond_rows.begin, held.held_begin()) << "rank " << ranks.rank();
-    EXPECT_EQ(bond_rows.end, held.held_end()) << "rank " << ranks.rank();
+    EXPECT_EQ(bond_rows.begin, held.begin) << "rank " << ranks.rank();
+    EXPECT_EQ(bond_rows.end, held.end) << "rank " << ranks.rank();
   }
   EXPECT_EQ(bonds.mirror.held_begin(), bonds.offsets[own.begin]) << "rank " << ranks.rank();
   EXPECT_EQ(bonds.mirror.held_end(), bonds.offsets[own.end]) << "rank " << ranks.rank();
@@ -116,10 +115,10 @@ TEST(SpgOverRanks, TheSetUpBuildsNoRowUnderMpi) {
   log::set_quiet(true);
   solver::Problem problem = bar_problem();
   const parallel::Communicator& ranks = parallel::world();
-  const auto& held = part(problem).integration_correction().bond;
+  const parallel::Range held = part(problem).held_shape_rows();
   const Index every = part(problem).bonds().entry_count();
   EXPECT_EQ(every > 0, ranks.size() == 1);  // under MPI no bond is searched before the deal either
-  EXPECT_EQ(held.held_end() - held.held_begin(), ranks.size() == 1 ? every : 0);
+  EXPECT_EQ(held.end - held.begin, ranks.size() == 1 ? every : 0);
   EXPECT_EQ(part(problem).held_state().size(), ranks.size() == 1 ? part(problem).particle_count() : 0);
   problem.nodes.deal(parallel::block_offsets(problem.nodes.size(), ranks.size()), ranks.rank());
   step(problem);

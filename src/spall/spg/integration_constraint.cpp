@@ -187,11 +187,11 @@ constexpr Real natural_tolerance = 1e-15;
 // smallest change that keeps the row sum: delta_L = a + B d_L per gradient component, with
 // sum_L delta_L [1, d_L] = [0, moment] (the 4 x 4 system of the row's bond geometry). The row then
 // reproduces linear fields exactly whatever the solver reached; only its column sums (the
-// integration constraint) carry the solver's residual.
-// The system is taken in the row's length scale l (d / l for d), so that its rank test does not
-// depend on the deck's units.
-void remove_row_moment(const BondList& bonds, StretchView<Vec3> X, Index j, std::span<Vec3> row,
-                       const std::vector<std::uint8_t>& usable) {
+// integration constraint) carry the solver's residual. Returns (a, B), row i of each gradient
+// component i's; the system is taken in the row's length scale l (d / l for d), so that its rank
+// test does not depend on the deck's units.
+std::pair<Vec3, Mat3> row_moment_removal(const BondList& bonds, StretchView<Vec3> X, Index j, std::span<const Vec3> row,
+                                         const std::vector<std::uint8_t>& usable) {
   const Real l = row_length(bonds, X, j, [&](Index k) { return usable[k - bonds.offsets[j]] != 0; });
   Mat4 M = Mat4::Zero();
   Mat3 moment = Mat3::Zero();  // row i: gradient component i, over l
@@ -203,22 +203,21 @@ void remove_row_moment(const BondList& bonds, StretchView<Vec3> X, Index j, std:
     M += h * h.transpose();
     moment.noalias() += row[k - bonds.offsets[j]] * d.transpose();
   }
+  Vec3 a = Vec3::Zero();
+  Mat3 B = Mat3::Zero();
   // Exactly zero only: Eigen's isZero() compares with an absolute 1e-12, below which every moment
   // of a deck in metres falls (a flux times a spacing, of order h^3).
-  if (moment.isZero(0)) return;
+  if (moment.isZero(0)) return {a, B};
   const Eigen::FullPivLU<Mat4> lu(M);
-  if (lu.rank() < 4) return;  // bonds in a plane: the particle is degraded and has no row
+  if (lu.rank() < 4) return {a, B};  // bonds in a plane: the particle is degraded and has no row
   for (int i = 0; i < 3; ++i) {
     Vec4 rhs;
     rhs << 0, moment.row(i).transpose();
     const Vec4 ab = lu.solve(rhs);
-    for (Index k = bonds.offsets[j]; k < bonds.offsets[j + 1]; ++k) {
-      if (!usable[k - bonds.offsets[j]]) continue;
-      Vec4 h;
-      h << 1, (X[bonds.neighbour[k]] - X[j]) / l;
-      row[k - bonds.offsets[j]][i] -= ab.dot(h);
-    }
+    a[i] = ab[0];
+    B.row(i) = ab.tail<3>().transpose() / l;
   }
+  return {a, B};
 }
 
 void correct_integration(const BondList& bonds, StretchView<Vec3> X, StretchView<Real> volume,
@@ -311,8 +310,7 @@ void correct_integration(const BondList& bonds, StretchView<Vec3> X, StretchView
   reach(z.lambda, z.mu);
   for (Index j = read.begin; j < read.end; ++j) correction.lambda[j] = z.lambda[j], correction.mu[j] = z.mu[j];
 
-  correction.self.fill(Vec3::Zero());
-  correction.bond.fill(Vec3::Zero());  // the rows the caller holds: a rank's own computed here, the rest below
+  // Per particle: the row's moment removal folded into alpha and beta (correction_flux), and C_JJ.
   const StretchView<Vec3> lambda = z.lambda.view(n);
   const StretchView<Mat3> mu = z.mu.view(n);
   parallel::region([&](const parallel::Team& team) {
@@ -327,17 +325,20 @@ void correct_integration(const BondList& bonds, StretchView<Vec3> X, StretchView
         usable[k - bonds.offsets[j]] = 1;
         row[k - bonds.offsets[j]] = equations.flux(lambda, mu, j, k);
       }
-      remove_row_moment(bonds, X, j, row, usable);
-      Vec3 self = Vec3::Zero();
-      for (Index k = bonds.offsets[j]; k < bonds.offsets[j + 1]; ++k) {
-        const Vec3 c = row[k - bonds.offsets[j]] / volume[j];
-        correction.bond[k] = c;
-        self -= c;
-      }
-      correction.self[j] = self;
+      const auto [a, B] = row_moment_removal(bonds, X, j, row, usable);
+      correction.alpha[j] = lambda[j] - a;
+      correction.beta[j] = mu[j] - B;
+      correction.reference[j] = X[j];
+      Vec3 sum = Vec3::Zero();
+      for (Index k = bonds.offsets[j]; k < bonds.offsets[j + 1]; ++k)
+        if (usable[k - bonds.offsets[j]])
+          sum += correction_flux(correction.alpha[j], correction.beta[j], X[j], lambda[bonds.neighbour[k]],
+                                 mu[bonds.neighbour[k]], X[bonds.neighbour[k]]);
+      correction.self[j] = -sum / volume[j];
     });
   }, n > parallel_threshold);
-  reach.rows(bonds.offsets, correction.bond);  // what a rank's forces gather from the partners' rows
+  // What a rank's forces read of the partners' (their multipliers came in above).
+  reach(correction.alpha, correction.beta, correction.reference);
 }
 
 }  // namespace spall::spg

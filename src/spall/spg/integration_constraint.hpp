@@ -28,13 +28,25 @@
 
 namespace spall::spg {
 
-// Under MPI each array holds the particles a rank reads, or their rows (Part holds them; a
-// checkpoint writes them in pieces), every particle's on one process.
+// The correction's fluxes, V_J C_JK = c_JK - (a_J + B_J (X_K - X_J)), the least-squares flux less
+// the row's moment removal (remove_row_moment), on a usable bond (neither broken nor of an inactive
+// particle; zero on the others), from values per particle: alpha_J = lambda_J - a_J and
+// beta_J = mu_J - B_J of row J, lambda_K and mu_K of K, X the positions it was computed at. Per
+// particle rather than per bond: 120 B a particle against 24 B a bond (some 60 of them).
+inline Vec3 correction_flux(const Vec3& alpha_J, const Mat3& beta_J, const Vec3& X_J, const Vec3& lambda_K,
+                            const Mat3& mu_K, const Vec3& X_K) {
+  return alpha_J - lambda_K + (beta_J + mu_K) * (X_K - X_J);
+}
+
+// Under MPI each array holds the particles a rank reads (Part holds them; a checkpoint writes them
+// in pieces), every particle's on one process.
 struct IntegrationCorrection {
-  RangeArray<Vec3> self;  // C_JJ
-  RangeArray<Vec3> bond;  // C_JK for bond k in row J (neighbour K)
+  RangeArray<Vec3> self;  // C_JJ = -sum_K C_JK
+  RangeArray<Vec3> alpha;      // alpha_J of correction_flux
+  RangeArray<Mat3> beta;       // beta_J
+  RangeArray<Vec3> reference;  // X_J
   // The multipliers of the last solve, the start of the next one (the configuration changes little
-  // between kernel updates; zero before the first).
+  // between kernel updates; zero before the first), and lambda_K, mu_K of correction_flux.
   RangeArray<Vec3> lambda;  // component i: the divergence multiplier of gradient component i
   RangeArray<Mat3> mu;      // row i: the first-moment multipliers of gradient component i
   int iterations = 0;
@@ -51,10 +63,10 @@ struct IntegrationCorrection {
 // exact constant strain); only the integration constraint carries what the solve left.
 // Under MPI (replicated state, docs/SCALING.md) a rank solves for its own particles (`own`, one
 // stretch of them: the particles are in node order; `defect` and `interior` of those, `active` of
-// those and their bond partners) and brings in the multipliers and search direction of their bond
-// partners (`reach`, planned for the bonds) once an iteration and the partners' rows of the
-// correction at the end (the rest of the correction and of the multipliers is current on its own
-// rank alone; `correction` must hold its own particles and their partners, and their rows); the dot
+// those and their bond partners) and brings in the multipliers and preconditioned residual of
+// their bond partners (`reach`, planned for the bonds) once an iteration and the partners' values
+// of the correction at the end (the rest of the correction and of the multipliers is current on
+// its own rank alone; `correction` must hold its own particles and their partners); the dot
 // products are exact sums, so the result does not depend on the number of ranks or threads.
 void correct_integration(const BondList& bonds, StretchView<Vec3> X, StretchView<Real> volume,
                          StretchView<std::uint8_t> interior, StretchView<std::uint8_t> active,

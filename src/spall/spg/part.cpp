@@ -122,6 +122,7 @@ void Part::visit_carried_state(Self& part, Visit&& visit) {
   visit(part.stabilization_force_, none);
   visit(part.psi_self_, Real(0)), visit(part.grad_self_, none);
   visit(part.correction_.self, none), visit(part.correction_.lambda, none), visit(part.correction_.mu, zero);
+  visit(part.correction_.alpha, none), visit(part.correction_.beta, zero), visit(part.correction_.reference, none);
   const auto& mat = part.settings_.material;
   visit(part.specific_energy_, mat.initial_specific_energy), visit(part.density_, mat.density);
   visit(part.pressure_, materials::eos_pressure(mat, mat.density, mat.initial_specific_energy));
@@ -446,8 +447,6 @@ void Part::correct_integration_constraint(bool at_setup) {
   // Set-up: solve to round-off (the patch test of the mesh as given). Kernel updates: the geometry
   // has moved little since the last solve, whose multipliers start a short one.
   const int iterations = at_setup ? setup_iterations : update_iterations;
-  const parallel::Range rows = bonds_.entries(read_);  // of the rows read, as the shape functions
-  correction_.bond.hold_afresh(rows.begin, rows.end);
   correct_integration(bonds_, x_.view(n), volume_ref_.view(n), interior.view(n), active.view(n), defect.view(n),
                       iterations, own_, share_, reach_, correction_);
 }
@@ -472,9 +471,15 @@ Index Part::deformation(StretchView<Vec3> x, StretchView<Vec3> v, Real dt) {
   // The bonds' values read through views held by the pass (as internal_forces).
   const Index bonds = bonds_.entry_count();
   const StretchView<Index> neighbour = bonds_.neighbour.view(bonds);
-  const StretchView<Vec3> grad = grad_.view(bonds), correction = correction_.bond.view(bonds);
-  const StretchView<Vec3> X = x_.view(particle_count()), V = v_.view(particle_count());  // as they are, unsmoothed
-  parallel::for_each(own_, [&, x, v, X, V, neighbour, grad, correction](Index j) {
+  const StretchView<Vec3> grad = grad_.view(bonds);
+  const StretchView<std::uint8_t> broken = bonds_.broken.view(bonds);
+  const Index n = particle_count();
+  const StretchView<Vec3> X = x_.view(n), V = v_.view(n);  // as they are, unsmoothed
+  // The partners' values of the correction's fluxes (correction_flux) and whether they are active.
+  const StretchView<Vec3> lambda = correction_.lambda.view(n), reference = correction_.reference.view(n);
+  const StretchView<Mat3> mu = correction_.mu.view(n);
+  const StretchView<std::uint8_t> degraded = degraded_.view(n);
+  parallel::for_each(own_, [&, x, v, X, V, neighbour, grad, broken, lambda, reference, mu, degraded](Index j) {
     if (degraded_[j]) {
       spin_[j] = Mat3::Zero();
       viscous_pressure_[j] = 0;
@@ -485,10 +490,17 @@ Index Part::deformation(StretchView<Vec3> x, StretchView<Vec3> v, Real dt) {
     // values themselves.
     Mat3 F = x[j] * grad_self_[j].transpose() + X[j] * correction_.self[j].transpose();
     Mat3 dF = v[j] * grad_self_[j].transpose() + V[j] * correction_.self[j].transpose();
+    const Vec3 alpha = correction_.alpha[j];
+    const Mat3 beta = correction_.beta[j];
+    const Real inverse_volume = 1 / volume_ref_[j];
     for (Index k = bonds_.offsets[j]; k < bonds_.offsets[j + 1]; ++k) {
       const Index i = neighbour[k];
-      F.noalias() += x[i] * grad[k].transpose() + X[i] * correction[k].transpose();
-      dF.noalias() += v[i] * grad[k].transpose() + V[i] * correction[k].transpose();
+      F.noalias() += x[i] * grad[k].transpose();
+      dF.noalias() += v[i] * grad[k].transpose();
+      if (broken[k] || degraded[i]) continue;  // no correction on the bond
+      const Vec3 C = inverse_volume * correction_flux(alpha, beta, reference[j], lambda[i], mu[i], reference[i]);
+      F.noalias() += X[i] * C.transpose();
+      dF.noalias() += V[i] * C.transpose();
     }
     const Real det = F.determinant();
     if (!(det > 0)) {
@@ -681,7 +693,12 @@ void Part::internal_forces() {
   const StretchView<Mat3> P = weighted_stress_.view(n);
   const StretchView<Index> neighbour = bonds_.neighbour.view(bonds), mirror = bonds_.mirror.view(bonds);
   const StretchView<Real> psi = psi_.view(bonds);
-  const StretchView<Vec3> grad = grad_.view(bonds), correction = correction_.bond.view(bonds);
+  const StretchView<Vec3> grad = grad_.view(bonds);
+  const StretchView<std::uint8_t> broken = bonds_.broken.view(bonds);
+  const StretchView<Vec3> alpha = correction_.alpha.view(n), reference = correction_.reference.view(n);
+  const StretchView<Mat3> beta = correction_.beta.view(n);
+  const StretchView<Real> volume = volume_ref_.view(n);
+  const StretchView<std::uint8_t> degraded = degraded_.view(n);
   parallel::for_each(own_, [&, P, neighbour, mirror, grad](Index i) {
     Vec3 h = P[i] * grad_self_[i];
     for (Index k = bonds_.offsets[i]; k < bonds_.offsets[i + 1]; ++k)
@@ -691,17 +708,26 @@ void Part::internal_forces() {
   reach_(h_);
   const bool smoothed = settings_.stabilization == Stabilization::fluid_particle;
   const StretchView<Vec3> h = h_.view(n), s = stabilization_total_.view(n);
-  parallel::for_each(own_, [&, P, neighbour, mirror, psi, correction, h, s](Index K) {
+  parallel::for_each(own_, [&, P, neighbour, mirror, psi, broken, alpha, reference, beta, volume, degraded, h,
+                            s](Index K) {
     // f_K = -sum_I Psi_K(X_I) (h_I - s_I) - s_K, or with ITB 2 -h_K - s_K + sum_I Psi_K(X_I) s_I.
     Vec3 gathered = psi_self_[K] * (smoothed ? Vec3(h[K] - s[K]) : Vec3(-s[K]));
     for (Index k = bonds_.offsets[K]; k < bonds_.offsets[K + 1]; ++k) {
       const Index I = neighbour[k];
       gathered.noalias() += psi[mirror[k]] * (smoothed ? Vec3(h[I] - s[I]) : Vec3(-s[I]));
     }
-    // The correction's share: -sum_J V_J P_J C_JK.
+    // The correction's share: -sum_J V_J P_J C_JK, C_JK from row J's values (correction_flux).
     Vec3 corrected = P[K] * correction_.self[K];
-    for (Index k = bonds_.offsets[K]; k < bonds_.offsets[K + 1]; ++k)
-      corrected.noalias() += P[neighbour[k]] * correction[mirror[k]];
+    if (!degraded[K]) {
+      const Vec3 lambda = correction_.lambda[K];
+      const Mat3 mu = correction_.mu[K];
+      for (Index k = bonds_.offsets[K]; k < bonds_.offsets[K + 1]; ++k) {
+        const Index J = neighbour[k];
+        if (broken[k] || degraded[J]) continue;
+        corrected.noalias() +=
+            P[J] * (correction_flux(alpha[J], beta[J], reference[J], lambda, mu, reference[K]) / volume[J]);
+      }
+    }
     force_[K] = (smoothed ? Vec3(-gathered - s[K]) : Vec3(-h[K] - gathered - s[K])) - corrected;
   }, particle_loops);
 }
@@ -760,7 +786,6 @@ parallel::Range Part::nodes_read(const discretization::NodeStore& nodes) const {
 void Part::hold_shape_rows(parallel::Range rows) {
   psi_.hold(rows.begin, rows.end);
   grad_.hold(rows.begin, rows.end);
-  correction_.bond.hold(rows.begin, rows.end);
 }
 
 void Part::complete_kinematics(discretization::NodeStore& nodes) {
@@ -830,7 +855,7 @@ void Part::deal_anew(const discretization::NodeStore& nodes) {
   // The rows held before (those sent) and the rows read now (those received) while they travel.
   hold_shape_rows(parallel::hull(held_before, bonds_.entries(read_)));
   for (const discretization::ReachShare* from : {&owned, &arrivals})
-    from->rows(bonds_.offsets, psi_, grad_, correction_.bond);
+    from->rows(bonds_.offsets, psi_, grad_);
   hold_shape_rows(bonds_.entries(read_));
 }
 
@@ -1009,7 +1034,7 @@ void Part::write_fields(discretization::FieldSet& fields, const discretization::
 }
 
 void Part::checkpoint(Archive& a) {
-  a.section("spg part 10");
+  a.section("spg part 11");
   a.expect_size("SPG particles", node_.size());
   // x_ and v_ are the step's copies of the nodes' (compute_forces).
   a(bonds_.offsets, broken_pairs_, correction_, steps_since_update_, kernel_updates_, mass_scaling_);
@@ -1028,7 +1053,7 @@ void Part::checkpoint(Archive& a) {
     visit_held_state(*this, [&](const auto& array, const auto&) { write(array, mine); });
     const parallel::Range rows = bonds_.entries(mine);
     write(bonds_.neighbour, rows), write(bonds_.broken, rows), write(bonds_.rest_length, rows);
-    write(psi_, rows), write(grad_, rows), write(correction_.bond, rows);
+    write(psi_, rows), write(grad_, rows);
   } else {
     const auto read = [&](auto& array, Index count) {
       parallel::read_array_pieces(a, array, count, {0, count}, [](Index k) { return k; });
@@ -1036,7 +1061,7 @@ void Part::checkpoint(Archive& a) {
     visit_held_state(*this, [&](auto& array, const auto&) { read(array, n); });
     const Index bonds = bonds_.entry_count();
     read(bonds_.neighbour, bonds), read(bonds_.broken, bonds), read(bonds_.rest_length, bonds);
-    read(psi_, bonds), read(grad_, bonds), read(correction_.bond, bonds);
+    read(psi_, bonds), read(grad_, bonds);
     link_mirrors(bonds_, {0, n});
   }
   // The rest written whole (complete_state); read back, the ranks plan their reach again.
@@ -1056,10 +1081,8 @@ Index Part::degraded_count() const {
 std::size_t Part::memory_bytes() const {
   std::size_t held = 0;
   visit_held_state(*this, [&](const auto& array, const auto&) { held += array.capacity_bytes(); });
-  return held + bytes(node_) + reads_.capacity_bytes() +
-         correction_.bond.capacity_bytes() +
-         psi_.capacity_bytes() + grad_.capacity_bytes() + bytes(bonds_.offsets) + bonds_.neighbour.capacity_bytes() +
-         bonds_.mirror.capacity_bytes() + bonds_.broken.capacity_bytes() + bonds_.rest_length.capacity_bytes() +
+  return held + bytes(node_) + reads_.capacity_bytes() + psi_.capacity_bytes() + grad_.capacity_bytes() +
+         bytes(bonds_.offsets) + bonds_.neighbour.capacity_bytes() + bonds_.mirror.capacity_bytes() + bonds_.broken.capacity_bytes() + bonds_.rest_length.capacity_bytes() +
          bytes(broken_pairs_) + x_.capacity_bytes() + v_.capacity_bytes();
 }
 

@@ -116,7 +116,8 @@ class Part {
   const BondList& bonds() const { return bonds_; }
   // Every bond broken so far, also those an Eulerian update has dropped from the rows since.
   const std::vector<BondPair>& broken_pairs() const { return broken_pairs_; }
-  const IntegrationCorrection& integration_correction() const { return correction_; }
+  // The bond entries whose shape functions this rank holds (hold_shape_rows).
+  parallel::Range held_shape_rows() const { return {grad_.held_begin(), grad_.held_end()}; }
   // The particles whose state (F, the material point, the spring, ...) this rank holds (hold_state).
   parallel::Range held_state() const { return {state_.held_begin(), state_.held_end()}; }
   long long kernel_updates() const { return kernel_updates_; }
