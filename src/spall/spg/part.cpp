@@ -929,7 +929,12 @@ void Part::compute_forces(discretization::NodeStore& nodes, Real dt, const HoldN
 // this step's raise too).
 void Part::scale_masses(discretization::NodeStore& nodes, bool whole) {
   const Index n = particle_count();
-  std::vector<Real> raise(n, 0);  // the mass each particle adds to its node this step
+  // The mass each particle adds to its node this step: of a rank's own particles, or where the
+  // others' come in too (`whole`), of every particle (an array of every particle's each step would
+  // cost a rank 8 B a particle of every rank's).
+  const parallel::Range held = whole ? parallel::Range{0, n} : own_;
+  RangeArray<Real> raise;
+  raise.hold_afresh(held.begin, held.end, 0);
   parallel::for_each(own_, [&](Index i) {
     const Real s = courant_factor * current_spacing(i) / mass_scaling_.step;
     const Real speed = nodes.v[nodes.node_row(node_[i])].norm();
@@ -942,7 +947,7 @@ void Part::scale_masses(discretization::NodeStore& nodes, bool whole) {
     share_(node_, raise);
   else
     kinematics_complete_ = false;
-  parallel::for_each(whole ? parallel::Range{0, n} : own_, [&](Index i) {
+  parallel::for_each(held, [&](Index i) {
     if (raise[i] > 0 && nodes.holds_place(node_[i]))  // every node unless a window
       nodes.mass[nodes.node_row(node_[i])] += raise[i];
   }, particle_loops);
