@@ -228,9 +228,9 @@ void correct_integration(const BondList& bonds, StretchView<Vec3> X, StretchView
   const Index n = bonds.size();
   const Ownership own{own_particles, share.across()};
   const NormalEquations equations(bonds, X, interior, active, own);
-  // The fluxes of a rank's rows read the multipliers and the search direction of the bond partners
-  // of its own particles (brought in by `reach`): those two hold the stretch from the first of
-  // them to the last, the others a rank's own particles.
+  // The fluxes of a rank's rows read the multipliers and the preconditioned residual of the bond
+  // partners of its own particles (brought in by `reach`): those two hold the stretch from the
+  // first of them to the last, the others a rank's own particles.
   parallel::Range read = own.particles;
   for (Index j = own.particles.begin; j < own.particles.end; ++j)
     for (Index k = bonds.offsets[j]; k < bonds.offsets[j + 1]; ++k)
