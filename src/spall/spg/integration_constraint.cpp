@@ -55,10 +55,6 @@ std::array<Vec3, K> dots(const std::array<std::pair<const Multipliers*, const Mu
   return result;
 }
 
-Vec3 dot(const Multipliers& a, const Multipliers& b, const Ownership& own) {
-  return dots<1>({{{&a, &b}}}, own)[0];
-}
-
 // The root mean square length of row j's bonds that `counts` (1 where it has none).
 template <typename Counts>
 Real row_length(const BondList& bonds, StretchView<Vec3> X, Index j, Counts&& counts) {
@@ -116,6 +112,19 @@ class NormalEquations {
 
   bool usable(Index j, Index k) const { return !broken_[k] && active_[neighbour_[k]] && active_[j]; }
 
+  // (M^-1 r)_j: its divergence part returned, its first-moment part in `mu`.
+  Vec3 preconditioned(const Multipliers& r, Index j, Mat3& mu) const {
+    Vec3 lambda;
+    for (int i = 0; i < 3; ++i) {
+      Vec4 b;
+      b << r.lambda[j][i], r.mu[j].row(i).transpose();
+      const Vec4 s = preconditioner_[j] * b;
+      lambda[i] = s[0];
+      mu.row(i) = s.tail<3>().transpose();
+    }
+    return lambda;
+  }
+
   // The flux of bond k (row j) for multipliers (lambda, mu): c = (lambda_j - lambda_l) + (mu_j + mu_l) d.
   Vec3 flux(StretchView<Vec3> lambda, StretchView<Mat3> mu, Index j, Index k) const {
     const Index l = neighbour_[k];
@@ -145,14 +154,27 @@ class NormalEquations {
   }
 
   void precondition(const Multipliers& r, Multipliers& z) const {
+    parallel::for_each(own_.particles, [&](Index j) { z.lambda[j] = preconditioned(r, j, z.mu[j]); }, particle_loops);
+  }
+
+  // Per gradient component, r . M^-1 r over every rank's particles (an exact sum), M^-1 r not kept.
+  Vec3 preconditioned_norm(const Multipliers& r) const {
+    const auto sums = parallel::exact_sum(own_.particles, [&](Index j) {
+      Mat3 mu;
+      const Vec3 lambda = preconditioned(r, j, mu);
+      const Vec3 s = r.lambda[j].cwiseProduct(lambda) + r.mu[j].cwiseProduct(mu).rowwise().sum();
+      return Sums<3>{s[0], s[1], s[2]};
+    }, own_.across);
+    return Vec3(sums[0], sums[1], sums[2]);
+  }
+
+  // z -= a M^-1 r per gradient component (a_i scales component i), M^-1 r not kept.
+  void subtract_preconditioned(const Vec3& a, const Multipliers& r, Multipliers& z) const {
     parallel::for_each(own_.particles, [&](Index j) {
-      for (int i = 0; i < 3; ++i) {
-        Vec4 b;
-        b << r.lambda[j][i], r.mu[j].row(i).transpose();
-        const Vec4 s = preconditioner_[j] * b;
-        z.lambda[j][i] = s[0];
-        z.mu[j].row(i) = s.tail<3>().transpose();
-      }
+      Mat3 mu;
+      const Vec3 lambda = preconditioned(r, j, mu);
+      z.lambda[j] += (-a).cwiseProduct(lambda);
+      z.mu[j] += (-a).asDiagonal() * mu;
     }, particle_loops);
   }
 
@@ -235,25 +257,23 @@ void correct_integration(const BondList& bonds, StretchView<Vec3> X, StretchView
   for (Index j = own.particles.begin; j < own.particles.end; ++j)
     for (Index k = bonds.offsets[j]; k < bonds.offsets[j + 1]; ++k)
       read = parallel::hull(read, {bonds.neighbour[k], bonds.neighbour[k] + 1});
-  Multipliers z(read), r(own.particles);
+  // Six vectors of multipliers (96 B a particle each; the solve's scratch sets SPG's peak memory).
+  Multipliers z(read), r(own.particles), s(read), As(own.particles), p(own.particles), Ap(own.particles);
   for (Index j = read.begin; j < read.end; ++j) z.lambda[j] = correction.lambda[j], z.mu[j] = correction.mu[j];
   reach(z.lambda, z.mu);
-  // Right-hand side: sum_L c_JL = e_J / 2 at interior particles (then the column sums of D' are
-  // zero there), zero first moments everywhere.
-  Multipliers b(own.particles);
+  // Right-hand side b (in r until the residual r = b - A z is formed): sum_L c_JL = e_J / 2 at
+  // interior particles (then the column sums of D' are zero there), zero first moments everywhere.
   for (Index j = own.particles.begin; j < own.particles.end; ++j)
-    if (interior[j] && active[j]) b.lambda[j] = Real(0.5) * defect[j];
-  equations.apply(z, r);
-  for (Index j = own.particles.begin; j < own.particles.end; ++j) {
-    r.lambda[j] = b.lambda[j] - r.lambda[j];
-    r.mu[j] = -r.mu[j];
-  }
+    if (interior[j] && active[j]) r.lambda[j] = Real(0.5) * defect[j];
   // Sizes are taken in the preconditioner's norm, |r|^2 = r . M^-1 r: the norm the solve below
   // lowers at every iteration, and one the deck's units do not change (a residual's divergence
   // and first moment differ by a length; M^-1 scales them alike).
-  Multipliers s(read), As(own.particles), p(own.particles), Ap(own.particles), q(own.particles);
-  equations.precondition(b, s);
-  const Vec3 b_norm = dot(b, s, own).cwiseSqrt();
+  const Vec3 b_norm = equations.preconditioned_norm(r).cwiseSqrt();
+  equations.apply(z, As);
+  for (Index j = own.particles.begin; j < own.particles.end; ++j) {
+    r.lambda[j] = r.lambda[j] - As.lambda[j];
+    r.mu[j] = -As.mu[j];
+  }
   // The natural size of the column sums, V_J / h_J ~ V_J^(2/3) per particle: an exact sum over
   // every rank's own particles, whose volumes are current there (a rank's copies of the others'
   // are stale between new deals), so that every rank stops the solve at the same iteration.
@@ -282,13 +302,12 @@ void correct_integration(const BondList& bonds, StretchView<Vec3> X, StretchView
     p.lambda[j] = s.lambda[j], p.mu[j] = s.mu[j], Ap.lambda[j] = As.lambda[j], Ap.mu[j] = As.mu[j];
   int iteration = 0;
   while (!converged(rs) && iteration < max_iterations) {
-    equations.precondition(Ap, q);
-    const Vec3 Ap_q = dot(Ap, q, own);
+    const Vec3 Ap_q = equations.preconditioned_norm(Ap);  // Ap . M^-1 Ap
     Vec3 alpha = Vec3::Zero();
     for (int i = 0; i < 3; ++i) alpha[i] = Ap_q[i] > 0 ? sAs[i] / Ap_q[i] : 0;
     axpy(alpha, p, z, own);
     axpy(-alpha, Ap, r, own);
-    axpy(-alpha, q, s, own);
+    equations.subtract_preconditioned(alpha, Ap, s);
     const auto [sAs_next, rs_next] = next_residual();
     Vec3 beta = Vec3::Zero();
     for (int i = 0; i < 3; ++i) beta[i] = sAs[i] > 0 ? sAs_next[i] / sAs[i] : 0;
