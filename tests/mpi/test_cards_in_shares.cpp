@@ -11,7 +11,6 @@
 
 #include <fmt/format.h>
 
-#include <cstring>
 #include <string>
 #include <vector>
 
@@ -20,6 +19,7 @@
 #include "spall/io/keyword/reader.hpp"
 #include "spall/solver/problem.hpp"
 #include "spall/sph/fluid.hpp"
+#include "support/whole_rows.hpp"
 
 namespace spall::solver {
 namespace {
@@ -109,13 +109,7 @@ TEST(CardsInShares, TheSetUpInBlocksIsTheWholeSetUps) {
   const auto& w = whole.nodes;
   const auto& b = blocks.nodes;
   ASSERT_EQ(w.size(), 10013);
-  EXPECT_EQ(b.holds_a_block(), ranks.size() > 1);
-  const Index first = parallel::block_begin(w.size(), ranks.rank(), ranks.size());
-  ASSERT_EQ(b.size(), parallel::block_begin(w.size(), ranks.rank() + 1, ranks.size()) - first);
-  for (Index r = 0; r < b.size(); ++r) {
-    const discretization::NodeStore::Row built = b.row(r), reference = w.row(first + r);
-    ASSERT_EQ(std::memcmp(&built, &reference, sizeof built), 0) << "node " << b.id[r];
-  }
+  test_support::expect_whole_rows(w, b);
   // The conditions reached their nodes: 601 held along z (node 900 002 along every axis), one velocity.
   int held = 0, moving = 0;
   for (Index i = 0; i < w.size(); ++i) held += (w.fixed[i] & 4u) != 0, moving += w.v[i] != Vec3::Zero();

@@ -26,6 +26,7 @@
 #include "spall/sph/fluid.hpp"
 #include "spall/sph/solid.hpp"
 #include "support/spg_block.hpp"
+#include "support/whole_rows.hpp"
 
 namespace spall::solver {
 namespace {
@@ -77,19 +78,6 @@ std::string deck(bool solid, bool rubber = false) {
 }
 
 Problem set_up(const model::Model& model, SetUp how) { return build_problem(model, how); }
-
-// Under MPI the rows `b` of a set-up in blocks are this rank's block of the node order, each byte
-// for byte the row of the whole set-up `w` at its place.
-void expect_whole_rows(const discretization::NodeStore& w, const discretization::NodeStore& b) {
-  const parallel::Communicator& ranks = parallel::world();
-  EXPECT_EQ(b.holds_a_block(), ranks.size() > 1);
-  const Index first = parallel::block_begin(w.size(), ranks.rank(), ranks.size());
-  ASSERT_EQ(b.size(), parallel::block_begin(w.size(), ranks.rank() + 1, ranks.size()) - first);
-  for (Index r = 0; r < b.size(); ++r) {
-    const discretization::NodeStore::Row built = b.row(r), reference = w.row(first + r);
-    EXPECT_EQ(std::memcmp(&built, &reference, sizeof built), 0) << "node " << b.id[r];
-  }
-}
 
 TEST(SetUpInBlocks, EachRankBuildsItsBlockOfTheWholeSetUp) {
   const parallel::Communicator& ranks = parallel::world();
@@ -152,7 +140,7 @@ TEST(SetUpInBlocks, TheSphSolidAloneIsSetUpInBlocksToo) {
   const Problem blocks = set_up(model, SetUp::in_blocks_where_possible);
   const auto& w = whole.nodes;
   const auto& b = blocks.nodes;
-  expect_whole_rows(w, b);
+  test_support::expect_whole_rows(w, b);
   ASSERT_NE(blocks.sph_solid, nullptr);
   EXPECT_EQ(blocks.sph_solid->particle_count(), 63);
   for (Index a = 0; a < 63; ++a) EXPECT_EQ(blocks.sph_solid->node_of(a), whole.sph_solid->node_of(a));
@@ -187,7 +175,7 @@ TEST(SetUpInBlocks, SpgAloneIsSetUpInBlocksToo) {
   const auto& w = whole.nodes;
   const auto& b = blocks.nodes;
   ASSERT_EQ(w.size(), 4 * 3 * 10);
-  expect_whole_rows(w, b);
+  test_support::expect_whole_rows(w, b);
   ASSERT_EQ(blocks.formulations.size(), 1u);
   const auto& formulation = dynamic_cast<const spg::SpgFormulation&>(*blocks.formulations.front());
   EXPECT_EQ(formulation.particle_count(), 4 * 3 * 10 + 4 * 3);
