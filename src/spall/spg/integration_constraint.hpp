@@ -29,10 +29,10 @@
 namespace spall::spg {
 
 // The correction's fluxes, V_J C_JK = c_JK - (a_J + B_J (X_K - X_J)), the least-squares flux less
-// the row's moment removal (remove_row_moment), on a usable bond (neither broken nor of an inactive
+// the row's moment removal (row_moment_removal), on a usable bond (neither broken nor of an inactive
 // particle; zero on the others), from values per particle: alpha_J = lambda_J - a_J and
 // beta_J = mu_J - B_J of row J, lambda_K and mu_K of K, X the positions it was computed at. Per
-// particle rather than per bond: 120 B a particle against 24 B a bond (some 60 of them).
+// particle rather than per bond: 120 B a particle against 24 B a bond (some 24 of them).
 inline Vec3 correction_flux(const Vec3& alpha_J, const Mat3& beta_J, const Vec3& X_J, const Vec3& lambda_K,
                             const Mat3& mu_K, const Vec3& X_K) {
   return alpha_J - lambda_K + (beta_J + mu_K) * (X_K - X_J);

@@ -1087,8 +1087,9 @@ std::size_t Part::memory_bytes() const {
   std::size_t held = 0;
   visit_held_state(*this, [&](const auto& array, const auto&) { held += array.capacity_bytes(); });
   return held + bytes(node_) + reads_.capacity_bytes() + psi_.capacity_bytes() + grad_.capacity_bytes() +
-         bytes(bonds_.offsets) + bonds_.neighbour.capacity_bytes() + bonds_.mirror.capacity_bytes() + bonds_.broken.capacity_bytes() + bonds_.rest_length.capacity_bytes() +
-         bytes(broken_pairs_) + x_.capacity_bytes() + v_.capacity_bytes();
+         bytes(bonds_.offsets) + bonds_.neighbour.capacity_bytes() + bonds_.mirror.capacity_bytes() +
+         bonds_.broken.capacity_bytes() + bonds_.rest_length.capacity_bytes() + bytes(broken_pairs_) +
+         x_.capacity_bytes() + v_.capacity_bytes();
 }
 
 }  // namespace spall::spg
