@@ -36,12 +36,23 @@ RunOutputs::RunOutputs(const fs::path& out, const solver::Problem& problem, cons
     for (const char* name : {"fx", "fy", "fz"}) rbdout_.columns.push_back({name, "force"});
     for (const char* name : {"mx", "my", "mz"}) rbdout_.columns.push_back({name, "force*length"});
   }
+  // The history nodes' motion (*DATABASE_HISTORY_NODE), a row per node and output time at the NODOUT
+  // interval (GLSTAT's without the card): LS-DYNA's nodout displacements, velocities, accelerations
+  // and coordinates; only with history nodes.
+  if (!problem.history_nodes.empty()) {
+    nodout_.path = out / "nodout.csv";
+    nodout_.columns = {{"time", "time"}, {"node", ""}};
+    for (const char* name : {"ux", "uy", "uz"}) nodout_.columns.push_back({name, "length"});
+    for (const char* name : {"vx", "vy", "vz"}) nodout_.columns.push_back({name, "velocity"});
+    for (const char* name : {"ax", "ay", "az"}) nodout_.columns.push_back({name, "length/time^2"});
+    for (const char* name : {"x", "y", "z"}) nodout_.columns.push_back({name, "length"});
+  }
   // Residual stress of the SPH solids per part and category (seed 000), at the end of the run and,
   // on request, at every field output.
   solid_ = problem.sph_solid;
   residual_options_ = model.sph_residual_stress.value_or(model::SphResidualStress{});
   if (resume) return;
-  for (History* h : {&rwforc_, &rcforc_, &rbdout_})
+  for (History* h : {&rwforc_, &rcforc_, &rbdout_, &nodout_})
     if (!h->columns.empty()) open(*h);
   if (solid_) residual_.emplace(out / "residual.csv", *solid_, residual_options_);
 }
@@ -87,6 +98,14 @@ solver::Observer RunOutputs::observer() {
       rbdout_.file->append(r);
     }
   };
+  observer.on_node_histories = [this](const solver::StepInfo& step, const std::vector<solver::NodeHistory>& nodes) {
+    for (const auto& node : nodes) {
+      std::vector<double> r{step.time, static_cast<double>(node.id)};
+      for (const Vec3* v : {&node.displacement, &node.velocity, &node.acceleration, &node.position})
+        r.insert(r.end(), v->data(), v->data() + 3);
+      nodout_.file->append(r);
+    }
+  };
   observer.on_rigid_wall_forces = [this](const solver::StepInfo& step, const std::vector<contact::RigidWall>& walls) {
     for (const auto& wall : walls) {
       const Vec3& f = wall.force();
@@ -113,9 +132,9 @@ solver::Observer RunOutputs::observer() {
 }
 
 void RunOutputs::checkpoint(Archive& a) {
-  a.section("output files");
+  a.section("output files 2");
   a(masses_, glstat_.columns);
-  for (History* h : {&glstat_, &rwforc_, &rcforc_, &rbdout_}) {
+  for (History* h : {&glstat_, &rwforc_, &rcforc_, &rbdout_, &nodout_}) {
     std::optional<std::uint64_t> bytes;
     if (h->file) bytes = h->file->bytes();
     a(bytes);

@@ -4,8 +4,8 @@
 # to rwforc.csv; bad input is one `file:line: *KEYWORD:` line and exit 2; an unsupported keyword
 # is a warning with name and line; an unstable run exits 3 and leaves its last state; an SPG run
 # writes its bond fields and an SPG option without an implementation is exit 2 naming the field;
-# a rigid body's motion goes to rbdout.csv; every public deck goes through `spall check` with exit 0
-# or 2, never a crash.
+# a rigid body's motion goes to rbdout.csv, history nodes' to nodout.csv; every public deck goes
+# through `spall check` with exit 0 or 2, never a crash.
 # Arguments, as CTest passes them: CLI SOURCE_DIR SHARED_DIR.
 set -euo pipefail
 cli=$1
@@ -67,6 +67,30 @@ grep -q 'energy ratio n/a' "$work/rest.log" || { cat "$work/rest.log"; fail "sum
 tail -n 1 "$work/rest_out/glstat.csv" | awk -F, '{ exit !($NF == "nan") }' || fail "glstat ratio at rest: $(tail -n 1 "$work/rest_out/glstat.csv")"
 grep -q '"energy_ratio": null' "$work/rest_out/run.json" || fail "run.json energy_ratio at rest"
 grep -Eq '"energy_ratio": 0\.9|"energy_ratio": 1' "$work/out/run.json" || fail "run.json energy_ratio of the bar"
+
+# Node histories (*DATABASE_HISTORY_NODE and _SET, *DATABASE_NODOUT): the bar at rest falling
+# under *LOAD_BODY_Z (g = 9.81, every node feels -m g) moves as one body, and central differences
+# integrate a constant acceleration exactly: u_z = -g t^2 / 2, v_z = -g t, a_z = -g at every
+# output time (Newton), for node 1 and the set {2, 3, 1}, each node once, in the deck's order.
+awk '/^\*END/ { print "*DEFINE_CURVE\n77\n0.0,1.0\n1.0,1.0\n*LOAD_BODY_Z\n77,9.81\n*SET_NODE_LIST\n5\n2,3,1\n" \
+  "*DATABASE_HISTORY_NODE\n1\n*DATABASE_HISTORY_NODE_SET\n5\n*DATABASE_NODOUT\n2e-6" } { print }' "$work/rest.k" >"$work/fall.k"
+"$cli" run "$work/fall.k" -o "$work/fall_out" 2>"$work/fall.log" || { cat "$work/fall.log"; fail "run with history nodes"; }
+head -n 1 "$work/fall_out/nodout.csv" | grep -q '^time \[time\],node,ux \[length\],uy \[length\],uz \[length\],vx \[velocity\]' ||
+  fail "nodout header: $(head -n 1 "$work/fall_out/nodout.csv")"
+awk -F, 'NR > 1 { rows++; if ((NR - 2) % 3 + 1 != $2) order = 1
+  g = 9.81; t = $1; if ($11 + g > 1e-9 * g || $11 + g < -1e-9 * g) bad = 1
+  if (t > 0 && (($5 + g * t * t / 2) / (g * t * t / 2) > 1e-9 || ($5 + g * t * t / 2) / (g * t * t / 2) < -1e-9)) bad = 1
+  if (t > 0 && (($8 + g * t) / (g * t) > 1e-9 || ($8 + g * t) / (g * t) < -1e-9)) bad = 1 }
+  END { exit !(rows >= 9 && rows % 3 == 0 && !order && !bad) }' "$work/fall_out/nodout.csv" ||
+  fail "nodout.csv is not free fall of nodes 1, 2, 3: $(cat "$work/fall_out/nodout.csv")"
+sed 's/^\*DATABASE_HISTORY_NODE$/&\n99999/' "$work/fall.k" >"$work/fall_bad.k"
+set +e
+"$cli" check "$work/fall_bad.k" 2>"$work/fall_bad.log"
+code=$?
+set -e
+[ $code -eq 2 ] || fail "a history node that does not exist: exit $code"
+grep -Eq 'fall_bad\.k:[0-9]+: \*DATABASE_HISTORY_NODE: node 99999 does not exist' "$work/fall_bad.log" ||
+  fail "missing history node message: $(cat "$work/fall_bad.log")"
 
 # A rigid wall through the particle layer at x = 0.5125, facing +x: the half in front of it moves
 # onto it (v = V cos(pi x / L) < 0 there), so rwforc.csv has rows with a positive normal force.

@@ -2,8 +2,9 @@
 # The SPH fluid on several MPI ranks (issue 35; docs/SCALING.md, "Replicated state"): the 2D dam
 # break of examples/dam_break cut to 0.05 s (330 steps) and the 3D one cut to 0.02 s, run as one
 # process and under mpirun as 1, 2, 3 and 4 ranks (oversubscribed on 2 cores), with 1 or 2 threads
-# each: glstat.csv is byte for byte the single process's, and the field output (a .pvtu per output
-# time, each rank's piece a .vtu) holds its .vtu files' points and fields bit for bit. Rank 0 writes
+# each: glstat.csv (and the 3D one's nodout.csv) is byte for byte the single process's, and the
+# field output (a .pvtu per output time, each rank's piece a .vtu) holds its .vtu files' points and
+# fields bit for bit. Rank 0 writes
 # the restart files, every rank's own state in turn, which every rank reads back whole: a 2-rank
 # run's last runrsf, continued on one process or on 3 ranks, and the single process's on 2 ranks,
 # end as the uninterrupted run, also when a rank was killed mid-run; writing one at every step
@@ -34,6 +35,8 @@ read_vtu=("/usr/bin/python3" "$source_dir/tools/read_vtu.py")
 
 cut_deck "$source_dir/examples/dam_break/dam_break_2d.k" 0.05 100 >"$work/d2.k"
 cut_deck "$source_dir/examples/dam_break/dam_break.k" 0.02 >"$work/d3.k"
+# History nodes (nodout.csv): a wall corner and two water particles, each from its region's rank.
+sed -i 's/^\*END$/*DATABASE_HISTORY_NODE\n1,30000,37580\n*DATABASE_NODOUT\n0.002\n*END/' "$work/d3.k"
 run_serial d2 100
 run_serial d3 100
 same_on_ranks "$work/d2.k" "$work/d2.serial" "1 1" "2 1" "3 1" "4 1" "2 2" "3 1 rebalanced"

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The SPH solid and SPG on several MPI ranks (issue 35; docs/SCALING.md, "Replicated state"), run
 # as one process and under mpirun as 1-4 ranks (oversubscribed on 2 cores) with 1 or 2 threads each:
-# every history (glstat.csv, rwforc.csv) is byte for byte the single process's, and the field output
+# every history (glstat.csv, rwforc.csv, nodout.csv) is byte for byte the single process's, and the field output
 # (a .pvtu per output time of each rank's .vtu piece) holds its .vtu files' points and fields bit for
 # bit.
 #  - the Taylor bar of examples/taylor_bar, cut short: Johnson-Cook, the corrected gradient, a fixed
@@ -47,12 +47,16 @@ fail() { echo "FAIL: $*"; exit 1; }
 source "$source_dir/tests/scripts/mpi_common.sh"
 
 cut_deck "$source_dir/examples/taylor_bar/taylor_bar.k" 1e-5 20 >"$work/taylor.k"
+# Three history nodes (nodout.csv): the velocity at t^n and the acceleration each from its owner.
+sed -i 's/^\*END$/*DATABASE_HISTORY_NODE\n1,2000,4144\n*DATABASE_NODOUT\n1e-6\n*END/' "$work/taylor.k"
 cut_deck "$source_dir/examples/brittle_spall/brittle_spall.k" 0.01 >"$work/spall.k"
 cut_deck "$source_dir/examples/compression_iron/compression_iron.k" 2e-5 >"$work/compression.k"
 run_serial taylor 40
 run_serial spall 40
 run_serial compression 100
 [ -s "$work/taylor.serial/rwforc.csv" ] || fail "the Taylor bar wrote no rwforc.csv"
+[ "$(cut -d, -f2 "$work/taylor.serial/nodout.csv" | sort -u | tr '\n' ' ')" = "1 2000 4144 node " ] ||
+  fail "the Taylor bar's nodout.csv: $(head -n 3 "$work/taylor.serial/nodout.csv")"
 awk -F, 'NR > 1 && $2 == 2 && $3 + 0 > 0 { pushed = 1 } END { exit !pushed }' "$work/compression.serial/rwforc.csv" ||
   fail "the moving wall did not push: $(tail -n 1 "$work/compression.serial/rwforc.csv")"
 same_on_ranks "$work/taylor.k" "$work/taylor.serial" "2 1" "3 1" "4 1" "2 2" "3 1 rebalanced" "2 1 checkpointed"

@@ -69,6 +69,8 @@ std::vector<Id> Model::named_nodes() const {
   for (const auto& motion : prescribed_motions)
     if (motion.target == Target::node) named.push_back(motion.id);
   for (const auto& velocity : initial_velocity_nodes) named.push_back(velocity.nid);
+  for (const auto& card : history_nodes)
+    if (!card.node_sets) named.insert(named.end(), card.ids.begin(), card.ids.end());
   std::sort(named.begin(), named.end());
   named.erase(std::unique(named.begin(), named.end()), named.end());
   return named;

@@ -502,6 +502,14 @@ struct OutputInterval {
   SourceLocation where;
 };
 
+// *DATABASE_HISTORY_NODE (_SET): a card of node IDs (or node set IDs) whose motion nodout.csv
+// follows, at the *DATABASE_NODOUT interval.
+struct HistoryNodes {
+  std::vector<Id> ids;
+  bool node_sets = false;  // _SET: the IDs are node sets'
+  SourceLocation where;    // the card's
+};
+
 // *DATABASE_BINARY_RUNRSF: a running restart file every CYCL steps; NR files written in turn
 // (1: one file, overwritten), so that a crash while one is written leaves the one before.
 struct RestartOutput {
@@ -714,6 +722,8 @@ struct Model {
   std::optional<OutputInterval> rwforc;
   std::optional<OutputInterval> rcforc;
   std::optional<OutputInterval> rbdout;
+  std::optional<OutputInterval> nodout;
+  std::vector<HistoryNodes> history_nodes;  // in the deck's order
   std::optional<RestartOutput> runrsf;
   std::optional<DampingGlobal> damping_global;
 
@@ -725,7 +735,7 @@ struct Model {
   void release_mesh();
 
   // The node IDs that cards other than *NODE and the elements name (node and segment sets,
-  // constraints, prescribed motions, initial velocities), ascending, each once.
+  // constraints, prescribed motions, initial velocities, history nodes), ascending, each once.
   std::vector<Id> named_nodes() const;
 
   const Part* find_part(Id id) const;

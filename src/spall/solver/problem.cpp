@@ -48,6 +48,7 @@ class Builder {
     rigid::add_rigid_masses(model_, index_of_node_, problem_.nodes);
     apply_spcs();
     build_motions();
+    build_history_nodes();
     apply_initial_velocities();
     problem_.rigid_bodies = rigid::build_rigid_bodies(model_, index_of_node_, problem_.nodes);
     problem_.contacts = contact::build_contacts(model_, index_of_node_, problem_.nodes);
@@ -482,6 +483,28 @@ class Builder {
     }
   }
 
+  void build_history_nodes() {
+    std::vector<Index>& places = problem_.history_nodes;
+    for (const auto& card : model_.history_nodes) {
+      const char* keyword = card.node_sets ? "*DATABASE_HISTORY_NODE_SET" : "*DATABASE_HISTORY_NODE";
+      for (const Id id : card.ids) {
+        const std::vector<Index> nodes = card.node_sets ? node_set(id, card.where, keyword)
+                                                        : std::vector<Index>{node_index(id, card.where, keyword)};
+        places.insert(places.end(), nodes.begin(), nodes.end());
+      }
+    }
+    // A node named twice (in two sets, say) is followed once, where it was first named.
+    std::vector<Index> sorted(places);
+    std::sort(sorted.begin(), sorted.end());
+    std::vector<std::uint8_t> taken(sorted.size(), 0);
+    std::erase_if(places, [&](Index i) {
+      const auto k = static_cast<std::size_t>(std::lower_bound(sorted.begin(), sorted.end(), i) - sorted.begin());
+      if (taken[k]) return true;
+      taken[k] = 1;
+      return false;
+    });
+  }
+
   void apply_initial_velocities() {
     auto& v = problem_.nodes.v;
     for (const auto& iv : model_.initial_velocities) {
@@ -655,6 +678,7 @@ class Builder {
     force_history(model_.rwforc, "*DATABASE_RWFORC", c.rwforc_dt, c.rwforc_dt_curve);
     force_history(model_.rcforc, "*DATABASE_RCFORC", c.rcforc_dt, c.rcforc_dt_curve);
     force_history(model_.rbdout, "*DATABASE_RBDOUT", c.rbdout_dt, c.rbdout_dt_curve);
+    force_history(model_.nodout, "*DATABASE_NODOUT", c.nodout_dt, c.nodout_dt_curve);
     if (model_.damping_global) {
       const auto& d = *model_.damping_global;
       if (d.rotation_scale != Vec3::Zero() && d.rotation_scale != Vec3::Ones())

@@ -55,6 +55,8 @@ struct RunControls {
   const model::Curve* rcforc_dt_curve = nullptr;  // LCUR
   Real rbdout_dt = 0;                             // rigid bodies (GLSTAT's interval by default)
   const model::Curve* rbdout_dt_curve = nullptr;  // LCUR
+  Real nodout_dt = 0;                             // history nodes (GLSTAT's interval by default)
+  const model::Curve* nodout_dt_curve = nullptr;  // LCUR
   // *DAMPING_GLOBAL: f = -D(t) m (scale . v), D = damping or damping_curve(t).
   Real damping = 0;
   const model::Curve* damping_curve = nullptr;
@@ -67,6 +69,9 @@ struct Problem {
   // The SPH solid among them, if the deck has one: its residual-stress report (seed 000) reads it.
   const sph::SolidFormulation* sph_solid = nullptr;
   std::vector<NodalMotion> motions;
+  // *DATABASE_HISTORY_NODE (_SET): the nodes nodout.csv follows, by place in the deck (as the
+  // motions' nodes), in the deck's order, each once.
+  std::vector<Index> history_nodes;
   std::vector<BaseAcceleration> base_accelerations;
   std::vector<contact::RigidWall> rigid_walls;
   std::vector<contact::PenaltyContact> contacts;

@@ -71,6 +71,7 @@ class TimeLoop::Step {
     rwforc_ = {controls_.rwforc_dt, controls_.rwforc_dt_curve};
     rcforc_ = {controls_.rcforc_dt, controls_.rcforc_dt_curve};
     rbdout_ = {controls_.rbdout_dt, controls_.rbdout_dt_curve};
+    nodout_ = {controls_.nodout_dt, controls_.nodout_dt_curve};
     runaway_speed_limit_ = runaway_speed_limit();
     // Over every node: each rank's block of them, summed over the ranks, when the set-up built blocks.
     initial_mass_ = parallel::exact_sum(nodes_.size(), [&](Index i) { return nodes_.mass[i]; },
@@ -175,9 +176,10 @@ class TimeLoop::Step {
     a.expect_size("contacts", problem_.contacts.size());
     for (auto& c : problem_.contacts) c.checkpoint(a);
     a(problem_.rigid_bodies);
-    a.section("time loop");
+    a.section("time loop 2");
     a(step_, dt_previous_, dt_first_, dt_mid_, velocity_weight_, base_acceleration_, damping_,
-      runaway_speed_limit_, initial_mass_, field_output_, history_, rwforc_, rcforc_, rbdout_, ledger_, phases_);
+      runaway_speed_limit_, initial_mass_, field_output_, history_, rwforc_, rcforc_, rbdout_, nodout_, ledger_,
+      phases_);
   }
 
  private:
@@ -505,8 +507,56 @@ class TimeLoop::Step {
       observer_.on_contact_forces(step_, problem_.contacts);
     if (!problem_.rigid_bodies.empty() && rbdout_.due(step_.time, tolerance, stop) && observer_.on_rigid_bodies)
       observer_.on_rigid_bodies(step_, problem_.rigid_bodies);
+    if (!problem_.history_nodes.empty() && nodout_.due(step_.time, tolerance, stop)) {
+      const std::vector<NodeHistory> histories = node_histories();  // a collective: on every rank
+      if (observer_.on_node_histories) observer_.on_node_histories(step_, histories);
+    }
     if (observer_.on_step) observer_.on_step(step_);
     return !stop;
+  }
+
+  // The history nodes' motion at t^n: v^n is in v_old_ from energies() on, v^{n+1/2} in the nodes,
+  // so a^n = 2 (v^{n+1/2} - v^n) / dt^{n+1/2}, with what the constraints did.
+  // Under MPI each value from the rank that owns the node (the others offer +infinity to the
+  // minimum), so that every rank has them all.
+  std::vector<NodeHistory> node_histories() const {
+    const std::vector<Index>& places = problem_.history_nodes;
+    constexpr int values = 13;  // ID, then displacement, velocity, acceleration, position
+    std::vector<double> found(values * places.size(), std::numeric_limits<double>::infinity());
+    const Real dt = step_.dt;
+    for (std::size_t k = 0; k < places.size(); ++k) {
+      // Looked up at each output, not kept: by region a node's row may be added to a rank's rows
+      // without a change of layout (NodeStore::layout), and a rank's own nodes change as they flow.
+      const Index i = nodes_.row_of(places[k]);
+      if (i < 0 || !nodes_.owns(i)) continue;
+      double* row = &found[values * k];
+      // At the run's last step (dt^{n+1/2} = 0) v^{n+1/2} = v^n: the forces' acceleration instead,
+      // without the components an SPC holds.
+      Vec3 acceleration = Vec3::Zero();
+      if (dt > 0) {
+        acceleration = 2 * (nodes_.v[i] - v_old_[i]) / dt;
+      } else if (nodes_.mass[i] > 0) {
+        acceleration = nodes_.f[i] / nodes_.mass[i];
+        for (int d = 0; d < 3; ++d)
+          if (nodes_.fixed[i] & (1u << d)) acceleration[d] = 0;
+      }
+      row[0] = static_cast<double>(nodes_.id[i]);
+      int c = 1;
+      for (const Vec3& v : {Vec3(nodes_.x[i] - nodes_.x0[i]), v_old_[i], acceleration, nodes_.x[i]})
+        for (int d = 0; d < 3; ++d) row[c++] = v[d];
+    }
+    parallel::world().minimum(found);
+    std::vector<NodeHistory> histories(places.size());
+    for (std::size_t k = 0; k < histories.size(); ++k) {
+      const double* row = &found[values * k];
+      NodeHistory& h = histories[k];
+      h.id = static_cast<Id>(row[0]);
+      h.displacement = Vec3(row[1], row[2], row[3]);
+      h.velocity = Vec3(row[4], row[5], row[6]);
+      h.acceleration = Vec3(row[7], row[8], row[9]);
+      h.position = Vec3(row[10], row[11], row[12]);
+    }
+    return histories;
   }
 
   // ENDMAS (the mass DT2MS added passed its percentage of the initial mass) or ENDENG (the energy
@@ -568,7 +618,7 @@ class TimeLoop::Step {
   Vec3 base_acceleration_ = Vec3::Zero(), damping_ = Vec3::Zero();
   Real runaway_speed_limit_ = std::numeric_limits<Real>::infinity();
   Real initial_mass_ = 0;  // the nodes' mass before DT2MS adds any (ENDMAS)
-  OutputSchedule field_output_, history_, rwforc_, rcforc_, rbdout_;
+  OutputSchedule field_output_, history_, rwforc_, rcforc_, rbdout_, nodout_;
   EnergyLedger ledger_;
   PhaseTimes phases_;
 };

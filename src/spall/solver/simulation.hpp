@@ -22,6 +22,14 @@ struct StepInfo {
   Real dt = 0;
 };
 
+// A history node's motion at t^n (*DATABASE_HISTORY_NODE): displacement x^n - X, velocity v^n,
+// acceleration a^n (as the constraints left it: 2 (v^{n+1/2} - v^n) / dt^{n+1/2}; f / m at the
+// last step, whose dt^{n+1/2} is 0) and position x^n.
+struct NodeHistory {
+  Id id = 0;
+  Vec3 displacement, velocity, acceleration, position;
+};
+
 // The phases of a step, in the order they run.
 enum class Phase { internal_forces, contact, loads, stable_step, velocity_update, halo, constraints, energies, output,
                    position_update, count };
@@ -49,6 +57,9 @@ struct Observer {
   // The rigid bodies after their update of this step (every RBDOUT interval, GLSTAT's by default,
   // and at the end).
   std::function<void(const StepInfo&, const rigid::RigidBodies&)> on_rigid_bodies;
+  // The history nodes' motion at t^n, in the deck's order (every NODOUT interval, GLSTAT's by
+  // default, and at the end); under MPI on every rank.
+  std::function<void(const StepInfo&, const std::vector<NodeHistory>&)> on_node_histories;
   // Called on every step (cheap): for progress lines.
   std::function<void(const StepInfo&)> on_step;
 };

@@ -271,10 +271,14 @@ void read_database_glstat(CardCursor& cursor, const KeywordCall&, model::Model& 
 }
 
 namespace {
-// *DATABASE_RWFORC and *DATABASE_RCFORC: one card DT BINARY LCUR IOOPT. BINARY is not read: Spall
-// writes its CSV file whatever it says.
-model::OutputInterval read_force_history(CardCursor& cursor) {
-  const Card card = cursor.next(standard_fields, "card 1 (DT BINARY LCUR IOOPT)");
+// *DATABASE_RWFORC, _RCFORC, _RBDOUT and _NODOUT: one card DT BINARY LCUR IOOPT. BINARY is not
+// read: Spall writes its CSV file whatever it says. NODOUT's card goes on with DTHF BINHF, the
+// interval of a second, high-frequency binout, which Spall does not write: DTHF must be 0 or blank.
+model::OutputInterval read_force_history(CardCursor& cursor, bool high_frequency = false) {
+  const Card card = cursor.next(standard_fields, high_frequency ? "card 1 (DT BINARY LCUR IOOPT DTHF BINHF)"
+                                                                : "card 1 (DT BINARY LCUR IOOPT)");
+  if (high_frequency && card.real(4, "DTHF", 0.0) != 0.0)
+    card.fail("DTHF", quoted(card.text(4)) + ": the high-frequency output is not written; give its interval as DT");
   model::OutputInterval output;
   output.dt = card.real(0, "DT", 0.0);
   output.lcdt = card.integer(2, "LCUR", 0);
@@ -299,6 +303,28 @@ void read_database_rcforc(CardCursor& cursor, const KeywordCall&, model::Model& 
 
 void read_database_rbdout(CardCursor& cursor, const KeywordCall&, model::Model& model) {
   model.rbdout = read_force_history(cursor);
+}
+
+void read_database_nodout(CardCursor& cursor, const KeywordCall&, model::Model& model) {
+  model.nodout = read_force_history(cursor, true);
+}
+
+// Cards of eight IDs (blank or 0: none), nodes' or, with _SET, node sets'.
+void read_database_history_node(CardCursor& cursor, const KeywordCall& call, model::Model& model) {
+  constexpr const char* names[8] = {"ID1", "ID2", "ID3", "ID4", "ID5", "ID6", "ID7", "ID8"};
+  const bool node_sets = call.base == "DATABASE_HISTORY_NODE_SET";
+  while (!cursor.done()) {
+    const Card card = cursor.next(standard_fields, "card (ID1 ... ID8)");
+    model::HistoryNodes nodes;
+    nodes.node_sets = node_sets;
+    nodes.where = card.where();
+    for (int k = 0; k < 8; ++k) {
+      const Id id = card.integer(k, names[k], 0);
+      if (id < 0) card.fail(names[k], quoted(card.text(k)) + " is negative");
+      if (id != 0) nodes.ids.push_back(id);
+    }
+    model.history_nodes.push_back(std::move(nodes));
+  }
 }
 
 }  // namespace spall::io::keyword

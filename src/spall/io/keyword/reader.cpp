@@ -103,6 +103,9 @@ constexpr SupportedKeyword supported_keywords[] = {
     {"DATABASE_RCFORC", read_database_rcforc},
     {"DATABASE_RCFORC_MOMENT", read_database_rcforc_moment},
     {"DATABASE_RBDOUT", read_database_rbdout},
+    {"DATABASE_NODOUT", read_database_nodout},
+    {"DATABASE_HISTORY_NODE", read_database_history_node},
+    {"DATABASE_HISTORY_NODE_SET", read_database_history_node},
 };
 
 bool ends_with(std::string_view text, std::string_view suffix) {

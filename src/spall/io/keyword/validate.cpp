@@ -610,6 +610,8 @@ class Validator {
       require_curve(model_.rcforc->lcdt, model_.rcforc->where, "*DATABASE_RCFORC", "LCUR");
     if (model_.rbdout && model_.rbdout->lcdt != 0)
       require_curve(model_.rbdout->lcdt, model_.rbdout->where, "*DATABASE_RBDOUT", "LCUR");
+    if (model_.nodout && model_.nodout->lcdt != 0)
+      require_curve(model_.nodout->lcdt, model_.nodout->where, "*DATABASE_NODOUT", "LCUR");
   }
 
   const Model& model_;
