@@ -549,6 +549,8 @@ class TimeLoop::Step {
     std::vector<NodeHistory> histories(places.size());
     for (std::size_t k = 0; k < histories.size(); ++k) {
       const double* row = &found[values * k];
+      if (!std::isfinite(row[0]))  // every node is some rank's own
+        throw std::logic_error(fmt::format("node histories: the node at place {} is no rank's own", places[k]));
       NodeHistory& h = histories[k];
       h.id = static_cast<Id>(row[0]);
       h.displacement = Vec3(row[1], row[2], row[3]);
