@@ -22,6 +22,8 @@ namespace spall::io::keyword {
 
 // Standard column widths of a card: 8 fields of 10 characters.
 inline constexpr std::array<int, 8> standard_fields = {10, 10, 10, 10, 10, 10, 10, 10};
+// The fields of a card of eight IDs (*SET_NODE_LIST's members, *DATABASE_HISTORY_NODE's nodes).
+inline constexpr const char* id_field_names[8] = {"ID1", "ID2", "ID3", "ID4", "ID5", "ID6", "ID7", "ID8"};
 
 // `text` in single quotes, for messages that show the text found.
 std::string quoted(std::string_view text);

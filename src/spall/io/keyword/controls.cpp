@@ -311,7 +311,6 @@ void read_database_nodout(CardCursor& cursor, const KeywordCall&, model::Model& 
 
 // Cards of eight IDs (blank or 0: none), nodes' or, with _SET, node sets'.
 void read_database_history_node(CardCursor& cursor, const KeywordCall& call, model::Model& model) {
-  constexpr const char* names[8] = {"ID1", "ID2", "ID3", "ID4", "ID5", "ID6", "ID7", "ID8"};
   const bool node_sets = call.base == "DATABASE_HISTORY_NODE_SET";
   while (!cursor.done()) {
     const Card card = cursor.next(standard_fields, "card (ID1 ... ID8)");
@@ -319,8 +318,8 @@ void read_database_history_node(CardCursor& cursor, const KeywordCall& call, mod
     nodes.node_sets = node_sets;
     nodes.where = card.where();
     for (int k = 0; k < 8; ++k) {
-      const Id id = card.integer(k, names[k], 0);
-      if (id < 0) card.fail(names[k], quoted(card.text(k)) + " is negative");
+      const Id id = card.integer(k, id_field_names[k], 0);
+      if (id < 0) card.fail(id_field_names[k], quoted(card.text(k)) + " is negative");
       if (id != 0) nodes.ids.push_back(id);
     }
     model.history_nodes.push_back(std::move(nodes));

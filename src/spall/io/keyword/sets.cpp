@@ -11,15 +11,13 @@ Card read_set_header(CardCursor& cursor, const KeywordCall& call) {
   return cursor.next(standard_fields, "card 1 (SID DA1 DA2 DA3 DA4 SOLVER)");
 }
 
-constexpr const char* member_names[8] = {"ID1", "ID2", "ID3", "ID4", "ID5", "ID6", "ID7", "ID8"};
-
 // The member cards: 8 IDs per line; blank or 0 entries are padding.
 std::vector<Id> read_members(CardCursor& cursor) {
   std::vector<Id> members;
   while (!cursor.done()) {
     const Card card = cursor.next(standard_fields, "member card");
     for (int k = 0; k < 8; ++k)
-      if (const Id id = card.integer(k, member_names[k], 0); id != 0) members.push_back(id);
+      if (const Id id = card.integer(k, id_field_names[k], 0); id != 0) members.push_back(id);
   }
   return members;
 }
