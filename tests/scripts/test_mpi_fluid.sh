@@ -41,6 +41,43 @@ run_serial d2 100
 run_serial d3 100
 same_on_ranks "$work/d2.k" "$work/d2.serial" "1 1" "2 1" "3 1" "4 1" "2 2" "3 1 rebalanced"
 same_on_ranks "$work/d3.k" "$work/d3.serial" "2 1" "3 2" "2 1 rebalanced" "2 1 checkpointed"
+# The 2D dam break with its left wall a paddle (nodes 211-354, held in y and z) driven along x at
+# 0.5 m/s (*BOUNDARY_PRESCRIBED_MOTION_SET, VAD 0): the ranks drive the paddle's particles in the
+# rows their regions keep, which change at each rebuild (before, a rank drove the rows of the first
+# deal, other nodes: the energies differed from the single process's by half). Its node 211 ends
+# at u_x = 0.5 m/s x 0.05 s = 25 mm, to round-off.
+python3 - "$work/d2.k" >"$work/paddle.k" <<'PY'
+import sys
+text = open(sys.argv[1]).read()
+walls = """         1
+         1       498
+*BOUNDARY_SPC_SET
+$#    nsid       cid      dofx      dofy      dofz
+         1         0         1         1         1
+"""
+assert walls in text
+sys.stdout.write(text.replace(walls, """         1
+         1       210       355       498
+*SET_NODE_LIST_GENERATE
+         2
+       211       354
+*BOUNDARY_SPC_SET
+         1         0         1         1         1
+         2         0         0         1         1
+*BOUNDARY_PRESCRIBED_MOTION_SET
+         2         1         0         2       0.5
+*DEFINE_CURVE
+         2
+                 0.0                 1.0
+              1000.0                 1.0
+*DATABASE_HISTORY_NODE
+       211
+""").replace("*DATABASE_BINARY_RUNRSF", "*DATABASE_NODOUT\n     0.001\n*DATABASE_BINARY_RUNRSF"))
+PY
+run_serial paddle 100
+awk -F, 'NR > 1 && $1 == 0.05 && $2 == 211 { found = 1; ok = ($3 - 0.025) ^ 2 < 1e-24 } END { exit !(found && ok) }' \
+  "$work/paddle.serial/nodout.csv" || fail "the paddle did not move 25 mm: $(tail -n 1 "$work/paddle.serial/nodout.csv")"
+same_on_ranks "$work/paddle.k" "$work/paddle.serial" "3 1" "2 1 rebalanced"
 # A deck of fluid alone: each rank keeps the rows of its region's nodes and of those its passes
 # read (rows of its own, NodeStore), not every node: with the regions fixed (the rows then do not
 # depend on the measured work), no rank of the 3D dam break on 2 ranks holds every node, though a

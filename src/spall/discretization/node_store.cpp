@@ -207,6 +207,7 @@ void NodeStore::keep(std::span<const Index> kept) {
   list_owned();
   index_by_deck();
   ++partition;
+  ++layout;
 }
 
 std::pair<Index, Index> NodeStore::places_held() const {
