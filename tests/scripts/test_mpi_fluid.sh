@@ -76,7 +76,8 @@ sys.stdout.write(text.replace(walls, """         1
 PY
 run_serial paddle 100
 awk -F, 'NR > 1 && $1 == 0.05 && $2 == 211 { found = 1; ok = ($3 - 0.025) ^ 2 < 1e-24 } END { exit !(found && ok) }' \
-  "$work/paddle.serial/nodout.csv" || fail "the paddle did not move 25 mm: $(tail -n 1 "$work/paddle.serial/nodout.csv")"
+  "$work/paddle.serial/nodout.csv" ||
+  fail "the paddle did not move 25 mm: $(tail -n 1 "$work/paddle.serial/nodout.csv")"
 same_on_ranks "$work/paddle.k" "$work/paddle.serial" "3 1" "2 1 rebalanced"
 # A deck of fluid alone: each rank keeps the rows of its region's nodes and of those its passes
 # read (rows of its own, NodeStore), not every node: with the regions fixed (the rows then do not
