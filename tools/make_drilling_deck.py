@@ -45,7 +45,7 @@ p.add_argument("--fem-only", action="store_true",
 p.add_argument("--erosion-strain", type=float, default=0.4, help="*MAT_ADD_EROSION EFFEPS of --fem-only")
 p.add_argument("--segments", type=int, default=48, help="tool facets around its axis")
 p.add_argument("--outputs", type=int, default=40, help="field outputs over the run")
-p.add_argument("--histories", type=int, default=500, help="rcforc/rbdout/glstat rows over the run")
+p.add_argument("--histories", type=int, default=500, help="rcforc/rbdout/spcforc/glstat rows over the run")
 args = p.parse_args()
 
 # The test (Krasauskas et al. 2014, as seed 001 §3.1 quotes it): 3000 rpm, 100 mm/min.
@@ -260,7 +260,8 @@ w("$#  dtinit    tssfac      isdo    tslimt     dt2ms")
 card("0.0", "0.9", 0, "0.0", real(args.dt2ms) if args.dt2ms else "0.0")
 w("*DATABASE_BINARY_D3PLOT")
 card(real(end_time / args.outputs))
-for keyword in ("*DATABASE_GLSTAT", "*DATABASE_RCFORC", "*DATABASE_RBDOUT"):
+# SPCFORC: the clamp's reaction, what a dynamometer under the fixture reads.
+for keyword in ("*DATABASE_GLSTAT", "*DATABASE_RCFORC", "*DATABASE_RBDOUT", "*DATABASE_SPCFORC"):
     w(keyword)
     card(real(end_time / args.histories))
 

@@ -47,12 +47,19 @@ RunOutputs::RunOutputs(const fs::path& out, const solver::Problem& problem, cons
     for (const char* name : {"ax", "ay", "az"}) nodout_.columns.push_back({name, "length/time^2"});
     for (const char* name : {"x", "y", "z"}) nodout_.columns.push_back({name, "length"});
   }
+  // The resultant of the SPCs' reactions (*DATABASE_SPCFORC, only with the card) at its interval:
+  // LS-DYNA's spcforc resultant.
+  if (problem.controls.spcforc) {
+    spcforc_.path = out / "spcforc.csv";
+    spcforc_.columns = {{"time", "time"}};
+    for (const char* name : {"fx", "fy", "fz"}) spcforc_.columns.push_back({name, "force"});
+  }
   // Residual stress of the SPH solids per part and category (seed 000), at the end of the run and,
   // on request, at every field output.
   solid_ = problem.sph_solid;
   residual_options_ = model.sph_residual_stress.value_or(model::SphResidualStress{});
   if (resume) return;
-  for (History* h : {&rwforc_, &rcforc_, &rbdout_, &nodout_})
+  for (History* h : {&rwforc_, &rcforc_, &rbdout_, &nodout_, &spcforc_})
     if (!h->columns.empty()) open(*h);
   if (solid_) residual_.emplace(out / "residual.csv", *solid_, residual_options_);
 }
@@ -106,6 +113,10 @@ solver::Observer RunOutputs::observer() {
       nodout_.file->append(r);
     }
   };
+  observer.on_spc_reaction = [this](const solver::StepInfo& step, const Vec3& reaction) {
+    const double row[] = {step.time, reaction.x(), reaction.y(), reaction.z()};
+    spcforc_.file->append(row);
+  };
   observer.on_rigid_wall_forces = [this](const solver::StepInfo& step, const std::vector<contact::RigidWall>& walls) {
     for (const auto& wall : walls) {
       const Vec3& f = wall.force();
@@ -132,9 +143,9 @@ solver::Observer RunOutputs::observer() {
 }
 
 void RunOutputs::checkpoint(Archive& a) {
-  a.section("output files 2");
+  a.section("output files 3");
   a(masses_, glstat_.columns);
-  for (History* h : {&glstat_, &rwforc_, &rcforc_, &rbdout_, &nodout_}) {
+  for (History* h : {&glstat_, &rwforc_, &rcforc_, &rbdout_, &nodout_, &spcforc_}) {
     std::optional<std::uint64_t> bytes;
     if (h->file) bytes = h->file->bytes();
     a(bytes);

@@ -92,6 +92,47 @@ set -e
 grep -Eq 'fall_bad\.k:[0-9]+: \*DATABASE_HISTORY_NODE: node 99999 does not exist' "$work/fall_bad.log" ||
   fail "missing history node message: $(cat "$work/fall_bad.log")"
 
+# SPC reactions (*DATABASE_SPCFORC): a steel column 0.1 x 0.1 x 1 m (rho 7850) of 2 x 2 x 10
+# fully integrated hexahedra standing on its base (every base node held by *BOUNDARY_SPC_SET) under
+# gravity, damped critically in its first mode (2 omega = pi c / L = 15 860 /s) for 3 ms: at rest
+# the base carries the column's weight, Newton's third law, R_z = M g = 7850 x 0.01 x 9.81 N =
+# 770.085 N (to 1e-6; the elements' forces sum to zero), and nothing across (|R_x|, |R_y| < 1e-6 M g).
+python3 - >"$work/column.k" <<'PY'
+end, n, m = 3e-3, 2, 10
+a, h = 0.1 / n, 1.0 / m
+print("*KEYWORD\n*CONTROL_TERMINATION\n%10.4e\n*DATABASE_SPCFORC\n%10.4e" % (end, end / 50))
+print("*PART\ncolumn\n1,1,1\n*SECTION_SOLID\n1,2\n*MAT_ELASTIC\n1,7850.0,2.0e11,0.3\n*NODE")
+node = lambda i, j, k: 1 + i + (n + 1) * (j + (n + 1) * k)
+for k in range(m + 1):
+    for j in range(n + 1):
+        for i in range(n + 1):
+            print("%8d%16.8e%16.8e%16.8e" % (node(i, j, k), a * i, a * j, h * k))
+print("*ELEMENT_SOLID")
+for k in range(m):
+    for j in range(n):
+        for i in range(n):
+            c = [node(i, j, k), node(i + 1, j, k), node(i + 1, j + 1, k), node(i, j + 1, k)]
+            c += [q + (n + 1) ** 2 for q in c]
+            print("%8d%8d" % (1 + i + n * (j + n * k), 1) + "".join("%8d" % q for q in c))
+print("*SET_NODE_LIST_GENERATE\n1\n1,%d\n*BOUNDARY_SPC_SET\n1,0,1,1,1" % (n + 1) ** 2)
+print("*DEFINE_CURVE\n77\n0.0,1.0\n1.0,1.0\n*LOAD_BODY_Z\n77,9.81\n*DAMPING_GLOBAL\n0,15860.0\n*END")
+PY
+"$cli" run "$work/column.k" -o "$work/column_out" 2>"$work/column.log" || { cat "$work/column.log"; fail "the column"; }
+head -n 1 "$work/column_out/spcforc.csv" | grep -qx 'time \[time\],fx \[force\],fy \[force\],fz \[force\]' ||
+  fail "spcforc header: $(head -n 1 "$work/column_out/spcforc.csv")"
+awk -F, 'END { w = 7850 * 0.01 * 9.81; exit !(NR == 52 && $1 == 0.003 && ($4 - w) ^ 2 < (1e-6 * w) ^ 2 &&
+  $2 ^ 2 < (1e-6 * w) ^ 2 && $3 ^ 2 < (1e-6 * w) ^ 2) }' "$work/column_out/spcforc.csv" ||
+  fail "the column's base does not carry its weight, 770.085 N: $(tail -n 2 "$work/column_out/spcforc.csv")"
+# The SPH fluid computes no force on its wall particles: their reactions are refused, not zeros.
+sed 's/^\*END$/*DATABASE_SPCFORC\n0.001\n*END/' "$source_dir/examples/dam_break/dam_break_2d.k" >"$work/spc_fluid.k"
+set +e
+"$cli" check "$work/spc_fluid.k" 2>"$work/spc_fluid.log"
+code=$?
+set -e
+[ $code -eq 2 ] || fail "SPCFORC with an SPH fluid: exit $code"
+grep -Eq 'spc_fluid\.k:[0-9]+: \*DATABASE_SPCFORC: the SPH fluid computes no force on the particles an SPC holds' \
+  "$work/spc_fluid.log" || fail "SPCFORC with an SPH fluid: $(cat "$work/spc_fluid.log")"
+
 # A rigid wall through the particle layer at x = 0.5125, facing +x: the half in front of it moves
 # onto it (v = V cos(pi x / L) < 0 there), so rwforc.csv has rows with a positive normal force.
 sed 's/^\*END$/*RIGIDWALL_PLANAR\n\n    0.5125       0.0       0.0       1.5       0.0       0.0\n*DATABASE_RWFORC\n   1.0e-05\n*END/' \

@@ -5,8 +5,8 @@
 # forces brought in from their ranks; with every contact's segments a body's, only the velocities
 # the formulations read travel. Run as one process and under mpirun
 # as 2-3 ranks (oversubscribed on 2 cores) with 1 or 2 threads each, every history (glstat.csv,
-# rcforc.csv, rbdout.csv) is byte for byte the single process's and the .pvtu pieces hold its fields
-# bit for bit:
+# rcforc.csv, rbdout.csv, the drill's spcforc.csv) is byte for byte the single process's and the
+# .pvtu pieces hold its fields bit for bit:
 #  - the rotating punch of tools/make_punch_deck.py: a rigid cylinder (*MAT_RIGID, prescribed
 #    plunge and spin) pressed into a block of hexahedra through *CONTACT_AUTOMATIC_NODES_TO_SURFACE
 #    with Coulomb friction (thrust and friction torque in rcforc.csv, the body's force in rbdout.csv);

@@ -75,6 +75,9 @@ class Formulation {
   // holds their positions current: a deck of such formulations alone has its nodes dealt by region
   // (docs/SCALING.md §3, "Ownership by region").
   virtual bool migrates() const { return false; }
+  // Whether the forces it adds include those on the nodes an SPC holds in every direction, whose
+  // reactions spcforc.csv sums (-f there); the SPH fluid's wall particles take none.
+  virtual bool forces_on_held_nodes() const { return true; }
   // Under MPI, on every rank before one of them writes a checkpoint: brings in what the
   // formulation keeps current only where a rank computes it (the state of solid elements with no
   // node of the rank's, the positions and velocities of particles far from a rank's), so that the

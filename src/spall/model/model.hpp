@@ -723,6 +723,7 @@ struct Model {
   std::optional<OutputInterval> rcforc;
   std::optional<OutputInterval> rbdout;
   std::optional<OutputInterval> nodout;
+  std::optional<OutputInterval> spcforc;
   std::vector<HistoryNodes> history_nodes;  // in the deck's order
   std::optional<RestartOutput> runrsf;
   std::optional<DampingGlobal> damping_global;

@@ -679,6 +679,16 @@ class Builder {
     force_history(model_.rcforc, "*DATABASE_RCFORC", c.rcforc_dt, c.rcforc_dt_curve);
     force_history(model_.rbdout, "*DATABASE_RBDOUT", c.rbdout_dt, c.rbdout_dt_curve);
     force_history(model_.nodout, "*DATABASE_NODOUT", c.nodout_dt, c.nodout_dt_curve);
+    if (model_.spcforc) {
+      c.spcforc = true;
+      force_history(model_.spcforc, "*DATABASE_SPCFORC", c.spcforc_dt, c.spcforc_dt_curve);
+      for (const auto& f : problem_.formulations)
+        if (!f->forces_on_held_nodes())
+          fail_at(model_.spcforc->where, "*DATABASE_SPCFORC",
+                  fmt::format("the {} computes no force on the particles an SPC holds in every direction (its "
+                              "walls), so their reactions are not known; leave the card out",
+                              f->name()));
+    }
     if (model_.damping_global) {
       const auto& d = *model_.damping_global;
       if (d.rotation_scale != Vec3::Zero() && d.rotation_scale != Vec3::Ones())

@@ -57,6 +57,10 @@ struct RunControls {
   const model::Curve* rbdout_dt_curve = nullptr;  // LCUR
   Real nodout_dt = 0;                             // history nodes (GLSTAT's interval by default)
   const model::Curve* nodout_dt_curve = nullptr;  // LCUR
+  // *DATABASE_SPCFORC: the constraints' reactions (spcforc.csv) at its interval; only with the card.
+  bool spcforc = false;
+  Real spcforc_dt = 0;
+  const model::Curve* spcforc_dt_curve = nullptr;  // LCUR
   // *DAMPING_GLOBAL: f = -D(t) m (scale . v), D = damping or damping_curve(t).
   Real damping = 0;
   const model::Curve* damping_curve = nullptr;

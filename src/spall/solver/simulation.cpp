@@ -72,6 +72,7 @@ class TimeLoop::Step {
     rcforc_ = {controls_.rcforc_dt, controls_.rcforc_dt_curve};
     rbdout_ = {controls_.rbdout_dt, controls_.rbdout_dt_curve};
     nodout_ = {controls_.nodout_dt, controls_.nodout_dt_curve};
+    spcforc_ = {controls_.spcforc_dt, controls_.spcforc_dt_curve};
     runaway_speed_limit_ = runaway_speed_limit();
     // Over every node: each rank's block of them, summed over the ranks, when the set-up built blocks.
     initial_mass_ = parallel::exact_sum(nodes_.size(), [&](Index i) { return nodes_.mass[i]; },
@@ -176,10 +177,10 @@ class TimeLoop::Step {
     a.expect_size("contacts", problem_.contacts.size());
     for (auto& c : problem_.contacts) c.checkpoint(a);
     a(problem_.rigid_bodies);
-    a.section("time loop 2");
+    a.section("time loop 3");
     a(step_, dt_previous_, dt_first_, dt_mid_, velocity_weight_, base_acceleration_, damping_,
-      runaway_speed_limit_, initial_mass_, field_output_, history_, rwforc_, rcforc_, rbdout_, nodout_, ledger_,
-      phases_);
+      runaway_speed_limit_, initial_mass_, field_output_, history_, rwforc_, rcforc_, rbdout_, nodout_, spcforc_,
+      ledger_, phases_);
   }
 
  private:
@@ -511,6 +512,10 @@ class TimeLoop::Step {
       const std::vector<NodeHistory> histories = node_histories();  // a collective: on every rank
       if (observer_.on_node_histories) observer_.on_node_histories(step_, histories);
     }
+    if (controls_.spcforc && spcforc_.due(step_.time, tolerance, stop)) {
+      const Vec3 reaction = spc_reaction();  // a collective: on every rank
+      if (observer_.on_spc_reaction) observer_.on_spc_reaction(step_, reaction);
+    }
     if (observer_.on_step) observer_.on_step(step_);
     return !stop;
   }
@@ -559,6 +564,31 @@ class TimeLoop::Step {
       h.position = Vec3(row[10], row[11], row[12]);
     }
     return histories;
+  }
+
+  // The resultant of the SPCs' reactions at t^n (*DATABASE_SPCFORC): on each component a constraint
+  // holds (an SPC, a node's TC, the plane of a 2D model), m a^n - f^n, the force it adds for the
+  // acceleration it leaves (0 for a node it holds at rest; a^n as in node_histories, the reaction
+  // of the constraint work in energies()); a rigid body's nodes are the body's (rbdout.csv), an
+  // eroded node has none. An exact sum over each rank's own nodes and over the ranks.
+  Vec3 spc_reaction() const {
+    const Real dt = step_.dt;
+    const Sums<3> sum = parallel::exact_sum(
+        nodes_.owned_count(),
+        [&](Index k) {
+          const Index i = nodes_.owned_node(k);
+          Sums<3> term;
+          const unsigned held = nodes_.fixed[i] & 7u;
+          if (!held || !nodes_.active[i] || nodes_.body[i] != discretization::NodeStore::no_body) return term;
+          for (int d = 0; d < 3; ++d) {
+            if (!(held & (1u << d))) continue;
+            const Real acceleration = dt > 0 ? 2 * (nodes_.v[i][d] - v_old_[i][d]) / dt : 0;
+            term[d] = nodes_.mass[i] * acceleration - nodes_.f[i][d];
+          }
+          return term;
+        },
+        &parallel::world());
+    return {sum[0], sum[1], sum[2]};
   }
 
   // ENDMAS (the mass DT2MS added passed its percentage of the initial mass) or ENDENG (the energy
@@ -620,7 +650,7 @@ class TimeLoop::Step {
   Vec3 base_acceleration_ = Vec3::Zero(), damping_ = Vec3::Zero();
   Real runaway_speed_limit_ = std::numeric_limits<Real>::infinity();
   Real initial_mass_ = 0;  // the nodes' mass before DT2MS adds any (ENDMAS)
-  OutputSchedule field_output_, history_, rwforc_, rcforc_, rbdout_, nodout_;
+  OutputSchedule field_output_, history_, rwforc_, rcforc_, rbdout_, nodout_, spcforc_;
   EnergyLedger ledger_;
   PhaseTimes phases_;
 };

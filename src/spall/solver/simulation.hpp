@@ -60,6 +60,9 @@ struct Observer {
   // The history nodes' motion at t^n, in the deck's order (every NODOUT interval, GLSTAT's by
   // default, and at the end); under MPI on every rank.
   std::function<void(const StepInfo&, const std::vector<NodeHistory>&)> on_node_histories;
+  // The resultant of the SPCs' reactions at t^n (every SPCFORC interval, with *DATABASE_SPCFORC
+  // only, and at the end); under MPI on every rank.
+  std::function<void(const StepInfo&, const Vec3&)> on_spc_reaction;
   // Called on every step (cheap): for progress lines.
   std::function<void(const StepInfo&)> on_step;
 };

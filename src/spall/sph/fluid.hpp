@@ -112,6 +112,8 @@ class FluidFormulation final : public discretization::Formulation {
   void share_state(discretization::NodeStore& nodes) override;
   bool halo_by_reach() const override { return true; }
   bool migrates() const override { return true; }
+  // The wall particles (an SPC holds them in every direction) only lend their density to the pairs.
+  bool forces_on_held_nodes() const override { return false; }
   void complete_state(discretization::NodeStore& nodes) override;
   void checkpoint(Archive& archive, const discretization::NodeStore& nodes) override;
 

@@ -309,6 +309,10 @@ void read_database_nodout(CardCursor& cursor, const KeywordCall&, model::Model& 
   model.nodout = read_force_history(cursor, true);
 }
 
+void read_database_spcforc(CardCursor& cursor, const KeywordCall&, model::Model& model) {
+  model.spcforc = read_force_history(cursor);
+}
+
 // Cards of eight IDs (blank or 0: none), nodes' or, with _SET, node sets'.
 void read_database_history_node(CardCursor& cursor, const KeywordCall& call, model::Model& model) {
   const bool node_sets = call.base == "DATABASE_HISTORY_NODE_SET";

@@ -104,6 +104,7 @@ constexpr SupportedKeyword supported_keywords[] = {
     {"DATABASE_RCFORC_MOMENT", read_database_rcforc_moment},
     {"DATABASE_RBDOUT", read_database_rbdout},
     {"DATABASE_NODOUT", read_database_nodout},
+    {"DATABASE_SPCFORC", read_database_spcforc},
     {"DATABASE_HISTORY_NODE", read_database_history_node},
     {"DATABASE_HISTORY_NODE_SET", read_database_history_node},
 };
