@@ -207,7 +207,8 @@ for e, (i, j, k) in enumerate(cells, 1):
     corners = [(i, j, k), (i + 1, j, k), (i + 1, j + 1, k), (i, j + 1, k)]
     corners += [(a, b, c + 1) for a, b, c in corners]
     print(f"{e},2," + ",".join(str(nid[c]) for c in corners))
-print("*SET_NODE_LIST\n1\n" + ",".join(str(nid[(0, j, k)]) for j in range(w) for k in range(w)))
+layer = [str(nid[(0, j, k)]) for j in range(w) for k in range(w)]
+print("*SET_NODE_LIST\n1\n" + "\n".join(",".join(layer[m:m + 8]) for m in range(0, len(layer), 8)))
 print("*INITIAL_VELOCITY\n1\n-10.0,0.0,0.0\n*END")
 PY
 run_serial on_cells 5

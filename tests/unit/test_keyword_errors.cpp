@@ -48,6 +48,22 @@ TEST(keyword_errors, IntegerFieldBeyond32BitsIsRefused) {
                 "field TC: '-4294967295' is beyond the range of this field (a 32-bit integer)");
 }
 
+// A free-format line with more values than its card has fields (sixteen node IDs on one line of
+// *SET_NODE_LIST, whose cards hold eight) is an error, not a set of its first eight nodes; blank
+// fields after the last (a closing comma) are not.
+TEST(keyword_errors, CommaLineBeyondTheCardIsRefused) {
+  DeckFolder folder;
+  EXPECT_EQ(read_error(folder, "*SET_NODE_LIST\n1\n1,2,3,4,5,6,7,8,9,10,11,12,13,14,15,16\n"),
+            prefix(folder, 3, "*SET_NODE_LIST") +
+                "16 comma-separated values on a card of 8 fields; the values past its last field go on a card of "
+                "their own");
+  EXPECT_EQ(read_error(folder, "*NODE\n1,0.0,0.0,0.0,0,0,7\n"),
+            prefix(folder, 2, "*NODE") +
+                "7 comma-separated values on a card of 6 fields; the values past its last field go on a card of "
+                "their own");
+  EXPECT_EQ(read_error(folder, "*NODE\n1,0.0,0.0,0.5,0,0,,,\n"), "");
+}
+
 TEST(keyword_errors, MissingMandatoryEndtim) {
   DeckFolder folder;
   EXPECT_EQ(read_error(folder, "*KEYWORD\n*CONTROL_TERMINATION\n" + row({"", "100"})),

@@ -24,13 +24,23 @@ Card::Card(const CardContext& context, const DataLine& line, std::span<const int
     : context_(&context), line_(line.line) {
   const std::string_view text = line.text;
   if (text.find(',') != std::string_view::npos) {
+    // A value past the card's last field would be lost: it is an error (blank trailing fields, as
+    // a closing comma leaves, are not).
     std::size_t start = 0;
-    while (count_ < max_fields) {
+    std::size_t given = 0;  // fields up to the last that holds a value
+    for (std::size_t index = 0;; ++index) {
       const std::size_t comma = text.find(',', start);
-      fields_[count_++] = trim(text.substr(start, comma == std::string_view::npos ? comma : comma - start));
+      const std::string_view field =
+          trim(text.substr(start, comma == std::string_view::npos ? comma : comma - start));
+      if (count_ < max_fields) fields_[count_++] = field;
+      if (!field.empty()) given = index + 1;
       if (comma == std::string_view::npos) break;
       start = comma + 1;
     }
+    if (given > widths.size())
+      context.fail(line_, std::to_string(given) + " comma-separated values on a card of " +
+                              std::to_string(widths.size()) + " fields; the values past its last field go on a "
+                              "card of their own");
     return;
   }
   std::size_t column = 0;
