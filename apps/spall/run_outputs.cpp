@@ -47,6 +47,17 @@ RunOutputs::RunOutputs(const fs::path& out, const solver::Problem& problem, cons
     for (const char* name : {"ax", "ay", "az"}) nodout_.columns.push_back({name, "length/time^2"});
     for (const char* name : {"x", "y", "z"}) nodout_.columns.push_back({name, "length"});
   }
+  // The history elements' stress (*DATABASE_HISTORY_SOLID), a row per element and output time at
+  // the ELOUT interval (GLSTAT's without the card): LS-DYNA's elout stresses of solids, the mean
+  // over the element's points; only with history elements.
+  if (!problem.history_solids.empty()) {
+    elout_.path = out / "elout.csv";
+    elout_.columns = {{"time", "time"}, {"element", ""}};
+    for (const char* name : {"sxx", "syy", "szz", "sxy", "syz", "szx", "pressure", "von_mises"})
+      elout_.columns.push_back({name, "stress"});
+    elout_.columns.push_back({"effective_plastic_strain", ""});
+    elout_.columns.push_back({"eroded", ""});
+  }
   // The resultant of the SPCs' reactions (*DATABASE_SPCFORC, only with the card) at its interval:
   // LS-DYNA's spcforc resultant.
   if (problem.controls.spcforc) {
@@ -59,7 +70,7 @@ RunOutputs::RunOutputs(const fs::path& out, const solver::Problem& problem, cons
   solid_ = problem.sph_solid;
   residual_options_ = model.sph_residual_stress.value_or(model::SphResidualStress{});
   if (resume) return;
-  for (History* h : {&rwforc_, &rcforc_, &rbdout_, &nodout_, &spcforc_})
+  for (History* h : {&rwforc_, &rcforc_, &rbdout_, &nodout_, &spcforc_, &elout_})
     if (!h->columns.empty()) open(*h);
   if (solid_) residual_.emplace(out / "residual.csv", *solid_, residual_options_);
 }
@@ -113,6 +124,15 @@ solver::Observer RunOutputs::observer() {
       nodout_.file->append(r);
     }
   };
+  observer.on_element_histories = [this](const solver::StepInfo& step,
+                                         const std::vector<solver::ElementHistory>& elements) {
+    for (const auto& e : elements) {
+      std::vector<double> r{step.time, static_cast<double>(e.id)};
+      r.insert(r.end(), e.stress.begin(), e.stress.end());
+      r.insert(r.end(), {e.pressure, e.von_mises, e.plastic_strain, e.eroded ? 1.0 : 0.0});
+      elout_.file->append(r);
+    }
+  };
   observer.on_spc_reaction = [this](const solver::StepInfo& step, const Vec3& reaction) {
     const double row[] = {step.time, reaction.x(), reaction.y(), reaction.z()};
     spcforc_.file->append(row);
@@ -143,9 +163,9 @@ solver::Observer RunOutputs::observer() {
 }
 
 void RunOutputs::checkpoint(Archive& a) {
-  a.section("output files 3");
+  a.section("output files 4");
   a(masses_, glstat_.columns);
-  for (History* h : {&glstat_, &rwforc_, &rcforc_, &rbdout_, &nodout_, &spcforc_}) {
+  for (History* h : {&glstat_, &rwforc_, &rcforc_, &rbdout_, &nodout_, &spcforc_, &elout_}) {
     std::optional<std::uint64_t> bytes;
     if (h->file) bytes = h->file->bytes();
     a(bytes);

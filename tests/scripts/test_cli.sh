@@ -123,6 +123,36 @@ head -n 1 "$work/column_out/spcforc.csv" | grep -qx 'time \[time\],fx \[force\],
 awk -F, 'END { w = 7850 * 0.01 * 9.81; exit !(NR == 52 && $1 == 0.003 && ($4 - w) ^ 2 < (1e-6 * w) ^ 2 &&
   $2 ^ 2 < (1e-6 * w) ^ 2 && $3 ^ 2 < (1e-6 * w) ^ 2) }' "$work/column_out/spcforc.csv" ||
   fail "the column's base does not carry its weight, 770.085 N: $(tail -n 2 "$work/column_out/spcforc.csv")"
+# Element histories (*DATABASE_HISTORY_SOLID, *DATABASE_ELOUT): in the column at rest each layer
+# carries the weight above it, sigma_zz(z) = -rho g (L - z) (statics); the element mean of a linear
+# field is its value at the centroid: element 21 (z = 0.55 m) -34 653.825 Pa and 37 (z = 0.95 m)
+# -3 850.425 Pa, to 1e-5. Named 21, 37, 21: each once, in the card's order.
+sed 's/^\*END$/*DATABASE_HISTORY_SOLID\n21,37,21\n*DATABASE_ELOUT\n3e-4\n*END/' "$work/column.k" >"$work/column_elout.k"
+"$cli" run "$work/column_elout.k" -o "$work/column_elout" 2>"$work/column_elout.log" ||
+  { cat "$work/column_elout.log"; fail "the column with element histories"; }
+head -n 1 "$work/column_elout/elout.csv" | grep -q '^time \[time\],element,sxx \[stress\],syy \[stress\],szz' ||
+  fail "elout header: $(head -n 1 "$work/column_elout/elout.csv")"
+awk -F, 'NR > 1 { rows++; if ($2 != (rows % 2 ? 21 : 37)) order = 1 }
+  $1 == 0.003 { exact = -7850 * 9.81 * ($2 == 21 ? 0.45 : 0.05); if (($5 - exact) ^ 2 < (1e-5 * exact) ^ 2) good++ }
+  END { exit !(rows == 22 && !order && good == 2) }' "$work/column_elout/elout.csv" ||
+  fail "elout.csv is not the column's weight: $(tail -n 2 "$work/column_elout/elout.csv")"
+sed 's/^21,37,21$/21,99/' "$work/column_elout.k" >"$work/elout_bad.k"
+set +e
+"$cli" check "$work/elout_bad.k" 2>"$work/elout_bad.log"
+code=$?
+set -e
+[ $code -eq 2 ] || fail "a history element that does not exist: exit $code"
+grep -Eq 'elout_bad\.k:[0-9]+: \*DATABASE_HISTORY_SOLID: solid element 99 does not exist' "$work/elout_bad.log" ||
+  fail "missing history element message: $(cat "$work/elout_bad.log")"
+# An SPG part's elements are particles at their nodes: no element history.
+python3 "$source_dir/tools/make_spg_tension_deck.py" --elements 4 --speed 100 --end-time 4e-6 |
+  sed 's/^\*END$/*DATABASE_HISTORY_SOLID\n1\n*END/' >"$work/elout_spg.k"
+set +e
+"$cli" check "$work/elout_spg.k" 2>"$work/elout_spg.log"
+code=$?
+set -e
+[ $code -eq 2 ] && grep -Eq 'elout_spg\.k:[0-9]+: \*DATABASE_HISTORY_SOLID: solid element 1 is not a finite element' \
+  "$work/elout_spg.log" || fail "a history element of an SPG part: exit $code, $(cat "$work/elout_spg.log")"
 # The SPH fluid computes no force on its wall particles: their reactions are refused, not zeros.
 sed 's/^\*END$/*DATABASE_SPCFORC\n0.001\n*END/' "$source_dir/examples/dam_break/dam_break_2d.k" >"$work/spc_fluid.k"
 set +e

@@ -162,6 +162,8 @@ deck = deck.replace("       0.0       0.9\n", "       0.0       0.9         0   
 deck = deck.replace("*NODE", "*MAT_ADD_EROSION\n         1       0.0       0.0       0.0       0.2\n*NODE", 1)
 sys.stdout.write(deck)' >"$work/eroding.k"
 sed -i 's/^\*END$/*DATABASE_BINARY_RUNRSF\n       100\n*END/' "$work/eroding.k"
+# Element histories (elout.csv) of elements that erode (1, 72, 144) and one that does not (3).
+sed -i 's/^\*END$/*DATABASE_HISTORY_SOLID\n1,3,72,144\n*DATABASE_ELOUT\n1e-5\n*END/' "$work/eroding.k"
 run_serial fem_ends 300
 run_serial eroding 300
 grep -q 'one-point hexahedra' "$work/eroding.log" || fail "the eroding bar is not ELFORM 1"

@@ -1,7 +1,8 @@
 // *DATABASE_HISTORY_NODE (_SET) and *DATABASE_NODOUT: the nodes nodout.csv follows, in the order
 // the cards name them and each once, the interval (GLSTAT's without the card, as LS-DYNA's ASCII
-// histories), and bad input at its line. The motion written is checked against free fall in
-// tests/scripts/test_cli.sh and across ranks in tests/scripts/test_mpi_solid.sh.
+// histories), and bad input at its line; *DATABASE_HISTORY_SOLID and *DATABASE_ELOUT likewise for
+// elout.csv. The motion written is checked against free fall, the stress against a column's
+// weight, in tests/scripts/test_cli.sh, and both across ranks in tests/scripts/test_mpi_solid.sh.
 #include <gtest/gtest.h>
 
 #include "keyword_test_decks.hpp"
@@ -44,7 +45,7 @@ TEST(keyword_history_nodes, NodesInTheCardsOrderEachOnce) {
                        row({"7"}) + "*DATABASE_HISTORY_NODE\n" + row({"1", "", "0"}) + "*DATABASE_NODOUT\n" +
                        row({"2.5e-5", "3", "0", "0", "0", "0"})));
   ASSERT_EQ(model.history_nodes.size(), 3u);
-  EXPECT_TRUE(model.history_nodes[1].node_sets);
+  EXPECT_TRUE(model.history_nodes[1].sets);
   ASSERT_TRUE(model.nodout);
   EXPECT_EQ(model.nodout->dt, 2.5e-5);
   const solver::Problem problem = solver::build_problem(model);
@@ -78,6 +79,23 @@ TEST(keyword_history_nodes, BadInputAtItsLine) {
   const auto no_interval = read_deck(folder.write("bad.k", particle_deck + "*DATABASE_NODOUT\n" + row({"0.0"})));
   EXPECT_EQ(input_error_of([&] { solver::build_problem(no_interval); }),
             prefix(folder, 23, "*DATABASE_NODOUT") + "DT: must be > 0 (or give LCUR)");
+}
+
+TEST(keyword_history_nodes, SolidElementsAndTheirInterval) {
+  DeckFolder folder;
+  const auto model = read_deck(folder.write(
+      "bad.k", particle_deck + "*DATABASE_HISTORY_SOLID\n" + row({"4", "", "6"}) + "*DATABASE_ELOUT\n" +
+                     row({"2.5e-5", "3", "0", "0", "0", "0"}) + row({"0", "0", "0", "0"})));
+  ASSERT_EQ(model.history_solids.size(), 1u);
+  EXPECT_EQ(model.history_solids[0].ids, (std::vector<Id>{4, 6}));
+  ASSERT_TRUE(model.elout);
+  EXPECT_EQ(model.elout->dt, 2.5e-5);
+  // The particles are no solid elements: the first ID is an error at its card (line 23).
+  EXPECT_EQ(input_error_of([&] { solver::build_problem(model); }),
+            prefix(folder, 23, "*DATABASE_HISTORY_SOLID") + "solid element 4 does not exist");
+  EXPECT_EQ(read_error(folder, "*DATABASE_ELOUT\n" + row({"1.0e-5"}) + row({"0", "2"})),
+            prefix(folder, 3, "*DATABASE_ELOUT") +
+                "field OPTION2: '2': elout.csv holds no history variables; leave it 0");
 }
 
 }  // namespace

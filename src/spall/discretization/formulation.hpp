@@ -1,8 +1,10 @@
 #pragma once
-// A discretization plugged into the step (SPH fluid, SPH solid, SPG; FEM later). It owns its own
+// A discretization plugged into the step (SPH fluid, SPH solid, SPG, FEM). It owns its own
 // state (densities, stresses, bonds ...) and adds its internal forces to the shared node store.
+#include <cstdint>
 #include <span>
 #include <utility>
+#include <vector>
 
 #include "spall/core/archive.hpp"
 #include "spall/core/parallel.hpp"
@@ -12,6 +14,11 @@
 #include "spall/discretization/node_store.hpp"
 
 namespace spall::discretization {
+
+// An element's values in elout.csv: the stress xx yy zz xy yz zx, the pressure, the von Mises
+// stress, the effective plastic strain (each the mean over its integration points) and 1 once it
+// has eroded (else 0).
+inline constexpr int element_history_values = 10;
 
 class Formulation {
  public:
@@ -78,6 +85,12 @@ class Formulation {
   // Whether the forces it adds include those on the nodes an SPC holds in every direction, whose
   // reactions spcforc.csv sums (-f there); the SPH fluid's wall particles take none.
   virtual bool forces_on_held_nodes() const { return true; }
+  // *DATABASE_HISTORY_SOLID: follows those of the elements `ids` that it computes, marking each in
+  // `taken` (at the set-up, on every rank alike). element_histories then writes the values of
+  // elout.csv (element_history_values each, at the element's place in `ids`) of those this rank
+  // accounts for, leaving the others as they are.
+  virtual void follow_elements(std::span<const Id> /*ids*/, std::vector<std::uint8_t>& /*taken*/) {}
+  virtual void element_histories(std::span<double> /*values*/) const {}
   // Under MPI, on every rank before one of them writes a checkpoint: brings in what the
   // formulation keeps current only where a rank computes it (the state of solid elements with no
   // node of the rank's, the positions and velocities of particles far from a rank's), so that the

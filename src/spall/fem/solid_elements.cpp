@@ -1059,12 +1059,43 @@ void SolidElements::checkpoint(Archive& a, const discretization::NodeStore& node
     eroded_internal_step_, eroded_mass_, mass_scaling_, erode_enabled_);
 }
 
+namespace {
+
+// An element's stress as elout.csv and the field output give it: the mean over its integration
+// points (the Gauss points carry equal weight to round-off for an element that is not badly
+// distorted), in Voigt order xx yy zz xy yz zx.
+struct MeanState {
+  std::array<Real, 6> stress{};
+  Real pressure = 0, von_mises = 0, plastic_strain = 0;
+};
+
+template <class Block>
+MeanState mean_state(const Block& block, Index e) {
+  const int points = block.points_per_element;
+  Mat3 S = Mat3::Zero();
+  MeanState mean;
+  for (int g = 0; g < points; ++g) {
+    S += block.state[points * e + g].deviatoric_stress;
+    mean.pressure += block.thermo[points * e + g].pressure;
+    mean.plastic_strain += block.state[points * e + g].plastic_strain;
+  }
+  S /= points;
+  mean.pressure /= points;
+  mean.plastic_strain /= points;
+  const Mat3 sigma = S - mean.pressure * Mat3::Identity();
+  mean.stress = {sigma(0, 0), sigma(1, 1), sigma(2, 2), sigma(0, 1), sigma(1, 2), sigma(2, 0)};
+  mean.von_mises = materials::von_mises(S);
+  return mean;
+}
+
+}  // namespace
+
 void SolidElements::write_fields(discretization::FieldSet& fields, const discretization::NodeStore& nodes) const {
   for (std::size_t k = 0; k < blocks_.size(); ++k) {
     const Block& block = blocks_[k];
     auto& cells = fields.add_cell_block(block.kind == Kind::tetrahedron ? discretization::CellShape::tetrahedron
                                                                         : discretization::CellShape::hexahedron);
-    const int per = block.nodes_per_element, points = block.points_per_element;
+    const int per = block.nodes_per_element;
     // The elements whose first node this rank owns: its piece's cells (all of them on one process).
     std::vector<Index> written;
     for (Index e = held(k).begin; e < held(k).end; ++e)
@@ -1100,25 +1131,41 @@ void SolidElements::write_fields(discretization::FieldSet& fields, const discret
     for (Index c = 0; c < n; ++c) id[c] = block.id[written[c]];
     for (Index c = 0; c < n; ++c) {
       const Index e = written[c];
-      // The mean over the element's points (the Gauss points carry equal weight to round-off for
-      // an element that is not badly distorted).
-      Mat3 S = Mat3::Zero();
-      Real p = 0, eps = 0;
-      for (int g = 0; g < points; ++g) {
-        S += block.state[points * e + g].deviatoric_stress;
-        p += block.thermo[points * e + g].pressure;
-        eps += block.state[points * e + g].plastic_strain;
-      }
-      S /= points, p /= points, eps /= points;
-      const Mat3 sigma = S - p * Mat3::Identity();
-      const Real voigt[6] = {sigma(0, 0), sigma(1, 1), sigma(2, 2), sigma(0, 1), sigma(1, 2), sigma(2, 0)};
-      std::copy(voigt, voigt + 6, stress + 6 * c);
-      pressure[c] = p;
-      von_mises[c] = materials::von_mises(S);
-      plastic_strain[c] = eps;
+      const MeanState mean = mean_state(block, e);
+      std::copy(mean.stress.begin(), mean.stress.end(), stress + 6 * c);
+      pressure[c] = mean.pressure;
+      von_mises[c] = mean.von_mises;
+      plastic_strain[c] = mean.plastic_strain;
       density[c] = block.mass[e] / block.volume[e];
       if (hourglass) hourglass[c] = block.hourglass_energy[e];
     }
+  }
+}
+
+void SolidElements::follow_elements(std::span<const Id> ids, std::vector<std::uint8_t>& taken) {
+  std::map<Id, std::size_t> place;
+  for (std::size_t k = 0; k < ids.size(); ++k) place.emplace(ids[k], k);
+  followed_.clear();
+  for (std::size_t k = 0; k < blocks_.size(); ++k)
+    for (Index e = 0; e < blocks_[k].size(); ++e)
+      if (const auto it = place.find(blocks_[k].id[e]); it != place.end()) {
+        followed_.push_back({k, e, it->second});
+        taken[it->second] = 1;
+      }
+}
+
+void SolidElements::element_histories(std::span<double> values) const {
+  for (const Followed& f : followed_) {
+    const Block& block = blocks_[f.block];
+    const parallel::Range held_here = held(f.block);
+    if (f.element < held_here.begin || f.element >= held_here.end || !books(block, f.element)) continue;
+    const MeanState mean = mean_state(block, f.element);
+    double* out = &values[discretization::element_history_values * f.place];
+    std::copy(mean.stress.begin(), mean.stress.end(), out);
+    out[6] = mean.pressure;
+    out[7] = mean.von_mises;
+    out[8] = mean.plastic_strain;
+    out[9] = block.eroded[f.element] != 0 ? 1 : 0;
   }
 }
 

@@ -125,6 +125,9 @@ class SolidElements final : public discretization::Formulation {
   // A rank writes the cells whose first node it owns (solver/field_output.cpp), elements it
   // computes: nothing to bring in.
   void complete_for_output(discretization::NodeStore& /*nodes*/) override {}
+  void follow_elements(std::span<const Id> ids, std::vector<std::uint8_t>& taken) override;
+  // The elements whose first node this rank owns (those it writes in the field output).
+  void element_histories(std::span<double> values) const override;
   void checkpoint(Archive& archive, const discretization::NodeStore& nodes) override;
 
   Index element_count() const;
@@ -293,6 +296,13 @@ class SolidElements final : public discretization::Formulation {
   bool erode_enabled_ = false;   // ERODE
   bool state_set_up_ = false;    // set_up_state, or a checkpoint read
   std::optional<Share> share_;   // under MPI
+  // *DATABASE_HISTORY_SOLID: each followed element's block and index, and its place in the IDs.
+  struct Followed {
+    std::size_t block = 0;
+    Index element = 0;
+    std::size_t place = 0;
+  };
+  std::vector<Followed> followed_;
 };
 
 }  // namespace spall::fem

@@ -70,7 +70,7 @@ std::vector<Id> Model::named_nodes() const {
     if (motion.target == Target::node) named.push_back(motion.id);
   for (const auto& velocity : initial_velocity_nodes) named.push_back(velocity.nid);
   for (const auto& card : history_nodes)
-    if (!card.node_sets) named.insert(named.end(), card.ids.begin(), card.ids.end());
+    if (!card.sets) named.insert(named.end(), card.ids.begin(), card.ids.end());
   std::sort(named.begin(), named.end());
   named.erase(std::unique(named.begin(), named.end()), named.end());
   return named;

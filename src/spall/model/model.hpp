@@ -502,12 +502,13 @@ struct OutputInterval {
   SourceLocation where;
 };
 
-// *DATABASE_HISTORY_NODE (_SET): a card of node IDs (or node set IDs) whose motion nodout.csv
-// follows, at the *DATABASE_NODOUT interval.
-struct HistoryNodes {
+// A card of *DATABASE_HISTORY_NODE (_SET) or *DATABASE_HISTORY_SOLID: the node IDs (node set IDs)
+// whose motion nodout.csv follows at the *DATABASE_NODOUT interval, or the solid element IDs whose
+// stress elout.csv follows at the *DATABASE_ELOUT interval.
+struct HistoryIds {
   std::vector<Id> ids;
-  bool node_sets = false;  // _SET: the IDs are node sets'
-  SourceLocation where;    // the card's
+  bool sets = false;     // _SET: the IDs are sets'
+  SourceLocation where;  // the card's
 };
 
 // *DATABASE_BINARY_RUNRSF: a running restart file every CYCL steps; NR files written in turn
@@ -724,7 +725,9 @@ struct Model {
   std::optional<OutputInterval> rbdout;
   std::optional<OutputInterval> nodout;
   std::optional<OutputInterval> spcforc;
-  std::vector<HistoryNodes> history_nodes;  // in the deck's order
+  std::vector<HistoryIds> history_nodes;  // in the deck's order
+  std::optional<OutputInterval> elout;
+  std::vector<HistoryIds> history_solids;  // in the deck's order
   std::optional<RestartOutput> runrsf;
   std::optional<DampingGlobal> damping_global;
 

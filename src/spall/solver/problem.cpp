@@ -49,6 +49,7 @@ class Builder {
     apply_spcs();
     build_motions();
     build_history_nodes();
+    build_history_solids();
     apply_initial_velocities();
     problem_.rigid_bodies = rigid::build_rigid_bodies(model_, index_of_node_, problem_.nodes);
     problem_.contacts = contact::build_contacts(model_, index_of_node_, problem_.nodes);
@@ -486,10 +487,10 @@ class Builder {
   void build_history_nodes() {
     std::vector<Index>& places = problem_.history_nodes;
     for (const auto& card : model_.history_nodes) {
-      const char* keyword = card.node_sets ? "*DATABASE_HISTORY_NODE_SET" : "*DATABASE_HISTORY_NODE";
+      const char* keyword = card.sets ? "*DATABASE_HISTORY_NODE_SET" : "*DATABASE_HISTORY_NODE";
       for (const Id id : card.ids) {
-        const std::vector<Index> nodes = card.node_sets ? node_set(id, card.where, keyword)
-                                                        : std::vector<Index>{node_index(id, card.where, keyword)};
+        const std::vector<Index> nodes = card.sets ? node_set(id, card.where, keyword)
+                                                   : std::vector<Index>{node_index(id, card.where, keyword)};
         places.insert(places.end(), nodes.begin(), nodes.end());
       }
     }
@@ -503,6 +504,34 @@ class Builder {
       taken[k] = 1;
       return false;
     });
+  }
+
+  // *DATABASE_HISTORY_SOLID: the elements elout.csv follows, in the deck's order, each once; each
+  // must be a finite element of a formulation that follows it.
+  void build_history_solids() {
+    std::vector<Id>& ids = problem_.history_solids;
+    std::vector<SourceLocation> where;
+    for (const auto& card : model_.history_solids)
+      for (const Id id : card.ids)
+        if (std::find(ids.begin(), ids.end(), id) == ids.end()) {
+          ids.push_back(id);
+          where.push_back(card.where);
+        }
+    if (ids.empty()) return;
+    std::vector<std::uint8_t> taken(ids.size(), 0);
+    for (auto& f : problem_.formulations) f->follow_elements(ids, taken);
+    const auto missing = std::find(taken.begin(), taken.end(), 0);
+    if (missing == taken.end()) return;
+    const std::size_t k = static_cast<std::size_t>(missing - taken.begin());
+    // The set-up in blocks (a deck of particles alone, no finite element) holds a share of the cards.
+    const auto card = std::find_if(model_.solid_elements.begin(), model_.solid_elements.end(),
+                                   [&](const model::ElementSolid& e) { return e.eid == ids[k]; });
+    if (!in_blocks_ && card == model_.solid_elements.end())
+      fail_at(where[k], "*DATABASE_HISTORY_SOLID", fmt::format("solid element {} does not exist", ids[k]));
+    fail_at(where[k], "*DATABASE_HISTORY_SOLID",
+            fmt::format("solid element {} is not a finite element (its part's are SPG particles or a rigid "
+                        "body): follow its nodes with *DATABASE_HISTORY_NODE",
+                        ids[k]));
   }
 
   void apply_initial_velocities() {
@@ -679,6 +708,7 @@ class Builder {
     force_history(model_.rcforc, "*DATABASE_RCFORC", c.rcforc_dt, c.rcforc_dt_curve);
     force_history(model_.rbdout, "*DATABASE_RBDOUT", c.rbdout_dt, c.rbdout_dt_curve);
     force_history(model_.nodout, "*DATABASE_NODOUT", c.nodout_dt, c.nodout_dt_curve);
+    force_history(model_.elout, "*DATABASE_ELOUT", c.elout_dt, c.elout_dt_curve);
     if (model_.spcforc) {
       c.spcforc = true;
       force_history(model_.spcforc, "*DATABASE_SPCFORC", c.spcforc_dt, c.spcforc_dt_curve);

@@ -57,6 +57,8 @@ struct RunControls {
   const model::Curve* rbdout_dt_curve = nullptr;  // LCUR
   Real nodout_dt = 0;                             // history nodes (GLSTAT's interval by default)
   const model::Curve* nodout_dt_curve = nullptr;  // LCUR
+  Real elout_dt = 0;                              // history elements (GLSTAT's interval by default)
+  const model::Curve* elout_dt_curve = nullptr;   // LCUR
   // *DATABASE_SPCFORC: the constraints' reactions (spcforc.csv) at its interval; only with the card.
   bool spcforc = false;
   Real spcforc_dt = 0;
@@ -76,6 +78,9 @@ struct Problem {
   // *DATABASE_HISTORY_NODE (_SET): the nodes nodout.csv follows, by place in the deck (as the
   // motions' nodes), in the deck's order, each once.
   std::vector<Index> history_nodes;
+  // *DATABASE_HISTORY_SOLID: the solid elements elout.csv follows, by ID, in the deck's order, each
+  // once (the formulations that compute them follow them: Formulation::follow_elements).
+  std::vector<Id> history_solids;
   std::vector<BaseAcceleration> base_accelerations;
   std::vector<contact::RigidWall> rigid_walls;
   std::vector<contact::PenaltyContact> contacts;

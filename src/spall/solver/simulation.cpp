@@ -73,6 +73,7 @@ class TimeLoop::Step {
     rbdout_ = {controls_.rbdout_dt, controls_.rbdout_dt_curve};
     nodout_ = {controls_.nodout_dt, controls_.nodout_dt_curve};
     spcforc_ = {controls_.spcforc_dt, controls_.spcforc_dt_curve};
+    elout_ = {controls_.elout_dt, controls_.elout_dt_curve};
     runaway_speed_limit_ = runaway_speed_limit();
     // Over every node: each rank's block of them, summed over the ranks, when the set-up built blocks.
     initial_mass_ = parallel::exact_sum(nodes_.size(), [&](Index i) { return nodes_.mass[i]; },
@@ -177,10 +178,10 @@ class TimeLoop::Step {
     a.expect_size("contacts", problem_.contacts.size());
     for (auto& c : problem_.contacts) c.checkpoint(a);
     a(problem_.rigid_bodies);
-    a.section("time loop 3");
+    a.section("time loop 4");
     a(step_, dt_previous_, dt_first_, dt_mid_, velocity_weight_, base_acceleration_, damping_,
       runaway_speed_limit_, initial_mass_, field_output_, history_, rwforc_, rcforc_, rbdout_, nodout_, spcforc_,
-      ledger_, phases_);
+      elout_, ledger_, phases_);
   }
 
  private:
@@ -512,6 +513,10 @@ class TimeLoop::Step {
       const std::vector<NodeHistory> histories = node_histories();  // a collective: on every rank
       if (observer_.on_node_histories) observer_.on_node_histories(step_, histories);
     }
+    if (!problem_.history_solids.empty() && elout_.due(step_.time, tolerance, stop)) {
+      const std::vector<ElementHistory> histories = element_histories();  // a collective: on every rank
+      if (observer_.on_element_histories) observer_.on_element_histories(step_, histories);
+    }
     if (controls_.spcforc && spcforc_.due(step_.time, tolerance, stop)) {
       const Vec3 reaction = spc_reaction();  // a collective: on every rank
       if (observer_.on_spc_reaction) observer_.on_spc_reaction(step_, reaction);
@@ -562,6 +567,28 @@ class TimeLoop::Step {
       h.velocity = Vec3(row[4], row[5], row[6]);
       h.acceleration = Vec3(row[7], row[8], row[9]);
       h.position = Vec3(row[10], row[11], row[12]);
+    }
+    return histories;
+  }
+
+  // The history elements' state at t^n from the formulations that follow them, each from the rank
+  // that accounts for it (the others offer +infinity to the minimum), so that every rank has them.
+  std::vector<ElementHistory> element_histories() const {
+    constexpr int values = discretization::element_history_values;
+    const std::vector<Id>& ids = problem_.history_solids;
+    std::vector<double> found(values * ids.size(), std::numeric_limits<double>::infinity());
+    for (const auto& f : problem_.formulations) f->element_histories(found);
+    parallel::world().minimum(found);
+    std::vector<ElementHistory> histories(ids.size());
+    for (std::size_t k = 0; k < ids.size(); ++k) {
+      const double* row = &found[values * k];
+      ElementHistory& h = histories[k];
+      h.id = ids[k];
+      std::copy(row, row + 6, h.stress.begin());
+      h.pressure = row[6];
+      h.von_mises = row[7];
+      h.plastic_strain = row[8];
+      h.eroded = row[9] != 0;
     }
     return histories;
   }
@@ -650,7 +677,7 @@ class TimeLoop::Step {
   Vec3 base_acceleration_ = Vec3::Zero(), damping_ = Vec3::Zero();
   Real runaway_speed_limit_ = std::numeric_limits<Real>::infinity();
   Real initial_mass_ = 0;  // the nodes' mass before DT2MS adds any (ENDMAS)
-  OutputSchedule field_output_, history_, rwforc_, rcforc_, rbdout_, nodout_, spcforc_;
+  OutputSchedule field_output_, history_, rwforc_, rcforc_, rbdout_, nodout_, spcforc_, elout_;
   EnergyLedger ledger_;
   PhaseTimes phases_;
 };

@@ -30,6 +30,16 @@ struct NodeHistory {
   Vec3 displacement, velocity, acceleration, position;
 };
 
+// A history element's state at t^n (*DATABASE_HISTORY_SOLID), the mean over its integration
+// points: the stress (xx yy zz xy yz zx), pressure, von Mises stress and effective plastic strain,
+// and whether it has eroded.
+struct ElementHistory {
+  Id id = 0;
+  std::array<Real, 6> stress{};
+  Real pressure = 0, von_mises = 0, plastic_strain = 0;
+  bool eroded = false;
+};
+
 // The phases of a step, in the order they run.
 enum class Phase { internal_forces, contact, loads, stable_step, velocity_update, halo, constraints, energies, output,
                    position_update, count };
@@ -63,6 +73,9 @@ struct Observer {
   // The resultant of the SPCs' reactions at t^n (every SPCFORC interval, with *DATABASE_SPCFORC
   // only, and at the end); under MPI on every rank.
   std::function<void(const StepInfo&, const Vec3&)> on_spc_reaction;
+  // The history elements' state at t^n, in the deck's order (every ELOUT interval, GLSTAT's by
+  // default, and at the end); under MPI on every rank.
+  std::function<void(const StepInfo&, const std::vector<ElementHistory>&)> on_element_histories;
   // Called on every step (cheap): for progress lines.
   std::function<void(const StepInfo&)> on_step;
 };

@@ -271,9 +271,10 @@ void read_database_glstat(CardCursor& cursor, const KeywordCall&, model::Model& 
 }
 
 namespace {
-// *DATABASE_RWFORC, _RCFORC, _RBDOUT and _NODOUT: one card DT BINARY LCUR IOOPT. BINARY is not
-// read: Spall writes its CSV file whatever it says. NODOUT's card goes on with DTHF BINHF, the
-// interval of a second, high-frequency binout, which Spall does not write: DTHF must be 0 or blank.
+// *DATABASE_RWFORC, _RCFORC, _RBDOUT, _SPCFORC, _NODOUT and _ELOUT: one card DT BINARY LCUR IOOPT.
+// BINARY is not read: Spall writes its CSV file whatever it says. NODOUT's and ELOUT's card goes
+// on with DTHF BINHF, the interval of a second, high-frequency binout, which Spall does not
+// write: DTHF must be 0 or blank.
 model::OutputInterval read_force_history(CardCursor& cursor, bool high_frequency = false) {
   const Card card = cursor.next(standard_fields, high_frequency ? "card 1 (DT BINARY LCUR IOOPT DTHF BINHF)"
                                                                 : "card 1 (DT BINARY LCUR IOOPT)");
@@ -313,20 +314,33 @@ void read_database_spcforc(CardCursor& cursor, const KeywordCall&, model::Model&
   model.spcforc = read_force_history(cursor);
 }
 
+// ELOUT's optional card 2 asks for each element kind's extra history variables (solids, shells,
+// thick shells, beams), which elout.csv does not hold: each must be 0 or blank.
+void read_database_elout(CardCursor& cursor, const KeywordCall&, model::Model& model) {
+  model.elout = read_force_history(cursor, true);
+  if (cursor.done()) return;
+  const Card card = cursor.next(standard_fields, "card 2 (OPTION1 OPTION2 OPTION3 OPTION4)");
+  for (int k = 0; k < 4; ++k) {
+    const std::string name = "OPTION" + std::to_string(k + 1);
+    if (card.int32(k, name, 0) != 0)
+      card.fail(name, quoted(card.text(k)) + ": elout.csv holds no history variables; leave it 0");
+  }
+}
+
 // Cards of eight IDs (blank or 0: none), nodes' or, with _SET, node sets'.
-void read_database_history_node(CardCursor& cursor, const KeywordCall& call, model::Model& model) {
-  const bool node_sets = call.base == "DATABASE_HISTORY_NODE_SET";
+void read_database_history(CardCursor& cursor, const KeywordCall& call, model::Model& model) {
+  const bool solids = call.base == "DATABASE_HISTORY_SOLID";
   while (!cursor.done()) {
     const Card card = cursor.next(standard_fields, "card (ID1 ... ID8)");
-    model::HistoryNodes nodes;
-    nodes.node_sets = node_sets;
-    nodes.where = card.where();
+    model::HistoryIds history;
+    history.sets = call.base == "DATABASE_HISTORY_NODE_SET";
+    history.where = card.where();
     for (int k = 0; k < 8; ++k) {
       const Id id = card.integer(k, id_field_names[k], 0);
       if (id < 0) card.fail(id_field_names[k], quoted(card.text(k)) + " is negative");
-      if (id != 0) nodes.ids.push_back(id);
+      if (id != 0) history.ids.push_back(id);
     }
-    model.history_nodes.push_back(std::move(nodes));
+    (solids ? model.history_solids : model.history_nodes).push_back(std::move(history));
   }
 }
 

@@ -105,8 +105,10 @@ constexpr SupportedKeyword supported_keywords[] = {
     {"DATABASE_RBDOUT", read_database_rbdout},
     {"DATABASE_NODOUT", read_database_nodout},
     {"DATABASE_SPCFORC", read_database_spcforc},
-    {"DATABASE_HISTORY_NODE", read_database_history_node},
-    {"DATABASE_HISTORY_NODE_SET", read_database_history_node},
+    {"DATABASE_ELOUT", read_database_elout},
+    {"DATABASE_HISTORY_NODE", read_database_history},
+    {"DATABASE_HISTORY_NODE_SET", read_database_history},
+    {"DATABASE_HISTORY_SOLID", read_database_history},
 };
 
 bool ends_with(std::string_view text, std::string_view suffix) {

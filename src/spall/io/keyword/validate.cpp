@@ -612,6 +612,8 @@ class Validator {
       require_curve(model_.rbdout->lcdt, model_.rbdout->where, "*DATABASE_RBDOUT", "LCUR");
     if (model_.nodout && model_.nodout->lcdt != 0)
       require_curve(model_.nodout->lcdt, model_.nodout->where, "*DATABASE_NODOUT", "LCUR");
+    if (model_.elout && model_.elout->lcdt != 0)
+      require_curve(model_.elout->lcdt, model_.elout->where, "*DATABASE_ELOUT", "LCUR");
     if (model_.spcforc && model_.spcforc->lcdt != 0)
       require_curve(model_.spcforc->lcdt, model_.spcforc->where, "*DATABASE_SPCFORC", "LCUR");
   }
