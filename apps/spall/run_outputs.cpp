@@ -58,6 +58,14 @@ RunOutputs::RunOutputs(const fs::path& out, const solver::Problem& problem, cons
     elout_.columns.push_back({"effective_plastic_strain", ""});
     elout_.columns.push_back({"eroded", ""});
   }
+  // The prescribed motions' reactions (*DATABASE_BNDOUT, only with the card) at its interval: the
+  // resultant and the work done since the start, LS-DYNA's bndout totals of nodal motions.
+  if (problem.controls.bndout) {
+    bndout_.path = out / "bndout.csv";
+    bndout_.columns = {{"time", "time"}};
+    for (const char* name : {"fx", "fy", "fz"}) bndout_.columns.push_back({name, "force"});
+    bndout_.columns.push_back({"work", "energy"});
+  }
   // The resultant of the SPCs' reactions (*DATABASE_SPCFORC, only with the card) at its interval:
   // LS-DYNA's spcforc resultant.
   if (problem.controls.spcforc) {
@@ -70,7 +78,7 @@ RunOutputs::RunOutputs(const fs::path& out, const solver::Problem& problem, cons
   solid_ = problem.sph_solid;
   residual_options_ = model.sph_residual_stress.value_or(model::SphResidualStress{});
   if (resume) return;
-  for (History* h : {&rwforc_, &rcforc_, &rbdout_, &nodout_, &spcforc_, &elout_})
+  for (History* h : {&rwforc_, &rcforc_, &rbdout_, &nodout_, &spcforc_, &elout_, &bndout_})
     if (!h->columns.empty()) open(*h);
   if (solid_) residual_.emplace(out / "residual.csv", *solid_, residual_options_);
 }
@@ -133,6 +141,10 @@ solver::Observer RunOutputs::observer() {
       elout_.file->append(r);
     }
   };
+  observer.on_motion_reaction = [this](const solver::StepInfo& step, const Vec3& reaction, Real work) {
+    const double row[] = {step.time, reaction.x(), reaction.y(), reaction.z(), work};
+    bndout_.file->append(row);
+  };
   observer.on_spc_reaction = [this](const solver::StepInfo& step, const Vec3& reaction) {
     const double row[] = {step.time, reaction.x(), reaction.y(), reaction.z()};
     spcforc_.file->append(row);
@@ -163,9 +175,9 @@ solver::Observer RunOutputs::observer() {
 }
 
 void RunOutputs::checkpoint(Archive& a) {
-  a.section("output files 4");
+  a.section("output files 5");
   a(masses_, glstat_.columns);
-  for (History* h : {&glstat_, &rwforc_, &rcforc_, &rbdout_, &nodout_, &spcforc_, &elout_}) {
+  for (History* h : {&glstat_, &rwforc_, &rcforc_, &rbdout_, &nodout_, &spcforc_, &elout_, &bndout_}) {
     std::optional<std::uint64_t> bytes;
     if (h->file) bytes = h->file->bytes();
     a(bytes);

@@ -153,6 +153,37 @@ code=$?
 set -e
 [ $code -eq 2 ] && grep -Eq 'elout_spg\.k:[0-9]+: \*DATABASE_HISTORY_SOLID: solid element 1 is not a finite element' \
   "$work/elout_spg.log" || fail "a history element of an SPG part: exit $code, $(cat "$work/elout_spg.log")"
+# Prescribed-motion reactions (*DATABASE_BNDOUT): the column's base held by zero velocity in x, y
+# and z (*BOUNDARY_PRESCRIBED_MOTION_SET VAD 0) instead of the SPC carries its weight once at rest,
+# R_z = M g = 770.085 N to 1e-6, and does no work (its nodes do not move). Without gravity and
+# damping, the base driven up at 10 m/s^2 (VAD 1): the motion's work is the only work done on the
+# column, glstat's external work, to 1e-9.
+python3 - "$work/column.k" "$work/held.k" "$work/lifted.k" <<'PY'
+import sys
+deck = open(sys.argv[1]).read()
+spc = "*BOUNDARY_SPC_SET\n1,0,1,1,1\n"
+assert spc in deck
+held = "".join("1,%d,0,78\n" % d for d in (1, 2, 3))
+open(sys.argv[2], "w").write(deck.replace(spc, "*BOUNDARY_PRESCRIBED_MOTION_SET\n" + held +
+                                          "*DEFINE_CURVE\n78\n0.0,0.0\n1.0,0.0\n*DATABASE_BNDOUT\n6e-5\n"))
+lifted = deck.replace(spc, "*BOUNDARY_PRESCRIBED_MOTION_SET\n1,3,1,79,10.0\n*DEFINE_CURVE\n79\n0.0,1.0\n1.0,1.0\n"
+                      "*DATABASE_BNDOUT\n6e-5\n")
+open(sys.argv[3], "w").write(lifted.replace("*LOAD_BODY_Z\n77,9.81\n", "").replace("*DAMPING_GLOBAL\n0,15860.0\n", ""))
+PY
+for deck in held lifted; do
+  "$cli" run "$work/$deck.k" -o "$work/${deck}_out" 2>"$work/$deck.log" ||
+    { cat "$work/$deck.log"; fail "the $deck column"; }
+done
+head -n 1 "$work/held_out/bndout.csv" | grep -qx 'time \[time\],fx \[force\],fy \[force\],fz \[force\],work \[energy\]' \
+  ||
+  fail "bndout header: $(head -n 1 "$work/held_out/bndout.csv")"
+awk -F, 'END { w = 7850 * 0.01 * 9.81; exit !($1 == 0.003 && ($4 - w) ^ 2 < (1e-6 * w) ^ 2 && $5 == 0) }' \
+  "$work/held_out/bndout.csv" ||
+  fail "the held base does not carry the weight: $(tail -n 1 "$work/held_out/bndout.csv")"
+lift_work=$(tail -n 1 "$work/lifted_out/bndout.csv" | cut -d, -f5)
+head -n 1 "$work/lifted_out/glstat.csv" | cut -d, -f6 | grep -q '^external_work' || fail "glstat's 6th column"
+awk -F, -v w="$lift_work" 'END { exit !(w > 0.03 && (w - $6) ^ 2 < (1e-9 * w) ^ 2) }' "$work/lifted_out/glstat.csv" ||
+  fail "the lifting motion's work $lift_work is not glstat's external work: $(tail -n 1 "$work/lifted_out/glstat.csv")"
 # The SPH fluid computes no force on its wall particles: their reactions are refused, not zeros.
 sed 's/^\*END$/*DATABASE_SPCFORC\n0.001\n*END/' "$source_dir/examples/dam_break/dam_break_2d.k" >"$work/spc_fluid.k"
 set +e

@@ -63,14 +63,15 @@ same_on_ranks "$work/taylor.k" "$work/taylor.serial" "2 1" "3 1" "4 1" "2 2" "3 
 same_on_ranks "$work/spall.k" "$work/spall.serial" "2 1" "3 2"
 same_on_ranks "$work/compression.k" "$work/compression.serial" "2 1" "3 1 rebalanced"
 # The skimmer: the layer (3 x 3 x 30 particles, 1 mm apart, soft elastic) and the 2 x 2 x 2 block
-# 1.8 mm beside it (within the kernel's 2.4 mm reach), held in x and y (spcforc.csv: the SPCs'
-# reactions, an exact sum over the ranks) and driven along z at 10 m/s.
+# 1.8 mm beside it (within the kernel's 2.4 mm reach), held in x and y and driven along z at 10 m/s
+# (spcforc.csv and bndout.csv: the reactions, exact sums over the ranks).
 python3 - >"$work/skimmer.k" <<'PY'
 speed, length, dx = 10.0, 30, 1e-3
 end = (length + 10) * dx / speed
 print("*KEYWORD\n*CONTROL_TERMINATION\n%10.4e" % end)
 print("*DATABASE_BINARY_D3PLOT\n%10.4e\n*DATABASE_GLSTAT\n%10.4e" % (end / 4, end / 100))
 print("*DATABASE_SPCFORC\n%10.4e" % (end / 100))  # the reactions that hold the skimmer in x and y
+print("*DATABASE_BNDOUT\n%10.4e" % (end / 100))  # and that drive it along z
 print("*PART\nlayer and skimmer\n%10d%10d%10d" % (1, 1, 1))
 print("*SECTION_SPH\n%10d%10g%10g%10g" % (1, 1.2, 1.0, 1.0))
 print("*MAT_ELASTIC\n%10d%10g%10g%10g" % (1, 1000.0, 1.0e6, 0.3))

@@ -725,6 +725,7 @@ struct Model {
   std::optional<OutputInterval> rbdout;
   std::optional<OutputInterval> nodout;
   std::optional<OutputInterval> spcforc;
+  std::optional<OutputInterval> bndout;
   std::vector<HistoryIds> history_nodes;  // in the deck's order
   std::optional<OutputInterval> elout;
   std::vector<HistoryIds> history_solids;  // in the deck's order

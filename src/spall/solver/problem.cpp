@@ -709,6 +709,10 @@ class Builder {
     force_history(model_.rbdout, "*DATABASE_RBDOUT", c.rbdout_dt, c.rbdout_dt_curve);
     force_history(model_.nodout, "*DATABASE_NODOUT", c.nodout_dt, c.nodout_dt_curve);
     force_history(model_.elout, "*DATABASE_ELOUT", c.elout_dt, c.elout_dt_curve);
+    if (model_.bndout) {
+      c.bndout = true;
+      force_history(model_.bndout, "*DATABASE_BNDOUT", c.bndout_dt, c.bndout_dt_curve);
+    }
     if (model_.spcforc) {
       c.spcforc = true;
       force_history(model_.spcforc, "*DATABASE_SPCFORC", c.spcforc_dt, c.spcforc_dt_curve);

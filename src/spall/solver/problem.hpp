@@ -63,6 +63,10 @@ struct RunControls {
   bool spcforc = false;
   Real spcforc_dt = 0;
   const model::Curve* spcforc_dt_curve = nullptr;  // LCUR
+  // *DATABASE_BNDOUT: the prescribed motions' reactions and work (bndout.csv); only with the card.
+  bool bndout = false;
+  Real bndout_dt = 0;
+  const model::Curve* bndout_dt_curve = nullptr;  // LCUR
   // *DAMPING_GLOBAL: f = -D(t) m (scale . v), D = damping or damping_curve(t).
   Real damping = 0;
   const model::Curve* damping_curve = nullptr;

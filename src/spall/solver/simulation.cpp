@@ -74,6 +74,7 @@ class TimeLoop::Step {
     nodout_ = {controls_.nodout_dt, controls_.nodout_dt_curve};
     spcforc_ = {controls_.spcforc_dt, controls_.spcforc_dt_curve};
     elout_ = {controls_.elout_dt, controls_.elout_dt_curve};
+    bndout_ = {controls_.bndout_dt, controls_.bndout_dt_curve};
     runaway_speed_limit_ = runaway_speed_limit();
     // Over every node: each rank's block of them, summed over the ranks, when the set-up built blocks.
     initial_mass_ = parallel::exact_sum(nodes_.size(), [&](Index i) { return nodes_.mass[i]; },
@@ -178,10 +179,10 @@ class TimeLoop::Step {
     a.expect_size("contacts", problem_.contacts.size());
     for (auto& c : problem_.contacts) c.checkpoint(a);
     a(problem_.rigid_bodies);
-    a.section("time loop 4");
+    a.section("time loop 5");
     a(step_, dt_previous_, dt_first_, dt_mid_, velocity_weight_, base_acceleration_, damping_,
       runaway_speed_limit_, initial_mass_, field_output_, history_, rwforc_, rcforc_, rbdout_, nodout_, spcforc_,
-      elout_, ledger_, phases_);
+      elout_, bndout_, motion_work_, ledger_, phases_);
   }
 
  private:
@@ -420,6 +421,7 @@ class TimeLoop::Step {
     // by reach (the others' velocities may be stale) its own and the bodies' nodes, the segments'.
     const bool own_only = halo_by_reach_ || problem_.contacts.empty();
     const Index count = own_only ? nodes_.owned_count() : nodes_.size();
+    if (controls_.bndout) motion_work_ += dt_mid * motion_power(reaction_weight);  // a collective
     const Sums<4> sums = parallel::exact_sum(
         count,
         [&](Index k) {
@@ -517,6 +519,10 @@ class TimeLoop::Step {
       const std::vector<ElementHistory> histories = element_histories();  // a collective: on every rank
       if (observer_.on_element_histories) observer_.on_element_histories(step_, histories);
     }
+    if (controls_.bndout && bndout_.due(step_.time, tolerance, stop)) {
+      const Vec3 reaction = motion_reaction();  // a collective: on every rank
+      if (observer_.on_motion_reaction) observer_.on_motion_reaction(step_, reaction, motion_work_);
+    }
     if (controls_.spcforc && spcforc_.due(step_.time, tolerance, stop)) {
       const Vec3 reaction = spc_reaction();  // a collective: on every rank
       if (observer_.on_spc_reaction) observer_.on_spc_reaction(step_, reaction);
@@ -591,6 +597,57 @@ class TimeLoop::Step {
       h.eroded = row[9] != 0;
     }
     return histories;
+  }
+
+  // The components the prescribed motions drive this step (held at t^{n+1/2}), each (node place,
+  // direction) once.
+  std::vector<std::pair<Index, int>> driven_components() const {
+    const Real t_mid = step_.time + Real(0.5) * step_.dt;
+    std::vector<std::pair<Index, int>> driven;
+    for (const NodalMotion& m : problem_.motions)
+      if (t_mid >= m.birth && t_mid <= m.death) driven.emplace_back(m.node, m.direction);
+    std::sort(driven.begin(), driven.end());
+    driven.erase(std::unique(driven.begin(), driven.end()), driven.end());
+    return driven;
+  }
+
+  // The power of the prescribed motions' reactions over this step (*DATABASE_BNDOUT's work), as the
+  // constraints' in energies(): on each driven component of a node this rank owns, (m dv / dt_mid
+  // - f) (v^{n-1/2} + w dv), dv = v^{n+1/2} - v^{n-1/2}, before energies() moves v_old_ on to v^n.
+  // An exact sum over the ranks.
+  Real motion_power(Real reaction_weight) const {
+    const std::vector<std::pair<Index, int>> driven = driven_components();
+    const Real dt_mid = dt_mid_;
+    return parallel::exact_sum(
+        static_cast<Index>(driven.size()),
+        [&](Index k) {
+          const auto [place, d] = driven[k];
+          const Index i = nodes_.row_of(place);
+          if (i < 0 || !nodes_.owns(i) || !nodes_.active[i] || !(dt_mid > 0)) return Real(0);
+          const Real dv = nodes_.v[i][d] - v_old_[i][d];
+          return (nodes_.mass[i] * dv / dt_mid - nodes_.f[i][d]) * (v_old_[i][d] + reaction_weight * dv);
+        },
+        &parallel::world());
+  }
+
+  // The resultant of the prescribed motions' reactions at t^n (*DATABASE_BNDOUT): m a^n - f^n on
+  // each driven component, as spc_reaction's. An exact sum over the ranks.
+  Vec3 motion_reaction() const {
+    const std::vector<std::pair<Index, int>> driven = driven_components();
+    const Real dt = step_.dt;
+    const Sums<3> sum = parallel::exact_sum(
+        static_cast<Index>(driven.size()),
+        [&](Index k) {
+          Sums<3> term;
+          const auto [place, d] = driven[k];
+          const Index i = nodes_.row_of(place);
+          if (i < 0 || !nodes_.owns(i) || !nodes_.active[i]) return term;
+          const Real acceleration = dt > 0 ? 2 * (nodes_.v[i][d] - v_old_[i][d]) / dt : 0;
+          term[d] = nodes_.mass[i] * acceleration - nodes_.f[i][d];
+          return term;
+        },
+        &parallel::world());
+    return {sum[0], sum[1], sum[2]};
   }
 
   // The resultant of the SPCs' reactions at t^n (*DATABASE_SPCFORC): on each component a constraint
@@ -677,7 +734,8 @@ class TimeLoop::Step {
   Vec3 base_acceleration_ = Vec3::Zero(), damping_ = Vec3::Zero();
   Real runaway_speed_limit_ = std::numeric_limits<Real>::infinity();
   Real initial_mass_ = 0;  // the nodes' mass before DT2MS adds any (ENDMAS)
-  OutputSchedule field_output_, history_, rwforc_, rcforc_, rbdout_, nodout_, spcforc_, elout_;
+  OutputSchedule field_output_, history_, rwforc_, rcforc_, rbdout_, nodout_, spcforc_, elout_, bndout_;
+  Real motion_work_ = 0;  // the prescribed motions' reactions' work since the start (BNDOUT)
   EnergyLedger ledger_;
   PhaseTimes phases_;
 };

@@ -73,6 +73,9 @@ struct Observer {
   // The resultant of the SPCs' reactions at t^n (every SPCFORC interval, with *DATABASE_SPCFORC
   // only, and at the end); under MPI on every rank.
   std::function<void(const StepInfo&, const Vec3&)> on_spc_reaction;
+  // The resultant of the prescribed motions' reactions at t^n and their work since the start
+  // (every BNDOUT interval, with *DATABASE_BNDOUT only, and at the end); under MPI on every rank.
+  std::function<void(const StepInfo&, const Vec3&, Real)> on_motion_reaction;
   // The history elements' state at t^n, in the deck's order (every ELOUT interval, GLSTAT's by
   // default, and at the end); under MPI on every rank.
   std::function<void(const StepInfo&, const std::vector<ElementHistory>&)> on_element_histories;

@@ -271,10 +271,10 @@ void read_database_glstat(CardCursor& cursor, const KeywordCall&, model::Model& 
 }
 
 namespace {
-// *DATABASE_RWFORC, _RCFORC, _RBDOUT, _SPCFORC, _NODOUT and _ELOUT: one card DT BINARY LCUR IOOPT.
-// BINARY is not read: Spall writes its CSV file whatever it says. NODOUT's and ELOUT's card goes
-// on with DTHF BINHF, the interval of a second, high-frequency binout, which Spall does not
-// write: DTHF must be 0 or blank.
+// *DATABASE_RWFORC, _RCFORC, _RBDOUT, _SPCFORC, _BNDOUT, _NODOUT and _ELOUT: one card DT BINARY
+// LCUR IOOPT. BINARY is not read: Spall writes its CSV file whatever it says. NODOUT's and ELOUT's
+// card goes on with DTHF BINHF, the interval of a second, high-frequency binout, which Spall does
+// not write: DTHF must be 0 or blank.
 model::OutputInterval read_force_history(CardCursor& cursor, bool high_frequency = false) {
   const Card card = cursor.next(standard_fields, high_frequency ? "card 1 (DT BINARY LCUR IOOPT DTHF BINHF)"
                                                                 : "card 1 (DT BINARY LCUR IOOPT)");
@@ -312,6 +312,10 @@ void read_database_nodout(CardCursor& cursor, const KeywordCall&, model::Model& 
 
 void read_database_spcforc(CardCursor& cursor, const KeywordCall&, model::Model& model) {
   model.spcforc = read_force_history(cursor);
+}
+
+void read_database_bndout(CardCursor& cursor, const KeywordCall&, model::Model& model) {
+  model.bndout = read_force_history(cursor);
 }
 
 // ELOUT's optional card 2 asks for each element kind's extra history variables (solids, shells,

@@ -144,6 +144,7 @@ void read_database_rcforc_moment(CardCursor&, const KeywordCall&, model::Model&)
 void read_database_rbdout(CardCursor&, const KeywordCall&, model::Model&);
 void read_database_nodout(CardCursor&, const KeywordCall&, model::Model&);
 void read_database_spcforc(CardCursor&, const KeywordCall&, model::Model&);
+void read_database_bndout(CardCursor&, const KeywordCall&, model::Model&);
 void read_database_elout(CardCursor&, const KeywordCall&, model::Model&);
 void read_database_history(CardCursor&, const KeywordCall&, model::Model&);
 

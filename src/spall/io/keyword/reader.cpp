@@ -105,6 +105,7 @@ constexpr SupportedKeyword supported_keywords[] = {
     {"DATABASE_RBDOUT", read_database_rbdout},
     {"DATABASE_NODOUT", read_database_nodout},
     {"DATABASE_SPCFORC", read_database_spcforc},
+    {"DATABASE_BNDOUT", read_database_bndout},
     {"DATABASE_ELOUT", read_database_elout},
     {"DATABASE_HISTORY_NODE", read_database_history},
     {"DATABASE_HISTORY_NODE_SET", read_database_history},

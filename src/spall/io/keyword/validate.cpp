@@ -614,6 +614,8 @@ class Validator {
       require_curve(model_.nodout->lcdt, model_.nodout->where, "*DATABASE_NODOUT", "LCUR");
     if (model_.elout && model_.elout->lcdt != 0)
       require_curve(model_.elout->lcdt, model_.elout->where, "*DATABASE_ELOUT", "LCUR");
+    if (model_.bndout && model_.bndout->lcdt != 0)
+      require_curve(model_.bndout->lcdt, model_.bndout->where, "*DATABASE_BNDOUT", "LCUR");
     if (model_.spcforc && model_.spcforc->lcdt != 0)
       require_curve(model_.spcforc->lcdt, model_.spcforc->where, "*DATABASE_SPCFORC", "LCUR");
   }
