@@ -15,6 +15,12 @@ read_vtu=("/usr/bin/python3" "$source_dir/tools/read_vtu.py")
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
+# DECK PATTERN WHAT: `spall check DECK` stops with exit 2 and a line matching PATTERN.
+expect_input_error() {
+  local code=0
+  "$cli" check "$1" 2>"$1.log" || code=$?
+  [ $code -eq 2 ] && grep -Eq "$2" "$1.log" || fail "$3: exit $code, $(cat "$1.log")"
+}
 
 "$cli" --version | grep -q '^spall ' || fail "--version"
 
@@ -84,13 +90,8 @@ awk -F, 'NR > 1 { rows++; if ((NR - 2) % 3 + 1 != $2) order = 1
   END { exit !(rows >= 9 && rows % 3 == 0 && !order && !bad) }' "$work/fall_out/nodout.csv" ||
   fail "nodout.csv is not free fall of nodes 1, 2, 3: $(cat "$work/fall_out/nodout.csv")"
 sed 's/^\*DATABASE_HISTORY_NODE$/&\n99999/' "$work/fall.k" >"$work/fall_bad.k"
-set +e
-"$cli" check "$work/fall_bad.k" 2>"$work/fall_bad.log"
-code=$?
-set -e
-[ $code -eq 2 ] || fail "a history node that does not exist: exit $code"
-grep -Eq 'fall_bad\.k:[0-9]+: \*DATABASE_HISTORY_NODE: node 99999 does not exist' "$work/fall_bad.log" ||
-  fail "missing history node message: $(cat "$work/fall_bad.log")"
+expect_input_error "$work/fall_bad.k" 'fall_bad\.k:[0-9]+: \*DATABASE_HISTORY_NODE: node 99999 does not exist' \
+  "a history node that does not exist"
 
 # SPC reactions (*DATABASE_SPCFORC): a steel column 0.1 x 0.1 x 1 m (rho 7850) of 2 x 2 x 10
 # fully integrated hexahedra standing on its base (every base node held by *BOUNDARY_SPC_SET) under
@@ -137,22 +138,15 @@ awk -F, 'NR > 1 { rows++; if ($2 != (rows % 2 ? 21 : 37)) order = 1 }
   END { exit !(rows == 22 && !order && good == 2) }' "$work/column_elout/elout.csv" ||
   fail "elout.csv is not the column's weight: $(tail -n 2 "$work/column_elout/elout.csv")"
 sed 's/^21,37,21$/21,99/' "$work/column_elout.k" >"$work/elout_bad.k"
-set +e
-"$cli" check "$work/elout_bad.k" 2>"$work/elout_bad.log"
-code=$?
-set -e
-[ $code -eq 2 ] || fail "a history element that does not exist: exit $code"
-grep -Eq 'elout_bad\.k:[0-9]+: \*DATABASE_HISTORY_SOLID: solid element 99 does not exist' "$work/elout_bad.log" ||
-  fail "missing history element message: $(cat "$work/elout_bad.log")"
+expect_input_error "$work/elout_bad.k" \
+  'elout_bad\.k:[0-9]+: \*DATABASE_HISTORY_SOLID: solid element 99 does not exist' \
+  "a history element that does not exist"
 # An SPG part's elements are particles at their nodes: no element history.
 python3 "$source_dir/tools/make_spg_tension_deck.py" --elements 4 --speed 100 --end-time 4e-6 |
   sed 's/^\*END$/*DATABASE_HISTORY_SOLID\n1\n*END/' >"$work/elout_spg.k"
-set +e
-"$cli" check "$work/elout_spg.k" 2>"$work/elout_spg.log"
-code=$?
-set -e
-[ $code -eq 2 ] && grep -Eq 'elout_spg\.k:[0-9]+: \*DATABASE_HISTORY_SOLID: solid element 1 is not a finite element' \
-  "$work/elout_spg.log" || fail "a history element of an SPG part: exit $code, $(cat "$work/elout_spg.log")"
+expect_input_error "$work/elout_spg.k" \
+  'elout_spg\.k:[0-9]+: \*DATABASE_HISTORY_SOLID: solid element 1 is not a finite' \
+  "a history element of an SPG part"
 # Prescribed-motion reactions (*DATABASE_BNDOUT): the column's base held by zero velocity in x, y
 # and z (*BOUNDARY_PRESCRIBED_MOTION_SET VAD 0) instead of the SPC carries its weight once at rest,
 # R_z = M g = 770.085 N to 1e-6, and does no work (its nodes do not move). Without gravity and
@@ -186,13 +180,9 @@ awk -F, -v w="$lift_work" 'END { exit !(w > 0.03 && (w - $6) ^ 2 < (1e-9 * w) ^ 
   fail "the lifting motion's work $lift_work is not glstat's external work: $(tail -n 1 "$work/lifted_out/glstat.csv")"
 # The SPH fluid computes no force on its wall particles: their reactions are refused, not zeros.
 sed 's/^\*END$/*DATABASE_SPCFORC\n0.001\n*END/' "$source_dir/examples/dam_break/dam_break_2d.k" >"$work/spc_fluid.k"
-set +e
-"$cli" check "$work/spc_fluid.k" 2>"$work/spc_fluid.log"
-code=$?
-set -e
-[ $code -eq 2 ] || fail "SPCFORC with an SPH fluid: exit $code"
-grep -Eq 'spc_fluid\.k:[0-9]+: \*DATABASE_SPCFORC: the SPH fluid computes no force on the particles an SPC holds' \
-  "$work/spc_fluid.log" || fail "SPCFORC with an SPH fluid: $(cat "$work/spc_fluid.log")"
+expect_input_error "$work/spc_fluid.k" \
+  'spc_fluid\.k:[0-9]+: \*DATABASE_SPCFORC: the SPH fluid computes no force on the particles an SPC holds' \
+  "SPCFORC with an SPH fluid"
 
 # A rigid wall through the particle layer at x = 0.5125, facing +x: the half in front of it moves
 # onto it (v = V cos(pi x / L) < 0 there), so rwforc.csv has rows with a positive normal force.
