@@ -72,6 +72,7 @@ print("*KEYWORD\n*CONTROL_TERMINATION\n%10.4e" % end)
 print("*DATABASE_BINARY_D3PLOT\n%10.4e\n*DATABASE_GLSTAT\n%10.4e" % (end / 4, end / 100))
 print("*DATABASE_SPCFORC\n%10.4e" % (end / 100))  # the reactions that hold the skimmer in x and y
 print("*DATABASE_BNDOUT\n%10.4e" % (end / 100))  # and that drive it along z
+print("*DATABASE_BINARY_RUNRSF\n%10d" % 60)
 print("*PART\nlayer and skimmer\n%10d%10d%10d" % (1, 1, 1))
 print("*SECTION_SPH\n%10d%10g%10g%10g" % (1, 1.2, 1.0, 1.0))
 print("*MAT_ELASTIC\n%10d%10g%10g%10g" % (1, 1000.0, 1.0e6, 0.3))
@@ -252,4 +253,6 @@ continue_run spg.serial.np3.t2 1 spg.serial
 continue_run spg_core.serial.np3.t1.fixed 1 spg_core.serial
 continue_run spg_core.serial.np2.t2 3 spg_core.serial
 continue_run taylor.serial.np2.t1 3 taylor.serial
+# The skimmer's 2-rank run continued on one process: bndout.csv's work goes on from the file's.
+continue_run skimmer.serial.np2.t2 1 skimmer.serial
 echo "mpi solid: OK"
