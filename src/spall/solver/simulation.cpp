@@ -630,33 +630,37 @@ class TimeLoop::Step {
         &parallel::world());
   }
 
-  // The resultant of the prescribed motions' reactions at t^n (*DATABASE_BNDOUT): m a^n - f^n on
-  // each driven component, as spc_reaction's. An exact sum over the ranks.
+  // The force a constraint adds to component d of node i at t^n for the acceleration it leaves:
+  // m a^n - f^n, a^n = 2 (v^{n+1/2} - v^n) / dt as in node_histories (v^n in v_old_ from energies()
+  // on; 0 at the run's last step, whose dt is 0); -f for a node held at rest. The reaction of the
+  // constraint work in energies().
+  Real reaction(Index i, int d) const {
+    const Real dt = step_.dt;
+    const Real acceleration = dt > 0 ? 2 * (nodes_.v[i][d] - v_old_[i][d]) / dt : 0;
+    return nodes_.mass[i] * acceleration - nodes_.f[i][d];
+  }
+
+  // The resultant of the prescribed motions' reactions at t^n (*DATABASE_BNDOUT) on their driven
+  // components. An exact sum over the ranks.
   Vec3 motion_reaction() const {
     const std::vector<std::pair<Index, int>> driven = driven_components();
-    const Real dt = step_.dt;
     const Sums<3> sum = parallel::exact_sum(
         static_cast<Index>(driven.size()),
         [&](Index k) {
           Sums<3> term;
           const auto [place, d] = driven[k];
           const Index i = nodes_.row_of(place);
-          if (i < 0 || !nodes_.owns(i) || !nodes_.active[i]) return term;
-          const Real acceleration = dt > 0 ? 2 * (nodes_.v[i][d] - v_old_[i][d]) / dt : 0;
-          term[d] = nodes_.mass[i] * acceleration - nodes_.f[i][d];
+          if (i >= 0 && nodes_.owns(i) && nodes_.active[i]) term[d] = reaction(i, d);
           return term;
         },
         &parallel::world());
     return {sum[0], sum[1], sum[2]};
   }
 
-  // The resultant of the SPCs' reactions at t^n (*DATABASE_SPCFORC): on each component a constraint
-  // holds (an SPC, a node's TC, the plane of a 2D model), m a^n - f^n, the force it adds for the
-  // acceleration it leaves (0 for a node it holds at rest; a^n as in node_histories, the reaction
-  // of the constraint work in energies()); a rigid body's nodes are the body's (rbdout.csv), an
-  // eroded node has none. An exact sum over each rank's own nodes and over the ranks.
+  // The resultant of the SPCs' reactions at t^n (*DATABASE_SPCFORC) on each component a constraint
+  // holds (an SPC, a node's TC, the plane of a 2D model); a rigid body's nodes are the body's
+  // (rbdout.csv), an eroded node has none. An exact sum over each rank's own nodes and the ranks.
   Vec3 spc_reaction() const {
-    const Real dt = step_.dt;
     const Sums<3> sum = parallel::exact_sum(
         nodes_.owned_count(),
         [&](Index k) {
@@ -664,11 +668,8 @@ class TimeLoop::Step {
           Sums<3> term;
           const unsigned held = nodes_.fixed[i] & 7u;
           if (!held || !nodes_.active[i] || nodes_.body[i] != discretization::NodeStore::no_body) return term;
-          for (int d = 0; d < 3; ++d) {
-            if (!(held & (1u << d))) continue;
-            const Real acceleration = dt > 0 ? 2 * (nodes_.v[i][d] - v_old_[i][d]) / dt : 0;
-            term[d] = nodes_.mass[i] * acceleration - nodes_.f[i][d];
-          }
+          for (int d = 0; d < 3; ++d)
+            if (held & (1u << d)) term[d] = reaction(i, d);
           return term;
         },
         &parallel::world());
