@@ -5,8 +5,10 @@
 #include <cmath>
 #include <fmt/format.h>
 #include <optional>
+#include <set>
 #include <span>
 #include <stdexcept>
+#include <type_traits>
 #include <unordered_map>
 #include <utility>
 
@@ -28,6 +30,13 @@
 namespace spall::solver {
 
 namespace {
+
+// Drops each entry whose key an earlier entry has: the first of each stays, in its place.
+template <class T, class Key>
+void keep_first_of_each(std::vector<T>& entries, Key key) {
+  std::set<std::invoke_result_t<Key&, const T&>> seen;
+  std::erase_if(entries, [&](const T& entry) { return !seen.insert(key(entry)).second; });
+}
 
 class Builder {
  public:
@@ -495,29 +504,23 @@ class Builder {
       }
     }
     // A node named twice (in two sets, say) is followed once, where it was first named.
-    std::vector<Index> sorted(places);
-    std::sort(sorted.begin(), sorted.end());
-    std::vector<std::uint8_t> taken(sorted.size(), 0);
-    std::erase_if(places, [&](Index i) {
-      const auto k = static_cast<std::size_t>(std::lower_bound(sorted.begin(), sorted.end(), i) - sorted.begin());
-      if (taken[k]) return true;
-      taken[k] = 1;
-      return false;
-    });
+    keep_first_of_each(places, [](Index place) { return place; });
   }
 
   // *DATABASE_HISTORY_SOLID: the elements elout.csv follows, in the deck's order, each once; each
   // must be a finite element of a formulation that follows it.
   void build_history_solids() {
+    std::vector<std::pair<Id, SourceLocation>> named;  // each ID with its card
+    for (const auto& card : model_.history_solids)
+      for (const Id id : card.ids) named.emplace_back(id, card.where);
+    keep_first_of_each(named, [](const auto& entry) { return entry.first; });
+    if (named.empty()) return;
     std::vector<Id>& ids = problem_.history_solids;
     std::vector<SourceLocation> where;
-    for (const auto& card : model_.history_solids)
-      for (const Id id : card.ids)
-        if (std::find(ids.begin(), ids.end(), id) == ids.end()) {
-          ids.push_back(id);
-          where.push_back(card.where);
-        }
-    if (ids.empty()) return;
+    for (const auto& [id, card] : named) {
+      ids.push_back(id);
+      where.push_back(card);
+    }
     std::vector<std::uint8_t> taken(ids.size(), 0);
     for (auto& f : problem_.formulations) f->follow_elements(ids, taken);
     const auto missing = std::find(taken.begin(), taken.end(), 0);

@@ -602,22 +602,14 @@ class Validator {
                     "TSSFAC");
     if (model_.d3plot && model_.d3plot->lcdt != 0)
       require_curve(model_.d3plot->lcdt, model_.d3plot->where, "*DATABASE_BINARY_D3PLOT", "LCDT");
-    if (model_.glstat && model_.glstat->lcdt != 0)
-      require_curve(model_.glstat->lcdt, model_.glstat->where, "*DATABASE_GLSTAT", "LCUR");
-    if (model_.rwforc && model_.rwforc->lcdt != 0)
-      require_curve(model_.rwforc->lcdt, model_.rwforc->where, "*DATABASE_RWFORC", "LCUR");
-    if (model_.rcforc && model_.rcforc->lcdt != 0)
-      require_curve(model_.rcforc->lcdt, model_.rcforc->where, "*DATABASE_RCFORC", "LCUR");
-    if (model_.rbdout && model_.rbdout->lcdt != 0)
-      require_curve(model_.rbdout->lcdt, model_.rbdout->where, "*DATABASE_RBDOUT", "LCUR");
-    if (model_.nodout && model_.nodout->lcdt != 0)
-      require_curve(model_.nodout->lcdt, model_.nodout->where, "*DATABASE_NODOUT", "LCUR");
-    if (model_.elout && model_.elout->lcdt != 0)
-      require_curve(model_.elout->lcdt, model_.elout->where, "*DATABASE_ELOUT", "LCUR");
-    if (model_.bndout && model_.bndout->lcdt != 0)
-      require_curve(model_.bndout->lcdt, model_.bndout->where, "*DATABASE_BNDOUT", "LCUR");
-    if (model_.spcforc && model_.spcforc->lcdt != 0)
-      require_curve(model_.spcforc->lcdt, model_.spcforc->where, "*DATABASE_SPCFORC", "LCUR");
+    // Each history file's LCUR.
+    const std::pair<const std::optional<model::OutputInterval>&, const char*> histories[] = {
+        {model_.glstat, "*DATABASE_GLSTAT"}, {model_.rwforc, "*DATABASE_RWFORC"},
+        {model_.rcforc, "*DATABASE_RCFORC"}, {model_.rbdout, "*DATABASE_RBDOUT"},
+        {model_.nodout, "*DATABASE_NODOUT"}, {model_.elout, "*DATABASE_ELOUT"},
+        {model_.bndout, "*DATABASE_BNDOUT"}, {model_.spcforc, "*DATABASE_SPCFORC"}};
+    for (const auto& [history, keyword] : histories)
+      if (history && history->lcdt != 0) require_curve(history->lcdt, history->where, keyword, "LCUR");
   }
 
   const Model& model_;
