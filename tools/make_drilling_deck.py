@@ -260,8 +260,9 @@ w("$#  dtinit    tssfac      isdo    tslimt     dt2ms")
 card("0.0", "0.9", 0, "0.0", real(args.dt2ms) if args.dt2ms else "0.0")
 w("*DATABASE_BINARY_D3PLOT")
 card(real(end_time / args.outputs))
-# SPCFORC: the clamp's reaction, what a dynamometer under the fixture reads.
-for keyword in ("*DATABASE_GLSTAT", "*DATABASE_RCFORC", "*DATABASE_RBDOUT", "*DATABASE_SPCFORC"):
+# SPCFORC: the clamp's reaction, what a dynamometer under the fixture reads; MATSUM: where the work
+# goes, the SPG core's and the FEM ring's internal energy and the tool's kinetic energy.
+for keyword in ("*DATABASE_GLSTAT", "*DATABASE_RCFORC", "*DATABASE_RBDOUT", "*DATABASE_SPCFORC", "*DATABASE_MATSUM"):
     w(keyword)
     card(real(end_time / args.histories))
 

@@ -66,6 +66,14 @@ RunOutputs::RunOutputs(const fs::path& out, const solver::Problem& problem, cons
     for (const char* name : {"fx", "fy", "fz"}) bndout_.columns.push_back({name, "force"});
     bndout_.columns.push_back({"work", "energy"});
   }
+  // The parts' energies and momenta (*DATABASE_MATSUM, only with the card), a row per part and
+  // output time at its interval: LS-DYNA's matsum.
+  if (problem.controls.matsum) {
+    matsum_.path = out / "matsum.csv";
+    matsum_.columns = {{"time", "time"}, {"part", ""}};
+    for (const std::string_view name : discretization::PartSummary::names)
+      matsum_.columns.push_back({std::string(name), name.ends_with("momentum") ? "mass*length/time" : "energy"});
+  }
   // The resultant of the SPCs' reactions (*DATABASE_SPCFORC, only with the card) at its interval:
   // LS-DYNA's spcforc resultant.
   if (problem.controls.spcforc) {
@@ -78,7 +86,7 @@ RunOutputs::RunOutputs(const fs::path& out, const solver::Problem& problem, cons
   solid_ = problem.sph_solid;
   residual_options_ = model.sph_residual_stress.value_or(model::SphResidualStress{});
   if (resume) return;
-  for (History* h : {&rwforc_, &rcforc_, &rbdout_, &nodout_, &spcforc_, &elout_, &bndout_})
+  for (History* h : {&rwforc_, &rcforc_, &rbdout_, &nodout_, &spcforc_, &elout_, &bndout_, &matsum_})
     if (!h->columns.empty()) open(*h);
   if (solid_) residual_.emplace(out / "residual.csv", *solid_, residual_options_);
 }
@@ -145,6 +153,14 @@ solver::Observer RunOutputs::observer() {
     const double row[] = {step.time, reaction.x(), reaction.y(), reaction.z(), work};
     bndout_.file->append(row);
   };
+  observer.on_part_summary = [this](const solver::StepInfo& step, const discretization::PartSummary& parts) {
+    using Summary = discretization::PartSummary;
+    for (std::size_t k = 0; k < parts.parts().size(); ++k) {
+      std::vector<double> row{step.time, static_cast<double>(parts.parts()[k])};
+      for (int q = 0; q < Summary::quantity_count; ++q) row.push_back(parts.value(k, Summary::Quantity(q)));
+      matsum_.file->append(row);
+    }
+  };
   observer.on_spc_reaction = [this](const solver::StepInfo& step, const Vec3& reaction) {
     const double row[] = {step.time, reaction.x(), reaction.y(), reaction.z()};
     spcforc_.file->append(row);
@@ -175,9 +191,9 @@ solver::Observer RunOutputs::observer() {
 }
 
 void RunOutputs::checkpoint(Archive& a) {
-  a.section("output files 5");
+  a.section("output files 6");
   a(masses_, glstat_.columns);
-  for (History* h : {&glstat_, &rwforc_, &rcforc_, &rbdout_, &nodout_, &spcforc_, &elout_, &bndout_}) {
+  for (History* h : {&glstat_, &rwforc_, &rcforc_, &rbdout_, &nodout_, &spcforc_, &elout_, &bndout_, &matsum_}) {
     std::optional<std::uint64_t> bytes;
     if (h->file) bytes = h->file->bytes();
     a(bytes);

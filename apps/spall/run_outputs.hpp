@@ -1,7 +1,7 @@
 #pragma once
 // The files rank 0 of a run writes as it goes: the d3plot series (field_series.hpp), glstat.csv,
 // and where the deck has them rwforc.csv, rcforc.csv, rbdout.csv, nodout.csv, elout.csv,
-// spcforc.csv, bndout.csv and the SPH solids' residual.csv; and the observer that writes them.
+// spcforc.csv, bndout.csv, matsum.csv and the SPH solids' residual.csv; and the observer that writes them.
 // What they hold so far is part of a checkpoint, so that a restart cuts them back to it and
 // carries on.
 #include <cstdint>
@@ -55,7 +55,7 @@ class RunOutputs {
   std::filesystem::path out_;
   const solver::Problem& problem_;
   FieldSeries fields_;
-  History glstat_, rwforc_, rcforc_, rbdout_, nodout_, elout_, spcforc_, bndout_;
+  History glstat_, rwforc_, rcforc_, rbdout_, nodout_, elout_, spcforc_, bndout_, matsum_;
   const sph::SolidFormulation* solid_ = nullptr;
   model::SphResidualStress residual_options_;
   std::optional<ResidualStressReport> residual_;

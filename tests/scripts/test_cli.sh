@@ -27,6 +27,17 @@ expect_input_error() {
 # A coarse bar, a quarter period.
 python3 "$source_dir/tools/make_bar_deck.py" --spacing 0.025 --periods 0.25 >"$work/bar.k"
 "$cli" run "$work/bar.k" -o "$work/out" 2>"$work/run.log" || { cat "$work/run.log"; fail "run"; }
+# Its part's energies (*DATABASE_MATSUM): the steel bar (1 x 0.1 x 0.1 m, M = 78.5 kg) starts with
+# v = V cos(pi x / L), V = 1 m/s, whose kinetic energy on the cell-centred lattice is M V^2 / 4 =
+# 19.625 J (the mean of cos^2 over the cells is 1/2 exactly; to 1e-6, the deck's velocities have six
+# digits); after a quarter period it is mostly the bar's internal energy (over 90 %), and the two
+# sum to it to 1 % (the artificial viscosity dissipates 0.3 %, glstat).
+sed 's/^\*END$/*DATABASE_MATSUM\n1e-5\n*END/' "$work/bar.k" >"$work/bar_matsum.k"
+"$cli" run "$work/bar_matsum.k" -o "$work/bar_matsum" 2>"$work/bar_matsum.log" ||
+  { cat "$work/bar_matsum.log"; fail "the bar with part energies"; }
+awk -F, 'NR == 2 { start = ($4 - 19.625) ^ 2 < (1e-6 * 19.625) ^ 2 && $3 == 0 }
+  END { exit !(start && $3 > 0.9 * 19.625 && ($3 + $4 - 19.625) ^ 2 < (0.01 * 19.625) ^ 2) }' \
+  "$work/bar_matsum/matsum.csv" || fail "the bar's energies: $(sed -n '2p;$p' "$work/bar_matsum/matsum.csv")"
 grep -q 'node-steps/s' "$work/run.log" || fail "no progress line"
 last=$(ls "$work/out"/d3plot_*.vtu | tail -n 1)
 "${read_vtu[@]}" "$last" --field velocity --field displacement --field pressure --field von_mises \
@@ -181,6 +192,63 @@ lift_work=$(tail -n 1 "$work/lifted_out/bndout.csv" | cut -d, -f5)
 head -n 1 "$work/lifted_out/glstat.csv" | cut -d, -f6 | grep -q '^external_work' || fail "glstat's 6th column"
 awk -F, -v w="$lift_work" 'END { exit !(w > 0.03 && (w - $6) ^ 2 < (1e-9 * w) ^ 2) }' "$work/lifted_out/glstat.csv" ||
   fail "the lifting motion's work $lift_work is not glstat's external work: $(tail -n 1 "$work/lifted_out/glstat.csv")"
+# Part energies (*DATABASE_MATSUM). The column of nu = 0 at rest under its weight (uniaxial
+# strain, sigma_zz = E eps_zz) holds the strain energy of its finite elements: linear elements with
+# lumped (here consistent) loads give the bar's exact nodal displacements, so each layer's strain is
+# the mean of the exact rho g (L - z) / E, and U = (rho g)^2 A L^3 / (6 E) (1 - 1 / (4 m^2)) =
+# 4.929316e-5 J for m = 10 layers (0.25 % below the continuum's), to 1e-4 (the damped transient
+# has decayed by e^-24); no kinetic or hourglass energy (ELFORM 2).
+sed -e 's/^1,7850.0,2.0e11,0.3$/1,7850.0,2.0e11,0.0/' -e 's/^\*END$/*DATABASE_MATSUM\n1.5e-3\n*END/' \
+  "$work/column.k" >"$work/column_matsum.k"
+grep -q '^1,7850.0,2.0e11,0.0$' "$work/column_matsum.k" || fail "the column's material line"
+"$cli" run "$work/column_matsum.k" -o "$work/column_matsum" 2>"$work/column_matsum.log" ||
+  { cat "$work/column_matsum.log"; fail "the column with part energies"; }
+head -n 1 "$work/column_matsum/matsum.csv" | grep -qx 'time \[time\],part,internal_energy \[energy\],kinetic_energy \[energy\],hourglass_energy \[energy\],x_momentum \[mass\*length/time\],y_momentum \[mass\*length/time\],z_momentum \[mass\*length/time\]' ||
+  fail "matsum header: $(head -n 1 "$work/column_matsum/matsum.csv")"
+awk -F, 'END { u = (7850 * 9.81) ^ 2 * 0.01 / (6 * 2e11) * (1 - 1 / 400.0)
+  exit !(NR == 4 && $1 == 0.003 && $2 == 1 && ($3 - u) ^ 2 < (1e-4 * u) ^ 2 && $4 < 1e-8 * u && $5 == 0) }' \
+  "$work/column_matsum/matsum.csv" ||
+  fail "the column at rest does not hold its strain energy 4.929316e-5 J: $(tail -n 1 "$work/column_matsum/matsum.csv")"
+sed 's/^1\.5e-3$/-1.5e-3/' "$work/column_matsum.k" >"$work/matsum_bad.k"
+expect_input_error "$work/matsum_bad.k" 'matsum_bad\.k:[0-9]+: \*DATABASE_MATSUM: field DT.*negative' "a negative MATSUM DT"
+# Two elastic blocks (ELFORM 1) and a rigid one, 0.1 m cubes of steel (M = 7.85 kg) apart and in
+# flight at VX = 2, VY = -3 and VZ = 5 m/s: each part carries 1/2 M V^2 (15.7, 35.325, 98.125 J) and
+# M V (15.7, -23.55, 39.25 kg m/s) to round-off, no internal or hourglass energy (a translation
+# strains nothing); the parts' kinetic energies sum to glstat's.
+python3 - >"$work/flight.k" <<'PY'
+print("*KEYWORD\n*CONTROL_TERMINATION\n1.0e-4\n*DATABASE_MATSUM\n5.0e-5\n*DATABASE_GLSTAT\n5.0e-5")
+print("*SECTION_SOLID\n1,1\n*MAT_ELASTIC\n1,7850.0,2.0e11,0.3\n*MAT_RIGID\n2,7850.0,2.0e11,0.3\n0.0,0.0,0.0")
+print("*PART\nmoving x\n1,1,1\n*PART\nmoving y\n2,1,1\n*PART\nrigid z\n3,1,2\n*NODE")
+n, a = 2, 0.05
+for p in range(3):
+    for k in range(n + 1):
+        for j in range(n + 1):
+            for i in range(n + 1):
+                print("%8d%16.8e%16.8e%16.8e" % (1 + 100 * p + i + 3 * (j + 3 * k), p + a * i, a * j, a * k))
+print("*ELEMENT_SOLID")
+for p in range(3):
+    for k in range(n):
+        for j in range(n):
+            for i in range(n):
+                c = [1 + 100 * p + q + 3 * (j + 3 * k) for q in (i, i + 1)]
+                c = [c[0], c[1], c[1] + 3, c[0] + 3]
+                c += [q + 9 for q in c]
+                print("%8d%8d" % (1 + 10 * p + i + n * (j + n * k), p + 1) + "".join("%8d" % q for q in c))
+print("*INITIAL_VELOCITY_GENERATION\n1,2,0.0,2.0,0.0,0.0\n0.0,0.0,0.0,0.0,0.0,0.0")
+print("*INITIAL_VELOCITY_GENERATION\n2,2,0.0,0.0,-3.0,0.0\n0.0,0.0,0.0,0.0,0.0,0.0")
+print("*INITIAL_VELOCITY_GENERATION\n3,2,0.0,0.0,0.0,5.0\n0.0,0.0,0.0,0.0,0.0,0.0\n*END")
+PY
+"$cli" run "$work/flight.k" -o "$work/flight_out" 2>"$work/flight.log" ||
+  { cat "$work/flight.log"; fail "the blocks in flight"; }
+glstat_kinetic=$(tail -n 1 "$work/flight_out/glstat.csv" | cut -d, -f3)
+awk -F, -v glstat="$glstat_kinetic" 'function off(x, exact) { return (x - exact) ^ 2 > (1e-12 * 100) ^ 2 }
+  $1 == 1e-4 { rows++; k = $2
+    if (off($4, k == 1 ? 15.7 : k == 2 ? 35.325 : 98.125) || off($6, k == 1 ? 15.7 : 0) ||
+        off($7, k == 2 ? -23.55 : 0) || off($8, k == 3 ? 39.25 : 0) || off($3, 0) || off($5, 0)) bad = 1
+    kinetic += $4 }
+  END { exit !(rows == 3 && !bad && !off(kinetic, glstat)) }' "$work/flight_out/matsum.csv" ||
+  fail "the parts in flight (glstat's kinetic energy $glstat_kinetic): $(tail -n 3 "$work/flight_out/matsum.csv")"
+
 # The SPH fluid computes no force on its wall particles: their reactions are refused, not zeros.
 sed 's/^\*END$/*DATABASE_SPCFORC\n0.001\n*END/' "$source_dir/examples/dam_break/dam_break_2d.k" >"$work/spc_fluid.k"
 expect_input_error "$work/spc_fluid.k" \

@@ -46,7 +46,8 @@ same_on_ranks "$work/d3.k" "$work/d3.serial" "2 1" "3 2" "2 1 rebalanced" "2 1 c
 # rows their regions keep, which change at each rebuild (before, a rank drove the rows of the first
 # deal, other nodes: the energies differed from the single process's by half). Its node 211 ends
 # at u_x = 0.5 m/s x 0.05 s = 25 mm, to round-off; bndout.csv (the force that drives it, the work
-# it does on the water) is the single process's too.
+# it does on the water) and matsum.csv (the water's compression and kinetic energy, each rank its
+# own particles) are the single process's too.
 python3 - "$work/d2.k" >"$work/paddle.k" <<'PY'
 import sys
 text = open(sys.argv[1]).read()
@@ -74,6 +75,8 @@ sys.stdout.write(text.replace(walls, """         1
 *DATABASE_HISTORY_NODE
        211
 *DATABASE_BNDOUT
+     0.001
+*DATABASE_MATSUM
      0.001
 """).replace("*DATABASE_BINARY_RUNRSF", "*DATABASE_NODOUT\n     0.001\n*DATABASE_BINARY_RUNRSF"))
 PY

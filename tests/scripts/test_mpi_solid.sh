@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # The SPH solid and SPG on several MPI ranks (issue 35; docs/SCALING.md, "Replicated state"), run
 # as one process and under mpirun as 1-4 ranks (oversubscribed on 2 cores) with 1 or 2 threads each:
-# every history (glstat.csv, rwforc.csv, nodout.csv) is byte for byte the single process's, and the field output
-# (a .pvtu per output time of each rank's .vtu piece) holds its .vtu files' points and fields bit for
-# bit.
+# every history (glstat.csv, rwforc.csv, nodout.csv, matsum.csv ...) is byte for byte the single
+# process's, and the field output (a .pvtu per output time of each rank's .vtu piece) holds its .vtu
+# files' points and fields bit for bit.
 #  - the Taylor bar of examples/taylor_bar, cut short: Johnson-Cook, the corrected gradient, a fixed
 #    rigid wall (each rank's own nodes, the force summed over the ranks; the velocities by reach),
 #    the force pass taking each pair once (in blocks, of which each rank runs its own and the one
@@ -47,8 +47,10 @@ fail() { echo "FAIL: $*"; exit 1; }
 source "$source_dir/tests/scripts/mpi_common.sh"
 
 cut_deck "$source_dir/examples/taylor_bar/taylor_bar.k" 1e-5 20 >"$work/taylor.k"
-# Three history nodes (nodout.csv): the velocity at t^n and the acceleration each from its owner.
-sed -i 's/^\*END$/*DATABASE_HISTORY_NODE\n1,2000,4144\n*DATABASE_NODOUT\n1e-6\n*END/' "$work/taylor.k"
+# Three history nodes (nodout.csv): the velocity at t^n and the acceleration each from its owner;
+# the part's energies and momentum (matsum.csv): each rank's own particles and nodes, exact sums.
+sed -i 's/^\*END$/*DATABASE_HISTORY_NODE\n1,2000,4144\n*DATABASE_NODOUT\n1e-6\n*DATABASE_MATSUM\n1e-6\n*END/' \
+  "$work/taylor.k"
 cut_deck "$source_dir/examples/brittle_spall/brittle_spall.k" 0.01 >"$work/spall.k"
 cut_deck "$source_dir/examples/compression_iron/compression_iron.k" 2e-5 >"$work/compression.k"
 run_serial taylor 40
@@ -72,6 +74,7 @@ print("*KEYWORD\n*CONTROL_TERMINATION\n%10.4e" % end)
 print("*DATABASE_BINARY_D3PLOT\n%10.4e\n*DATABASE_GLSTAT\n%10.4e" % (end / 4, end / 100))
 print("*DATABASE_SPCFORC\n%10.4e" % (end / 100))  # the reactions that hold the skimmer in x and y
 print("*DATABASE_BNDOUT\n%10.4e" % (end / 100))  # and that drive it along z
+print("*DATABASE_MATSUM\n%10.4e" % (end / 100))
 print("*DATABASE_BINARY_RUNRSF\n%10d" % 60)
 print("*PART\nlayer and skimmer\n%10d%10d%10d" % (1, 1, 1))
 print("*SECTION_SPH\n%10d%10g%10g%10g" % (1, 1.2, 1.0, 1.0))
@@ -135,6 +138,7 @@ deck = "\n".join(out)
 print(deck.replace("*SECTION_SOLID_SPG", "*PART\nsecond half\n         2         1         1\n*SECTION_SOLID_SPG", 1), end="")
 PY
 [ "$(grep -c '^\*PART' "$work/spg_parts.k")" -eq 2 ] || fail "the two-part SPG deck"
+sed -i 's/^\*END$/*DATABASE_MATSUM\n2e-6\n*END/' "$work/spg_parts.k"  # each part's energies
 run_serial spg_parts 400
 same_on_ranks "$work/spg_parts.k" "$work/spg_parts.serial" "3 1 rebalanced" "4 1 fixed"
 # The SPG bar with 6 elements across: particles two rings of bonds inside the surface, where the
@@ -165,7 +169,10 @@ deck = deck.replace("*NODE", "*MAT_ADD_EROSION\n         1       0.0       0.0  
 sys.stdout.write(deck)' >"$work/eroding.k"
 sed -i 's/^\*END$/*DATABASE_BINARY_RUNRSF\n       100\n*END/' "$work/eroding.k"
 # Element histories (elout.csv) of elements that erode (1, 72, 144) and one that does not (3).
-sed -i 's/^\*END$/*DATABASE_HISTORY_SOLID\n1,3,72,144\n*DATABASE_ELOUT\n1e-5\n*END/' "$work/eroding.k"
+# And matsum.csv: the elements each rank books, those that eroded left out, the hourglass energy.
+sed -i 's/^\*END$/*DATABASE_HISTORY_SOLID\n1,3,72,144\n*DATABASE_ELOUT\n1e-5\n*DATABASE_MATSUM\n1e-5\n*END/' \
+  "$work/eroding.k"
+sed -i 's/^\*END$/*DATABASE_MATSUM\n4e-6\n*END/' "$work/fem_ends.k"  # SPG and FEM parts' energies
 run_serial fem_ends 300
 run_serial eroding 300
 grep -q 'one-point hexahedra' "$work/eroding.log" || fail "the eroding bar is not ELFORM 1"

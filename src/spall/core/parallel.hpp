@@ -264,6 +264,29 @@ auto exact_sum(Index n, Term&& term, const Communicator* across = nullptr) {
   return result;
 }
 
+// For each group g < groups, the sum of term(i) over the i < n with group(i) == g (i left out where
+// group(i) < 0), each exact as exact_sum's, into a vector of `groups` sums.
+template <typename Group, typename Term>
+std::vector<Real> exact_sums_by_group(Index n, int groups, Group&& group, Term&& term,
+                                      const Communicator* across = nullptr) {
+  std::vector<ExactSum> total(static_cast<std::size_t>(groups));
+#pragma omp parallel
+  {
+    std::vector<ExactSum> local(total.size());
+#pragma omp for schedule(static) nowait
+    for (Index i = 0; i < n; ++i) {
+      const int g = group(i);
+      if (g >= 0) local[static_cast<std::size_t>(g)] += term(i);
+    }
+#pragma omp critical(spall_parallel_exact_sum)
+    for (std::size_t g = 0; g < total.size(); ++g) total[g] += local[g];
+  }
+  if (across) across->sum(total);
+  std::vector<Real> result(total.size());
+  for (std::size_t g = 0; g < total.size(); ++g) result[g] = total[g].value();
+  return result;
+}
+
 // The same over the terms of a range.
 template <typename Term>
 auto exact_sum(Range range, Term&& term, const Communicator* across = nullptr) {

@@ -6,8 +6,10 @@
 //   total = kinetic + stored + dissipated,   ratio = total / (total at t = 0 + external work),
 // which is 1 for a run that conserves energy (LS-DYNA's glstat "energy ratio"). The kinetic and
 // internal energy of eroded elements leave with them and are dissipated terms of their own.
+#include <algorithm>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "spall/core/archive.hpp"
@@ -65,14 +67,35 @@ class EnergyLedger {
   static constexpr std::string_view eroded_mass = "eroded_mass";
   static constexpr std::string_view added_mass = "added_mass";
 
+  // *DATABASE_MATSUM: internal_energy booked part by part, by the formulations whose material
+  // points hold no energy that follows their forces' work (the SPH solid: its e integrates the
+  // corrected velocity gradient, whose power the pair forces do not deliver; SPG: its e leaves out
+  // the stabilization's springs; FEM: its points' e, each a mass m / points, drifts from the work
+  // as elements distort). Off until keep_part_work
+  // names the parts (ascending, each once); then add_part_work(k, amount) adds to the k-th.
+  void keep_part_work(std::vector<Id> parts) {
+    part_ids_ = std::move(parts);
+    part_work_.assign(part_ids_.size(), 0);
+  }
+  const std::vector<Id>& part_ids() const { return part_ids_; }
+  // The place of `part` in part_ids(), -1 when it is not there.
+  int part_slot(Id part) const {
+    const auto at = std::lower_bound(part_ids_.begin(), part_ids_.end(), part);
+    return at == part_ids_.end() || *at != part ? -1 : static_cast<int>(at - part_ids_.begin());
+  }
+  void add_part_work(std::size_t k, Real amount) { part_work_[k] += amount; }
+  Real part_work(std::size_t k) const { return part_work_[k]; }
+
   // The terms and the total at t = 0 (a restart continues the same balance).
-  void checkpoint(Archive& a) { a(terms_, initial_total_); }
+  void checkpoint(Archive& a) { a(terms_, initial_total_, part_ids_, part_work_); }
 
  private:
   Term& term(std::string_view name, Role role);
 
   std::vector<Term> terms_;
   Real initial_total_ = 0;
+  std::vector<Id> part_ids_;
+  std::vector<Real> part_work_;
 };
 
 // The power of a formulation's internal forces at the nodes' velocities: the rate of stored

@@ -12,6 +12,7 @@
 #include "spall/discretization/energy_ledger.hpp"
 #include "spall/discretization/field_set.hpp"
 #include "spall/discretization/node_store.hpp"
+#include "spall/discretization/part_summary.hpp"
 
 namespace spall::discretization {
 
@@ -38,8 +39,15 @@ class Formulation {
   // Books dt times the power of the last internal forces at the node velocities v (mid-step
   // velocities, one a row of `nodes`) into the ledger: the stored (strain) energy and whatever the
   // formulation dissipates (artificial viscosity, hourglass control ...). Called every step, from
-  // the first, so that the formulation's terms are registered before the first output.
+  // the first, so that the formulation's terms are registered before the first output. A
+  // formulation whose material points hold no energy that follows this work (sum_parts) books its
+  // stored share part by part too when the ledger keeps part work (EnergyLedger::keep_part_work).
   virtual void book_energies(EnergyLedger& ledger, const NodeStore& nodes, std::span<const Vec3> v, Real dt) const = 0;
+
+  // *DATABASE_MATSUM: adds to `parts`, under each particle's or element's part, the internal energy
+  // its material points hold, m (e - e0), and the hourglass energy of its elements: of those this
+  // rank accounts for (its own particles, the elements it books), at an output.
+  virtual void sum_parts(PartSummary& /*parts*/, const NodeStore& /*nodes*/) const {}
 
   // Writes the formulation's output fields (pressure, von Mises stress, density, ...) for its own
   // nodes, and its cells if it has any: those whose first node this rank owns (NodeStore::owns),

@@ -194,6 +194,14 @@ SolidElements::SolidElements(std::vector<PartSettings> parts, const std::vector<
   live_elements_.assign(node_.size(), 0);
   for (const Block& block : blocks_)
     for (Index k : block.node) ++live_elements_[k];
+  node_part_.assign(node_.size(), -1);
+  for (const Block& block : blocks_)
+    for (std::size_t j = 0; j < block.node.size(); ++j) {
+      const std::int32_t p = block.part[j / static_cast<std::size_t>(block.nodes_per_element)];
+      std::int32_t& q = node_part_[block.node[j]];
+      if (q < 0 || parts_[p].part_id < parts_[q].part_id) q = p;
+    }
+  eroded_internal_by_part_.assign(parts_.size(), 0);
   // Under MPI each rank sets up the elements it computes alone, once the nodes are dealt
   // (distribute): no rank holds every element's state, even for a while.
   if (parallel::world().size() == 1) set_up_state(nodes);
@@ -639,7 +647,8 @@ bool SolidElements::fails(Block& block, Index e, const Mat3& L, Real dt, Real st
 void SolidElements::remove_eroded(discretization::NodeStore& nodes) {
   // The energies and mass taken out, each an exact sum over the elements of the rank's own, then
   // over the ranks: the same for any partition.
-  std::array<ExactSum, 3> taken;  // kinetic energy, internal energy, mass
+  // Kinetic energy, internal energy, mass, then the internal energy of each part.
+  std::vector<ExactSum> taken(3 + parts_.size());
   for (std::size_t k_block = 0; k_block < blocks_.size(); ++k_block) {
     Block& block = blocks_[k_block];
     const int per = block.nodes_per_element, points = block.points_per_element;
@@ -660,6 +669,7 @@ void SolidElements::remove_eroded(discretization::NodeStore& nodes) {
       if (owned) {
         taken[1] += m * internal / points;
         taken[2] += m;
+        taken[3 + static_cast<std::size_t>(block.part[e])] += m * internal / points;
       }
       for (int a = 0; a < per; ++a) {
         const Index k = block.node[per * e + a], i = nodes.node_row(node_[k]);
@@ -676,6 +686,7 @@ void SolidElements::remove_eroded(discretization::NodeStore& nodes) {
   eroded_kinetic_step_ = taken[0].value();
   eroded_internal_step_ = taken[1].value();
   eroded_mass_ += taken[2].value();
+  for (std::size_t p = 0; p < parts_.size(); ++p) eroded_internal_by_part_[p] = taken[3 + p].value();
 }
 
 void SolidElements::Block::hold(parallel::Range elements) {
@@ -838,6 +849,7 @@ void SolidElements::compute_forces(discretization::NodeStore& nodes, Real dt) {
   }, element_loops);
   time_ += dt;
   eroded_kinetic_step_ = eroded_internal_step_ = 0;
+  std::fill(eroded_internal_by_part_.begin(), eroded_internal_by_part_.end(), Real(0));
   struct Found {
     Real step;
     Real sound_speed;
@@ -960,6 +972,18 @@ bool SolidElements::scale_mass_below(Real step, bool first_step_only) {
   return true;
 }
 
+void SolidElements::sum_parts(discretization::PartSummary& parts, const discretization::NodeStore&) const {
+  using Summary = discretization::PartSummary;
+  for (std::size_t k = 0; k < blocks_.size(); ++k) {
+    const Block& block = blocks_[k];
+    const parallel::Range elements = held(k);
+    if (block.hourglass_energy.empty()) continue;
+    for (Index e = elements.begin; e < elements.end; ++e)
+      if (!block.eroded[e] && books(block, e))
+        parts.add(parts_[block.part[e]].part_id, Summary::hourglass_energy, block.hourglass_energy[e]);
+  }
+}
+
 void SolidElements::book_energies(discretization::EnergyLedger& ledger, const discretization::NodeStore& nodes,
                                   std::span<const Vec3> v, Real dt) const {
   using Ledger = discretization::EnergyLedger;
@@ -995,6 +1019,44 @@ void SolidElements::book_energies(discretization::EnergyLedger& ledger, const di
     ledger.set(Ledger::eroded_mass, Ledger::Role::reported, eroded_mass_);
   }
   if (mass_scaling_.step > 0) ledger.add(Ledger::added_mass, Ledger::Role::reported, mass_scaling_.added_this_step);
+  if (!ledger.part_ids().empty()) book_part_work(ledger, nodes, v, dt);
+}
+
+void SolidElements::book_part_work(discretization::EnergyLedger& ledger, const discretization::NodeStore& nodes,
+                                   std::span<const Vec3> v, Real dt) const {
+  // *DATABASE_MATSUM: internal_energy as above, part by part: the stored work at each local node
+  // under its part (node_part_), less each element's hourglass dissipation and, as it erodes, its
+  // internal energy (collectives, only with the card). A node that parts share books its whole
+  // work to one: an element's own work is not kept apart.
+  const std::vector<Id>& ids = ledger.part_ids();
+  std::vector<int> slot(parts_.size());  // parts_ -> the ledger's parts
+  for (std::size_t p = 0; p < parts_.size(); ++p) slot[p] = ledger.part_slot(parts_[p].part_id);
+  const parallel::Communicator* across = share_ ? &parallel::world() : nullptr;
+  const parallel::Range forces = forces_held();
+  std::vector<Real> work = parallel::exact_sums_by_group(
+      forces.size(), static_cast<int>(ids.size()),
+      [&](Index j) { return owns(forces.begin + j) ? slot[node_part_[forces.begin + j]] : -1; },
+      [&](Index j) {
+        const Index k = forces.begin + j;
+        return -(force_[k] - bulk_force_[k]).dot(v[nodes.node_row(node_[k])]);
+      },
+      across);
+  for (std::size_t k = 0; k < blocks_.size(); ++k) {
+    const Block& block = blocks_[k];
+    if (block.hourglass_power.empty()) continue;
+    const parallel::Range elements = held(k);
+    const std::vector<Real> hourglass = parallel::exact_sums_by_group(
+        elements.size(), static_cast<int>(ids.size()),
+        [&](Index j) {
+          const Index e = elements.begin + j;
+          return !block.eroded[e] && books(block, e) ? slot[block.part[e]] : -1;
+        },
+        [&](Index j) { return block.hourglass_power[elements.begin + j]; }, across);
+    for (std::size_t p = 0; p < ids.size(); ++p) work[p] -= hourglass[p];
+  }
+  for (std::size_t p = 0; p < parts_.size(); ++p)
+    if (slot[p] >= 0) ledger.add_part_work(static_cast<std::size_t>(slot[p]), -eroded_internal_by_part_[p]);
+  for (std::size_t p = 0; p < ids.size(); ++p) ledger.add_part_work(p, dt * work[p]);
 }
 
 // Each block's state in pieces (core/pieces.hpp): each rank writes the elements it books; read

@@ -97,6 +97,9 @@ class SolidElements final : public discretization::Formulation {
   Real stable_time_step(const discretization::NodeStore& nodes) const override;
   void book_energies(discretization::EnergyLedger& ledger, const discretization::NodeStore& nodes,
                      std::span<const Vec3> v, Real dt) const override;
+  // The hourglass energy of the elements it books that have not eroded (their internal energy is
+  // the ledger's work by part: book_energies).
+  void sum_parts(discretization::PartSummary& parts, const discretization::NodeStore& nodes) const override;
   void write_fields(discretization::FieldSet& fields, const discretization::NodeStore& nodes) const override;
   Real max_wave_speed() const override { return max_sound_speed_; }
 
@@ -250,6 +253,9 @@ class SolidElements final : public discretization::Formulation {
   // Whether this rank accounts for element e (its eroded mass and energies, DT2MS's added mass, its
   // hourglass dissipation, its cell in the output and its state in a checkpoint): the owner of its
   // first node, so that each element counts once.
+  // book_energies's internal_energy part by part (EnergyLedger::keep_part_work).
+  void book_part_work(discretization::EnergyLedger& ledger, const discretization::NodeStore& nodes,
+                      std::span<const Vec3> v, Real dt) const;
   bool books(const Block& block, Index e) const {
     return !share_ || share_->nodes.owns(node_[block.node[static_cast<std::size_t>(block.nodes_per_element) * e]]);
   }
@@ -287,8 +293,13 @@ class SolidElements final : public discretization::Formulation {
   Real erosion_step_ = 0;   // ERODE: elements below this step are deleted (0: off)
   std::vector<std::int32_t> live_elements_;  // per local node: elements not deleted
   std::vector<Real> other_mass_;             // per local node: the mass other formulations gave it
-  // This step's deletions (booked by book_energies) and the totals.
+  // Per local node, the part (index into parts_) its work goes to in matsum.csv: of its elements',
+  // the one of the lowest ID.
+  std::vector<std::int32_t> node_part_;
+  // This step's deletions (booked by book_energies) and the totals; the internal energy also by
+  // part (parts_'s order), for matsum.csv.
   Real eroded_kinetic_step_ = 0, eroded_internal_step_ = 0;
+  std::vector<Real> eroded_internal_by_part_;
   Real eroded_mass_ = 0;
   discretization::MassScaling mass_scaling_;  // DT2MS
   bool may_erode_ = false;       // some part has an erosion criterion or a material that fails

@@ -726,6 +726,7 @@ struct Model {
   std::optional<OutputInterval> nodout;
   std::optional<OutputInterval> spcforc;
   std::optional<OutputInterval> bndout;
+  std::optional<OutputInterval> matsum;
   std::vector<HistoryIds> history_nodes;  // in the deck's order
   std::optional<OutputInterval> elout;
   std::vector<HistoryIds> history_solids;  // in the deck's order

@@ -118,11 +118,10 @@ void RigidBodies::share_forces(discretization::NodeStore& nodes) const {
 RigidBodies::Energies RigidBodies::energies(Real weight, Real reaction_weight, Real dt_mid) const {
   Energies e;
   for (const RigidBody& b : bodies_) {
-    const Vec3 dv = b.velocity - b.last_velocity, dL = b.angular_momentum - b.last_angular_momentum;
-    const Vec3 dw = b.angular_velocity - b.last_angular_velocity;
-    const Vec3 v = b.last_velocity + weight * dv, w = b.last_angular_velocity + weight * dw;
-    e.kinetic += Real(0.5) * b.mass * v.squaredNorm() + Real(0.5) * w.dot(b.last_angular_momentum + weight * dL);
+    e.kinetic += b.kinetic_energy_at(weight);
     if (dt_mid > 0) {
+      const Vec3 dv = b.velocity - b.last_velocity, dL = b.angular_momentum - b.last_angular_momentum;
+      const Vec3 dw = b.angular_velocity - b.last_angular_velocity;
       const Vec3 reaction = b.mass * dv / dt_mid - b.force, reaction_moment = dL / dt_mid - b.moment;
       e.reaction_power += reaction.dot(b.last_velocity + reaction_weight * dv) +
                           reaction_moment.dot(b.last_angular_velocity + reaction_weight * dw);

@@ -64,6 +64,15 @@ struct RigidBody {
   // v_c, L and omega at the half step before the last update (for the energies at t^n).
   Vec3 last_velocity = Vec3::Zero(), last_angular_momentum = Vec3::Zero(), last_angular_velocity = Vec3::Zero();
 
+  // v_c at the point `weight` of the way from the last half step to this one (t^n at the time
+  // loop's weight), and the kinetic energy there, 1/2 m v_c.v_c + 1/2 omega.L (the body's own mass
+  // properties, not its nodes', so that *PART_INERTIA counts as it moves).
+  Vec3 velocity_at(Real weight) const { return last_velocity + weight * (velocity - last_velocity); }
+  Real kinetic_energy_at(Real weight) const {
+    const Vec3 w = last_angular_velocity + weight * (angular_velocity - last_angular_velocity);
+    const Vec3 L = last_angular_momentum + weight * (angular_momentum - last_angular_momentum);
+    return Real(0.5) * mass * velocity_at(weight).squaredNorm() + Real(0.5) * w.dot(L);
+  }
   // J in the world's frame at the rotation R: R J0 R^T.
   Mat3 world_inertia(const Mat3& R) const { return R * inertia * R.transpose(); }
 
@@ -94,11 +103,10 @@ class RigidBodies {
   void add(RigidBody body, discretization::NodeStore& nodes, const MassProperties* given = nullptr);
 
   // The bodies' share of the energy ledger at t^n, their nodes' left out of the time loop's sums:
-  // the kinetic energy 1/2 m v_c.v_c + 1/2 omega.L at the point `weight` of the way from the last
-  // half step to this one, and the power of the constraints and prescribed motions (the momentum
-  // and angular momentum they added over dt_mid, against the body's forces) at the point
-  // `reaction_weight`. The body's own mass properties, not its nodes', so that *PART_INERTIA
-  // counts as it moves.
+  // the kinetic energy at the point `weight` of the way from the last half step to this one
+  // (RigidBody::kinetic_energy_at), and the power of the constraints and prescribed motions (the
+  // momentum and angular momentum they added over dt_mid, against the body's forces) at the point
+  // `reaction_weight`.
   struct Energies {
     Real kinetic = 0;
     Real reaction_power = 0;

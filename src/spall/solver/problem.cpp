@@ -716,6 +716,12 @@ class Builder {
       c.bndout = true;
       force_history(model_.bndout, "*DATABASE_BNDOUT", c.bndout_dt, c.bndout_dt_curve);
     }
+    if (model_.matsum) {
+      c.matsum = true;
+      force_history(model_.matsum, "*DATABASE_MATSUM", c.matsum_dt, c.matsum_dt_curve);
+      for (const auto& part : model_.parts) c.matsum_parts.push_back(part.id);
+      std::sort(c.matsum_parts.begin(), c.matsum_parts.end());  // the deck's IDs are unique (validate)
+    }
     if (model_.spcforc) {
       c.spcforc = true;
       force_history(model_.spcforc, "*DATABASE_SPCFORC", c.spcforc_dt, c.spcforc_dt_curve);

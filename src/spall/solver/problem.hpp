@@ -67,6 +67,12 @@ struct RunControls {
   bool bndout = false;
   Real bndout_dt = 0;
   const model::Curve* bndout_dt_curve = nullptr;  // LCUR
+  // *DATABASE_MATSUM: the energies and momenta of each of `matsum_parts` (every *PART of the deck)
+  // in matsum.csv; only with the card.
+  bool matsum = false;
+  Real matsum_dt = 0;
+  const model::Curve* matsum_dt_curve = nullptr;  // LCUR
+  std::vector<Id> matsum_parts;
   // *DAMPING_GLOBAL: f = -D(t) m (scale . v), D = damping or damping_curve(t).
   Real damping = 0;
   const model::Curve* damping_curve = nullptr;

@@ -75,6 +75,8 @@ class TimeLoop::Step {
     spcforc_ = {controls_.spcforc_dt, controls_.spcforc_dt_curve};
     elout_ = {controls_.elout_dt, controls_.elout_dt_curve};
     bndout_ = {controls_.bndout_dt, controls_.bndout_dt_curve};
+    matsum_ = {controls_.matsum_dt, controls_.matsum_dt_curve};
+    if (controls_.matsum) ledger_.keep_part_work(controls_.matsum_parts);
     runaway_speed_limit_ = runaway_speed_limit();
     // Over every node: each rank's block of them, summed over the ranks, when the set-up built blocks.
     initial_mass_ = parallel::exact_sum(nodes_.size(), [&](Index i) { return nodes_.mass[i]; },
@@ -179,10 +181,10 @@ class TimeLoop::Step {
     a.expect_size("contacts", problem_.contacts.size());
     for (auto& c : problem_.contacts) c.checkpoint(a);
     a(problem_.rigid_bodies);
-    a.section("time loop 5");
+    a.section("time loop 6");
     a(step_, dt_previous_, dt_first_, dt_mid_, velocity_weight_, base_acceleration_, damping_,
       runaway_speed_limit_, initial_mass_, field_output_, history_, rwforc_, rcforc_, rbdout_, nodout_, spcforc_,
-      elout_, bndout_, motion_work_, ledger_, phases_);
+      elout_, bndout_, matsum_, motion_work_, ledger_, phases_);
   }
 
  private:
@@ -523,12 +525,46 @@ class TimeLoop::Step {
       const Vec3 reaction = motion_reaction();  // a collective: on every rank
       if (observer_.on_motion_reaction) observer_.on_motion_reaction(step_, reaction, motion_work_);
     }
+    if (controls_.matsum && matsum_.due(step_.time, tolerance, stop)) {
+      const discretization::PartSummary parts = part_summary();  // a collective: on every rank
+      if (observer_.on_part_summary) observer_.on_part_summary(step_, parts);
+    }
     if (controls_.spcforc && spcforc_.due(step_.time, tolerance, stop)) {
       const Vec3 reaction = spc_reaction();  // a collective: on every rank
       if (observer_.on_spc_reaction) observer_.on_spc_reaction(step_, reaction);
     }
     if (observer_.on_step) observer_.on_step(step_);
     return !stop;
+  }
+
+  // The parts' energies and momenta at t^n (*DATABASE_MATSUM): the internal energy the ledger keeps
+  // by part and the formulations' own (Formulation::sum_parts: a liquid's, the elements' hourglass
+  // energy), the kinetic energy and momentum of each node under the node's part (v^n is in v_old_
+  // from energies() on; a node that parts share counts, whole, to the part NodeStore::part names),
+  // and a rigid body's, of its own mass properties, under its part. Each an exact sum over the
+  // ranks' own nodes (the ledger's and the bodies', which every rank holds, from rank 0).
+  discretization::PartSummary part_summary() const {
+    using Summary = discretization::PartSummary;
+    Summary parts(controls_.matsum_parts);
+    for (const auto& f : problem_.formulations) f->sum_parts(parts, nodes_);
+    for (Index k = 0; k < nodes_.owned_count(); ++k) {
+      const Index i = nodes_.owned_node(k);
+      if (nodes_.body[i] != discretization::NodeStore::no_body || !(nodes_.mass[i] > 0)) continue;
+      const Vec3& v = v_old_[i];
+      parts.add(nodes_.part[i], Summary::kinetic_energy, Real(0.5) * nodes_.mass[i] * v.squaredNorm());
+      parts.add_momentum(nodes_.part[i], nodes_.mass[i] * v);
+    }
+    const parallel::Communicator& ranks = parallel::world();
+    if (ranks.rank() == 0) {
+      for (std::size_t k = 0; k < ledger_.part_ids().size(); ++k)
+        parts.add(ledger_.part_ids()[k], Summary::internal_energy, ledger_.part_work(k));
+      for (const rigid::RigidBody& body : problem_.rigid_bodies.bodies()) {
+        parts.add(body.part_id, Summary::kinetic_energy, body.kinetic_energy_at(velocity_weight_));
+        parts.add_momentum(body.part_id, body.mass * body.velocity_at(velocity_weight_));
+      }
+    }
+    parts.sum_over(ranks);
+    return parts;
   }
 
   // The history nodes' motion at t^n: v^n is in v_old_ from energies() on, v^{n+1/2} in the nodes,
@@ -735,7 +771,7 @@ class TimeLoop::Step {
   Vec3 base_acceleration_ = Vec3::Zero(), damping_ = Vec3::Zero();
   Real runaway_speed_limit_ = std::numeric_limits<Real>::infinity();
   Real initial_mass_ = 0;  // the nodes' mass before DT2MS adds any (ENDMAS)
-  OutputSchedule field_output_, history_, rwforc_, rcforc_, rbdout_, nodout_, spcforc_, elout_, bndout_;
+  OutputSchedule field_output_, history_, rwforc_, rcforc_, rbdout_, nodout_, spcforc_, elout_, bndout_, matsum_;
   Real motion_work_ = 0;  // the prescribed motions' reactions' work since the start (BNDOUT)
   EnergyLedger ledger_;
   PhaseTimes phases_;

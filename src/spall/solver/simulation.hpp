@@ -11,6 +11,7 @@
 #include <string_view>
 
 #include "spall/discretization/energy_ledger.hpp"
+#include "spall/discretization/part_summary.hpp"
 #include "spall/solver/load_balance.hpp"
 #include "spall/solver/problem.hpp"
 
@@ -76,6 +77,9 @@ struct Observer {
   // The resultant of the prescribed motions' reactions at t^n and their work since the start
   // (every BNDOUT interval, with *DATABASE_BNDOUT only, and at the end); under MPI on every rank.
   std::function<void(const StepInfo&, const Vec3&, Real)> on_motion_reaction;
+  // The parts' energies and momenta at t^n (every MATSUM interval, with *DATABASE_MATSUM only, and
+  // at the end); under MPI on every rank.
+  std::function<void(const StepInfo&, const discretization::PartSummary&)> on_part_summary;
   // The history elements' state at t^n, in the deck's order (every ELOUT interval, GLSTAT's by
   // default, and at the end); under MPI on every rank.
   std::function<void(const StepInfo&, const std::vector<ElementHistory>&)> on_element_histories;

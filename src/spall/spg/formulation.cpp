@@ -37,6 +37,11 @@ discretization::InternalPower SpgFormulation::internal_power(const discretizatio
 void SpgFormulation::book_energies(discretization::EnergyLedger& ledger, const discretization::NodeStore& nodes,
                                    std::span<const Vec3> v, Real dt) const {
   discretization::book_internal_power(ledger, internal_power(nodes, v), dt);
+  // *DATABASE_MATSUM: each part's stored work (collectives, only with the card); its particles' e
+  // leaves out the stabilization's springs and goes on where the bonds have broken.
+  for (const auto& part : parts_)
+    if (const int slot = ledger.part_slot(part.settings().part_id); slot >= 0)
+      ledger.add_part_work(static_cast<std::size_t>(slot), dt * part.internal_power(nodes, v).stored);
   if (!mass_scaled_) return;
   Real added = 0;
   for (const auto& part : parts_) added += part.added_mass_step();

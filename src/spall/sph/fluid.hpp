@@ -105,6 +105,10 @@ class FluidFormulation final : public discretization::Formulation {
   Real stable_time_step(const discretization::NodeStore& nodes) const override;
   void book_energies(discretization::EnergyLedger& ledger, const discretization::NodeStore& nodes,
                      std::span<const Vec3> v, Real dt) const override;
+  // The compression energy of its own moving particles, m e(rho), e(rho) = integral_rho0^rho p(r) / r^2 dr
+  // (a barotropic liquid: de = p drho / rho^2). The walls' densities change too, but they do no
+  // work: their share is not the liquid's (nor any part's).
+  void sum_parts(discretization::PartSummary& parts, const discretization::NodeStore& nodes) const override;
   void write_fields(discretization::FieldSet& fields, const discretization::NodeStore& nodes) const override;
   // The power of the last internal forces at the node velocities v.
   discretization::InternalPower internal_power(std::span<const Vec3> v) const;

@@ -1578,6 +1578,19 @@ discretization::InternalPower SolidFormulation::internal_power(const discretizat
 void SolidFormulation::book_energies(discretization::EnergyLedger& ledger, const discretization::NodeStore& nodes,
                                      std::span<const Vec3> v, Real dt) const {
   discretization::book_internal_power(ledger, internal_power(nodes, v), dt);
+  const std::vector<Id>& parts = ledger.part_ids();
+  if (parts.empty()) return;
+  // *DATABASE_MATSUM: internal_power's stored share, each particle's under its part (a collective).
+  const neighbors::ParticleRange own = own_particles();
+  const std::vector<Real> power = parallel::exact_sums_by_group(
+      own.size(), static_cast<int>(parts.size()),
+      [&](Index k) { return ledger.part_slot(nodes.part[row(nodes, own.begin + k)]); },
+      [&](Index k) {
+        const Index a = own.begin + k;
+        return -(force_[a].head<3>() - viscous_force_[a]).dot(v[row(nodes, a)]);
+      },
+      &parallel::world());
+  for (std::size_t k = 0; k < parts.size(); ++k) ledger.add_part_work(k, dt * power[k]);
 }
 
 void SolidFormulation::write_fields(discretization::FieldSet& fields, const discretization::NodeStore& nodes) const {

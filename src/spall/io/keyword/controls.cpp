@@ -270,12 +270,9 @@ void read_database_glstat(CardCursor& cursor, const KeywordCall&, model::Model& 
   model.glstat = output;
 }
 
-namespace {
-// *DATABASE_RWFORC, _RCFORC, _RBDOUT, _SPCFORC, _BNDOUT, _NODOUT and _ELOUT: one card DT BINARY
-// LCUR IOOPT. BINARY is not read: Spall writes its CSV file whatever it says. NODOUT's and ELOUT's
-// card goes on with DTHF BINHF, the interval of a second, high-frequency binout, which Spall does
-// not write: DTHF must be 0 or blank.
-model::OutputInterval read_force_history(CardCursor& cursor, bool high_frequency = false) {
+// BINARY is not read: Spall writes its CSV file whatever it says. DTHF BINHF give the interval of a
+// second, high-frequency binout, which Spall does not write: DTHF must be 0 or blank.
+model::OutputInterval read_history_interval(CardCursor& cursor, bool high_frequency) {
   const Card card = cursor.next(standard_fields, high_frequency ? "card 1 (DT BINARY LCUR IOOPT DTHF BINHF)"
                                                                 : "card 1 (DT BINARY LCUR IOOPT)");
   if (high_frequency && card.real(4, "DTHF", 0.0) != 0.0)
@@ -292,36 +289,11 @@ model::OutputInterval read_force_history(CardCursor& cursor, bool high_frequency
   output.where = card.where();
   return output;
 }
-}  // namespace
-
-void read_database_rwforc(CardCursor& cursor, const KeywordCall&, model::Model& model) {
-  model.rwforc = read_force_history(cursor);
-}
-
-void read_database_rcforc(CardCursor& cursor, const KeywordCall&, model::Model& model) {
-  model.rcforc = read_force_history(cursor);
-}
-
-void read_database_rbdout(CardCursor& cursor, const KeywordCall&, model::Model& model) {
-  model.rbdout = read_force_history(cursor);
-}
-
-void read_database_nodout(CardCursor& cursor, const KeywordCall&, model::Model& model) {
-  model.nodout = read_force_history(cursor, true);
-}
-
-void read_database_spcforc(CardCursor& cursor, const KeywordCall&, model::Model& model) {
-  model.spcforc = read_force_history(cursor);
-}
-
-void read_database_bndout(CardCursor& cursor, const KeywordCall&, model::Model& model) {
-  model.bndout = read_force_history(cursor);
-}
 
 // ELOUT's optional card 2 asks for each element kind's extra history variables (solids, shells,
 // thick shells, beams), which elout.csv does not hold: each must be 0 or blank.
 void read_database_elout(CardCursor& cursor, const KeywordCall&, model::Model& model) {
-  model.elout = read_force_history(cursor, true);
+  model.elout = read_history_interval(cursor, true);
   if (cursor.done()) return;
   const Card card = cursor.next(standard_fields, "card 2 (OPTION1 OPTION2 OPTION3 OPTION4)");
   for (int k = 0; k < 4; ++k) {

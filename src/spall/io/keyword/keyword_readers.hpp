@@ -138,13 +138,14 @@ void read_spall_residual_stress(CardCursor&, const KeywordCall&, model::Model&);
 void read_database_binary_d3plot(CardCursor&, const KeywordCall&, model::Model&);
 void read_database_binary_runrsf(CardCursor&, const KeywordCall&, model::Model&);
 void read_database_glstat(CardCursor&, const KeywordCall&, model::Model&);
-void read_database_rwforc(CardCursor&, const KeywordCall&, model::Model&);
-void read_database_rcforc(CardCursor&, const KeywordCall&, model::Model&);
+// *DATABASE_RWFORC, _RCFORC, _RBDOUT, _SPCFORC, _BNDOUT, _NODOUT, _ELOUT and _MATSUM: one card DT
+// BINARY LCUR IOOPT (NODOUT's, ELOUT's and MATSUM's go on with DTHF BINHF), kept in model.*interval.
+model::OutputInterval read_history_interval(CardCursor& cursor, bool high_frequency);
+template <std::optional<model::OutputInterval> model::Model::*interval, bool high_frequency = false>
+void read_database_history_file(CardCursor& cursor, const KeywordCall&, model::Model& model) {
+  model.*interval = read_history_interval(cursor, high_frequency);
+}
 void read_database_rcforc_moment(CardCursor&, const KeywordCall&, model::Model&);
-void read_database_rbdout(CardCursor&, const KeywordCall&, model::Model&);
-void read_database_nodout(CardCursor&, const KeywordCall&, model::Model&);
-void read_database_spcforc(CardCursor&, const KeywordCall&, model::Model&);
-void read_database_bndout(CardCursor&, const KeywordCall&, model::Model&);
 void read_database_elout(CardCursor&, const KeywordCall&, model::Model&);
 void read_database_history(CardCursor&, const KeywordCall&, model::Model&);
 

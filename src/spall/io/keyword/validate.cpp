@@ -607,7 +607,8 @@ class Validator {
         {model_.glstat, "*DATABASE_GLSTAT"}, {model_.rwforc, "*DATABASE_RWFORC"},
         {model_.rcforc, "*DATABASE_RCFORC"}, {model_.rbdout, "*DATABASE_RBDOUT"},
         {model_.nodout, "*DATABASE_NODOUT"}, {model_.elout, "*DATABASE_ELOUT"},
-        {model_.bndout, "*DATABASE_BNDOUT"}, {model_.spcforc, "*DATABASE_SPCFORC"}};
+        {model_.bndout, "*DATABASE_BNDOUT"}, {model_.spcforc, "*DATABASE_SPCFORC"},
+        {model_.matsum, "*DATABASE_MATSUM"}};
     for (const auto& [history, keyword] : histories)
       if (history && history->lcdt != 0) require_curve(history->lcdt, history->where, keyword, "LCUR");
   }

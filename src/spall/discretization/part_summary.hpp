@@ -1,0 +1,47 @@
+#pragma once
+// *DATABASE_MATSUM: the model's energies and momenta part by part (LS-DYNA's matsum). Whoever holds
+// a quantity adds it under the part it belongs to: a formulation the internal energy its material
+// points hold and its elements' hourglass energy, the time loop the nodes' kinetic energy and
+// momentum. Each sum is exact until it is read (ExactSum), so that it depends neither on the
+// order of the terms nor, once summed over the ranks, on how the parts are spread over them.
+#include <array>
+#include <span>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "spall/core/communicator.hpp"
+#include "spall/core/exact_sum.hpp"
+#include "spall/core/types.hpp"
+
+namespace spall::discretization {
+
+class PartSummary {
+ public:
+  enum Quantity : int { internal_energy, kinetic_energy, hourglass_energy, x_momentum, y_momentum, z_momentum };
+  static constexpr int quantity_count = 6;
+  // matsum.csv's columns, in the order of Quantity.
+  static constexpr std::array<std::string_view, quantity_count> names = {
+      "internal_energy", "kinetic_energy", "hourglass_energy", "x_momentum", "y_momentum", "z_momentum"};
+
+  // The deck's parts; each appears once, ascending.
+  explicit PartSummary(std::vector<Id> parts);
+
+  const std::vector<Id>& parts() const { return parts_; }
+  // Adds x to the part's quantity; a part that is not in the list (0, a node no part owns) is
+  // left out.
+  void add(Id part, Quantity quantity, Real x);
+  void add_momentum(Id part, const Vec3& p) {
+    for (int d = 0; d < 3; ++d) add(part, Quantity(x_momentum + d), p[d]);
+  }
+  // Each sum over every rank's terms (collective).
+  void sum_over(const parallel::Communicator& ranks) { ranks.sum(sums_); }
+  // The sum of the k-th part, rounded once.
+  Real value(std::size_t k, Quantity quantity) const { return sums_[k * quantity_count + quantity].value(); }
+
+ private:
+  std::vector<Id> parts_;
+  std::vector<ExactSum> sums_;
+};
+
+}  // namespace spall::discretization
