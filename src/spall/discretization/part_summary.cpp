@@ -4,11 +4,7 @@
 
 namespace spall::discretization {
 
-PartSummary::PartSummary(std::vector<Id> parts) : parts_(std::move(parts)), sums_(parts_.size() * quantity_count) {
-  std::sort(parts_.begin(), parts_.end());
-  parts_.erase(std::unique(parts_.begin(), parts_.end()), parts_.end());
-  sums_.resize(parts_.size() * quantity_count);
-}
+PartSummary::PartSummary(std::vector<Id> parts) : parts_(std::move(parts)), sums_(parts_.size() * quantity_count) {}
 
 void PartSummary::add(Id part, Quantity quantity, Real x) {
   const auto place = std::lower_bound(parts_.begin(), parts_.end(), part);

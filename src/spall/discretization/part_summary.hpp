@@ -5,7 +5,6 @@
 // momentum. Each sum is exact until it is read (ExactSum), so that it depends neither on the
 // order of the terms nor, once summed over the ranks, on how the parts are spread over them.
 #include <array>
-#include <span>
 #include <string_view>
 #include <utility>
 #include <vector>
@@ -24,7 +23,7 @@ class PartSummary {
   static constexpr std::array<std::string_view, quantity_count> names = {
       "internal_energy", "kinetic_energy", "hourglass_energy", "x_momentum", "y_momentum", "z_momentum"};
 
-  // The deck's parts; each appears once, ascending.
+  // The deck's parts, ascending, each once (as Controls::matsum_parts).
   explicit PartSummary(std::vector<Id> parts);
 
   const std::vector<Id>& parts() const { return parts_; }
