@@ -16,11 +16,15 @@
 #    that several ranks computed;
 #  - the punch made elastic and thrown at the block: the segments deform, and every velocity
 #    travels each step;
+#  - an elastic block thrown onto a plate whose top layer erodes (*MAT_ADD_EROSION FAILTM), through
+#    *CONTACT_ERODING_SURFACE_TO_SURFACE (EROSOP 1): the faces of the eroded elements leave the
+#    contact and the layer below's top faces enter it, as every rank learns which elements eroded;
 #  - the coarse friction-drilling deck of test_drilling, cut after the tool has entered the sheet:
 #    SPG and hexahedra sharing nodes, bonds breaking, the rigid drill in frictional contact; on 2
 #    ranks also with the nodes dealt out anew every 5 steps (the load balancing, forced).
 # The 2-rank punch's runrsf, continued on 3 ranks and on one process, the 3-rank punch's in fixed
-# blocks, continued on one process, and the 2-rank drill's (SPG's DT2MS masses raised by each rank
+# blocks, continued on one process, the 2-rank eroding plate's (which faces are in the contact),
+# continued on 3 ranks, and the 2-rank drill's (SPG's DT2MS masses raised by each rank
 # for its own particles), continued on 3 ranks, end as the uninterrupted run.
 # Arguments, as CTest passes them: CLI SOURCE_DIR SHARED_DIR.
 set -euo pipefail
@@ -118,6 +122,52 @@ awk -F, '$3 == 1 { f = $6 < 0 ? -$6 : $6; if (f > most) most = f } END { exit !(
   fail "the elastic punch does not press on the block"
 same_on_ranks "$work/soft.k" "$work/soft.serial" "2 1" "3 1 rebalanced"
 grep -q '"halo": "every node"' "$work/soft.serial.np2.t1/run.json" || fail "soft: the deformable segments' velocities by reach"
+
+# The eroding plate: 8 x 8 x 3 hexahedra of 1 mm (the bottom two layers part 2, the top one part 3,
+# deleted at 2 us), the 4 x 4 x 2 block (part 1) on its middle at 200 m/s down: it presses on part 3,
+# flies through the 1 mm it leaves and meets part 2's top faces from 7 us on.
+python3 - >"$work/plate.k" <<'PY'
+h, n, layers = 1e-3, 8, 3
+print("*KEYWORD\n*CONTROL_TERMINATION\n   1.2e-05\n*DATABASE_BINARY_D3PLOT\n    4.0e-6\n*DATABASE_GLSTAT\n    2.0e-7")
+print("*DATABASE_RCFORC\n    2.0e-7\n*DATABASE_MATSUM\n    2.0e-7\n*DATABASE_BINARY_RUNRSF\n        10")
+for pid in (1, 2, 3):
+    print(f"*PART\npart {pid}\n{pid:10d}{pid:10d}{pid:10d}\n*SECTION_SOLID\n{pid:10d}         1")
+    print(f"*MAT_ELASTIC\n{pid:10d}    7850.0   2.0e+10       0.3")
+print("*MAT_ADD_EROSION\n         3\n" + " " * 70 + "    2.0e-6")
+def lattice(first, origin, counts, part_of):
+    nx, ny, nz = counts
+    node = lambda i, j, k: first + i + (nx + 1) * (j + (ny + 1) * k)
+    print("*NODE")
+    for k in range(nz + 1):
+        for j in range(ny + 1):
+            for i in range(nx + 1):
+                print(f"{node(i, j, k):8d}{origin[0] + i * h:16.8e}{origin[1] + j * h:16.8e}{origin[2] + k * h:16.8e}")
+    print("*ELEMENT_SOLID")
+    for k in range(nz):
+        for j in range(ny):
+            for i in range(nx):
+                c = [node(i, j, k), node(i + 1, j, k), node(i + 1, j + 1, k), node(i, j + 1, k)]
+                c += [x + (nx + 1) * (ny + 1) for x in c]
+                print(f"{node(i, j, k):8d}{part_of(k):8d}" + "".join(f"{x:8d}" for x in c))
+    return [node(i, j, 0) for j in range(ny + 1) for i in range(nx + 1)]
+bottom = lattice(1, (0, 0, 0), (n, n, layers), lambda k: 3 if k == layers - 1 else 2)
+lattice(10001, (2 * h, 2 * h, layers * h), (4, 4, 2), lambda k: 1)
+print("*SET_NODE_LIST\n         1\n" + "".join(f"{x:10d}" + ("\n" if i % 8 == 7 else "") for i, x in enumerate(bottom)))
+print("*BOUNDARY_SPC_SET\n         1         0         1         1         1         0         0         0")
+print("*SET_PART_LIST\n         1\n         2         3")
+print("*CONTACT_ERODING_SURFACE_TO_SURFACE_ID\n         1\n         1         1         3         2")
+print("       0.2       0.2       0.0       0.0      20.0\n\n         0         1         0")
+print("*INITIAL_VELOCITY_GENERATION\n         1         2       0.0       0.0       0.0    -200.0\n       0.0       0.0       0.0")
+print("*END")
+PY
+run_serial plate 20
+# The block presses on the plate before 2 us and again once it reaches part 2 (rcforc.csv, side 1's fz).
+awk -F, '$3 == 1 && $1 < 2e-6 && $6 > 1 { before = 1 } $3 == 1 && $1 > 7e-6 && $6 > 1 { after = 1 }
+  END { exit !(before && after) }' "$work/plate.serial/rcforc.csv" ||
+  fail "the block does not meet the faces erosion exposed: $(grep -c . "$work/plate.serial/rcforc.csv") rows"
+same_on_ranks "$work/plate.k" "$work/plate.serial" "2 1" "3 2" "3 1 rebalanced"
+[ -s "$work/plate.serial.np2.t1/runrsf" ] || fail "no runrsf from the 2-rank plate"
+continue_run plate.serial.np2.t1 3 plate.serial
 
 python3 "$source_dir/tools/make_drilling_deck.py" --spacing 0.4e-3 --layers 4 --ring-layers 3 --segments 24 \
   --time-scale 2000 --dt2ms=-2e-7 --smstep 15 --outputs 2 --histories 200 >"$work/drill_full.k"

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <numbers>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "spall/core/types.hpp"
@@ -33,9 +34,16 @@ inline std::string coordinate(double value) { return fmt::format("{:.9g}", value
 // A structured mesh of n[0] x n[1] x n[2] hexahedra of part `pid` (*NODE and *ELEMENT_SOLID): the
 // lattice point (i, j, k) at place(i, j, k), nodes numbered from first_node in lattice order and
 // elements from first_element. The bottom layer's node IDs (k = 0) go to `bottom` when given.
-template <class Place>
-std::string hex_lattice(Id pid, std::array<int, 3> n, Id first_node, Id first_element, Place&& place,
+// `pid` may instead be a function of the element's place (i, j, k) giving its part.
+template <class Part, class Place>
+std::string hex_lattice(Part pid, std::array<int, 3> n, Id first_node, Id first_element, Place&& place,
                         std::vector<Id>* bottom = nullptr) {
+  const auto part_of = [&](int i, int j, int k) -> Id {
+    if constexpr (std::is_invocable_v<Part, int, int, int>)
+      return pid(i, j, k);
+    else
+      return pid;
+  };
   const auto id = [&](int i, int j, int k) { return first_node + i + (n[0] + 1) * (j + (n[1] + 1) * k); };
   std::string deck = "*NODE\n";
   for (int k = 0; k <= n[2]; ++k)
@@ -52,19 +60,20 @@ std::string hex_lattice(Id pid, std::array<int, 3> n, Id first_node, Id first_el
     for (int j = 0; j < n[1]; ++j)
       for (int i = 0; i < n[0]; ++i) {
         const auto node = [&](int a, int b, int c) { return std::to_string(id(i + a, j + b, k + c)); };
-        deck += row({std::to_string(eid++), std::to_string(pid), node(0, 0, 0), node(1, 0, 0), node(1, 1, 0),
+        deck += row({std::to_string(eid++), std::to_string(part_of(i, j, k)), node(0, 0, 0), node(1, 0, 0), node(1, 1, 0),
                      node(0, 1, 0), node(0, 0, 1), node(1, 0, 1), node(1, 1, 1), node(0, 1, 1)},
                     {8, 8, 8, 8, 8, 8, 8, 8, 8, 8});
       }
   return deck;
 }
 
-// A box [lower, lower + size] of n[0] x n[1] x n[2] hexahedra.
-inline std::string hex_box(Id pid, const Vec3& lower, const Vec3& size, std::array<int, 3> n, Id first_node,
-                           Id first_element) {
+// A box [lower, lower + size] of n[0] x n[1] x n[2] hexahedra (`pid` as in hex_lattice).
+template <class Part = Id>
+std::string hex_box(Part pid, const Vec3& lower, const Vec3& size, std::array<int, 3> n, Id first_node,
+                    Id first_element, std::vector<Id>* bottom = nullptr) {
   return hex_lattice(pid, n, first_node, first_element, [&](int i, int j, int k) {
     return Vec3(lower + Vec3(size.x() * i / n[0], size.y() * j / n[1], size.z() * k / n[2]));
-  });
+  }, bottom);
 }
 
 // A cylinder of radius r and height `height` standing on `base` along z, of n x n hexahedra across

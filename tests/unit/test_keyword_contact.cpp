@@ -1,5 +1,5 @@
 // *CONTACT_NODES_TO_SURFACE, *CONTACT_AUTOMATIC_NODES_TO_SURFACE, *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE,
-// *CONTACT_AUTOMATIC_SINGLE_SURFACE (_ID, _TITLE, _MPP), *CONTROL_CONTACT, *SET_SEGMENT and
+// *CONTACT_AUTOMATIC_SINGLE_SURFACE (_ID, _TITLE, _MPP), the *CONTACT_ERODING_ types, *CONTROL_CONTACT, *SET_SEGMENT and
 // *DATABASE_RCFORC: option spellings, LS-DYNA's defaults, every refused field at its line, and the
 // references validate() checks.
 #include <gtest/gtest.h>
@@ -185,6 +185,47 @@ TEST(keyword_contact, CardsTwoThreeAndOptionalCardsAToG) {
   EXPECT_EQ(c.where_card3.line, line + 2);
 }
 
+// The eroding types: the automatic type of the same name, with card 4 (ISYM EROSOP IADJ) between
+// card 3 and optional card A; without card 4 (the block ending after card 3) EROSOP and IADJ are 0.
+TEST(keyword_contact, ErodingTypesReadCardFour) {
+  DeckFolder folder;
+  const std::string deck =
+      base_deck + "*CONTACT_ERODING_NODES_TO_SURFACE_ID\n" + row({"4"}) + row({"1", "3", "4", "2"}) +
+      row({"0.2"}) + row({}) + row({"0", "1", "1"}) + row({"1", "0.2"}) +  // card 4, then A
+      "*CONTACT_ERODING_SURFACE_TO_SURFACE\n" + row({"3", "5", "2", "0"}) + row({}) + row({}) + row({"", "1"}) +
+      "*CONTACT_ERODING_SINGLE_SURFACE_MPP\n" + row({"0", "200"}) + row({"3", "", "2"}) + row({}) + row({}) +
+      "*CONTACT_AUTOMATIC_NODES_TO_SURFACE\n" + row({"1", "3", "4", "2"}) + "*END\n";
+  const auto model = read_deck(folder.write("eroding.k", deck));
+  EXPECT_NO_THROW(validate(model));
+  ASSERT_EQ(model.contacts.size(), 4u);
+  const auto& n2s = model.contacts[0];
+  EXPECT_EQ(n2s.kind, Contact::Kind::automatic_nodes_to_surface);
+  EXPECT_TRUE(n2s.eroding);
+  EXPECT_EQ(n2s.id, 4);
+  EXPECT_EQ(n2s.fs, 0.2);
+  EXPECT_EQ(n2s.erosop, 1);
+  EXPECT_EQ(n2s.iadj, 1);
+  EXPECT_EQ(n2s.soft, 1);  // optional card A after card 4
+  EXPECT_EQ(n2s.sofscl, 0.2);
+  EXPECT_EQ(model.contacts[1].kind, Contact::Kind::automatic_surface_to_surface);
+  EXPECT_TRUE(model.contacts[1].eroding);
+  EXPECT_EQ(model.contacts[1].erosop, 1);
+  EXPECT_EQ(model.contacts[1].iadj, 0);
+  EXPECT_EQ(model.contacts[2].kind, Contact::Kind::automatic_single_surface);
+  EXPECT_TRUE(model.contacts[2].eroding);
+  EXPECT_EQ(model.contacts[2].erosop, 0);
+  EXPECT_FALSE(model.contacts[3].eroding);
+  // Card 4's refusals, at its line.
+  const std::string eroding = "*CONTACT_ERODING_NODES_TO_SURFACE";
+  const std::string cards = row({"1", "1", "4", "3"}) + row({}) + row({});
+  EXPECT_EQ(read_error(folder, eroding + "\n" + cards + row({"1"})),
+            prefix(folder, 5, eroding) + "field ISYM: '1': leaving out the faces on symmetry planes is not implemented");
+  EXPECT_EQ(read_error(folder, eroding + "\n" + cards + row({"0", "2"})),
+            prefix(folder, 5, eroding) + "field EROSOP: '2' is not 0 or 1");
+  EXPECT_EQ(read_error(folder, eroding + "\n" + cards + row({"0", "0", "-1"})),
+            prefix(folder, 5, eroding) + "field IADJ: '-1' is not 0 or 1");
+}
+
 TEST(keyword_contact, SingleSurfaceHasSideAOnlyAndSurfaZeroMeansAll) {
   DeckFolder folder;
   const std::string deck = base_deck + "*CONTACT_AUTOMATIC_SINGLE_SURFACE\n" + row({"0", "0", "5"}) +
@@ -348,7 +389,7 @@ TEST(keyword_contact, OtherContactsStayUnsupported) {
   DeckFolder folder;
   std::string deck = "*KEYWORD\n";
   const std::vector<std::string> others = {
-      "*CONTACT_TIED_SURFACE_TO_SURFACE", "*CONTACT_ERODING_NODES_TO_SURFACE",
+      "*CONTACT_TIED_SURFACE_TO_SURFACE", "*CONTACT_ERODING_NODES_TO_SURFACE_SMOOTH",
       "*CONTACT_AUTOMATIC_NODES_TO_SURFACE_SMOOTH", "*CONTACT_FORCE_TRANSDUCER_PENALTY_ID",
       "*CONTACT_2D_AUTOMATIC_SINGLE_SURFACE", "*CONTACT_AUTOMATIC_ONE_WAY_SURFACE_TO_SURFACE",
       "*CONTACT_AUTOMATIC_SINGLE_SURFACE_ID_ID", "*CONTACT_AUTOMATIC_SINGLE_SURFACE_ID_TITLE",

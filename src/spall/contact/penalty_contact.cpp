@@ -39,9 +39,27 @@ PenaltyContact::PenaltyContact(const Definition& definition, std::vector<Pass> p
       state.reach[s] = definition_.release_depth * pass.segment[s].thickness;
       state.grow[s] = state.reach[s] + pass.segment[s].offset;
     }
+    state.status.resize(pass.segment.size(), live);
+    for (std::size_t s = 0; s < pass.elements.size(); ++s)
+      if (pass.elements[s].beyond != 0) state.status[s] = waiting;
     state.found.assign(pass.slave.size(), -1);
     state.pass = std::move(pass);
     passes_.push_back(std::move(state));
+  }
+}
+
+void PenaltyContact::erode(std::span<const Id> elements) {
+  const auto eroded = [&](Id id) { return id != 0 && std::binary_search(elements.begin(), elements.end(), id); };
+  for (auto& state : passes_) {
+    const std::vector<FaceElements>& of = state.pass.elements;
+    for (std::size_t s = 0; s < of.size(); ++s) {
+      std::uint8_t& status = state.status[s];
+      if (status == gone) continue;
+      if (eroded(of[s].own))
+        status = gone;
+      else if (status == waiting && eroded(of[s].beyond))
+        status = live;
+    }
   }
 }
 
@@ -77,8 +95,8 @@ void PenaltyContact::apply(NodeStore& nodes, Real t, Real dt) {
   }
 }
 
-// Each slave node's segment: of the segments in its cell (not one it is a corner of, nor one of
-// its own rigid body's, nor one with an eroded corner), the one with the closest point; a touch
+// Each slave node's segment: of the live segments in its cell (not one it is a corner of, nor one
+// of its own rigid body's, nor one with an eroded corner), the one with the closest point; a touch
 // when the node is behind its contact surface (Segment::contact_at), less deep than the segment's
 // reach, and not beside it (MAXPAR). Under MPI, of this rank's own slave nodes.
 void PenaltyContact::search(PassState& state, const NodeStore& nodes) const {
@@ -93,7 +111,7 @@ void PenaltyContact::search(PassState& state, const NodeStore& nodes) const {
     Real best = std::numeric_limits<Real>::infinity(), gap = 0, beyond = 0;
     std::int32_t chosen = -1;
     for (Index s : state.grid.candidates(x)) {
-      if (!state.grid.within_reach(s, x)) continue;
+      if (state.status[s] != live || !state.grid.within_reach(s, x)) continue;
       const Segment& segment = pass.segment[s];
       bool skip = false;
       for (Index corner : segment.node)

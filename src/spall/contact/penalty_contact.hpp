@@ -58,11 +58,21 @@ class PenaltyContact {
     std::array<Index, 2> moment_node{-1, -1};
   };
 
+  // The solid elements (deck IDs) a segment follows as elements erode: the one whose face it is,
+  // which takes it out of the contact as it erodes, and for a face inside the body (an eroding
+  // contact's EROSOP 1) the element beyond it, which brings it in. 0: none (a shell; a face with
+  // nothing beyond).
+  struct FaceElements {
+    Id own = 0;
+    Id beyond = 0;
+  };
+
   // One search of slave nodes against master segments; a surface-to-surface contact makes two.
   struct Pass {
     std::vector<Index> slave;           // node-store indices, ascending
     std::vector<Real> slave_stiffness;  // SOFT 0 stiffness of each slave node, SLSFAC SFS K V^(1/3)
     std::vector<Segment> segment;
+    std::vector<FaceElements> elements;  // of each segment
     bool slaves_are_side_a = true;      // SURFA's nodes against SURFB's segments; false: the reverse
   };
 
@@ -79,6 +89,10 @@ class PenaltyContact {
   void set_first_step(Real dt) {
     if (!(definition_.stiffness_step > 0)) stiffness_step_ = dt;
   }
+
+  // The solid elements that eroded this step (deck IDs, ascending, the same on every rank): their
+  // faces leave the contact, and a face inside the body whose element beyond them eroded enters it.
+  void erode(std::span<const Id> elements);
 
   // Adds the contact forces at x^n to nodes.f. t is t^n (for birth and death), dt the last step,
   // over which the velocities v^{n-1/2} slid.
@@ -134,8 +148,13 @@ class PenaltyContact {
     void checkpoint(Archive& a) { a(slave, segment, weight, normal, normal_force, friction, tracked_depth); }
   };
 
+  // A segment's part in the search: a face inside the body waits until the element beyond it
+  // erodes; a face whose own element eroded is gone for good.
+  enum Status : std::uint8_t { waiting, live, gone };
+
   struct PassState {
     Pass pass;
+    std::vector<std::uint8_t> status;  // Status of each segment
     SegmentGrid grid;
     std::vector<Real> reach;          // release depth of each segment
     std::vector<Real> grow;           // how far the grid grows each segment's box: reach + offset
@@ -143,7 +162,7 @@ class PenaltyContact {
     std::vector<Touch> touches, previous;
     bool started = false;  // a step of this contact has been taken: the first step's touches are not tracked
     // The touches of the last step (their friction carries over); the grid is rebuilt every step.
-    void checkpoint(Archive& a) { a(reach, found, touches, previous, started); }
+    void checkpoint(Archive& a) { a(status, reach, found, touches, previous, started); }
   };
 
   void search(PassState& state, const discretization::NodeStore& nodes) const;

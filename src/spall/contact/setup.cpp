@@ -44,10 +44,13 @@ Corners key_of(Corners f) {
   return f;
 }
 
+constexpr std::size_t no_element = std::numeric_limits<std::size_t>::max();
+
 // A face of a solid element, turned to face out of it.
 struct Face {
   Corners node{};
-  std::size_t element = 0;  // in model.solid_elements
+  std::size_t element = 0;            // in model.solid_elements
+  std::size_t beyond = no_element;    // the element on its other side
 };
 
 // LS-DYNA's hexahedron numbering: N1-N4 one end, N5-N8 the other.
@@ -92,33 +95,46 @@ class SolidFaces {
         // the sum of the cones from the centre to the faces (Gauss's theorem).
         if (area_vector(f, x).dot(centre_of(f, x) - centre) < 0) f = reversed(f);
         volume += area_vector(f, x).dot(centre_of(f, x) - centre) / 3;
-        auto [it, inserted] = faces_.emplace(key_of(f), Entry{Face{f, e}, 0});
-        ++it->second.count;
+        Entry& entry = faces_[key_of(f)];
+        if (entry.count < 2) entry.side[entry.count] = Face{f, e};
+        ++entry.count;
       }
       volume_[e] = volume;
     }
   }
 
-  // The faces that belong to one element only, of the elements `take` accepts, in a fixed order.
+  // The faces of the elements `take` accepts, in a fixed order, each with the element beyond it:
+  // those of the body's boundary (one element only; with `side_boundary`, also those whose element
+  // beyond is one `take` refuses, which then counts as none), and with `inner` the faces two of its
+  // elements share, once turned out of each.
   template <class Take>
-  std::vector<Face> exterior(Take&& take) const {
+  std::vector<Face> faces_of(Take&& take, bool inner, bool side_boundary) const {
     std::vector<Face> out;
-    for (const auto& [key, entry] : faces_)
-      if (entry.count == 1 && take(entry.face.element)) out.push_back(entry.face);
+    for (const auto& [key, entry] : faces_) {
+      if (entry.count > 2) continue;  // not a face of a solid body
+      for (int k = 0; k < entry.count; ++k) {
+        Face face = entry.side[k];
+        if (!take(face.element)) continue;
+        if (entry.count == 2) face.beyond = entry.side[1 - k].element;
+        if (side_boundary && face.beyond != no_element && !take(face.beyond)) face.beyond = no_element;
+        if (face.beyond == no_element || inner) out.push_back(face);
+      }
+    }
     return out;
   }
 
-  // The element face with these corners, turned outward; nullptr when no element has it.
+  // The element face with these corners, turned out of the first element that has it; nullptr
+  // when no element has it.
   const Face* find(const Corners& corners) const {
     auto it = faces_.find(key_of(corners));
-    return it == faces_.end() ? nullptr : &it->second.face;
+    return it == faces_.end() ? nullptr : &it->second.side[0];
   }
 
   Real volume(std::size_t element) const { return volume_[element]; }
 
  private:
   struct Entry {
-    Face face;
+    std::array<Face, 2> side;  // as the first two elements that have it turn it
     int count = 0;
   };
   std::map<Corners, Entry> faces_;
@@ -175,13 +191,13 @@ class Builder {
       PenaltyContact::Pass pass;
       pass.slave = slave_nodes(c.a, c.sfsa, "SURFA");
       pass.slave_stiffness = slave_stiffness_;
-      pass.segment = segments(c.a, c.sfsb, old_type, "SURFA", c.sast, c.sfsat);
+      segments(pass, c.a, c.sfsb, old_type, "SURFA", c.sast, c.sfsat);
       passes.push_back(std::move(pass));
     } else {
       PenaltyContact::Pass forward;
       forward.slave = slave_nodes(c.a, c.sfsa, "SURFA");
       forward.slave_stiffness = slave_stiffness_;
-      forward.segment = segments(c.b, c.sfsb, old_type, "SURFB", c.sbst, c.sfsbt);
+      segments(forward, c.b, c.sfsb, old_type, "SURFB", c.sbst, c.sfsbt);
       if (forward.segment.empty())
         fail_at(c.where, keyword,
                 "SURFB: the master side has no solid element faces nor shells (SPH particles can only be slave nodes)");
@@ -189,7 +205,7 @@ class Builder {
       if (c.kind == Contact::Kind::automatic_surface_to_surface) {
         // Two-way: side B's nodes against side A's faces too, where side A has faces.
         PenaltyContact::Pass reverse;
-        reverse.segment = segments(c.a, c.sfsa, old_type, "SURFA", c.sast, c.sfsat);
+        segments(reverse, c.a, c.sfsa, old_type, "SURFA", c.sast, c.sfsat);
         if (!reverse.segment.empty()) {
           reverse.slave = slave_nodes(c.b, c.sfsb, "SURFB");
           reverse.slave_stiffness = slave_stiffness_;
@@ -202,12 +218,16 @@ class Builder {
       }
     }
     d.side_body = {side_body(passes, true), side_body(passes, false)};
-    Index slaves = 0, segment_count = 0;
+    Index slaves = 0, segment_count = 0, inner = 0;
     for (const auto& p : passes) {
       slaves += static_cast<Index>(p.slave.size());
       segment_count += static_cast<Index>(p.segment.size());
+      inner += std::count_if(p.elements.begin(), p.elements.end(), [](const auto& f) { return f.beyond != 0; });
     }
-    log::info(fmt::format("contact {} ({}): {} slave nodes, {} segments{}", d.id, keyword, slaves, segment_count,
+    log::info(fmt::format("contact {} ({}): {} slave nodes, {} segments{}{}", d.id, keyword, slaves, segment_count,
+                          inner > 0 ? fmt::format(" ({} inside the body, each live once the element beyond it "
+                                                  "erodes)", inner)
+                                    : "",
                           d.soft == 1 ? ", soft constraint" : ""));
     return PenaltyContact(d, std::move(passes));
   }
@@ -318,11 +338,13 @@ class Builder {
     return out;
   }
 
-  // The master segments of a side: the outward faces of its solid elements, with their stiffness
-  // SLSFAC SFS K A^2 / V and thickness V / A (the old node-to-surface type: 1/20 of the shortest
-  // diagonal), and its shells (shell_segment).
-  std::vector<Segment> segments(const ContactSurface& side, Real scale, bool old_type, const char* field,
-                                Real shell_thickness, Real thickness_scale) {
+  // The master segments of a side into the pass, each with the elements it follows as they erode:
+  // the outward faces of its solid elements, with their stiffness SLSFAC SFS K A^2 / V and
+  // thickness V / A (the old node-to-surface type: 1/20 of the shortest diagonal), and its shells
+  // (shell_segment). An eroding contact with EROSOP 1 takes the faces inside the body too, to wait
+  // for the element beyond them to erode.
+  void segments(PenaltyContact::Pass& pass, const ContactSurface& side, Real scale, bool old_type, const char* field,
+                Real shell_thickness, Real thickness_scale) {
     std::vector<Face> faces;
     std::vector<std::pair<std::size_t, Corners>> shells;  // element, corners as the side gives them
     if (side.type == Type::segment_set) {
@@ -341,13 +363,16 @@ class Builder {
       }
     } else if (side.type != Type::node_set) {
       const std::set<Id> parts = parts_of(side, field);
-      faces = faces_.exterior([&](std::size_t e) { return parts.count(model_.solid_elements[e].pid) > 0; });
+      faces = faces_.faces_of([&](std::size_t e) { return parts.count(model_.solid_elements[e].pid) > 0; },
+                              contact_->eroding && contact_->erosop == 1, contact_->eroding && contact_->iadj == 1);
       for (std::size_t e = 0; e < model_.shell_elements.size(); ++e)
         if (parts.count(model_.shell_elements[e].pid)) shells.emplace_back(e, shell_corners_[e]);
     }
-    std::vector<Segment> out;
+    std::vector<Segment>& out = pass.segment;
     const auto& x = nodes_.x;
     for (const Face& face : faces) {
+      pass.elements.push_back({model_.solid_elements[face.element].eid,
+                               face.beyond == no_element ? 0 : model_.solid_elements[face.beyond].eid});
       Segment s;
       s.node = face.node;
       s.area = area_vector(face.node, x).norm();
@@ -362,10 +387,11 @@ class Builder {
       s.thickness = old_type ? diagonals(s).first / 20 : volume / s.area;
       out.push_back(s);
     }
-    for (const auto& [element, corners] : shells)
+    for (const auto& [element, corners] : shells) {
       out.push_back(shell_segment(model_.shell_elements[element], corners, scale, old_type, shell_thickness,
                                   thickness_scale));
-    return out;
+      pass.elements.emplace_back();  // Spall's shells are rigid: they do not erode
+    }
   }
 
   // The shortest and longest diagonal of a segment (a triangle's edges): 1/20 of the shortest is

@@ -60,6 +60,9 @@ class Formulation {
   // *CONTROL_TIMESTEP ERODE: from now on, delete the elements (or particles) whose own stable step
   // falls below `step` rather than let the run stop. A formulation that cannot delete ignores it.
   virtual void erode_below(Real /*step*/) {}
+  // The deck IDs of the elements that eroded in this step's compute_forces, ascending, the same on
+  // every rank (the contacts' surfaces follow them).
+  virtual std::span<const Id> eroded_elements() const { return {}; }
 
   // *CONTROL_TIMESTEP DT2MS < 0, LS-DYNA's conventional mass scaling: from now on, an element (a
   // particle) whose own stable step is below `step` gets the mass that raises its step to `step`;

@@ -667,6 +667,7 @@ void SolidElements::remove_eroded(discretization::NodeStore& nodes) {
       for (int g = 0; g < points; ++g)
         internal += block.thermo[points * e + g].specific_energy - part.material.initial_specific_energy;
       if (owned) {
+        eroded_now_.push_back(block.id[e]);
         taken[1] += m * internal / points;
         taken[2] += m;
         taken[3 + static_cast<std::size_t>(block.part[e])] += m * internal / points;
@@ -682,7 +683,11 @@ void SolidElements::remove_eroded(discretization::NodeStore& nodes) {
       }
     }
   }
-  if (share_) parallel::world().sum(taken);
+  if (share_) {
+    parallel::world().sum(taken);
+    eroded_now_ = parallel::world().all(std::span<const Id>(eroded_now_));
+  }
+  std::sort(eroded_now_.begin(), eroded_now_.end());
   eroded_kinetic_step_ = taken[0].value();
   eroded_internal_step_ = taken[1].value();
   eroded_mass_ += taken[2].value();
@@ -850,6 +855,7 @@ void SolidElements::compute_forces(discretization::NodeStore& nodes, Real dt) {
   time_ += dt;
   eroded_kinetic_step_ = eroded_internal_step_ = 0;
   std::fill(eroded_internal_by_part_.begin(), eroded_internal_by_part_.end(), Real(0));
+  eroded_now_.clear();
   struct Found {
     Real step;
     Real sound_speed;

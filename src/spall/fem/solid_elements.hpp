@@ -102,6 +102,7 @@ class SolidElements final : public discretization::Formulation {
   void sum_parts(discretization::PartSummary& parts, const discretization::NodeStore& nodes) const override;
   void write_fields(discretization::FieldSet& fields, const discretization::NodeStore& nodes) const override;
   Real max_wave_speed() const override { return max_sound_speed_; }
+  std::span<const Id> eroded_elements() const override { return eroded_now_; }
 
   // rho0 V0 / (nodes per element) to each node of each element (LS-DYNA's lumped mass).
   // Records the mass other formulations gave each node first (what an eroded node keeps).
@@ -301,6 +302,7 @@ class SolidElements final : public discretization::Formulation {
   Real eroded_kinetic_step_ = 0, eroded_internal_step_ = 0;
   std::vector<Real> eroded_internal_by_part_;
   Real eroded_mass_ = 0;
+  std::vector<Id> eroded_now_;  // the IDs of the elements that eroded this step, ascending, of every rank
   discretization::MassScaling mass_scaling_;  // DT2MS
   bool may_erode_ = false;       // some part has an erosion criterion or a material that fails
   bool hourglass_ = false;       // some part's one-point hexahedra have hourglass control

@@ -420,8 +420,8 @@ struct ContactSurface {
 };
 
 // *CONTACT_NODES_TO_SURFACE, *CONTACT_AUTOMATIC_NODES_TO_SURFACE, *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE
-// and *CONTACT_AUTOMATIC_SINGLE_SURFACE (with _ID, _TITLE, _MPP): penalty contact (SOFT 0, 1) with
-// Coulomb friction. Fields as read, LS-DYNA's defaults applied (blank and 0 read alike where the
+// and *CONTACT_AUTOMATIC_SINGLE_SURFACE (with _ID, _TITLE, _MPP), and the *CONTACT_ERODING_ forms of the
+// last three: penalty contact (SOFT 0, 1) with Coulomb friction. Fields as read, LS-DYNA's defaults applied (blank and 0 read alike where the
 // manual says so: SFSA, SFSB, FSF, VSF 0 -> 1; DT 0 -> 1e20; SOFSCL 0 -> 0.1; MAXPAR 0 -> 1.025).
 struct Contact {
   enum class Kind { nodes_to_surface, automatic_nodes_to_surface, automatic_surface_to_surface,
@@ -446,6 +446,12 @@ struct Contact {
   Real penmax = 0;                      // optional card B; 0: the type's default (automatic: 0.4)
   Real sldstf = 0;                      // > 0: the stiffness modulus of solid segments instead of K
   Real dtstif = 0;                      // optional card C: the step of the SOFT 1 stiffness (0: the first)
+  // *CONTACT_ERODING_...: the automatic type of the same name whose surfaces follow element erosion
+  // (card 4 ISYM EROSOP IADJ). EROSOP 1: an element face inside the body becomes a segment once the
+  // element on its other side has eroded; IADJ 1: a face a side's element shares with another
+  // part's element is a segment from the start (the side's boundary, not only the body's).
+  bool eroding = false;
+  int erosop = 0, iadj = 0;
   SourceLocation where;                 // card 1
   SourceLocation where_card2, where_card3;
 };

@@ -178,6 +178,7 @@ class TimeLoop::Step {
     }
     a.expect_size("rigid walls", problem_.rigid_walls.size());
     for (auto& wall : problem_.rigid_walls) wall.checkpoint(a);
+    a.section("contacts 2");
     a.expect_size("contacts", problem_.contacts.size());
     for (auto& c : problem_.contacts) c.checkpoint(a);
     a(problem_.rigid_bodies);
@@ -259,8 +260,9 @@ class TimeLoop::Step {
     }
   }
 
-  // Penalty contact forces at x^n, from the slip of v^{n-1/2} over the last step. The soft
-  // constraint's stiffness takes the first step, known only now. Under MPI each rank finds and
+  // Penalty contact forces at x^n, from the slip of v^{n-1/2} over the last step, on the surfaces
+  // as this step's erosion left them. The soft constraint's stiffness takes the first step, known
+  // only now. Under MPI each rank finds and
   // answers the touches of its own slave nodes from the positions, velocities and masses every rank
   // holds, and every rank then adds every touch's forces to the nodes in the order one process does
   // (replicated state, docs/SCALING.md).
@@ -268,6 +270,17 @@ class TimeLoop::Step {
     if (step_.step == 0 && !problem_.contacts.empty()) {
       const Real dt = step_limit();
       for (auto& c : problem_.contacts) c.set_first_step(std::isfinite(dt) ? dt : controls_.end_time);
+    }
+    if (!problem_.contacts.empty()) {
+      std::vector<Id> eroded;
+      for (const auto& f : problem_.formulations) {
+        const std::span<const Id> ids = f->eroded_elements();
+        eroded.insert(eroded.end(), ids.begin(), ids.end());
+      }
+      if (!eroded.empty()) {
+        std::sort(eroded.begin(), eroded.end());
+        for (auto& c : problem_.contacts) c.erode(eroded);
+      }
     }
     for (auto& c : problem_.contacts) c.apply(nodes_, step_.time, dt_previous_);
   }

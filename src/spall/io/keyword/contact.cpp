@@ -1,13 +1,15 @@
 // *CONTACT_NODES_TO_SURFACE, *CONTACT_AUTOMATIC_NODES_TO_SURFACE, *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE,
-// *CONTACT_AUTOMATIC_SINGLE_SURFACE (each with `_ID` or `_TITLE`, and `_MPP`) and *CONTROL_CONTACT
-// (fem-contact.md §1.6, §1.7). Contact cards: [_ID/_TITLE: CID HEADING] / [_MPP: IGNORE BCKT LCBCKT
-// NS2TRK INITITR PARMAX - CPARM8, then `&` CHKSEGS PENSF GRPABLE if flagged] / card 1 SURFA SURFB
-// SURFATYP SURFBTYP SABOXID SBBOXID SAPR SBPR / card 2 FS FD DC VC VDC PENCHK BT DT / card 3 SFSA SFSB
-// SAST SBST SFSAT SFSBT FSF VSF / optional cards A to G. Every field is read: a value Spall cannot
+// *CONTACT_AUTOMATIC_SINGLE_SURFACE (each with `_ID` or `_TITLE`, and `_MPP`), *CONTACT_ERODING_NODES_TO_SURFACE,
+// _SURFACE_TO_SURFACE, _SINGLE_SURFACE and *CONTROL_CONTACT (fem-contact.md §1.6, §1.7). Contact cards:
+// [_ID/_TITLE: CID HEADING] / [_MPP: IGNORE BCKT LCBCKT NS2TRK INITITR PARMAX - CPARM8, then `&` CHKSEGS
+// PENSF GRPABLE if flagged] / card 1 SURFA SURFB SURFATYP SURFBTYP SABOXID SBBOXID SAPR SBPR / card 2
+// FS FD DC VC VDC PENCHK BT DT / card 3 SFSA SFSB SAST SBST SFSAT SFSBT FSF VSF / [ERODING: card 4
+// ISYM EROSOP IADJ] / optional cards A to G. Every field is read: a value Spall cannot
 // honour is refused naming it, so that no deck runs with a setting silently dropped.
 #include <array>
 #include <string>
 #include <string_view>
+#include <tuple>
 
 #include "spall/io/keyword/keyword_readers.hpp"
 #include "spall/io/keyword/numbers.hpp"
@@ -24,18 +26,23 @@ constexpr std::array<int, 2> id_card_fields = {10, 70};
 struct ContactType {
   std::string_view name;
   Contact::Kind kind;
+  bool eroding = false;
 };
+// The eroding types search as the automatic ones do (both sides of a segment, PENMAX 0.4).
 constexpr ContactType contact_types[] = {
     {"CONTACT_NODES_TO_SURFACE", Contact::Kind::nodes_to_surface},
     {"CONTACT_AUTOMATIC_NODES_TO_SURFACE", Contact::Kind::automatic_nodes_to_surface},
     {"CONTACT_AUTOMATIC_SURFACE_TO_SURFACE", Contact::Kind::automatic_surface_to_surface},
     {"CONTACT_AUTOMATIC_SINGLE_SURFACE", Contact::Kind::automatic_single_surface},
+    {"CONTACT_ERODING_NODES_TO_SURFACE", Contact::Kind::automatic_nodes_to_surface, true},
+    {"CONTACT_ERODING_SURFACE_TO_SURFACE", Contact::Kind::automatic_surface_to_surface, true},
+    {"CONTACT_ERODING_SINGLE_SURFACE", Contact::Kind::automatic_single_surface, true},
 };
 
-Contact::Kind kind_of(std::string_view base) {
+const ContactType& type_of(std::string_view base) {
   for (const auto& type : contact_types)
-    if (type.name == base) return type.kind;
-  return Contact::Kind::nodes_to_surface;  // not reached: split_contact_keyword only gives these
+    if (type.name == base) return type;
+  return contact_types[0];  // not reached: split_contact_keyword only gives these
 }
 
 bool nodes_to_surface(Contact::Kind kind) {
@@ -175,6 +182,18 @@ void read_card3(const Card& card, Contact& contact) {
   contact.vsf = zero_means_default(non_negative(card, 7, "VSF", 0.0), 1.0);
 }
 
+// Card 4 of the eroding types. ISYM 1 would leave out the faces on symmetry planes; EROSOP 1 keeps
+// the faces inside the body, each to become a segment when the element beyond it erodes (0: the
+// body's outer faces only, each leaving with its element); IADJ 1 takes a face shared with another
+// part's element as a boundary of the side.
+void read_eroding_card(const Card& card, Contact& contact) {
+  refuse_nonzero(card, 0, "ISYM", "leaving out the faces on symmetry planes is not implemented");
+  for (auto [field, name, value] : {std::tuple{1, "EROSOP", &contact.erosop}, std::tuple{2, "IADJ", &contact.iadj}}) {
+    *value = card.int32(field, name, 0);
+    if (*value != 0 && *value != 1) card.fail(name, quoted(card.text(field)) + " is not 0 or 1");
+  }
+}
+
 void read_card_a(const Card& card, Contact& contact) {
   const auto soft = card.integer(0, "SOFT", 0);
   if (soft != 0 && soft != 1)
@@ -287,7 +306,9 @@ bool split_contact_keyword(std::string_view name, KeywordCall& call) {
 
 void read_contact(CardCursor& cursor, const KeywordCall& call, model::Model& model) {
   Contact contact;
-  contact.kind = kind_of(call.base);
+  const ContactType& type = type_of(call.base);
+  contact.kind = type.kind;
+  contact.eroding = type.eroding;
   contact.keyword = cursor.context().keyword;
   if (call.id || call.title) {
     const Card card = cursor.next(id_card_fields, "ID card (CID HEADING)");
@@ -318,6 +339,8 @@ void read_contact(CardCursor& cursor, const KeywordCall& call, model::Model& mod
     read_card3(*card3, contact);
     contact.where_card3 = card3->where();
   }
+  if (contact.eroding)
+    if (const auto card4 = cursor.next_if_any(standard_fields)) read_eroding_card(*card4, contact);
   if (const auto card = cursor.next_if_any(standard_fields)) read_card_a(*card, contact);
   if (const auto card = cursor.next_if_any(standard_fields)) read_card_b(*card, contact);
   if (const auto card = cursor.next_if_any(standard_fields)) read_card_c(*card, contact);
