@@ -60,8 +60,8 @@ std::string hex_lattice(Part pid, std::array<int, 3> n, Id first_node, Id first_
     for (int j = 0; j < n[1]; ++j)
       for (int i = 0; i < n[0]; ++i) {
         const auto node = [&](int a, int b, int c) { return std::to_string(id(i + a, j + b, k + c)); };
-        deck += row({std::to_string(eid++), std::to_string(part_of(i, j, k)), node(0, 0, 0), node(1, 0, 0), node(1, 1, 0),
-                     node(0, 1, 0), node(0, 0, 1), node(1, 0, 1), node(1, 1, 1), node(0, 1, 1)},
+        deck += row({std::to_string(eid++), std::to_string(part_of(i, j, k)), node(0, 0, 0), node(1, 0, 0),
+                     node(1, 1, 0), node(0, 1, 0), node(0, 0, 1), node(1, 0, 1), node(1, 1, 1), node(0, 1, 1)},
                     {8, 8, 8, 8, 8, 8, 8, 8, 8, 8});
       }
   return deck;

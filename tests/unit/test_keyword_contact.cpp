@@ -1,6 +1,6 @@
 // *CONTACT_NODES_TO_SURFACE, *CONTACT_AUTOMATIC_NODES_TO_SURFACE, *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE,
-// *CONTACT_AUTOMATIC_SINGLE_SURFACE (_ID, _TITLE, _MPP), the *CONTACT_ERODING_ types, *CONTROL_CONTACT, *SET_SEGMENT and
-// *DATABASE_RCFORC: option spellings, LS-DYNA's defaults, every refused field at its line, and the
+// *CONTACT_AUTOMATIC_SINGLE_SURFACE (_ID, _TITLE, _MPP), the *CONTACT_ERODING_ types, *CONTROL_CONTACT,
+// *SET_SEGMENT and *DATABASE_RCFORC: option spellings, LS-DYNA's defaults, every refused field at its line, and the
 // references validate() checks.
 #include <gtest/gtest.h>
 
@@ -219,7 +219,8 @@ TEST(keyword_contact, ErodingTypesReadCardFour) {
   const std::string eroding = "*CONTACT_ERODING_NODES_TO_SURFACE";
   const std::string cards = row({"1", "1", "4", "3"}) + row({}) + row({});
   EXPECT_EQ(read_error(folder, eroding + "\n" + cards + row({"1"})),
-            prefix(folder, 5, eroding) + "field ISYM: '1': leaving out the faces on symmetry planes is not implemented");
+            prefix(folder, 5, eroding) +
+                "field ISYM: '1': leaving out the faces on symmetry planes is not implemented");
   EXPECT_EQ(read_error(folder, eroding + "\n" + cards + row({"0", "2"})),
             prefix(folder, 5, eroding) + "field EROSOP: '2' is not 0 or 1");
   EXPECT_EQ(read_error(folder, eroding + "\n" + cards + row({"0", "0", "-1"})),

@@ -420,9 +420,10 @@ struct ContactSurface {
 };
 
 // *CONTACT_NODES_TO_SURFACE, *CONTACT_AUTOMATIC_NODES_TO_SURFACE, *CONTACT_AUTOMATIC_SURFACE_TO_SURFACE
-// and *CONTACT_AUTOMATIC_SINGLE_SURFACE (with _ID, _TITLE, _MPP), and the *CONTACT_ERODING_ forms of the
-// last three: penalty contact (SOFT 0, 1) with Coulomb friction. Fields as read, LS-DYNA's defaults applied (blank and 0 read alike where the
-// manual says so: SFSA, SFSB, FSF, VSF 0 -> 1; DT 0 -> 1e20; SOFSCL 0 -> 0.1; MAXPAR 0 -> 1.025).
+// and *CONTACT_AUTOMATIC_SINGLE_SURFACE (with _ID, _TITLE, _MPP), and the *CONTACT_ERODING_ forms of
+// the last three: penalty contact (SOFT 0, 1) with Coulomb friction. Fields as read, LS-DYNA's
+// defaults applied (blank and 0 read alike where the manual says so: SFSA, SFSB, FSF, VSF 0 -> 1;
+// DT 0 -> 1e20; SOFSCL 0 -> 0.1; MAXPAR 0 -> 1.025).
 struct Contact {
   enum class Kind { nodes_to_surface, automatic_nodes_to_surface, automatic_surface_to_surface,
                     automatic_single_surface };
