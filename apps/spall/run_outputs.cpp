@@ -72,7 +72,9 @@ RunOutputs::RunOutputs(const fs::path& out, const solver::Problem& problem, cons
     matsum_.path = out / "matsum.csv";
     matsum_.columns = {{"time", "time"}, {"part", ""}};
     for (const std::string_view name : discretization::PartSummary::names)
-      matsum_.columns.push_back({std::string(name), name.ends_with("momentum") ? "mass*length/time" : "energy"});
+      matsum_.columns.push_back({std::string(name), name.ends_with("momentum") ? "mass*length/time"
+                                                    : name == "added_mass"       ? "mass"
+                                                                                 : "energy"});
   }
   // The resultant of the SPCs' reactions (*DATABASE_SPCFORC, only with the card) at its interval:
   // LS-DYNA's spcforc resultant.

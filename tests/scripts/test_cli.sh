@@ -151,6 +151,16 @@ awk -F, 'NR > 1 { rows++; if ($2 != (rows % 2 ? 21 : 37)) order = 1 }
   $1 == 0.003 { exact = -7850 * 9.81 * ($2 == 21 ? 0.45 : 0.05); if (($5 - exact) ^ 2 < (1e-5 * exact) ^ 2) good++ }
   END { exit !(rows == 22 && !order && good == 2) }' "$work/column_elout/elout.csv" ||
   fail "elout.csv is not the column's weight: $(tail -n 2 "$work/column_elout/elout.csv")"
+# The same elements by a *SET_SOLID (37, 21) and *DATABASE_HISTORY_SOLID_SET: in the set's order,
+# the same values.
+sed 's/^\*DATABASE_HISTORY_SOLID$/*SET_SOLID\n5\n37,21\n*DATABASE_HISTORY_SOLID_SET/; s/^21,37,21$/5/' \
+  "$work/column_elout.k" >"$work/column_elout_set.k"
+"$cli" run "$work/column_elout_set.k" -o "$work/column_elout_set" 2>"$work/column_elout_set.log" ||
+  { cat "$work/column_elout_set.log"; fail "the column with a solid set's histories"; }
+diff <(awk -F, 'NR > 1 && $2 == 21' "$work/column_elout/elout.csv") \
+  <(awk -F, 'NR > 1 && $2 == 21' "$work/column_elout_set/elout.csv") >/dev/null &&
+  awk -F, 'NR > 1 { rows++; if ($2 != (rows % 2 ? 37 : 21)) order = 1 } END { exit !(rows == 22 && !order) }' \
+    "$work/column_elout_set/elout.csv" || fail "the solid set's elout.csv: $(sed -n '2,3p' "$work/column_elout_set/elout.csv")"
 sed 's/^21,37,21$/21,99/' "$work/column_elout.k" >"$work/elout_bad.k"
 expect_input_error "$work/elout_bad.k" \
   'elout_bad\.k:[0-9]+: \*DATABASE_HISTORY_SOLID: solid element 99 does not exist' \
@@ -203,7 +213,7 @@ sed -e 's/^1,7850.0,2.0e11,0.3$/1,7850.0,2.0e11,0.0/' -e 's/^\*END$/*DATABASE_MA
 grep -q '^1,7850.0,2.0e11,0.0$' "$work/column_matsum.k" || fail "the column's material line"
 "$cli" run "$work/column_matsum.k" -o "$work/column_matsum" 2>"$work/column_matsum.log" ||
   { cat "$work/column_matsum.log"; fail "the column with part energies"; }
-head -n 1 "$work/column_matsum/matsum.csv" | grep -qx 'time \[time\],part,internal_energy \[energy\],kinetic_energy \[energy\],hourglass_energy \[energy\],x_momentum \[mass\*length/time\],y_momentum \[mass\*length/time\],z_momentum \[mass\*length/time\]' ||
+head -n 1 "$work/column_matsum/matsum.csv" | grep -qx 'time \[time\],part,internal_energy \[energy\],kinetic_energy \[energy\],hourglass_energy \[energy\],x_momentum \[mass\*length/time\],y_momentum \[mass\*length/time\],z_momentum \[mass\*length/time\],eroded_internal_energy \[energy\],eroded_kinetic_energy \[energy\],added_mass \[mass\]' ||
   fail "matsum header: $(head -n 1 "$work/column_matsum/matsum.csv")"
 awk -F, 'END { u = (7850 * 9.81) ^ 2 * 0.01 / (6 * 2e11) * (1 - 1 / 400.0)
   exit !(NR == 4 && $1 == 0.003 && $2 == 1 && ($3 - u) ^ 2 < (1e-4 * u) ^ 2 && $4 < 1e-8 * u && $5 == 0) }' \
@@ -214,19 +224,23 @@ expect_input_error "$work/matsum_bad.k" 'matsum_bad\.k:[0-9]+: \*DATABASE_MATSUM
 # Two elastic blocks (ELFORM 1) and a rigid one, 0.1 m cubes of steel (M = 7.85 kg) apart and in
 # flight at VX = 2, VY = -3 and VZ = 5 m/s: each part carries 1/2 M V^2 (15.7, 35.325, 98.125 J) and
 # M V (15.7, -23.55, 39.25 kg m/s) to round-off, no internal or hourglass energy (a translation
-# strains nothing); the parts' kinetic energies sum to glstat's.
+# strains nothing); the parts' kinetic energies sum to glstat's. A fourth block at VX = -4 m/s is
+# deleted at 5e-5 s (*MAT_ADD_EROSION FAILTM): at the end it has no kinetic energy nor momentum, and
+# its eroded kinetic energy is the 1/2 M V^2 = 62.8 J it took with it (glstat's eroded_kinetic_energy),
+# its eroded internal energy 0. No part has added mass.
 python3 - >"$work/flight.k" <<'PY'
 print("*KEYWORD\n*CONTROL_TERMINATION\n1.0e-4\n*DATABASE_MATSUM\n5.0e-5\n*DATABASE_GLSTAT\n5.0e-5")
 print("*SECTION_SOLID\n1,1\n*MAT_ELASTIC\n1,7850.0,2.0e11,0.3\n*MAT_RIGID\n2,7850.0,2.0e11,0.3\n0.0,0.0,0.0")
-print("*PART\nmoving x\n1,1,1\n*PART\nmoving y\n2,1,1\n*PART\nrigid z\n3,1,2\n*NODE")
+print("*MAT_ELASTIC\n3,7850.0,2.0e11,0.3\n*MAT_ADD_EROSION\n3\n0.0,0.0,0.0,0.0,0.0,0.0,0.0,5.0e-5")
+print("*PART\nmoving x\n1,1,1\n*PART\nmoving y\n2,1,1\n*PART\nrigid z\n3,1,2\n*PART\neroding\n4,1,3\n*NODE")
 n, a = 2, 0.05
-for p in range(3):
+for p in range(4):
     for k in range(n + 1):
         for j in range(n + 1):
             for i in range(n + 1):
                 print("%8d%16.8e%16.8e%16.8e" % (1 + 100 * p + i + 3 * (j + 3 * k), p + a * i, a * j, a * k))
 print("*ELEMENT_SOLID")
-for p in range(3):
+for p in range(4):
     for k in range(n):
         for j in range(n):
             for i in range(n):
@@ -236,18 +250,23 @@ for p in range(3):
                 print("%8d%8d" % (1 + 10 * p + i + n * (j + n * k), p + 1) + "".join("%8d" % q for q in c))
 print("*INITIAL_VELOCITY_GENERATION\n1,2,0.0,2.0,0.0,0.0\n0.0,0.0,0.0,0.0,0.0,0.0")
 print("*INITIAL_VELOCITY_GENERATION\n2,2,0.0,0.0,-3.0,0.0\n0.0,0.0,0.0,0.0,0.0,0.0")
-print("*INITIAL_VELOCITY_GENERATION\n3,2,0.0,0.0,0.0,5.0\n0.0,0.0,0.0,0.0,0.0,0.0\n*END")
+print("*INITIAL_VELOCITY_GENERATION\n3,2,0.0,0.0,0.0,5.0\n0.0,0.0,0.0,0.0,0.0,0.0")
+print("*INITIAL_VELOCITY_GENERATION\n4,2,0.0,-4.0,0.0,0.0\n0.0,0.0,0.0,0.0,0.0,0.0\n*END")
 PY
 "$cli" run "$work/flight.k" -o "$work/flight_out" 2>"$work/flight.log" ||
   { cat "$work/flight.log"; fail "the blocks in flight"; }
 glstat_kinetic=$(tail -n 1 "$work/flight_out/glstat.csv" | cut -d, -f3)
-awk -F, -v glstat="$glstat_kinetic" 'function off(x, exact) { return (x - exact) ^ 2 > (1e-12 * 100) ^ 2 }
+column() { head -n 1 "$1" | tr ',' '\n' | grep -n "^$2 " | cut -d: -f1; }
+glstat_eroded=$(tail -n 1 "$work/flight_out/glstat.csv" | cut -d, -f"$(column "$work/flight_out/glstat.csv" eroded_kinetic_energy)")
+awk -F, -v glstat="$glstat_kinetic" -v eroded="$glstat_eroded" '
+  function off(x, exact) { return (x - exact) ^ 2 > (1e-12 * 100) ^ 2 }
   $1 == 1e-4 { rows++; k = $2
-    if (off($4, k == 1 ? 15.7 : k == 2 ? 35.325 : 98.125) || off($6, k == 1 ? 15.7 : 0) ||
-        off($7, k == 2 ? -23.55 : 0) || off($8, k == 3 ? 39.25 : 0) || off($3, 0) || off($5, 0)) bad = 1
-    kinetic += $4 }
-  END { exit !(rows == 3 && !bad && !off(kinetic, glstat)) }' "$work/flight_out/matsum.csv" ||
-  fail "the parts in flight (glstat's kinetic energy $glstat_kinetic): $(tail -n 3 "$work/flight_out/matsum.csv")"
+    if (off($4, k == 1 ? 15.7 : k == 2 ? 35.325 : k == 3 ? 98.125 : 0) || off($6, k == 1 ? 15.7 : 0) ||
+        off($7, k == 2 ? -23.55 : 0) || off($8, k == 3 ? 39.25 : 0) || off($3, 0) || off($5, 0) ||
+        off($9, 0) || off($10, k == 4 ? 62.8 : 0) || $11 != 0) bad = 1
+    kinetic += $4; eroded_sum += $10 }
+  END { exit !(rows == 4 && !bad && !off(kinetic, glstat) && !off(eroded_sum, eroded)) }' "$work/flight_out/matsum.csv" ||
+  fail "the parts in flight (glstat's kinetic energy $glstat_kinetic, eroded $glstat_eroded): $(tail -n 4 "$work/flight_out/matsum.csv")"
 
 # The SPH fluid computes no force on its wall particles: their reactions are refused, not zeros.
 sed 's/^\*END$/*DATABASE_SPCFORC\n0.001\n*END/' "$source_dir/examples/dam_break/dam_break_2d.k" >"$work/spc_fluid.k"

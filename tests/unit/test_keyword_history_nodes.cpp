@@ -98,5 +98,29 @@ TEST(keyword_history_nodes, SolidElementsAndTheirInterval) {
                 "field OPTION2: '2': elout.csv holds no history variables; leave it 0");
 }
 
+// *SET_SOLID (_TITLE) and *DATABASE_HISTORY_SOLID_SET: the set's elements in its order; a set that
+// does not exist is an error at the history card, an element that does not exist at the set.
+TEST(keyword_history_nodes, SolidSets) {
+  DeckFolder folder;
+  const auto model = read_deck(folder.write(
+      "bad.k", particle_deck + "*SET_SOLID_TITLE\nlayer\n" + row({"5", "MECH"}) + row({"7", "0", "3"}) + row({"4"}) +
+                     "*DATABASE_HISTORY_SOLID_SET\n" + row({"5", "8"})));
+  ASSERT_EQ(model.solid_sets.count(5), 1u);
+  EXPECT_EQ(model.solid_sets.at(5).elements, (std::vector<Id>{7, 3, 4}));
+  ASSERT_EQ(model.history_solids.size(), 1u);
+  EXPECT_TRUE(model.history_solids[0].sets);
+  EXPECT_EQ(model.history_solids[0].ids, (std::vector<Id>{5, 8}));
+  // The particle deck has no solid element 7.
+  EXPECT_EQ(input_error_of([&] { validate(model); }),
+            prefix(folder, 24, "*SET_SOLID") + "solid set 5: element 7 is not defined");
+  const auto missing_set =
+      read_deck(folder.write("bad.k", particle_deck + "*DATABASE_HISTORY_SOLID_SET\n" + row({"8"})));
+  EXPECT_EQ(input_error_of([&] { solver::build_problem(missing_set); }),
+            prefix(folder, 23, "*DATABASE_HISTORY_SOLID_SET") + "solid set 8 does not exist");
+  EXPECT_EQ(read_error(folder, "*SET_SOLID\n" + row({"5"}) + "*SET_SOLID\n" + row({"5"})),
+            prefix(folder, 4, "*SET_SOLID") + "solid set 5 is defined twice (first at " +
+                (folder.path() / "bad.k").lexically_normal().string() + ":2)");
+}
+
 }  // namespace
 }  // namespace spall::io::keyword

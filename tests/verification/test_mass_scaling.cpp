@@ -7,6 +7,7 @@
 // of two element sizes, only the small elements take mass; ENDMAS stops the run.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 
 #include "spall/core/log.hpp"
@@ -72,15 +73,17 @@ TEST(MassScaling, SpgBarRingsWithTheScaledMass) {
 
 namespace {
 
-// A bar at rest, 0.1 x 0.01 x 0.01 m: 10 hexahedra 0.005 m long, then 5 that are 0.01 m long, read as
-// a user writes it, with the *CONTROL_TIMESTEP card `timestep` and ENDMAS.
+// A bar at rest, 0.1 x 0.01 x 0.01 m: 10 hexahedra 0.005 m long (part 1), then 5 that are 0.01 m
+// long (part 2), read as a user writes it, with the *CONTROL_TIMESTEP card `timestep` and ENDMAS,
+// and the parts' energies and masses (*DATABASE_MATSUM) at the end.
 constexpr Real coarse = 0.01, fine = 0.005, density = 7850;
 
 std::string graded_bar(const std::string& timestep, Real endmas, Real end_time) {
   std::string deck = "*KEYWORD\n*CONTROL_TERMINATION\n" + row({number(end_time), "0", "0.0", "0.0", number(endmas)}) +
-                     "*CONTROL_TIMESTEP\n" + timestep;
-  deck += deformable_part(Body::fem, 1, density, 200e9, 0.3);
-  deck += hex_lattice(1, {15, 1, 1}, 1, 1, [](int i, int j, int k) {
+                     "*CONTROL_TIMESTEP\n" + timestep + "*DATABASE_MATSUM\n" + row({number(end_time)});
+  for (Id pid : {1, 2}) deck += deformable_part(Body::fem, pid, density, 200e9, 0.3);
+  const auto part_of = [](int i, int, int) -> Id { return i < 10 ? 1 : 2; };
+  deck += hex_lattice(part_of, {15, 1, 1}, 1, 1, [](int i, int j, int k) {
     const Real x = i <= 10 ? fine * i : 10 * fine + coarse * (i - 10);
     return Vec3(x, coarse * j, coarse * k);
   });
@@ -91,6 +94,7 @@ std::string dt2ms_card(Real dt2ms) { return row({"0.0", number(tssfac), "0", "0.
 
 struct GradedRun {
   Real first_step = 0, added = 0, end_time = 0;
+  std::array<Real, 2> added_to_part{};  // matsum's added_mass of parts 1 and 2 at the end
 };
 
 GradedRun run_graded(Real dt2ms, Real endmas, Real end_time) {
@@ -103,6 +107,9 @@ GradedRun run_graded(Real dt2ms, Real endmas, Real end_time) {
   solver::Observer observer;
   observer.on_history = [&](const solver::StepInfo& s, const discretization::EnergyLedger&) {
     if (r.first_step == 0) r.first_step = s.dt;
+  };
+  observer.on_part_summary = [&](const solver::StepInfo&, const discretization::PartSummary& parts) {
+    for (std::size_t k = 0; k < 2; ++k) r.added_to_part[k] = parts.value(k, discretization::PartSummary::added_mass);
   };
   const auto summary = solver::run(problem, observer);
   r.added = summary.energies.value(discretization::EnergyLedger::added_mass);
@@ -124,6 +131,9 @@ TEST(MassScaling, OnlyElementsBelowTheTargetTakeMass) {
               target, scaled.added, fine_mass, k * k - 1);
   EXPECT_NEAR(scaled.first_step / (tssfac * target), 1.0, 1e-9);
   EXPECT_NEAR(scaled.added / (fine_mass * (k * k - 1)), 1.0, 1e-9);
+  // Part by part (matsum.csv): all of it on the fine elements' part.
+  EXPECT_NEAR(scaled.added_to_part[0] / (fine_mass * (k * k - 1)), 1.0, 1e-9);
+  EXPECT_EQ(scaled.added_to_part[1], 0.0);
 }
 
 TEST(MassScaling, EndmasStopsTheRun) {

@@ -6,7 +6,6 @@
 //   total = kinetic + stored + dissipated,   ratio = total / (total at t = 0 + external work),
 // which is 1 for a run that conserves energy (LS-DYNA's glstat "energy ratio"). The kinetic and
 // internal energy of eroded elements leave with them and are dissipated terms of their own.
-#include <algorithm>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -14,6 +13,7 @@
 
 #include "spall/core/archive.hpp"
 #include "spall/core/types.hpp"
+#include "spall/discretization/part_slot.hpp"
 
 namespace spall::discretization {
 
@@ -72,22 +72,29 @@ class EnergyLedger {
   // corrected velocity gradient, whose power the pair forces do not deliver; SPG: its e leaves out
   // the stabilization's springs; FEM: its points' e, each a mass m / points, drifts from the work
   // as elements distort). Off until keep_part_work
-  // names the parts (ascending, each once); then add_part_work(k, amount) adds to the k-th.
+  // names the parts (ascending, each once); then add_part_work(k, amount) adds to the k-th, and
+  // add_part_eroded(k, internal, kinetic) what its eroded elements took with them.
+  struct PartEnergies {
+    Real work = 0;
+    Real eroded_internal = 0, eroded_kinetic = 0;
+    void checkpoint(Archive& a) { a(work, eroded_internal, eroded_kinetic); }
+  };
   void keep_part_work(std::vector<Id> parts) {
     part_ids_ = std::move(parts);
-    part_work_.assign(part_ids_.size(), 0);
+    part_energies_.assign(part_ids_.size(), {});
   }
   const std::vector<Id>& part_ids() const { return part_ids_; }
   // The place of `part` in part_ids(), -1 when it is not there.
-  int part_slot(Id part) const {
-    const auto at = std::lower_bound(part_ids_.begin(), part_ids_.end(), part);
-    return at == part_ids_.end() || *at != part ? -1 : static_cast<int>(at - part_ids_.begin());
+  int part_slot(Id part) const { return discretization::part_slot(part_ids_, part); }
+  void add_part_work(std::size_t k, Real amount) { part_energies_[k].work += amount; }
+  void add_part_eroded(std::size_t k, Real internal, Real kinetic) {
+    part_energies_[k].eroded_internal += internal;
+    part_energies_[k].eroded_kinetic += kinetic;
   }
-  void add_part_work(std::size_t k, Real amount) { part_work_[k] += amount; }
-  Real part_work(std::size_t k) const { return part_work_[k]; }
+  const PartEnergies& part_energies(std::size_t k) const { return part_energies_[k]; }
 
   // The terms and the total at t = 0 (a restart continues the same balance).
-  void checkpoint(Archive& a) { a(terms_, initial_total_, part_ids_, part_work_); }
+  void checkpoint(Archive& a) { a(terms_, initial_total_, part_ids_, part_energies_); }
 
  private:
   Term& term(std::string_view name, Role role);
@@ -95,7 +102,7 @@ class EnergyLedger {
   std::vector<Term> terms_;
   Real initial_total_ = 0;
   std::vector<Id> part_ids_;
-  std::vector<Real> part_work_;
+  std::vector<PartEnergies> part_energies_;
 };
 
 // The power of a formulation's internal forces at the nodes' velocities: the rate of stored

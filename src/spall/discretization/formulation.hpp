@@ -45,8 +45,9 @@ class Formulation {
   virtual void book_energies(EnergyLedger& ledger, const NodeStore& nodes, std::span<const Vec3> v, Real dt) const = 0;
 
   // *DATABASE_MATSUM: adds to `parts`, under each particle's or element's part, the internal energy
-  // its material points hold, m (e - e0), and the hourglass energy of its elements: of those this
-  // rank accounts for (its own particles, the elements it books), at an output.
+  // its material points hold, m (e - e0), the hourglass energy of its elements and the mass DT2MS
+  // added to them: of those this rank accounts for (its own particles, the elements it books), at
+  // an output.
   virtual void sum_parts(PartSummary& /*parts*/, const NodeStore& /*nodes*/) const {}
 
   // Writes the formulation's output fields (pressure, von Mises stress, density, ...) for its own

@@ -1,9 +1,10 @@
 #pragma once
 // *DATABASE_MATSUM: the model's energies and momenta part by part (LS-DYNA's matsum). Whoever holds
 // a quantity adds it under the part it belongs to: a formulation the internal energy its material
-// points hold and its elements' hourglass energy, the time loop the nodes' kinetic energy and
-// momentum. Each sum is exact until it is read (ExactSum), so that it depends neither on the
-// order of the terms nor, once summed over the ranks, on how the parts are spread over them.
+// points hold, its elements' hourglass energy and the mass DT2MS added, the time loop the nodes'
+// kinetic energy and momentum and the ledger's work and eroded energies by part. Each sum is exact
+// until it is read (ExactSum), so that it depends neither on the order of the terms nor, once
+// summed over the ranks, on how the parts are spread over them.
 #include <array>
 #include <string_view>
 #include <utility>
@@ -17,11 +18,17 @@ namespace spall::discretization {
 
 class PartSummary {
  public:
-  enum Quantity : int { internal_energy, kinetic_energy, hourglass_energy, x_momentum, y_momentum, z_momentum };
-  static constexpr int quantity_count = 6;
+  // The eroded energies: what the part's eroded elements took with them, since the start; the
+  // added mass: what DT2MS has added to the part's elements (particles).
+  enum Quantity : int {
+    internal_energy, kinetic_energy, hourglass_energy, x_momentum, y_momentum, z_momentum,
+    eroded_internal_energy, eroded_kinetic_energy, added_mass
+  };
+  static constexpr int quantity_count = 9;
   // matsum.csv's columns, in the order of Quantity.
   static constexpr std::array<std::string_view, quantity_count> names = {
-      "internal_energy", "kinetic_energy", "hourglass_energy", "x_momentum", "y_momentum", "z_momentum"};
+      "internal_energy", "kinetic_energy", "hourglass_energy", "x_momentum", "y_momentum", "z_momentum",
+      "eroded_internal_energy", "eroded_kinetic_energy", "added_mass"};
 
   // The deck's parts, ascending, each once (as Controls::matsum_parts).
   explicit PartSummary(std::vector<Id> parts);

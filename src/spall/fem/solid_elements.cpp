@@ -202,6 +202,7 @@ SolidElements::SolidElements(std::vector<PartSettings> parts, const std::vector<
       if (q < 0 || parts_[p].part_id < parts_[q].part_id) q = p;
     }
   eroded_internal_by_part_.assign(parts_.size(), 0);
+  eroded_kinetic_by_part_.assign(parts_.size(), 0);
   // Under MPI each rank sets up the elements it computes alone, once the nodes are dealt
   // (distribute): no rank holds every element's state, even for a while.
   if (parallel::world().size() == 1) set_up_state(nodes);
@@ -647,8 +648,9 @@ bool SolidElements::fails(Block& block, Index e, const Mat3& L, Real dt, Real st
 void SolidElements::remove_eroded(discretization::NodeStore& nodes) {
   // The energies and mass taken out, each an exact sum over the elements of the rank's own, then
   // over the ranks: the same for any partition.
-  // Kinetic energy, internal energy, mass, then the internal energy of each part.
-  std::vector<ExactSum> taken(3 + parts_.size());
+  // Kinetic energy, internal energy, mass, then the internal and the kinetic energy of each part.
+  const std::size_t parts = parts_.size();
+  std::vector<ExactSum> taken(3 + 2 * parts);
   for (std::size_t k_block = 0; k_block < blocks_.size(); ++k_block) {
     Block& block = blocks_[k_block];
     const int per = block.nodes_per_element, points = block.points_per_element;
@@ -674,7 +676,11 @@ void SolidElements::remove_eroded(discretization::NodeStore& nodes) {
       }
       for (int a = 0; a < per; ++a) {
         const Index k = block.node[per * e + a], i = nodes.node_row(node_[k]);
-        if (owned) taken[0] += Real(0.5) * nodal * nodes.v[i].squaredNorm();
+        if (owned) {
+          const Real kinetic = Real(0.5) * nodal * nodes.v[i].squaredNorm();
+          taken[0] += kinetic;
+          taken[3 + parts + static_cast<std::size_t>(block.part[e])] += kinetic;
+        }
         nodes.mass[i] -= nodal;
         if (--live_elements_[k] == 0) {
           nodes.mass[i] = other_mass_[k];  // the share of other formulations, exactly
@@ -691,7 +697,10 @@ void SolidElements::remove_eroded(discretization::NodeStore& nodes) {
   eroded_kinetic_step_ = taken[0].value();
   eroded_internal_step_ = taken[1].value();
   eroded_mass_ += taken[2].value();
-  for (std::size_t p = 0; p < parts_.size(); ++p) eroded_internal_by_part_[p] = taken[3 + p].value();
+  for (std::size_t p = 0; p < parts; ++p) {
+    eroded_internal_by_part_[p] = taken[3 + p].value();
+    eroded_kinetic_by_part_[p] = taken[3 + parts + p].value();
+  }
 }
 
 void SolidElements::Block::hold(parallel::Range elements) {
@@ -855,6 +864,7 @@ void SolidElements::compute_forces(discretization::NodeStore& nodes, Real dt) {
   time_ += dt;
   eroded_kinetic_step_ = eroded_internal_step_ = 0;
   std::fill(eroded_internal_by_part_.begin(), eroded_internal_by_part_.end(), Real(0));
+  std::fill(eroded_kinetic_by_part_.begin(), eroded_kinetic_by_part_.end(), Real(0));
   eroded_now_.clear();
   struct Found {
     Real step;
@@ -983,10 +993,14 @@ void SolidElements::sum_parts(discretization::PartSummary& parts, const discreti
   for (std::size_t k = 0; k < blocks_.size(); ++k) {
     const Block& block = blocks_[k];
     const parallel::Range elements = held(k);
-    if (block.hourglass_energy.empty()) continue;
-    for (Index e = elements.begin; e < elements.end; ++e)
-      if (!block.eroded[e] && books(block, e))
-        parts.add(parts_[block.part[e]].part_id, Summary::hourglass_energy, block.hourglass_energy[e]);
+    for (Index e = elements.begin; e < elements.end; ++e) {
+      if (!books(block, e)) continue;
+      const Id part = parts_[block.part[e]].part_id;
+      if (!block.hourglass_energy.empty() && !block.eroded[e])
+        parts.add(part, Summary::hourglass_energy, block.hourglass_energy[e]);
+      // As the ledger's added_mass: an eroded element's too.
+      if (!block.mass_scale.empty()) parts.add(part, Summary::added_mass, (block.mass_scale[e] - 1) * block.mass[e]);
+    }
   }
 }
 
@@ -1060,8 +1074,12 @@ void SolidElements::book_part_work(discretization::EnergyLedger& ledger, const d
         [&](Index j) { return block.hourglass_power[elements.begin + j]; }, across);
     for (std::size_t p = 0; p < ids.size(); ++p) work[p] -= hourglass[p];
   }
-  for (std::size_t p = 0; p < parts_.size(); ++p)
-    if (slot[p] >= 0) ledger.add_part_work(static_cast<std::size_t>(slot[p]), -eroded_internal_by_part_[p]);
+  for (std::size_t p = 0; p < parts_.size(); ++p) {
+    if (slot[p] < 0) continue;
+    const auto k = static_cast<std::size_t>(slot[p]);
+    ledger.add_part_work(k, -eroded_internal_by_part_[p]);
+    ledger.add_part_eroded(k, eroded_internal_by_part_[p], eroded_kinetic_by_part_[p]);
+  }
   for (std::size_t p = 0; p < ids.size(); ++p) ledger.add_part_work(p, dt * work[p]);
 }
 

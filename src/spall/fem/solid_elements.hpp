@@ -97,8 +97,8 @@ class SolidElements final : public discretization::Formulation {
   Real stable_time_step(const discretization::NodeStore& nodes) const override;
   void book_energies(discretization::EnergyLedger& ledger, const discretization::NodeStore& nodes,
                      std::span<const Vec3> v, Real dt) const override;
-  // The hourglass energy of the elements it books that have not eroded (their internal energy is
-  // the ledger's work by part: book_energies).
+  // The hourglass energy of the elements it books that have not eroded and the mass DT2MS added to
+  // them (their internal and eroded energies are the ledger's by part: book_energies).
   void sum_parts(discretization::PartSummary& parts, const discretization::NodeStore& nodes) const override;
   void write_fields(discretization::FieldSet& fields, const discretization::NodeStore& nodes) const override;
   Real max_wave_speed() const override { return max_sound_speed_; }
@@ -300,7 +300,7 @@ class SolidElements final : public discretization::Formulation {
   // This step's deletions (booked by book_energies) and the totals; the internal energy also by
   // part (parts_'s order), for matsum.csv.
   Real eroded_kinetic_step_ = 0, eroded_internal_step_ = 0;
-  std::vector<Real> eroded_internal_by_part_;
+  std::vector<Real> eroded_internal_by_part_, eroded_kinetic_by_part_;  // this step's, of each of parts_
   Real eroded_mass_ = 0;
   std::vector<Id> eroded_now_;  // the IDs of the elements that eroded this step, ascending, of every rank
   discretization::MassScaling mass_scaling_;  // DT2MS

@@ -296,6 +296,12 @@ struct PartSet {
   std::vector<Id> parts;
   SourceLocation where;
 };
+// *SET_SOLID: solid element IDs in the deck's order.
+struct SolidSet {
+  Id id = 0;
+  std::vector<Id> elements;
+  SourceLocation where;
+};
 
 // Which nodes a boundary condition or initial condition applies to.
 enum class Target { node, node_set, part, part_set, all_nodes };
@@ -514,7 +520,7 @@ struct OutputInterval {
 // stress elout.csv follows at the *DATABASE_ELOUT interval.
 struct HistoryIds {
   std::vector<Id> ids;
-  bool sets = false;     // _SET: the IDs are sets'
+  bool sets = false;     // _SET: the IDs are sets' (node sets, solid sets)
   SourceLocation where;  // the card's
 };
 
@@ -699,6 +705,7 @@ struct Model {
   std::vector<SphMeshBox> sph_mesh_boxes;  // as read; their particles are in nodes/sph_elements
   std::map<Id, NodeSet> node_sets;
   std::map<Id, PartSet> part_sets;
+  std::map<Id, SolidSet> solid_sets;
   std::map<Id, SegmentSet> segment_sets;
   std::map<Id, Curve> curves;
 

@@ -507,20 +507,32 @@ class Builder {
     keep_first_of_each(places, [](Index place) { return place; });
   }
 
-  // *DATABASE_HISTORY_SOLID: the elements elout.csv follows, in the deck's order, each once; each
-  // must be a finite element of a formulation that follows it.
+  // *DATABASE_HISTORY_SOLID, _SET: the elements elout.csv follows, in the deck's order (a set's in
+  // its order), each once; each must be a finite element of a formulation that follows it.
   void build_history_solids() {
-    std::vector<std::pair<Id, SourceLocation>> named;  // each ID with its card
-    for (const auto& card : model_.history_solids)
-      for (const Id id : card.ids) named.emplace_back(id, card.where);
-    keep_first_of_each(named, [](const auto& entry) { return entry.first; });
+    struct Named {
+      Id id;
+      SourceLocation where;  // the history card's
+      const char* keyword;
+    };
+    std::vector<Named> named;
+    for (const auto& card : model_.history_solids) {
+      const char* keyword = card.sets ? "*DATABASE_HISTORY_SOLID_SET" : "*DATABASE_HISTORY_SOLID";
+      for (const Id id : card.ids) {
+        if (!card.sets) {
+          named.push_back({id, card.where, keyword});
+          continue;
+        }
+        const auto set = model_.solid_sets.find(id);
+        if (set == model_.solid_sets.end())
+          fail_at(card.where, keyword, fmt::format("solid set {} does not exist", id));
+        for (const Id element : set->second.elements) named.push_back({element, card.where, keyword});
+      }
+    }
+    keep_first_of_each(named, [](const Named& entry) { return entry.id; });
     if (named.empty()) return;
     std::vector<Id>& ids = problem_.history_solids;
-    std::vector<SourceLocation> where;
-    for (const auto& [id, card] : named) {
-      ids.push_back(id);
-      where.push_back(card);
-    }
+    for (const Named& entry : named) ids.push_back(entry.id);
     std::vector<std::uint8_t> taken(ids.size(), 0);
     for (auto& f : problem_.formulations) f->follow_elements(ids, taken);
     const auto missing = std::find(taken.begin(), taken.end(), 0);
@@ -530,8 +542,8 @@ class Builder {
     const auto card = std::find_if(model_.solid_elements.begin(), model_.solid_elements.end(),
                                    [&](const model::ElementSolid& e) { return e.eid == ids[k]; });
     if (!in_blocks_ && card == model_.solid_elements.end())
-      fail_at(where[k], "*DATABASE_HISTORY_SOLID", fmt::format("solid element {} does not exist", ids[k]));
-    fail_at(where[k], "*DATABASE_HISTORY_SOLID",
+      fail_at(named[k].where, named[k].keyword, fmt::format("solid element {} does not exist", ids[k]));
+    fail_at(named[k].where, named[k].keyword,
             fmt::format("solid element {} is not a finite element (its part's are SPG particles or a rigid "
                         "body): follow its nodes with *DATABASE_HISTORY_NODE",
                         ids[k]));

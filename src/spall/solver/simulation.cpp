@@ -182,7 +182,7 @@ class TimeLoop::Step {
     a.expect_size("contacts", problem_.contacts.size());
     for (auto& c : problem_.contacts) c.checkpoint(a);
     a(problem_.rigid_bodies);
-    a.section("time loop 6");
+    a.section("time loop 7");
     a(step_, dt_previous_, dt_first_, dt_mid_, velocity_weight_, base_acceleration_, damping_,
       runaway_speed_limit_, initial_mass_, field_output_, history_, rwforc_, rcforc_, rbdout_, nodout_, spcforc_,
       elout_, bndout_, matsum_, motion_work_, ledger_, phases_);
@@ -550,12 +550,13 @@ class TimeLoop::Step {
     return !stop;
   }
 
-  // The parts' energies and momenta at t^n (*DATABASE_MATSUM): the internal energy the ledger keeps
-  // by part and the formulations' own (Formulation::sum_parts: a liquid's, the elements' hourglass
-  // energy), the kinetic energy and momentum of each node under the node's part (v^n is in v_old_
-  // from energies() on; a node that parts share counts, whole, to the part NodeStore::part names),
-  // and a rigid body's, of its own mass properties, under its part. Each an exact sum over the
-  // ranks' own nodes (the ledger's and the bodies', which every rank holds, from rank 0).
+  // The parts' energies and momenta at t^n (*DATABASE_MATSUM): the internal and eroded energies the
+  // ledger keeps by part and the formulations' own (Formulation::sum_parts: a liquid's, the
+  // elements' hourglass energy, the mass DT2MS added), the kinetic energy and momentum of each node
+  // under the node's part (v^n is in v_old_ from energies() on; a node that parts share counts,
+  // whole, to the part NodeStore::part names), and a rigid body's, of its own mass properties,
+  // under its part. Each an exact sum over the ranks' own nodes (the ledger's and the bodies',
+  // which every rank holds, from rank 0).
   discretization::PartSummary part_summary() const {
     using Summary = discretization::PartSummary;
     Summary parts(controls_.matsum_parts);
@@ -569,8 +570,12 @@ class TimeLoop::Step {
     }
     const parallel::Communicator& ranks = parallel::world();
     if (ranks.rank() == 0) {
-      for (std::size_t k = 0; k < ledger_.part_ids().size(); ++k)
-        parts.add(ledger_.part_ids()[k], Summary::internal_energy, ledger_.part_work(k));
+      for (std::size_t k = 0; k < ledger_.part_ids().size(); ++k) {
+        const auto& part = ledger_.part_energies(k);
+        parts.add(ledger_.part_ids()[k], Summary::internal_energy, part.work);
+        parts.add(ledger_.part_ids()[k], Summary::eroded_internal_energy, part.eroded_internal);
+        parts.add(ledger_.part_ids()[k], Summary::eroded_kinetic_energy, part.eroded_kinetic);
+      }
       for (const rigid::RigidBody& body : problem_.rigid_bodies.bodies()) {
         parts.add(body.part_id, Summary::kinetic_energy, body.kinetic_energy_at(velocity_weight_));
         parts.add_momentum(body.part_id, body.mass * body.velocity_at(velocity_weight_));

@@ -23,29 +23,30 @@ Real SpgFormulation::stable_time_step(const discretization::NodeStore& nodes) co
   return dt;
 }
 
-discretization::InternalPower SpgFormulation::internal_power(const discretization::NodeStore& nodes,
-                                                            std::span<const Vec3> v) const {
+void SpgFormulation::book_energies(discretization::EnergyLedger& ledger, const discretization::NodeStore& nodes,
+                                   std::span<const Vec3> v, Real dt) const {
+  // Part by part (each a collective), the parts' stored work also for *DATABASE_MATSUM when the
+  // ledger keeps it: its particles' e leaves out the stabilization's springs and goes on where the
+  // bonds have broken.
   discretization::InternalPower p;
   for (const auto& part : parts_) {
     const auto q = part.internal_power(nodes, v);
     p.stored += q.stored;
     p.dissipated += q.dissipated;
-  }
-  return p;
-}
-
-void SpgFormulation::book_energies(discretization::EnergyLedger& ledger, const discretization::NodeStore& nodes,
-                                   std::span<const Vec3> v, Real dt) const {
-  discretization::book_internal_power(ledger, internal_power(nodes, v), dt);
-  // *DATABASE_MATSUM: each part's stored work (collectives, only with the card); its particles' e
-  // leaves out the stabilization's springs and goes on where the bonds have broken.
-  for (const auto& part : parts_)
     if (const int slot = ledger.part_slot(part.settings().part_id); slot >= 0)
-      ledger.add_part_work(static_cast<std::size_t>(slot), dt * part.internal_power(nodes, v).stored);
+      ledger.add_part_work(static_cast<std::size_t>(slot), dt * q.stored);
+  }
+  discretization::book_internal_power(ledger, p, dt);
   if (!mass_scaled_) return;
   Real added = 0;
   for (const auto& part : parts_) added += part.added_mass_step();
   ledger.add(discretization::EnergyLedger::added_mass, discretization::EnergyLedger::Role::reported, added);
+}
+
+void SpgFormulation::sum_parts(discretization::PartSummary& parts, const discretization::NodeStore&) const {
+  if (!mass_scaled_ || parallel::world().rank() != 0) return;  // each part's sum is every rank's already
+  for (const auto& part : parts_)
+    parts.add(part.settings().part_id, discretization::PartSummary::added_mass, part.added_mass());
 }
 
 bool SpgFormulation::scale_mass_below(Real step, bool first_step_only) {

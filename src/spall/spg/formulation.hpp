@@ -18,9 +18,10 @@ class SpgFormulation final : public discretization::Formulation {
   Real stable_time_step(const discretization::NodeStore& nodes) const override;
   void book_energies(discretization::EnergyLedger& ledger, const discretization::NodeStore& nodes,
                      std::span<const Vec3> v, Real dt) const override;
+  // The mass DT2MS added to each part (the parts' internal energies are the ledger's work by part:
+  // book_energies).
+  void sum_parts(discretization::PartSummary& parts, const discretization::NodeStore& nodes) const override;
   void write_fields(discretization::FieldSet& fields, const discretization::NodeStore& nodes) const override;
-  // The power of the last internal forces at the node velocities v (of the rows).
-  discretization::InternalPower internal_power(const discretization::NodeStore& nodes, std::span<const Vec3> v) const;
   Real max_wave_speed() const override;
   bool scale_mass_below(Real step, bool first_step_only) override;
   void complete_state(discretization::NodeStore& nodes) override;

@@ -100,8 +100,9 @@ class Part {
   Real stable_time_step(const discretization::NodeStore& nodes) const;
   // DT2MS (discretization::Formulation::scale_mass_below).
   void scale_mass_below(Real step, bool first_step_only);
-  // The mass DT2MS added on the last step.
+  // The mass DT2MS added on the last step, and in all (over every rank's particles).
   Real added_mass_step() const { return mass_scaling_.added_this_step; }
+  Real added_mass() const { return mass_scaling_.added; }
   // The power of the internal forces at the velocities v: stored (strain energy, stabilization
   // springs) and dissipated by the bulk viscosity.
   discretization::InternalPower internal_power(const discretization::NodeStore& nodes,

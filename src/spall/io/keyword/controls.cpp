@@ -303,13 +303,13 @@ void read_database_elout(CardCursor& cursor, const KeywordCall&, model::Model& m
   }
 }
 
-// Cards of eight IDs (blank or 0: none), nodes' or, with _SET, node sets'.
+// Cards of eight IDs (blank or 0: none), nodes' or elements' or, with _SET, node sets' or solid sets'.
 void read_database_history(CardCursor& cursor, const KeywordCall& call, model::Model& model) {
-  const bool solids = call.base == "DATABASE_HISTORY_SOLID";
+  const bool solids = call.base.starts_with("DATABASE_HISTORY_SOLID");
   while (!cursor.done()) {
     const Card card = cursor.next(standard_fields, "card (ID1 ... ID8)");
     model::HistoryIds history;
-    history.sets = call.base == "DATABASE_HISTORY_NODE_SET";
+    history.sets = call.base.ends_with("_SET");
     history.where = card.where();
     for (int k = 0; k < 8; ++k) {
       const Id id = card.integer(k, id_field_names[k], 0);

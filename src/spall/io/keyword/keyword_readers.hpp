@@ -105,6 +105,7 @@ void read_set_node_list_generate(CardCursor&, const KeywordCall&, model::Model&)
 void generate_node_set_ranges(model::Model&);
 void read_set_part_list(CardCursor&, const KeywordCall&, model::Model&);
 void read_set_segment(CardCursor&, const KeywordCall&, model::Model&);
+void read_set_solid(CardCursor&, const KeywordCall&, model::Model&);
 // curves.cpp
 void read_define_curve(CardCursor&, const KeywordCall&, model::Model&);
 // boundary_initial.cpp

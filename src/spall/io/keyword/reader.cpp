@@ -68,6 +68,7 @@ constexpr SupportedKeyword supported_keywords[] = {
     {"SET_PART", read_set_part_list, true},
     {"SET_PART_LIST", read_set_part_list, true},
     {"SET_SEGMENT", read_set_segment, true},
+    {"SET_SOLID", read_set_solid, true},
     {"DEFINE_CURVE", read_define_curve, true},
     {"BOUNDARY_SPC_NODE", read_boundary_spc, false, true},
     {"BOUNDARY_SPC_SET", read_boundary_spc, false, true},
@@ -111,6 +112,7 @@ constexpr SupportedKeyword supported_keywords[] = {
     {"DATABASE_HISTORY_NODE", read_database_history},
     {"DATABASE_HISTORY_NODE_SET", read_database_history},
     {"DATABASE_HISTORY_SOLID", read_database_history},
+    {"DATABASE_HISTORY_SOLID_SET", read_database_history},
 };
 
 bool ends_with(std::string_view text, std::string_view suffix) {

@@ -1,4 +1,5 @@
-// *SET_NODE_LIST (+ _GENERATE), *SET_PART_LIST, *SET_SEGMENT, each with an optional _TITLE line.
+// *SET_NODE_LIST (+ _GENERATE), *SET_PART_LIST, *SET_SEGMENT, *SET_SOLID, each with an optional _TITLE
+// line.
 #include "spall/core/memory.hpp"
 #include "spall/io/keyword/keyword_readers.hpp"
 
@@ -81,6 +82,17 @@ void read_set_part_list(CardCursor& cursor, const KeywordCall& call, model::Mode
   set.where = header.where();
   set.parts = read_members(cursor);
   insert_unique(model.part_sets, set.id, std::move(set), header, "part set");
+}
+
+// Card 1 SID SOLVER (SOLVER, the solver the set is for, has no use in Spall), then 8 element IDs a line.
+void read_set_solid(CardCursor& cursor, const KeywordCall& call, model::Model& model) {
+  if (call.title) cursor.next_text("title");
+  const Card header = cursor.next(standard_fields, "card 1 (SID SOLVER)");
+  model::SolidSet set;
+  set.id = header.required_integer(0, "SID");
+  set.where = header.where();
+  set.elements = read_members(cursor);
+  insert_unique(model.solid_sets, set.id, std::move(set), header, "solid set");
 }
 
 // One segment a line: N1 N2 N3 N4 A1 A2 A3 A4. A1..A4 are attributes with no use in Spall.

@@ -447,6 +447,16 @@ class Validator {
           throw InputError(set.where, "*SET_PART_LIST",
                            "part set " + std::to_string(id) + ": part " + std::to_string(pid) +
                                " is not defined");
+    if (!model_.solid_sets.empty()) {
+      std::unordered_set<Id> solids;
+      for (const auto& element : model_.solid_elements) solids.insert(element.eid);
+      for (const auto& [id, set] : model_.solid_sets)
+        for (Id eid : set.elements)
+          if (!solids.contains(eid))
+            throw InputError(set.where, "*SET_SOLID",
+                             "solid set " + std::to_string(id) + ": element " + std::to_string(eid) +
+                                 " is not defined");
+    }
     for (const auto& [id, set] : model_.segment_sets)
       for (const auto& segment : set.segments)
         for (Id nid : segment)
