@@ -203,6 +203,7 @@ TEST(keyword_contact, ErodingTypesReadCardFour) {
   EXPECT_TRUE(n2s.eroding);
   EXPECT_EQ(n2s.id, 4);
   EXPECT_EQ(n2s.fs, 0.2);
+  EXPECT_EQ(n2s.isym, 0);
   EXPECT_EQ(n2s.erosop, 1);
   EXPECT_EQ(n2s.iadj, 1);
   EXPECT_EQ(n2s.soft, 1);  // optional card A after card 4
@@ -215,12 +216,12 @@ TEST(keyword_contact, ErodingTypesReadCardFour) {
   EXPECT_TRUE(model.contacts[2].eroding);
   EXPECT_EQ(model.contacts[2].erosop, 0);
   EXPECT_FALSE(model.contacts[3].eroding);
+  EXPECT_EQ(model.contacts[3].isym, -1);  // not given: *CONTROL_CONTACT's
   // Card 4's refusals, at its line.
   const std::string eroding = "*CONTACT_ERODING_NODES_TO_SURFACE";
   const std::string cards = row({"1", "1", "4", "3"}) + row({}) + row({});
-  EXPECT_EQ(read_error(folder, eroding + "\n" + cards + row({"1"})),
-            prefix(folder, 5, eroding) +
-                "field ISYM: '1': leaving out the faces on symmetry planes is not implemented");
+  EXPECT_EQ(read_error(folder, eroding + "\n" + cards + row({"3"})),
+            prefix(folder, 5, eroding) + "field ISYM: '3' is not 0 or 1");
   EXPECT_EQ(read_error(folder, eroding + "\n" + cards + row({"0", "2"})),
             prefix(folder, 5, eroding) + "field EROSOP: '2' is not 0 or 1");
   EXPECT_EQ(read_error(folder, eroding + "\n" + cards + row({"0", "0", "-1"})),
@@ -305,7 +306,7 @@ TEST(keyword_contact, RefusedFieldsNameTheirLineAndField) {
       {one_way, card1 + blank + blank + blank + row({"", "1"}), 4, "THKOPT"},
       {one_way, card1 + blank + blank + blank + row({"", "", "3"}), 4, "SHLTHK"},
       {one_way, card1 + blank + blank + blank + row({"", "", "", "2"}), 4, "SNLOG"},
-      {one_way, card1 + blank + blank + blank + row({"", "", "", "", "1"}), 4, "ISYM"},
+      {one_way, card1 + blank + blank + blank + row({"", "", "", "", "2"}), 4, "ISYM"},
       {one_way, card1 + blank + blank + blank + row({"", "", "", "", "", "1"}), 4, "I2D3D"},
       {one_way, card1 + blank + blank + blank + row({"", "", "", "", "", "", "0.5"}), 4, "SLDTHK"},
       {one_way, card1 + blank + blank + blank + row({"", "", "", "", "", "", "", "-1"}), 4, "SLDSTF"},
@@ -470,9 +471,8 @@ TEST(keyword_contact, ControlContactDefaultsValuesAndRefusals) {
             prefix(folder, 3, keyword) + "field USRFRC: '4': user friction subroutines are not supported");
   EXPECT_EQ(read_error(folder, keyword + "\n" + blank + row({"", "", "", "", "-1"})),
             prefix(folder, 3, keyword) + "field XPENE: '-1' is negative");
-  EXPECT_EQ(read_error(folder, keyword + "\n" + blank + blank + blank + blank + row({"1"})),
-            prefix(folder, 6, keyword) +
-                "field ISYM: '1': leaving out the faces on symmetry planes is not implemented");
+  EXPECT_EQ(read_error(folder, keyword + "\n" + blank + blank + blank + blank + row({"-1"})),
+            prefix(folder, 6, keyword) + "field ISYM: '-1' is not 0 or 1");
   EXPECT_EQ(read_error(folder, keyword + "\n" + blank + blank + blank + blank + blank + blank + blank + row({"1"})),
             prefix(folder, 9, keyword) + "unexpected data line after card 7");
   EXPECT_EQ(read_error(folder, keyword + "\n" + blank + keyword + "\n" + blank),

@@ -371,6 +371,7 @@ class Builder {
     std::vector<Segment>& out = pass.segment;
     const auto& x = nodes_.x;
     for (const Face& face : faces) {
+      if ((contact_->isym >= 0 ? contact_->isym : control_.isym) == 1 && on_symmetry_plane(face.node)) continue;
       pass.elements.push_back({model_.solid_elements[face.element].eid,
                                face.beyond == no_element ? 0 : model_.solid_elements[face.beyond].eid});
       Segment s;
@@ -392,6 +393,18 @@ class Builder {
                                   thickness_scale));
       pass.elements.emplace_back();  // Spall's shells are rigid: they do not erode
     }
+  }
+
+  // ISYM 1: a face whose normal lies along an axis (within 1e-6 of it) and whose every corner an SPC
+  // holds along that axis: a face on a symmetry plane of the model (fem-contact.md §1.6).
+  bool on_symmetry_plane(const Corners& face) const {
+    const Vec3 n = area_vector(face, nodes_.x).normalized();
+    int axis = 0;
+    n.cwiseAbs().maxCoeff(&axis);
+    if (!(std::abs(n[axis]) >= 1 - 1e-6)) return false;
+    for (int k = 0; k < (is_triangle(face) ? 3 : 4); ++k)
+      if (!(nodes_.fixed[face[k]] & (1u << axis))) return false;
+    return true;
   }
 
   // The shortest and longest diagonal of a segment (a triangle's edges): 1/20 of the shortest is

@@ -459,6 +459,10 @@ struct Contact {
   // part's element is a segment from the start (the side's boundary, not only the body's).
   bool eroding = false;
   int erosop = 0, iadj = 0;
+  // ISYM 1 (card 4 of the eroding types, optional card B): the faces of solid elements on a
+  // symmetry plane (every corner held along the face's normal) are no segments. -1: not given,
+  // *CONTROL_CONTACT's.
+  int isym = -1;
   SourceLocation where;                 // card 1
   SourceLocation where_card2, where_card3;
 };
@@ -480,6 +484,7 @@ struct ControlContact {
   // Card 4 IGNORE: the contacts' default for tracking initial penetrations (not implemented). Kept
   // so that validate() refuses it only in a deck that has a contact for it to act on.
   int ignore = 0;
+  int isym = 0;  // card 5: the contacts' default ISYM
   SourceLocation where;
 };
 
