@@ -370,8 +370,9 @@ class Builder {
     }
     std::vector<Segment>& out = pass.segment;
     const auto& x = nodes_.x;
+    const bool symmetry_planes_out = (contact_->isym >= 0 ? contact_->isym : control_.isym) == 1;  // ISYM 1
     for (const Face& face : faces) {
-      if ((contact_->isym >= 0 ? contact_->isym : control_.isym) == 1 && on_symmetry_plane(face.node)) continue;
+      if (symmetry_planes_out && on_symmetry_plane(face.node)) continue;
       pass.elements.push_back({model_.solid_elements[face.element].eid,
                                face.beyond == no_element ? 0 : model_.solid_elements[face.beyond].eid});
       Segment s;

@@ -297,10 +297,10 @@ class SolidElements final : public discretization::Formulation {
   // Per local node, the part (index into parts_) its work goes to in matsum.csv: of its elements',
   // the one of the lowest ID.
   std::vector<std::int32_t> node_part_;
-  // This step's deletions (booked by book_energies) and the totals; the internal energy also by
-  // part (parts_'s order), for matsum.csv.
+  // This step's deletions (booked by book_energies) and the totals; the energies also by part
+  // (parts_'s order), for matsum.csv.
   Real eroded_kinetic_step_ = 0, eroded_internal_step_ = 0;
-  std::vector<Real> eroded_internal_by_part_, eroded_kinetic_by_part_;  // this step's, of each of parts_
+  std::vector<Real> eroded_internal_by_part_, eroded_kinetic_by_part_;
   Real eroded_mass_ = 0;
   std::vector<Id> eroded_now_;  // the IDs of the elements that eroded this step, ascending, of every rank
   discretization::MassScaling mass_scaling_;  // DT2MS

@@ -144,6 +144,12 @@ int Card::required_int32(int field, std::string_view name) const {
   return narrowed(*this, field, name, required_integer(field, name));
 }
 
+int Card::zero_or_one(int field, std::string_view name) const {
+  const std::int64_t value = whole_number(field, name).value_or(0);
+  if (value != 0 && value != 1) fail(name, quoted(text(field)) + " is not 0 or 1");
+  return static_cast<int>(value);
+}
+
 Card CardCursor::next(std::span<const int> widths, std::string_view card) {
   if (done()) {
     const int line = context_.block.data.empty() ? context_.block.line

@@ -60,6 +60,8 @@ class Card {
   // error, never its low 32 bits.
   int int32(int field, std::string_view name, int fallback) const;
   int required_int32(int field, std::string_view name) const;
+  // A switch: blank reads as 0; a value other than 0 or 1 is an error naming the field.
+  int zero_or_one(int field, std::string_view name) const;
 
   [[noreturn]] void fail(std::string_view name, const std::string& message) const;
 

@@ -9,7 +9,6 @@
 #include <array>
 #include <string>
 #include <string_view>
-#include <tuple>
 
 #include "spall/io/keyword/keyword_readers.hpp"
 #include "spall/io/keyword/numbers.hpp"
@@ -182,21 +181,14 @@ void read_card3(const Card& card, Contact& contact) {
   contact.vsf = zero_means_default(non_negative(card, 7, "VSF", 0.0), 1.0);
 }
 
-// ISYM 1 leaves out the faces on symmetry planes.
-void read_isym(const Card& card, int field, Contact& contact) {
-  contact.isym = card.int32(field, "ISYM", 0);
-  if (contact.isym != 0 && contact.isym != 1) card.fail("ISYM", quoted(card.text(field)) + " is not 0 or 1");
-}
-
-// Card 4 of the eroding types: ISYM; EROSOP 1 keeps the faces inside the body, each to become a
-// segment when the element beyond it erodes (0: the body's outer faces only, each leaving with its
-// element); IADJ 1 takes a face shared with another part's element as a boundary of the side.
+// Card 4 of the eroding types: ISYM 1 leaves out the faces on symmetry planes; EROSOP 1 keeps the
+// faces inside the body, each to become a segment when the element beyond it erodes (0: the body's
+// outer faces only, each leaving with its element); IADJ 1 takes a face shared with another part's
+// element as a boundary of the side.
 void read_eroding_card(const Card& card, Contact& contact) {
-  read_isym(card, 0, contact);
-  for (auto [field, name, value] : {std::tuple{1, "EROSOP", &contact.erosop}, std::tuple{2, "IADJ", &contact.iadj}}) {
-    *value = card.int32(field, name, 0);
-    if (*value != 0 && *value != 1) card.fail(name, quoted(card.text(field)) + " is not 0 or 1");
-  }
+  contact.isym = card.zero_or_one(0, "ISYM");
+  contact.erosop = card.zero_or_one(1, "EROSOP");
+  contact.iadj = card.zero_or_one(2, "IADJ");
 }
 
 void read_card_a(const Card& card, Contact& contact) {
@@ -236,9 +228,9 @@ void read_card_b(const Card& card, Contact& contact) {
     contact.shlthk = static_cast<int>(shlthk);
   }
   // SNLOG 1 switches off LS-DYNA's shooting-node logic, a detail of its search.
-  const auto snlog = card.integer(3, "SNLOG", 0);
-  if (snlog != 0 && snlog != 1) card.fail("SNLOG", quoted(card.text(3)) + " is not 0 or 1");
-  if (!card.blank(4)) read_isym(card, 4, contact);  // blank: card 4's (eroding types), else *CONTROL_CONTACT's
+  card.zero_or_one(3, "SNLOG");
+  // ISYM blank: card 4's (eroding types), else *CONTROL_CONTACT's.
+  if (!card.blank(4)) contact.isym = card.zero_or_one(4, "ISYM");
   refuse_nonzero(card, 5, "I2D3D", "it prefers solid faces to shells on the same segment, which Spall does not "
                                    "compare");
   refuse_nonzero(card, 6, "SLDTHK", "a contact thickness of solid segments is not implemented");
@@ -428,10 +420,7 @@ void read_control_contact(CardCursor& cursor, const KeywordCall&, model::Model& 
   }
   // Card 5 ISYM: the default of the contacts' ISYM (card B). The rest of cards 5 to 7 are options of
   // implicit, thermal, spot-weld, tied, shell and IGA contact.
-  if (const auto card = cursor.next_if_any(standard_fields)) {
-    control.isym = card->int32(0, "ISYM", 0);
-    if (control.isym != 0 && control.isym != 1) card->fail("ISYM", quoted(card->text(0)) + " is not 0 or 1");
-  }
+  if (const auto card = cursor.next_if_any(standard_fields)) control.isym = card->zero_or_one(0, "ISYM");
   cursor.next_if_any(standard_fields);
   cursor.next_if_any(standard_fields);
   cursor.expect_end("card 7");

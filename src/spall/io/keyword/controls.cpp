@@ -206,8 +206,7 @@ void read_spall_sph_timestep(CardCursor& cursor, const KeywordCall&, model::Mode
                 model.sph_timestep ? model.sph_timestep->where : SourceLocation{});
   const Card card = cursor.next(standard_fields, "card 1 (RULE)");
   model::SphTimestep timestep;
-  timestep.rule = card.int32(0, "RULE", 0);
-  if (timestep.rule != 0 && timestep.rule != 1) card.fail("RULE", quoted(card.text(0)) + " is not 0 or 1");
+  timestep.rule = card.zero_or_one(0, "RULE");
   timestep.where = card.where();
   model.sph_timestep = timestep;
 }

@@ -330,9 +330,7 @@ void read_define_coordinate_nodes(CardCursor& cursor, const KeywordCall& call, m
       system.nodes[k] = card.required_integer(1 + k, node_names[k]);
       if (system.nodes[k] <= 0) card.fail(node_names[k], quoted(card.text(1 + k)) + " is not a node ID");
     }
-    const auto flag = card.integer(4, "FLAG", 0);
-    if (flag != 0 && flag != 1) card.fail("FLAG", quoted(card.text(4)) + " is not 0 or 1");
-    system.follows_nodes = flag == 1;
+    system.follows_nodes = card.zero_or_one(4, "FLAG") == 1;
     const std::string_view dir = card.text(5);
     if (dir.empty() || dir == "X" || dir == "x") system.axis_index = 0;
     else if (dir == "Y" || dir == "y") system.axis_index = 1;
